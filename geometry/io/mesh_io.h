@@ -1,0 +1,61 @@
+// Reading and writing polygon mesh files. Every reader returns a ParseError naming the 1-based line (text formats)
+// or byte offset (binary formats) and what is wrong; none allocates more than the input can justify (a header
+// count is checked against the bytes that remain before anything is reserved).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "geometry/core/result.h"
+#include "geometry/mesh/polygon_mesh.h"
+
+namespace surfaced {
+
+enum class MeshFormat { Obj, Off, Ply, Stl, Glb };
+
+//! Limits applied while reading, before allocation.
+struct ReadOptions {
+    std::size_t max_vertices = 20'000'000;
+    std::size_t max_faces = 20'000'000;
+    std::size_t max_face_size = 65'536;  //!< vertices in one polygon
+};
+
+//! Wavefront OBJ: `v`, `vt`, `vn`, `f` (v, v/vt, v//vn, v/vt/vn, negative indices, any polygon size), comments,
+//! blank lines, CRLF, line continuations; OpenSubdiv's `t` tags (crease, corner, hole, interpolateboundary) into
+//! mesh.tags. Other statements (g, o, s, usemtl, mtllib, l, p) are ignored. Face-varying `vt` go to uvs/uv_indices
+//! when every face has them. Vertex normals `vn` are ignored (recomputed on output when asked).
+Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options = {});
+//! OFF / COFF / NOFF (ascii), with `#` comments.
+Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options = {});
+//! PLY ascii, binary_little_endian and binary_big_endian 1.0; vertex x/y/z (float or double, any other properties
+//! skipped), face vertex_indices / vertex_index list of any integer types; other elements skipped.
+Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options = {});
+//! STL ascii or binary (detected by content, not by the word "solid"); coincident corners welded exactly.
+Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options = {});
+
+//! Dispatch on format (Glb goes to read_glb in gltf.h).
+Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options = {});
+
+//! Format from a file name's extension (.obj .off .ply .stl .glb, case-insensitive).
+std::optional<MeshFormat> format_from_extension(std::string_view path);
+//! Format from a media type (model/obj, model/stl, application/sla, model/gltf-binary, application/ply, ...).
+std::optional<MeshFormat> format_from_media_type(std::string_view media_type);
+//! Best guess from the first bytes (glTF magic, "ply", "OFF", binary STL size rule, OBJ statements).
+std::optional<MeshFormat> sniff_format(std::string_view bytes);
+
+struct ObjWriteOptions {
+    bool write_tags = true;     //!< emit OpenSubdiv `t` lines for mesh.tags
+    bool write_uvs = true;      //!< emit `vt` and v/vt faces when the mesh has uvs
+    bool write_normals = true;  //!< emit `vn` when the mesh has normals
+    int precision = 17;         //!< significant digits (17 round-trips a double exactly)
+};
+std::string write_obj(const PolygonMesh& mesh, const ObjWriteOptions& options = {});
+
+enum class PlyEncoding { Ascii, BinaryLittleEndian };
+//! PLY with double x/y/z, and nx/ny/nz when the mesh has normals; faces as `list uchar uint vertex_indices`
+//! (`list uint uint` when a face has more than 255 vertices).
+std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding = PlyEncoding::BinaryLittleEndian);
+
+}  // namespace surfaced

@@ -1,0 +1,17 @@
+#include "geometry/io/gltf.h"
+#include "geometry/io/mesh_io.h"
+
+namespace surfaced {
+
+Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options) {
+    switch (format) {
+        case MeshFormat::Obj: return read_obj(bytes, options);
+        case MeshFormat::Off: return read_off(bytes, options);
+        case MeshFormat::Ply: return read_ply(bytes, options);
+        case MeshFormat::Stl: return read_stl(bytes, options);
+        case MeshFormat::Glb: return read_glb(bytes, options);
+    }
+    return make_error(ErrorCode::Internal, "unknown mesh format");
+}
+
+}  // namespace surfaced

@@ -1,0 +1,43 @@
+// Uniform subdivision: Catmull-Clark and Loop, our own implementation of OpenSubdiv's (Sdc) rules.
+//
+// References: E. Catmull, J. Clark, "Recursively generated B-spline surfaces on arbitrary topological meshes", 1978.
+//             C. Loop, "Smooth subdivision surfaces based on triangles", MS thesis, 1987.
+//             OpenSubdiv 3 documentation, "Subdivision Surfaces" (Sdc options, boundary interpolation).
+#pragma once
+
+#include <cstdint>
+
+#include "geometry/core/result.h"
+#include "geometry/mesh/polygon_mesh.h"
+
+namespace surfaced {
+
+enum class SubdivisionScheme { CatmullClark, Loop };
+
+struct SubdivisionOptions {
+    SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
+    int levels = 1;  //!< uniform refinement levels, >= 0
+    //! Boundary rule. When `use_mesh_boundary_tag` is true and the mesh carries `tags.boundary`, that wins.
+    BoundaryInterpolation boundary = BoundaryInterpolation::EdgeOnly;
+    bool use_mesh_boundary_tag = true;
+};
+
+//! Refines `mesh` uniformly `options.levels` times.
+//!
+//! Output order matches OpenSubdiv Far's uniform refinement with default options (TopologyRefiner::RefineUniform,
+//! orderVerticesFromFacesFirst = false): per level, child vertices of parent vertices first, then of faces, then of
+//! edges; child faces grouped by parent face in parent order.
+//!
+//! \pre validate(mesh) succeeded (the function validates anyway and returns its error).
+//! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), NonManifold,
+//!         InvalidArgument (levels < 0).
+//! Worst case output: predicted_face_count(mesh, scheme, levels) faces.
+Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options);
+
+//! Number of faces `subdivide` will produce, without refining (saturates at UINT64_MAX). Used for budgets.
+std::uint64_t predicted_face_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels);
+
+//! Number of vertices the refined mesh will have (exact for manifold input; an upper bound otherwise).
+std::uint64_t predicted_vertex_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels);
+
+}  // namespace surfaced
