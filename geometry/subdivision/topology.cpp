@@ -1,1 +1,176 @@
-// placeholder: being written
+#include "geometry/subdivision/topology.h"
+
+#include <cassert>
+
+namespace surfaced::subdivision {
+
+Level build_base_level(const PolygonMesh& mesh) {
+    Level level;
+    level.vertex_count = static_cast<Index>(mesh.vertex_count());
+    level.face_offsets = mesh.face_offsets;
+    level.face_verts = mesh.face_indices;
+    level.face_edges.resize(mesh.face_indices.size());
+
+    // Bucket candidate edges by their lower vertex. Every half-edge reserves one slot, so a bucket can never
+    // overflow; lookups scan the few edges already found at that vertex.
+    const std::size_t nv = mesh.vertex_count();
+    std::vector<Index> bucket_start(nv + 1, 0);
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto face = mesh.face(f);
+        for (std::size_t j = 0; j < face.size(); ++j) {
+            Index a = face[j], b = face[(j + 1) % face.size()];
+            ++bucket_start[std::min(a, b) + 1];
+        }
+    }
+    for (std::size_t v = 0; v < nv; ++v) bucket_start[v + 1] += bucket_start[v];
+    std::vector<Index> bucket_fill(nv, 0);
+    std::vector<Index> bucket_edges(bucket_start[nv]);
+    level.edge_verts.reserve(mesh.face_indices.size());  // at most one edge per half-edge
+
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const Index begin = mesh.face_offsets[f];
+        const std::size_t n = mesh.face_size(f);
+        for (std::size_t j = 0; j < n; ++j) {
+            const Index a = mesh.face_indices[begin + j];
+            const Index b = mesh.face_indices[begin + (j + 1) % n];
+            const Index lo = std::min(a, b), hi = std::max(a, b);
+            Index* slots = bucket_edges.data() + bucket_start[lo];
+            Index found = kInvalidIndex;
+            for (Index k = 0; k < bucket_fill[lo]; ++k) {
+                const Index e = slots[k];
+                const Index u = level.edge_verts[2 * e], w = level.edge_verts[2 * e + 1];
+                if (u == hi || w == hi) { found = e; break; }
+            }
+            if (found == kInvalidIndex) {
+                found = static_cast<Index>(level.edge_verts.size() / 2);
+                level.edge_verts.push_back(a);
+                level.edge_verts.push_back(b);
+                slots[bucket_fill[lo]++] = found;
+            }
+            level.face_edges[begin + j] = found;
+        }
+    }
+    return level;
+}
+
+namespace {
+
+// Which child of parent edge e touches parent vertex v (0 or 1).
+inline Index edge_child_at(const Level& p, Index e, Index v) { return p.edge_verts[2 * e] == v ? 0 : 1; }
+
+}  // namespace
+
+Level refine_quads(const Level& p, bool with_edges) {
+    const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
+    const Index first_face_vert = nv, first_edge_vert = nv + nf;
+    const Index corners = static_cast<Index>(p.face_verts.size());
+
+    Level c;
+    c.vertex_count = nv + nf + ne;
+    c.face_offsets.resize(static_cast<std::size_t>(corners) + 1);
+    for (Index i = 0; i <= corners; ++i) c.face_offsets[i] = 4 * i;
+    c.face_verts.resize(4 * static_cast<std::size_t>(corners));
+    if (with_edges) {
+        c.face_edges.resize(4 * static_cast<std::size_t>(corners));
+        c.edge_verts.resize(2 * (static_cast<std::size_t>(corners) + 2 * ne));
+    }
+    // child edges: first `corners` from faces (face f's j-th at face_offsets[f] + j), then 2 per parent edge
+    const Index first_edge_edge = corners;
+
+    for (Index f = 0; f < nf; ++f) {
+        const Index begin = p.face_offsets[f];
+        const Index n = p.face_offsets[f + 1] - begin;
+        const Index cf = first_face_vert + f;
+        for (Index j = 0; j < n; ++j) {
+            const Index jp = j == 0 ? n - 1 : j - 1;
+            const Index v = p.face_verts[begin + j];
+            const Index e_next = p.face_edges[begin + j], e_prev = p.face_edges[begin + jp];
+            // Quads keep the parent's parametric orientation: the corner's child vertex sits at position j.
+            const Index rot = n == 4 ? j : 0;
+            Index* fv = &c.face_verts[4 * (static_cast<std::size_t>(begin) + j)];
+            fv[rot] = v;
+            fv[(rot + 1) & 3] = first_edge_vert + e_next;
+            fv[(rot + 2) & 3] = cf;
+            fv[(rot + 3) & 3] = first_edge_vert + e_prev;
+            if (with_edges) {
+                Index* fe = &c.face_edges[4 * (static_cast<std::size_t>(begin) + j)];
+                fe[rot] = first_edge_edge + 2 * e_next + edge_child_at(p, e_next, v);
+                fe[(rot + 1) & 3] = begin + j;
+                fe[(rot + 2) & 3] = begin + jp;
+                fe[(rot + 3) & 3] = first_edge_edge + 2 * e_prev + edge_child_at(p, e_prev, v);
+                c.edge_verts[2 * (begin + j)] = cf;
+                c.edge_verts[2 * (begin + j) + 1] = first_edge_vert + e_next;
+            }
+        }
+    }
+    if (with_edges) {
+        for (Index e = 0; e < ne; ++e) {
+            const Index ce = first_edge_vert + e;
+            Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
+            ev[0] = ce;
+            ev[1] = p.edge_verts[2 * e];
+            ev[2] = ce;
+            ev[3] = p.edge_verts[2 * e + 1];
+        }
+    }
+    return c;
+}
+
+Level refine_triangles(const Level& p, bool with_edges) {
+    const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
+    const Index first_edge_vert = nv;
+
+    Level c;
+    c.vertex_count = nv + ne;
+    c.face_offsets.resize(4 * static_cast<std::size_t>(nf) + 1);
+    for (Index i = 0; i <= 4 * nf; ++i) c.face_offsets[i] = 3 * i;
+    c.face_verts.resize(12 * static_cast<std::size_t>(nf));
+    if (with_edges) {
+        c.face_edges.resize(12 * static_cast<std::size_t>(nf));
+        c.edge_verts.resize(2 * (3 * static_cast<std::size_t>(nf) + 2 * ne));
+    }
+    const Index first_edge_edge = 3 * nf;
+
+    for (Index f = 0; f < nf; ++f) {
+        const Index b = p.face_offsets[f];
+        assert(p.face_offsets[f + 1] - b == 3);
+        const Index v[3] = {p.face_verts[b], p.face_verts[b + 1], p.face_verts[b + 2]};
+        const Index e[3] = {p.face_edges[b], p.face_edges[b + 1], p.face_edges[b + 2]};
+        const Index ce[3] = {first_edge_vert + e[0], first_edge_vert + e[1], first_edge_vert + e[2]};
+        Index* fv = &c.face_verts[12 * static_cast<std::size_t>(f)];
+        const Index tri[4][3] = {{v[0], ce[0], ce[2]}, {ce[0], v[1], ce[1]}, {ce[2], ce[1], v[2]}, {ce[1], ce[2], ce[0]}};
+        for (int t = 0; t < 4; ++t)
+            for (int k = 0; k < 3; ++k) fv[3 * t + k] = tri[t][k];
+        if (with_edges) {
+            // interior edges of face f: j-th joins edge points j and j-1
+            const Index ie = 3 * f;
+            for (Index j = 0; j < 3; ++j) {
+                c.edge_verts[2 * (ie + j)] = ce[j];
+                c.edge_verts[2 * (ie + j) + 1] = ce[(j + 2) % 3];
+            }
+            auto half = [&](Index edge, Index vert) { return first_edge_edge + 2 * edge + edge_child_at(p, edge, vert); };
+            Index* fe = &c.face_edges[12 * static_cast<std::size_t>(f)];
+            // corner triangles: (v_j, ce_j) is half of e_j, (ce_j, ce_{j-1}) interior j, (ce_{j-1}, v_j) half of e_{j-1}
+            fe[0] = half(e[0], v[0]); fe[1] = ie + 0; fe[2] = half(e[2], v[0]);
+            fe[3] = half(e[0], v[1]); fe[4] = half(e[1], v[1]); fe[5] = ie + 1;
+            fe[6] = ie + 2;           fe[7] = half(e[1], v[2]); fe[8] = half(e[2], v[2]);
+            // middle triangle (ce1, ce2, ce0)
+            fe[9] = ie + 2;
+            fe[10] = ie + 0;
+            fe[11] = ie + 1;
+        }
+    }
+    if (with_edges) {
+        for (Index e = 0; e < ne; ++e) {
+            const Index ce = first_edge_vert + e;
+            Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
+            ev[0] = ce;
+            ev[1] = p.edge_verts[2 * e];
+            ev[2] = ce;
+            ev[3] = p.edge_verts[2 * e + 1];
+        }
+    }
+    return c;
+}
+
+}  // namespace surfaced::subdivision

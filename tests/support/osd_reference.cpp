@@ -1,0 +1,78 @@
+#include "tests/support/osd_reference.h"
+
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <memory>
+#include <vector>
+
+namespace surfaced::testing {
+
+namespace {
+using namespace OpenSubdiv;
+
+struct Point {
+    double p[3];
+    void Clear() { p[0] = p[1] = p[2] = 0; }
+    void AddWithWeight(const Point& src, double w) {
+        p[0] += w * src.p[0];
+        p[1] += w * src.p[1];
+        p[2] += w * src.p[2];
+    }
+};
+
+Sdc::Options::VtxBoundaryInterpolation to_osd(BoundaryInterpolation b) {
+    switch (b) {
+        case BoundaryInterpolation::None: return Sdc::Options::VTX_BOUNDARY_NONE;
+        case BoundaryInterpolation::EdgeOnly: return Sdc::Options::VTX_BOUNDARY_EDGE_ONLY;
+        case BoundaryInterpolation::EdgeAndCorner: return Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER;
+    }
+    return Sdc::Options::VTX_BOUNDARY_EDGE_ONLY;
+}
+}  // namespace
+
+PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options) {
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::vector<int> verts_per_face(mesh.face_count());
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) verts_per_face[f] = static_cast<int>(mesh.face_size(f));
+    std::vector<int> indices(mesh.face_indices.begin(), mesh.face_indices.end());
+
+    Far::TopologyDescriptor desc;
+    desc.numVertices = static_cast<int>(mesh.vertex_count());
+    desc.numFaces = static_cast<int>(mesh.face_count());
+    desc.numVertsPerFace = verts_per_face.data();
+    desc.vertIndicesPerFace = indices.data();
+
+    Sdc::Options sdc;
+    BoundaryInterpolation boundary = options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
+    sdc.SetVtxBoundaryInterpolation(to_osd(boundary));
+    const Sdc::SchemeType scheme = options.scheme == SubdivisionScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
+    std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(scheme, sdc)));
+    if (!refiner) return {};
+    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(options.levels));
+
+    std::vector<Point> src(mesh.vertex_count());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        src[v] = Point{{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z}};
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    std::vector<Point> dst;
+    for (int level = 1; level <= options.levels; ++level) {
+        dst.resize(refiner->GetLevel(level).GetNumVertices());
+        Point* out = dst.data();
+        primvar.Interpolate(level, src.data(), out);
+        src.swap(dst);
+    }
+
+    PolygonMesh out;
+    for (const Point& p : src) out.positions.push_back({p.p[0], p.p[1], p.p[2]});
+    const Far::TopologyLevel& last = refiner->GetLevel(options.levels);
+    for (int f = 0; f < last.GetNumFaces(); ++f) {
+        Far::ConstIndexArray fv = last.GetFaceVertices(f);
+        std::vector<Index> face(fv.begin(), fv.end());
+        out.add_face(face);
+    }
+    return out;
+}
+
+}  // namespace surfaced::testing
