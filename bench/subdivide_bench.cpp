@@ -1,1 +1,186 @@
-int main() { return 0; }
+// Uniform subdivision: ours vs OpenSubdiv Far on the same meshes, in one run.
+//
+// OpenSubdiv's side is what a user of Far does for the same result: TopologyRefinerFactory::Create, RefineUniform,
+// then PrimvarRefinerReal<double>::Interpolate level by level (double positions, like ours). Times are the best of
+// several repetitions, single-threaded. Peak memory is the peak of live heap bytes during the call, counted by the
+// global operator new below (both libraries allocate through it), minus what was live before the call.
+//
+// Usage: bench_subdivide [--quick] [--markdown]
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "geometry/mesh/shapes.h"
+#include "geometry/subdivision/subdivide.h"
+
+// ---- counting allocator -------------------------------------------------------------------------------------------
+namespace {
+std::atomic<long long> g_live{0}, g_peak{0};
+void note_alloc(long long n) {
+    const long long live = g_live.fetch_add(n) + n;
+    long long peak = g_peak.load();
+    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {
+    }
+}
+}  // namespace
+
+void* operator new(std::size_t n) {
+    void* p = std::malloc(n + 16);
+    if (!p) throw std::bad_alloc();
+    *static_cast<std::size_t*>(p) = n;
+    note_alloc(static_cast<long long>(n));
+    return static_cast<char*>(p) + 16;
+}
+void operator delete(void* p) noexcept {
+    if (!p) return;
+    char* base = static_cast<char*>(p) - 16;
+    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
+    std::free(base);
+}
+void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete[](void* p) noexcept { operator delete(p); }
+void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
+
+namespace {
+using namespace surfaced;
+using namespace OpenSubdiv;
+
+struct Point {
+    double p[3];
+    void Clear() { p[0] = p[1] = p[2] = 0; }
+    void AddWithWeight(const Point& s, double w) {
+        p[0] += w * s.p[0];
+        p[1] += w * s.p[1];
+        p[2] += w * s.p[2];
+    }
+};
+
+// Returns the number of refined faces (so the work cannot be optimised away).
+std::size_t run_osd(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels) {
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::vector<int> vpf(mesh.face_count());
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) vpf[f] = static_cast<int>(mesh.face_size(f));
+    Far::TopologyDescriptor desc;
+    desc.numVertices = static_cast<int>(mesh.vertex_count());
+    desc.numFaces = static_cast<int>(mesh.face_count());
+    desc.numVertsPerFace = vpf.data();
+    desc.vertIndicesPerFace = reinterpret_cast<const int*>(mesh.face_indices.data());
+    Sdc::Options sdc;
+    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
+        desc, Factory::Options(scheme == SubdivisionScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, sdc)));
+    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+    std::vector<Point> src(mesh.vertex_count()), dst;
+    std::memcpy(static_cast<void*>(src.data()), mesh.positions.data(), sizeof(Point) * src.size());
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    for (int l = 1; l <= levels; ++l) {
+        dst.resize(refiner->GetLevel(l).GetNumVertices());
+        Point* out = dst.data();
+        primvar.Interpolate(l, src.data(), out);
+        src.swap(dst);
+    }
+    return static_cast<std::size_t>(refiner->GetLevel(levels).GetNumFaces()) + (src[0].p[0] > 1e300 ? 1 : 0);
+}
+
+std::size_t run_ours(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels) {
+    SubdivisionOptions options;
+    options.scheme = scheme;
+    options.levels = levels;
+    auto out = subdivide(mesh, options);
+    if (!out.ok()) {
+        std::fprintf(stderr, "error: %s\n", out.error().message.c_str());
+        std::exit(1);
+    }
+    return out->face_count();
+}
+
+struct Measure {
+    double ms = 0;
+    double peak_mb = 0;
+    std::size_t faces = 0;
+};
+
+template <class F>
+Measure measure(F&& f, int reps) {
+    Measure m;
+    m.ms = 1e300;
+    for (int r = 0; r < reps; ++r) {
+        const long long before = g_live.load();
+        g_peak.store(before);
+        const auto t0 = std::chrono::steady_clock::now();
+        m.faces = f();
+        const auto t1 = std::chrono::steady_clock::now();
+        m.ms = std::min(m.ms, std::chrono::duration<double, std::milli>(t1 - t0).count());
+        m.peak_mb = double(g_peak.load() - before) / (1024.0 * 1024.0);
+    }
+    return m;
+}
+
+PolygonMesh triangulated(const PolygonMesh& quads) {
+    PolygonMesh m;
+    m.positions = quads.positions;
+    for (std::size_t f = 0; f < quads.face_count(); ++f) {
+        auto q = quads.face(f);
+        m.add_face({q[0], q[1], q[2]});
+        m.add_face({q[0], q[2], q[3]});
+    }
+    return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--quick") quick = true;
+
+    struct Case {
+        std::string name;
+        PolygonMesh mesh;
+        SubdivisionScheme scheme;
+    };
+    std::vector<Case> cases;
+    // ~10k and ~100k input faces; the irregular torus has valence 3 and 5 vertices.
+    cases.push_back({"torus 10k quads", shapes::torus(100, 100), SubdivisionScheme::CatmullClark});
+    cases.push_back({"torus 10k tris", triangulated(shapes::torus(71, 71)), SubdivisionScheme::Loop});
+    if (!quick) {
+        cases.push_back({"torus 100k quads", shapes::torus(316, 316), SubdivisionScheme::CatmullClark});
+        cases.push_back({"torus 100k tris", triangulated(shapes::torus(224, 224)), SubdivisionScheme::Loop});
+    }
+    const int max_level = quick ? 2 : 3;
+
+    std::printf("| mesh | scheme | faces in | level | faces out | ours ms | OpenSubdiv ms | time ratio | ours peak MiB | "
+                "OpenSubdiv peak MiB | memory ratio |\n");
+    std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const Case& c : cases) {
+        for (int level = 1; level <= max_level; ++level) {
+            const std::size_t out_faces = predicted_face_count(c.mesh, c.scheme, level);
+            const int reps = out_faces > 2'000'000 ? 2 : (out_faces > 200'000 ? 4 : 10);
+            const Measure osd = measure([&] { return run_osd(c.mesh, c.scheme, level); }, reps);
+            const Measure ours = measure([&] { return run_ours(c.mesh, c.scheme, level); }, reps);
+            if (osd.faces != ours.faces) {
+                std::fprintf(stderr, "face counts differ: ours %zu, OpenSubdiv %zu\n", ours.faces, osd.faces);
+                return 1;
+            }
+            std::printf("| %s | %s | %zu | %d | %zu | %.2f | %.2f | %.2f | %.1f | %.1f | %.2f |\n", c.name.c_str(),
+                        c.scheme == SubdivisionScheme::Loop ? "Loop" : "Catmull-Clark", c.mesh.face_count(), level,
+                        ours.faces, ours.ms, osd.ms, ours.ms / osd.ms, ours.peak_mb, osd.peak_mb,
+                        ours.peak_mb / std::max(osd.peak_mb, 1e-9));
+            std::fflush(stdout);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs everything surfaced needs to build, run and test, on Debian 12 as root. Idempotent.
+#   scripts/install-deps.sh            build + run + test dependencies
+#   SURFACED_SKIP_NPM=1 ...            skip the npm packages used by tests
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake ninja-build ccache pkg-config git
+  libosd-dev            # OpenSubdiv: the reference in tests and benchmarks (never linked into the service)
+  libcpp-httplib-dev    # HTTP server
+  nlohmann-json3-dev    # JSON
+  libdraco-dev draco    # Draco compression (library + CLI tools)
+  libtinygltf-dev       # glTF writer/reader (compiled into our own TU)
+  libeigen3-dev         # needed by Draco's headers
+  libgtest-dev libgmock-dev
+  ca-certificates
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# Node.js is on the machine (do not apt-get install nodejs/npm: the machine's own Node 20 / npm are what work).
+if [ "${SURFACED_SKIP_NPM:-0}" != 1 ] && [ -f tests/package.json ]; then
+  if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+    echo "node and npm are needed for the tests (Khronos glTF validator)" >&2; exit 1
+  fi
+  if [ ! -d tests/node_modules ] || [ tests/package-lock.json -nt tests/node_modules/.package-lock.json ]; then
+    npm ci --prefix tests --no-audit --no-fund --loglevel=error
+  fi
+fi
