@@ -1,8 +1,10 @@
 // Uniform Catmull-Clark and Loop refinement.
 //
-// Each level: build the child topology (topology.cpp), classify the parent's edges and vertices (smooth, crease,
-// corner), then compute child positions in three passes that only scatter into arrays: face points, edge points,
-// vertex points. The weights are OpenSubdiv's (rules.h); the output is numbered as OpenSubdiv Far numbers it.
+// Each level: build the child topology (topology.cpp); compute child positions in three scatter passes (face points,
+// edge points, vertex points) with the smooth rules; then overwrite the points that sharpness governs (crease and
+// corner vertex rules, creased edges, and OpenSubdiv's fractional blend where a semi-sharp feature decays to smooth
+// between this level and the next); finally subdivide the sharpness values for the child level. Weights are
+// OpenSubdiv's (rules.h); sharpness arithmetic is done in float, as OpenSubdiv does, so results agree to the last bits.
 #include "geometry/subdivision/subdivide.h"
 
 #include <limits>
@@ -17,136 +19,416 @@ namespace {
 
 using subdivision::Level;
 
-// Edge and vertex classification of one level.
-struct Classification {
-    std::vector<std::uint8_t> edge_sharp;      // boundary or non-manifold: infinitely sharp
-    std::vector<std::uint32_t> vertex_faces;   // incident faces
-    std::vector<std::uint32_t> vertex_edges;   // incident edges
-    std::vector<std::uint8_t> vertex_sharp_edges;  // incident sharp edges (saturating)
-    std::vector<std::uint8_t> vertex_corner;   // corner rule: position kept
+bool is_sharp(float s) { return s > 0.0f; }
+bool is_infinite(float s) { return s >= kInfiniteSharpness; }
+bool is_semi_sharp(float s) { return s > 0.0f && s < kInfiniteSharpness; }
+float decrement(float s) {
+    if (is_infinite(s)) return kInfiniteSharpness;
+    return s > 1.0f ? s - 1.0f : 0.0f;
+}
+
+enum class Rule { Smooth, Dart, Crease, Corner };
+Rule vertex_rule(float vertex_sharpness, int sharp_edges) {
+    if (is_sharp(vertex_sharpness)) return Rule::Corner;
+    switch (sharp_edges) {
+        case 0: return Rule::Smooth;
+        case 1: return Rule::Dart;
+        case 2: return Rule::Crease;
+        default: return Rule::Corner;
+    }
+}
+
+// Sharpness state of one level.
+struct Sharpness {
+    std::vector<float> edge;      // per edge; boundary and non-manifold edges are infinite
+    std::vector<float> vertex;    // per vertex
+    std::vector<std::uint8_t> hole;  // per face; empty when there are no holes
 };
 
-Classification classify(const Level& level, BoundaryInterpolation boundary) {
+// What the rules need to know about a level's vertices.
+struct Neighbourhood {
+    std::vector<std::uint32_t> vertex_faces, vertex_edges;
+    std::vector<Index> sharp_offsets;  // per vertex, into sharp_edges: incident edges with sharpness > 0
+    std::vector<Index> sharp_edges;
+    std::vector<float> semi_sum;       // Chaikin: sum of incident semi-sharp sharpness
+    std::vector<std::uint16_t> semi_count;
+    bool any_sharp_vertex = false;
+};
+
+Neighbourhood neighbourhood(const Level& level, const Sharpness& sharp, CreaseMethod method) {
     const Index nv = level.vertex_count, ne = level.edge_count();
-    Classification c;
-    std::vector<std::uint32_t> edge_faces(ne, 0);
-    for (Index e : level.face_edges) ++edge_faces[e];
-    c.edge_sharp.resize(ne);
-    for (Index e = 0; e < ne; ++e) c.edge_sharp[e] = edge_faces[e] != 2;
-
-    c.vertex_faces.assign(nv, 0);
-    for (Index v : level.face_verts) ++c.vertex_faces[v];
-    c.vertex_edges.assign(nv, 0);
-    c.vertex_sharp_edges.assign(nv, 0);
+    Neighbourhood n;
+    n.vertex_faces.assign(nv, 0);
+    for (Index v : level.face_verts) ++n.vertex_faces[v];
+    n.vertex_edges.assign(nv, 0);
+    n.sharp_offsets.assign(nv + 1, 0);
     for (Index e = 0; e < ne; ++e) {
-        for (int k = 0; k < 2; ++k) {
-            const Index v = level.edge_verts[2 * e + k];
-            ++c.vertex_edges[v];
-            if (c.edge_sharp[e] && c.vertex_sharp_edges[v] < 255) ++c.vertex_sharp_edges[v];
+        const Index a = level.edge_verts[2 * e], b = level.edge_verts[2 * e + 1];
+        ++n.vertex_edges[a];
+        ++n.vertex_edges[b];
+        if (is_sharp(sharp.edge[e])) {
+            ++n.sharp_offsets[a + 1];
+            ++n.sharp_offsets[b + 1];
         }
     }
-    c.vertex_corner.resize(nv);
-    for (Index v = 0; v < nv; ++v) {
-        const bool boundary_corner =
-            boundary == BoundaryInterpolation::EdgeAndCorner && c.vertex_faces[v] == 1 && c.vertex_sharp_edges[v] > 0;
-        // OpenSubdiv's vertex-vertex rule: more than two sharp edges, or a sharp vertex, is a corner.
-        c.vertex_corner[v] = c.vertex_edges[v] == 0 || c.vertex_sharp_edges[v] > 2 || boundary_corner;
+    for (Index v = 0; v < nv; ++v) n.sharp_offsets[v + 1] += n.sharp_offsets[v];
+    n.sharp_edges.resize(n.sharp_offsets[nv]);
+    std::vector<Index> fill(n.sharp_offsets.begin(), n.sharp_offsets.end() - 1);
+    for (Index e = 0; e < ne; ++e)
+        if (is_sharp(sharp.edge[e])) {
+            n.sharp_edges[fill[level.edge_verts[2 * e]]++] = e;
+            n.sharp_edges[fill[level.edge_verts[2 * e + 1]]++] = e;
+        }
+    for (Index v = 0; v < nv; ++v)
+        if (is_sharp(sharp.vertex[v])) n.any_sharp_vertex = true;
+    if (method == CreaseMethod::Chaikin) {
+        n.semi_sum.assign(nv, 0.0f);
+        n.semi_count.assign(nv, 0);
+        for (Index v = 0; v < nv; ++v)
+            for (Index i = n.sharp_offsets[v]; i < n.sharp_offsets[v + 1]; ++i) {
+                const float s = sharp.edge[n.sharp_edges[i]];
+                if (is_semi_sharp(s)) {
+                    n.semi_sum[v] += s;
+                    ++n.semi_count[v];
+                }
+            }
     }
-    return c;
+    return n;
 }
 
-// Vertex points of either scheme: `dst` already holds, for smooth vertices, the weighted neighbourhood sums the
-// scheme computed. Crease vertices (exactly two sharp edges) and corners are overwritten here.
-void apply_sharp_vertex_rules(const Level& p, const Classification& c, const Vec3* src, Vec3* dst) {
-    const Index nv = p.vertex_count, ne = p.edge_count();
-    bool any_crease = false;
-    for (Index v = 0; v < nv; ++v) {
-        if (c.vertex_corner[v]) {
-            dst[v] = src[v];
-        } else if (c.vertex_sharp_edges[v] == 2) {
-            dst[v] = subdivision::kCreaseVertexWeight * src[v];
-            any_crease = true;
-        }
+// Sharpness of the child of an edge (sharpness s) at its end vertex v (OpenSubdiv's Crease::
+// SubdivideEdgeSharpnessAtVertex).
+float child_edge_sharpness(float s, Index v, const Neighbourhood& n, CreaseMethod method) {
+    if (method == CreaseMethod::Uniform || n.vertex_edges[v] < 2) return decrement(s);
+    if (!is_sharp(s)) return 0.0f;
+    if (is_infinite(s)) return kInfiniteSharpness;
+    if (n.semi_count[v] > 1) {
+        const float others = (n.semi_sum[v] - s) / static_cast<float>(n.semi_count[v] - 1);
+        s = 0.75f * s + 0.25f * others;
     }
-    if (!any_crease) return;
+    s -= 1.0f;
+    return is_sharp(s) ? s : 0.0f;
+}
+
+// Fraction of the parent rule in a vertex whose rule changes between levels (Crease::ComputeFractionalWeightAtVertex).
+float fractional_weight(float parent_vertex, float child_vertex, const float* parent_edges, const float* child_edges,
+                        Index count) {
+    int transitions = 0;
+    float sum = 0.0f;
+    if (is_sharp(parent_vertex) && !is_sharp(child_vertex)) {
+        transitions = 1;
+        sum = parent_vertex;
+    }
+    for (Index i = 0; i < count; ++i)
+        if (is_sharp(parent_edges[i]) && !is_sharp(child_edges[i])) {
+            sum += parent_edges[i];
+            ++transitions;
+        }
+    if (transitions == 0) return 0.0f;
+    const float w = sum / static_cast<float>(transitions);
+    return w > 1.0f ? 1.0f : w;
+}
+
+Index other_end(const Level& level, Index e, Index v) {
+    return level.edge_verts[2 * e] == v ? level.edge_verts[2 * e + 1] : level.edge_verts[2 * e];
+}
+
+// Vertex points for every vertex whose rule is not smooth. On entry dst[v] holds the smooth result for every vertex.
+void apply_vertex_rules(const Level& p, const Sharpness& sharp, const Neighbourhood& n, CreaseMethod method,
+                        const Vec3* src, Vec3* dst) {
+    const Index nv = p.vertex_count;
+    std::vector<float> parent_sharp, child_sharp;
+    for (Index v = 0; v < nv; ++v) {
+        const Index begin = n.sharp_offsets[v], count = n.sharp_offsets[v + 1] - begin;
+        const float pv = sharp.vertex[v];
+        if (count <= 1 && !is_sharp(pv)) continue;  // smooth or dart, at this level and the next
+        const Index* edges = n.sharp_edges.data() + begin;
+        const Rule parent_rule = vertex_rule(pv, static_cast<int>(count));
+        if (parent_rule == Rule::Smooth || parent_rule == Rule::Dart) continue;
+
+        auto crease_point = [&](const float* edge_sharpness) {
+            Vec3 sum{};
+            int found = 0;
+            for (Index i = 0; i < count && found < 2; ++i)
+                if (is_sharp(edge_sharpness[i])) {
+                    sum += src[other_end(p, edges[i], v)];
+                    ++found;
+                }
+            return subdivision::kCreaseVertexWeight * src[v] + subdivision::kCreaseNeighbourWeight * sum;
+        };
+        parent_sharp.resize(count);
+        child_sharp.resize(count);
+        int child_sharp_count = 0;
+        for (Index i = 0; i < count; ++i) {
+            parent_sharp[i] = sharp.edge[edges[i]];
+            child_sharp[i] = child_edge_sharpness(parent_sharp[i], v, n, method);
+            child_sharp_count += is_sharp(child_sharp[i]);
+        }
+        const Vec3 parent_point = parent_rule == Rule::Corner ? src[v] : crease_point(parent_sharp.data());
+        const float cv = decrement(pv);
+        const Rule child_rule = vertex_rule(cv, child_sharp_count);
+        if (child_rule == parent_rule) {
+            dst[v] = parent_point;
+            continue;
+        }
+        Vec3 child_point;
+        if (child_rule == Rule::Smooth || child_rule == Rule::Dart)
+            child_point = dst[v];
+        else if (child_rule == Rule::Crease)
+            child_point = crease_point(child_sharp.data());
+        else
+            child_point = src[v];
+        const double pw = fractional_weight(pv, cv, parent_sharp.data(), child_sharp.data(), count);
+        const double cw = 1.0 - pw;
+        dst[v] = pw * parent_point + cw * child_point;
+    }
+}
+
+// Edge points: dst_edges[e] holds the sum of the smooth rule's face contributions (CC: face points; Loop: opposite
+// vertices) on entry. `face_weight(e)`/`vertex_weight(e)` are the smooth weights.
+template <class Weights>
+void finish_edge_points(const Level& p, const Sharpness& sharp, const Neighbourhood& n, CreaseMethod method,
+                        const Vec3* src, Vec3* dst_edges, Weights&& smooth_weights) {
+    const Index ne = p.edge_count();
     for (Index e = 0; e < ne; ++e) {
-        if (!c.edge_sharp[e]) continue;
         const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
-        if (!c.vertex_corner[a] && c.vertex_sharp_edges[a] == 2) dst[a] += subdivision::kCreaseNeighbourWeight * src[b];
-        if (!c.vertex_corner[b] && c.vertex_sharp_edges[b] == 2) dst[b] += subdivision::kCreaseNeighbourWeight * src[a];
+        const float s = sharp.edge[e];
+        const Vec3 ends = src[a] + src[b];
+        if (!is_sharp(s)) {
+            const auto [vw, fw] = smooth_weights(e);
+            dst_edges[e] = vw * ends + fw * dst_edges[e];
+            continue;
+        }
+        // the child edge point is a crease vertex when both halves stay sharp: then the crease mask alone applies
+        if (is_infinite(s) ||
+            (is_sharp(child_edge_sharpness(s, a, n, method)) && is_sharp(child_edge_sharpness(s, b, n, method)))) {
+            dst_edges[e] = 0.5 * ends;
+            continue;
+        }
+        // crease decaying to smooth: blend the crease mask (1/2, 1/2) into the smooth one by the sharpness
+        const auto [vw, fw] = smooth_weights(e);
+        const double pw = s, cw = 1.0 - pw;
+        dst_edges[e] = (pw * 0.5 + cw * vw) * ends + (cw * fw) * dst_edges[e];
     }
 }
+
+struct LevelInput {
+    const Level& topology;
+    const Sharpness& sharp;
+    CreaseMethod method;
+    TriangleRule triangle_rule;
+};
 
 // One Catmull-Clark level: src has p.vertex_count points, dst gets nv + nf + ne.
-void interpolate_catmark(const Level& p, const Classification& c, const Vec3* src, Vec3* dst) {
+void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst) {
+    const Level& p = in.topology;
     const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
     Vec3* face_pts = dst + nv;
     Vec3* edge_pts = dst + nv + nf;
 
-    // face points, and the sums they contribute to vertex points
     for (Index v = 0; v < nv; ++v) dst[v] = Vec3{};
     for (Index e = 0; e < ne; ++e) {
         const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
-        edge_pts[e] = c.edge_sharp[e] ? 0.5 * (src[a] + src[b]) : subdivision::kCatmarkEdgeWeight * (src[a] + src[b]);
+        edge_pts[e] = Vec3{};
         dst[a] += src[b];
         dst[b] += src[a];
     }
+    const bool smooth_triangles = in.triangle_rule == TriangleRule::Smooth;
+    std::vector<std::uint8_t> edge_triangles;  // incident triangles per edge, for the smooth triangle rule
+    if (smooth_triangles) edge_triangles.assign(ne, 0);
     for (Index f = 0; f < nf; ++f) {
         const Index begin = p.face_offsets[f], end = p.face_offsets[f + 1];
         Vec3 sum{};
         for (Index i = begin; i < end; ++i) sum += src[p.face_verts[i]];
         const Vec3 fp = sum * (1.0 / static_cast<double>(end - begin));
         face_pts[f] = fp;
-        const Vec3 quarter = subdivision::kCatmarkEdgeWeight * fp;
         for (Index i = begin; i < end; ++i) {
             dst[p.face_verts[i]] += fp;
-            const Index e = p.face_edges[i];
-            if (!c.edge_sharp[e]) edge_pts[e] += quarter;
+            edge_pts[p.face_edges[i]] += fp;
+            if (smooth_triangles && end - begin == 3) ++edge_triangles[p.face_edges[i]];
         }
     }
-    // smooth vertex points from the sums (edge neighbours + face points share the weight 1/n^2)
+    // smooth vertex points (edge neighbours and face points share the weight 1/n^2)
     for (Index v = 0; v < nv; ++v) {
-        if (c.vertex_corner[v] || c.vertex_sharp_edges[v] >= 2) continue;
-        const auto w = subdivision::catmark_smooth_vertex(static_cast<int>(c.vertex_faces[v]));
+        const auto w = subdivision::catmark_smooth_vertex(static_cast<int>(n.vertex_faces[v]));
         dst[v] = w.vertex * src[v] + w.edge * dst[v];
     }
-    apply_sharp_vertex_rules(p, c, src, dst);
+    struct W { double vertex, face; };
+    finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, [&](Index e) -> W {
+        if (smooth_triangles && edge_triangles[e] > 0) {
+            // OpenSubdiv's TRI_SUB_SMOOTH weights (from Hbr): 0.47 for a triangle side, 0.25 for a quad side
+            const double tri = 0.470;
+            const double f0 = tri, f1 = edge_triangles[e] == 2 ? tri : 0.25;
+            const double fw = 0.5 * (f0 + f1);
+            return {0.5 * (1.0 - 2.0 * fw), fw};
+        }
+        return {subdivision::kCatmarkEdgeWeight, subdivision::kCatmarkEdgeWeight};
+    });
+    apply_vertex_rules(p, in.sharp, n, in.method, src, dst);
 }
 
 // One Loop level: src has p.vertex_count points, dst gets nv + ne.
-void interpolate_loop(const Level& p, const Classification& c, const Vec3* src, Vec3* dst) {
+void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst) {
+    const Level& p = in.topology;
     const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
     Vec3* edge_pts = dst + nv;
 
     for (Index v = 0; v < nv; ++v) dst[v] = Vec3{};
     for (Index e = 0; e < ne; ++e) {
         const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
-        edge_pts[e] = c.edge_sharp[e] ? 0.5 * (src[a] + src[b]) : subdivision::kLoopEdgeEndWeight * (src[a] + src[b]);
+        edge_pts[e] = Vec3{};
         dst[a] += src[b];
         dst[b] += src[a];
     }
     for (Index f = 0; f < nf; ++f) {
         const Index b = p.face_offsets[f];
-        for (Index j = 0; j < 3; ++j) {
-            const Index e = p.face_edges[b + j];
-            if (!c.edge_sharp[e])
-                edge_pts[e] += subdivision::kLoopEdgeOppositeWeight * src[p.face_verts[b + (j + 2) % 3]];
+        for (Index j = 0; j < 3; ++j) edge_pts[p.face_edges[b + j]] += src[p.face_verts[b + (j + 2) % 3]];
+    }
+    for (Index v = 0; v < nv; ++v) {
+        const auto w = subdivision::loop_smooth_vertex(static_cast<int>(n.vertex_edges[v]));
+        dst[v] = w.vertex * src[v] + w.edge * dst[v];
+    }
+    struct W { double vertex, face; };
+    finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, [](Index) -> W {
+        return {subdivision::kLoopEdgeEndWeight, subdivision::kLoopEdgeOppositeWeight};
+    });
+    apply_vertex_rules(p, in.sharp, n, in.method, src, dst);
+}
+
+// Sharpness of the child level (vertices: children of vertices first; edges: face-interior edges first, then two
+// per parent edge), and holes carried to child faces.
+Sharpness refine_sharpness(const Level& p, const Level& child, const Sharpness& sharp, const Neighbourhood& n,
+                           CreaseMethod method, bool loop) {
+    Sharpness c;
+    c.vertex.assign(child.vertex_count, 0.0f);
+    for (Index v = 0; v < p.vertex_count; ++v) c.vertex[v] = decrement(sharp.vertex[v]);
+    const Index interior = loop ? 3 * p.face_count() : static_cast<Index>(p.face_verts.size());
+    c.edge.assign(interior + 2 * static_cast<std::size_t>(p.edge_count()), 0.0f);
+    for (Index e = 0; e < p.edge_count(); ++e) {
+        const float s = sharp.edge[e];
+        if (!is_sharp(s)) continue;
+        c.edge[interior + 2 * e] = child_edge_sharpness(s, p.edge_verts[2 * e], n, method);
+        c.edge[interior + 2 * e + 1] = child_edge_sharpness(s, p.edge_verts[2 * e + 1], n, method);
+    }
+    if (!sharp.hole.empty()) {
+        c.hole.assign(child.face_count(), 0);
+        for (Index f = 0; f < p.face_count(); ++f) {
+            if (!sharp.hole[f]) continue;
+            const Index first = loop ? 4 * f : p.face_offsets[f];
+            const Index count = loop ? 4 : p.face_offsets[f + 1] - p.face_offsets[f];
+            for (Index i = 0; i < count; ++i) c.hole[first + i] = 1;
+        }
+    }
+    return c;
+}
+
+// Base-level sharpness from the mesh tags and the topology, as OpenSubdiv's factory assigns it: boundary and
+// non-manifold edges are infinitely sharp; corners of one face are with edge-and-corner; non-manifold vertices are,
+// except on a simple non-manifold crease.
+Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, BoundaryInterpolation boundary,
+                                 bool use_tags) {
+    const Index nv = level.vertex_count, ne = level.edge_count();
+    Sharpness s;
+    s.edge.assign(ne, 0.0f);
+    s.vertex.assign(nv, 0.0f);
+
+    std::vector<std::uint32_t> edge_faces(ne, 0), edge_forward(ne, 0);
+    for (Index f = 0; f < level.face_count(); ++f) {
+        const Index b = level.face_offsets[f], n = level.face_offsets[f + 1] - b;
+        for (Index j = 0; j < n; ++j) {
+            const Index e = level.face_edges[b + j];
+            ++edge_faces[e];
+            if (level.edge_verts[2 * e] == level.face_verts[b + j]) ++edge_forward[e];
+        }
+    }
+    if (use_tags) {
+        // vertex -> incident edges, to find the edge a crease names
+        std::vector<Index> offsets(nv + 1, 0), edges(2 * static_cast<std::size_t>(ne));
+        for (Index e = 0; e < ne; ++e) {
+            ++offsets[level.edge_verts[2 * e] + 1];
+            ++offsets[level.edge_verts[2 * e + 1] + 1];
+        }
+        for (Index v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+        std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
+        for (Index e = 0; e < ne; ++e) {
+            edges[fill[level.edge_verts[2 * e]]++] = e;
+            edges[fill[level.edge_verts[2 * e + 1]]++] = e;
+        }
+        for (std::size_t i = 0; i < mesh.tags.creases.size(); ++i) {
+            const Crease& crease = mesh.tags.creases[i];
+            Index found = kInvalidIndex;
+            for (Index k = offsets[crease.v0]; k < offsets[crease.v0 + 1]; ++k)
+                if (other_end(level, edges[k], crease.v0) == crease.v1) found = edges[k];
+            if (found == kInvalidIndex)
+                return make_error(ErrorCode::IndexOutOfRange,
+                                  "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) + " and " +
+                                      std::to_string(crease.v1) + " share no edge",
+                                  -1, -1, static_cast<std::int64_t>(i));
+            s.edge[found] = static_cast<float>(crease.sharpness);
+        }
+        for (const Corner& corner : mesh.tags.corners) s.vertex[corner.vertex] = static_cast<float>(corner.sharpness);
+        if (!mesh.tags.holes.empty()) {
+            s.hole.assign(level.face_count(), 0);
+            for (Index h : mesh.tags.holes) s.hole[h] = 1;
+        }
+    }
+    std::vector<std::uint8_t> non_manifold_edge(ne, 0);
+    // for "boundary none": boundary vertices with a boundary edge that the tags did not make infinitely sharp
+    std::vector<std::uint8_t> open_boundary_vertex(nv, 0);
+    for (Index e = 0; e < ne; ++e)
+        if (edge_faces[e] < 2 && !is_infinite(s.edge[e]))
+            open_boundary_vertex[level.edge_verts[2 * e]] = open_boundary_vertex[level.edge_verts[2 * e + 1]] = 1;
+    for (Index e = 0; e < ne; ++e) {
+        non_manifold_edge[e] = edge_faces[e] > 2 || (edge_faces[e] == 2 && edge_forward[e] != 1);
+        if (edge_faces[e] < 2 || non_manifold_edge[e]) s.edge[e] = kInfiniteSharpness;
+    }
+    std::vector<std::uint32_t> vertex_faces(nv, 0), vertex_edges(nv, 0), vertex_boundary(nv, 0), vertex_nm(nv, 0);
+    for (Index v : level.face_verts) ++vertex_faces[v];
+    for (Index e = 0; e < ne; ++e)
+        for (int k = 0; k < 2; ++k) {
+            const Index v = level.edge_verts[2 * e + k];
+            ++vertex_edges[v];
+            vertex_boundary[v] += edge_faces[e] == 1;
+            vertex_nm[v] += non_manifold_edge[e];
+        }
+    if (boundary == BoundaryInterpolation::None) {
+        // OpenSubdiv's "boundary none": a face touching the boundary has no limit surface (it shapes its
+        // neighbours, like a hole) unless every boundary edge at its boundary vertices was tagged infinitely sharp.
+        bool any = false;
+        std::vector<std::uint8_t> hole(level.face_count(), 0);
+        for (Index f = 0; f < level.face_count(); ++f)
+            for (Index i = level.face_offsets[f]; i < level.face_offsets[f + 1]; ++i)
+                if (open_boundary_vertex[level.face_verts[i]]) {
+                    hole[f] = 1;
+                    any = true;
+                    break;
+                }
+        if (any) {
+            if (s.hole.empty()) s.hole.assign(level.face_count(), 0);
+            for (Index f = 0; f < level.face_count(); ++f) s.hole[f] |= hole[f];
         }
     }
     for (Index v = 0; v < nv; ++v) {
-        if (c.vertex_corner[v] || c.vertex_sharp_edges[v] >= 2) continue;
-        const auto w = subdivision::loop_smooth_vertex(static_cast<int>(c.vertex_edges[v]));
-        dst[v] = w.vertex * src[v] + w.edge * dst[v];
+        const bool topological_corner = vertex_faces[v] == 1 && vertex_edges[v] == 2;
+        // a manifold vertex is one fan: closed (faces == edges) or open with two boundary edges (faces == edges - 1)
+        const bool fan = vertex_nm[v] == 0 &&
+                         ((vertex_boundary[v] == 0 && vertex_faces[v] == vertex_edges[v]) ||
+                          (vertex_boundary[v] == 2 && vertex_faces[v] + 1 == vertex_edges[v]));
+        const bool non_manifold = vertex_edges[v] > 0 && !fan;
+        if (topological_corner && boundary == BoundaryInterpolation::EdgeAndCorner) {
+            s.vertex[v] = kInfiniteSharpness;
+        } else if (non_manifold) {
+            const bool simple_crease = vertex_nm[v] == 2 && vertex_boundary[v] == 0 && vertex_faces[v] > vertex_edges[v];
+            if (!simple_crease) s.vertex[v] = kInfiniteSharpness;
+        }
     }
-    apply_sharp_vertex_rules(p, c, src, dst);
+    return s;
 }
 
 std::uint64_t saturating_mul(std::uint64_t a, std::uint64_t b) {
     if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return std::numeric_limits<std::uint64_t>::max();
     return a * b;
 }
-
-std::uint64_t count_edges(const PolygonMesh& mesh) { return subdivision::build_base_level(mesh).edge_count(); }
 
 }  // namespace
 
@@ -158,7 +440,7 @@ std::uint64_t predicted_face_count(const PolygonMesh& mesh, SubdivisionScheme sc
 }
 
 std::uint64_t predicted_vertex_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels) {
-    std::uint64_t v = mesh.vertex_count(), e = count_edges(mesh), f = mesh.face_count();
+    std::uint64_t v = mesh.vertex_count(), e = subdivision::build_base_level(mesh).edge_count(), f = mesh.face_count();
     std::uint64_t corners = mesh.face_indices.size();
     constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max() / 8;
     for (int l = 0; l < levels; ++l) {
@@ -187,41 +469,49 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
                                       " vertices; Loop subdivision needs triangles",
                                   -1, -1, static_cast<std::int64_t>(f));
     }
-    if (options.levels == 0) {
-        PolygonMesh out;
-        out.positions = mesh.positions;
-        out.face_offsets = mesh.face_offsets;
-        out.face_indices = mesh.face_indices;
-        return out;
-    }
     constexpr std::uint64_t kIndexLimit = std::numeric_limits<Index>::max() - 1;
     const auto scheme = options.scheme;
-    if (predicted_face_count(mesh, scheme, options.levels) * 4 > kIndexLimit ||
-        predicted_vertex_count(mesh, scheme, options.levels) > kIndexLimit)
+    if (options.levels > 0 && (predicted_face_count(mesh, scheme, options.levels) > kIndexLimit / 4 ||
+                               predicted_vertex_count(mesh, scheme, options.levels) > kIndexLimit))
         return make_error(ErrorCode::BudgetExceeded, "the refined mesh would exceed 2^32 indices");
 
     const BoundaryInterpolation boundary =
         options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
 
     Level level = subdivision::build_base_level(mesh);
+    auto base = base_sharpness(mesh, level, boundary, options.use_mesh_tags);
+    if (!base) return base.error();
+    Sharpness sharp = std::move(base).value();
+
     std::vector<Vec3> src = mesh.positions, dst;
     for (int l = 0; l < options.levels; ++l) {
         const bool last = l + 1 == options.levels;
-        const Classification c = classify(level, boundary);
+        const Neighbourhood n = neighbourhood(level, sharp, options.crease_method);
         Level child = loop ? subdivision::refine_triangles(level, !last) : subdivision::refine_quads(level, !last);
         dst.resize(child.vertex_count);
+        const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark};
         if (loop)
-            interpolate_loop(level, c, src.data(), dst.data());
+            interpolate_loop(in, n, src.data(), dst.data());
         else
-            interpolate_catmark(level, c, src.data(), dst.data());
+            interpolate_catmark(in, n, src.data(), dst.data());
+        Sharpness child_sharp = refine_sharpness(level, child, sharp, n, options.crease_method, loop);
         level = std::move(child);
+        sharp = std::move(child_sharp);
         src.swap(dst);
     }
 
     PolygonMesh out;
     out.positions = std::move(src);
-    out.face_offsets = std::move(level.face_offsets);
-    out.face_indices = std::move(level.face_verts);
+    if (sharp.hole.empty()) {
+        out.face_offsets = std::move(level.face_offsets);
+        out.face_indices = std::move(level.face_verts);
+    } else {
+        for (Index f = 0; f < level.face_count(); ++f) {
+            if (sharp.hole[f]) continue;
+            out.add_face({level.face_verts.data() + level.face_offsets[f],
+                          static_cast<std::size_t>(level.face_offsets[f + 1] - level.face_offsets[f])});
+        }
+    }
     return out;
 }
 

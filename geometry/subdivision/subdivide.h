@@ -14,13 +14,32 @@ namespace surfaced {
 
 enum class SubdivisionScheme { CatmullClark, Loop };
 
+//! How semi-sharp edge sharpness decays from level to level (OpenSubdiv's Sdc::Options::CreasingMethod).
+enum class CreaseMethod {
+    Uniform,  //!< CREASE_UNIFORM: every child edge gets sharpness - 1
+    Chaikin,  //!< CREASE_CHAIKIN: 3/4 own + 1/4 the average of the other semi-sharp edges at the end vertex, - 1
+};
+
+//! Catmull-Clark edge rule next to triangles (OpenSubdiv's Sdc::Options::TriangleSubdivision).
+enum class TriangleRule {
+    Catmark,  //!< TRI_SUB_CATMARK: the ordinary rule
+    Smooth,   //!< TRI_SUB_SMOOTH: modified edge weights next to triangles, for rounder results
+};
+
 struct SubdivisionOptions {
     SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
     int levels = 1;  //!< uniform refinement levels, >= 0
     //! Boundary rule. When `use_mesh_boundary_tag` is true and the mesh carries `tags.boundary`, that wins.
     BoundaryInterpolation boundary = BoundaryInterpolation::EdgeOnly;
     bool use_mesh_boundary_tag = true;
+    CreaseMethod crease_method = CreaseMethod::Uniform;
+    TriangleRule triangle_rule = TriangleRule::Catmark;  //!< Catmull-Clark only
+    //! Apply mesh.tags creases (edge sharpness), corners (vertex sharpness) and holes. Sharpness >= 10 is infinite.
+    bool use_mesh_tags = true;
 };
+
+//! Sharpness at or above this is infinitely sharp (OpenSubdiv's Sdc::Crease::SHARPNESS_INFINITE).
+inline constexpr float kInfiniteSharpness = 10.0f;
 
 //! Refines `mesh` uniformly `options.levels` times.
 //!
@@ -29,8 +48,10 @@ struct SubdivisionOptions {
 //! edges; child faces grouped by parent face in parent order.
 //!
 //! \pre validate(mesh) succeeded (the function validates anyway and returns its error).
-//! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), NonManifold,
-//!         InvalidArgument (levels < 0).
+//! Hole faces (mesh.tags.holes) stay in the topology (they shape their neighbours) but their children are not
+//! output; vertices keep OpenSubdiv's numbering, so a vertex used only by holes is still present.
+//! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), IndexOutOfRange (a crease
+//!         between vertices that share no edge), InvalidArgument (levels < 0), BudgetExceeded (over 2^32 indices).
 //! Worst case output: predicted_face_count(mesh, scheme, levels) faces.
 Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options);
 

@@ -44,7 +44,34 @@ PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& opt
     desc.numVertsPerFace = verts_per_face.data();
     desc.vertIndicesPerFace = indices.data();
 
+    std::vector<int> crease_pairs, corner_vertices, holes;
+    std::vector<float> crease_weights, corner_weights;
+    if (options.use_mesh_tags) {
+        for (const Crease& c : mesh.tags.creases) {
+            crease_pairs.push_back(static_cast<int>(c.v0));
+            crease_pairs.push_back(static_cast<int>(c.v1));
+            crease_weights.push_back(static_cast<float>(c.sharpness));
+        }
+        for (const Corner& c : mesh.tags.corners) {
+            corner_vertices.push_back(static_cast<int>(c.vertex));
+            corner_weights.push_back(static_cast<float>(c.sharpness));
+        }
+        for (Index h : mesh.tags.holes) holes.push_back(static_cast<int>(h));
+    }
+    desc.numCreases = static_cast<int>(crease_weights.size());
+    desc.creaseVertexIndexPairs = crease_pairs.data();
+    desc.creaseWeights = crease_weights.data();
+    desc.numCorners = static_cast<int>(corner_weights.size());
+    desc.cornerVertexIndices = corner_vertices.data();
+    desc.cornerWeights = corner_weights.data();
+    desc.numHoles = static_cast<int>(holes.size());
+    desc.holeIndices = holes.data();
+
     Sdc::Options sdc;
+    sdc.SetCreasingMethod(options.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
+                                                                         : Sdc::Options::CREASE_UNIFORM);
+    sdc.SetTriangleSubdivision(options.triangle_rule == TriangleRule::Smooth ? Sdc::Options::TRI_SUB_SMOOTH
+                                                                             : Sdc::Options::TRI_SUB_CATMARK);
     BoundaryInterpolation boundary = options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
     sdc.SetVtxBoundaryInterpolation(to_osd(boundary));
     const Sdc::SchemeType scheme = options.scheme == SubdivisionScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
@@ -68,6 +95,7 @@ PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& opt
     for (const Point& p : src) out.positions.push_back({p.p[0], p.p[1], p.p[2]});
     const Far::TopologyLevel& last = refiner->GetLevel(options.levels);
     for (int f = 0; f < last.GetNumFaces(); ++f) {
+        if (last.IsFaceHole(f)) continue;
         Far::ConstIndexArray fv = last.GetFaceVertices(f);
         std::vector<Index> face(fv.begin(), fv.end());
         out.add_face(face);
