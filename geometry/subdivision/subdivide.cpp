@@ -322,6 +322,44 @@ Sharpness refine_sharpness(const Level& p, const Level& child, const Sharpness& 
     return c;
 }
 
+// Number of face fans at each vertex: faces around a vertex are in one fan when a chain of manifold edges at the
+// vertex joins them. Union-find over face corners (a corner is one slot of face_verts).
+std::vector<std::uint32_t> count_fans(const Level& level, const std::vector<std::uint32_t>& edge_faces,
+                                      const std::vector<std::uint8_t>& non_manifold_edge) {
+    const Index corners = static_cast<Index>(level.face_verts.size()), ne = level.edge_count();
+    std::vector<Index> parent(corners);
+    for (Index i = 0; i < corners; ++i) parent[i] = i;
+    auto find = [&](Index x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    // the corner after `slot` in face f (the other end of the edge that starts at `slot`)
+    auto next_corner = [&](Index f, Index slot) { return slot + 1 < level.face_offsets[f + 1] ? slot + 1 : level.face_offsets[f]; };
+    // first face-edge slot (and its face) seen for each manifold interior edge
+    std::vector<Index> first_slot(ne, kInvalidIndex), first_face(ne, kInvalidIndex);
+    for (Index f = 0; f < level.face_count(); ++f) {
+        for (Index slot = level.face_offsets[f]; slot < level.face_offsets[f + 1]; ++slot) {
+            const Index e = level.face_edges[slot];
+            if (edge_faces[e] != 2 || non_manifold_edge[e]) continue;
+            if (first_slot[e] == kInvalidIndex) {
+                first_slot[e] = slot;
+                first_face[e] = f;
+                continue;
+            }
+            // the two faces meet along e: join their corners at each end vertex of e
+            const Index ours[2] = {slot, next_corner(f, slot)};
+            const Index theirs[2] = {first_slot[e], next_corner(first_face[e], first_slot[e])};
+            for (Index x : ours)
+                for (Index y : theirs)
+                    if (level.face_verts[x] == level.face_verts[y]) parent[find(x)] = find(y);
+        }
+    }
+    std::vector<std::uint32_t> fans(level.vertex_count, 0);
+    for (Index i = 0; i < corners; ++i)
+        if (find(i) == i) ++fans[level.face_verts[i]];
+    return fans;
+}
+
 // Base-level sharpness from the mesh tags and the topology, as OpenSubdiv's factory assigns it: boundary and
 // non-manifold edges are infinitely sharp; corners of one face are with edge-and-corner; non-manifold vertices are,
 // except on a simple non-manifold crease.
@@ -408,10 +446,12 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
             for (Index f = 0; f < level.face_count(); ++f) s.hole[f] |= hole[f];
         }
     }
+    const std::vector<std::uint32_t> fans = count_fans(level, edge_faces, non_manifold_edge);
     for (Index v = 0; v < nv; ++v) {
         const bool topological_corner = vertex_faces[v] == 1 && vertex_edges[v] == 2;
-        // a manifold vertex is one fan: closed (faces == edges) or open with two boundary edges (faces == edges - 1)
-        const bool fan = vertex_nm[v] == 0 &&
+        // a manifold vertex is one fan of faces joined by manifold edges: closed (faces == edges) or open with two
+        // boundary edges (faces == edges - 1)
+        const bool fan = vertex_nm[v] == 0 && fans[v] == 1 &&
                          ((vertex_boundary[v] == 0 && vertex_faces[v] == vertex_edges[v]) ||
                           (vertex_boundary[v] == 2 && vertex_faces[v] + 1 == vertex_edges[v]));
         const bool non_manifold = vertex_edges[v] > 0 && !fan;

@@ -55,9 +55,6 @@ const char* known_gap(const std::string& shape) {
         {"catmark_nonman_quadpole64", "faces repeat a vertex (degenerate edges): our validation rejects them"},
         {"catmark_nonman_quadpole360", "faces repeat a vertex (degenerate edges): our validation rejects them"},
         {"loop_nonman_edges", "faces repeat a vertex (degenerate edges): our validation rejects them"},
-        {"catmark_nonman_verts", "vertices where several face fans meet are not yet detected as non-manifold"},
-        {"loop_nonman_verts", "vertices where several face fans meet are not yet detected as non-manifold"},
-        {"catmark_val2_nonman", "vertices where several face fans meet are not yet detected as non-manifold"},
     };
     for (const auto& [name, why] : gaps)
         if (shape == name) return why;
