@@ -1,1 +1,340 @@
-// placeholder: being written
+#include "api/json_codec.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace surfaced::api {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string index_path(std::string_view path, std::size_t i) {
+    std::string out(path);
+    out += '[';
+    out += std::to_string(i);
+    out += ']';
+    return out;
+}
+
+std::string member_path(std::string_view path, std::string_view name) {
+    if (path.empty()) return std::string(name);
+    std::string out(path);
+    out += '.';
+    out += name;
+    return out;
+}
+
+ApiError invalid(const std::string& field, std::string detail) {
+    return make_problem(Problem::InvalidField, std::move(detail), field);
+}
+
+ApiError geometry_error(ErrorCode code, const std::string& field, std::string detail) {
+    ApiError error = from_geo_error(make_error(code, std::move(detail)));
+    error.field = field;
+    return error;
+}
+
+//! Parses `text`; nlohmann reports errors by exception, which must not leave this function.
+std::optional<ApiError> parse(std::string_view text, Json& out) {
+    try {
+        out = Json::parse(text.begin(), text.end());
+        return std::nullopt;
+    } catch (const Json::parse_error& e) {
+        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ..."; the bracketed id
+        // means nothing to a client.
+        std::string message = e.what();
+        if (const auto pos = message.find("] "); message.starts_with("[json.exception") && pos != std::string::npos)
+            message.erase(0, pos + 2);
+        ApiError error = make_problem(Problem::InvalidJson, "request body is not valid JSON: " + message);
+        // nlohmann's `byte` counts from 1 (the byte it stopped at); ours is a 0-based offset into the body.
+        error.offset = e.byte > 0 ? static_cast<std::int64_t>(e.byte - 1) : 0;
+        return error;
+    } catch (const Json::out_of_range& e) {
+        // Not a parse_error: nlohmann throws out_of_range.406 for a literal that overflows a double ("1e999"),
+        // without a position. It is a non-finite coordinate (or option), so it gets the NonFinite status.
+        return from_geo_error(make_error(ErrorCode::NonFinite,
+                                         std::string("a number in the body does not fit a double: ") + e.what()));
+    } catch (const Json::exception& e) {
+        return make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what());
+    }
+}
+
+//! Every member of `object` must be in `allowed`; otherwise one error naming all unknown members.
+std::optional<ApiError> check_members(const Json& object, std::string_view path,
+                                      std::initializer_list<std::string_view> allowed) {
+    std::vector<std::string> unknown;
+    for (const auto& item : object.items()) {
+        bool known = false;
+        for (std::string_view name : allowed) known = known || item.key() == name;
+        if (!known) unknown.push_back(item.key());
+    }
+    if (unknown.empty()) return std::nullopt;
+    std::string names, allowed_names;
+    for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+    for (std::string_view name : allowed)
+        allowed_names += (allowed_names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    const std::string where = path.empty() ? "at top level" : "in " + std::string(path);
+    return make_problem(Problem::UnknownField,
+                        "unknown field" + std::string(unknown.size() > 1 ? "s " : " ") + names + " " + where +
+                            " (allowed: " + allowed_names + ")",
+                        member_path(path, unknown.front()));
+}
+
+template <class E, std::size_t N>
+ApiResult<E> read_enum(const Json& value, const std::string& field, const EnumName<E> (&table)[N]) {
+    if (!value.is_string())
+        return invalid(field, field + " must be a string, one of " + enum_names(table));
+    const auto& text = value.get_ref<const std::string&>();
+    if (auto parsed = enum_from_name(table, text)) return *parsed;
+    return invalid(field, field + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")");
+}
+
+ApiResult<std::int64_t> read_integer(const Json& value, const std::string& field) {
+    if (value.is_number_unsigned()) {
+        const auto v = value.get<std::uint64_t>();
+        return v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
+                   ? std::numeric_limits<std::int64_t>::max()
+                   : static_cast<std::int64_t>(v);
+    }
+    // nlohmann stores 2.0 as a float: an integer field must be written without a fraction or exponent.
+    if (value.is_number_integer()) return value.get<std::int64_t>();
+    return invalid(field, field + " must be an integer");
+}
+
+ApiResult<bool> read_bool(const Json& value, const std::string& field) {
+    if (!value.is_boolean()) return invalid(field, field + " must be true or false");
+    return value.get<bool>();
+}
+
+ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path, const Limits& limits) {
+    const std::string mesh_path(path);
+    if (!root.is_object())
+        return invalid(mesh_path, mesh_path + R"( must be an object {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
+    if (auto error = check_members(root, path, {"positions", "faces"})) return std::move(*error);
+
+    const std::string positions_path = member_path(path, "positions");
+    const std::string faces_path = member_path(path, "faces");
+    const auto positions_it = root.find("positions");
+    const auto faces_it = root.find("faces");
+    if (positions_it == root.end())
+        return invalid(positions_path, positions_path + " is required (an array of [x, y, z])");
+    if (faces_it == root.end())
+        return invalid(faces_path, faces_path + " is required (an array of vertex index arrays)");
+    const Json& positions = *positions_it;
+    const Json& faces = *faces_it;
+    if (!positions.is_array()) return invalid(positions_path, positions_path + " must be an array of [x, y, z]");
+    if (!faces.is_array()) return invalid(faces_path, faces_path + " must be an array of vertex index arrays");
+
+    // Budgets first: nothing is copied out of the DOM for a mesh we would refuse anyway.
+    if (positions.size() > limits.max_input_vertices)
+        return make_problem(Problem::BudgetExceeded,
+                            positions_path + " has " + std::to_string(positions.size()) + " vertices; the limit is " +
+                                std::to_string(limits.max_input_vertices),
+                            positions_path);
+    if (faces.size() > limits.max_input_faces)
+        return make_problem(Problem::BudgetExceeded,
+                            faces_path + " has " + std::to_string(faces.size()) + " faces; the limit is " +
+                                std::to_string(limits.max_input_faces),
+                            faces_path);
+
+    PolygonMesh mesh;
+    mesh.positions.reserve(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const Json& p = positions[v];
+        if (!p.is_array() || p.size() != 3) {
+            const std::string field = index_path(positions_path, v);
+            return invalid(field, field + " must be an array of 3 numbers [x, y, z]");
+        }
+        Vec3 point;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Json& c = p[k];
+            if (!c.is_number()) {
+                const std::string field = index_path(index_path(positions_path, v), k);
+                return invalid(field, field + " must be a finite number");
+            }
+            point[static_cast<int>(k)] = c.get<double>();
+            // JSON has no NaN/Inf literals, but 1e999 parses to infinity.
+            if (!std::isfinite(point[static_cast<int>(k)])) {
+                const std::string field = index_path(index_path(positions_path, v), k);
+                return geometry_error(ErrorCode::NonFinite, field, field + " must be a finite number");
+            }
+        }
+        mesh.positions.push_back(point);
+    }
+
+    const std::size_t nv = mesh.positions.size();
+    mesh.face_offsets.reserve(faces.size() + 1);
+    mesh.face_indices.reserve(faces.size() * 4);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+        const Json& face = faces[f];
+        const std::string face_field = index_path(faces_path, f);
+        if (!face.is_array()) return invalid(face_field, face_field + " must be an array of vertex indices");
+        if (face.size() < 3)
+            return geometry_error(ErrorCode::DegenerateFace, face_field,
+                                  face_field + " has " + std::to_string(face.size()) +
+                                      " vertices (at least 3 needed)");
+        for (std::size_t k = 0; k < face.size(); ++k) {
+            const Json& index = face[k];
+            if (!index.is_number_unsigned()) {
+                // Negative integers are number_integer, fractions are number_float: both are wrong here.
+                const std::string field = index_path(face_field, k);
+                return invalid(field, field + " must be a non-negative integer vertex index");
+            }
+            const auto value = index.get<std::uint64_t>();
+            if (value >= nv) {
+                const std::string field = index_path(face_field, k);
+                return geometry_error(ErrorCode::IndexOutOfRange, field,
+                                      field + ": vertex " + std::to_string(value) + " out of range (" +
+                                          std::to_string(nv) + " vertices)");
+            }
+            mesh.face_indices.push_back(static_cast<Index>(value));
+        }
+        mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
+    }
+    return mesh;
+}
+
+ApiResult<OutputOptions> decode_output(const Json& value) {
+    const std::string path = "output";
+    if (!value.is_object())
+        return invalid(path, R"(output must be an object {"format", "compression", "quantize_position", "normals"})");
+    if (auto error = check_members(value, path, {"format", "compression", "quantize_position", "normals"}))
+        return std::move(*error);
+    OutputOptions out;
+    if (auto it = value.find("format"); it != value.end()) {
+        auto format = read_enum(*it, "output.format", kOutputFormatNames);
+        if (!format) return std::move(format.error());
+        out.format = format.value();
+    }
+    if (auto it = value.find("compression"); it != value.end()) {
+        auto draco = read_enum(*it, "output.compression", kCompressionNames);
+        if (!draco) return std::move(draco.error());
+        out.draco = draco.value();
+    }
+    if (auto it = value.find("quantize_position"); it != value.end()) {
+        auto bits = read_integer(*it, "output.quantize_position");
+        if (!bits) return std::move(bits.error());
+        out.quantize_position = bits.value();
+    }
+    if (auto it = value.find("normals"); it != value.end()) {
+        auto normals = read_bool(*it, "output.normals");
+        if (!normals) return std::move(normals.error());
+        out.normals = normals.value();
+    }
+    return out;
+}
+
+void append_number(std::string& out, double value) {
+    if (!std::isfinite(value)) {  // unreachable for validated meshes; keeps the output valid JSON regardless
+        out += "null";
+        return;
+    }
+    char buf[32];
+    const auto result = std::to_chars(buf, buf + sizeof buf, value);
+    out.append(buf, result.ptr);
+}
+
+void append_number(std::string& out, std::uint64_t value) {
+    char buf[24];
+    const auto result = std::to_chars(buf, buf + sizeof buf, value);
+    out.append(buf, result.ptr);
+}
+
+}  // namespace
+
+ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& limits, std::string_view path) {
+    Json root;
+    if (auto error = parse(json_text, root)) return std::move(*error);
+    return decode_mesh_value(root, path, limits);
+}
+
+ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, const Limits& limits) {
+    Json root;
+    if (auto error = parse(body, root)) return std::move(*error);
+    if (!root.is_object())
+        return make_problem(Problem::InvalidField,
+                            R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
+    if (auto error = check_members(root, "", {"mesh", "scheme", "levels", "boundary", "output"}))
+        return std::move(*error);
+
+    SubdivideJsonRequest request;
+    if (auto it = root.find("scheme"); it != root.end()) {
+        auto scheme = read_enum(*it, "scheme", kSchemeNames);
+        if (!scheme) return std::move(scheme.error());
+        request.params.scheme = scheme.value();
+    }
+    if (auto it = root.find("levels"); it != root.end()) {
+        auto levels = read_integer(*it, "levels");
+        if (!levels) return std::move(levels.error());
+        request.params.levels = levels.value();
+    }
+    if (auto it = root.find("boundary"); it != root.end()) {
+        auto boundary = read_enum(*it, "boundary", kBoundaryNames);
+        if (!boundary) return std::move(boundary.error());
+        request.params.boundary = boundary.value();
+    }
+    if (auto it = root.find("output"); it != root.end()) {
+        auto output = decode_output(*it);
+        if (!output) return std::move(output.error());
+        request.params.output = std::move(output.value());
+    }
+    const auto mesh_it = root.find("mesh");
+    if (mesh_it == root.end())
+        return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
+    auto mesh = decode_mesh_value(*mesh_it, "mesh", limits);
+    if (!mesh) return std::move(mesh.error());
+    request.mesh = std::move(mesh.value());
+    return request;
+}
+
+std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& stats) {
+    std::string out;
+    // About 20 bytes per coordinate and 8 per index: one allocation for typical meshes.
+    out.reserve(64 + mesh.positions.size() * 60 + mesh.face_indices.size() * 8 + mesh.face_count() * 4);
+    out += "{\"mesh\":{\"positions\":[";
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3& p = mesh.positions[v];
+        out += v == 0 ? "[" : ",[";
+        append_number(out, p.x);
+        out += ',';
+        append_number(out, p.y);
+        out += ',';
+        append_number(out, p.z);
+        out += ']';
+    }
+    out += "],\"faces\":[";
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        out += f == 0 ? "[" : ",[";
+        bool first = true;
+        for (Index i : mesh.face(f)) {
+            if (!first) out += ',';
+            first = false;
+            append_number(out, static_cast<std::uint64_t>(i));
+        }
+        out += ']';
+    }
+    out += "]},\"stats\":{\"input_vertices\":";
+    append_number(out, static_cast<std::uint64_t>(stats.input_vertices));
+    out += ",\"input_faces\":";
+    append_number(out, static_cast<std::uint64_t>(stats.input_faces));
+    out += ",\"output_vertices\":";
+    append_number(out, static_cast<std::uint64_t>(stats.output_vertices));
+    out += ",\"output_faces\":";
+    append_number(out, static_cast<std::uint64_t>(stats.output_faces));
+    out += ",\"scheme\":\"";
+    out += enum_name(kSchemeNames, stats.scheme);
+    out += "\",\"levels\":";
+    append_number(out, static_cast<std::uint64_t>(stats.levels < 0 ? 0 : stats.levels));
+    out += ",\"elapsed_ms\":";
+    append_number(out, stats.elapsed_ms);
+    out += "}}";
+    return out;
+}
+
+}  // namespace surfaced::api

@@ -1,1 +1,4 @@
-int main() { return 0; }
+// `surfaced`: everything lives in cli.cpp so that main stays a one-liner (STYLE b.8).
+#include "server/cli.h"
+
+int main(int argc, char** argv) { return surfaced::cli::run(argc, argv); }

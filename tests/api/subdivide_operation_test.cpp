@@ -1,1 +1,349 @@
-// placeholder: being written
+// POST /subdivide called directly (no sockets): both request forms, every error class, budgets before work.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/operations/subdivide.h"
+#include "api/routes.h"
+#include "geometry/io/gltf.h"
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "tests/support/gltf_validator.h"
+
+namespace surfaced::api {
+namespace {
+
+std::string mesh_json(const PolygonMesh& mesh) {
+    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
+    for (const Vec3& p : mesh.positions) positions.push_back({p.x, p.y, p.z});
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto face = mesh.face(f);
+        faces.push_back(std::vector<Index>(face.begin(), face.end()));
+    }
+    return nlohmann::json{{"positions", positions}, {"faces", faces}}.dump();
+}
+
+//! {"mesh": <mesh>, <extra members>}
+std::string json_request(const PolygonMesh& mesh, const std::string& extra = "") {
+    return R"({"mesh":)" + mesh_json(mesh) + extra + "}";
+}
+
+ApiResponse call(const std::string& content_type, const std::string& body,
+                 std::multimap<std::string, std::string> query = {}, const Limits& limits = {}) {
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/subdivide";
+    request.content_type = content_type;
+    request.body = body;
+    request.query = std::move(query);
+    ApiContext context;
+    context.limits = limits;
+    return operations::subdivide(request, context);
+}
+
+std::string header(const ApiResponse& response, const std::string& name) {
+    for (const auto& [key, value] : response.headers)
+        if (key == name) return value;
+    return "";
+}
+
+//! Checks status, code and that the body is the matching problem+json; returns the parsed body.
+nlohmann::json expect_problem(const ApiResponse& response, int status, const std::string& code) {
+    EXPECT_EQ(response.status, status) << response.body;
+    EXPECT_EQ(response.content_type, "application/problem+json");
+    EXPECT_TRUE(response.error.has_value());
+    auto json = nlohmann::json::parse(response.body, nullptr, false);
+    EXPECT_FALSE(json.is_discarded()) << response.body;
+    if (json.is_discarded()) return {};
+    EXPECT_EQ(json.value("status", 0), status) << response.body;
+    EXPECT_EQ(json.value("code", ""), code) << response.body;
+    EXPECT_FALSE(json.value("detail", "").empty());
+    return json;
+}
+
+// A valid cube OBJ, 1-based, outward quads.
+constexpr const char* kCubeObj =
+    "# cube\n"
+    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+    "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+// ---- good requests ---------------------------------------------------------------------------------------------
+
+TEST(SubdivideOperation, JsonCubeToJson) {
+    const auto response = call("application/json", json_request(shapes::cube(), R"(,"levels":1,"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "application/json");
+    const auto json = nlohmann::json::parse(response.body);
+    EXPECT_EQ(json["mesh"]["faces"].size(), 24u);
+    EXPECT_EQ(json["mesh"]["positions"].size(), 26u);
+    EXPECT_EQ(json["stats"]["input_vertices"], 8);
+    EXPECT_EQ(json["stats"]["input_faces"], 6);
+    EXPECT_EQ(json["stats"]["output_vertices"], 26);
+    EXPECT_EQ(json["stats"]["output_faces"], 24);
+    EXPECT_EQ(json["stats"]["scheme"], "catmull-clark");
+    EXPECT_EQ(header(response, "X-Input-Faces"), "6");
+    EXPECT_EQ(header(response, "X-Input-Vertices"), "8");
+    EXPECT_EQ(header(response, "X-Output-Faces"), "24");
+    EXPECT_EQ(header(response, "X-Output-Vertices"), "26");
+    EXPECT_FALSE(header(response, "X-Elapsed-Ms").empty());
+    EXPECT_NE(header(response, "Server-Timing").find("subdivide;dur="), std::string::npos);
+    for (const auto& face : json["mesh"]["faces"]) EXPECT_EQ(face.size(), 4u);
+}
+
+TEST(SubdivideOperation, JsonDefaultIsValidDracoGlb) {
+    const auto response = call("application/json; charset=utf-8", json_request(shapes::cube(), R"(,"levels":2)"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "model/gltf-binary");
+    ASSERT_GE(response.body.size(), 12u);
+    EXPECT_EQ(response.body.substr(0, 4), "glTF");
+    EXPECT_NE(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
+    EXPECT_EQ(header(response, "X-Output-Faces"), "96");
+    const auto validation = testing::run_gltf_validator(response.body);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+    EXPECT_EQ(validation.warnings, 0) << validation.report;
+}
+
+TEST(SubdivideOperation, LoopOnTrianglesUncompressedGlb) {
+    const auto response =
+        call("application/json",
+             json_request(shapes::icosahedron(), R"(,"scheme":"loop","levels":2,"output":{"compression":"none"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
+    EXPECT_EQ(header(response, "X-Output-Faces"), "320");
+    const auto validation = testing::run_gltf_validator(response.body);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+    EXPECT_EQ(validation.warnings, 0) << validation.report;
+}
+
+TEST(SubdivideOperation, RawObjWithQueryToObj) {
+    const auto response = call("model/obj", kCubeObj, {{"scheme", "catmull-clark"}, {"levels", "2"}, {"format", "obj"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "model/obj");
+    auto mesh = read_obj(response.body);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_EQ(mesh->face_count(), 96u);
+    EXPECT_EQ(mesh->vertex_count(), 98u);
+    EXPECT_EQ(header(response, "X-Output-Faces"), "96");
+}
+
+TEST(SubdivideOperation, OctetStreamIsSniffed) {
+    const auto response = call("application/octet-stream", kCubeObj, {{"format", "ply"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "application/ply");
+    auto mesh = read_ply(response.body);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_EQ(mesh->face_count(), 24u);
+}
+
+TEST(SubdivideOperation, EveryUploadFormat) {
+    // The cube in each input format, by its canonical media type and sniffed from application/octet-stream.
+    const PolygonMesh cube = shapes::cube();
+    GltfOptions plain;
+    plain.draco = false;
+    auto plain_glb = write_glb(cube, plain);
+    ASSERT_TRUE(plain_glb.ok());
+    const std::string off =
+        "OFF\n8 6 0\n-0.5 -0.5 -0.5\n0.5 -0.5 -0.5\n0.5 0.5 -0.5\n-0.5 0.5 -0.5\n"
+        "-0.5 -0.5 0.5\n0.5 -0.5 0.5\n0.5 0.5 0.5\n-0.5 0.5 0.5\n"
+        "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+    const std::string stl =
+        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+        "endsolid t\n";
+    struct Case {
+        std::string media_type, body;
+        std::string output_faces;  // glTF input is triangulated: 12 triangles -> 36 quads at level 1
+    };
+    const Case cases[] = {
+        {"model/obj", kCubeObj, "24"},
+        {"model/off", off, "24"},
+        {"application/ply", write_ply(cube), "24"},
+        {"model/ply", write_ply(cube, PlyEncoding::Ascii), "24"},
+        {"model/stl", stl, "3"},
+        {"application/sla", stl, "3"},
+        {"model/gltf-binary", plain_glb.value(), "36"},
+    };
+    for (const Case& c : cases) {
+        for (const std::string& type : {c.media_type, std::string("application/octet-stream")}) {
+            const auto response = call(type, c.body, {{"format", "obj"}});
+            EXPECT_EQ(response.status, 200) << c.media_type << " as " << type << ": " << response.body;
+            EXPECT_EQ(header(response, "X-Output-Faces"), c.output_faces) << c.media_type << " as " << type;
+        }
+    }
+}
+
+TEST(SubdivideOperation, DracoGlbUploadRoundTrips) {
+    // Our own default output must be accepted as input (read_glb decodes KHR_draco_mesh_compression).
+    auto glb = write_glb(shapes::cube(), GltfOptions{});
+    ASSERT_TRUE(glb.ok());
+    for (const std::string type : {"model/gltf-binary", "application/octet-stream"}) {
+        const auto response = call(type, glb.value(), {{"format", "obj"}});
+        EXPECT_EQ(response.status, 200) << type << ": " << response.body;
+        EXPECT_EQ(header(response, "X-Output-Faces"), "36") << type;
+    }
+}
+
+TEST(SubdivideOperation, LevelsZeroReturnsInput) {
+    const auto response = call("model/obj", kCubeObj, {{"levels", "0"}, {"format", "json"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(header(response, "X-Output-Faces"), "6");
+}
+
+TEST(SubdivideOperation, RoutesDispatch) {
+    ApiContext context;
+    ApiRequest health;
+    health.method = "GET";
+    health.path = "/healthz";
+    const auto ok = dispatch(health, context);
+    EXPECT_EQ(ok.status, 200);
+    EXPECT_EQ(ok.content_type, "application/json");
+    EXPECT_EQ(nlohmann::json::parse(ok.body)["status"], "ok");
+
+    ApiRequest missing = health;
+    missing.path = "/nope";
+    expect_problem(dispatch(missing, context), 404, "not_found");
+
+    ApiRequest wrong_method = health;
+    wrong_method.path = "/subdivide";
+    const auto not_allowed = dispatch(wrong_method, context);
+    expect_problem(not_allowed, 405, "method_not_allowed");
+    EXPECT_EQ(header(not_allowed, "Allow"), "POST");
+}
+
+// ---- 400 -------------------------------------------------------------------------------------------------------
+
+TEST(SubdivideOperation, MalformedJsonIs400) {
+    const auto json = expect_problem(call("application/json", R"({"mesh": )"), 400, "invalid_json");
+    EXPECT_TRUE(json.contains("offset"));
+}
+
+TEST(SubdivideOperation, UnknownQueryParametersAreNamed) {
+    const auto json =
+        expect_problem(call("model/obj", kCubeObj, {{"levels", "1"}, {"colour", "red"}, {"lvl", "2"}}), 400,
+                       "unknown_parameter");
+    const std::string detail = json["detail"];
+    EXPECT_NE(detail.find("\"colour\""), std::string::npos) << detail;
+    EXPECT_NE(detail.find("\"lvl\""), std::string::npos) << detail;
+}
+
+TEST(SubdivideOperation, QueryWithJsonBodyIs400) {
+    expect_problem(call("application/json", json_request(shapes::cube()), {{"levels", "2"}}), 400, "unknown_parameter");
+}
+
+TEST(SubdivideOperation, BadQueryValuesAre400) {
+    expect_problem(call("model/obj", kCubeObj, {{"levels", "two"}}), 400, "invalid_field");
+    expect_problem(call("model/obj", kCubeObj, {{"levels", "-1"}}), 400, "invalid_field");
+    expect_problem(call("model/obj", kCubeObj, {{"levels", "1"}, {"levels", "2"}}), 400, "invalid_field");
+    const auto scheme = expect_problem(call("model/obj", kCubeObj, {{"scheme", "sqrt3"}}), 400, "invalid_field");
+    EXPECT_EQ(scheme.value("field", ""), "scheme");
+    EXPECT_NE(scheme.value("detail", "").find("\"loop\""), std::string::npos);
+    expect_problem(call("model/obj", kCubeObj, {{"normals", "yes"}}), 400, "invalid_field");
+}
+
+TEST(SubdivideOperation, OptionsThatDoNotApplyAre400) {
+    const auto compression = expect_problem(
+        call("application/json", json_request(shapes::cube(), R"(,"output":{"format":"obj","compression":"draco"})")),
+        400, "invalid_field");
+    EXPECT_EQ(compression.value("field", ""), "output.compression");
+    const auto bits = expect_problem(
+        call("application/json", json_request(shapes::cube(), R"(,"output":{"quantize_position":31})")), 400,
+        "invalid_field");
+    EXPECT_EQ(bits.value("field", ""), "output.quantize_position");
+    expect_problem(call("model/obj", kCubeObj, {{"format", "json"}, {"normals", "true"}}), 400, "invalid_field");
+}
+
+TEST(SubdivideOperation, ObjParseErrorNamesTheLine) {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 x\n";
+    const auto json = expect_problem(call("model/obj", obj), 400, "parse_error");
+    EXPECT_EQ(json.value("line", 0), 5) << json.dump();
+}
+
+TEST(SubdivideOperation, ObjIndexOutOfRangeNamesTheLine) {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n";
+    const auto response = call("model/obj", obj);
+    EXPECT_TRUE(response.status == 422 || response.status == 400) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+    EXPECT_EQ(json.value("line", 0), 5) << json.dump();
+}
+
+// ---- 413 / 415 -------------------------------------------------------------------------------------------------
+
+TEST(SubdivideOperation, BodyOverLimitIs413) {
+    Limits limits;
+    limits.max_body_bytes = 100;
+    expect_problem(call("model/obj", kCubeObj, {}, limits), 413, "payload_too_large");
+}
+
+TEST(SubdivideOperation, UnknownMediaTypeIs415) {
+    const auto json = expect_problem(call("text/plain", kCubeObj), 415, "unsupported_media_type");
+    EXPECT_NE(json.value("detail", "").find("model/obj"), std::string::npos) << "accepted types are listed";
+    expect_problem(call("", kCubeObj), 415, "unsupported_media_type");
+    expect_problem(call("application/octet-stream", "\x01\x02 not a mesh"), 415, "unsupported_media_type");
+}
+
+// ---- 422 -------------------------------------------------------------------------------------------------------
+
+TEST(SubdivideOperation, IndexOutOfRangeHasFieldPath) {
+    const std::string body =
+        R"({"mesh":{"positions":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2],[0,2,3]]},"output":{"format":"json"}})";
+    const auto json = expect_problem(call("application/json", body), 422, "index_out_of_range");
+    EXPECT_EQ(json.value("field", ""), "mesh.faces[1][2]");
+}
+
+TEST(SubdivideOperation, RepeatedVertexIsDegenerateWithFieldPath) {
+    const std::string body = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2],[0,2,2]]}})";
+    const auto json = expect_problem(call("application/json", body), 422, "degenerate_face");
+    EXPECT_EQ(json.value("field", ""), "mesh.faces[1]");
+}
+
+TEST(SubdivideOperation, OverflowingNumberIs422NotInternalError) {
+    const std::string body = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[0,1e999,0]],"faces":[[0,1,2]]}})";
+    expect_problem(call("application/json", body), 422, "non_finite");
+}
+
+TEST(SubdivideOperation, LoopOnQuadsNamesTheFace) {
+    const auto json =
+        expect_problem(call("application/json", json_request(shapes::cube(), R"(,"scheme":"loop")")), 422,
+                       "not_triangle_mesh");
+    EXPECT_EQ(json.value("field", ""), "mesh.faces[0]");
+    EXPECT_NE(json.value("detail", "").find("face 0"), std::string::npos) << json.dump();
+}
+
+TEST(SubdivideOperation, LevelsOverLimitIs422) {
+    const auto json =
+        expect_problem(call("application/json", json_request(shapes::cube(), R"(,"levels":9)")), 422, "budget_exceeded");
+    EXPECT_EQ(json.value("field", ""), "levels");
+}
+
+TEST(SubdivideOperation, PredictedOutputRejectedBeforeWork) {
+    // Two triangles at level 12 would be 2 * 4^12 = 33.5M faces: refused from the prediction alone, at once.
+    PolygonMesh two;
+    two.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    two.add_face({0, 1, 2});
+    two.add_face({0, 2, 3});
+    Limits limits;
+    limits.max_levels = 16;
+    const auto start = std::chrono::steady_clock::now();
+    const auto response = call("application/json", json_request(two, R"(,"scheme":"loop","levels":12)"), {}, limits);
+    const auto elapsed = std::chrono::steady_clock::now() - start;
+    const auto json = expect_problem(response, 422, "budget_exceeded");
+    EXPECT_EQ(json.value("field", ""), "levels");
+    EXPECT_NE(json.value("detail", "").find("33554432"), std::string::npos) << json.dump();
+    EXPECT_LT(elapsed, std::chrono::milliseconds(500));
+}
+
+TEST(SubdivideOperation, OutputBudgetIsConfigurable) {
+    Limits limits;
+    limits.max_output_faces = 23;  // the cube at level 1 has 24
+    expect_problem(call("model/obj", kCubeObj, {{"levels", "1"}}, limits), 422, "budget_exceeded");
+    limits.max_output_faces = 24;
+    EXPECT_EQ(call("model/obj", kCubeObj, {{"levels", "1"}, {"format", "obj"}}, limits).status, 200);
+}
+
+}  // namespace
+}  // namespace surfaced::api

@@ -1,0 +1,110 @@
+// Plain request/response structs of the API (oatpp's dto/): what a request asks for once decoded, whether it
+// came as JSON or as a raw mesh upload with query parameters. Also the wire names of every enum, in one table each,
+// so JSON fields, query parameters, the CLI and error messages agree.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/polygon_mesh.h"
+#include "geometry/subdivision/subdivide.h"
+
+namespace surfaced::api {
+
+enum class OutputFormat { Glb, Obj, Ply, Json };
+
+//! How the result is encoded. Unset optionals mean "the default"; they are optional so that an option that does
+//! not apply to the chosen format (compression with OBJ) can be rejected instead of silently ignored.
+struct OutputOptions {
+    OutputFormat format = OutputFormat::Glb;
+    std::optional<bool> draco;                 //!< glb only; default true ("compression": "draco"|"none")
+    std::optional<std::int64_t> quantize_position;  //!< glb with Draco only; 1..30, default 14
+    std::optional<bool> normals;               //!< glb/obj/ply; default false
+};
+
+struct SubdivideParams {
+    SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
+    std::int64_t levels = 1;  //!< as sent; range-checked by the operation against Limits::max_levels
+    //! Unset: the mesh's own `t interpolateboundary` tag if it has one, else edge-only. Set: overrides the tag.
+    std::optional<BoundaryInterpolation> boundary;
+    OutputOptions output;
+};
+
+struct SubdivideStats {
+    std::size_t input_vertices = 0, input_faces = 0;
+    std::size_t output_vertices = 0, output_faces = 0;
+    SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
+    int levels = 0;
+    double elapsed_ms = 0;  //!< decode + budget checks + subdivision (encoding the response is not included)
+};
+
+template <class E>
+struct EnumName {
+    std::string_view name;
+    E value;
+};
+
+inline constexpr EnumName<SubdivisionScheme> kSchemeNames[] = {
+    {"catmull-clark", SubdivisionScheme::CatmullClark},
+    {"loop", SubdivisionScheme::Loop},
+};
+//! OpenSubdiv's VTX_BOUNDARY_* names, lower-case and hyphenated.
+inline constexpr EnumName<BoundaryInterpolation> kBoundaryNames[] = {
+    {"edge-only", BoundaryInterpolation::EdgeOnly},
+    {"edge-and-corner", BoundaryInterpolation::EdgeAndCorner},
+    {"none", BoundaryInterpolation::None},
+};
+inline constexpr EnumName<OutputFormat> kOutputFormatNames[] = {
+    {"glb", OutputFormat::Glb},
+    {"obj", OutputFormat::Obj},
+    {"ply", OutputFormat::Ply},
+    {"json", OutputFormat::Json},
+};
+//! "compression": value true means Draco.
+inline constexpr EnumName<bool> kCompressionNames[] = {
+    {"draco", true},
+    {"none", false},
+};
+
+//! The media type we send for each mesh file format, and the one we always accept for it (format_from_media_type
+//! in geometry/io may accept more aliases). OFF and PLY have no registered media type; these are the common ones.
+inline constexpr EnumName<MeshFormat> kMeshMediaTypes[] = {
+    {"model/obj", MeshFormat::Obj},
+    {"model/off", MeshFormat::Off},
+    {"application/ply", MeshFormat::Ply},
+    {"model/stl", MeshFormat::Stl},
+    {"model/gltf-binary", MeshFormat::Glb},
+};
+
+template <class E, std::size_t N>
+std::optional<E> enum_from_name(const EnumName<E> (&table)[N], std::string_view name) {
+    for (const auto& entry : table)
+        if (entry.name == name) return entry.value;
+    return std::nullopt;
+}
+
+template <class E, std::size_t N>
+std::string_view enum_name(const EnumName<E> (&table)[N], E value) {
+    for (const auto& entry : table)
+        if (entry.value == value) return entry.name;
+    return "?";
+}
+
+//! "\"catmull-clark\", \"loop\"": the allowed values, for error messages.
+template <class E, std::size_t N>
+std::string enum_names(const EnumName<E> (&table)[N]) {
+    std::string out;
+    for (const auto& entry : table) {
+        if (!out.empty()) out += ", ";
+        out += '"';
+        out += entry.name;
+        out += '"';
+    }
+    return out;
+}
+
+}  // namespace surfaced::api

@@ -1,0 +1,43 @@
+// JSON <-> DTOs and PolygonMesh. The only api/ translation unit that includes nlohmann/json (build time).
+//
+// Mesh JSON form:  {"positions": [[x, y, z], ...], "faces": [[i, j, k, ...], ...]}
+//   positions: finite numbers; faces: >= 3 non-negative integer indices into positions.
+// Errors name the exact place with a field path and say what was expected:
+//   400 invalid_json       the body is not JSON (offset = byte position where parsing stopped)
+//   400 invalid_field      wrong type ("mesh.positions[3][1] must be a finite number"), unknown enum value (the
+//                          allowed ones are listed), missing required member
+//   400 unknown_field      members we do not know, all of them named ("unknown field(s) at top level: \"mesh2\"")
+//   422 non_finite         a number overflows a double (1e999; nlohmann refuses it while parsing, so without a
+//                          field path)
+//   422 index_out_of_range "mesh.faces[12][3]: vertex 99 out of range (8 vertices)"
+//   422 degenerate_face    a face with fewer than 3 vertices
+//   422 budget_exceeded    more positions/faces than Limits allows (checked before they are decoded)
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "api/dto.h"
+#include "api/errors.h"
+#include "api/limits.h"
+#include "geometry/mesh/polygon_mesh.h"
+
+namespace surfaced::api {
+
+struct SubdivideJsonRequest {
+    PolygonMesh mesh;
+    SubdivideParams params;
+};
+
+//! Decodes {"mesh": {...}, "scheme": ..., "levels": N, "boundary": ..., "output": {"format", "compression",
+//! "quantize_position", "normals"}}. Only "mesh" is required. Option *ranges* (levels vs. budget, quantization bits)
+//! are checked by the operation, which also handles the same options coming from query parameters.
+ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, const Limits& limits);
+
+//! Decodes a mesh object on its own (`path` prefixes field paths in errors, e.g. "mesh").
+ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& limits, std::string_view path = "mesh");
+
+//! {"mesh": {"positions": [...], "faces": [...]}, "stats": {...}}. Doubles are written in shortest round-trip form.
+std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& stats);
+
+}  // namespace surfaced::api

@@ -1,0 +1,55 @@
+// The shape every endpoint has: a plain request struct in, a plain response struct out (llama.cpp's handler_t,
+// STYLE b.7). No HTTP-library types, so operations run without a socket: from the server, the CLI and tests alike.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "api/errors.h"
+#include "api/limits.h"
+
+namespace surfaced::api {
+
+struct ApiRequest {
+    std::string method = "GET";
+    std::string path;
+    //! Decoded query parameters; a name may repeat (operations reject repeats of single-valued options).
+    std::multimap<std::string, std::string> query;
+    //! The Content-Type header as sent, parameters included ("application/json; charset=utf-8"); empty if absent.
+    std::string content_type;
+    //! Request body. Not owned: the caller keeps the bytes alive for the duration of the call.
+    std::string_view body;
+};
+
+struct ApiResponse {
+    int status = 200;
+    std::string content_type;
+    std::string body;
+    std::vector<std::pair<std::string, std::string>> headers;  //!< extra headers (X-Output-Faces, Allow, ...)
+    //! Set exactly when status >= 400: the error `body` renders, so in-process callers (the CLI) need not parse it.
+    std::optional<ApiError> error;
+};
+
+//! What every operation may consult besides the request: budgets (and, later, shared state such as metrics).
+struct ApiContext {
+    Limits limits;
+};
+
+//! An endpoint implementation. Contract: never throws; every failure is an error response.
+using Operation = ApiResponse (*)(const ApiRequest&, const ApiContext&);
+
+//! The problem+json response for `error`.
+inline ApiResponse error_response(ApiError error) {
+    ApiResponse response;
+    response.status = error.status;
+    response.content_type = std::string(kProblemJsonMediaType);
+    response.body = to_problem_json(error);
+    response.error = std::move(error);
+    return response;
+}
+
+}  // namespace surfaced::api

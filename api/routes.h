@@ -1,0 +1,34 @@
+// The endpoint table: every operation the service offers, with no HTTP-library types. The server mounts each row;
+// the CLI and tests can call dispatch() without a socket. Adding an endpoint = one row in routes.cpp.
+#pragma once
+
+#include <span>
+#include <string_view>
+
+#include "api/operation.h"
+
+namespace surfaced::api {
+
+struct Route {
+    std::string_view method;       //!< "GET", "POST", ...
+    std::string_view path;         //!< exact path, no parameters ("/subdivide")
+    Operation handler;
+    std::string_view description;  //!< one line, for --help and a future index page
+};
+
+//! All routes, in a fixed order.
+std::span<const Route> routes();
+
+//! The route for (method, path), or 404 not_found / 405 method_not_allowed (with an Allow header) problems.
+ApiResponse dispatch(const ApiRequest& request, const ApiContext& context);
+
+//! 404 for an unknown path, or 405 with Allow when the path exists under another method.
+ApiResponse route_not_found(std::string_view method, std::string_view path);
+
+//! "GET, HEAD" style list of the methods `path` answers to; empty when the path is unknown.
+std::string allowed_methods(std::string_view path);
+
+//! GET /healthz: {"status":"ok"}.
+ApiResponse healthz(const ApiRequest& request, const ApiContext& context) noexcept;
+
+}  // namespace surfaced::api
