@@ -20,19 +20,30 @@ struct ReadOptions {
     std::size_t max_vertices = 20'000'000;
     std::size_t max_faces = 20'000'000;
     std::size_t max_face_size = 65'536;  //!< vertices in one polygon
+    //! Keep faces that use a vertex more than once (`f 4 3 5 5`) instead of failing with DegenerateFace.
+    //! OpenSubdiv's non-manifold regression shapes contain such faces; validate() still rejects them.
+    bool allow_repeated_vertices = false;
 };
 
 //! Wavefront OBJ: `v`, `vt`, `vn`, `f` (v, v/vt, v//vn, v/vt/vn, negative indices, any polygon size), comments,
 //! blank lines, CRLF, line continuations; OpenSubdiv's `t` tags (crease, corner, hole, interpolateboundary) into
 //! mesh.tags. Other statements (g, o, s, usemtl, mtllib, l, p) are ignored. Face-varying `vt` go to uvs/uv_indices
 //! when every face has them. Vertex normals `vn` are ignored (recomputed on output when asked).
+//! Details: when only some faces have `vt` the uvs are dropped (not an error); one face mixing corners with and
+//! without `vt` is a ParseError. Positive indices must refer to vertices already read. Tag indices are 0-based and
+//! checked against the final counts; a negative sharpness is clamped to 0 as OpenSubdiv does; unknown tags are
+//! skipped by their declared counts. A file without faces is a ParseError ("no faces").
 Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options = {});
 //! OFF / COFF / NOFF (ascii), with `#` comments.
 Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options = {});
 //! PLY ascii, binary_little_endian and binary_big_endian 1.0; vertex x/y/z (float or double, any other properties
 //! skipped), face vertex_indices / vertex_index list of any integer types; other elements skipped.
+//! nx/ny/nz, when all three are present and finite, are read into normals (so write_ply round-trips).
 Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options = {});
 //! STL ascii or binary (detected by content, not by the word "solid"); coincident corners welded exactly.
+//! Binary when the size is 84 + 50 * count; bytes after the last triangle of a non-"solid" file are ignored.
+//! Triangles with two exactly equal corners (degenerate by index after welding) are dropped, not reported;
+//! DegenerateFace only when nothing is left.
 Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options = {});
 
 //! Dispatch on format (Glb goes to read_glb in gltf.h).
@@ -49,13 +60,13 @@ struct ObjWriteOptions {
     bool write_tags = true;     //!< emit OpenSubdiv `t` lines for mesh.tags
     bool write_uvs = true;      //!< emit `vt` and v/vt faces when the mesh has uvs
     bool write_normals = true;  //!< emit `vn` when the mesh has normals
-    int precision = 17;         //!< significant digits (17 round-trips a double exactly)
+    int precision = 17;         //!< significant digits; 17 (or more) writes the shortest text that round-trips exactly
 };
 std::string write_obj(const PolygonMesh& mesh, const ObjWriteOptions& options = {});
 
 enum class PlyEncoding { Ascii, BinaryLittleEndian };
 //! PLY with double x/y/z, and nx/ny/nz when the mesh has normals; faces as `list uchar uint vertex_indices`
-//! (`list uint uint` when a face has more than 255 vertices).
+//! (`list uint uint` when a face has more than 255 vertices). UVs and subdivision tags are not written.
 std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding = PlyEncoding::BinaryLittleEndian);
 
 }  // namespace surfaced

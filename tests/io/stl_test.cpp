@@ -1,1 +1,168 @@
-// placeholder: being written
+// STL reader: ascii and binary (detected by size, not by "solid"), exact welding, degenerate triangles dropped.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "geometry/io/mesh_io.h"
+#include "tests/io/format_test_helpers.h"
+
+namespace surfaced {
+namespace {
+
+using format_test::fails_with;
+using Triangle = std::array<Vec3, 3>;
+
+//! The unit cube as 12 outward triangles, 36 corners (each vertex repeated), the way STL stores it.
+std::vector<Triangle> cube_triangles() {
+    const PolygonMesh cube = format_test::cube();
+    std::vector<Triangle> out;
+    for (std::size_t f = 0; f < cube.face_count(); ++f) {
+        auto q = cube.face(f);
+        out.push_back({cube.positions[q[0]], cube.positions[q[1]], cube.positions[q[2]]});
+        out.push_back({cube.positions[q[0]], cube.positions[q[2]], cube.positions[q[3]]});
+    }
+    return out;
+}
+
+std::string ascii_stl(const std::vector<Triangle>& triangles, const std::string& name = "cube") {
+    std::string s = "solid " + name + "\n";
+    for (const auto& t : triangles) {
+        s += "  facet normal 0 0 0\n    outer loop\n";
+        for (const Vec3& p : t)
+            s += "      vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+        s += "    endloop\n  endfacet\n";
+    }
+    return s + "endsolid " + name + "\n";
+}
+
+void put_u32(std::string& s, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) s += static_cast<char>((v >> (8 * i)) & 0xff);
+}
+void put_f32(std::string& s, float f) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &f, 4);
+    put_u32(s, bits);
+}
+
+std::string binary_stl(const std::vector<Triangle>& triangles, const std::string& header_text) {
+    std::string s = header_text;
+    s.resize(80, ' ');
+    put_u32(s, static_cast<std::uint32_t>(triangles.size()));
+    for (const auto& t : triangles) {
+        for (int k = 0; k < 3; ++k) put_f32(s, 0.f);
+        for (const Vec3& p : t) {
+            put_f32(s, static_cast<float>(p.x));
+            put_f32(s, static_cast<float>(p.y));
+            put_f32(s, static_cast<float>(p.z));
+        }
+        s += '\0';
+        s += '\0';
+    }
+    return s;
+}
+
+void expect_welded_cube(const Result<PolygonMesh>& mesh) {
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_EQ(mesh->vertex_count(), 8u);
+    EXPECT_EQ(mesh->face_count(), 12u);
+    EXPECT_TRUE(mesh->is_triangle_mesh());
+    EXPECT_EQ(format_test::euler(*mesh), 2);
+    EXPECT_TRUE(validate(*mesh).ok());
+}
+
+TEST(StlRead, AsciiCubeIsWelded) {
+    auto mesh = read_stl(ascii_stl(cube_triangles()));
+    expect_welded_cube(mesh);
+    // first triangle keeps its corner order
+    EXPECT_EQ(mesh->positions[mesh->face_indices[1]], (Vec3{0, 1, 0}));
+}
+
+TEST(StlRead, BinaryCubeStartingWithSolid) {
+    const std::string bytes = binary_stl(cube_triangles(), "solid cube exported by a tool that lies");
+    ASSERT_EQ(bytes.substr(0, 5), "solid");
+    expect_welded_cube(read_stl(bytes));
+    EXPECT_EQ(sniff_format(bytes), MeshFormat::Stl);
+}
+
+TEST(StlRead, BinaryAndAsciiAgree) {
+    auto a = read_stl(ascii_stl(cube_triangles()));
+    auto b = read_stl(binary_stl(cube_triangles(), "binary"));
+    ASSERT_TRUE(a.ok() && b.ok());
+    format_test::expect_same_mesh(*a, *b);
+}
+
+TEST(StlRead, UppercaseKeywordsCrlfAndSeveralSolids) {
+    auto tris = cube_triangles();
+    std::vector<Triangle> first(tris.begin(), tris.begin() + 6), second(tris.begin() + 6, tris.end());
+    std::string text = ascii_stl(first, "a") + ascii_stl(second, "b");
+    for (const char* kw : {"facet", "outer", "loop", "vertex", "endloop", "endfacet"}) {
+        std::string upper(kw);
+        for (char& c : upper) c = static_cast<char>(c - 'a' + 'A');
+        for (std::size_t pos = 0; (pos = text.find(std::string(" ") + kw + " ", pos)) != std::string::npos;)
+            text.replace(pos + 1, upper.size(), upper);
+    }
+    std::string crlf;
+    for (char c : text) {
+        if (c == '\n') crlf += '\r';
+        crlf += c;
+    }
+    expect_welded_cube(read_stl(crlf));
+}
+
+TEST(StlRead, NegativeZeroWeldsWithZero) {
+    std::vector<Triangle> t = {{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}}, {Vec3{-0.0, 0, -0.0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}};
+    auto mesh = read_stl(binary_stl(t, "zeros"));
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_EQ(mesh->vertex_count(), 4u);
+}
+
+TEST(StlRead, DegenerateTrianglesAreDropped) {
+    auto tris = cube_triangles();
+    tris.insert(tris.begin() + 3, Triangle{Vec3{0, 0, 0}, Vec3{0, 0, 0}, Vec3{1, 1, 1}});  // two equal corners
+    tris.push_back(Triangle{Vec3{5, 5, 5}, Vec3{5, 5, 5}, Vec3{5, 5, 5}});            // a point
+    expect_welded_cube(read_stl(binary_stl(tris, "")));  // and no stray vertex at (5,5,5)
+    expect_welded_cube(read_stl(ascii_stl(tris)));
+}
+
+TEST(StlRead, PaddedBinaryIsRead) {
+    // Not "solid", size bigger than 84 + 50n: binary with trailing bytes, which are ignored.
+    std::string bytes = binary_stl(cube_triangles(), "padded") + std::string(17, '\0');
+    expect_welded_cube(read_stl(bytes));
+}
+
+TEST(StlRead, Limits) {
+    ReadOptions options;
+    options.max_faces = 11;
+    EXPECT_TRUE(fails_with(read_stl(binary_stl(cube_triangles(), "x"), options), ErrorCode::BudgetExceeded, "offset 80: "));
+    EXPECT_TRUE(fails_with(read_stl(ascii_stl(cube_triangles()), options), ErrorCode::BudgetExceeded,
+                           "line 79: more than max_faces (11) triangles"));
+    options = {};
+    options.max_vertices = 7;
+    EXPECT_TRUE(fails_with(read_stl(binary_stl(cube_triangles(), "x"), options), ErrorCode::BudgetExceeded,
+                           "max_vertices (7)"));
+}
+
+TEST(StlRead, LargeGridWeldsExactly) {
+    // 200 x 200 quads: 80,000 triangles welded into 201 x 201 vertices.
+    std::vector<Triangle> tris;
+    const int n = 200;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            Vec3 a{double(i), double(j), 0}, b{double(i + 1), double(j), 0}, c{double(i + 1), double(j + 1), 0},
+                d{double(i), double(j + 1), 0};
+            tris.push_back({a, b, c});
+            tris.push_back({a, c, d});
+        }
+    auto mesh = read_stl(binary_stl(tris, "grid"));
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_EQ(mesh->vertex_count(), std::size_t(n + 1) * (n + 1));
+    EXPECT_EQ(mesh->face_count(), std::size_t(2 * n * n));
+    EXPECT_EQ(format_test::euler(*mesh), 1);
+}
+
+}  // namespace
+}  // namespace surfaced
