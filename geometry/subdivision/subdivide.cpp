@@ -7,9 +7,12 @@
 // OpenSubdiv's (rules.h); sharpness arithmetic is done in float, as OpenSubdiv does, so results agree to the last bits.
 #include "geometry/subdivision/subdivide.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
+#include "geometry/subdivision/limit.h"
 #include "geometry/subdivision/rules.h"
 #include "geometry/subdivision/topology.h"
 
@@ -523,11 +526,20 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
     if (!base) return base.error();
     Sharpness sharp = std::move(base).value();
 
+    const int extra = options.limit_surface ? limit_extra_levels(mesh, options) : 0;
+    const int total = options.levels + extra;
+    if (extra > 0 && (predicted_face_count(mesh, scheme, total) > kIndexLimit / 4 ||
+                      predicted_vertex_count(mesh, scheme, total) > kIndexLimit))
+        return make_error(ErrorCode::BudgetExceeded, "evaluating the limit surface would exceed 2^32 indices");
+
     std::vector<Vec3> src = mesh.positions, dst;
-    for (int l = 0; l < options.levels; ++l) {
-        const bool last = l + 1 == options.levels;
+    Level output_level;            // the requested level, when refinement continues past it for the limit
+    Sharpness output_sharp;
+    for (int l = 0; l < total; ++l) {
+        const bool last = l + 1 == total;
         const Neighbourhood n = neighbourhood(level, sharp, options.crease_method);
-        Level child = loop ? subdivision::refine_triangles(level, !last) : subdivision::refine_quads(level, !last);
+        Level child = loop ? subdivision::refine_triangles(level, !last || options.limit_surface)
+                           : subdivision::refine_quads(level, !last || options.limit_surface);
         dst.resize(child.vertex_count);
         const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark};
         if (loop)
@@ -535,13 +547,34 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         else
             interpolate_catmark(in, n, src.data(), dst.data());
         Sharpness child_sharp = refine_sharpness(level, child, sharp, n, options.crease_method, loop);
+        if (l + 1 == options.levels && extra > 0) {
+            output_level = child;
+            output_sharp = child_sharp;
+        }
         level = std::move(child);
         sharp = std::move(child_sharp);
         src.swap(dst);
     }
+    if (options.levels == 0 && extra > 0) {
+        output_level = subdivision::build_base_level(mesh);
+        output_sharp = base_sharpness(mesh, output_level, boundary, options.use_mesh_tags).value();
+    }
 
     PolygonMesh out;
-    out.positions = std::move(src);
+    if (options.limit_surface) {
+        // vertices of the requested level are the first ones of every finer level (children of vertices first)
+        const Index count = extra > 0 ? output_level.vertex_count : level.vertex_count;
+        out.positions.resize(count);
+        out.normals.resize(count);
+        subdivision::evaluate_limit(level, sharp.edge, sharp.vertex, loop, src.data(), count, out.positions.data(),
+                                    out.normals.data());
+        if (extra > 0) {
+            level = std::move(output_level);
+            sharp = std::move(output_sharp);
+        }
+    } else {
+        out.positions = std::move(src);
+    }
     if (sharp.hole.empty()) {
         out.face_offsets = std::move(level.face_offsets);
         out.face_indices = std::move(level.face_verts);
@@ -553,6 +586,26 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         }
     }
     return out;
+}
+
+int limit_extra_levels(const PolygonMesh& mesh, const SubdivisionOptions& options) {
+    if (!options.limit_surface) return 0;
+    // sharpness decays by at least 1 per level with either crease method
+    float max_semi = 0.0f;
+    if (options.use_mesh_tags) {
+        for (const Crease& c : mesh.tags.creases)
+            if (is_semi_sharp(static_cast<float>(c.sharpness))) max_semi = std::max(max_semi, static_cast<float>(c.sharpness));
+        for (const Corner& c : mesh.tags.corners)
+            if (is_semi_sharp(static_cast<float>(c.sharpness))) max_semi = std::max(max_semi, static_cast<float>(c.sharpness));
+    }
+    const int decay = std::max(0, static_cast<int>(std::ceil(max_semi)) - options.levels);
+    const bool needs_quads = options.scheme == SubdivisionScheme::CatmullClark && options.levels == 0 && !mesh.is_triangle_mesh() &&
+                             [&] {
+                                 for (std::size_t f = 0; f < mesh.face_count(); ++f)
+                                     if (mesh.face_size(f) != 4) return true;
+                                 return false;
+                             }();
+    return std::max(decay, needs_quads ? 1 : 0);
 }
 
 }  // namespace surfaced

@@ -36,6 +36,10 @@ struct SubdivisionOptions {
     TriangleRule triangle_rule = TriangleRule::Catmark;  //!< Catmull-Clark only
     //! Apply mesh.tags creases (edge sharpness), corners (vertex sharpness) and holes. Sharpness >= 10 is infinite.
     bool use_mesh_tags = true;
+    //! Project the refined vertices onto the limit surface and return exact limit normals (from limit tangents)
+    //! in mesh.normals. Where a semi-sharp feature has not decayed at `levels` (sharpness > levels), the limit is
+    //! taken after refining past it, so it is exact there too (OpenSubdiv's PrimvarRefiner::Limit is not).
+    bool limit_surface = false;
 };
 
 //! Sharpness at or above this is infinitely sharp (OpenSubdiv's Sdc::Crease::SHARPNESS_INFINITE).
@@ -57,6 +61,11 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
 
 //! Number of faces `subdivide` will produce, without refining (saturates at UINT64_MAX). Used for budgets.
 std::uint64_t predicted_face_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels);
+
+//! Extra levels `subdivide` refines internally to evaluate the limit surface exactly (0 when limit_surface is off):
+//! enough for every semi-sharp sharpness to decay, and one for Catmull-Clark at level 0 with non-quads.
+//! The work is that of subdividing to levels + this; budgets should use predicted_face_count at that level.
+int limit_extra_levels(const PolygonMesh& mesh, const SubdivisionOptions& options);
 
 //! Number of vertices the refined mesh will have (exact for manifold input; an upper bound otherwise).
 std::uint64_t predicted_vertex_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels);

@@ -32,7 +32,7 @@ Sdc::Options::VtxBoundaryInterpolation to_osd(BoundaryInterpolation b) {
 }
 }  // namespace
 
-PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options) {
+std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh, const SubdivisionOptions& options) {
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     std::vector<int> verts_per_face(mesh.face_count());
     for (std::size_t f = 0; f < mesh.face_count(); ++f) verts_per_face[f] = static_cast<int>(mesh.face_size(f));
@@ -75,7 +75,11 @@ PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& opt
     BoundaryInterpolation boundary = options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
     sdc.SetVtxBoundaryInterpolation(to_osd(boundary));
     const Sdc::SchemeType scheme = options.scheme == SubdivisionScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
-    std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(scheme, sdc)));
+    return std::unique_ptr<Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(scheme, sdc)));
+}
+
+PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options) {
+    std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(mesh, options);
     if (!refiner) return {};
     refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(options.levels));
 
@@ -99,6 +103,38 @@ PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& opt
         Far::ConstIndexArray fv = last.GetFaceVertices(f);
         std::vector<Index> face(fv.begin(), fv.end());
         out.add_face(face);
+    }
+    return out;
+}
+
+OsdLimit osd_limit(const PolygonMesh& mesh, const SubdivisionOptions& options, int at_level, std::size_t count) {
+    std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(mesh, options);
+    OsdLimit out;
+    if (!refiner) return out;
+    Far::TopologyRefiner::UniformOptions uniform(at_level);
+    uniform.fullTopologyInLastLevel = true;
+    refiner->RefineUniform(uniform);
+    std::vector<Point> src(mesh.vertex_count()), dst;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        src[v] = Point{{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z}};
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    for (int level = 1; level <= at_level; ++level) {
+        dst.resize(refiner->GetLevel(level).GetNumVertices());
+        Point* o = dst.data();
+        primvar.Interpolate(level, src.data(), o);
+        src.swap(dst);
+    }
+    std::vector<Point> pos(src.size()), t1(src.size()), t2(src.size());
+    Point* pp = pos.data();
+    Point* p1 = t1.data();
+    Point* p2 = t2.data();
+    primvar.Limit(src.data(), pp, p1, p2);
+    for (std::size_t v = 0; v < count && v < src.size(); ++v) {
+        out.positions.push_back({pos[v].p[0], pos[v].p[1], pos[v].p[2]});
+        const Vec3 a{t1[v].p[0], t1[v].p[1], t1[v].p[2]}, b{t2[v].p[0], t2[v].p[1], t2[v].p[2]};
+        const Vec3 n = cross(a, b);
+        const double len = norm(n);
+        out.normals.push_back(len > 0 ? n * (1.0 / len) : Vec3{});
     }
     return out;
 }
