@@ -31,6 +31,13 @@ struct SubdivideParams {
     std::int64_t levels = 1;  //!< as sent; range-checked by the operation against Limits::max_levels
     //! Unset: the mesh's own `t interpolateboundary` tag if it has one, else edge-only. Set: overrides the tag.
     std::optional<BoundaryInterpolation> boundary;
+    CreaseMethod crease_method = CreaseMethod::Uniform;
+    TriangleRule triangle_rule = TriangleRule::Catmark;
+    bool limit_surface = false;  //!< project to the limit surface; normals then come from limit tangents
+    //! Choose the largest level (up to `levels` when given, else the server's maximum) whose output stays within
+    //! this many faces.
+    std::optional<std::int64_t> max_faces;
+    bool levels_given = false;  //!< whether "levels" was sent (it bounds the level chosen for max_faces)
     OutputOptions output;
 };
 
@@ -57,6 +64,16 @@ inline constexpr EnumName<BoundaryInterpolation> kBoundaryNames[] = {
     {"edge-only", BoundaryInterpolation::EdgeOnly},
     {"edge-and-corner", BoundaryInterpolation::EdgeAndCorner},
     {"none", BoundaryInterpolation::None},
+};
+//! OpenSubdiv's CREASE_UNIFORM / CREASE_CHAIKIN.
+inline constexpr EnumName<CreaseMethod> kCreaseMethodNames[] = {
+    {"uniform", CreaseMethod::Uniform},
+    {"chaikin", CreaseMethod::Chaikin},
+};
+//! OpenSubdiv's TRI_SUB_CATMARK / TRI_SUB_SMOOTH.
+inline constexpr EnumName<TriangleRule> kTriangleRuleNames[] = {
+    {"catmark", TriangleRule::Catmark},
+    {"smooth", TriangleRule::Smooth},
 };
 inline constexpr EnumName<OutputFormat> kOutputFormatNames[] = {
     {"glb", OutputFormat::Glb},

@@ -200,6 +200,75 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
     return mesh;
 }
 
+ApiResult<double> read_sharpness(const Json& value, const std::string& field) {
+    if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0)
+        return invalid(field, field + " must be a finite number >= 0 (10 or more is infinitely sharp)");
+    return value.get<double>();
+}
+
+ApiResult<Index> read_index(const Json& value, const std::string& field, std::size_t count, const char* what) {
+    if (!value.is_number_unsigned()) return invalid(field, field + " must be a non-negative integer " + what + " index");
+    const auto v = value.get<std::uint64_t>();
+    if (v >= count)
+        return geometry_error(ErrorCode::IndexOutOfRange, field,
+                              field + ": " + what + " " + std::to_string(v) + " out of range (" + std::to_string(count) +
+                                  " " + what + (count == 1 ? ")" : "s)"));
+    return static_cast<Index>(v);
+}
+
+//! "creases": [{"edge": [a, b], "sharpness": s}], "corners": [{"vertex": v, "sharpness": s}], "holes": [f, ...]
+std::optional<ApiError> decode_tags(const Json& root, PolygonMesh& mesh) {
+    const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
+    if (auto it = root.find("creases"); it != root.end()) {
+        if (!it->is_array()) return invalid("creases", R"(creases must be an array of {"edge": [a, b], "sharpness": s})");
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            const Json& c = (*it)[i];
+            const std::string path = index_path("creases", i);
+            if (!c.is_object()) return invalid(path, path + R"( must be an object {"edge": [a, b], "sharpness": s})");
+            if (auto error = check_members(c, path, {"edge", "sharpness"})) return error;
+            const auto edge = c.find("edge");
+            const auto sharp = c.find("sharpness");
+            if (edge == c.end() || !edge->is_array() || edge->size() != 2)
+                return invalid(member_path(path, "edge"), member_path(path, "edge") + " must be [a, b], two vertex indices");
+            if (sharp == c.end()) return invalid(member_path(path, "sharpness"), member_path(path, "sharpness") + " is required");
+            auto a = read_index((*edge)[0], index_path(member_path(path, "edge"), 0), nv, "vertex");
+            if (!a) return std::move(a.error());
+            auto b = read_index((*edge)[1], index_path(member_path(path, "edge"), 1), nv, "vertex");
+            if (!b) return std::move(b.error());
+            auto s = read_sharpness(*sharp, member_path(path, "sharpness"));
+            if (!s) return std::move(s.error());
+            mesh.tags.creases.push_back({a.value(), b.value(), s.value()});
+        }
+    }
+    if (auto it = root.find("corners"); it != root.end()) {
+        if (!it->is_array()) return invalid("corners", R"(corners must be an array of {"vertex": v, "sharpness": s})");
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            const Json& c = (*it)[i];
+            const std::string path = index_path("corners", i);
+            if (!c.is_object()) return invalid(path, path + R"( must be an object {"vertex": v, "sharpness": s})");
+            if (auto error = check_members(c, path, {"vertex", "sharpness"})) return error;
+            const auto vertex = c.find("vertex");
+            const auto sharp = c.find("sharpness");
+            if (vertex == c.end()) return invalid(member_path(path, "vertex"), member_path(path, "vertex") + " is required");
+            if (sharp == c.end()) return invalid(member_path(path, "sharpness"), member_path(path, "sharpness") + " is required");
+            auto v = read_index(*vertex, member_path(path, "vertex"), nv, "vertex");
+            if (!v) return std::move(v.error());
+            auto s = read_sharpness(*sharp, member_path(path, "sharpness"));
+            if (!s) return std::move(s.error());
+            mesh.tags.corners.push_back({v.value(), s.value()});
+        }
+    }
+    if (auto it = root.find("holes"); it != root.end()) {
+        if (!it->is_array()) return invalid("holes", "holes must be an array of face indices");
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            auto f = read_index((*it)[i], index_path("holes", i), nf, "face");
+            if (!f) return std::move(f.error());
+            mesh.tags.holes.push_back(f.value());
+        }
+    }
+    return std::nullopt;
+}
+
 ApiResult<OutputOptions> decode_output(const Json& value) {
     const std::string path = "output";
     if (!value.is_object())
@@ -260,7 +329,8 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
     if (!root.is_object())
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
-    if (auto error = check_members(root, "", {"mesh", "scheme", "levels", "boundary", "output"}))
+    if (auto error = check_members(root, "", {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule",
+                                              "limit_surface", "max_faces", "creases", "corners", "holes", "output"}))
         return std::move(*error);
 
     SubdivideJsonRequest request;
@@ -273,6 +343,27 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
         auto levels = read_integer(*it, "levels");
         if (!levels) return std::move(levels.error());
         request.params.levels = levels.value();
+        request.params.levels_given = true;
+    }
+    if (auto it = root.find("crease_method"); it != root.end()) {
+        auto method = read_enum(*it, "crease_method", kCreaseMethodNames);
+        if (!method) return std::move(method.error());
+        request.params.crease_method = method.value();
+    }
+    if (auto it = root.find("triangle_rule"); it != root.end()) {
+        auto rule = read_enum(*it, "triangle_rule", kTriangleRuleNames);
+        if (!rule) return std::move(rule.error());
+        request.params.triangle_rule = rule.value();
+    }
+    if (auto it = root.find("limit_surface"); it != root.end()) {
+        auto limit = read_bool(*it, "limit_surface");
+        if (!limit) return std::move(limit.error());
+        request.params.limit_surface = limit.value();
+    }
+    if (auto it = root.find("max_faces"); it != root.end()) {
+        auto max_faces = read_integer(*it, "max_faces");
+        if (!max_faces) return std::move(max_faces.error());
+        request.params.max_faces = max_faces.value();
     }
     if (auto it = root.find("boundary"); it != root.end()) {
         auto boundary = read_enum(*it, "boundary", kBoundaryNames);
@@ -290,6 +381,7 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
     auto mesh = decode_mesh_value(*mesh_it, "mesh", limits);
     if (!mesh) return std::move(mesh.error());
     request.mesh = std::move(mesh.value());
+    if (auto error = decode_tags(root, request.mesh)) return std::move(*error);
     return request;
 }
 

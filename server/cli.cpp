@@ -76,6 +76,10 @@ Options:
   --levels N                refinement levels (default 1)
   --boundary B              edge-only, edge-and-corner or none (default: the file's
                             `t interpolateboundary` tag, else edge-only)
+  --crease-method M         uniform (default) or chaikin: how semi-sharp creases decay
+  --triangle-rule R         catmark (default) or smooth: Catmull-Clark weights next to triangles
+  --limit-surface           project the result onto the limit surface (normals from limit tangents)
+  --max-faces N             use the largest level (up to --levels, if given) with at most N faces
   --no-draco                write an uncompressed .glb
   --quantize-position BITS  Draco position quantization, 1..30 (default 14; .glb only)
   --normals                 also write vertex normals (.glb .obj .ply)
@@ -241,8 +245,8 @@ int serve(Args& args) {
 
 int subdivide(Args& args) {
     std::string input, output;
-    std::optional<std::string> scheme, levels, boundary, quantize;
-    bool no_draco = false, normals = false;
+    std::optional<std::string> scheme, levels, boundary, quantize, crease_method, triangle_rule, max_faces;
+    bool no_draco = false, normals = false, limit_surface = false;
     api::ApiContext context;
     // Files are the user's own: the body limit protects the server's memory, not the CLI's.
     context.limits.max_body_bytes = static_cast<std::size_t>(-1);
@@ -264,6 +268,14 @@ int subdivide(Args& args) {
             levels = std::to_string(parse_number(arg, args.value(arg, arg, inline_value), 0, 1'000'000));
         } else if (arg == "--boundary") {
             boundary = checked_enum(arg, args.value(arg, arg, inline_value), api::kBoundaryNames);
+        } else if (arg == "--crease-method") {
+            crease_method = checked_enum(arg, args.value(arg, arg, inline_value), api::kCreaseMethodNames);
+        } else if (arg == "--triangle-rule") {
+            triangle_rule = checked_enum(arg, args.value(arg, arg, inline_value), api::kTriangleRuleNames);
+        } else if (arg == "--max-faces") {
+            max_faces = std::to_string(parse_number(arg, args.value(arg, arg, inline_value), 1, 4'000'000'000LL));
+        } else if (arg == "--limit-surface") {
+            limit_surface = true;
         } else if (arg == "--quantize-position") {
             quantize = std::to_string(parse_number(arg, args.value(arg, arg, inline_value), 1, 30));
         } else if (arg == "--max-output-faces") {
@@ -319,6 +331,10 @@ int subdivide(Args& args) {
     if (scheme) request.query.emplace("scheme", *scheme);
     if (levels) request.query.emplace("levels", *levels);
     if (boundary) request.query.emplace("boundary", *boundary);
+    if (crease_method) request.query.emplace("crease_method", *crease_method);
+    if (triangle_rule) request.query.emplace("triangle_rule", *triangle_rule);
+    if (max_faces) request.query.emplace("max_faces", *max_faces);
+    if (limit_surface) request.query.emplace("limit_surface", "true");
     request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
     if (no_draco && *out_format == api::OutputFormat::Glb) request.query.emplace("compression", "none");
     if (quantize) request.query.emplace("quantize_position", *quantize);

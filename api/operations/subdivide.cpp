@@ -56,17 +56,19 @@ std::optional<MeshFormat> mesh_format_for(const std::string& media_type, std::st
 
 enum class Source { Json, File };
 
-//! JSON path for a GeoError about a mesh that came as JSON; files report line/offset instead.
+//! JSON path for a GeoError about an element of a request that came as JSON; files report line/offset instead.
 std::optional<std::string> field_for(const GeoError& error, Source source) {
     if (source != Source::Json || error.element < 0) return std::nullopt;
     const std::string index = "[" + std::to_string(error.element) + "]";
-    switch (error.code) {
-        case ErrorCode::NonFinite: return "mesh.positions" + index;
-        case ErrorCode::IndexOutOfRange:
-        case ErrorCode::DegenerateFace:
-        case ErrorCode::NotTriangleMesh: return "mesh.faces" + index;
-        default: return std::nullopt;
+    switch (error.element_kind) {
+        case ElementKind::Vertex: return "mesh.positions" + index;
+        case ElementKind::Face: return "mesh.faces" + index;
+        case ElementKind::Crease: return "creases" + index;
+        case ElementKind::Corner: return "corners" + index;
+        case ElementKind::Hole: return "holes" + index;
+        case ElementKind::None: break;
     }
+    return std::nullopt;
 }
 
 ApiError geometry_error(const GeoError& error, Source source) {
@@ -102,8 +104,9 @@ ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& te
 
 //! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    static constexpr std::string_view kAllowed[] = {"scheme", "levels", "boundary", "format",
-                                                    "compression", "quantize_position", "normals"};
+    static constexpr std::string_view kAllowed[] = {"scheme",        "levels",        "boundary",  "crease_method",
+                                                    "triangle_rule", "limit_surface", "max_faces", "format",
+                                                    "compression",   "quantize_position", "normals"};
     std::set<std::string> unknown;
     for (const auto& [name, value] : query)
         if (std::find(std::begin(kAllowed), std::end(kAllowed), name) == std::end(kAllowed)) unknown.insert(name);
@@ -131,6 +134,23 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
             auto v = parse_integer_parameter(name, text);
             if (!v) return std::move(v.error());
             params.levels = v.value();
+            params.levels_given = true;
+        } else if (name == "crease_method") {
+            auto v = parse_enum_parameter(name, text, kCreaseMethodNames);
+            if (!v) return std::move(v.error());
+            params.crease_method = v.value();
+        } else if (name == "triangle_rule") {
+            auto v = parse_enum_parameter(name, text, kTriangleRuleNames);
+            if (!v) return std::move(v.error());
+            params.triangle_rule = v.value();
+        } else if (name == "limit_surface") {
+            auto v = parse_bool_parameter(name, text);
+            if (!v) return std::move(v.error());
+            params.limit_surface = v.value();
+        } else if (name == "max_faces") {
+            auto v = parse_integer_parameter(name, text);
+            if (!v) return std::move(v.error());
+            params.max_faces = v.value();
         } else if (name == "boundary") {
             auto v = parse_enum_parameter(name, text, kBoundaryNames);
             if (!v) return std::move(v.error());
@@ -168,6 +188,9 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
                             "levels is " + std::to_string(params.levels) + "; this server allows at most " +
                                 std::to_string(limits.max_levels),
                             "levels");
+    if (params.max_faces && *params.max_faces < 1)
+        return make_problem(Problem::InvalidField, "max_faces must be >= 1, got " + std::to_string(*params.max_faces),
+                            "max_faces");
     const OutputOptions& out = params.output;
     const bool glb = out.format == OutputFormat::Glb;
     const std::string format(enum_name(kOutputFormatNames, out.format));
@@ -264,26 +287,55 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                                                std::to_string(limits.max_input_faces)));
     if (auto valid = validate(mesh); !valid) return error_response(geometry_error(valid.error(), source));
 
-    // 4. predicted output against the budget, before refining anything
-    const int levels = static_cast<int>(params.levels);  // range-checked above
-    const std::uint64_t predicted = predicted_face_count(mesh, params.scheme, levels);
-    if (predicted > limits.max_output_faces)
-        return error_response(make_problem(
-            Problem::BudgetExceeded,
-            "subdividing " + std::to_string(mesh.face_count()) + " faces " + std::to_string(levels) +
-                (levels == 1 ? " time" : " times") + " would produce " + std::to_string(predicted) +
-                " faces; the limit is " + std::to_string(limits.max_output_faces) +
-                " (use fewer levels or a smaller mesh)",
-            "levels"));
-
-    // 5. refine
+    // 4. options, and the predicted output against the budget, before refining anything
     SubdivisionOptions options;
     options.scheme = params.scheme;
-    options.levels = levels;
+    options.crease_method = params.crease_method;
+    options.triangle_rule = params.triangle_rule;
+    options.limit_surface = params.limit_surface;
     if (params.boundary) {
         options.boundary = *params.boundary;
         options.use_mesh_boundary_tag = false;  // an explicit request wins over the file's tag
     }
+    // The work is that of refining to levels + limit_extra_levels (exact limits refine past semi-sharp creases);
+    // the output is that of `levels`.
+    const auto work_faces = [&](int levels) {
+        options.levels = levels;
+        return predicted_face_count(mesh, params.scheme, levels + limit_extra_levels(mesh, options));
+    };
+    int levels = static_cast<int>(params.levels);  // range-checked above
+    if (params.max_faces) {
+        // the largest level whose output fits max_faces (and whose work fits the server's budget)
+        const int upper = params.levels_given ? levels : limits.max_levels;
+        const auto cap = static_cast<std::uint64_t>(*params.max_faces);
+        int chosen = -1;
+        for (int l = 0; l <= upper; ++l) {
+            if (predicted_face_count(mesh, params.scheme, l) > cap || work_faces(l) > limits.max_output_faces) break;
+            chosen = l;
+        }
+        if (chosen < 0)
+            return error_response(make_problem(Problem::BudgetExceeded,
+                                               "the input already has " + std::to_string(mesh.face_count()) +
+                                                   " faces, more than max_faces " + std::to_string(*params.max_faces),
+                                               "max_faces"));
+        levels = chosen;
+    }
+    const std::uint64_t predicted = work_faces(levels);
+    if (predicted > limits.max_output_faces)
+        return error_response(make_problem(
+            Problem::BudgetExceeded,
+            "subdividing " + std::to_string(mesh.face_count()) + " faces " + std::to_string(levels) +
+                (levels == 1 ? " time" : " times") +
+                (options.limit_surface && limit_extra_levels(mesh, options) > 0
+                     ? " (plus " + std::to_string(limit_extra_levels(mesh, options)) +
+                           " internal levels to evaluate the limit past semi-sharp creases)"
+                     : std::string()) +
+                " would produce " + std::to_string(predicted) + " faces; the limit is " +
+                std::to_string(limits.max_output_faces) + " (use fewer levels or a smaller mesh)",
+            "levels"));
+
+    // 5. refine
+    options.levels = levels;
     auto refined = surfaced::subdivide(mesh, options);
     if (!refined) return error_response(geometry_error(refined.error(), source));
     PolygonMesh& result = refined.value();

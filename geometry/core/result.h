@@ -26,12 +26,16 @@ enum class ErrorCode {
 //! Short stable name of an error code ("parse_error", ...), used in the API's error envelope.
 const char* to_string(ErrorCode code);
 
+//! What GeoError::element indexes, so that callers can name it (the API turns it into a field path).
+enum class ElementKind { None, Vertex, Face, Crease, Corner, Hole };
+
 struct GeoError {
     ErrorCode code = ErrorCode::InvalidArgument;
     std::string message;     //!< human-readable, already names the location ("line 12: ...")
     std::int64_t line = -1;  //!< 1-based line in a text input, or -1
     std::int64_t offset = -1;  //!< byte offset in a binary input, or -1
-    std::int64_t element = -1; //!< face/vertex index the error is about, or -1
+    std::int64_t element = -1; //!< index of the element the error is about, or -1
+    ElementKind element_kind = ElementKind::None;
 };
 
 //! Either a value or a GeoError (a small std::expected).
@@ -61,9 +65,19 @@ private:
 struct Ok {};
 using Status = Result<Ok>;
 
-inline GeoError make_error(ErrorCode code, std::string message, std::int64_t line = -1, std::int64_t offset = -1,
-                           std::int64_t element = -1) {
-    return GeoError{code, std::move(message), line, offset, element};
+inline GeoError make_error(ErrorCode code, std::string message, std::int64_t line = -1, std::int64_t offset = -1) {
+    return GeoError{code, std::move(message), line, offset, -1, ElementKind::None};
+}
+
+//! Older form with an element index of unspecified kind; prefer element_error.
+inline GeoError make_error(ErrorCode code, std::string message, std::int64_t line, std::int64_t offset,
+                           std::int64_t element) {
+    return GeoError{code, std::move(message), line, offset, element, ElementKind::None};
+}
+
+//! An error about one element of a mesh (vertex 3, face 12, crease 2, ...).
+inline GeoError element_error(ErrorCode code, std::string message, ElementKind kind, std::int64_t index) {
+    return GeoError{code, std::move(message), -1, -1, index, kind};
 }
 
 }  // namespace surfaced

@@ -28,8 +28,8 @@ Status validate(const PolygonMesh& mesh) {
         return make_error(ErrorCode::InvalidArgument, "face offsets do not match the face index array");
     for (std::size_t v = 0; v < nv; ++v)
         if (!is_finite(mesh.positions[v]))
-            return make_error(ErrorCode::NonFinite, "vertex " + std::to_string(v) + " has a non-finite coordinate",
-                              -1, -1, static_cast<std::int64_t>(v));
+            return element_error(ErrorCode::NonFinite, "vertex " + std::to_string(v) + " has a non-finite coordinate",
+                                 ElementKind::Vertex, static_cast<std::int64_t>(v));
     std::vector<Index> scratch;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         if (mesh.face_offsets[f + 1] < mesh.face_offsets[f])
@@ -37,21 +37,21 @@ Status validate(const PolygonMesh& mesh) {
         auto face = mesh.face(f);
         const auto fi = static_cast<std::int64_t>(f);
         if (face.size() < 3)
-            return make_error(ErrorCode::DegenerateFace,
-                              "face " + std::to_string(f) + " has " + std::to_string(face.size()) +
-                                  " vertices (at least 3 needed)", -1, -1, fi);
+            return element_error(ErrorCode::DegenerateFace,
+                                 "face " + std::to_string(f) + " has " + std::to_string(face.size()) +
+                                     " vertices (at least 3 needed)", ElementKind::Face, fi);
         for (Index v : face)
             if (v >= nv)
-                return make_error(ErrorCode::IndexOutOfRange,
-                                  "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) + " but there are " +
-                                      std::to_string(nv) + " vertices", -1, -1, fi);
+                return element_error(ErrorCode::IndexOutOfRange,
+                                     "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                                         " but there are " + std::to_string(nv) + " vertices", ElementKind::Face, fi);
         scratch.assign(face.begin(), face.end());
         std::sort(scratch.begin(), scratch.end());
         auto dup = std::adjacent_find(scratch.begin(), scratch.end());
         if (dup != scratch.end())
-            return make_error(ErrorCode::DegenerateFace,
-                              "face " + std::to_string(f) + " uses vertex " + std::to_string(*dup) + " more than once",
-                              -1, -1, fi);
+            return element_error(ErrorCode::DegenerateFace,
+                                 "face " + std::to_string(f) + " uses vertex " + std::to_string(*dup) + " more than once",
+                                 ElementKind::Face, fi);
     }
     if (!mesh.uv_indices.empty()) {
         if (mesh.uv_indices.size() != mesh.face_indices.size())
@@ -73,21 +73,27 @@ Status validate(const PolygonMesh& mesh) {
     for (std::size_t i = 0; i < tags.creases.size(); ++i) {
         const Crease& c = tags.creases[i];
         if (c.v0 >= nv || c.v1 >= nv)
-            return make_error(ErrorCode::IndexOutOfRange, "crease " + std::to_string(i) + " refers to a missing vertex");
+            return element_error(ErrorCode::IndexOutOfRange, "crease " + std::to_string(i) + " refers to a missing vertex",
+                                 ElementKind::Crease, static_cast<std::int64_t>(i));
         if (!(c.sharpness >= 0) || !std::isfinite(c.sharpness))
-            return make_error(ErrorCode::InvalidArgument, "crease " + std::to_string(i) + " has an invalid sharpness");
+            return element_error(ErrorCode::InvalidArgument, "crease " + std::to_string(i) + " has an invalid sharpness",
+                                 ElementKind::Crease, static_cast<std::int64_t>(i));
     }
     for (std::size_t i = 0; i < tags.corners.size(); ++i) {
         const Corner& c = tags.corners[i];
         if (c.vertex >= nv)
-            return make_error(ErrorCode::IndexOutOfRange, "corner " + std::to_string(i) + " refers to a missing vertex");
+            return element_error(ErrorCode::IndexOutOfRange, "corner " + std::to_string(i) + " refers to a missing vertex",
+                                 ElementKind::Corner, static_cast<std::int64_t>(i));
         if (!(c.sharpness >= 0) || !std::isfinite(c.sharpness))
-            return make_error(ErrorCode::InvalidArgument, "corner " + std::to_string(i) + " has an invalid sharpness");
+            return element_error(ErrorCode::InvalidArgument, "corner " + std::to_string(i) + " has an invalid sharpness",
+                                 ElementKind::Corner, static_cast<std::int64_t>(i));
     }
-    for (Index h : tags.holes)
-        if (h >= mesh.face_count())
-            return make_error(ErrorCode::IndexOutOfRange, "hole refers to face " + std::to_string(h) + " but there are " +
-                                                              std::to_string(mesh.face_count()) + " faces");
+    for (std::size_t i = 0; i < tags.holes.size(); ++i)
+        if (tags.holes[i] >= mesh.face_count())
+            return element_error(ErrorCode::IndexOutOfRange,
+                                 "hole " + std::to_string(i) + " refers to face " + std::to_string(tags.holes[i]) +
+                                     " but there are " + std::to_string(mesh.face_count()) + " faces",
+                                 ElementKind::Hole, static_cast<std::int64_t>(i));
     return Ok{};
 }
 

@@ -401,10 +401,10 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
             for (Index k = offsets[crease.v0]; k < offsets[crease.v0 + 1]; ++k)
                 if (other_end(level, edges[k], crease.v0) == crease.v1) found = edges[k];
             if (found == kInvalidIndex)
-                return make_error(ErrorCode::IndexOutOfRange,
-                                  "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) + " and " +
-                                      std::to_string(crease.v1) + " share no edge",
-                                  -1, -1, static_cast<std::int64_t>(i));
+                return element_error(ErrorCode::InvalidArgument,
+                                     "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) + " and " +
+                                         std::to_string(crease.v1) + " share no edge",
+                                     ElementKind::Crease, static_cast<std::int64_t>(i));
             s.edge[found] = static_cast<float>(crease.sharpness);
         }
         for (const Corner& corner : mesh.tags.corners) s.vertex[corner.vertex] = static_cast<float>(corner.sharpness);
@@ -507,10 +507,10 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
     if (loop) {
         for (std::size_t f = 0; f < mesh.face_count(); ++f)
             if (mesh.face_size(f) != 3)
-                return make_error(ErrorCode::NotTriangleMesh,
-                                  "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) +
-                                      " vertices; Loop subdivision needs triangles",
-                                  -1, -1, static_cast<std::int64_t>(f));
+                return element_error(ErrorCode::NotTriangleMesh,
+                                     "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) +
+                                         " vertices; Loop subdivision needs triangles",
+                                     ElementKind::Face, static_cast<std::int64_t>(f));
     }
     constexpr std::uint64_t kIndexLimit = std::numeric_limits<Index>::max() - 1;
     const auto scheme = options.scheme;

@@ -54,7 +54,7 @@ inline constexpr float kInfiniteSharpness = 10.0f;
 //! \pre validate(mesh) succeeded (the function validates anyway and returns its error).
 //! Hole faces (mesh.tags.holes) stay in the topology (they shape their neighbours) but their children are not
 //! output; vertices keep OpenSubdiv's numbering, so a vertex used only by holes is still present.
-//! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), IndexOutOfRange (a crease
+//! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), InvalidArgument (a crease
 //!         between vertices that share no edge), InvalidArgument (levels < 0), BudgetExceeded (over 2^32 indices).
 //! Worst case output: predicted_face_count(mesh, scheme, levels) faces.
 Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options);

@@ -11,6 +11,7 @@
 #include "geometry/io/gltf.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
+#include "geometry/subdivision/subdivide.h"
 #include "tests/support/gltf_validator.h"
 
 namespace surfaced::api {
@@ -343,6 +344,122 @@ TEST(SubdivideOperation, OutputBudgetIsConfigurable) {
     expect_problem(call("model/obj", kCubeObj, {{"levels", "1"}}, limits), 422, "budget_exceeded");
     limits.max_output_faces = 24;
     EXPECT_EQ(call("model/obj", kCubeObj, {{"levels", "1"}, {"format", "obj"}}, limits).status, 200);
+}
+
+}  // namespace
+}  // namespace surfaced::api
+
+// ---- sharp features, limit surface, max_faces --------------------------------------------------------------------
+
+namespace surfaced::api {
+namespace {
+
+std::vector<Vec3> positions_of(const nlohmann::json& response) {
+    std::vector<Vec3> out;
+    for (const auto& p : response["mesh"]["positions"]) out.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
+    return out;
+}
+
+TEST(SubdivideSharpFeatures, JsonCreasesCornersAndHolesReachTheGeometry) {
+    PolygonMesh tagged = shapes::cube();
+    tagged.tags.creases = {{4, 5, 2.5}, {5, 6, 10}};
+    tagged.tags.corners = {{0, 1.5}};
+    tagged.tags.holes = {2};
+    SubdivisionOptions options;
+    options.levels = 2;
+    options.crease_method = CreaseMethod::Chaikin;
+    const auto expected = surfaced::subdivide(tagged, options);
+    ASSERT_TRUE(expected.ok());
+
+    const auto response = call("application/json",
+                               json_request(shapes::cube(), R"(,"levels":2,"crease_method":"chaikin",
+        "creases":[{"edge":[4,5],"sharpness":2.5},{"edge":[5,6],"sharpness":10}],
+        "corners":[{"vertex":0,"sharpness":1.5}],"holes":[2],"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+    const auto got = positions_of(json);
+    ASSERT_EQ(got.size(), expected->vertex_count());
+    for (std::size_t v = 0; v < got.size(); ++v) EXPECT_EQ(got[v], expected->positions[v]) << v;
+    EXPECT_EQ(json["mesh"]["faces"].size(), expected->face_count());
+    EXPECT_EQ(expected->face_count(), 5u * 16u);  // the hole's 16 children are gone
+}
+
+TEST(SubdivideSharpFeatures, TagErrorsNameTheField) {
+    auto json = expect_problem(
+        call("application/json", json_request(shapes::cube(), R"(,"creases":[{"edge":[4,99],"sharpness":1}])")), 422,
+        "index_out_of_range");
+    EXPECT_EQ(json.value("field", ""), "creases[0].edge[1]");
+    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"creases":[{"edge":[0,6],"sharpness":1}])")),
+                          422, "invalid_argument");
+    EXPECT_EQ(json.value("field", ""), "creases[0]");  // 0 and 6 are opposite corners: no edge
+    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"holes":[6])")), 422, "index_out_of_range");
+    EXPECT_EQ(json.value("field", ""), "holes[0]");
+    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"corners":[{"vertex":1,"sharpness":-1}])")),
+                          400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "corners[0].sharpness");
+    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"crease_method":"fast")")), 400,
+                          "invalid_field");
+    EXPECT_NE(json.value("detail", "").find("chaikin"), std::string::npos);
+}
+
+TEST(SubdivideSharpFeatures, ObjTagsAndQueryOptionsOnRawBodies) {
+    const std::string obj = std::string(kCubeObj) + "t crease 2/1/0 4 5 3.0\nt corner 1/1/0 0 10\n";
+    const auto response = call("model/obj", obj, {{"levels", "2"}, {"triangle_rule", "smooth"}, {"format", "json"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    auto mesh = read_obj(obj);
+    ASSERT_TRUE(mesh.ok());
+    SubdivisionOptions options;
+    options.levels = 2;
+    options.triangle_rule = TriangleRule::Smooth;
+    const auto expected = surfaced::subdivide(*mesh, options);
+    const auto got = positions_of(nlohmann::json::parse(response.body));
+    ASSERT_EQ(got.size(), expected->vertex_count());
+    for (std::size_t v = 0; v < got.size(); ++v) EXPECT_EQ(got[v], expected->positions[v]);
+    EXPECT_EQ(got[0], mesh->positions[0]);  // the infinitely sharp corner stays put
+}
+
+TEST(SubdivideSharpFeatures, LimitSurfaceGivesLimitNormalsInObj) {
+    const auto response = call("model/obj", kCubeObj, {{"levels", "2"}, {"limit_surface", "true"}, {"normals", "true"},
+                                                       {"format", "obj"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    auto back = read_obj(response.body);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    SubdivisionOptions options;
+    options.levels = 2;
+    options.limit_surface = true;
+    const auto expected = surfaced::subdivide(read_obj(kCubeObj).value(), options);
+    ASSERT_EQ(back->vertex_count(), expected->vertex_count());
+    for (std::size_t v = 0; v < back->vertex_count(); ++v)
+        EXPECT_LE(norm(back->positions[v] - expected->positions[v]), 1e-15);
+    EXPECT_NE(response.body.find("\nvn "), std::string::npos);
+}
+
+TEST(SubdivideSharpFeatures, MaxFacesChoosesTheLargestLevelWithinBudget) {
+    // cube: 24, 96, 384, 1536 faces at levels 1..4
+    auto response = call("application/json", json_request(shapes::cube(), R"(,"max_faces":400,"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    auto json = nlohmann::json::parse(response.body);
+    EXPECT_EQ(json["stats"]["levels"], 3);
+    EXPECT_EQ(json["stats"]["output_faces"], 384);
+    // "levels" bounds the choice
+    response = call("application/json", json_request(shapes::cube(), R"(,"levels":2,"max_faces":100000,"output":{"format":"json"})"));
+    json = nlohmann::json::parse(response.body);
+    EXPECT_EQ(json["stats"]["levels"], 2);
+    // a budget below the input
+    expect_problem(call("application/json", json_request(shapes::cube(), R"(,"max_faces":5)")), 422, "budget_exceeded");
+}
+
+TEST(SubdivideSharpFeatures, LimitBudgetCountsTheInternalLevels) {
+    // sharpness 9 needs 8 more internal levels at level 1: refused before any work
+    Limits limits;
+    limits.max_output_faces = 100000;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto json = expect_problem(
+        call("application/json", json_request(shapes::cube(), R"(,"limit_surface":true,"creases":[{"edge":[0,1],"sharpness":9}])"),
+             {}, limits),
+        422, "budget_exceeded");
+    EXPECT_NE(json.value("detail", "").find("internal levels"), std::string::npos) << json.dump();
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
 }
 
 }  // namespace
