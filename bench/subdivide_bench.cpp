@@ -5,7 +5,10 @@
 // several repetitions, single-threaded. Peak memory is the peak of live heap bytes during the call, counted by the
 // global operator new below (both libraries allocate through it), minus what was live before the call.
 //
-// Usage: bench_subdivide [--quick] [--markdown]
+// Steady state, as in a long-running service: glibc is told to keep freed memory (M_MMAP_THRESHOLD/M_TRIM_THRESHOLD)
+// so that neither side pays page faults for memory it allocated in the previous repetition; --cold measures without.
+//
+// Usage: bench_subdivide [--quick] [--cold]
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -17,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <malloc.h>
 #include <memory>
 #include <new>
 #include <string>
@@ -143,9 +147,15 @@ PolygonMesh triangulated(const PolygonMesh& quads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    for (int i = 1; i < argc; ++i)
+    bool quick = false, cold = false;
+    for (int i = 1; i < argc; ++i) {
         if (std::string(argv[i]) == "--quick") quick = true;
+        if (std::string(argv[i]) == "--cold") cold = true;
+    }
+    if (!cold) {
+        mallopt(M_MMAP_THRESHOLD, 1 << 30);
+        mallopt(M_TRIM_THRESHOLD, -1);
+    }
 
     struct Case {
         std::string name;
