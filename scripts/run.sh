@@ -3,5 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SURFACED_SKIP_NPM=1 scripts/install-deps.sh
-scripts/build.sh
+scripts/build.sh surfaced
 exec build/server/surfaced serve --host "${HOST:-127.0.0.1}" --port "${PORT:-8080}" --web-root clients/web
