@@ -1,5 +1,6 @@
 #include "api/routes.h"
 
+#include "api/openapi.h"
 #include "api/operations/subdivide.h"
 
 namespace surfaced::api {
@@ -7,6 +8,7 @@ namespace {
 
 constexpr Route kRoutes[] = {
     {"GET", "/healthz", &healthz, "Liveness: {\"status\":\"ok\"}"},
+    {"GET", "/openapi.json", &openapi, "The OpenAPI 3.1 description of every endpoint"},
     {"POST", "/subdivide", &operations::subdivide,
      "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> GLB/OBJ/PLY/JSON"},
 };
@@ -19,6 +21,13 @@ ApiResponse healthz(const ApiRequest&, const ApiContext&) noexcept {
     ApiResponse response;
     response.content_type = "application/json";
     response.body = R"({"status":"ok"})";
+    return response;
+}
+
+ApiResponse openapi(const ApiRequest&, const ApiContext&) noexcept {
+    ApiResponse response;
+    response.content_type = "application/json";
+    response.body = std::string(openapi_document());
     return response;
 }
 
