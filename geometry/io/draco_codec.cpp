@@ -1,1 +1,165 @@
-// placeholder: being written
+// The only TU that includes Draco's headers. Draco reports problems through draco::Status, but it allocates with
+// plain new/vector, so std::bad_alloc (and anything else) is caught here and turned into a GeoError: nothing may
+// escape into the public API.
+#include "geometry/io/draco_codec.h"
+
+#include <exception>
+#include <memory>
+#include <new>
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
+namespace surfaced::draco_codec {
+
+namespace {
+
+//! Adds a float attribute with one value per point (identity mapping: glTF attributes are per vertex).
+int add_float_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, int components,
+                        const std::vector<float>& values) {
+    draco::GeometryAttribute layout;
+    layout.Init(type, nullptr, static_cast<std::uint8_t>(components), draco::DT_FLOAT32, false,
+                static_cast<std::int64_t>(sizeof(float)) * components, 0);
+    const std::size_t count = values.size() / static_cast<std::size_t>(components);
+    const int att_id = mesh.AddAttribute(layout, true, static_cast<std::uint32_t>(count));
+    draco::PointAttribute* attribute = mesh.attribute(att_id);
+    for (std::size_t i = 0; i < count; ++i)
+        attribute->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(i)),
+                                     values.data() + i * static_cast<std::size_t>(components));
+    return att_id;
+}
+
+Result<Encoded> encode_unchecked(const MeshData& data, const EncodeOptions& options) {
+    const std::size_t points = data.point_count();
+    draco::Mesh mesh;
+    mesh.set_num_points(static_cast<std::uint32_t>(points));
+    mesh.SetNumFaces(data.triangle_count());
+    for (std::size_t t = 0; t < data.triangle_count(); ++t) {
+        draco::Mesh::Face face;
+        for (int k = 0; k < 3; ++k) face[k] = draco::PointIndex(data.indices[3 * t + static_cast<std::size_t>(k)]);
+        mesh.SetFace(draco::FaceIndex(static_cast<std::uint32_t>(t)), face);
+    }
+
+    Encoded out;
+    const int position_att = add_float_attribute(mesh, draco::GeometryAttribute::POSITION, 3, data.positions);
+    const int normal_att =
+        data.normals.empty() ? -1 : add_float_attribute(mesh, draco::GeometryAttribute::NORMAL, 3, data.normals);
+    const int texcoord_att =
+        data.texcoords.empty() ? -1 : add_float_attribute(mesh, draco::GeometryAttribute::TEX_COORD, 2, data.texcoords);
+    // The glTF extension refers to attributes by Draco's unique id, which survives encoding (attribute slots may not).
+    out.ids.position = static_cast<int>(mesh.attribute(position_att)->unique_id());
+    if (normal_att >= 0) out.ids.normal = static_cast<int>(mesh.attribute(normal_att)->unique_id());
+    if (texcoord_att >= 0) out.ids.texcoord = static_cast<int>(mesh.attribute(texcoord_att)->unique_id());
+
+    draco::Encoder encoder;
+    encoder.SetSpeedOptions(options.encode_speed, options.decode_speed);
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, options.quantize_position);
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, options.quantize_normal);
+    encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, options.quantize_texcoord);
+    draco::EncoderBuffer buffer;
+    const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &buffer);
+    if (!status.ok())
+        return make_error(ErrorCode::Internal, std::string("Draco encoder failed: ") + status.error_msg());
+    out.bytes.assign(buffer.data(), buffer.size());
+    return out;
+}
+
+//! Copies one attribute of the decoded mesh as `components` floats per point, checking every mapping.
+Result<std::vector<float>> extract(const draco::Mesh& mesh, int unique_id, int components, const char* name) {
+    const draco::PointAttribute* attribute = mesh.GetAttributeByUniqueId(static_cast<std::uint32_t>(unique_id));
+    if (attribute == nullptr)
+        return make_error(ErrorCode::ParseError,
+                          std::string("Draco data has no attribute with id ") + std::to_string(unique_id) + " (" + name + ")");
+    if (attribute->num_components() != components)
+        return make_error(ErrorCode::ParseError, std::string("Draco attribute ") + name + " has " +
+                                                     std::to_string(attribute->num_components()) + " components, expected " +
+                                                     std::to_string(components));
+    const std::size_t points = mesh.num_points();
+    if (!attribute->is_mapping_identity() && attribute->indices_map_size() < points)
+        return make_error(ErrorCode::ParseError, std::string("Draco attribute ") + name + " does not map every point");
+    std::vector<float> values(points * static_cast<std::size_t>(components));
+    for (std::size_t p = 0; p < points; ++p) {
+        const draco::AttributeValueIndex avi = attribute->mapped_index(draco::PointIndex(static_cast<std::uint32_t>(p)));
+        if (avi.value() >= attribute->size() ||
+            !attribute->ConvertValue<float>(avi, static_cast<std::int8_t>(components),
+                                            values.data() + p * static_cast<std::size_t>(components)))
+            return make_error(ErrorCode::ParseError, std::string("Draco attribute ") + name + " value of point " +
+                                                         std::to_string(p) + " is out of range");
+    }
+    return values;
+}
+
+Result<MeshData> decode_unchecked(std::span<const std::uint8_t> bytes, const AttributeIds& ids,
+                                  const DecodeLimits& limits) {
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok())
+        return make_error(ErrorCode::ParseError, std::string("Draco decoder failed: ") + decoded.status().error_msg());
+    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    if (!mesh) return make_error(ErrorCode::ParseError, "Draco data does not hold a triangle mesh");
+
+    const std::size_t points = mesh->num_points();
+    const std::size_t faces = mesh->num_faces();
+    if (points > limits.max_points)
+        return make_error(ErrorCode::BudgetExceeded, "Draco mesh has " + std::to_string(points) +
+                                                         " vertices, more than the limit of " + std::to_string(limits.max_points));
+    if (faces > limits.max_triangles)
+        return make_error(ErrorCode::BudgetExceeded, "Draco mesh has " + std::to_string(faces) +
+                                                         " triangles, more than the limit of " +
+                                                         std::to_string(limits.max_triangles));
+
+    MeshData out;
+    out.indices.resize(faces * 3);
+    for (std::size_t f = 0; f < faces; ++f) {
+        const draco::Mesh::Face& face = mesh->face(draco::FaceIndex(static_cast<std::uint32_t>(f)));
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = face[k].value();
+            if (v >= points)
+                return make_error(ErrorCode::ParseError, "Draco triangle " + std::to_string(f) + " refers to point " +
+                                                             std::to_string(v) + " of " + std::to_string(points));
+            out.indices[3 * f + static_cast<std::size_t>(k)] = v;
+        }
+    }
+    if (ids.position < 0) return make_error(ErrorCode::ParseError, "Draco primitive has no POSITION attribute");
+    auto positions = extract(*mesh, ids.position, 3, "POSITION");
+    if (!positions) return positions.error();
+    out.positions = std::move(*positions);
+    if (ids.normal >= 0) {
+        auto normals = extract(*mesh, ids.normal, 3, "NORMAL");
+        if (!normals) return normals.error();
+        out.normals = std::move(*normals);
+    }
+    if (ids.texcoord >= 0) {
+        auto texcoords = extract(*mesh, ids.texcoord, 2, "TEXCOORD_0");
+        if (!texcoords) return texcoords.error();
+        out.texcoords = std::move(*texcoords);
+    }
+    return out;
+}
+
+}  // namespace
+
+Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options) {
+    try {
+        return encode_unchecked(mesh, options);
+    } catch (const std::bad_alloc&) {
+        return make_error(ErrorCode::BudgetExceeded, "out of memory while Draco-encoding the mesh");
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::Internal, std::string("Draco encoder failed: ") + e.what());
+    }
+}
+
+Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds& ids, const DecodeLimits& limits) {
+    try {
+        return decode_unchecked(bytes, ids, limits);
+    } catch (const std::bad_alloc&) {
+        return make_error(ErrorCode::BudgetExceeded, "out of memory while decoding Draco data");
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::ParseError, std::string("Draco decoder failed: ") + e.what());
+    }
+}
+
+}  // namespace surfaced::draco_codec

@@ -1,0 +1,60 @@
+// Internal to geo_gltf: a Draco triangle-mesh codec over plain arrays, so that Draco's headers stay in one TU
+// (draco_codec.cpp). The layout matches glTF accessors: float components per point, three indices per triangle.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geometry/core/result.h"
+
+namespace surfaced::draco_codec {
+
+//! Per-point attributes plus a triangle list. normals / texcoords are empty when absent.
+struct MeshData {
+    std::vector<float> positions;  //!< 3 per point
+    std::vector<float> normals;    //!< 3 per point, or empty
+    std::vector<float> texcoords;  //!< 2 per point, or empty
+    std::vector<std::uint32_t> indices;  //!< 3 per triangle, each < point count
+
+    std::size_t point_count() const { return positions.size() / 3; }
+    std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct EncodeOptions {
+    int quantize_position = 14;  //!< 1..30 for Draco; write_glb allows 1..24 (cost doubles per bit)
+    int quantize_normal = 10;    //!< 2..30 for Draco; write_glb allows 2..22 (cost grows 4x per bit)
+    int quantize_texcoord = 12;  //!< 1..30 for Draco; write_glb allows 1..24
+    int encode_speed = 5;        //!< 0..10
+    int decode_speed = 5;        //!< 0..10
+};
+
+//! Draco attribute unique ids, as KHR_draco_mesh_compression's `attributes` maps them; -1 = absent.
+struct AttributeIds {
+    int position = -1;
+    int normal = -1;
+    int texcoord = -1;
+};
+
+struct Encoded {
+    std::string bytes;  //!< the Draco bitstream (the glTF bufferView payload)
+    AttributeIds ids;
+};
+
+//! Encodes `mesh` (preconditions: positions non-empty, sizes consistent, indices in range; options in range).
+//! Errors: Internal when Draco rejects the input.
+Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options);
+
+struct DecodeLimits {
+    std::size_t max_points = 0;
+    std::size_t max_triangles = 0;
+};
+
+//! Decodes a Draco mesh and extracts the attributes named by `ids` (position required; normal/texcoord optional,
+//! -1 = skip) as floats. Every index and attribute mapping is checked. Errors: ParseError (not a valid Draco mesh,
+//! missing attribute, wrong component count), BudgetExceeded (beyond `limits`).
+Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds& ids, const DecodeLimits& limits);
+
+}  // namespace surfaced::draco_codec
