@@ -22,7 +22,7 @@ enum class OutputFormat { Glb, Obj, Ply, Json };
 struct OutputOptions {
     OutputFormat format = OutputFormat::Glb;
     std::optional<bool> draco;                 //!< glb only; default true ("compression": "draco"|"none")
-    std::optional<std::int64_t> quantize_position;  //!< glb with Draco only; 1..30, default 14
+    std::optional<std::int64_t> quantize_position;  //!< glb with Draco only; 1..24, default 14
     std::optional<bool> normals;               //!< glb/obj/ply; default false
 };
 
@@ -34,6 +34,7 @@ struct SubdivideParams {
     CreaseMethod crease_method = CreaseMethod::Uniform;
     TriangleRule triangle_rule = TriangleRule::Catmark;
     bool limit_surface = false;  //!< project to the limit surface; normals then come from limit tangents
+    UvInterpolation uv_interpolation = UvInterpolation::CornersPlus1;
     //! Choose the largest level (up to `levels` when given, else the server's maximum) whose output stays within
     //! this many faces.
     std::optional<std::int64_t> max_faces;
@@ -74,6 +75,15 @@ inline constexpr EnumName<CreaseMethod> kCreaseMethodNames[] = {
 inline constexpr EnumName<TriangleRule> kTriangleRuleNames[] = {
     {"catmark", TriangleRule::Catmark},
     {"smooth", TriangleRule::Smooth},
+};
+//! OpenSubdiv's FVAR_LINEAR_* rules, lower-case and hyphenated.
+inline constexpr EnumName<UvInterpolation> kUvInterpolationNames[] = {
+    {"none", UvInterpolation::None},
+    {"corners-only", UvInterpolation::CornersOnly},
+    {"corners-plus1", UvInterpolation::CornersPlus1},
+    {"corners-plus2", UvInterpolation::CornersPlus2},
+    {"boundaries", UvInterpolation::Boundaries},
+    {"all", UvInterpolation::All},
 };
 inline constexpr EnumName<OutputFormat> kOutputFormatNames[] = {
     {"glb", OutputFormat::Glb},

@@ -116,7 +116,7 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
     const std::string mesh_path(path);
     if (!root.is_object())
         return invalid(mesh_path, mesh_path + R"( must be an object {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
-    if (auto error = check_members(root, path, {"positions", "faces"})) return std::move(*error);
+    if (auto error = check_members(root, path, {"positions", "faces", "uvs", "uv_faces"})) return std::move(*error);
 
     const std::string positions_path = member_path(path, "positions");
     const std::string faces_path = member_path(path, "faces");
@@ -196,6 +196,52 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
             mesh.face_indices.push_back(static_cast<Index>(value));
         }
         mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
+    }
+
+    // optional face-varying texture coordinates: "uvs": [[u, v], ...], "uv_faces" parallel to "faces"
+    const auto uvs_it = root.find("uvs");
+    const auto uv_faces_it = root.find("uv_faces");
+    const std::string uvs_path = member_path(path, "uvs"), uv_faces_path = member_path(path, "uv_faces");
+    if ((uvs_it == root.end()) != (uv_faces_it == root.end()))
+        return invalid(uvs_it == root.end() ? uvs_path : uv_faces_path,
+                       uvs_path + " and " + uv_faces_path + " go together (texture coordinates and, per face corner, their indices)");
+    if (uvs_it != root.end()) {
+        const Json& uvs = *uvs_it;
+        const Json& uv_faces = *uv_faces_it;
+        if (!uvs.is_array()) return invalid(uvs_path, uvs_path + " must be an array of [u, v]");
+        if (!uv_faces.is_array() || uv_faces.size() != faces.size())
+            return invalid(uv_faces_path, uv_faces_path + " must be an array with one index array per face (" +
+                                              std::to_string(faces.size()) + ")");
+        if (uvs.size() > limits.max_input_vertices * 4)
+            return make_problem(Problem::BudgetExceeded, uvs_path + " has too many entries", uvs_path);
+        for (std::size_t i = 0; i < uvs.size(); ++i) {
+            const Json& uv = uvs[i];
+            const std::string field = index_path(uvs_path, i);
+            if (!uv.is_array() || uv.size() != 2 || !uv[0].is_number() || !uv[1].is_number())
+                return invalid(field, field + " must be an array of 2 numbers [u, v]");
+            const Vec2 value{uv[0].get<double>(), uv[1].get<double>()};
+            if (!is_finite(value)) return geometry_error(ErrorCode::NonFinite, field, field + " must be finite");
+            mesh.uvs.push_back(value);
+        }
+        for (std::size_t f = 0; f < uv_faces.size(); ++f) {
+            const Json& face = uv_faces[f];
+            const std::string field = index_path(uv_faces_path, f);
+            const std::size_t n = mesh.face_size(f);
+            if (!face.is_array() || face.size() != n)
+                return invalid(field, field + " must have one uv index per corner of face " + std::to_string(f) + " (" +
+                                          std::to_string(n) + ")");
+            for (std::size_t k = 0; k < n; ++k) {
+                const Json& index = face[k];
+                const std::string corner = index_path(field, k);
+                if (!index.is_number_unsigned()) return invalid(corner, corner + " must be a non-negative integer uv index");
+                const auto value = index.get<std::uint64_t>();
+                if (value >= mesh.uvs.size())
+                    return geometry_error(ErrorCode::IndexOutOfRange, corner,
+                                          corner + ": uv " + std::to_string(value) + " out of range (" +
+                                              std::to_string(mesh.uvs.size()) + " uvs)");
+                mesh.uv_indices.push_back(static_cast<Index>(value));
+            }
+        }
     }
     return mesh;
 }
@@ -330,7 +376,8 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
     if (auto error = check_members(root, "", {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule",
-                                              "limit_surface", "max_faces", "creases", "corners", "holes", "output"}))
+                                              "uv_interpolation", "limit_surface", "max_faces", "creases", "corners",
+                                              "holes", "output"}))
         return std::move(*error);
 
     SubdivideJsonRequest request;
@@ -354,6 +401,11 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
         auto rule = read_enum(*it, "triangle_rule", kTriangleRuleNames);
         if (!rule) return std::move(rule.error());
         request.params.triangle_rule = rule.value();
+    }
+    if (auto it = root.find("uv_interpolation"); it != root.end()) {
+        auto mode = read_enum(*it, "uv_interpolation", kUvInterpolationNames);
+        if (!mode) return std::move(mode.error());
+        request.params.uv_interpolation = mode.value();
     }
     if (auto it = root.find("limit_surface"); it != root.end()) {
         auto limit = read_bool(*it, "limit_surface");
@@ -411,7 +463,28 @@ std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& 
         }
         out += ']';
     }
-    out += "]},\"stats\":{\"input_vertices\":";
+    out += ']';
+    if (mesh.has_uvs()) {
+        out += ",\"uvs\":[";
+        for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
+            out += i == 0 ? "[" : ",[";
+            append_number(out, mesh.uvs[i].x);
+            out += ',';
+            append_number(out, mesh.uvs[i].y);
+            out += ']';
+        }
+        out += "],\"uv_faces\":[";
+        for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+            out += f == 0 ? "[" : ",[";
+            for (Index i = mesh.face_offsets[f]; i < mesh.face_offsets[f + 1]; ++i) {
+                if (i != mesh.face_offsets[f]) out += ',';
+                append_number(out, static_cast<std::uint64_t>(mesh.uv_indices[i]));
+            }
+            out += ']';
+        }
+        out += ']';
+    }
+    out += "},\"stats\":{\"input_vertices\":";
     append_number(out, static_cast<std::uint64_t>(stats.input_vertices));
     out += ",\"input_faces\":";
     append_number(out, static_cast<std::uint64_t>(stats.input_faces));

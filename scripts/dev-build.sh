@@ -5,5 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 targets=("$@"); [ ${#targets[@]} -gt 0 ] || targets=(all)
 exec flock /tmp/surfaced-build.lock bash -c '
-  [ -f build/build.ninja ] || cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+  [ -f build/build.ninja ] || cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSURFACED_WERROR=ON >/dev/null
   cmake --build build -j2 --target "$@"' _ "${targets[@]}"

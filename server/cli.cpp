@@ -78,10 +78,12 @@ Options:
                             `t interpolateboundary` tag, else edge-only)
   --crease-method M         uniform (default) or chaikin: how semi-sharp creases decay
   --triangle-rule R         catmark (default) or smooth: Catmull-Clark weights next to triangles
+  --uv-interpolation M      texture coordinates: none, corners-only, corners-plus1 (default),
+                            corners-plus2, boundaries or all (OpenSubdiv's FVAR_LINEAR_*)
   --limit-surface           project the result onto the limit surface (normals from limit tangents)
   --max-faces N             use the largest level (up to --levels, if given) with at most N faces
   --no-draco                write an uncompressed .glb
-  --quantize-position BITS  Draco position quantization, 1..30 (default 14; .glb only)
+  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb only)
   --normals                 also write vertex normals (.glb .obj .ply)
   --max-output-faces N      refuse if the result would have more faces (default 4000000)
   -h, --help                this text
@@ -100,7 +102,7 @@ public:
     bool done() const { return pos_ >= args_.size(); }
     std::string next() { return args_[pos_++]; }
     //! The value of option `name` (inline after '=' or the next argument).
-    std::string value(const std::string& arg, std::string_view name, std::optional<std::string>& inline_value) {
+    std::string value(std::string_view name, std::optional<std::string>& inline_value) {
         if (inline_value) return *std::exchange(inline_value, std::nullopt);
         if (done()) throw UsageError{std::string(name) + " needs a value"};
         return next();
@@ -191,22 +193,22 @@ int serve(Args& args) {
                 std::cout << "  " << route.method << " " << route.path << "  " << route.description << "\n";
             return kExitOk;
         } else if (arg == "--host") {
-            config.host = args.value(arg, arg, inline_value);
+            config.host = args.value(arg, inline_value);
         } else if (arg == "--port") {
-            config.port = static_cast<int>(parse_number(arg, args.value(arg, arg, inline_value), 0, 65535));
+            config.port = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 65535));
         } else if (arg == "--threads") {
-            config.threads = static_cast<int>(parse_number(arg, args.value(arg, arg, inline_value), 1, 1024));
+            config.threads = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1024));
         } else if (arg == "--web-root") {
-            config.web_root = args.value(arg, arg, inline_value);
+            config.web_root = args.value(arg, inline_value);
             web_root_given = true;
         } else if (arg == "--max-body-mb") {
             config.limits.max_body_bytes = static_cast<std::size_t>(
-                parse_number(arg, args.value(arg, arg, inline_value), 1, 1 << 20)) << 20;
+                parse_number(arg, args.value(arg, inline_value), 1, 1 << 20)) << 20;
         } else if (arg == "--max-levels") {
-            config.limits.max_levels = static_cast<int>(parse_number(arg, args.value(arg, arg, inline_value), 0, 16));
+            config.limits.max_levels = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 16));
         } else if (arg == "--max-output-faces") {
             config.limits.max_output_faces = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, arg, inline_value), 1, 4'000'000'000LL));
+                parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
         } else {
             throw UsageError{"serve: unknown argument \"" + arg + "\""};
         }
@@ -245,7 +247,7 @@ int serve(Args& args) {
 
 int subdivide(Args& args) {
     std::string input, output;
-    std::optional<std::string> scheme, levels, boundary, quantize, crease_method, triangle_rule, max_faces;
+    std::optional<std::string> scheme, levels, boundary, quantize, crease_method, triangle_rule, max_faces, uv_mode;
     bool no_draco = false, normals = false, limit_surface = false;
     api::ApiContext context;
     // Files are the user's own: the body limit protects the server's memory, not the CLI's.
@@ -261,26 +263,28 @@ int subdivide(Args& args) {
             std::cout << kSubdivideHelp;
             return kExitOk;
         } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, arg, inline_value);
+            output = args.value(arg, inline_value);
         } else if (arg == "--scheme") {
-            scheme = checked_enum(arg, args.value(arg, arg, inline_value), api::kSchemeNames);
+            scheme = checked_enum(arg, args.value(arg, inline_value), api::kSchemeNames);
         } else if (arg == "--levels") {
-            levels = std::to_string(parse_number(arg, args.value(arg, arg, inline_value), 0, 1'000'000));
+            levels = std::to_string(parse_number(arg, args.value(arg, inline_value), 0, 1'000'000));
         } else if (arg == "--boundary") {
-            boundary = checked_enum(arg, args.value(arg, arg, inline_value), api::kBoundaryNames);
+            boundary = checked_enum(arg, args.value(arg, inline_value), api::kBoundaryNames);
         } else if (arg == "--crease-method") {
-            crease_method = checked_enum(arg, args.value(arg, arg, inline_value), api::kCreaseMethodNames);
+            crease_method = checked_enum(arg, args.value(arg, inline_value), api::kCreaseMethodNames);
         } else if (arg == "--triangle-rule") {
-            triangle_rule = checked_enum(arg, args.value(arg, arg, inline_value), api::kTriangleRuleNames);
+            triangle_rule = checked_enum(arg, args.value(arg, inline_value), api::kTriangleRuleNames);
+        } else if (arg == "--uv-interpolation") {
+            uv_mode = checked_enum(arg, args.value(arg, inline_value), api::kUvInterpolationNames);
         } else if (arg == "--max-faces") {
-            max_faces = std::to_string(parse_number(arg, args.value(arg, arg, inline_value), 1, 4'000'000'000LL));
+            max_faces = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
         } else if (arg == "--limit-surface") {
             limit_surface = true;
         } else if (arg == "--quantize-position") {
-            quantize = std::to_string(parse_number(arg, args.value(arg, arg, inline_value), 1, 30));
+            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 24));
         } else if (arg == "--max-output-faces") {
             context.limits.max_output_faces = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, arg, inline_value), 1, 4'000'000'000LL));
+                parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
         } else if (arg == "--no-draco") {
             no_draco = true;
         } else if (arg == "--normals") {
@@ -334,6 +338,7 @@ int subdivide(Args& args) {
     if (crease_method) request.query.emplace("crease_method", *crease_method);
     if (triangle_rule) request.query.emplace("triangle_rule", *triangle_rule);
     if (max_faces) request.query.emplace("max_faces", *max_faces);
+    if (uv_mode) request.query.emplace("uv_interpolation", *uv_mode);
     if (limit_surface) request.query.emplace("limit_surface", "true");
     request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
     if (no_draco && *out_format == api::OutputFormat::Glb) request.query.emplace("compression", "none");

@@ -105,7 +105,7 @@ ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& te
 //! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     static constexpr std::string_view kAllowed[] = {"scheme",        "levels",        "boundary",  "crease_method",
-                                                    "triangle_rule", "limit_surface", "max_faces", "format",
+                                                    "triangle_rule", "uv_interpolation", "limit_surface", "max_faces", "format",
                                                     "compression",   "quantize_position", "normals"};
     std::set<std::string> unknown;
     for (const auto& [name, value] : query)
@@ -143,6 +143,10 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
             auto v = parse_enum_parameter(name, text, kTriangleRuleNames);
             if (!v) return std::move(v.error());
             params.triangle_rule = v.value();
+        } else if (name == "uv_interpolation") {
+            auto v = parse_enum_parameter(name, text, kUvInterpolationNames);
+            if (!v) return std::move(v.error());
+            params.uv_interpolation = v.value();
         } else if (name == "limit_surface") {
             auto v = parse_bool_parameter(name, text);
             if (!v) return std::move(v.error());
@@ -202,9 +206,9 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
             return make_problem(Problem::InvalidField,
                                 "quantize_position applies only to format \"glb\" with compression \"draco\"",
                                 output_field("quantize_position"));
-        if (*out.quantize_position < 1 || *out.quantize_position > 30)
+        if (*out.quantize_position < 1 || *out.quantize_position > 24)
             return make_problem(Problem::InvalidField,
-                                "quantize_position must be between 1 and 30 bits, got " +
+                                "quantize_position must be between 1 and 24 bits, got " +
                                     std::to_string(*out.quantize_position),
                                 output_field("quantize_position"));
     }
@@ -293,6 +297,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.crease_method = params.crease_method;
     options.triangle_rule = params.triangle_rule;
     options.limit_surface = params.limit_surface;
+    options.uv_interpolation = params.uv_interpolation;
     if (params.boundary) {
         options.boundary = *params.boundary;
         options.use_mesh_boundary_tag = false;  // an explicit request wins over the file's tag

@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
+#include <unordered_map>
 
 #include "geometry/subdivision/limit.h"
 #include "geometry/subdivision/rules.h"
@@ -468,6 +470,152 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
     return s;
 }
 
+// One refinable set of values on its own topology: the mesh's positions, or a face-varying channel (UVs), whose
+// "value mesh" has the mesh's faces but a vertex per distinct (vertex, value) pair, so that seams are its boundaries.
+struct Channel {
+    Level level;
+    Sharpness sharp;
+    std::vector<Vec3> values;
+};
+
+// Refines a channel by one level (the same topology step and rules as positions).
+void refine_channel(Channel& c, const SubdivisionOptions& options, bool first_level, bool loop, bool with_edges) {
+    const Neighbourhood n = neighbourhood(c.level, c.sharp, options.crease_method);
+    Level child = loop ? subdivision::refine_triangles(c.level, with_edges) : subdivision::refine_quads(c.level, with_edges);
+    std::vector<Vec3> dst(child.vertex_count);
+    const LevelInput in{c.level, c.sharp, options.crease_method,
+                        first_level ? options.triangle_rule : TriangleRule::Catmark};
+    if (loop)
+        interpolate_loop(in, n, c.values.data(), dst.data());
+    else
+        interpolate_catmark(in, n, c.values.data(), dst.data());
+    Sharpness child_sharp = refine_sharpness(c.level, child, c.sharp, n, options.crease_method, loop);
+    c.level = std::move(child);
+    c.sharp = std::move(child_sharp);
+    c.values = std::move(dst);
+}
+
+std::vector<std::uint32_t> edge_face_counts(const Level& level) {
+    std::vector<std::uint32_t> counts(level.edge_count(), 0);
+    for (Index e : level.face_edges) ++counts[e];
+    return counts;
+}
+
+// The linear UV modes at every level: "all" is bilinear (every value a corner, every edge sharp); "boundaries" keeps
+// every value on a seam or boundary a corner (its edges are boundary edges of the value mesh, already sharp).
+void sharpen_linear_uvs(Channel& c, UvInterpolation mode) {
+    if (mode == UvInterpolation::All) {
+        std::fill(c.sharp.edge.begin(), c.sharp.edge.end(), kInfiniteSharpness);
+        std::fill(c.sharp.vertex.begin(), c.sharp.vertex.end(), kInfiniteSharpness);
+    } else if (mode == UvInterpolation::Boundaries) {
+        const auto faces = edge_face_counts(c.level);
+        for (Index e = 0; e < c.level.edge_count(); ++e)
+            if (faces[e] < 2)
+                c.sharp.vertex[c.level.edge_verts[2 * e]] = c.sharp.vertex[c.level.edge_verts[2 * e + 1]] = kInfiniteSharpness;
+    }
+}
+
+// The base UV channel, sharpened as OpenSubdiv's face-varying channel is (Vtr::FVarLevel): a value on a seam keeps
+// the mesh's sharpness and is smoothed as a boundary of its UV region, except where the mode makes it a corner:
+// regions with one face at the vertex (all modes but "none"), junctions of three or more regions (corners-plus1/2),
+// darts (corners-plus2), values whose region is split at the vertex (always).
+Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const Sharpness& mesh_sharp,
+                        UvInterpolation mode) {
+    const std::size_t corners = mesh.face_indices.size();
+    std::vector<Index> corner_value(corners);
+    std::vector<Index> vertex_of;
+    std::vector<Vec3> values;
+    {
+        std::unordered_map<std::uint64_t, Index> ids;
+        ids.reserve(corners);
+        for (std::size_t i = 0; i < corners; ++i) {
+            const std::uint64_t key = (std::uint64_t{mesh.face_indices[i]} << 32) | mesh.uv_indices[i];
+            auto [it, added] = ids.emplace(key, static_cast<Index>(vertex_of.size()));
+            if (added) {
+                vertex_of.push_back(mesh.face_indices[i]);
+                const Vec2& uv = mesh.uvs[mesh.uv_indices[i]];
+                values.push_back({uv.x, uv.y, 0.0});
+            }
+            corner_value[i] = it->second;
+        }
+    }
+    PolygonMesh value_mesh;
+    value_mesh.positions.resize(values.size());
+    value_mesh.face_offsets = mesh.face_offsets;
+    value_mesh.face_indices = corner_value;
+
+    Channel c;
+    c.level = subdivision::build_base_level(value_mesh);
+    c.values = std::move(values);
+    const Level& vl = c.level;
+    const Index nvals = vl.vertex_count, ne = vl.edge_count();
+
+    // value edges inherit the sharpness of the mesh edge in the same face slot; seams and boundaries are infinite
+    c.sharp.edge.assign(ne, 0.0f);
+    for (std::size_t slot = 0; slot < corners; ++slot) c.sharp.edge[vl.face_edges[slot]] = mesh_sharp.edge[mesh_level.face_edges[slot]];
+    std::vector<std::uint32_t> edge_faces(ne, 0), edge_forward(ne, 0);
+    for (Index f = 0; f < vl.face_count(); ++f)
+        for (Index slot = vl.face_offsets[f]; slot < vl.face_offsets[f + 1]; ++slot) {
+            ++edge_faces[vl.face_edges[slot]];
+            if (vl.edge_verts[2 * vl.face_edges[slot]] == vl.face_verts[slot]) ++edge_forward[vl.face_edges[slot]];
+        }
+    std::vector<std::uint8_t> non_manifold_edge(ne, 0);
+    for (Index e = 0; e < ne; ++e) {
+        non_manifold_edge[e] = edge_faces[e] > 2 || (edge_faces[e] == 2 && edge_forward[e] != 1);
+        if (edge_faces[e] < 2 || non_manifold_edge[e]) c.sharp.edge[e] = kInfiniteSharpness;
+    }
+    c.sharp.vertex.resize(nvals);
+    for (Index v = 0; v < nvals; ++v) c.sharp.vertex[v] = mesh_sharp.vertex[vertex_of[v]];
+    c.sharp.hole = mesh_sharp.hole;
+    if (mode == UvInterpolation::All || mode == UvInterpolation::Boundaries) {
+        sharpen_linear_uvs(c, mode);
+        if (mode == UvInterpolation::All) return c;
+    }
+
+    // topology of each value, and of each mesh vertex's set of values
+    std::vector<std::uint32_t> vfaces(nvals, 0), vedges(nvals, 0), vboundary(nvals, 0), vnm(nvals, 0);
+    for (Index v : vl.face_verts) ++vfaces[v];
+    for (Index e = 0; e < ne; ++e)
+        for (int k = 0; k < 2; ++k) {
+            const Index v = vl.edge_verts[2 * e + k];
+            ++vedges[v];
+            vboundary[v] += edge_faces[e] < 2;
+            vnm[v] += non_manifold_edge[e];
+        }
+    const std::vector<std::uint32_t> fans = count_fans(vl, edge_faces, non_manifold_edge);
+    std::vector<std::uint32_t> values_at(mesh_level.vertex_count, 0);
+    for (Index v = 0; v < nvals; ++v) ++values_at[vertex_of[v]];
+    std::vector<std::uint8_t> mesh_boundary(mesh_level.vertex_count, 0);
+    {
+        const auto mesh_faces = edge_face_counts(mesh_level);
+        for (Index e = 0; e < mesh_level.edge_count(); ++e)
+            if (mesh_faces[e] < 2) mesh_boundary[mesh_level.edge_verts[2 * e]] = mesh_boundary[mesh_level.edge_verts[2 * e + 1]] = 1;
+    }
+    auto split = [&](Index v) {  // the value's region is not one fan at the vertex ("disjoint" span)
+        const bool fan = vnm[v] == 0 && fans[v] == 1 &&
+                         ((vboundary[v] == 0 && vfaces[v] == vedges[v]) || (vboundary[v] == 2 && vfaces[v] + 1 == vedges[v]));
+        return !fan;
+    };
+    const bool plus = mode == UvInterpolation::CornersPlus1 || mode == UvInterpolation::CornersPlus2;
+    // per mesh vertex: whether any of its values is split, or a one-face corner
+    std::vector<std::uint8_t> any_split(mesh_level.vertex_count, 0), any_corner(mesh_level.vertex_count, 0);
+    for (Index v = 0; v < nvals; ++v) {
+        any_split[vertex_of[v]] |= split(v);
+        any_corner[vertex_of[v]] |= vfaces[v] == 1;
+    }
+    for (Index v = 0; v < nvals; ++v) {
+        const Index mv = vertex_of[v];
+        bool sharp = split(v) || (mode != UvInterpolation::None && vfaces[v] == 1);
+        if (plus && values_at[mv] > 2) sharp = true;                    // junction
+        if (plus && values_at[mv] == 2 && any_split[mv]) sharp = true;
+        if (mode == UvInterpolation::CornersPlus2 && values_at[mv] == 2 && any_corner[mv]) sharp = true;
+        if (mode == UvInterpolation::CornersPlus2 && values_at[mv] == 1 && !mesh_boundary[mv] && vboundary[v] > 0)
+            sharp = true;                                              // dart: a seam ending inside the region
+        if (sharp) c.sharp.vertex[v] = kInfiniteSharpness;
+    }
+    return c;
+}
+
 std::uint64_t saturating_mul(std::uint64_t a, std::uint64_t b) {
     if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return std::numeric_limits<std::uint64_t>::max();
     return a * b;
@@ -532,6 +680,14 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
                       predicted_vertex_count(mesh, scheme, total) > kIndexLimit))
         return make_error(ErrorCode::BudgetExceeded, "evaluating the limit surface would exceed 2^32 indices");
 
+    // Texture coordinates: refined alongside, to the requested level.
+    std::optional<Channel> uv;
+    if (mesh.has_uvs()) uv = base_uv_channel(mesh, level, sharp, options.uv_interpolation);
+    for (int l = 0; uv && l < options.levels; ++l) {
+        refine_channel(*uv, options, l == 0, loop, l + 1 < options.levels);
+        sharpen_linear_uvs(*uv, options.uv_interpolation);
+    }
+
     std::vector<Vec3> src = mesh.positions, dst;
     Level output_level;            // the requested level, when refinement continues past it for the limit
     Sharpness output_sharp;
@@ -575,14 +731,21 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
     } else {
         out.positions = std::move(src);
     }
+    if (uv) {
+        out.uvs.reserve(uv->values.size());
+        for (const Vec3& value : uv->values) out.uvs.push_back({value.x, value.y});
+    }
     if (sharp.hole.empty()) {
         out.face_offsets = std::move(level.face_offsets);
         out.face_indices = std::move(level.face_verts);
+        if (uv) out.uv_indices = std::move(uv->level.face_verts);
     } else {
         for (Index f = 0; f < level.face_count(); ++f) {
             if (sharp.hole[f]) continue;
-            out.add_face({level.face_verts.data() + level.face_offsets[f],
-                          static_cast<std::size_t>(level.face_offsets[f + 1] - level.face_offsets[f])});
+            const Index begin = level.face_offsets[f], size = level.face_offsets[f + 1] - begin;
+            out.add_face({level.face_verts.data() + begin, size});
+            if (uv) out.uv_indices.insert(out.uv_indices.end(), uv->level.face_verts.begin() + begin,
+                                          uv->level.face_verts.begin() + begin + size);
         }
     }
     return out;

@@ -26,6 +26,18 @@ enum class TriangleRule {
     Smooth,   //!< TRI_SUB_SMOOTH: modified edge weights next to triangles, for rounder results
 };
 
+//! How face-varying data (texture coordinates) is interpolated: OpenSubdiv's Sdc::Options::FVarLinearInterpolation.
+//! "Linear" parts keep their values (corners) or interpolate linearly (boundaries); the rest is smoothed like
+//! positions, treating UV seams as boundaries of the UV layout.
+enum class UvInterpolation {
+    None,          //!< FVAR_LINEAR_NONE: smooth everywhere, seams as smooth boundary curves
+    CornersOnly,   //!< FVAR_LINEAR_CORNERS_ONLY: keep UV corners (a UV region with one face at a vertex)
+    CornersPlus1,  //!< FVAR_LINEAR_CORNERS_PLUS1: also junctions where three or more UV regions meet (USD default)
+    CornersPlus2,  //!< FVAR_LINEAR_CORNERS_PLUS2: also darts and a region's neighbour at a corner
+    Boundaries,    //!< FVAR_LINEAR_BOUNDARIES: linear along seams and boundaries, smooth inside
+    All,           //!< FVAR_LINEAR_ALL: bilinear everywhere
+};
+
 struct SubdivisionOptions {
     SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
     int levels = 1;  //!< uniform refinement levels, >= 0
@@ -40,6 +52,9 @@ struct SubdivisionOptions {
     //! in mesh.normals. Where a semi-sharp feature has not decayed at `levels` (sharpness > levels), the limit is
     //! taken after refining past it, so it is exact there too (OpenSubdiv's PrimvarRefiner::Limit is not).
     bool limit_surface = false;
+    //! Texture coordinates (mesh.uvs/uv_indices, when present) are refined with this rule and returned face-varying.
+    //! With limit_surface they are the refined values (not projected to their limit).
+    UvInterpolation uv_interpolation = UvInterpolation::CornersPlus1;
 };
 
 //! Sharpness at or above this is infinitely sharp (OpenSubdiv's Sdc::Crease::SHARPNESS_INFINITE).

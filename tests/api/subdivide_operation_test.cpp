@@ -464,3 +464,87 @@ TEST(SubdivideSharpFeatures, LimitBudgetCountsTheInternalLevels) {
 
 }  // namespace
 }  // namespace surfaced::api
+
+// ---- texture coordinates -------------------------------------------------------------------------------------------
+
+namespace surfaced::api {
+namespace {
+
+TEST(SubdivideUvs, JsonUvsAreRefinedWithTheRequestedRule) {
+    PolygonMesh mesh = shapes::grid(2, 2);
+    std::string uvs = "[", uv_faces = "[";
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        uv_faces += f ? ",[" : "[";
+        for (std::size_t k = 0; k < 4; ++k) {
+            const Vec3& p = mesh.positions[mesh.face(f)[k]];
+            const Index id = static_cast<Index>(mesh.uvs.size());
+            mesh.uvs.push_back({p.x + (f == 3 ? 0.5 : 0.0), p.y});  // face 3 is its own chart: seams
+            mesh.uv_indices.push_back(id);
+            uvs += (id ? ",[" : "[") + std::to_string(mesh.uvs.back().x) + "," + std::to_string(mesh.uvs.back().y) + "]";
+            uv_faces += (k ? "," : "") + std::to_string(id);
+        }
+        uv_faces += "]";
+    }
+    uvs += "]";
+    uv_faces += "]";
+    const std::string body = R"({"mesh":{"positions":)" + nlohmann::json::parse(mesh_json(mesh))["positions"].dump() +
+                             R"(,"faces":)" + nlohmann::json::parse(mesh_json(mesh))["faces"].dump() + R"(,"uvs":)" + uvs +
+                             R"(,"uv_faces":)" + uv_faces + R"(},"levels":2,"uv_interpolation":"boundaries","output":{"format":"json"}})";
+    const auto response = call("application/json", body);
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+
+    SubdivisionOptions options;
+    options.levels = 2;
+    options.uv_interpolation = UvInterpolation::Boundaries;
+    // the request's uvs went through text with 6 decimals: use the same values
+    for (std::size_t i = 0; i < mesh.uvs.size(); ++i)
+        mesh.uvs[i] = {std::stod(std::to_string(mesh.uvs[i].x)), std::stod(std::to_string(mesh.uvs[i].y))};
+    const auto expected = surfaced::subdivide(mesh, options);
+    ASSERT_TRUE(expected.ok());
+    ASSERT_EQ(json["mesh"]["uv_faces"].size(), expected->face_count());
+    for (std::size_t f = 0; f < expected->face_count(); ++f)
+        for (std::size_t k = 0; k < 4; ++k) {
+            const auto index = json["mesh"]["uv_faces"][f][k].get<std::size_t>();
+            const Vec2 want = expected->uvs[expected->uv_indices[expected->face_offsets[f] + k]];
+            EXPECT_EQ(json["mesh"]["uvs"][index][0].get<double>(), want.x);
+            EXPECT_EQ(json["mesh"]["uvs"][index][1].get<double>(), want.y);
+        }
+}
+
+TEST(SubdivideUvs, UvErrorsNameTheField) {
+    const std::string base = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[1,1,0]],"faces":[[0,1,2]],)";
+    auto json = expect_problem(call("application/json", base + R"("uvs":[[0,0],[1,0]],"uv_faces":[[0,1,2]]}})"), 422,
+                               "index_out_of_range");
+    EXPECT_EQ(json.value("field", ""), "mesh.uv_faces[0][2]");
+    json = expect_problem(call("application/json", base + R"("uvs":[[0,0]]}})"), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "mesh.uv_faces");
+    json = expect_problem(call("application/json", base + R"("uvs":[[0,0],[1,0],[0,1]],"uv_faces":[[0,1]]}})"), 400,
+                          "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "mesh.uv_faces[0]");
+    json = expect_problem(call("application/json", base + R"("uvs":[[0,0],[1,0],[0,1]],"uv_faces":[[0,1,2]]},"uv_interpolation":"smooth"})"),
+                          400, "invalid_field");
+    EXPECT_NE(json.value("detail", "").find("corners-plus1"), std::string::npos);
+}
+
+TEST(SubdivideUvs, ObjTexcoordsReachTheGlbAsTexcoord0) {
+    const std::string obj =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
+    const auto response = call("model/obj", obj, {{"levels", "2"}, {"compression", "none"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto validation = testing::run_gltf_validator(response.body);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+    EXPECT_EQ(validation.warnings, 0) << validation.report;
+    auto back = read_glb(response.body);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    ASSERT_TRUE(back->has_uvs());
+    // "corners-plus1" on a single quad chart: the corners stay, the interior is smooth; every uv within [0, 1]
+    for (const Vec2& uv : back->uvs) {
+        EXPECT_GE(uv.x, -1e-6);
+        EXPECT_LE(uv.x, 1 + 1e-6);
+    }
+}
+
+}  // namespace
+}  // namespace surfaced::api

@@ -66,8 +66,20 @@ std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh, cons
     desc.cornerWeights = corner_weights.data();
     desc.numHoles = static_cast<int>(holes.size());
     desc.holeIndices = holes.data();
+    // UVs as face-varying channel 0 (the descriptor keeps pointers: the storage is static per thread, valid until
+    // the next call, which is enough because the factory copies everything in Create)
+    thread_local std::vector<int> uv_indices;
+    thread_local Far::TopologyDescriptor::FVarChannel channel;
+    if (mesh.has_uvs()) {
+        uv_indices.assign(mesh.uv_indices.begin(), mesh.uv_indices.end());
+        channel.numValues = static_cast<int>(mesh.uvs.size());
+        channel.valueIndices = uv_indices.data();
+        desc.numFVarChannels = 1;
+        desc.fvarChannels = &channel;
+    }
 
     Sdc::Options sdc;
+    sdc.SetFVarLinearInterpolation(static_cast<Sdc::Options::FVarLinearInterpolation>(options.uv_interpolation));
     sdc.SetCreasingMethod(options.crease_method == CreaseMethod::Chaikin ? Sdc::Options::CREASE_CHAIKIN
                                                                          : Sdc::Options::CREASE_UNIFORM);
     sdc.SetTriangleSubdivision(options.triangle_rule == TriangleRule::Smooth ? Sdc::Options::TRI_SUB_SMOOTH
@@ -95,14 +107,30 @@ PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& opt
         src.swap(dst);
     }
 
+    std::vector<Point> uv_src, uv_dst;
+    if (mesh.has_uvs()) {
+        for (const Vec2& uv : mesh.uvs) uv_src.push_back(Point{{uv.x, uv.y, 0.0}});
+        for (int level = 1; level <= options.levels; ++level) {
+            uv_dst.resize(refiner->GetLevel(level).GetNumFVarValues(0));
+            Point* o = uv_dst.data();
+            primvar.InterpolateFaceVarying(level, uv_src.data(), o, 0);
+            uv_src.swap(uv_dst);
+        }
+    }
+
     PolygonMesh out;
     for (const Point& p : src) out.positions.push_back({p.p[0], p.p[1], p.p[2]});
+    for (const Point& p : uv_src) out.uvs.push_back({p.p[0], p.p[1]});
     const Far::TopologyLevel& last = refiner->GetLevel(options.levels);
     for (int f = 0; f < last.GetNumFaces(); ++f) {
         if (last.IsFaceHole(f)) continue;
         Far::ConstIndexArray fv = last.GetFaceVertices(f);
         std::vector<Index> face(fv.begin(), fv.end());
         out.add_face(face);
+        if (mesh.has_uvs()) {
+            Far::ConstIndexArray values = last.GetFaceFVarValues(f, 0);
+            out.uv_indices.insert(out.uv_indices.end(), values.begin(), values.end());
+        }
     }
     return out;
 }
