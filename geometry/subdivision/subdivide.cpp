@@ -217,6 +217,17 @@ void finish_edge_points(const Level& p, const Sharpness& sharp, const Neighbourh
     }
 }
 
+// dst[v] = sum of the other ends of v's edges (the start of every smooth vertex rule); edge points cleared.
+void sum_edge_neighbours(const Level& p, const Vec3* src, Vec3* dst, Vec3* edge_pts) {
+    for (Index v = 0; v < p.vertex_count; ++v) dst[v] = Vec3{};
+    for (Index e = 0; e < p.edge_count(); ++e) {
+        const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
+        edge_pts[e] = Vec3{};
+        dst[a] += src[b];
+        dst[b] += src[a];
+    }
+}
+
 struct LevelInput {
     const Level& topology;
     const Sharpness& sharp;
@@ -231,13 +242,7 @@ void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec
     Vec3* face_pts = dst + nv;
     Vec3* edge_pts = dst + nv + nf;
 
-    for (Index v = 0; v < nv; ++v) dst[v] = Vec3{};
-    for (Index e = 0; e < ne; ++e) {
-        const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
-        edge_pts[e] = Vec3{};
-        dst[a] += src[b];
-        dst[b] += src[a];
-    }
+    sum_edge_neighbours(p, src, dst, edge_pts);
     const bool smooth_triangles = in.triangle_rule == TriangleRule::Smooth;
     std::vector<std::uint8_t> edge_triangles;  // incident triangles per edge, for the smooth triangle rule
     if (smooth_triangles) edge_triangles.assign(ne, 0);
@@ -275,16 +280,10 @@ void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec
 // One Loop level: src has p.vertex_count points, dst gets nv + ne.
 void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst) {
     const Level& p = in.topology;
-    const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
+    const Index nv = p.vertex_count, nf = p.face_count();
     Vec3* edge_pts = dst + nv;
 
-    for (Index v = 0; v < nv; ++v) dst[v] = Vec3{};
-    for (Index e = 0; e < ne; ++e) {
-        const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
-        edge_pts[e] = Vec3{};
-        dst[a] += src[b];
-        dst[b] += src[a];
-    }
+    sum_edge_neighbours(p, src, dst, edge_pts);
     for (Index f = 0; f < nf; ++f) {
         const Index b = p.face_offsets[f];
         for (Index j = 0; j < 3; ++j) edge_pts[p.face_edges[b + j]] += src[p.face_verts[b + (j + 2) % 3]];

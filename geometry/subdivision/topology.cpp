@@ -58,6 +58,19 @@ namespace {
 // Which child of parent edge e touches parent vertex v (0 or 1).
 inline Index edge_child_at(const Level& p, Index e, Index v) { return p.edge_verts[2 * e] == v ? 0 : 1; }
 
+// The two children of every parent edge, (edge point, child of end 0) and (edge point, child of end 1), numbered
+// after the face-interior edges; the same for both schemes.
+void emit_edge_children(const Level& p, Index first_edge_vert, Index first_edge_edge, Level& c) {
+    for (Index e = 0; e < p.edge_count(); ++e) {
+        const Index ce = first_edge_vert + e;
+        Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
+        ev[0] = ce;
+        ev[1] = p.edge_verts[2 * e];
+        ev[2] = ce;
+        ev[3] = p.edge_verts[2 * e + 1];
+    }
+}
+
 }  // namespace
 
 Level refine_quads(const Level& p, bool with_edges) {
@@ -103,16 +116,7 @@ Level refine_quads(const Level& p, bool with_edges) {
             }
         }
     }
-    if (with_edges) {
-        for (Index e = 0; e < ne; ++e) {
-            const Index ce = first_edge_vert + e;
-            Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
-            ev[0] = ce;
-            ev[1] = p.edge_verts[2 * e];
-            ev[2] = ce;
-            ev[3] = p.edge_verts[2 * e + 1];
-        }
-    }
+    if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c);
     return c;
 }
 
@@ -160,16 +164,7 @@ Level refine_triangles(const Level& p, bool with_edges) {
             fe[11] = ie + 1;
         }
     }
-    if (with_edges) {
-        for (Index e = 0; e < ne; ++e) {
-            const Index ce = first_edge_vert + e;
-            Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
-            ev[0] = ce;
-            ev[1] = p.edge_verts[2 * e];
-            ev[2] = ce;
-            ev[3] = p.edge_verts[2 * e + 1];
-        }
-    }
+    if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c);
     return c;
 }
 
