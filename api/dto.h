@@ -15,7 +15,7 @@
 
 namespace surfaced::api {
 
-enum class OutputFormat { Glb, Obj, Ply, Json };
+enum class OutputFormat { Glb, Gltf, Obj, Ply, Json };
 
 //! How the result is encoded. Unset optionals mean "the default"; they are optional so that an option that does
 //! not apply to the chosen format (compression with OBJ) can be rejected instead of silently ignored.
@@ -48,6 +48,25 @@ struct SubdivideStats {
     SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
     int levels = 0;
     double elapsed_ms = 0;  //!< decode + budget checks + subdivision (encoding the response is not included)
+};
+
+//! POST /simplify. At least one of target_faces, ratio, max_error (the operation checks it and the ranges).
+struct SimplifyParams {
+    std::optional<std::int64_t> target_faces;
+    std::optional<double> ratio;      //!< (0, 1]
+    std::optional<double> max_error;  //!< absolute distance, >= 0
+    bool lock_border = false;
+    bool report_error = false;        //!< measure Hausdorff/RMS to the input and return them
+    OutputOptions output;
+};
+
+struct SimplifyStats {
+    std::size_t input_vertices = 0, input_faces = 0;
+    std::size_t output_vertices = 0, output_faces = 0;
+    bool triangulated = false;
+    double achieved_error = 0, relative_error = 0;  //!< see SimplifyResult
+    std::optional<double> hausdorff, rms;           //!< when report_error
+    double elapsed_ms = 0;
 };
 
 template <class E>
@@ -87,6 +106,7 @@ inline constexpr EnumName<UvInterpolation> kUvInterpolationNames[] = {
 };
 inline constexpr EnumName<OutputFormat> kOutputFormatNames[] = {
     {"glb", OutputFormat::Glb},
+    {"gltf", OutputFormat::Gltf},
     {"obj", OutputFormat::Obj},
     {"ply", OutputFormat::Ply},
     {"json", OutputFormat::Json},

@@ -67,8 +67,8 @@ constexpr std::string_view kSubdivideHelp = R"(Usage: surfaced subdivide IN -o O
 Subdivides the mesh in IN and writes it to OUT, through the same operation as POST /subdivide.
 Formats come from the file extensions:
   IN:  .obj .off .ply .stl .glb
-  OUT: .obj .ply .glb (Draco-compressed unless --no-draco) .json ({"mesh": ..., "stats": ...})
-  (.gltf is not supported yet, neither as input nor as output: use .glb)
+  OUT: .obj .ply .glb .gltf (glTF, Draco-compressed unless --no-draco; .gltf is one JSON file with the
+       data embedded) .json ({"mesh": ..., "stats": ...})
 
 Options:
   -o, --output OUT          output file (required)
@@ -82,7 +82,7 @@ Options:
                             corners-plus2, boundaries or all (OpenSubdiv's FVAR_LINEAR_*)
   --limit-surface           project the result onto the limit surface (normals from limit tangents)
   --max-faces N             use the largest level (up to --levels, if given) with at most N faces
-  --no-draco                write an uncompressed .glb
+  --no-draco                write uncompressed glTF (.glb, .gltf)
   --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb only)
   --normals                 also write vertex normals (.glb .obj .ply)
   --max-output-faces N      refuse if the result would have more faces (default 4000000)
@@ -303,8 +303,7 @@ int subdivide(Args& args) {
 
     const std::string in_ext = lower_extension(input);
     const std::string out_ext = lower_extension(output);
-    if (in_ext == ".gltf" || out_ext == ".gltf")
-        throw UsageError{".gltf (JSON glTF with separate buffers) is not supported yet; use .glb"};
+    if (in_ext == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
     const auto in_format = format_from_extension(input);
     if (!in_format)
         throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
@@ -312,10 +311,11 @@ int subdivide(Args& args) {
     if (out_ext == ".obj") out_format = api::OutputFormat::Obj;
     else if (out_ext == ".ply") out_format = api::OutputFormat::Ply;
     else if (out_ext == ".glb") out_format = api::OutputFormat::Glb;
+    else if (out_ext == ".gltf") out_format = api::OutputFormat::Gltf;
     else if (out_ext == ".json") out_format = api::OutputFormat::Json;
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .json)"};
-    if (quantize && *out_format != api::OutputFormat::Glb)
-        throw UsageError{"--quantize-position applies only to .glb output"};
+    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .gltf .json)"};
+    const bool gltf = *out_format == api::OutputFormat::Glb || *out_format == api::OutputFormat::Gltf;
+    if (quantize && !gltf) throw UsageError{"--quantize-position applies only to .glb and .gltf output"};
     if (quantize && no_draco) throw UsageError{"--quantize-position applies only with Draco (drop --no-draco)"};
     if (normals && *out_format == api::OutputFormat::Json)
         throw UsageError{"--normals is not available for .json output"};
@@ -341,7 +341,7 @@ int subdivide(Args& args) {
     if (uv_mode) request.query.emplace("uv_interpolation", *uv_mode);
     if (limit_surface) request.query.emplace("limit_surface", "true");
     request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
-    if (no_draco && *out_format == api::OutputFormat::Glb) request.query.emplace("compression", "none");
+    if (no_draco && gltf) request.query.emplace("compression", "none");
     if (quantize) request.query.emplace("quantize_position", *quantize);
     if (normals) request.query.emplace("normals", "true");
 

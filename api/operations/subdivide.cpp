@@ -196,15 +196,15 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
         return make_problem(Problem::InvalidField, "max_faces must be >= 1, got " + std::to_string(*params.max_faces),
                             "max_faces");
     const OutputOptions& out = params.output;
-    const bool glb = out.format == OutputFormat::Glb;
+    const bool glb = out.format == OutputFormat::Glb || out.format == OutputFormat::Gltf;  // glTF, binary or text
     const std::string format(enum_name(kOutputFormatNames, out.format));
     if (out.draco && !glb)
-        return make_problem(Problem::InvalidField, "compression applies only to format \"glb\", not \"" + format + "\"",
+        return make_problem(Problem::InvalidField, "compression applies only to formats \"glb\" and \"gltf\", not \"" + format + "\"",
                             output_field("compression"));
     if (out.quantize_position) {
         if (!glb || !out.draco.value_or(true))
             return make_problem(Problem::InvalidField,
-                                "quantize_position applies only to format \"glb\" with compression \"draco\"",
+                                "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
                                 output_field("quantize_position"));
         if (*out.quantize_position < 1 || *out.quantize_position > 24)
             return make_problem(Problem::InvalidField,
@@ -220,6 +220,7 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
 std::string_view output_media_type(OutputFormat format) {
     switch (format) {
         case OutputFormat::Glb: return "model/gltf-binary";
+        case OutputFormat::Gltf: return "model/gltf+json";
         case OutputFormat::Obj: return "model/obj";
         case OutputFormat::Ply: return "application/ply";
         case OutputFormat::Json: return "application/json";
@@ -361,14 +362,15 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     ApiResponse response;
     response.content_type = std::string(output_media_type(out.format));
     switch (out.format) {
-        case OutputFormat::Glb: {
+        case OutputFormat::Glb:
+        case OutputFormat::Gltf: {
             GltfOptions gltf;
             gltf.draco = out.draco.value_or(true);
             if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
             gltf.normals = normals;
-            auto glb = write_glb(result, gltf);
-            if (!glb) return error_response(geometry_error(glb.error(), source));
-            response.body = std::move(glb.value());
+            auto encoded = out.format == OutputFormat::Glb ? write_glb(result, gltf) : write_gltf(result, gltf);
+            if (!encoded) return error_response(geometry_error(encoded.error(), source));
+            response.body = std::move(encoded.value());
             break;
         }
         case OutputFormat::Obj: {

@@ -26,6 +26,9 @@ struct GltfOptions {
 //! indices), Internal (encoder failure).
 Result<std::string> write_glb(const PolygonMesh& mesh, const GltfOptions& options = {});
 
+//! The same scene as glTF JSON (.gltf): one self-contained text file, the binary data embedded as a base64 data URI.
+Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& options = {});
+
 //! Reads every TRIANGLES primitive of every mesh in a GLB (node transforms applied; Draco-compressed primitives
 //! decoded), POSITION and TEXCOORD_0 when present, welding vertices split only by attributes. Errors name what is
 //! wrong (ParseError with byte offset where known, Unsupported for external buffers / other primitive modes).

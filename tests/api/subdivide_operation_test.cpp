@@ -548,3 +548,32 @@ TEST(SubdivideUvs, ObjTexcoordsReachTheGlbAsTexcoord0) {
 
 }  // namespace
 }  // namespace surfaced::api
+
+// ---- glTF JSON output ----------------------------------------------------------------------------------------------
+
+namespace surfaced::api {
+namespace {
+
+TEST(SubdivideGltf, TextGltfIsValidAndSelfContained) {
+    for (const char* compression : {"draco", "none"}) {
+        const auto response = call("model/obj", kCubeObj, {{"levels", "2"}, {"format", "gltf"}, {"compression", compression}});
+        ASSERT_EQ(response.status, 200) << response.body;
+        EXPECT_EQ(response.content_type, "model/gltf+json");
+        const auto json = nlohmann::json::parse(response.body);
+        ASSERT_EQ(json["buffers"].size(), 1u);
+        EXPECT_EQ(json["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0), 0u);
+        const auto validation = testing::run_gltf_validator(response.body);
+        ASSERT_TRUE(validation.ran) << validation.report;
+        EXPECT_EQ(validation.errors, 0) << compression << validation.report;
+        EXPECT_EQ(validation.warnings, 0) << compression << validation.report;
+        // the same accessors as the GLB form
+        const auto glb = call("model/obj", kCubeObj, {{"levels", "2"}, {"compression", compression}});
+        auto mesh = read_glb(glb.body);
+        ASSERT_TRUE(mesh.ok());
+        EXPECT_EQ(json["accessors"][json["meshes"][0]["primitives"][0]["indices"].get<int>()]["count"].get<std::size_t>(),
+                  3 * mesh->face_count());
+    }
+}
+
+}  // namespace
+}  // namespace surfaced::api

@@ -314,6 +314,17 @@ TEST_F(Cli, ObjToValidGlb) {
     EXPECT_EQ(read_bytes(dir_ / "plain.glb").find("KHR_draco_mesh_compression"), std::string::npos);
 }
 
+TEST_F(Cli, ObjToValidTextGltf) {
+    const auto run = run_cli("subdivide " + path("cube.obj") + " -o " + path("out.gltf") + " --levels 2 --normals");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const std::string gltf = read_bytes(dir_ / "out.gltf");
+    EXPECT_NE(gltf.find("\"uri\":\"data:application/octet-stream;base64,"), std::string::npos);
+    const auto validation = testing::run_gltf_validator(gltf);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+    EXPECT_EQ(validation.warnings, 0) << validation.report;
+}
+
 TEST_F(Cli, BadUsageExits2) {
     EXPECT_EQ(run_cli("").exit_code, 2);
     EXPECT_EQ(run_cli("frobnicate").exit_code, 2);
@@ -323,9 +334,9 @@ TEST_F(Cli, BadUsageExits2) {
     EXPECT_EQ(run_cli("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --levels two").exit_code, 2);
     EXPECT_EQ(run_cli("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --scheme sqrt3").exit_code, 2);
     EXPECT_EQ(run_cli("subdivide " + path("cube.obj") + " -o " + path("x.fbx")).exit_code, 2);
-    const auto gltf = run_cli("subdivide " + path("cube.obj") + " -o " + path("x.gltf"));
+    const auto gltf = run_cli("subdivide " + path("x.gltf") + " -o " + path("y.obj"));
     EXPECT_EQ(gltf.exit_code, 2);
-    EXPECT_NE(gltf.err.find(".gltf"), std::string::npos) << gltf.err;
+    EXPECT_NE(gltf.err.find(".gltf input"), std::string::npos) << gltf.err;
     EXPECT_NE(gltf.err.find("not supported"), std::string::npos) << gltf.err;
     EXPECT_EQ(run_cli("serve --port 70000").exit_code, 2);
 }
@@ -356,7 +367,7 @@ TEST_F(Cli, HelpAndVersion) {
     const auto sub = run_cli("subdivide --help");
     EXPECT_EQ(sub.exit_code, 0);
     EXPECT_NE(sub.out.find("--levels"), std::string::npos);
-    EXPECT_NE(sub.out.find(".gltf is not supported yet"), std::string::npos);
+    EXPECT_NE(sub.out.find(".gltf (glTF"), std::string::npos) << sub.out;
     const auto serve = run_cli("serve --help");
     EXPECT_EQ(serve.exit_code, 0);
     EXPECT_NE(serve.out.find("POST /subdivide"), std::string::npos) << serve.out;
