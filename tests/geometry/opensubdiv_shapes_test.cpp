@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "geometry/io/mesh_io.h"
@@ -36,6 +37,9 @@ struct Case {
     CreaseMethod method;
     TriangleRule triangle_rule;
 };
+
+// readable test names in ctest's output instead of a byte dump
+void PrintTo(const Case& c, std::ostream* os) { *os << c.shape; }
 
 std::vector<Case> cases() {
     std::vector<Case> out;
