@@ -94,9 +94,9 @@ TEST(JsonCodec, UnknownNestedFieldsAreNamedWithPath) {
     ASSERT_FALSE(r.ok());
     expect_error(r.error(), 400, "unknown_field", "output.fromat");
 
-    auto m = decode_mesh(R"({"positions":[],"faces":[],"uvs":[]})", Limits{});
+    auto m = decode_mesh(R"({"positions":[],"faces":[],"colors":[]})", Limits{});
     ASSERT_FALSE(m.ok());
-    expect_error(m.error(), 400, "unknown_field", "mesh.uvs");
+    expect_error(m.error(), 400, "unknown_field", "mesh.colors");
 }
 
 TEST(JsonCodec, UnknownEnumValuesListAllowedOnes) {
