@@ -89,7 +89,7 @@ LimitPoint catmark_limit(const Vec3& p, const Ring& r, bool corner, int c0, int 
     return out;
 }
 
-LimitPoint loop_limit(const Vec3& p, const Ring& r, bool corner, int c0, int c1) {
+LimitPoint loop_limit(const Vec3& p, const Ring& r, bool corner, int c0, int c1, bool warren) {
     const auto& E = r.edge_points;
     if (corner) return corner_limit(p, r, 3.0);
     if (c0 >= 0) {
@@ -120,9 +120,10 @@ LimitPoint loop_limit(const Vec3& p, const Ring& r, bool corner, int c0, int c1)
     if (n == 6) {
         out.position = 0.5 * p + (1.0 / 12.0) * esum;
     } else {
+        // limit weight per neighbour from the scheme's per-neighbour refinement weight gamma: 1 / (n + 3 / (8 gamma))
         const double dn = n;
         const double beta = 0.25 * std::cos(2.0 * kPi / dn) + 0.375;
-        const double gamma = (0.625 - beta * beta) / dn;
+        const double gamma = warren ? (n == 3 ? 3.0 / 16.0 : 3.0 / (8.0 * dn)) : (0.625 - beta * beta) / dn;
         const double ew = 1.0 / (dn + 3.0 / (8.0 * gamma));
         out.position = (1.0 - ew * dn) * p + ew * esum;
     }
@@ -142,7 +143,7 @@ Vec3 normalized(const Vec3& v) {
 }  // namespace
 
 void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness,
-                    const std::vector<float>& vertex_sharpness, bool loop, const Vec3* points, Index count,
+                    const std::vector<float>& vertex_sharpness, bool loop, bool warren, const Vec3* points, Index count,
                     Vec3* limit_positions, Vec3* limit_normals) {
     const Index ne = level.edge_count(), nf = level.face_count();
     // the (up to two) face slots of each edge; a slot is the corner where the edge starts in its face
@@ -288,7 +289,7 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
         }
         const bool corner = vertex_sharpness[v] > 0.0f || sharp_count > 2;
         if (sharp_count != 2) c0 = c1 = -1;
-        const LimitPoint lp = loop ? loop_limit(points[v], ring, corner, c0, c1) : catmark_limit(points[v], ring, corner, c0, c1);
+        const LimitPoint lp = loop ? loop_limit(points[v], ring, corner, c0, c1, warren) : catmark_limit(points[v], ring, corner, c0, c1);
         limit_positions[v] = lp.position;
         const Vec3 n = normalized(cross(lp.tan1, lp.tan2));
         if (n.x == 0 && n.y == 0 && n.z == 0) {

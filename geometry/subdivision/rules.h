@@ -28,6 +28,12 @@ inline LoopVertexWeights loop_smooth_vertex(int n) {
     return {1.0 - e * dn, e};
 }
 
+//! Warren's simplified Loop weights: beta = 3/(8n) (3/16 at valence 3). Not OpenSubdiv's; cheaper to reason about.
+inline LoopVertexWeights loop_warren_vertex(int n) {
+    const double beta = n == 3 ? 3.0 / 16.0 : 3.0 / (8.0 * n);
+    return {1.0 - n * beta, beta};
+}
+
 //! Crease (and boundary) vertex with exactly two sharp edges: 3/4 P + 1/8 each sharp neighbour.
 inline constexpr double kCreaseVertexWeight = 0.75;
 inline constexpr double kCreaseNeighbourWeight = 0.125;

@@ -233,6 +233,7 @@ struct LevelInput {
     const Sharpness& sharp;
     CreaseMethod method;
     TriangleRule triangle_rule;
+    LoopWeights loop_weights;
 };
 
 // One Catmull-Clark level: src has p.vertex_count points, dst gets nv + nf + ne.
@@ -289,7 +290,9 @@ void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* 
         for (Index j = 0; j < 3; ++j) edge_pts[p.face_edges[b + j]] += src[p.face_verts[b + (j + 2) % 3]];
     }
     for (Index v = 0; v < nv; ++v) {
-        const auto w = subdivision::loop_smooth_vertex(static_cast<int>(n.vertex_edges[v]));
+        const int valence = static_cast<int>(n.vertex_edges[v]);
+        const auto w = in.loop_weights == LoopWeights::Warren ? subdivision::loop_warren_vertex(valence)
+                                                              : subdivision::loop_smooth_vertex(valence);
         dst[v] = w.vertex * src[v] + w.edge * dst[v];
     }
     struct W { double vertex, face; };
@@ -483,7 +486,7 @@ void refine_channel(Channel& c, const SubdivisionOptions& options, bool first_le
     Level child = loop ? subdivision::refine_triangles(c.level, with_edges) : subdivision::refine_quads(c.level, with_edges);
     std::vector<Vec3> dst(child.vertex_count);
     const LevelInput in{c.level, c.sharp, options.crease_method,
-                        first_level ? options.triangle_rule : TriangleRule::Catmark};
+                        first_level ? options.triangle_rule : TriangleRule::Catmark, options.loop_weights};
     if (loop)
         interpolate_loop(in, n, c.values.data(), dst.data());
     else
@@ -696,7 +699,8 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         Level child = loop ? subdivision::refine_triangles(level, !last || options.limit_surface)
                            : subdivision::refine_quads(level, !last || options.limit_surface);
         dst.resize(child.vertex_count);
-        const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark};
+        const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark,
+                            options.loop_weights};
         if (loop)
             interpolate_loop(in, n, src.data(), dst.data());
         else
@@ -721,8 +725,8 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         const Index count = extra > 0 ? output_level.vertex_count : level.vertex_count;
         out.positions.resize(count);
         out.normals.resize(count);
-        subdivision::evaluate_limit(level, sharp.edge, sharp.vertex, loop, src.data(), count, out.positions.data(),
-                                    out.normals.data());
+        subdivision::evaluate_limit(level, sharp.edge, sharp.vertex, loop, options.loop_weights == LoopWeights::Warren,
+                                    src.data(), count, out.positions.data(), out.normals.data());
         if (extra > 0) {
             level = std::move(output_level);
             sharp = std::move(output_sharp);

@@ -14,6 +14,12 @@ namespace surfaced {
 
 enum class SubdivisionScheme { CatmullClark, Loop };
 
+//! Loop's smooth vertex weights.
+enum class LoopWeights {
+    Loop,    //!< Loop's original beta, as OpenSubdiv (default)
+    Warren,  //!< Warren's 3/(8n): a slightly different surface, does NOT match OpenSubdiv
+};
+
 //! How semi-sharp edge sharpness decays from level to level (OpenSubdiv's Sdc::Options::CreasingMethod).
 enum class CreaseMethod {
     Uniform,  //!< CREASE_UNIFORM: every child edge gets sharpness - 1
@@ -46,6 +52,7 @@ struct SubdivisionOptions {
     bool use_mesh_boundary_tag = true;
     CreaseMethod crease_method = CreaseMethod::Uniform;
     TriangleRule triangle_rule = TriangleRule::Catmark;  //!< Catmull-Clark only
+    LoopWeights loop_weights = LoopWeights::Loop;        //!< Loop only
     //! Apply mesh.tags creases (edge sharpness), corners (vertex sharpness) and holes. Sharpness >= 10 is infinite.
     bool use_mesh_tags = true;
     //! Project the refined vertices onto the limit surface and return exact limit normals (from limit tangents)

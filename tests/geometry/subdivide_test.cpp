@@ -3,6 +3,8 @@
 // hold whatever the reference says: Euler characteristic, boundary loops, watertightness, predicted counts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <string>
 
@@ -186,6 +188,87 @@ TEST(Subdivision, PredictionSaturatesInsteadOfOverflowing) {
     auto out = subdivide(shapes::cube(), options);
     ASSERT_FALSE(out.ok());
     EXPECT_EQ(out.error().code, ErrorCode::BudgetExceeded);
+}
+
+}  // namespace
+}  // namespace surfaced
+
+namespace surfaced {
+namespace {
+
+PolygonMesh triangulated_torus() {
+    const PolygonMesh quads = shapes::torus(8, 6);
+    PolygonMesh m;
+    m.positions = quads.positions;
+    for (std::size_t f = 0; f < quads.face_count(); ++f) {
+        auto q = quads.face(f);
+        m.add_face({q[0], q[1], q[2]});
+        m.add_face({q[0], q[2], q[3]});
+    }
+    return m;
+}
+
+TEST(LoopWarren, EqualsLoopWhereEveryVertexIsRegular) {
+    const PolygonMesh torus = triangulated_torus();  // every vertex has valence 6
+    SubdivisionOptions loop, warren;
+    loop.scheme = warren.scheme = SubdivisionScheme::Loop;
+    loop.levels = warren.levels = 2;
+    warren.loop_weights = LoopWeights::Warren;
+    auto a = subdivide(torus, loop), b = subdivide(torus, warren);
+    ASSERT_TRUE(a.ok() && b.ok());
+    for (std::size_t v = 0; v < a->vertex_count(); ++v) EXPECT_LE(norm(a->positions[v] - b->positions[v]), 1e-15);
+}
+
+TEST(LoopWarren, UsesThreeOverEightNAndDiffersFromLoopAtIrregularVertices) {
+    const PolygonMesh ico = shapes::icosahedron();  // valence 5 everywhere
+    SubdivisionOptions options;
+    options.scheme = SubdivisionScheme::Loop;
+    options.loop_weights = LoopWeights::Warren;
+    auto out = subdivide(ico, options);
+    ASSERT_TRUE(out.ok());
+    // vertex 0's neighbours in the icosahedron
+    Vec3 sum{};
+    std::vector<Index> neighbours;
+    for (std::size_t f = 0; f < ico.face_count(); ++f) {
+        auto t = ico.face(f);
+        for (int k = 0; k < 3; ++k)
+            if (t[k] == 0)
+                for (Index n : {t[(k + 1) % 3], t[(k + 2) % 3]})
+                    if (std::find(neighbours.begin(), neighbours.end(), n) == neighbours.end()) neighbours.push_back(n);
+    }
+    ASSERT_EQ(neighbours.size(), 5u);
+    for (Index n : neighbours) sum += ico.positions[n];
+    const double beta = 3.0 / 40.0;
+    const Vec3 expected = (1.0 - 5 * beta) * ico.positions[0] + beta * sum;
+    EXPECT_LE(norm(out->positions[0] - expected), 1e-15);
+    options.loop_weights = LoopWeights::Loop;
+    EXPECT_GT(norm(subdivide(ico, options)->positions[0] - expected), 1e-3);
+}
+
+// The limit masks are the fixed point of refinement: a vertex's limit evaluated at level 1 must agree with its
+// position after many more levels (the distance shrinks by the subdominant eigenvalue each level).
+TEST(LimitSurface, LimitMasksAreTheFixedPointOfRefinement) {
+    const std::pair<SubdivisionScheme, LoopWeights> cases[] = {{SubdivisionScheme::CatmullClark, LoopWeights::Loop},
+                                                               {SubdivisionScheme::Loop, LoopWeights::Loop},
+                                                               {SubdivisionScheme::Loop, LoopWeights::Warren}};
+    for (const auto& [scheme, weights] : cases) {
+        const PolygonMesh mesh = scheme == SubdivisionScheme::Loop ? shapes::icosahedron() : shapes::irregular_torus();
+        SubdivisionOptions options;
+        options.scheme = scheme;
+        options.loop_weights = weights;
+        options.levels = 1;
+        options.limit_surface = true;
+        auto limit = subdivide(mesh, options);
+        options.limit_surface = false;
+        options.levels = 7;
+        auto fine = subdivide(mesh, options);
+        ASSERT_TRUE(limit.ok() && fine.ok());
+        double worst = 0;
+        for (std::size_t v = 0; v < limit->vertex_count(); ++v)
+            worst = std::max(worst, norm(limit->positions[v] - fine->positions[v]));
+        std::printf("[limit fixed point] %s: %.3g of the diagonal\n", scheme == SubdivisionScheme::Loop ? "loop" : "catmark", worst / mesh.bounds().diagonal());
+        EXPECT_LE(worst, 1e-4 * mesh.bounds().diagonal()) << (scheme == SubdivisionScheme::Loop ? "loop" : "catmark");
+    }
 }
 
 }  // namespace
