@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -73,27 +74,37 @@ TEST_P(OpenSubdivShapes, MatchFarAtLevels1To3) {
     const std::string text = testing::read_file((shapes_dir() / (c.shape + ".obj")).string());
     auto mesh = read_obj(text);
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
-    for (int levels = 1; levels <= 3; ++levels) {
-        SubdivisionOptions options;
-        options.scheme = c.shape.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
-        options.levels = levels;
-        options.crease_method = c.method;
-        options.triangle_rule = c.triangle_rule;
-        auto ours = subdivide(*mesh, options);
-        ASSERT_TRUE(ours.ok()) << ours.error().message;
-        const PolygonMesh ref = testing::osd_subdivide(*mesh, options);
-        ASSERT_EQ(ours->vertex_count(), ref.vertex_count()) << "level " << levels;
-        ASSERT_EQ(ours->face_count(), ref.face_count()) << "level " << levels;
-        ASSERT_EQ(ours->face_indices, ref.face_indices) << "level " << levels;
-        const double tolerance = 1e-9 * mesh->bounds().diagonal();
-        double worst = 0;
-        std::size_t worst_vertex = 0;
-        for (std::size_t v = 0; v < ref.vertex_count(); ++v) {
-            const double d = norm(ours->positions[v] - ref.positions[v]);
-            if (d > worst) { worst = d; worst_vertex = v; }
+    // the shape's own `t interpolateboundary` (or edge-only), then every boundary mode explicitly
+    const std::optional<BoundaryInterpolation> modes[] = {std::nullopt, BoundaryInterpolation::None,
+                                                          BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner};
+    for (const auto& mode : modes)
+        for (int levels = 1; levels <= 3; ++levels) {
+            SubdivisionOptions options;
+            options.scheme = c.shape.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
+            options.levels = levels;
+            options.crease_method = c.method;
+            options.triangle_rule = c.triangle_rule;
+            if (mode) {
+                options.boundary = *mode;
+                options.use_mesh_boundary_tag = false;
+            }
+            const std::string where = "level " + std::to_string(levels) + ", boundary " +
+                                      (mode ? std::to_string(static_cast<int>(*mode)) : std::string("from the shape"));
+            auto ours = subdivide(*mesh, options);
+            ASSERT_TRUE(ours.ok()) << ours.error().message;
+            const PolygonMesh ref = testing::osd_subdivide(*mesh, options);
+            ASSERT_EQ(ours->vertex_count(), ref.vertex_count()) << where;
+            ASSERT_EQ(ours->face_count(), ref.face_count()) << where;
+            ASSERT_EQ(ours->face_indices, ref.face_indices) << where;
+            const double tolerance = 1e-9 * mesh->bounds().diagonal();
+            double worst = 0;
+            std::size_t worst_vertex = 0;
+            for (std::size_t v = 0; v < ref.vertex_count(); ++v) {
+                const double d = norm(ours->positions[v] - ref.positions[v]);
+                if (d > worst) { worst = d; worst_vertex = v; }
+            }
+            EXPECT_LE(worst, tolerance) << where << ", vertex " << worst_vertex;
         }
-        EXPECT_LE(worst, tolerance) << "level " << levels << ", vertex " << worst_vertex;
-    }
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
