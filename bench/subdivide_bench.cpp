@@ -99,10 +99,11 @@ std::size_t run_osd(const PolygonMesh& mesh, SubdivisionScheme scheme, int level
     return static_cast<std::size_t>(refiner->GetLevel(levels).GetNumFaces()) + (src[0].p[0] > 1e300 ? 1 : 0);
 }
 
-std::size_t run_ours(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels) {
+std::size_t run_ours(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels, int threads) {
     SubdivisionOptions options;
     options.scheme = scheme;
     options.levels = levels;
+    options.threads = threads;
     auto out = subdivide(mesh, options);
     if (!out.ok()) {
         std::fprintf(stderr, "error: %s\n", out.error().message.c_str());
@@ -172,23 +173,24 @@ int main(int argc, char** argv) {
     }
     const int max_level = quick ? 2 : 3;
 
-    std::printf("| mesh | scheme | faces in | level | faces out | ours ms | OpenSubdiv ms | time ratio | ours peak MiB | "
-                "OpenSubdiv peak MiB | memory ratio |\n");
-    std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::printf("| mesh | scheme | faces in | level | faces out | OpenSubdiv ms | ours ms | ratio | ours 2 threads ms | "
+                "ratio | OpenSubdiv peak MiB | ours peak MiB | ratio |\n");
+    std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const Case& c : cases) {
         for (int level = 1; level <= max_level; ++level) {
             const std::size_t out_faces = predicted_face_count(c.mesh, c.scheme, level);
             const int reps = out_faces > 2'000'000 ? 2 : (out_faces > 200'000 ? 4 : 10);
             const Measure osd = measure([&] { return run_osd(c.mesh, c.scheme, level); }, reps);
-            const Measure ours = measure([&] { return run_ours(c.mesh, c.scheme, level); }, reps);
+            const Measure ours = measure([&] { return run_ours(c.mesh, c.scheme, level, 1); }, reps);
+            const Measure ours2 = measure([&] { return run_ours(c.mesh, c.scheme, level, 2); }, reps);
             if (osd.faces != ours.faces) {
                 std::fprintf(stderr, "face counts differ: ours %zu, OpenSubdiv %zu\n", ours.faces, osd.faces);
                 return 1;
             }
-            std::printf("| %s | %s | %zu | %d | %zu | %.2f | %.2f | %.2f | %.1f | %.1f | %.2f |\n", c.name.c_str(),
-                        c.scheme == SubdivisionScheme::Loop ? "Loop" : "Catmull-Clark", c.mesh.face_count(), level,
-                        ours.faces, ours.ms, osd.ms, ours.ms / osd.ms, ours.peak_mb, osd.peak_mb,
-                        ours.peak_mb / std::max(osd.peak_mb, 1e-9));
+            std::printf("| %s | %s | %zu | %d | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %.1f | %.2f |\n",
+                        c.name.c_str(), c.scheme == SubdivisionScheme::Loop ? "Loop" : "Catmull-Clark",
+                        c.mesh.face_count(), level, ours.faces, osd.ms, ours.ms, ours.ms / osd.ms, ours2.ms,
+                        ours2.ms / osd.ms, osd.peak_mb, ours.peak_mb, ours.peak_mb / std::max(osd.peak_mb, 1e-9));
             std::fflush(stdout);
         }
     }

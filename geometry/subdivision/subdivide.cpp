@@ -11,10 +11,12 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <thread>
 #include <string>
 #include <unordered_map>
 
 #include "geometry/subdivision/limit.h"
+#include "geometry/subdivision/parallel.h"
 #include "geometry/subdivision/rules.h"
 #include "geometry/subdivision/topology.h"
 
@@ -23,6 +25,8 @@ namespace surfaced {
 namespace {
 
 using subdivision::Level;
+using subdivision::for_range;
+using subdivision::run_two_parts;
 
 bool is_sharp(float s) { return s > 0.0f; }
 bool is_infinite(float s) { return s >= kInfiniteSharpness; }
@@ -140,10 +144,9 @@ Index other_end(const Level& level, Index e, Index v) {
 
 // Vertex points for every vertex whose rule is not smooth. On entry dst[v] holds the smooth result for every vertex.
 void apply_vertex_rules(const Level& p, const Sharpness& sharp, const Neighbourhood& n, CreaseMethod method,
-                        const Vec3* src, Vec3* dst) {
-    const Index nv = p.vertex_count;
+                        const Vec3* src, Vec3* dst, Index v_begin, Index v_end) {
     std::vector<float> parent_sharp, child_sharp;
-    for (Index v = 0; v < nv; ++v) {
+    for (Index v = v_begin; v < v_end; ++v) {
         const Index begin = n.sharp_offsets[v], count = n.sharp_offsets[v + 1] - begin;
         const float pv = sharp.vertex[v];
         if (count <= 1 && !is_sharp(pv)) continue;  // smooth or dart, at this level and the next
@@ -193,9 +196,8 @@ void apply_vertex_rules(const Level& p, const Sharpness& sharp, const Neighbourh
 // vertices) on entry. `face_weight(e)`/`vertex_weight(e)` are the smooth weights.
 template <class Weights>
 void finish_edge_points(const Level& p, const Sharpness& sharp, const Neighbourhood& n, CreaseMethod method,
-                        const Vec3* src, Vec3* dst_edges, Weights&& smooth_weights) {
-    const Index ne = p.edge_count();
-    for (Index e = 0; e < ne; ++e) {
+                        const Vec3* src, Vec3* dst_edges, Weights&& smooth_weights, Index e_begin, Index e_end) {
+    for (Index e = e_begin; e < e_end; ++e) {
         const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
         const float s = sharp.edge[e];
         const Vec3 ends = src[a] + src[b];
@@ -217,24 +219,50 @@ void finish_edge_points(const Level& p, const Sharpness& sharp, const Neighbourh
     }
 }
 
-// dst[v] = sum of the other ends of v's edges (the start of every smooth vertex rule); edge points cleared.
-void sum_edge_neighbours(const Level& p, const Vec3* src, Vec3* dst, Vec3* edge_pts) {
-    for (Index v = 0; v < p.vertex_count; ++v) dst[v] = Vec3{};
-    for (Index e = 0; e < p.edge_count(); ++e) {
-        const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
-        edge_pts[e] = Vec3{};
-        dst[a] += src[b];
-        dst[b] += src[a];
-    }
-}
-
 struct LevelInput {
     const Level& topology;
     const Sharpness& sharp;
     CreaseMethod method;
     TriangleRule triangle_rule;
     LoopWeights loop_weights;
+    bool threaded;
 };
+
+// The scatter pass of both schemes, into zeroed accumulators: vertex_acc[v] = sum of v's edge neighbours plus
+// face_term(f) of each face around v (Catmull-Clark adds face points; Loop nothing); edge_acc[e] = sum of
+// face_to_edge(f, corner) over e's faces. Large levels are cut into two fixed parts whose partial sums are added
+// in a fixed order, so the result does not depend on the thread count.
+template <class FacePass>
+void scatter_level(const Level& p, const Vec3* src, Vec3* vertex_acc, Vec3* edge_acc, bool threaded, FacePass&& face_pass) {
+    const Index nv = p.vertex_count, ne = p.edge_count(), nf = p.face_count();
+    auto edges = [&](Index begin, Index end, Vec3* vacc) {
+        for (Index e = begin; e < end; ++e) {
+            const Index a = p.edge_verts[2 * e], b = p.edge_verts[2 * e + 1];
+            vacc[a] += src[b];
+            vacc[b] += src[a];
+        }
+    };
+    for_range(nv, threaded, [&](Index b, Index e) { std::fill(vertex_acc + b, vertex_acc + e, Vec3{}); });
+    for_range(ne, threaded, [&](Index b, Index e) { std::fill(edge_acc + b, edge_acc + e, Vec3{}); });
+    if (nf < subdivision::kSplitMinimum) {
+        edges(0, ne, vertex_acc);
+        face_pass(Index{0}, nf, vertex_acc, edge_acc);
+        return;
+    }
+    std::vector<Vec3> second(static_cast<std::size_t>(nv) + ne);
+    run_two_parts(threaded, [&](int part) {
+        Vec3* vacc = part == 0 ? vertex_acc : second.data();
+        Vec3* eacc = part == 0 ? edge_acc : second.data() + nv;
+        edges(part == 0 ? 0 : ne / 2, part == 0 ? ne / 2 : ne, vacc);
+        face_pass(part == 0 ? 0 : nf / 2, part == 0 ? nf / 2 : nf, vacc, eacc);
+    });
+    for_range(nv, threaded, [&](Index b, Index e) {
+        for (Index v = b; v < e; ++v) vertex_acc[v] += second[v];
+    });
+    for_range(ne, threaded, [&](Index b, Index e) {
+        for (Index k = b; k < e; ++k) edge_acc[k] += second[nv + k];
+    });
+}
 
 // One Catmull-Clark level: src has p.vertex_count points, dst gets nv + nf + ne.
 void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst) {
@@ -243,29 +271,37 @@ void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec
     Vec3* face_pts = dst + nv;
     Vec3* edge_pts = dst + nv + nf;
 
-    sum_edge_neighbours(p, src, dst, edge_pts);
     const bool smooth_triangles = in.triangle_rule == TriangleRule::Smooth;
     std::vector<std::uint8_t> edge_triangles;  // incident triangles per edge, for the smooth triangle rule
-    if (smooth_triangles) edge_triangles.assign(ne, 0);
-    for (Index f = 0; f < nf; ++f) {
-        const Index begin = p.face_offsets[f], end = p.face_offsets[f + 1];
-        Vec3 sum{};
-        for (Index i = begin; i < end; ++i) sum += src[p.face_verts[i]];
-        const Vec3 fp = sum * (1.0 / static_cast<double>(end - begin));
-        face_pts[f] = fp;
-        for (Index i = begin; i < end; ++i) {
-            dst[p.face_verts[i]] += fp;
-            edge_pts[p.face_edges[i]] += fp;
-            if (smooth_triangles && end - begin == 3) ++edge_triangles[p.face_edges[i]];
+    if (smooth_triangles) {
+        edge_triangles.assign(ne, 0);
+        for (Index f = 0; f < nf; ++f)
+            if (p.face_offsets[f + 1] - p.face_offsets[f] == 3)
+                for (Index i = p.face_offsets[f]; i < p.face_offsets[f + 1]; ++i) ++edge_triangles[p.face_edges[i]];
+    }
+    // face points, and their sums around vertices and edges
+    scatter_level(p, src, dst, edge_pts, in.threaded, [&](Index f_begin, Index f_end, Vec3* vacc, Vec3* eacc) {
+        for (Index f = f_begin; f < f_end; ++f) {
+            const Index begin = p.face_offsets[f], end = p.face_offsets[f + 1];
+            Vec3 sum{};
+            for (Index i = begin; i < end; ++i) sum += src[p.face_verts[i]];
+            const Vec3 fp = sum * (1.0 / static_cast<double>(end - begin));
+            face_pts[f] = fp;
+            for (Index i = begin; i < end; ++i) {
+                vacc[p.face_verts[i]] += fp;
+                eacc[p.face_edges[i]] += fp;
+            }
         }
-    }
+    });
     // smooth vertex points (edge neighbours and face points share the weight 1/n^2)
-    for (Index v = 0; v < nv; ++v) {
-        const auto w = subdivision::catmark_smooth_vertex(static_cast<int>(n.vertex_faces[v]));
-        dst[v] = w.vertex * src[v] + w.edge * dst[v];
-    }
+    for_range(nv, in.threaded, [&](Index b, Index e) {
+        for (Index v = b; v < e; ++v) {
+            const auto w = subdivision::catmark_smooth_vertex(static_cast<int>(n.vertex_faces[v]));
+            dst[v] = w.vertex * src[v] + w.edge * dst[v];
+        }
+    });
     struct W { double vertex, face; };
-    finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, [&](Index e) -> W {
+    auto weights = [&](Index e) -> W {
         if (smooth_triangles && edge_triangles[e] > 0) {
             // OpenSubdiv's TRI_SUB_SMOOTH weights (from Hbr): 0.47 for a triangle side, 0.25 for a quad side
             const double tri = 0.470;
@@ -274,32 +310,40 @@ void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec
             return {0.5 * (1.0 - 2.0 * fw), fw};
         }
         return {subdivision::kCatmarkEdgeWeight, subdivision::kCatmarkEdgeWeight};
+    };
+    for_range(ne, in.threaded, [&](Index b, Index e) {
+        finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, weights, b, e);
     });
-    apply_vertex_rules(p, in.sharp, n, in.method, src, dst);
+    for_range(nv, in.threaded, [&](Index b, Index e) { apply_vertex_rules(p, in.sharp, n, in.method, src, dst, b, e); });
 }
 
 // One Loop level: src has p.vertex_count points, dst gets nv + ne.
 void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst) {
     const Level& p = in.topology;
-    const Index nv = p.vertex_count, nf = p.face_count();
+    const Index nv = p.vertex_count, ne = p.edge_count();
     Vec3* edge_pts = dst + nv;
 
-    sum_edge_neighbours(p, src, dst, edge_pts);
-    for (Index f = 0; f < nf; ++f) {
-        const Index b = p.face_offsets[f];
-        for (Index j = 0; j < 3; ++j) edge_pts[p.face_edges[b + j]] += src[p.face_verts[b + (j + 2) % 3]];
-    }
-    for (Index v = 0; v < nv; ++v) {
-        const int valence = static_cast<int>(n.vertex_edges[v]);
-        const auto w = in.loop_weights == LoopWeights::Warren ? subdivision::loop_warren_vertex(valence)
-                                                              : subdivision::loop_smooth_vertex(valence);
-        dst[v] = w.vertex * src[v] + w.edge * dst[v];
-    }
-    struct W { double vertex, face; };
-    finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, [](Index) -> W {
-        return {subdivision::kLoopEdgeEndWeight, subdivision::kLoopEdgeOppositeWeight};
+    // edge neighbours around vertices; opposite vertices around edges
+    scatter_level(p, src, dst, edge_pts, in.threaded, [&](Index f_begin, Index f_end, Vec3*, Vec3* eacc) {
+        for (Index f = f_begin; f < f_end; ++f) {
+            const Index b = p.face_offsets[f];
+            for (Index j = 0; j < 3; ++j) eacc[p.face_edges[b + j]] += src[p.face_verts[b + (j + 2) % 3]];
+        }
     });
-    apply_vertex_rules(p, in.sharp, n, in.method, src, dst);
+    for_range(nv, in.threaded, [&](Index b, Index e) {
+        for (Index v = b; v < e; ++v) {
+            const int valence = static_cast<int>(n.vertex_edges[v]);
+            const auto w = in.loop_weights == LoopWeights::Warren ? subdivision::loop_warren_vertex(valence)
+                                                                  : subdivision::loop_smooth_vertex(valence);
+            dst[v] = w.vertex * src[v] + w.edge * dst[v];
+        }
+    });
+    struct W { double vertex, face; };
+    auto weights = [](Index) -> W { return {subdivision::kLoopEdgeEndWeight, subdivision::kLoopEdgeOppositeWeight}; };
+    for_range(ne, in.threaded, [&](Index b, Index e) {
+        finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, weights, b, e);
+    });
+    for_range(nv, in.threaded, [&](Index b, Index e) { apply_vertex_rules(p, in.sharp, n, in.method, src, dst, b, e); });
 }
 
 // Sharpness of the child level (vertices: children of vertices first; edges: face-interior edges first, then two
@@ -472,6 +516,10 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
     return s;
 }
 
+bool use_threads(const SubdivisionOptions& options) {
+    return options.threads != 1 && std::thread::hardware_concurrency() > 1;
+}
+
 // One refinable set of values on its own topology: the mesh's positions, or a face-varying channel (UVs), whose
 // "value mesh" has the mesh's faces but a vertex per distinct (vertex, value) pair, so that seams are its boundaries.
 struct Channel {
@@ -483,10 +531,12 @@ struct Channel {
 // Refines a channel by one level (the same topology step and rules as positions).
 void refine_channel(Channel& c, const SubdivisionOptions& options, bool first_level, bool loop, bool with_edges) {
     const Neighbourhood n = neighbourhood(c.level, c.sharp, options.crease_method);
-    Level child = loop ? subdivision::refine_triangles(c.level, with_edges) : subdivision::refine_quads(c.level, with_edges);
+    Level child = loop ? subdivision::refine_triangles(c.level, with_edges, use_threads(options))
+                       : subdivision::refine_quads(c.level, with_edges, use_threads(options));
     std::vector<Vec3> dst(child.vertex_count);
+    const bool threaded = use_threads(options);
     const LevelInput in{c.level, c.sharp, options.crease_method,
-                        first_level ? options.triangle_rule : TriangleRule::Catmark, options.loop_weights};
+                        first_level ? options.triangle_rule : TriangleRule::Catmark, options.loop_weights, threaded};
     if (loop)
         interpolate_loop(in, n, c.values.data(), dst.data());
     else
@@ -690,17 +740,18 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         sharpen_linear_uvs(*uv, options.uv_interpolation);
     }
 
+    const bool threaded = use_threads(options);
     std::vector<Vec3> src = mesh.positions, dst;
     Level output_level;            // the requested level, when refinement continues past it for the limit
     Sharpness output_sharp;
     for (int l = 0; l < total; ++l) {
         const bool last = l + 1 == total;
         const Neighbourhood n = neighbourhood(level, sharp, options.crease_method);
-        Level child = loop ? subdivision::refine_triangles(level, !last || options.limit_surface)
-                           : subdivision::refine_quads(level, !last || options.limit_surface);
+        Level child = loop ? subdivision::refine_triangles(level, !last || options.limit_surface, threaded)
+                           : subdivision::refine_quads(level, !last || options.limit_surface, threaded);
         dst.resize(child.vertex_count);
         const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark,
-                            options.loop_weights};
+                            options.loop_weights, threaded};
         if (loop)
             interpolate_loop(in, n, src.data(), dst.data());
         else

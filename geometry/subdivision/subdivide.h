@@ -62,6 +62,9 @@ struct SubdivisionOptions {
     //! Texture coordinates (mesh.uvs/uv_indices, when present) are refined with this rule and returned face-varying.
     //! With limit_surface they are the refined values (not projected to their limit).
     UvInterpolation uv_interpolation = UvInterpolation::CornersPlus1;
+    //! 1: refine on the calling thread; anything else: use a second thread for large levels (0 = decide). The
+    //! result is bit-identical either way.
+    int threads = 1;
 };
 
 //! Sharpness at or above this is infinitely sharp (OpenSubdiv's Sdc::Crease::SHARPNESS_INFINITE).

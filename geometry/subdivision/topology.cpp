@@ -1,5 +1,7 @@
 #include "geometry/subdivision/topology.h"
 
+#include "geometry/subdivision/parallel.h"
+
 #include <cassert>
 
 namespace surfaced::subdivision {
@@ -60,8 +62,9 @@ inline Index edge_child_at(const Level& p, Index e, Index v) { return p.edge_ver
 
 // The two children of every parent edge, (edge point, child of end 0) and (edge point, child of end 1), numbered
 // after the face-interior edges; the same for both schemes.
-void emit_edge_children(const Level& p, Index first_edge_vert, Index first_edge_edge, Level& c) {
-    for (Index e = 0; e < p.edge_count(); ++e) {
+void emit_edge_children(const Level& p, Index first_edge_vert, Index first_edge_edge, Level& c, bool threaded) {
+    for_range(p.edge_count(), threaded, [&](Index e_begin, Index e_end) {
+    for (Index e = e_begin; e < e_end; ++e) {
         const Index ce = first_edge_vert + e;
         Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
         ev[0] = ce;
@@ -69,11 +72,12 @@ void emit_edge_children(const Level& p, Index first_edge_vert, Index first_edge_
         ev[2] = ce;
         ev[3] = p.edge_verts[2 * e + 1];
     }
+    });
 }
 
 }  // namespace
 
-Level refine_quads(const Level& p, bool with_edges) {
+Level refine_quads(const Level& p, bool with_edges, bool threaded) {
     const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
     const Index first_face_vert = nv, first_edge_vert = nv + nf;
     const Index corners = static_cast<Index>(p.face_verts.size());
@@ -90,7 +94,8 @@ Level refine_quads(const Level& p, bool with_edges) {
     // child edges: first `corners` from faces (face f's j-th at face_offsets[f] + j), then 2 per parent edge
     const Index first_edge_edge = corners;
 
-    for (Index f = 0; f < nf; ++f) {
+    for_range(nf, threaded, [&](Index f_begin, Index f_end) {
+    for (Index f = f_begin; f < f_end; ++f) {
         const Index begin = p.face_offsets[f];
         const Index n = p.face_offsets[f + 1] - begin;
         const Index cf = first_face_vert + f;
@@ -116,11 +121,12 @@ Level refine_quads(const Level& p, bool with_edges) {
             }
         }
     }
-    if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c);
+    });
+    if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c, threaded);
     return c;
 }
 
-Level refine_triangles(const Level& p, bool with_edges) {
+Level refine_triangles(const Level& p, bool with_edges, bool threaded) {
     const Index nv = p.vertex_count, nf = p.face_count(), ne = p.edge_count();
     const Index first_edge_vert = nv;
 
@@ -135,7 +141,8 @@ Level refine_triangles(const Level& p, bool with_edges) {
     }
     const Index first_edge_edge = 3 * nf;
 
-    for (Index f = 0; f < nf; ++f) {
+    for_range(nf, threaded, [&](Index f_begin, Index f_end) {
+    for (Index f = f_begin; f < f_end; ++f) {
         const Index b = p.face_offsets[f];
         assert(p.face_offsets[f + 1] - b == 3);
         const Index v[3] = {p.face_verts[b], p.face_verts[b + 1], p.face_verts[b + 2]};
@@ -164,7 +171,8 @@ Level refine_triangles(const Level& p, bool with_edges) {
             fe[11] = ie + 1;
         }
     }
-    if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c);
+    });
+    if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c, threaded);
     return c;
 }
 

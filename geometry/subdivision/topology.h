@@ -34,8 +34,9 @@ Level build_base_level(const PolygonMesh& mesh);
 
 //! Child topology of one uniform Catmull-Clark (quad split) or Loop (triangle split) step.
 //! `with_edges` = false leaves face_edges/edge_verts empty (enough for the last level).
-Level refine_quads(const Level& parent, bool with_edges);
-Level refine_triangles(const Level& parent, bool with_edges);
+//! `threaded`: the face and edge loops may run on two threads (results do not depend on it).
+Level refine_quads(const Level& parent, bool with_edges, bool threaded = false);
+Level refine_triangles(const Level& parent, bool with_edges, bool threaded = false);
 
 
 }  // namespace surfaced::subdivision

@@ -273,3 +273,40 @@ TEST(LimitSurface, LimitMasksAreTheFixedPointOfRefinement) {
 
 }  // namespace
 }  // namespace surfaced
+
+namespace surfaced {
+namespace {
+
+TEST(SubdivisionThreads, TwoThreadsGiveBitIdenticalResults) {
+    // large enough that every level is split in two (kSplitMinimum), with creases so the sharp paths run too
+    PolygonMesh mesh = shapes::torus(160, 120);
+    mesh.tags.creases = {{0, 1, 2.5}, {1, 2, 10}, {120, 121, 0.5}};
+    mesh.tags.corners = {{5, 1.5}};
+    for (auto scheme : {SubdivisionScheme::CatmullClark, SubdivisionScheme::Loop}) {
+        PolygonMesh input = mesh;
+        if (scheme == SubdivisionScheme::Loop) {
+            PolygonMesh tris;
+            tris.positions = mesh.positions;
+            tris.tags = mesh.tags;
+            for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+                auto q = mesh.face(f);
+                tris.add_face({q[0], q[1], q[2]});
+                tris.add_face({q[0], q[2], q[3]});
+            }
+            input = tris;
+        }
+        SubdivisionOptions one, two;
+        one.scheme = two.scheme = scheme;
+        one.levels = two.levels = 2;
+        one.threads = 1;
+        two.threads = 2;
+        auto a = subdivide(input, one), b = subdivide(input, two);
+        ASSERT_TRUE(a.ok() && b.ok());
+        ASSERT_EQ(a->face_indices, b->face_indices);
+        ASSERT_EQ(a->positions.size(), b->positions.size());
+        for (std::size_t v = 0; v < a->positions.size(); ++v) ASSERT_EQ(a->positions[v], b->positions[v]) << v;
+    }
+}
+
+}  // namespace
+}  // namespace surfaced
