@@ -35,6 +35,7 @@ struct SubdivideParams {
     TriangleRule triangle_rule = TriangleRule::Catmark;
     bool limit_surface = false;  //!< project to the limit surface; normals then come from limit tangents
     UvInterpolation uv_interpolation = UvInterpolation::CornersPlus1;
+    LoopWeights loop_weights = LoopWeights::Loop;
     //! Choose the largest level (up to `levels` when given, else the server's maximum) whose output stays within
     //! this many faces.
     std::optional<std::int64_t> max_faces;
@@ -94,6 +95,11 @@ inline constexpr EnumName<CreaseMethod> kCreaseMethodNames[] = {
 inline constexpr EnumName<TriangleRule> kTriangleRuleNames[] = {
     {"catmark", TriangleRule::Catmark},
     {"smooth", TriangleRule::Smooth},
+};
+//! "loop": Loop's original weights, as OpenSubdiv; "warren": 3/(8n), not OpenSubdiv's.
+inline constexpr EnumName<LoopWeights> kLoopWeightNames[] = {
+    {"loop", LoopWeights::Loop},
+    {"warren", LoopWeights::Warren},
 };
 //! OpenSubdiv's FVAR_LINEAR_* rules, lower-case and hyphenated.
 inline constexpr EnumName<UvInterpolation> kUvInterpolationNames[] = {

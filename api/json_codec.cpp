@@ -376,7 +376,7 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
     if (auto error = check_members(root, "", {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule",
-                                              "uv_interpolation", "limit_surface", "max_faces", "creases", "corners",
+                                              "uv_interpolation", "loop_weights", "limit_surface", "max_faces", "creases", "corners",
                                               "holes", "output"}))
         return std::move(*error);
 
@@ -401,6 +401,11 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
         auto rule = read_enum(*it, "triangle_rule", kTriangleRuleNames);
         if (!rule) return std::move(rule.error());
         request.params.triangle_rule = rule.value();
+    }
+    if (auto it = root.find("loop_weights"); it != root.end()) {
+        auto weights = read_enum(*it, "loop_weights", kLoopWeightNames);
+        if (!weights) return std::move(weights.error());
+        request.params.loop_weights = weights.value();
     }
     if (auto it = root.find("uv_interpolation"); it != root.end()) {
         auto mode = read_enum(*it, "uv_interpolation", kUvInterpolationNames);
@@ -498,6 +503,112 @@ std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& 
     append_number(out, static_cast<std::uint64_t>(stats.levels < 0 ? 0 : stats.levels));
     out += ",\"elapsed_ms\":";
     append_number(out, stats.elapsed_ms);
+    out += "}}";
+    return out;
+}
+
+// ---- POST /simplify ------------------------------------------------------------------------------------------
+
+namespace {
+
+ApiResult<double> read_number(const Json& value, const std::string& field) {
+    if (!value.is_number() || !std::isfinite(value.get<double>())) return invalid(field, field + " must be a finite number");
+    return value.get<double>();
+}
+
+}  // namespace
+
+ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, const Limits& limits) {
+    Json root;
+    if (auto error = parse(body, root)) return std::move(*error);
+    if (!root.is_object())
+        return make_problem(Problem::InvalidField,
+                            R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
+    if (auto error = check_members(root, "", {"mesh", "target_faces", "ratio", "max_error", "lock_border",
+                                              "report_error", "output"}))
+        return std::move(*error);
+    SimplifyJsonRequest request;
+    if (auto it = root.find("target_faces"); it != root.end()) {
+        auto v = read_integer(*it, "target_faces");
+        if (!v) return std::move(v.error());
+        request.params.target_faces = v.value();
+    }
+    if (auto it = root.find("ratio"); it != root.end()) {
+        auto v = read_number(*it, "ratio");
+        if (!v) return std::move(v.error());
+        request.params.ratio = v.value();
+    }
+    if (auto it = root.find("max_error"); it != root.end()) {
+        auto v = read_number(*it, "max_error");
+        if (!v) return std::move(v.error());
+        request.params.max_error = v.value();
+    }
+    if (auto it = root.find("lock_border"); it != root.end()) {
+        auto v = read_bool(*it, "lock_border");
+        if (!v) return std::move(v.error());
+        request.params.lock_border = v.value();
+    }
+    if (auto it = root.find("report_error"); it != root.end()) {
+        auto v = read_bool(*it, "report_error");
+        if (!v) return std::move(v.error());
+        request.params.report_error = v.value();
+    }
+    if (auto it = root.find("output"); it != root.end()) {
+        auto output = decode_output(*it);
+        if (!output) return std::move(output.error());
+        request.params.output = std::move(output.value());
+    }
+    const auto mesh_it = root.find("mesh");
+    if (mesh_it == root.end())
+        return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
+    auto mesh = decode_mesh_value(*mesh_it, "mesh", limits);
+    if (!mesh) return std::move(mesh.error());
+    request.mesh = std::move(mesh.value());
+    return request;
+}
+
+std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStats& stats) {
+    std::string out;
+    out.reserve(256 + mesh.positions.size() * 60 + mesh.face_indices.size() * 8 + mesh.face_count() * 4);
+    out += "{\"mesh\":{\"positions\":[";
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3& p = mesh.positions[v];
+        out += v == 0 ? "[" : ",[";
+        append_number(out, p.x);
+        out += ',';
+        append_number(out, p.y);
+        out += ',';
+        append_number(out, p.z);
+        out += ']';
+    }
+    out += "],\"faces\":[";
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        out += f == 0 ? "[" : ",[";
+        bool first = true;
+        for (Index i : mesh.face(f)) {
+            if (!first) out += ',';
+            first = false;
+            append_number(out, static_cast<std::uint64_t>(i));
+        }
+        out += ']';
+    }
+    const auto member = [&](const char* name, auto value) {
+        out += ",\"";
+        out += name;
+        out += "\":";
+        append_number(out, value);
+    };
+    out += "]},\"stats\":{\"input_vertices\":";
+    append_number(out, static_cast<std::uint64_t>(stats.input_vertices));
+    member("input_faces", static_cast<std::uint64_t>(stats.input_faces));
+    member("output_vertices", static_cast<std::uint64_t>(stats.output_vertices));
+    member("output_faces", static_cast<std::uint64_t>(stats.output_faces));
+    out += stats.triangulated ? ",\"triangulated\":true" : ",\"triangulated\":false";
+    member("achieved_error", stats.achieved_error);
+    member("relative_error", stats.relative_error);
+    if (stats.hausdorff) member("hausdorff", *stats.hausdorff);
+    if (stats.rms) member("rms", *stats.rms);
+    member("elapsed_ms", stats.elapsed_ms);
     out += "}}";
     return out;
 }

@@ -41,4 +41,18 @@ ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& lim
 //! {"mesh": {"positions": [...], "faces": [...]}, "stats": {...}}. Doubles are written in shortest round-trip form.
 std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& stats);
 
+struct SimplifyJsonRequest {
+    PolygonMesh mesh;
+    SimplifyParams params;
+};
+
+//! Decodes {"mesh": {...}, "target_faces": N, "ratio": r, "max_error": e, "lock_border": bool, "report_error": bool,
+//! "output": {...}} for POST /simplify. Only "mesh" is required here; the operation checks that a stop criterion is
+//! given and the ranges (the same checks apply to query parameters).
+ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, const Limits& limits);
+
+//! {"mesh": {...}, "stats": {"input_vertices", ..., "triangulated", "achieved_error", "relative_error",
+//! "hausdorff", "rms" (when measured), "elapsed_ms"}}.
+std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStats& stats);
+
 }  // namespace surfaced::api

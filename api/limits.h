@@ -19,6 +19,11 @@ struct Limits {
     std::uint64_t max_input_vertices = 4'000'000;
     //! Largest predicted output (predicted_face_count). Over it: 422 budget_exceeded, before any refinement.
     std::uint64_t max_output_faces = 4'000'000;
+    //! Bézier patches (POST /tessellate, GET /patches/...): most patches in one request, and most segments along
+    //! one direction of one patch (a tolerance needing more is 422 budget_exceeded, field "tolerance"). The
+    //! predicted triangle count is checked against max_output_faces before tessellating.
+    std::uint64_t max_patches = 100'000;
+    int max_patch_segments = 256;
 };
 
 }  // namespace surfaced::api

@@ -23,6 +23,16 @@ struct ApiRequest {
     std::string content_type;
     //! Request body. Not owned: the caller keeps the bytes alive for the duration of the call.
     std::string_view body;
+    //! Values of the route's `{name}` path segments ("/patches/{name}" matched by "/patches/teapot": name=teapot).
+    std::map<std::string, std::string> path_params;
+    //! Request headers the operations consult (If-None-Match, ...), names in lower case.
+    std::multimap<std::string, std::string> headers;
+
+    //! First value of header `name` (lower case), or "" when absent.
+    std::string header(std::string_view name) const {
+        const auto it = headers.find(std::string(name));
+        return it == headers.end() ? std::string() : it->second;
+    }
 };
 
 struct ApiResponse {

@@ -2,6 +2,9 @@
 
 #include "api/openapi.h"
 #include "api/operations/subdivide.h"
+#include "api/operations/simplify.h"
+#include "api/operations/curves.h"
+#include "api/operations/tessellate.h"
 
 namespace surfaced::api {
 namespace {
@@ -11,11 +14,41 @@ constexpr Route kRoutes[] = {
     {"GET", "/openapi.json", &openapi, "The OpenAPI 3.1 description of every endpoint"},
     {"POST", "/subdivide", &operations::subdivide,
      "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> GLB/OBJ/PLY/JSON"},
+    {"POST", "/simplify", &operations::simplify,
+     "QEM edge-collapse simplification to target_faces / ratio / max_error, optional Hausdorff/RMS report -> GLB/OBJ/PLY/JSON"},
+    {"POST", "/tessellate", &operations::tessellate,
+     "Bezier patches (JSON or geomview BEZ/BBP) tessellated by tolerance or segments, crack-free -> GLB/OBJ/PLY"},
+    {"GET", "/patches/{name}", &operations::patch_sample,
+     "A built-in patch sample (teapot) tessellated, ?tolerance=T or ?segments=N; ETag / If-None-Match -> 304"},
+    {"POST", "/curves", &operations::curves,
+     "Bezier curve queries (evaluate, derivatives, split, elevate, length, closest point, tessellate) -> JSON"},
 };
 
 }  // namespace
 
 std::span<const Route> routes() { return kRoutes; }
+
+bool match_path(std::string_view pattern, std::string_view path, std::map<std::string, std::string>* params) {
+    if (pattern.find('{') == std::string_view::npos) return pattern == path;
+    std::map<std::string, std::string> found;
+    while (!pattern.empty() || !path.empty()) {
+        if (pattern.empty() || path.empty() || pattern[0] != '/' || path[0] != '/') return false;
+        pattern.remove_prefix(1);
+        path.remove_prefix(1);
+        const std::string_view want = pattern.substr(0, pattern.find('/'));
+        const std::string_view got = path.substr(0, path.find('/'));
+        pattern.remove_prefix(want.size());
+        path.remove_prefix(got.size());
+        if (want.size() >= 2 && want.front() == '{' && want.back() == '}') {
+            if (got.empty()) return false;
+            found[std::string(want.substr(1, want.size() - 2))] = std::string(got);
+        } else if (want != got) {
+            return false;
+        }
+    }
+    if (params) *params = std::move(found);
+    return true;
+}
 
 ApiResponse healthz(const ApiRequest&, const ApiContext&) noexcept {
     ApiResponse response;
@@ -34,7 +67,7 @@ ApiResponse openapi(const ApiRequest&, const ApiContext&) noexcept {
 std::string allowed_methods(std::string_view path) {
     std::string out;
     for (const Route& route : kRoutes) {
-        if (route.path != path) continue;
+        if (!match_path(route.path, path)) continue;
         if (!out.empty()) out += ", ";
         out += route.method;
         if (route.method == "GET") out += ", HEAD";  // cpp-httplib answers HEAD with the GET handler
@@ -53,8 +86,16 @@ ApiResponse route_not_found(std::string_view method, std::string_view path) {
 }
 
 ApiResponse dispatch(const ApiRequest& request, const ApiContext& context) {
-    for (const Route& route : kRoutes)
-        if (route.method == request.method && route.path == request.path) return route.handler(request, context);
+    for (const Route& route : kRoutes) {
+        if (route.method != request.method) continue;
+        if (route.path == request.path) return route.handler(request, context);
+        std::map<std::string, std::string> params;
+        if (match_path(route.path, request.path, &params)) {
+            ApiRequest with_params = request;
+            with_params.path_params = std::move(params);
+            return route.handler(with_params, context);
+        }
+    }
     return route_not_found(request.method, request.path);
 }
 

@@ -2,7 +2,9 @@
 // the CLI and tests can call dispatch() without a socket. Adding an endpoint = one row in routes.cpp.
 #pragma once
 
+#include <map>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "api/operation.h"
@@ -11,10 +13,14 @@ namespace surfaced::api {
 
 struct Route {
     std::string_view method;       //!< "GET", "POST", ...
-    std::string_view path;         //!< exact path, no parameters ("/subdivide")
+    std::string_view path;         //!< exact path ("/subdivide"), or with `{name}` segments ("/patches/{name}")
     Operation handler;
     std::string_view description;  //!< one line, for --help and a future index page
 };
+
+//! Whether `path` matches the route path `pattern`: literal segments equal, a `{name}` segment matches one
+//! non-empty segment (no '/'), whose value goes to (*params)[name] when params is given.
+bool match_path(std::string_view pattern, std::string_view path, std::map<std::string, std::string>* params = nullptr);
 
 //! All routes, in a fixed order.
 std::span<const Route> routes();

@@ -14,6 +14,8 @@ packages=(
   libtinygltf-dev       # glTF writer/reader (compiled into our own TU)
   libeigen3-dev         # needed by Draco's headers
   libgtest-dev libgmock-dev
+  glmark2-data          # tests: the Stanford bunny (a real scanned mesh) for simplification
+  libmeshoptimizer-dev  # benchmarks only: meshoptimizer as the simplification peer (never linked into the service)
   ca-certificates
 )
 missing=()

@@ -4,6 +4,7 @@
 #include <signal.h>
 
 #include <charconv>
+#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -39,6 +40,8 @@ constexpr std::string_view kMainHelp = R"(surfaced - geometry service: mesh subd
 Usage:
   surfaced serve [options]                    run the HTTP service
   surfaced subdivide IN -o OUT [options]      subdivide a mesh file
+  surfaced tessellate IN -o OUT [options]     tessellate Bezier patches (.bez/.bbp, sample:teapot)
+  surfaced simplify IN -o OUT [options]       simplify a mesh file (QEM edge collapse)
   surfaced <command> --help                   options of a command
   surfaced --help | --version
 
@@ -78,6 +81,7 @@ Options:
                             `t interpolateboundary` tag, else edge-only)
   --crease-method M         uniform (default) or chaikin: how semi-sharp creases decay
   --triangle-rule R         catmark (default) or smooth: Catmull-Clark weights next to triangles
+  --loop-weights W          loop (default, as OpenSubdiv) or warren (3/(8n); not OpenSubdiv's surface)
   --uv-interpolation M      texture coordinates: none, corners-only, corners-plus1 (default),
                             corners-plus2, boundaries or all (OpenSubdiv's FVAR_LINEAR_*)
   --limit-surface           project the result onto the limit surface (normals from limit tangents)
@@ -247,7 +251,8 @@ int serve(Args& args) {
 
 int subdivide(Args& args) {
     std::string input, output;
-    std::optional<std::string> scheme, levels, boundary, quantize, crease_method, triangle_rule, max_faces, uv_mode;
+    std::optional<std::string> scheme, levels, boundary, quantize, crease_method, triangle_rule, max_faces, uv_mode,
+        loop_weights;
     bool no_draco = false, normals = false, limit_surface = false;
     api::ApiContext context;
     // Files are the user's own: the body limit protects the server's memory, not the CLI's.
@@ -274,6 +279,8 @@ int subdivide(Args& args) {
             crease_method = checked_enum(arg, args.value(arg, inline_value), api::kCreaseMethodNames);
         } else if (arg == "--triangle-rule") {
             triangle_rule = checked_enum(arg, args.value(arg, inline_value), api::kTriangleRuleNames);
+        } else if (arg == "--loop-weights") {
+            loop_weights = checked_enum(arg, args.value(arg, inline_value), api::kLoopWeightNames);
         } else if (arg == "--uv-interpolation") {
             uv_mode = checked_enum(arg, args.value(arg, inline_value), api::kUvInterpolationNames);
         } else if (arg == "--max-faces") {
@@ -339,6 +346,7 @@ int subdivide(Args& args) {
     if (triangle_rule) request.query.emplace("triangle_rule", *triangle_rule);
     if (max_faces) request.query.emplace("max_faces", *max_faces);
     if (uv_mode) request.query.emplace("uv_interpolation", *uv_mode);
+    if (loop_weights) request.query.emplace("loop_weights", *loop_weights);
     if (limit_surface) request.query.emplace("limit_surface", "true");
     request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
     if (no_draco && gltf) request.query.emplace("compression", "none");
@@ -370,6 +378,271 @@ int subdivide(Args& args) {
     return kExitOk;
 }
 
+// ---- tessellate ----------------------------------------------------------------------------------------------
+
+constexpr std::string_view kTessellateHelp = R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
+
+Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, or sample:teapot for a built-in sample) into a
+crack-free triangle mesh with normals and UVs, through the same operation as POST /tessellate (GET /patches/NAME).
+
+Options:
+  -o, --output OUT          output file: .glb (Draco-compressed unless --no-draco), .obj or .ply (required)
+  --tolerance T             guaranteed maximum distance between triangles and surface (model units)
+  --segments N              segments along each direction of every patch (default 8)
+  --no-draco                write an uncompressed .glb
+  --quantize-position BITS  Draco position quantization, 1..30 (default 14; .glb only)
+  --no-normals              leave out vertex normals
+  --max-output-faces N      refuse if the result could have more triangles (default 4000000)
+  -h, --help                this text
+)";
+
+int tessellate(Args& args) {
+    std::string input, output;
+    std::optional<std::string> tolerance, segments, quantize;
+    bool no_draco = false, no_normals = false;
+    api::ApiContext context;
+    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
+    while (!args.done()) {
+        std::string arg = args.next();
+        std::optional<std::string> inline_value;
+        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
+            inline_value = arg.substr(eq + 1);
+            arg.resize(eq);
+        }
+        if (arg == "-h" || arg == "--help") {
+            std::cout << kTessellateHelp;
+            return kExitOk;
+        } else if (arg == "-o" || arg == "--output") {
+            output = args.value(arg, inline_value);
+        } else if (arg == "--tolerance") {
+            tolerance = args.value(arg, inline_value);
+            double value = 0;
+            const auto r = std::from_chars(tolerance->data(), tolerance->data() + tolerance->size(), value);
+            if (tolerance->empty() || r.ec != std::errc() || r.ptr != tolerance->data() + tolerance->size() ||
+                !(value > 0))
+                throw UsageError{"--tolerance needs a number > 0, got \"" + *tolerance + "\""};
+        } else if (arg == "--segments") {
+            segments = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 1'000'000));
+        } else if (arg == "--quantize-position") {
+            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 30));
+        } else if (arg == "--max-output-faces") {
+            context.limits.max_output_faces = static_cast<std::uint64_t>(
+                parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
+        } else if (arg == "--no-draco") {
+            no_draco = true;
+        } else if (arg == "--no-normals") {
+            no_normals = true;
+        } else if (arg.starts_with("-") && arg != "-") {
+            throw UsageError{"tessellate: unknown option \"" + arg + "\""};
+        } else if (input.empty()) {
+            input = arg;
+        } else {
+            throw UsageError{"tessellate: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
+        }
+        if (inline_value) throw UsageError{arg + " takes no value"};
+    }
+    if (input.empty()) throw UsageError{"tessellate: missing input file"};
+    if (output.empty()) throw UsageError{"tessellate: missing -o OUT"};
+    if (tolerance && segments) throw UsageError{"tessellate: give --tolerance or --segments, not both"};
+    const std::string out_ext = lower_extension(output);
+    std::string format;
+    if (out_ext == ".glb") format = "glb";
+    else if (out_ext == ".obj") format = "obj";
+    else if (out_ext == ".ply") format = "ply";
+    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .glb .obj .ply)"};
+    if (quantize && (format != "glb" || no_draco))
+        throw UsageError{"--quantize-position applies only to .glb output with Draco"};
+
+    // The request POST /tessellate (or GET /patches/NAME) would receive: one code path for CLI and service.
+    api::ApiRequest request;
+    std::string bytes, error;
+    if (input.starts_with("sample:")) {
+        request.method = "GET";
+        request.path = "/patches/" + input.substr(7);
+    } else {
+        if (!read_file(input, bytes, error)) {
+            std::cerr << "surfaced: " << error << "\n";
+            return kExitFailed;
+        }
+        request.method = "POST";
+        request.path = "/tessellate";
+        request.content_type = "application/x-geomview-bez";
+        request.body = bytes;
+    }
+    if (tolerance) request.query.emplace("tolerance", *tolerance);
+    if (segments) request.query.emplace("segments", *segments);
+    request.query.emplace("format", format);
+    if (no_draco && format == "glb") request.query.emplace("compression", "none");
+    if (quantize) request.query.emplace("quantize_position", *quantize);
+    if (no_normals) request.query.emplace("normals", "false");
+
+    const api::ApiResponse response = api::dispatch(request, context);
+    if (response.status >= 400) {
+        std::cerr << "surfaced: " << input << ": ";
+        if (response.error) {
+            std::cerr << response.error->detail;
+            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
+            std::cerr << " [" << response.error->code << "]";
+        } else {
+            std::cerr << "failed with status " << response.status;
+        }
+        std::cerr << "\n";
+        return kExitFailed;
+    }
+    if (!write_file(output, response.body, error)) {
+        std::cerr << "surfaced: " << error << "\n";
+        return kExitFailed;
+    }
+    std::cout << "wrote " << output << ": " << header(response, "X-Output-Vertices") << " vertices, "
+              << header(response, "X-Output-Faces") << " triangles from " << header(response, "X-Patches")
+              << " patches, max deviation <= " << header(response, "X-Error-Bound") << ", in "
+              << header(response, "X-Elapsed-Ms") << " ms\n";
+    return kExitOk;
+}
+
+// ---- simplify ------------------------------------------------------------------------------------------------
+
+constexpr std::string_view kSimplifyHelp = R"(Usage: surfaced simplify IN -o OUT (--target-faces N | --ratio R | --max-error E) [options]
+
+Simplifies the mesh in IN by quadric-error edge collapse and writes it to OUT, through the same operation as
+POST /simplify. Polygons are triangulated first. Stops at whichever of the given criteria is reached first.
+  IN:  .obj .off .ply .stl .glb        OUT: .obj .ply .glb .gltf .json
+
+Options:
+  -o, --output OUT          output file (required)
+  --target-faces N          stop at N triangles or fewer
+  --ratio R                 stop at R times the input's triangles, 0 < R <= 1
+  --max-error E             keep the Hausdorff distance to the input <= E (model units)
+  --lock-border             boundary vertices stay exactly where they are
+  --report-error            measure and print the Hausdorff and RMS distance to the input
+  --no-draco                write an uncompressed .glb
+  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)
+  --normals                 also write vertex normals (.glb .gltf .obj .ply)
+  -h, --help                this text
+)";
+
+//! A number option as text, checked to parse (the operation checks its range).
+std::string checked_real(std::string_view name, const std::string& text) {
+    double value = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value))
+        throw UsageError{std::string(name) + " needs a number, got \"" + text + "\""};
+    return text;
+}
+
+int simplify(Args& args) {
+    std::string input, output;
+    std::optional<std::string> target_faces, ratio, max_error, quantize;
+    bool lock_border = false, report_error = false, no_draco = false, normals = false;
+    api::ApiContext context;
+    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
+    while (!args.done()) {
+        std::string arg = args.next();
+        std::optional<std::string> inline_value;
+        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
+            inline_value = arg.substr(eq + 1);
+            arg.resize(eq);
+        }
+        if (arg == "-h" || arg == "--help") {
+            std::cout << kSimplifyHelp;
+            return kExitOk;
+        } else if (arg == "-o" || arg == "--output") {
+            output = args.value(arg, inline_value);
+        } else if (arg == "--target-faces") {
+            target_faces = std::to_string(parse_number(arg, args.value(arg, inline_value), 0, 4'000'000'000LL));
+        } else if (arg == "--ratio") {
+            ratio = checked_real(arg, args.value(arg, inline_value));
+        } else if (arg == "--max-error") {
+            max_error = checked_real(arg, args.value(arg, inline_value));
+        } else if (arg == "--lock-border") {
+            lock_border = true;
+        } else if (arg == "--report-error") {
+            report_error = true;
+        } else if (arg == "--quantize-position") {
+            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 24));
+        } else if (arg == "--no-draco") {
+            no_draco = true;
+        } else if (arg == "--normals") {
+            normals = true;
+        } else if (arg.starts_with("-") && arg != "-") {
+            throw UsageError{"simplify: unknown option \"" + arg + "\""};
+        } else if (input.empty()) {
+            input = arg;
+        } else {
+            throw UsageError{"simplify: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
+        }
+        if (inline_value) throw UsageError{arg + " takes no value"};
+    }
+    if (input.empty()) throw UsageError{"simplify: missing input file"};
+    if (output.empty()) throw UsageError{"simplify: missing -o OUT"};
+    if (!target_faces && !ratio && !max_error)
+        throw UsageError{"simplify: give --target-faces, --ratio or --max-error"};
+    if (lower_extension(input) == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
+    const auto in_format = format_from_extension(input);
+    if (!in_format)
+        throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
+    const std::string out_ext = lower_extension(output);
+    std::optional<api::OutputFormat> out_format;
+    if (out_ext == ".obj") out_format = api::OutputFormat::Obj;
+    else if (out_ext == ".ply") out_format = api::OutputFormat::Ply;
+    else if (out_ext == ".glb") out_format = api::OutputFormat::Glb;
+    else if (out_ext == ".gltf") out_format = api::OutputFormat::Gltf;
+    else if (out_ext == ".json") out_format = api::OutputFormat::Json;
+    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .gltf .json)"};
+    const bool gltf = *out_format == api::OutputFormat::Glb || *out_format == api::OutputFormat::Gltf;
+    if (quantize && (!gltf || no_draco)) throw UsageError{"--quantize-position applies only to .glb/.gltf output with Draco"};
+    if (normals && *out_format == api::OutputFormat::Json) throw UsageError{"--normals is not available for .json output"};
+
+    std::string bytes, error;
+    if (!read_file(input, bytes, error)) {
+        std::cerr << "surfaced: " << error << "\n";
+        return kExitFailed;
+    }
+    // The request POST /simplify would receive for this upload: one code path for the CLI and the service.
+    api::ApiRequest request;
+    request.method = "POST";
+    request.path = "/simplify";
+    request.content_type = std::string(api::enum_name(api::kMeshMediaTypes, *in_format));
+    request.body = bytes;
+    if (target_faces) request.query.emplace("target_faces", *target_faces);
+    if (ratio) request.query.emplace("ratio", *ratio);
+    if (max_error) request.query.emplace("max_error", *max_error);
+    if (lock_border) request.query.emplace("lock_border", "true");
+    if (report_error) request.query.emplace("report_error", "true");
+    request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
+    if (no_draco && gltf) request.query.emplace("compression", "none");
+    if (quantize) request.query.emplace("quantize_position", *quantize);
+    if (normals) request.query.emplace("normals", "true");
+
+    const api::ApiResponse response = api::dispatch(request, context);
+    if (response.status >= 400) {
+        std::cerr << "surfaced: " << input << ": ";
+        if (response.error) {
+            std::cerr << response.error->detail;
+            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
+            else if (response.error->offset) std::cerr << " (byte offset " << *response.error->offset << ")";
+            std::cerr << " [" << response.error->code << "]";
+        } else {
+            std::cerr << "failed with status " << response.status;
+        }
+        std::cerr << "\n";
+        return kExitFailed;
+    }
+    if (!write_file(output, response.body, error)) {
+        std::cerr << "surfaced: " << error << "\n";
+        return kExitFailed;
+    }
+    std::cout << "wrote " << output << ": " << header(response, "X-Output-Faces") << " triangles, "
+              << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
+              << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "")
+              << "), error " << header(response, "X-Achieved-Error") << " (" << header(response, "X-Relative-Error")
+              << " of the bounding-box diagonal)";
+    if (report_error)
+        std::cout << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS " << header(response, "X-RMS");
+    std::cout << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
+    return kExitOk;
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -390,6 +663,8 @@ int run(int argc, char** argv) {
         }
         if (command == "serve") return serve(args);
         if (command == "subdivide") return subdivide(args);
+        if (command == "tessellate") return tessellate(args);
+        if (command == "simplify") return simplify(args);
         throw UsageError{"unknown command \"" + command + "\" (commands: serve, subdivide; see surfaced --help)"};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

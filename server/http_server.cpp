@@ -1,6 +1,7 @@
 #include "server/http_server.h"
 
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <exception>
 #include <filesystem>
@@ -23,6 +24,11 @@ api::ApiRequest to_api_request(const httplib::Request& req) {
     out.query.insert(req.params.begin(), req.params.end());
     out.content_type = req.get_header_value("Content-Type");
     out.body = req.body;
+    for (const auto& [name, value] : req.headers) {
+        std::string lower = name;
+        for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        out.headers.emplace(std::move(lower), value);
+    }
     return out;
 }
 
@@ -34,10 +40,17 @@ void write_response(api::ApiResponse&& response, httplib::Response& res) {
     res.set_header("Content-Type", response.content_type);
 }
 
-//! cpp-httplib route patterns are regular expressions; our paths are literal.
+//! cpp-httplib route patterns are regular expressions; our paths are literal except for `{name}` segments, which
+//! match one path segment (api::match_path extracts their values).
 std::string literal_pattern(std::string_view path) {
     std::string out;
-    for (char c : path) {
+    for (std::size_t i = 0; i < path.size(); ++i) {
+        const char c = path[i];
+        if (const std::size_t close = path.find('}', i); c == '{' && close != std::string_view::npos) {
+            out += "[^/]+";
+            i = close;
+            continue;
+        }
         if (std::string_view(R"(\^$.|?*+()[]{})").find(c) != std::string_view::npos) out += '\\';
         out += c;
     }
@@ -79,8 +92,11 @@ struct HttpServer::Impl {
 
         for (const api::Route& route : api::routes()) {
             const api::Operation operation = route.handler;
-            auto handler = [this, operation](const httplib::Request& req, httplib::Response& res) {
-                write_response(operation(to_api_request(req), context), res);
+            const std::string_view route_path = route.path;
+            auto handler = [this, operation, route_path](const httplib::Request& req, httplib::Response& res) {
+                api::ApiRequest request = to_api_request(req);
+                api::match_path(route_path, request.path, &request.path_params);
+                write_response(operation(request, context), res);
             };
             const std::string pattern = literal_pattern(route.path);
             if (route.method == "GET") server.Get(pattern, handler);

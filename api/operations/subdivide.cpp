@@ -105,7 +105,7 @@ ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& te
 //! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     static constexpr std::string_view kAllowed[] = {"scheme",        "levels",        "boundary",  "crease_method",
-                                                    "triangle_rule", "uv_interpolation", "limit_surface", "max_faces", "format",
+                                                    "triangle_rule", "uv_interpolation", "loop_weights", "limit_surface", "max_faces", "format",
                                                     "compression",   "quantize_position", "normals"};
     std::set<std::string> unknown;
     for (const auto& [name, value] : query)
@@ -143,6 +143,10 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
             auto v = parse_enum_parameter(name, text, kTriangleRuleNames);
             if (!v) return std::move(v.error());
             params.triangle_rule = v.value();
+        } else if (name == "loop_weights") {
+            auto v = parse_enum_parameter(name, text, kLoopWeightNames);
+            if (!v) return std::move(v.error());
+            params.loop_weights = v.value();
         } else if (name == "uv_interpolation") {
             auto v = parse_enum_parameter(name, text, kUvInterpolationNames);
             if (!v) return std::move(v.error());
@@ -299,6 +303,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.triangle_rule = params.triangle_rule;
     options.limit_surface = params.limit_surface;
     options.uv_interpolation = params.uv_interpolation;
+    options.loop_weights = params.loop_weights;
     if (params.boundary) {
         options.boundary = *params.boundary;
         options.use_mesh_boundary_tag = false;  // an explicit request wins over the file's tag

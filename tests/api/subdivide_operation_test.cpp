@@ -577,3 +577,26 @@ TEST(SubdivideGltf, TextGltfIsValidAndSelfContained) {
 
 }  // namespace
 }  // namespace surfaced::api
+
+namespace surfaced::api {
+namespace {
+
+TEST(SubdivideLoopWeights, WarrenIsSelectableAndReachesTheGeometry) {
+    SubdivisionOptions options;
+    options.scheme = SubdivisionScheme::Loop;
+    options.levels = 2;
+    options.loop_weights = LoopWeights::Warren;
+    const auto expected = surfaced::subdivide(shapes::icosahedron(), options);
+    ASSERT_TRUE(expected.ok());
+    const auto response = call("application/json", json_request(shapes::icosahedron(),
+                                                                R"(,"scheme":"loop","levels":2,"loop_weights":"warren","output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto got = positions_of(nlohmann::json::parse(response.body));
+    ASSERT_EQ(got.size(), expected->vertex_count());
+    for (std::size_t v = 0; v < got.size(); ++v) EXPECT_EQ(got[v], expected->positions[v]);
+    expect_problem(call("application/json", json_request(shapes::icosahedron(), R"(,"loop_weights":"stam")")), 400,
+                   "invalid_field");
+}
+
+}  // namespace
+}  // namespace surfaced::api

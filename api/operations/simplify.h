@@ -1,0 +1,35 @@
+// POST /simplify: quadric-error edge-collapse simplification of an uploaded mesh (geometry/simplify/qem.h).
+//
+// Same two request forms as POST /subdivide:
+//  * Content-Type application/json:
+//      {"mesh": {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]},
+//       "target_faces": N, "ratio": r, "max_error": e, "lock_border": false, "report_error": false,
+//       "output": {"format": "glb"|"gltf"|"obj"|"ply"|"json", "compression": "draco"|"none", "quantize_position": 14,
+//                  "normals": false}}
+//    "mesh" and at least one of target_faces (>= 0), ratio (in (0, 1]) and max_error (absolute distance, >= 0) are
+//    required; simplification stops at whichever is reached first. Query parameters are rejected.
+//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary,
+//    application/octet-stream): the same options as query parameters, output options unnested:
+//    ?target_faces=1000&ratio=0.1&max_error=0.01&lock_border=true&report_error=true&format=obj&compression=none
+//    UVs of OBJ/GLB uploads are kept (seams preserved, uvs interpolated) and written to OBJ/GLB outputs.
+// Polygons are triangulated first (X-Triangulated: true). Non-manifold input (an edge shared by more than two faces,
+// or inconsistently oriented faces) is refused with 422 non_manifold naming the edge.
+//
+// Order of checks, all before simplifying: body size (413), media type (415), options (400: unknown, malformed, out
+// of range, no stop criterion), decode (400 with line/offset or field path), input size against Limits::max_input_*
+// (422), validate() (422), the triangle count after triangulation against Limits::max_input_faces (422).
+//
+// Response: the mesh as GLB (default), glTF, OBJ, PLY or JSON ({"mesh": ..., "stats": ...}), with headers
+// X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces, X-Triangulated (true|false),
+// X-Achieved-Error, X-Relative-Error (SimplifyResult's, relative to the input's bounding-box diagonal),
+// X-Hausdorff and X-RMS (report_error: measured between input and output by mesh_distance()), X-Elapsed-Ms and
+// Server-Timing (decode, simplify, measure, encode, total).
+#pragma once
+
+#include "api/operation.h"
+
+namespace surfaced::api::operations {
+
+ApiResponse simplify(const ApiRequest& request, const ApiContext& context) noexcept;
+
+}  // namespace surfaced::api::operations

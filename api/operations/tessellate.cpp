@@ -1,0 +1,363 @@
+#include "api/operations/tessellate.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <set>
+
+#include "api/dto.h"
+#include "api/patch_codec.h"
+#include "geometry/io/bez.h"
+#include "geometry/io/gltf.h"
+#include "geometry/io/mesh_io.h"
+#include "geometry/surfaces/bezier_patch.h"
+
+namespace surfaced::api::operations {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr std::int64_t kDefaultSegments = 8;
+constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
+constexpr std::string_view kQueryOptions[] = {"tolerance", "segments", "format", "compression", "quantize_position",
+                                              "normals"};
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+std::string format_number(double value, const char* format = "%.3f") {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, value);
+    return buf;
+}
+
+//! "Text/Plain; charset=utf-8" -> "text/plain".
+std::string media_type_of(std::string_view content_type) {
+    std::string_view type = content_type.substr(0, content_type.find(';'));
+    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.front()))) type.remove_prefix(1);
+    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.back()))) type.remove_suffix(1);
+    std::string out(type);
+    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
+    return out;
+}
+
+std::string accepted_media_types() {
+    std::string out = "application/json";
+    for (std::string_view type : kBezMediaTypes) out += ", " + std::string(type);
+    return out;
+}
+
+ApiError invalid_parameter(const std::string& name, const std::string& detail) {
+    return make_problem(Problem::InvalidField, "query parameter " + name + " " + detail, name);
+}
+
+//! Options from query parameters (raw BEZ upload, GET /patches/{name}); same names as the JSON form.
+ApiResult<TessellateParams> params_from_query(const std::multimap<std::string, std::string>& query) {
+    for (const auto& [name, value] : query) {
+        if (std::find(std::begin(kQueryOptions), std::end(kQueryOptions), name) == std::end(kQueryOptions)) {
+            std::string allowed;
+            for (std::string_view option : kQueryOptions) allowed += (allowed.empty() ? "" : ", ") + std::string(option);
+            return make_problem(Problem::UnknownParameter,
+                                "unknown query parameter \"" + name + "\" (allowed: " + allowed + ")", name);
+        }
+        if (query.count(name) > 1) return invalid_parameter(name, "is given more than once");
+    }
+    TessellateParams params;
+    for (const auto& [name, text] : query) {
+        const char* first = text.data();
+        const char* last = text.data() + text.size();
+        if (name == "tolerance") {
+            double value = 0;
+            const auto r = std::from_chars(first, last, value);
+            if (text.empty() || r.ec != std::errc() || r.ptr != last)
+                return invalid_parameter(name, "must be a number, got \"" + text + "\"");
+            params.tolerance = value;
+        } else if (name == "segments" || name == "quantize_position") {
+            std::int64_t value = 0;
+            const auto r = std::from_chars(first, last, value);
+            if (text.empty() || r.ec != std::errc() || r.ptr != last)
+                return invalid_parameter(name, "must be an integer, got \"" + text + "\"");
+            (name == "segments" ? params.segments : params.output.quantize_position) = value;
+        } else if (name == "normals") {
+            if (text == "true" || text == "1") params.output.normals = true;
+            else if (text == "false" || text == "0") params.output.normals = false;
+            else return invalid_parameter(name, "must be true or false, got \"" + text + "\"");
+        } else if (name == "format") {
+            auto format = enum_from_name(kOutputFormatNames, text);
+            if (!format)
+                return invalid_parameter(name, ": unknown value \"" + text + "\" (allowed: \"glb\", \"obj\", \"ply\")");
+            params.output.format = *format;
+        } else if (name == "compression") {
+            auto draco = enum_from_name(kCompressionNames, text);
+            if (!draco)
+                return invalid_parameter(name, ": unknown value \"" + text + "\" (allowed: " +
+                                                   enum_names(kCompressionNames) + ")");
+            params.output.draco = *draco;
+        }
+    }
+    return params;
+}
+
+enum class Source { Json, Query };
+
+//! Range checks shared by every request form, before any work. Field names: the JSON path or the parameter name.
+std::optional<ApiError> check_params(const TessellateParams& params, const Limits& limits, Source source) {
+    const auto output_field = [&](std::string_view leaf) {
+        return (source == Source::Json ? "output." : "") + std::string(leaf);
+    };
+    if (params.tolerance && params.segments)
+        return make_problem(Problem::InvalidField, "give either tolerance or segments, not both", "segments");
+    if (params.tolerance && !(std::isfinite(*params.tolerance) && *params.tolerance > 0))
+        return make_problem(Problem::InvalidField, "tolerance must be a finite number > 0", "tolerance");
+    if (params.segments) {
+        if (*params.segments < 1)
+            return make_problem(Problem::InvalidField,
+                                "segments must be >= 1, got " + std::to_string(*params.segments), "segments");
+        if (*params.segments > limits.max_patch_segments)
+            return make_problem(Problem::BudgetExceeded,
+                                "segments is " + std::to_string(*params.segments) + "; this server allows at most " +
+                                    std::to_string(limits.max_patch_segments) + " per patch direction",
+                                "segments");
+    }
+    const OutputOptions& out = params.output;
+    const bool glb = out.format == OutputFormat::Glb;
+    if (out.format != OutputFormat::Glb && out.format != OutputFormat::Obj && out.format != OutputFormat::Ply)
+        return make_problem(Problem::InvalidField,
+                            "format \"" + std::string(enum_name(kOutputFormatNames, out.format)) +
+                                "\" is not available here; use glb, obj or ply",
+                            output_field("format"));
+    if (out.draco && !glb)
+        return make_problem(Problem::InvalidField, "compression applies only to format \"glb\"",
+                            output_field("compression"));
+    if (out.quantize_position) {
+        if (!glb || !out.draco.value_or(true))
+            return make_problem(Problem::InvalidField,
+                                "quantize_position applies only to format \"glb\" with compression \"draco\"",
+                                output_field("quantize_position"));
+        if (*out.quantize_position < 1 || *out.quantize_position > 30)
+            return make_problem(Problem::InvalidField,
+                                "quantize_position must be between 1 and 30 bits, got " +
+                                    std::to_string(*out.quantize_position),
+                                output_field("quantize_position"));
+    }
+    return std::nullopt;
+}
+
+TessellationOptions tessellation_options(const TessellateParams& params, const Limits& limits) {
+    TessellationOptions options;
+    options.tolerance = params.tolerance;
+    options.segments = static_cast<int>(params.segments.value_or(kDefaultSegments));
+    options.max_segments = limits.max_patch_segments;
+    return options;
+}
+
+//! A GeoError from patch validation or planning, with the field it is about.
+ApiError patch_error(const GeoError& error, const TessellateParams& params, Source source) {
+    ApiError out = from_geo_error(error);
+    if (error.code == ErrorCode::BudgetExceeded) {
+        out.field = params.tolerance ? "tolerance" : "segments";
+    } else if (error.element >= 0 && source == Source::Json) {
+        out.field = "patches[" + std::to_string(error.element) + "]";
+    }
+    return out;
+}
+
+std::string_view output_media_type(OutputFormat format) {
+    switch (format) {
+        case OutputFormat::Obj: return "model/obj";
+        case OutputFormat::Ply: return "application/ply";
+        default: return "model/gltf-binary";
+    }
+}
+
+//! Plan (budgets) -> tessellate -> encode. `start` is when the request started, for the timing headers.
+ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& params, const Limits& limits,
+                                  Source source, Clock::time_point start) {
+    const TessellationOptions options = tessellation_options(params, limits);
+    auto plan = plan_tessellation(set.patches, options);
+    if (!plan) return error_response(patch_error(plan.error(), params, source));
+    if (plan->triangles > limits.max_output_faces)
+        return error_response(make_problem(
+            Problem::BudgetExceeded,
+            "tessellating " + std::to_string(set.patches.size()) + " patches would produce up to " +
+                std::to_string(plan->triangles) + " triangles; the limit is " + std::to_string(limits.max_output_faces) +
+                (params.tolerance ? " (use a larger tolerance)" : " (use fewer segments)"),
+            params.tolerance ? "tolerance" : "segments"));
+    const auto t_planned = Clock::now();
+
+    auto tessellated = tessellate_patches(set.patches, options);
+    if (!tessellated) return error_response(patch_error(tessellated.error(), params, source));
+    PolygonMesh& mesh = tessellated->mesh;
+    const auto t_tessellated = Clock::now();
+
+    const OutputOptions& out = params.output;
+    const bool normals = out.normals.value_or(true);
+    ApiResponse response;
+    response.content_type = std::string(output_media_type(out.format));
+    if (out.format == OutputFormat::Glb) {
+        GltfOptions gltf;
+        gltf.draco = out.draco.value_or(true);
+        if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
+        gltf.normals = normals;
+        gltf.texcoords = true;
+        auto glb = write_glb(mesh, gltf);
+        if (!glb) return error_response(from_geo_error(glb.error()));
+        response.body = std::move(glb.value());
+    } else if (out.format == OutputFormat::Obj) {
+        ObjWriteOptions obj;
+        obj.write_normals = normals;
+        response.body = write_obj(mesh, obj);
+    } else {
+        if (!normals) mesh.normals.clear();
+        response.body = write_ply(mesh);
+    }
+    const auto t_encoded = Clock::now();
+    response.headers = {
+        {"X-Patches", std::to_string(set.patches.size())},
+        {"X-Output-Vertices", std::to_string(mesh.vertex_count())},
+        {"X-Output-Faces", std::to_string(mesh.face_count())},
+        {"X-Error-Bound", format_number(tessellated->plan.error_bound, "%.6g")},
+        {"X-Elapsed-Ms", format_number(ms_between(start, t_encoded))},
+        {"Server-Timing", "decode;dur=" + format_number(ms_between(start, t_planned)) +
+                              ", tessellate;dur=" + format_number(ms_between(t_planned, t_tessellated)) +
+                              ", encode;dur=" + format_number(ms_between(t_tessellated, t_encoded)) +
+                              ", total;dur=" + format_number(ms_between(start, t_encoded))},
+    };
+    return response;
+}
+
+ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    const auto start = Clock::now();
+    if (request.body.size() > limits.max_body_bytes)
+        return error_response(make_problem(Problem::PayloadTooLarge,
+                                           "request body is " + std::to_string(request.body.size()) +
+                                               " bytes; the limit is " + std::to_string(limits.max_body_bytes) +
+                                               " bytes"));
+    const std::string media_type = media_type_of(request.content_type);
+    if (media_type == "application/json") {
+        if (!request.query.empty())
+            return error_response(make_problem(
+                Problem::UnknownParameter,
+                "query parameters are not accepted with a JSON body (options go in the body), got \"" +
+                    request.query.begin()->first + "\"",
+                request.query.begin()->first));
+        auto decoded = decode_tessellate_request(request.body, limits);
+        if (!decoded) return error_response(std::move(decoded.error()));
+        if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
+        return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start);
+    }
+    if (std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
+        return error_response(make_problem(Problem::UnsupportedMediaType,
+                                           (media_type.empty() ? std::string("a Content-Type is required")
+                                                               : "Content-Type \"" + media_type + "\" is not accepted") +
+                                               "; accepted: " + accepted_media_types()));
+    // options first: a file is not parsed for a request we would refuse anyway
+    auto params = params_from_query(request.query);
+    if (!params) return error_response(std::move(params.error()));
+    if (auto error = check_params(params.value(), limits, Source::Query)) return error_response(std::move(*error));
+    BezReadOptions read_options;
+    read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
+    auto set = read_bez(request.body, read_options);
+    if (!set) return error_response(from_geo_error(set.error()));
+    return tessellate_and_encode(set.value(), params.value(), limits, Source::Query, start);
+}
+
+//! FNV-1a, 64 bit: a stable content hash for ETags (not security relevant).
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t hash = 1469598103934665603ull) {
+    for (unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;
+    return hash;
+}
+
+//! Whether an If-None-Match value ("*", or a comma-separated list of entity tags, weak or strong) matches `etag`
+//! (RFC 9110 13.1.2 uses the weak comparison).
+bool etag_matches(std::string_view if_none_match, std::string_view etag) {
+    while (!if_none_match.empty()) {
+        const std::size_t comma = if_none_match.find(',');
+        std::string_view item = if_none_match.substr(0, comma);
+        if_none_match.remove_prefix(comma == std::string_view::npos ? if_none_match.size() : comma + 1);
+        while (!item.empty() && std::isspace(static_cast<unsigned char>(item.front()))) item.remove_prefix(1);
+        while (!item.empty() && std::isspace(static_cast<unsigned char>(item.back()))) item.remove_suffix(1);
+        if (item == "*") return true;
+        if (item.starts_with("W/")) item.remove_prefix(2);
+        if (item == etag) return true;
+    }
+    return false;
+}
+
+ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& context) {
+    const auto start = Clock::now();
+    const auto name_it = request.path_params.find("name");
+    const std::string name = name_it == request.path_params.end() ? std::string() : name_it->second;
+    const std::string_view text = patch_sample_text(name);
+    if (text.empty()) {
+        std::string available;
+        for (std::string_view sample : patch_sample_names())
+            available += (available.empty() ? "" : ", ") + std::string(sample);
+        return error_response(make_problem(Problem::NotFound,
+                                           "no built-in patch sample \"" + name + "\" (available: " + available + ")"));
+    }
+    auto params = params_from_query(request.query);
+    if (!params) return error_response(std::move(params.error()));
+    if (auto error = check_params(params.value(), context.limits, Source::Query))
+        return error_response(std::move(*error));
+
+    // The ETag covers everything the bytes depend on: sample data, normalised options, tessellator revision.
+    const TessellateParams& p = params.value();
+    std::string key = std::string(kPatchSampleRevision) + "|" + name;
+    key += "|tolerance=" + (p.tolerance ? format_number(*p.tolerance, "%.17g") : std::string("-"));
+    key += "|segments=" + std::to_string(p.segments.value_or(p.tolerance ? 0 : kDefaultSegments));
+    key += "|format=" + std::string(enum_name(kOutputFormatNames, p.output.format));
+    key += "|draco=" + std::to_string(p.output.draco.value_or(true));
+    key += "|quantize=" + std::to_string(p.output.quantize_position.value_or(0));
+    key += "|normals=" + std::to_string(p.output.normals.value_or(true));
+    char etag[24];
+    std::snprintf(etag, sizeof etag, "\"%016llx\"", static_cast<unsigned long long>(fnv1a(text, fnv1a(key))));
+    const std::vector<std::pair<std::string, std::string>> cache_headers = {
+        {"ETag", etag}, {"Cache-Control", "public, max-age=3600"}};
+
+    if (etag_matches(request.header("if-none-match"), etag)) {
+        ApiResponse not_modified;
+        not_modified.status = 304;
+        not_modified.content_type = std::string(output_media_type(p.output.format));
+        not_modified.headers = cache_headers;
+        return not_modified;
+    }
+    auto set = read_bez(text);
+    if (!set) return error_response(make_problem(Problem::Internal, "built-in sample: " + set.error().message));
+    ApiResponse response = tessellate_and_encode(set.value(), p, context.limits, Source::Query, start);
+    if (response.status == 200)
+        response.headers.insert(response.headers.end(), cache_headers.begin(), cache_headers.end());
+    return response;
+}
+
+template <class F>
+ApiResponse guarded(F&& body) noexcept {
+    // The contract of an Operation is "never throws": anything escaping is a bug or memory exhaustion.
+    try {
+        return body();
+    } catch (const std::bad_alloc&) {
+        return error_response(make_problem(Problem::Internal, "out of memory while processing the request"));
+    } catch (const std::exception& e) {
+        return error_response(make_problem(Problem::Internal, std::string("internal error: ") + e.what()));
+    } catch (...) {
+        return error_response(make_problem(Problem::Internal, "internal error"));
+    }
+}
+
+}  // namespace
+
+ApiResponse tessellate(const ApiRequest& request, const ApiContext& context) noexcept {
+    return guarded([&] { return run_tessellate(request, context); });
+}
+
+ApiResponse patch_sample(const ApiRequest& request, const ApiContext& context) noexcept {
+    return guarded([&] { return run_patch_sample(request, context); });
+}
+
+}  // namespace surfaced::api::operations

@@ -1,0 +1,37 @@
+// JSON -> patch sets and tessellation options, for POST /tessellate. The second api/ translation unit that
+// includes nlohmann/json (kept apart from json_codec.cpp so the mesh codec does not grow with every endpoint).
+//
+// Request form:
+//   {"patches": [{"degree": [m, n], "points": [[x, y, z], ...]}, ...],   (m+1)(n+1) points, u varying fastest
+//    "tolerance": t | "segments": n,
+//    "output": {"format": "glb"|"obj"|"ply", "compression": "draco"|"none", "quantize_position": 14, "normals": true}}
+// Only "patches" is required. Errors name the field: "patches[2].points[7][1] must be a finite number",
+// "patches[0].points has 15 points; degree [3, 3] needs 16", "tolerance must be a number". Budgets (number of
+// patches, total control points) are checked before the points are copied out of the document.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "api/dto.h"
+#include "api/errors.h"
+#include "api/limits.h"
+#include "geometry/surfaces/bezier_patch.h"
+
+namespace surfaced::api {
+
+struct TessellateParams {
+    std::optional<double> tolerance;        //!< "tolerance" (model units), as sent; checked by the operation
+    std::optional<std::int64_t> segments;   //!< "segments" per patch direction, as sent
+    OutputOptions output;                   //!< normals default to true here (see operations/tessellate.h)
+};
+
+struct TessellateJsonRequest {
+    PatchSet patches;
+    TessellateParams params;
+};
+
+ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body, const Limits& limits);
+
+}  // namespace surfaced::api

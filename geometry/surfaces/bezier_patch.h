@@ -1,0 +1,111 @@
+// Tensor-product Bézier surface patches: exact evaluation, derivatives and normals, and crack-free tessellation
+// of a set of patches with a guaranteed chord tolerance.
+//
+// References:
+//  - G. Farin, "Curves and Surfaces for CAGD", 5th ed., ch. 14-16 (tensor-product patches, de Casteljau).
+//  - D. Filip, R. Magedson, R. Markot, "Surface algorithms using bounds on derivatives", CAGD 3 (1986): the
+//    second-derivative bound used for tolerance-driven segment counts (derivation in bezier_patch.cpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "geometry/core/result.h"
+#include "geometry/core/types.h"
+#include "geometry/mesh/polygon_mesh.h"
+
+namespace surfaced {
+
+//! A polynomial tensor-product Bézier patch of degree degree_u x degree_v.
+//! `points` holds (degree_u + 1) * (degree_v + 1) control points row-major with u varying fastest (geomview's
+//! order): control point (i, j) -- i along u, j along v -- is points[j * (degree_u + 1) + i].
+struct BezierPatch {
+    int degree_u = 3;
+    int degree_v = 3;
+    std::vector<Vec3> points;
+
+    int row_size() const { return degree_u + 1; }
+    const Vec3& at(int i, int j) const { return points[static_cast<std::size_t>(j * (degree_u + 1) + i)]; }
+};
+
+//! A collection of patches, e.g. the Utah teapot's 32. Patches meet along edges with identical control points.
+struct PatchSet {
+    std::vector<BezierPatch> patches;
+};
+
+//! Largest degree in either direction accepted by validate() (geomview's BEZ allows 1..6; JSON may go higher).
+inline constexpr int kMaxPatchDegree = 15;
+
+//! Degrees in 1..kMaxPatchDegree, the point count matching them, finite coordinates. Errors name the patch
+//! (ElementKind::None with GeoError::element = patch index) and what is wrong.
+Status validate(std::span<const BezierPatch> patches);
+
+//! Point at (u, v) in [0,1]^2 by separable de Casteljau: u on each row, then v on the resulting column.
+Vec3 evaluate(const BezierPatch& patch, double u, double v);
+
+//! Position and exact partial derivatives up to second order at (u, v).
+struct PatchDerivatives {
+    Vec3 position;
+    Vec3 du, dv;
+    Vec3 duu, duv, dvv;
+};
+PatchDerivatives evaluate_derivatives(const BezierPatch& patch, double u, double v);
+
+//! Unit normal du x dv at (u, v). Where du x dv vanishes (a collapsed edge such as the teapot lid's apex, or a
+//! corner where du and dv are parallel) it returns the limit of the normal as (u, v) is approached from inside
+//! the patch, from the first-order Taylor expansion of du x dv; if that vanishes too, from a sample taken a short
+//! way inside. Returns (0, 0, 0) only for a patch degenerate everywhere (e.g. all control points equal).
+Vec3 unit_normal(const BezierPatch& patch, double u, double v);
+
+//! Upper bound on the distance between the patch and its grid triangulation with nu x nv segments (any diagonal),
+//! measured between points of equal parameter: (1/8) (Muu/nu^2 + 2 Muv/(nu nv) + Mvv/nv^2), M from the control net.
+double tessellation_error_bound(const BezierPatch& patch, int nu, int nv);
+
+struct TessellationOptions {
+    //! When set: the largest allowed distance between the triangles and the surface (in model units); segment
+    //! counts are chosen per patch from the control net so that tessellation_error_bound <= tolerance.
+    std::optional<double> tolerance;
+    //! Without tolerance: this many segments along both directions of every patch.
+    int segments = 8;
+    //! Ceiling on the segments along one direction of one patch; a tolerance needing more is BudgetExceeded.
+    int max_segments = 256;
+    //! Merge vertices at bit-identical positions across patches (shared edges, collapsed edges).
+    bool weld = true;
+};
+
+//! Segment counts of one patch: nu along u, nv along v (the grid has (nu + 1) x (nv + 1) vertices).
+struct PatchSegments {
+    int nu = 0, nv = 0;
+};
+
+//! The plan tessellate_patches follows, cheap to compute (no evaluation): segment counts per patch, made equal
+//! along every edge two patches share (same control points, either direction) so that no T-junction or crack can
+//! appear, and the resulting guaranteed bound. Use it to check budgets before any work.
+struct TessellationPlan {
+    std::vector<PatchSegments> segments;  //!< one per patch
+    std::uint64_t triangles = 0;          //!< upper bound on output triangles (2 nu nv per patch)
+    std::uint64_t vertices = 0;           //!< upper bound on output vertices (before welding)
+    double error_bound = 0;               //!< max over patches of tessellation_error_bound
+};
+//! Errors: InvalidArgument (tolerance not finite and > 0, segments outside 1..max_segments), BudgetExceeded (a
+//! tolerance that needs more than max_segments), and validate()'s errors.
+Result<TessellationPlan> plan_tessellation(std::span<const BezierPatch> patches, const TessellationOptions& options);
+
+struct PatchTessellation {
+    //! Triangles, counter-clockwise around du x dv; per-vertex unit normals (exact surface normals; averaged where
+    //! welded vertices come from several patches); face-varying uvs = the patch's own (u, v).
+    PolygonMesh mesh;
+    std::vector<Index> face_patches;  //!< index of the patch each face of `mesh` comes from
+    TessellationPlan plan;
+};
+
+//! Tessellates every patch on its planned grid. Crack-free: vertices on a shared edge are computed from the edge's
+//! control points alone in one canonical direction, so both patches produce bit-identical positions, and with
+//! `weld` they become one vertex (the output is watertight where the patch set is). Triangles that collapse to a
+//! segment or point (next to a collapsed edge) are dropped. Worst case output: plan.triangles triangles.
+Result<PatchTessellation> tessellate_patches(std::span<const BezierPatch> patches, const TessellationOptions& options);
+
+}  // namespace surfaced

@@ -1,0 +1,256 @@
+// POST /simplify called directly (no sockets): both request forms, the stats it reports, every error class, and
+// budgets checked before any work.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/operations/simplify.h"
+#include "api/routes.h"
+#include "geometry/io/gltf.h"
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/simplify/mesh_distance.h"
+#include "tests/support/gltf_validator.h"
+#include "tests/support/mesh_asserts.h"
+#include "tests/support/simplify_meshes.h"
+
+namespace surfaced::api {
+namespace {
+
+std::string mesh_json(const PolygonMesh& mesh) {
+    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
+    for (const Vec3& p : mesh.positions) positions.push_back({p.x, p.y, p.z});
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto face = mesh.face(f);
+        faces.push_back(std::vector<Index>(face.begin(), face.end()));
+    }
+    return nlohmann::json{{"positions", positions}, {"faces", faces}}.dump();
+}
+
+std::string json_request(const PolygonMesh& mesh, const std::string& extra = "") {
+    return R"({"mesh":)" + mesh_json(mesh) + extra + "}";
+}
+
+ApiResponse call(const std::string& content_type, const std::string& body,
+                 std::multimap<std::string, std::string> query = {}, const Limits& limits = {}) {
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/simplify";
+    request.content_type = content_type;
+    request.body = body;
+    request.query = std::move(query);
+    ApiContext context;
+    context.limits = limits;
+    return dispatch(request, context);  // through the route table, as the server and the CLI do
+}
+
+std::string header(const ApiResponse& response, const std::string& name) {
+    for (const auto& [key, value] : response.headers)
+        if (key == name) return value;
+    return "";
+}
+
+nlohmann::json expect_problem(const ApiResponse& response, int status, const std::string& code) {
+    EXPECT_EQ(response.status, status) << response.body;
+    EXPECT_EQ(response.content_type, "application/problem+json");
+    EXPECT_TRUE(response.error.has_value());
+    auto json = nlohmann::json::parse(response.body, nullptr, false);
+    EXPECT_FALSE(json.is_discarded()) << response.body;
+    if (json.is_discarded()) return {};
+    EXPECT_EQ(json.value("status", 0), status) << response.body;
+    EXPECT_EQ(json.value("code", ""), code) << response.body;
+    return json;
+}
+
+void expect_valid_glb(const std::string& bytes) {
+    const auto validation = testing::run_gltf_validator(bytes);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+    EXPECT_EQ(validation.warnings, 0) << validation.report;
+}
+
+// ---- good requests ---------------------------------------------------------------------------------------------
+
+TEST(SimplifyOperation, JsonSphereToJsonWithStats) {
+    const PolygonMesh sphere = testing::icosphere(3);  // 1280 faces
+    const auto response =
+        call("application/json", json_request(sphere, R"(,"target_faces":200,"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "application/json");
+    const auto json = nlohmann::json::parse(response.body);
+    EXPECT_LE(json["mesh"]["faces"].size(), 200u);
+    EXPECT_GE(json["mesh"]["faces"].size(), 198u);
+    const auto& stats = json["stats"];
+    EXPECT_EQ(stats["input_faces"], 1280);
+    EXPECT_EQ(stats["output_faces"], json["mesh"]["faces"].size());
+    EXPECT_EQ(stats["triangulated"], false);
+    EXPECT_GT(stats["achieved_error"].get<double>(), 0);
+    EXPECT_GT(stats["relative_error"].get<double>(), 0);
+    EXPECT_FALSE(stats.contains("hausdorff"));
+    EXPECT_EQ(header(response, "X-Input-Faces"), "1280");
+    EXPECT_EQ(header(response, "X-Output-Faces"), std::to_string(json["mesh"]["faces"].size()));
+    EXPECT_EQ(header(response, "X-Triangulated"), "false");
+    EXPECT_FALSE(header(response, "X-Achieved-Error").empty());
+    EXPECT_FALSE(header(response, "X-Relative-Error").empty());
+    EXPECT_TRUE(header(response, "X-Hausdorff").empty());
+    EXPECT_NE(header(response, "Server-Timing").find("simplify;dur="), std::string::npos);
+}
+
+TEST(SimplifyOperation, ReportErrorAndMaxErrorInJson) {
+    const PolygonMesh sphere = testing::icosphere(4);
+    const auto response = call("application/json",
+                               json_request(sphere, R"(,"max_error":0.01,"report_error":true,"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+    const auto& stats = json["stats"];
+    ASSERT_TRUE(stats.contains("hausdorff"));
+    ASSERT_TRUE(stats.contains("rms"));
+    EXPECT_LE(stats["hausdorff"].get<double>(), 0.01);
+    EXPECT_LE(stats["rms"].get<double>(), stats["hausdorff"].get<double>());
+    EXPECT_LE(stats["achieved_error"].get<double>(), 0.01);
+    EXPECT_LT(stats["output_faces"].get<int>(), 5120 / 2);
+    EXPECT_EQ(std::stod(header(response, "X-Hausdorff")), stats["hausdorff"].get<double>());
+    EXPECT_EQ(std::stod(header(response, "X-RMS")), stats["rms"].get<double>());
+}
+
+TEST(SimplifyOperation, JsonDefaultIsValidDracoGlb) {
+    const auto response = call("application/json", json_request(testing::icosphere(3), R"(,"ratio":0.25)"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "model/gltf-binary");
+    EXPECT_NE(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
+    EXPECT_EQ(header(response, "X-Output-Faces"), "320");
+    expect_valid_glb(response.body);
+}
+
+TEST(SimplifyOperation, RawObjWithQueryTriangulatesQuadsToObj) {
+    const std::string torus = write_obj(shapes::torus(32, 16));
+    const auto response = call("model/obj", torus,
+                               {{"target_faces", "200"}, {"format", "obj"}, {"report_error", "true"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "model/obj");
+    EXPECT_EQ(header(response, "X-Triangulated"), "true");
+    EXPECT_EQ(header(response, "X-Input-Faces"), "512");
+    auto mesh = read_obj(response.body);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_LE(mesh->face_count(), 200u);
+    EXPECT_TRUE(mesh->is_triangle_mesh());
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    EXPECT_EQ(testing::euler_characteristic(mesh.value()), 0);
+    EXPECT_FALSE(header(response, "X-Hausdorff").empty());
+}
+
+TEST(SimplifyOperation, ObjWithUvsKeepsThemInUncompressedGlb) {
+    const std::string cylinder = write_obj(testing::uv_cylinder(32, 8));
+    const auto response = call("model/obj", cylinder, {{"ratio", "0.5"}, {"compression", "none"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_NE(response.body.find("TEXCOORD_0"), std::string::npos);
+    expect_valid_glb(response.body);
+    auto back = read_glb(response.body);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_TRUE(back->has_uvs());
+    EXPECT_LE(back->face_count(), 256u);
+}
+
+TEST(SimplifyOperation, LockBorderKeepsTheBoundaryOfAGrid) {
+    const PolygonMesh grid = shapes::grid(16, 16, true);
+    const auto response = call("application/ply", write_ply(grid), {{"ratio", "0.2"}, {"lock_border", "true"},
+                                                                    {"format", "ply"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    auto mesh = read_ply(response.body);
+    ASSERT_TRUE(mesh.ok());
+    EXPECT_EQ(testing::boundary_positions(mesh.value()), testing::boundary_positions(grid));
+    EXPECT_EQ(testing::boundary_loop_count(mesh.value()), 1u);
+}
+
+TEST(SimplifyOperation, OctetStreamIsSniffed) {
+    const auto response = call("application/octet-stream", write_obj(testing::icosphere(2)),
+                               {{"ratio", "0.5"}, {"format", "ply"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "application/ply");
+}
+
+// ---- errors, all before any work ---------------------------------------------------------------------------------
+
+TEST(SimplifyOperation, NoStopCriterionIs400) {
+    const auto json = expect_problem(call("application/json", json_request(testing::icosphere(1))), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "target_faces");
+    expect_problem(call("model/obj", write_obj(testing::icosphere(1)), {{"format", "obj"}}), 400, "invalid_field");
+}
+
+TEST(SimplifyOperation, OutOfRangeOptionsAre400WithField) {
+    const PolygonMesh m = testing::icosphere(1);
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"ratio":0)")), 400, "invalid_field")
+                  .value("field", ""),
+              "ratio");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"ratio":1.5)")), 400, "invalid_field")
+                  .value("field", ""),
+              "ratio");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"max_error":-1)")), 400, "invalid_field")
+                  .value("field", ""),
+              "max_error");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"target_faces":-3)")), 400, "invalid_field")
+                  .value("field", ""),
+              "target_faces");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"ratio":"half")")), 400, "invalid_field")
+                  .value("field", ""),
+              "ratio");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"lock_border":1,"ratio":0.5)")), 400,
+                             "invalid_field")
+                  .value("field", ""),
+              "lock_border");
+    EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "abc"}}), 400, "invalid_field").value("field", ""),
+              "ratio");
+    EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "inf"}}), 400, "invalid_field").value("field", ""),
+              "ratio");
+}
+
+TEST(SimplifyOperation, UnknownFieldsAndParametersAre400) {
+    const PolygonMesh m = testing::icosphere(1);
+    expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"levels":2)")), 400, "unknown_field");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"levels", "2"}}), 400, "unknown_parameter");
+    expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5)"), {{"ratio", "0.5"}}), 400,
+                   "unknown_parameter");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"compression", "draco"}, {"format", "obj"}}),
+                   400, "invalid_field");
+}
+
+TEST(SimplifyOperation, NonManifoldInputIs422NamingTheEdge) {
+    PolygonMesh fin;
+    fin.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+    fin.add_face({0, 1, 2});
+    fin.add_face({1, 0, 3});
+    fin.add_face({0, 1, 4});
+    const auto json =
+        expect_problem(call("application/json", json_request(fin, R"(,"target_faces":1)")), 422, "non_manifold");
+    EXPECT_NE(json.value("detail", "").find("(0, 1)"), std::string::npos) << json.dump();
+    EXPECT_EQ(json.value("field", ""), "mesh.faces[0]");  // the first face on the edge
+}
+
+TEST(SimplifyOperation, BudgetsAreCheckedBeforeWork) {
+    Limits limits;
+    limits.max_input_faces = 100;
+    expect_problem(call("application/json", json_request(testing::icosphere(2), R"(,"ratio":0.5)"), {}, limits), 422,
+                   "budget_exceeded");
+    // 60 quads are within 100 faces but triangulate to 120 triangles
+    Limits tri_limits;
+    tri_limits.max_input_faces = 100;
+    expect_problem(call("model/obj", write_obj(shapes::grid(10, 6)), {{"ratio", "0.5"}}, tri_limits), 422,
+                   "budget_exceeded");
+    Limits body;
+    body.max_body_bytes = 100;
+    expect_problem(call("model/obj", write_obj(testing::icosphere(1)), {{"ratio", "0.5"}}, body), 413,
+                   "payload_too_large");
+}
+
+TEST(SimplifyOperation, MediaTypeAndParseErrors) {
+    expect_problem(call("text/plain", "hello", {{"ratio", "0.5"}}), 415, "unsupported_media_type");
+    expect_problem(call("", "hello"), 415, "unsupported_media_type");
+    const auto json = expect_problem(call("model/obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", {{"ratio", "0.5"}}), 400, "parse_error");
+    EXPECT_EQ(json.value("line", 0), 4);
+    expect_problem(call("application/json", "{not json"), 400, "invalid_json");
+}
+
+}  // namespace
+}  // namespace surfaced::api

@@ -1,0 +1,269 @@
+// POST /tessellate and GET /patches/{name} called through dispatch (no sockets): both request forms, budgets and
+// errors with field paths, ETag / If-None-Match, and the route table's path parameters.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/routes.h"
+#include "geometry/io/bez.h"
+#include "tests/support/gltf_validator.h"
+
+namespace surfaced::api {
+namespace {
+
+std::string header_of(const ApiResponse& response, std::string_view name) {
+    for (const auto& [key, value] : response.headers)
+        if (key == name) return value;
+    return "";
+}
+
+ApiResponse post_json(const std::string& body, const ApiContext& context = {}) {
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/tessellate";
+    request.content_type = "application/json";
+    request.body = body;
+    return dispatch(request, context);
+}
+
+ApiResponse get_sample(const std::string& name, std::multimap<std::string, std::string> query = {},
+                       std::string if_none_match = "") {
+    ApiRequest request;
+    request.method = "GET";
+    request.path = "/patches/" + name;
+    request.query = std::move(query);
+    if (!if_none_match.empty()) request.headers.emplace("if-none-match", if_none_match);
+    return dispatch(request, ApiContext{});
+}
+
+void expect_problem(const ApiResponse& response, int status, const std::string& code, const std::string& field) {
+    EXPECT_EQ(response.status, status) << response.body;
+    EXPECT_EQ(response.content_type, "application/problem+json");
+    ASSERT_TRUE(response.error.has_value()) << response.body;
+    EXPECT_EQ(response.error->code, code) << response.body;
+    if (!field.empty()) {
+        EXPECT_EQ(response.error->field.value_or("<none>"), field) << response.body;
+    }
+}
+
+void expect_valid_glb(const std::string& bytes) {
+    const auto report = testing::run_gltf_validator(bytes);
+    ASSERT_TRUE(report.ran) << report.report;
+    EXPECT_EQ(report.errors, 0) << report.report;
+    EXPECT_EQ(report.warnings, 0) << report.report;
+}
+
+//! The teapot as a JSON request body.
+std::string teapot_json(const std::string& options) {
+    auto set = read_bez(patch_sample_text("teapot"));
+    EXPECT_TRUE(set.ok());
+    nlohmann::json patches = nlohmann::json::array();
+    for (const BezierPatch& patch : set->patches) {
+        nlohmann::json points = nlohmann::json::array();
+        for (const Vec3& p : patch.points) points.push_back({p.x, p.y, p.z});
+        patches.push_back({{"degree", {patch.degree_u, patch.degree_v}}, {"points", points}});
+    }
+    std::string body = nlohmann::json{{"patches", patches}}.dump();
+    body.pop_back();
+    return body + options + "}";
+}
+
+constexpr const char* kBilinear = R"({"patches":[{"degree":[1,1],"points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]]}])";
+
+TEST(TessellateOperation, JsonBilinearPatchToValidGlb) {
+    // z = u v: its only second derivative is S_uv = (0, 0, 1), so the bound (1/8) 2 Muv / (nu nv) <= 0.01 needs
+    // nu = nv = ceil(sqrt(1 / 0.04)) = 5, i.e. 50 triangles and 36 vertices.
+    const ApiResponse response = post_json(std::string(kBilinear) + R"(,"tolerance":0.01})");
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "model/gltf-binary");
+    EXPECT_EQ(header_of(response, "X-Patches"), "1");
+    EXPECT_EQ(header_of(response, "X-Output-Faces"), "50");
+    EXPECT_EQ(header_of(response, "X-Output-Vertices"), "36");
+    EXPECT_LE(std::stod(header_of(response, "X-Error-Bound")), 0.01);
+    EXPECT_NE(response.body.find("\"NORMAL\""), std::string::npos);
+    EXPECT_NE(response.body.find("\"TEXCOORD_0\""), std::string::npos);
+    EXPECT_NE(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
+    expect_valid_glb(response.body);
+}
+
+TEST(TessellateOperation, JsonTeapotWithinTolerance) {
+    const ApiResponse response = post_json(teapot_json(R"(,"tolerance":0.005,"output":{"compression":"none"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(header_of(response, "X-Patches"), "32");
+    EXPECT_LE(std::stod(header_of(response, "X-Error-Bound")), 0.005);
+    EXPECT_EQ(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
+    expect_valid_glb(response.body);
+}
+
+TEST(TessellateOperation, RawBezBodyWithSegments) {
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/tessellate";
+    request.content_type = "text/plain; charset=utf-8";
+    request.body = patch_sample_text("teapot");
+    request.query = {{"segments", "4"}, {"format", "obj"}};
+    const ApiResponse response = dispatch(request, ApiContext{});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(response.content_type, "model/obj");
+    // 32 patches x 4 x 4 cells x 2 triangles, minus one triangle per cell along the collapsed edges of the lid apex
+    // (patches 20-23) and the bottom centre (28-31): 1024 - 8 x 4.
+    EXPECT_EQ(header_of(response, "X-Output-Faces"), "992");
+}
+
+TEST(TessellateOperation, ErrorsNameTheField) {
+    expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":0.1,"segments":3})"), 400, "invalid_field",
+                   "segments");
+    expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":-1})"), 400, "invalid_field", "tolerance");
+    expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":"small"})"), 400, "invalid_field", "tolerance");
+    expect_problem(post_json(R"({"patches":[{"degree":[1,1],"points":[[0,0,0],[1,0,0],[0,1,0]]}]})"), 400,
+                   "invalid_field", "patches[0].points");
+    expect_problem(post_json(R"({"patches":[{"degree":[0,1],"points":[]}]})"), 400, "invalid_field",
+                   "patches[0].degree[0]");
+    expect_problem(post_json(R"({"patches":[{"degree":[1,1],"points":[[0,0,0],[1,0,0],[0,1,0],[1,"x",0]]}]})"), 400,
+                   "invalid_field", "patches[0].points[3][1]");
+    expect_problem(post_json(R"({"patches":[]})"), 400, "invalid_field", "patches");
+    expect_problem(post_json(std::string(kBilinear) + R"(,"colour":1})"), 400, "unknown_field", "colour");
+    expect_problem(post_json(std::string(kBilinear) + R"(,"output":{"format":"json"}})"), 400, "invalid_field",
+                   "output.format");
+    expect_problem(post_json("{\"patches\":"), 400, "invalid_json", "");
+}
+
+TEST(TessellateOperation, BudgetsBeforeWork) {
+    expect_problem(post_json(std::string(kBilinear) + R"(,"segments":100000})"), 422, "budget_exceeded", "segments");
+    expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":1e-12})"), 422, "budget_exceeded", "tolerance");
+    ApiContext small;
+    small.limits.max_output_faces = 100;
+    expect_problem(post_json(std::string(kBilinear) + R"(,"segments":8})", small), 422, "budget_exceeded", "segments");
+    small.limits.max_patches = 1;
+    expect_problem(post_json(R"({"patches":[{"degree":[1,1],"points":[]},{"degree":[1,1],"points":[]}]})", small), 422,
+                   "budget_exceeded", "patches");
+}
+
+TEST(TessellateOperation, RawBodyErrors) {
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/tessellate";
+    request.content_type = "text/plain";
+    request.body = "BEZ113\n0 0 0 1 0 0\n0 1 0 1 x 0\n";
+    ApiResponse response = dispatch(request, ApiContext{});
+    expect_problem(response, 400, "parse_error", "");
+    EXPECT_EQ(response.error->line.value_or(-1), 3);
+
+    request.content_type = "model/obj";
+    expect_problem(dispatch(request, ApiContext{}), 415, "unsupported_media_type", "");
+
+    request.content_type = "text/plain";
+    request.query = {{"resolution", "3"}};
+    expect_problem(dispatch(request, ApiContext{}), 400, "unknown_parameter", "resolution");
+}
+
+TEST(PatchSamples, TeapotWithETagAndNotModified) {
+    const ApiResponse first = get_sample("teapot", {{"tolerance", "0.01"}});
+    ASSERT_EQ(first.status, 200) << first.body;
+    EXPECT_EQ(first.content_type, "model/gltf-binary");
+    const std::string etag = header_of(first, "ETag");
+    ASSERT_GE(etag.size(), 3u);
+    EXPECT_EQ(etag.front(), '"');
+    EXPECT_EQ(etag.back(), '"');
+    EXPECT_NE(header_of(first, "Cache-Control").find("max-age"), std::string::npos);
+    EXPECT_LE(std::stod(header_of(first, "X-Error-Bound")), 0.01);
+    expect_valid_glb(first.body);
+
+    // the same request gives the same ETag; If-None-Match with it (alone, in a list, weak, or *) gives 304
+    EXPECT_EQ(header_of(get_sample("teapot", {{"tolerance", "0.01"}}), "ETag"), etag);
+    for (const std::string& inm : {etag, "\"other\", " + etag, "W/" + etag, std::string("*")}) {
+        const ApiResponse cached = get_sample("teapot", {{"tolerance", "0.01"}}, inm);
+        EXPECT_EQ(cached.status, 304) << inm;
+        EXPECT_TRUE(cached.body.empty());
+        EXPECT_EQ(header_of(cached, "ETag"), etag);
+    }
+    // other options, other entity
+    const ApiResponse other = get_sample("teapot", {{"segments", "6"}}, etag);
+    EXPECT_EQ(other.status, 200);
+    EXPECT_NE(header_of(other, "ETag"), etag);
+    EXPECT_NE(header_of(get_sample("teapot", {{"tolerance", "0.02"}}), "ETag"), etag);
+}
+
+TEST(PatchSamples, Errors) {
+    expect_problem(get_sample("kettle"), 404, "not_found", "");
+    expect_problem(get_sample("teapot", {{"tolerance", "abc"}}), 400, "invalid_field", "tolerance");
+    expect_problem(get_sample("teapot", {{"tolerance", "0.1"}, {"segments", "2"}}), 400, "invalid_field", "segments");
+    expect_problem(get_sample("teapot", {{"levels", "2"}}), 400, "unknown_parameter", "levels");
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/patches/teapot";
+    const ApiResponse wrong_method = dispatch(request, ApiContext{});
+    expect_problem(wrong_method, 405, "method_not_allowed", "");
+    EXPECT_EQ(header_of(wrong_method, "Allow"), "GET, HEAD");
+}
+
+TEST(Routes, PathParameters) {
+    std::map<std::string, std::string> params;
+    EXPECT_TRUE(match_path("/patches/{name}", "/patches/teapot", &params));
+    EXPECT_EQ(params["name"], "teapot");
+    EXPECT_FALSE(match_path("/patches/{name}", "/patches/"));
+    EXPECT_FALSE(match_path("/patches/{name}", "/patches"));
+    EXPECT_FALSE(match_path("/patches/{name}", "/patches/a/b"));
+    EXPECT_FALSE(match_path("/patches/{name}", "/patch/teapot"));
+    EXPECT_TRUE(match_path("/a/{x}/c/{y}", "/a/1/c/2", &params));
+    EXPECT_EQ(params["x"], "1");
+    EXPECT_EQ(params["y"], "2");
+    EXPECT_TRUE(match_path("/subdivide", "/subdivide"));
+    EXPECT_FALSE(match_path("/subdivide", "/subdivide/"));
+}
+
+ApiResponse post_curves(const std::string& body) {
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/curves";
+    request.content_type = "application/json";
+    request.body = body;
+    return dispatch(request, ApiContext{});
+}
+
+TEST(CurvesOperation, AnswersEveryQuery) {
+    // the parabola (t, t^2) as a 2D quadratic, and the rational quarter circle
+    const ApiResponse response = post_curves(
+        R"({"points":[[0,0],[0.5,0],[1,1]],"evaluate":[0,0.5,1],"derivatives":{"t":[0.5],"order":1},)"
+        R"("curvature":[0],"split":0.5,"elevate":1,"bounding_box":true,"length":{"tolerance":1e-9},)"
+        R"("closest":[0,1],"tessellate":{"tolerance":0.001}})");
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+    EXPECT_EQ(json["degree"], 2);
+    EXPECT_EQ(json["rational"], false);
+    EXPECT_EQ(json["evaluate"][1], nlohmann::json::parse("[0.5, 0.25]"));
+    EXPECT_EQ(json["derivatives"][0], nlohmann::json::parse("[1.0, 1.0]"));
+    EXPECT_NEAR(json["curvature"][0].get<double>(), 2.0, 1e-12);
+    EXPECT_EQ(json["split"].size(), 2u);
+    EXPECT_EQ(json["elevate"]["points"].size(), 4u);
+    EXPECT_EQ(json["bounding_box"]["max"], nlohmann::json::parse("[1.0, 1.0]"));
+    const double exact = (2 * std::sqrt(5.0) + std::asinh(2.0)) / 4;
+    EXPECT_NEAR(json["length"]["length"].get<double>(), exact, 1e-9);
+    EXPECT_TRUE(json["length"]["guaranteed"].get<bool>());
+    // closest point of (t, t^2) to (0, 1): minimise t^2 + (t^2 - 1)^2 -> t^2 = 1/2
+    EXPECT_NEAR(json["closest"]["t"].get<double>(), std::sqrt(0.5), 1e-9);
+    EXPECT_LE(json["tessellate"]["bound"].get<double>(), 0.001);
+    EXPECT_EQ(json["tessellate"]["points"].size(), json["tessellate"]["segments"].get<std::size_t>() + 1);
+
+    const ApiResponse circle =
+        post_curves(R"({"points":[[1,0,0],[1,1,0],[0,1,0]],"weights":[1,0.7071067811865476,1],"curvature":[0.3]})");
+    ASSERT_EQ(circle.status, 200) << circle.body;
+    EXPECT_NEAR(nlohmann::json::parse(circle.body)["curvature"][0].get<double>(), 1.0, 1e-9);
+}
+
+TEST(CurvesOperation, ErrorsNameTheField) {
+    expect_problem(post_curves(R"({"evaluate":[0.5]})"), 400, "invalid_field", "points");
+    expect_problem(post_curves(R"({"points":[[0,0],[1,"a"]]})"), 400, "invalid_field", "points[1][1]");
+    expect_problem(post_curves(R"({"points":[[0,0],[1,1,1]]})"), 400, "invalid_field", "points[1]");
+    expect_problem(post_curves(R"({"points":[[0,0],[1,1]],"evaluate":[0.5,2]})"), 400, "invalid_field", "evaluate[1]");
+    expect_problem(post_curves(R"({"points":[[0,0],[1,1]],"weights":[1,0]})"), 400, "invalid_field", "weights[1]");
+    expect_problem(post_curves(R"({"points":[[0,0],[1,1]],"tessellate":{"tolerance":0}})"), 400, "invalid_field",
+                   "tessellate.tolerance");
+    expect_problem(post_curves(R"({"points":[[0,0],[1,1]],"spline":true})"), 400, "unknown_field", "spline");
+}
+
+}  // namespace
+}  // namespace surfaced::api

@@ -1,0 +1,138 @@
+// GET /patches/teapot and POST /tessellate over real HTTP (ephemeral loopback port), and `surfaced tessellate`.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "geometry/io/bez.h"
+#include "server/http_server.h"
+#include "tests/support/gltf_validator.h"
+
+namespace surfaced::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+class PatchesHttp : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        ServerConfig config;
+        config.host = "127.0.0.1";
+        config.port = 0;
+        config.threads = 2;
+        config.web_root = "";
+        server_ = new HttpServer(config);
+        std::string error;
+        ASSERT_TRUE(server_->start(&error)) << error;
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        server_ = nullptr;
+    }
+    httplib::Client client() const {
+        httplib::Client c("127.0.0.1", server_->port());
+        c.set_read_timeout(30, 0);
+        return c;
+    }
+    static HttpServer* server_;
+};
+
+HttpServer* PatchesHttp::server_ = nullptr;
+
+TEST_F(PatchesHttp, TeapotGlbThenNotModified) {
+    auto res = client().Get("/patches/teapot?tolerance=0.01");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "model/gltf-binary");
+    EXPECT_NE(res->get_header_value("Cache-Control").find("max-age="), std::string::npos);
+    const std::string etag = res->get_header_value("ETag");
+    ASSERT_FALSE(etag.empty());
+    EXPECT_EQ(res->body.substr(0, 4), "glTF");
+    EXPECT_NE(res->body.find("KHR_draco_mesh_compression"), std::string::npos);
+    const auto report = testing::run_gltf_validator(res->body);
+    ASSERT_TRUE(report.ran) << report.report;
+    EXPECT_EQ(report.errors, 0) << report.report;
+    EXPECT_EQ(report.warnings, 0) << report.report;
+
+    auto cached = client().Get("/patches/teapot?tolerance=0.01", {{"If-None-Match", etag}});
+    ASSERT_TRUE(cached) << httplib::to_string(cached.error());
+    EXPECT_EQ(cached->status, 304);
+    EXPECT_TRUE(cached->body.empty());
+    EXPECT_EQ(cached->get_header_value("ETag"), etag);
+
+    auto stale = client().Get("/patches/teapot?tolerance=0.01", {{"If-None-Match", "\"0000000000000000\""}});
+    ASSERT_TRUE(stale);
+    EXPECT_EQ(stale->status, 200);
+}
+
+TEST_F(PatchesHttp, UnknownSampleAndBadRequestAreProblems) {
+    auto missing = client().Get("/patches/kettle");
+    ASSERT_TRUE(missing);
+    EXPECT_EQ(missing->status, 404);
+    EXPECT_EQ(missing->get_header_value("Content-Type"), "application/problem+json");
+
+    const std::string body = R"({"patches":[{"degree":[3,3],"points":[[0,0,0]]}],"tolerance":0.01})";
+    auto bad = client().Post("/tessellate", body, "application/json");
+    ASSERT_TRUE(bad) << httplib::to_string(bad.error());
+    EXPECT_EQ(bad->status, 400);
+    EXPECT_EQ(bad->get_header_value("Content-Type"), "application/problem+json");
+    const auto json = nlohmann::json::parse(bad->body, nullptr, false);
+    ASSERT_FALSE(json.is_discarded()) << bad->body;
+    EXPECT_EQ(json.value("code", ""), "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "patches[0].points");
+    EXPECT_EQ(json.value("status", 0), 400);
+}
+
+TEST_F(PatchesHttp, RawBezUpload) {
+    auto res = client().Post("/tessellate?segments=3&compression=none",
+                             std::string(patch_sample_text("teapot")), "application/x-geomview-bez");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("X-Patches"), "32");
+    const auto report = testing::run_gltf_validator(res->body);
+    ASSERT_TRUE(report.ran) << report.report;
+    EXPECT_EQ(report.errors, 0) << report.report;
+    EXPECT_EQ(report.warnings, 0) << report.report;
+}
+
+int run(const std::string& command) {
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(TessellateCli, SampleAndFile) {
+    std::random_device rd;
+    const fs::path dir = fs::temp_directory_path() / ("surfaced-tess-" + std::to_string(rd()));
+    fs::create_directories(dir);
+    const std::string cli = SURFACED_CLI_PATH;
+    const fs::path bez = dir / "teapot.bez", glb = dir / "teapot.glb", obj = dir / "teapot.obj";
+    std::ofstream(bez, std::ios::binary) << patch_sample_text("teapot");
+
+    EXPECT_EQ(run(cli + " tessellate sample:teapot -o " + glb.string() + " --tolerance 0.02 > /dev/null"), 0);
+    std::ifstream in(glb, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const auto report = testing::run_gltf_validator(bytes);
+    ASSERT_TRUE(report.ran) << report.report;
+    EXPECT_EQ(report.errors, 0) << report.report;
+
+    EXPECT_EQ(run(cli + " tessellate " + bez.string() + " -o " + obj.string() + " --segments 4 > /dev/null"), 0);
+    EXPECT_GT(fs::file_size(obj), 1000u);
+    // usage errors exit 2, failures 1
+    EXPECT_EQ(run(cli + " tessellate " + bez.string() + " -o " + obj.string() +
+                  " --segments 4 --tolerance 0.1 2> /dev/null"),
+              2);
+    EXPECT_EQ(run(cli + " tessellate sample:kettle -o " + glb.string() + " 2> /dev/null"), 1);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
+}  // namespace
+}  // namespace surfaced::server

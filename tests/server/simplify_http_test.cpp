@@ -1,0 +1,188 @@
+// POST /simplify through the real server on an ephemeral loopback port, and `surfaced simplify` as a process.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "geometry/io/gltf.h"
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "server/http_server.h"
+#include "tests/support/gltf_validator.h"
+#include "tests/support/mesh_asserts.h"
+#include "tests/support/simplify_meshes.h"
+
+namespace surfaced::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string header_of(const httplib::Result& res, const char* name) {
+    return res && res->has_header(name) ? res->get_header_value(name) : std::string();
+}
+
+class SimplifyHttp : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        ServerConfig config;
+        config.host = "127.0.0.1";
+        config.port = 0;
+        config.threads = 2;
+        config.web_root = "";
+        config.limits.max_body_bytes = 4 << 20;
+        server_ = new HttpServer(config);
+        std::string error;
+        ASSERT_TRUE(server_->start(&error)) << error;
+        ASSERT_GT(server_->port(), 0);
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        server_ = nullptr;
+    }
+    httplib::Client client() const {
+        httplib::Client c("127.0.0.1", server_->port());
+        c.set_read_timeout(60, 0);
+        return c;
+    }
+    static HttpServer* server_;
+};
+HttpServer* SimplifyHttp::server_ = nullptr;
+
+TEST_F(SimplifyHttp, ObjUploadToValidGlbWithErrorHeaders) {
+    const PolygonMesh sphere = testing::icosphere(4);
+    auto res = client().Post("/simplify?target_faces=500&report_error=true", write_obj(sphere), "model/obj");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "model/gltf-binary");
+    EXPECT_EQ(header_of(res, "X-Input-Faces"), "5120");
+    EXPECT_LE(std::stoi(header_of(res, "X-Output-Faces")), 500);
+    EXPECT_EQ(header_of(res, "X-Triangulated"), "false");
+    const double hausdorff = std::stod(header_of(res, "X-Hausdorff"));
+    EXPECT_GT(hausdorff, 0);
+    EXPECT_LT(hausdorff, 0.05);
+    EXPECT_LE(std::stod(header_of(res, "X-RMS")), hausdorff);
+    EXPECT_GT(std::stod(header_of(res, "X-Relative-Error")), 0);
+    const auto validation = testing::run_gltf_validator(res->body);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+    EXPECT_EQ(validation.warnings, 0) << validation.report;
+    auto back = read_glb(res->body);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->face_count(), static_cast<std::size_t>(std::stoi(header_of(res, "X-Output-Faces"))));
+    EXPECT_TRUE(testing::is_watertight(back.value()));
+}
+
+TEST_F(SimplifyHttp, JsonWithMaxErrorToJson) {
+    const PolygonMesh sphere = testing::icosphere(3);
+    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
+    for (const Vec3& p : sphere.positions) positions.push_back({p.x, p.y, p.z});
+    for (std::size_t f = 0; f < sphere.face_count(); ++f) {
+        auto t = sphere.face(f);
+        faces.push_back({t[0], t[1], t[2]});
+    }
+    const nlohmann::json body = {{"mesh", {{"positions", positions}, {"faces", faces}}},
+                                 {"max_error", 0.02},
+                                 {"output", {{"format", "json"}}}};
+    auto res = client().Post("/simplify", body.dump(), "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    const auto json = nlohmann::json::parse(res->body);
+    EXPECT_LE(json["stats"]["achieved_error"].get<double>(), 0.02);
+    EXPECT_LT(json["mesh"]["faces"].size(), sphere.face_count());
+}
+
+TEST_F(SimplifyHttp, ErrorsAreProblemJson) {
+    auto res = client().Post("/simplify?format=obj", write_obj(testing::icosphere(1)), "model/obj");
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 400);
+    EXPECT_EQ(res->get_header_value("Content-Type"), "application/problem+json");
+    auto get = client().Get("/simplify");
+    ASSERT_TRUE(get);
+    EXPECT_EQ(get->status, 405);
+    EXPECT_EQ(get->get_header_value("Allow"), "POST");
+    // the server still answers
+    auto health = client().Get("/healthz");
+    ASSERT_TRUE(health);
+    EXPECT_EQ(health->status, 200);
+}
+
+// ---- the CLI -------------------------------------------------------------------------------------------------
+
+struct CliResult {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+class SimplifyCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::random_device rd;
+        dir_ = fs::temp_directory_path() / ("surfaced-simplify-" + std::to_string(rd()));
+        fs::create_directories(dir_);
+        std::ofstream(dir_ / "torus.obj", std::ios::binary) << write_obj(shapes::torus(32, 16));
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
+    CliResult run_cli(const std::string& args) const {
+        const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+        const std::string command = std::string("'") + SURFACED_CLI_PATH + "' " + args + " >'" + out.string() +
+                                    "' 2>'" + err.string() + "'";
+        const int status = std::system(command.c_str());
+        CliResult r;
+        r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(out);
+        r.err = slurp(err);
+        return r;
+    }
+    fs::path dir_;
+};
+
+TEST_F(SimplifyCli, TargetFacesToObjWithReport) {
+    const auto r = run_cli("simplify " + path("torus.obj") + " -o " + path("out.obj") + " --target-faces 300 --report-error");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("triangulated first"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Hausdorff"), std::string::npos) << r.out;
+    auto mesh = read_obj(slurp(dir_ / "out.obj"));
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_LE(mesh->face_count(), 300u);
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+}
+
+TEST_F(SimplifyCli, RatioAndLockBorderToGlb) {
+    std::ofstream(dir_ / "grid.obj", std::ios::binary) << write_obj(shapes::grid(12, 12, true));
+    const auto r = run_cli("simplify " + path("grid.obj") + " -o " + path("out.glb") + " --ratio 0.3 --lock-border");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string glb = slurp(dir_ / "out.glb");
+    const auto validation = testing::run_gltf_validator(glb);
+    ASSERT_TRUE(validation.ran) << validation.report;
+    EXPECT_EQ(validation.errors, 0) << validation.report;
+}
+
+TEST_F(SimplifyCli, UsageErrors) {
+    EXPECT_EQ(run_cli("simplify " + path("torus.obj") + " -o " + path("out.obj")).exit_code, 2);
+    EXPECT_EQ(run_cli("simplify " + path("torus.obj") + " -o " + path("out.obj") + " --ratio x").exit_code, 2);
+    EXPECT_EQ(run_cli("simplify " + path("torus.obj") + " -o " + path("out.xyz") + " --ratio 0.5").exit_code, 2);
+    // a range the operation refuses: exit 1 with the problem's detail
+    const auto r = run_cli("simplify " + path("torus.obj") + " -o " + path("out.obj") + " --ratio 2");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("ratio"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace surfaced::server

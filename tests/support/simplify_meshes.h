@@ -1,0 +1,142 @@
+// Meshes and output checks shared by the simplification tests (geometry, api, server). Header-only on purpose:
+// test_support stays as it is and each test binary compiles only what it uses.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "geometry/mesh/polygon_mesh.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/simplify/mesh_distance.h"
+#include "geometry/subdivision/subdivide.h"
+
+namespace surfaced::testing {
+
+//! Icosahedron Loop-subdivided `levels` times, vertices projected onto the sphere of `radius`: 20 * 4^levels faces.
+inline PolygonMesh icosphere(int levels, double radius = 1.0) {
+    SubdivisionOptions options;
+    options.scheme = SubdivisionScheme::Loop;
+    options.levels = levels;
+    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
+    for (Vec3& p : mesh.positions) p *= radius / norm(p);
+    return mesh;
+}
+
+//! Open cylinder around z (radius 1, height 2) with face-varying uvs (u = angle / 2 pi, v = z / 2 + 1/2). The seam
+//! at angle 0 uses u = 0 on one side and u = 1 on the other: the vertices there have two uv indices.
+inline PolygonMesh uv_cylinder(int around, int along) {
+    PolygonMesh mesh;
+    for (int j = 0; j <= along; ++j)
+        for (int i = 0; i < around; ++i) {
+            const double a = 2 * std::numbers::pi * i / around;
+            mesh.positions.push_back({std::cos(a), std::sin(a), -1.0 + 2.0 * j / along});
+        }
+    for (int j = 0; j <= along; ++j)
+        for (int i = 0; i <= around; ++i) mesh.uvs.push_back({double(i) / around, double(j) / along});
+    auto vid = [&](int i, int j) { return static_cast<Index>(j * around + (i % around)); };
+    auto uvid = [&](int i, int j) { return static_cast<Index>(j * (around + 1) + i); };
+    for (int j = 0; j < along; ++j)
+        for (int i = 0; i < around; ++i) {
+            mesh.add_face({vid(i, j), vid(i + 1, j), vid(i + 1, j + 1)});
+            mesh.uv_indices.insert(mesh.uv_indices.end(), {uvid(i, j), uvid(i + 1, j), uvid(i + 1, j + 1)});
+            mesh.add_face({vid(i, j), vid(i + 1, j + 1), vid(i, j + 1)});
+            mesh.uv_indices.insert(mesh.uv_indices.end(), {uvid(i, j), uvid(i + 1, j + 1), uvid(i, j + 1)});
+        }
+    return mesh;
+}
+
+//! 2 area / longest edge^2 of a triangle: 0 for a degenerate one, sqrt(3)/2 for an equilateral one.
+inline double triangle_thinness(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const double l = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+    return l > 0 ? norm(cross(b - a, c - a)) / l : 0.0;
+}
+
+inline Vec3 face_normal(const PolygonMesh& mesh, std::size_t f) {
+    auto t = mesh.face(f);
+    const Vec3& a = mesh.positions[t[0]];
+    return cross(mesh.positions[t[1]] - a, mesh.positions[t[2]] - a);
+}
+
+//! Triangles with thinness below 1e-6 or a repeated vertex.
+inline std::size_t degenerate_faces(const PolygonMesh& mesh) {
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto t = mesh.face(f);
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] ||
+            triangle_thinness(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) < 1e-6)
+            ++count;
+    }
+    return count;
+}
+
+//! Faces on the same vertex set as an earlier face (either orientation).
+inline std::size_t duplicate_faces(const PolygonMesh& mesh) {
+    std::set<std::vector<Index>> seen;
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto t = mesh.face(f);
+        std::vector<Index> key(t.begin(), t.end());
+        std::sort(key.begin(), key.end());
+        if (!seen.insert(key).second) ++count;
+    }
+    return count;
+}
+
+//! Output faces that face away from the input: the face normal against the sum of the unit normals of the input
+//! triangles nearest to its centroid and to its three corners. (One probe alone is fooled by scan noise: a bunny
+//! face can have one nearly perpendicular input triangle under its centroid.)
+inline std::size_t flipped_faces(const PolygonMesh& output, const PolygonMesh& input) {
+    const SurfaceDistance surface(input);
+    // unit normals of the input's fan triangles, in face order as SurfaceDistance numbers them
+    std::vector<Vec3> normals;
+    for (std::size_t f = 0; f < input.face_count(); ++f) {
+        auto t = input.face(f);
+        for (std::size_t j = 1; j + 1 < t.size(); ++j) {
+            Vec3 n = cross(input.positions[t[j]] - input.positions[t[0]], input.positions[t[j + 1]] - input.positions[t[0]]);
+            const double len = norm(n);
+            normals.push_back(len > 0 ? n * (1.0 / len) : n);
+        }
+    }
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < output.face_count(); ++f) {
+        auto t = output.face(f);
+        const Vec3 probes[4] = {
+            (output.positions[t[0]] + output.positions[t[1]] + output.positions[t[2]]) * (1.0 / 3.0),
+            output.positions[t[0]], output.positions[t[1]], output.positions[t[2]]};
+        Vec3 reference;
+        for (const Vec3& p : probes) {
+            std::size_t nearest = 0;
+            surface.closest_point(p, &nearest);
+            reference += normals[nearest];
+        }
+        if (dot(face_normal(output, f), reference) < 0) ++count;
+    }
+    return count;
+}
+
+//! Positions of the vertices on boundary edges, sorted.
+inline std::vector<std::array<double, 3>> boundary_positions(const PolygonMesh& mesh) {
+    std::map<std::pair<Index, Index>, int> edges;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto t = mesh.face(f);
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            const Index a = t[j], b = t[(j + 1) % t.size()];
+            ++edges[{std::min(a, b), std::max(a, b)}];
+        }
+    }
+    std::set<Index> vertices;
+    for (const auto& [e, n] : edges)
+        if (n == 1) vertices.insert({e.first, e.second});
+    std::vector<std::array<double, 3>> out;
+    for (Index v : vertices) out.push_back({mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z});
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+}  // namespace surfaced::testing
