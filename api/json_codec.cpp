@@ -7,110 +7,12 @@
 #include <optional>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "api/json_util.h"
 
 namespace surfaced::api {
 namespace {
 
-using Json = nlohmann::json;
-
-std::string index_path(std::string_view path, std::size_t i) {
-    std::string out(path);
-    out += '[';
-    out += std::to_string(i);
-    out += ']';
-    return out;
-}
-
-std::string member_path(std::string_view path, std::string_view name) {
-    if (path.empty()) return std::string(name);
-    std::string out(path);
-    out += '.';
-    out += name;
-    return out;
-}
-
-ApiError invalid(const std::string& field, std::string detail) {
-    return make_problem(Problem::InvalidField, std::move(detail), field);
-}
-
-ApiError geometry_error(ErrorCode code, const std::string& field, std::string detail) {
-    ApiError error = from_geo_error(make_error(code, std::move(detail)));
-    error.field = field;
-    return error;
-}
-
-//! Parses `text`; nlohmann reports errors by exception, which must not leave this function.
-std::optional<ApiError> parse(std::string_view text, Json& out) {
-    try {
-        out = Json::parse(text.begin(), text.end());
-        return std::nullopt;
-    } catch (const Json::parse_error& e) {
-        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ..."; the bracketed id
-        // means nothing to a client.
-        std::string message = e.what();
-        if (const auto pos = message.find("] "); message.starts_with("[json.exception") && pos != std::string::npos)
-            message.erase(0, pos + 2);
-        ApiError error = make_problem(Problem::InvalidJson, "request body is not valid JSON: " + message);
-        // nlohmann's `byte` counts from 1 (the byte it stopped at); ours is a 0-based offset into the body.
-        error.offset = e.byte > 0 ? static_cast<std::int64_t>(e.byte - 1) : 0;
-        return error;
-    } catch (const Json::out_of_range& e) {
-        // Not a parse_error: nlohmann throws out_of_range.406 for a literal that overflows a double ("1e999"),
-        // without a position. It is a non-finite coordinate (or option), so it gets the NonFinite status.
-        return from_geo_error(make_error(ErrorCode::NonFinite,
-                                         std::string("a number in the body does not fit a double: ") + e.what()));
-    } catch (const Json::exception& e) {
-        return make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what());
-    }
-}
-
-//! Every member of `object` must be in `allowed`; otherwise one error naming all unknown members.
-std::optional<ApiError> check_members(const Json& object, std::string_view path,
-                                      std::initializer_list<std::string_view> allowed) {
-    std::vector<std::string> unknown;
-    for (const auto& item : object.items()) {
-        bool known = false;
-        for (std::string_view name : allowed) known = known || item.key() == name;
-        if (!known) unknown.push_back(item.key());
-    }
-    if (unknown.empty()) return std::nullopt;
-    std::string names, allowed_names;
-    for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
-    for (std::string_view name : allowed)
-        allowed_names += (allowed_names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
-    const std::string where = path.empty() ? "at top level" : "in " + std::string(path);
-    return make_problem(Problem::UnknownField,
-                        "unknown field" + std::string(unknown.size() > 1 ? "s " : " ") + names + " " + where +
-                            " (allowed: " + allowed_names + ")",
-                        member_path(path, unknown.front()));
-}
-
-template <class E, std::size_t N>
-ApiResult<E> read_enum(const Json& value, const std::string& field, const EnumName<E> (&table)[N]) {
-    if (!value.is_string())
-        return invalid(field, field + " must be a string, one of " + enum_names(table));
-    const auto& text = value.get_ref<const std::string&>();
-    if (auto parsed = enum_from_name(table, text)) return *parsed;
-    return invalid(field, field + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")");
-}
-
-ApiResult<std::int64_t> read_integer(const Json& value, const std::string& field) {
-    if (value.is_number_unsigned()) {
-        const auto v = value.get<std::uint64_t>();
-        return v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
-                   ? std::numeric_limits<std::int64_t>::max()
-                   : static_cast<std::int64_t>(v);
-    }
-    // nlohmann stores 2.0 as a float: an integer field must be written without a fraction or exponent.
-    if (value.is_number_integer()) return value.get<std::int64_t>();
-    return invalid(field, field + " must be an integer");
-}
-
-ApiResult<bool> read_bool(const Json& value, const std::string& field) {
-    if (!value.is_boolean()) return invalid(field, field + " must be true or false");
-    return value.get<bool>();
-}
+using namespace json;  // the shared readers (api/json_util.h)
 
 ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path, const Limits& limits) {
     const std::string mesh_path(path);
@@ -315,36 +217,6 @@ std::optional<ApiError> decode_tags(const Json& root, PolygonMesh& mesh) {
     return std::nullopt;
 }
 
-ApiResult<OutputOptions> decode_output(const Json& value) {
-    const std::string path = "output";
-    if (!value.is_object())
-        return invalid(path, R"(output must be an object {"format", "compression", "quantize_position", "normals"})");
-    if (auto error = check_members(value, path, {"format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
-    OutputOptions out;
-    if (auto it = value.find("format"); it != value.end()) {
-        auto format = read_enum(*it, "output.format", kOutputFormatNames);
-        if (!format) return std::move(format.error());
-        out.format = format.value();
-    }
-    if (auto it = value.find("compression"); it != value.end()) {
-        auto draco = read_enum(*it, "output.compression", kCompressionNames);
-        if (!draco) return std::move(draco.error());
-        out.draco = draco.value();
-    }
-    if (auto it = value.find("quantize_position"); it != value.end()) {
-        auto bits = read_integer(*it, "output.quantize_position");
-        if (!bits) return std::move(bits.error());
-        out.quantize_position = bits.value();
-    }
-    if (auto it = value.find("normals"); it != value.end()) {
-        auto normals = read_bool(*it, "output.normals");
-        if (!normals) return std::move(normals.error());
-        out.normals = normals.value();
-    }
-    return out;
-}
-
 void append_number(std::string& out, double value) {
     if (!std::isfinite(value)) {  // unreachable for validated meshes; keeps the output valid JSON regardless
         out += "null";
@@ -508,15 +380,6 @@ std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& 
 }
 
 // ---- POST /simplify ------------------------------------------------------------------------------------------
-
-namespace {
-
-ApiResult<double> read_number(const Json& value, const std::string& field) {
-    if (!value.is_number() || !std::isfinite(value.get<double>())) return invalid(field, field + " must be a finite number");
-    return value.get<double>();
-}
-
-}  // namespace
 
 ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, const Limits& limits) {
     Json root;

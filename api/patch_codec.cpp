@@ -5,103 +5,14 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "api/json_util.h"
 
 namespace surfaced::api {
 namespace {
 
-using Json = nlohmann::json;
-
-ApiError invalid(const std::string& field, std::string detail) {
-    return make_problem(Problem::InvalidField, std::move(detail), field);
-}
+using namespace json;  // the shared readers (api/json_util.h)
 
 std::string at(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
-//! nlohmann reports parse errors by exception, which must not leave this function.
-std::optional<ApiError> parse(std::string_view text, Json& out) {
-    try {
-        out = Json::parse(text.begin(), text.end());
-        return std::nullopt;
-    } catch (const Json::parse_error& e) {
-        std::string message = e.what();
-        if (const auto pos = message.find("] "); message.starts_with("[json.exception") && pos != std::string::npos)
-            message.erase(0, pos + 2);
-        ApiError error = make_problem(Problem::InvalidJson, "request body is not valid JSON: " + message);
-        error.offset = e.byte > 0 ? static_cast<std::int64_t>(e.byte - 1) : 0;
-        return error;
-    } catch (const Json::out_of_range& e) {
-        return from_geo_error(make_error(ErrorCode::NonFinite,
-                                         std::string("a number in the body does not fit a double: ") + e.what()));
-    } catch (const Json::exception& e) {
-        return make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what());
-    }
-}
-
-std::optional<ApiError> check_members(const Json& object, const std::string& path,
-                                      std::initializer_list<std::string_view> allowed) {
-    for (const auto& item : object.items()) {
-        bool known = false;
-        for (std::string_view name : allowed) known = known || item.key() == name;
-        if (known) continue;
-        std::string allowed_names;
-        for (std::string_view name : allowed)
-            allowed_names += (allowed_names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
-        const std::string field = path.empty() ? item.key() : path + "." + item.key();
-        return make_problem(Problem::UnknownField,
-                            "unknown field \"" + item.key() + "\" " + (path.empty() ? "at top level" : "in " + path) +
-                                " (allowed: " + allowed_names + ")",
-                            field);
-    }
-    return std::nullopt;
-}
-
-ApiResult<std::int64_t> read_integer(const Json& value, const std::string& field) {
-    if (value.is_number_unsigned()) {
-        const auto v = value.get<std::uint64_t>();
-        return v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
-                   ? std::numeric_limits<std::int64_t>::max()
-                   : static_cast<std::int64_t>(v);
-    }
-    if (value.is_number_integer()) return value.get<std::int64_t>();
-    return invalid(field, field + " must be an integer");
-}
-
-template <class E, std::size_t N>
-ApiResult<E> read_enum(const Json& value, const std::string& field, const EnumName<E> (&table)[N]) {
-    if (!value.is_string()) return invalid(field, field + " must be a string, one of " + enum_names(table));
-    const auto& text = value.get_ref<const std::string&>();
-    if (auto parsed = enum_from_name(table, text)) return *parsed;
-    return invalid(field, field + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")");
-}
-
-ApiResult<OutputOptions> decode_output(const Json& value) {
-    if (!value.is_object())
-        return invalid("output", R"(output must be an object {"format", "compression", "quantize_position", "normals"})");
-    if (auto error = check_members(value, "output", {"format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
-    OutputOptions out;
-    if (auto it = value.find("format"); it != value.end()) {
-        auto format = read_enum(*it, "output.format", kOutputFormatNames);
-        if (!format) return std::move(format.error());
-        out.format = format.value();
-    }
-    if (auto it = value.find("compression"); it != value.end()) {
-        auto draco = read_enum(*it, "output.compression", kCompressionNames);
-        if (!draco) return std::move(draco.error());
-        out.draco = draco.value();
-    }
-    if (auto it = value.find("quantize_position"); it != value.end()) {
-        auto bits = read_integer(*it, "output.quantize_position");
-        if (!bits) return std::move(bits.error());
-        out.quantize_position = bits.value();
-    }
-    if (auto it = value.find("normals"); it != value.end()) {
-        if (!it->is_boolean()) return invalid("output.normals", "output.normals must be true or false");
-        out.normals = it->get<bool>();
-    }
-    return out;
-}
 
 ApiResult<BezierPatch> decode_patch(const Json& value, const std::string& path) {
     if (!value.is_object())

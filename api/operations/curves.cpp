@@ -11,27 +11,17 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "api/json_util.h"
+#include "api/operations/request_forms.h"
 
 #include "geometry/curves/bezier_curve.h"
 
 namespace surfaced::api::operations {
 namespace {
 
-using Json = nlohmann::json;
-
-ApiError invalid(const std::string& field, std::string detail) {
-    return make_problem(Problem::InvalidField, std::move(detail), field);
-}
+using namespace json;  // the shared readers (api/json_util.h)
 
 std::string at(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
-ApiResult<double> read_number(const Json& value, const std::string& field) {
-    if (!value.is_number()) return invalid(field, field + " must be a number");
-    const double x = value.get<double>();
-    if (!std::isfinite(x)) return invalid(field, field + " must be finite");
-    return x;
-}
 
 ApiResult<double> read_parameter(const Json& value, const std::string& field) {
     auto t = read_number(value, field);
@@ -237,15 +227,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 }  // namespace
 
 ApiResponse curves(const ApiRequest& request, const ApiContext& context) noexcept {
-    try {
-        return run(request, context);
-    } catch (const std::bad_alloc&) {
-        return error_response(make_problem(Problem::Internal, "out of memory while processing the request"));
-    } catch (const std::exception& e) {
-        return error_response(make_problem(Problem::Internal, std::string("internal error: ") + e.what()));
-    } catch (...) {
-        return error_response(make_problem(Problem::Internal, "internal error"));
-    }
+    return guarded([&] { return run(request, context); });
 }
 
 }  // namespace surfaced::api::operations

@@ -11,6 +11,7 @@
 
 #include "api/dto.h"
 #include "api/json_codec.h"
+#include "api/operations/request_forms.h"
 #include "geometry/io/gltf.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/normals.h"
@@ -18,89 +19,6 @@
 
 namespace surfaced::api::operations {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_between(Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-std::string format_ms(double ms) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3f", ms);
-    return buf;
-}
-
-//! "Application/JSON; charset=utf-8" -> "application/json".
-std::string media_type_of(std::string_view content_type) {
-    const auto semicolon = content_type.find(';');
-    std::string_view type = content_type.substr(0, semicolon);
-    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.front()))) type.remove_prefix(1);
-    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.back()))) type.remove_suffix(1);
-    std::string out(type);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
-    return out;
-}
-
-std::string accepted_media_types() {
-    std::string out = "application/json";
-    for (const auto& entry : kMeshMediaTypes) out += ", " + std::string(entry.name);
-    return out + ", application/octet-stream (format detected from the content)";
-}
-
-std::optional<MeshFormat> mesh_format_for(const std::string& media_type, std::string_view body) {
-    if (media_type == "application/octet-stream") return sniff_format(body);
-    if (auto format = format_from_media_type(media_type)) return format;
-    return enum_from_name(kMeshMediaTypes, media_type);
-}
-
-enum class Source { Json, File };
-
-//! JSON path for a GeoError about an element of a request that came as JSON; files report line/offset instead.
-std::optional<std::string> field_for(const GeoError& error, Source source) {
-    if (source != Source::Json || error.element < 0) return std::nullopt;
-    const std::string index = "[" + std::to_string(error.element) + "]";
-    switch (error.element_kind) {
-        case ElementKind::Vertex: return "mesh.positions" + index;
-        case ElementKind::Face: return "mesh.faces" + index;
-        case ElementKind::Crease: return "creases" + index;
-        case ElementKind::Corner: return "corners" + index;
-        case ElementKind::Hole: return "holes" + index;
-        case ElementKind::None: break;
-    }
-    return std::nullopt;
-}
-
-ApiError geometry_error(const GeoError& error, Source source) {
-    ApiError out = from_geo_error(error);
-    out.field = field_for(error, source);
-    return out;
-}
-
-ApiResult<std::int64_t> parse_integer_parameter(const std::string& name, const std::string& text) {
-    std::int64_t value = 0;
-    const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || result.ec != std::errc() || result.ptr != text.data() + text.size())
-        return make_problem(Problem::InvalidField, "query parameter " + name + " must be an integer, got \"" + text + "\"",
-                            name);
-    return value;
-}
-
-ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string& text) {
-    if (text == "true" || text == "1") return true;
-    if (text == "false" || text == "0") return false;
-    return make_problem(Problem::InvalidField, "query parameter " + name + " must be true or false, got \"" + text + "\"",
-                        name);
-}
-
-template <class E, std::size_t N>
-ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& text, const EnumName<E> (&table)[N]) {
-    if (auto value = enum_from_name(table, text)) return *value;
-    return make_problem(Problem::InvalidField,
-                        "query parameter " + name + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) +
-                            ")",
-                        name);
-}
 
 //! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
@@ -221,17 +139,6 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
     return std::nullopt;
 }
 
-std::string_view output_media_type(OutputFormat format) {
-    switch (format) {
-        case OutputFormat::Glb: return "model/gltf-binary";
-        case OutputFormat::Gltf: return "model/gltf+json";
-        case OutputFormat::Obj: return "model/obj";
-        case OutputFormat::Ply: return "application/ply";
-        case OutputFormat::Json: return "application/json";
-    }
-    return "application/octet-stream";
-}
-
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
@@ -245,7 +152,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const std::string media_type = media_type_of(request.content_type);
     if (media_type.empty())
         return error_response(make_problem(Problem::UnsupportedMediaType,
-                                           "a Content-Type is required; accepted: " + accepted_media_types()));
+                                           "a Content-Type is required; accepted: " + accepted_mesh_media_types()));
 
     // 2. decode options and mesh
     Source source = Source::File;
@@ -270,8 +177,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
             const std::string detail =
                 media_type == "application/octet-stream"
                     ? "could not recognise the mesh format from the content; send a specific Content-Type (" +
-                          accepted_media_types() + ")"
-                    : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_media_types();
+                          accepted_mesh_media_types() + ")"
+                    : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_mesh_media_types();
             return error_response(make_problem(Problem::UnsupportedMediaType, detail));
         }
         auto query_params = params_from_query(request.query);
@@ -412,17 +319,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 }  // namespace
 
 ApiResponse subdivide(const ApiRequest& request, const ApiContext& context) noexcept {
-    // The contract of an Operation is "never throws": anything escaping the code above is a bug or memory
-    // exhaustion, and becomes a 500 envelope here rather than the HTTP library's default page.
-    try {
-        return run(request, context);
-    } catch (const std::bad_alloc&) {
-        return error_response(make_problem(Problem::Internal, "out of memory while processing the request"));
-    } catch (const std::exception& e) {
-        return error_response(make_problem(Problem::Internal, std::string("internal error: ") + e.what()));
-    } catch (...) {
-        return error_response(make_problem(Problem::Internal, "internal error"));
-    }
+    return guarded([&] { return run(request, context); });
 }
 
 }  // namespace surfaced::api::operations

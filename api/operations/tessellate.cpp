@@ -10,6 +10,7 @@
 #include <set>
 
 #include "api/dto.h"
+#include "api/operations/request_forms.h"
 #include "api/patch_codec.h"
 #include "geometry/io/bez.h"
 #include "geometry/io/gltf.h"
@@ -19,31 +20,15 @@
 namespace surfaced::api::operations {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 constexpr std::int64_t kDefaultSegments = 8;
 constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
 constexpr std::string_view kQueryOptions[] = {"tolerance", "segments", "format", "compression", "quantize_position",
                                               "normals"};
 
-double ms_between(Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
 std::string format_number(double value, const char* format = "%.3f") {
     char buf[64];
     std::snprintf(buf, sizeof buf, format, value);
     return buf;
-}
-
-//! "Text/Plain; charset=utf-8" -> "text/plain".
-std::string media_type_of(std::string_view content_type) {
-    std::string_view type = content_type.substr(0, content_type.find(';'));
-    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.front()))) type.remove_prefix(1);
-    while (!type.empty() && std::isspace(static_cast<unsigned char>(type.back()))) type.remove_suffix(1);
-    std::string out(type);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return std::tolower(c); });
-    return out;
 }
 
 std::string accepted_media_types() {
@@ -165,14 +150,6 @@ ApiError patch_error(const GeoError& error, const TessellateParams& params, Sour
         out.field = "patches[" + std::to_string(error.element) + "]";
     }
     return out;
-}
-
-std::string_view output_media_type(OutputFormat format) {
-    switch (format) {
-        case OutputFormat::Obj: return "model/obj";
-        case OutputFormat::Ply: return "application/ply";
-        default: return "model/gltf-binary";
-    }
 }
 
 //! Plan (budgets) -> tessellate -> encode. `start` is when the request started, for the timing headers.
@@ -334,20 +311,6 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     if (response.status == 200)
         response.headers.insert(response.headers.end(), cache_headers.begin(), cache_headers.end());
     return response;
-}
-
-template <class F>
-ApiResponse guarded(F&& body) noexcept {
-    // The contract of an Operation is "never throws": anything escaping is a bug or memory exhaustion.
-    try {
-        return body();
-    } catch (const std::bad_alloc&) {
-        return error_response(make_problem(Problem::Internal, "out of memory while processing the request"));
-    } catch (const std::exception& e) {
-        return error_response(make_problem(Problem::Internal, std::string("internal error: ") + e.what()));
-    } catch (...) {
-        return error_response(make_problem(Problem::Internal, "internal error"));
-    }
 }
 
 }  // namespace
