@@ -1,11 +1,24 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds, and runs every test. Exit status 0 only when all pass.
+# Installs what is needed, builds, and runs every test: the normal build, then the whole suite again under
+# AddressSanitizer + UndefinedBehaviorSanitizer (LeakSanitizer included). Exit status 0 only when all pass.
+#   SURFACED_SKIP_SANITIZE=1 scripts/test.sh   skip the sanitizer pass (quicker local runs; CI runs it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
 scripts/install-deps.sh
 scripts/build.sh
 echo "== build done in $(( $(date +%s) - start )) s"
-cd build
-ctest --output-on-failure -j"$(nproc)" --timeout 600
-echo "== all tests done in $(( $(date +%s) - start )) s"
+(cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)
+echo "== tests done in $(( $(date +%s) - start )) s"
+
+if [ "${SURFACED_SKIP_SANITIZE:-0}" != 1 ]; then
+  if [ ! -f build-sanitize/build.ninja ]; then
+    cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSURFACED_SANITIZE=ON \
+      -DSURFACED_BUILD_BENCH=OFF -DSURFACED_WERROR=ON
+  fi
+  cmake --build build-sanitize -j"$(nproc)"
+  echo "== sanitizer build done in $(( $(date +%s) - start )) s"
+  (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+     ctest --output-on-failure -j"$(nproc)" --timeout 900)
+  echo "== sanitizer tests done in $(( $(date +%s) - start )) s"
+fi

@@ -69,7 +69,8 @@ class SubdivisionVsOpenSubdiv
 
 TEST_P(SubdivisionVsOpenSubdiv, SameTopologyAndPositions) {
     const auto [shape_index, scheme, boundary, levels] = GetParam();
-    const NamedShape& shape = all_shapes()[shape_index];
+    const auto shapes_list = all_shapes();
+    const NamedShape& shape = shapes_list[shape_index];
     SubdivisionOptions options;
     options.scheme = scheme;
     options.levels = levels;
