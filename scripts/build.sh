@@ -4,6 +4,8 @@
 #   scripts/build.sh surfaced        only the named targets
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# ccache: hit across clones at different paths (CI clones afresh every run)
+export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
 BUILD_DIR=${BUILD_DIR:-build}
 if [ ! -f "$BUILD_DIR/build.ninja" ]; then
   cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSURFACED_WERROR=ON

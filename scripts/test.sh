@@ -4,6 +4,8 @@
 #   SURFACED_SKIP_SANITIZE=1 scripts/test.sh   skip the sanitizer pass (quicker local runs; CI runs it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# ccache: hit across clones at different paths (CI clones afresh every run)
+export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
 start=$(date +%s)
 scripts/install-deps.sh
 scripts/build.sh
