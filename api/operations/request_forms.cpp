@@ -5,6 +5,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <set>
+
+#include "geometry/io/gltf.h"
+#include "geometry/mesh/normals.h"
 
 namespace surfaced::api::operations {
 
@@ -95,6 +99,126 @@ ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string&
     if (text == "false" || text == "0") return false;
     return make_problem(Problem::InvalidField, "query parameter " + name + " must be true or false, got \"" + text + "\"",
                         name);
+}
+
+std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type) {
+    if (request.body.size() > limits.max_body_bytes)
+        return make_problem(Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
+                                                          " bytes; the limit is " + std::to_string(limits.max_body_bytes) +
+                                                          " bytes");
+    media_type = media_type_of(request.content_type);
+    if (media_type.empty())
+        return make_problem(Problem::UnsupportedMediaType,
+                            "a Content-Type is required; accepted: " + accepted_mesh_media_types());
+    return std::nullopt;
+}
+
+std::optional<ApiError> reject_query_with_json(const ApiRequest& request) {
+    if (request.query.empty()) return std::nullopt;
+    const std::string& name = request.query.begin()->first;
+    return make_problem(Problem::UnknownParameter,
+                        "query parameters are not accepted with a JSON body (options go in the body), got \"" + name + "\"",
+                        name);
+}
+
+std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
+                                          std::initializer_list<std::string_view> allowed) {
+    std::set<std::string> unknown;
+    for (const auto& [name, value] : query)
+        if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) unknown.insert(name);
+    if (!unknown.empty()) {
+        std::string names, allowed_names;
+        for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+        for (std::string_view name : allowed) allowed_names += (allowed_names.empty() ? "" : ", ") + std::string(name);
+        return make_problem(Problem::UnknownParameter,
+                            "unknown query parameter" + std::string(unknown.size() > 1 ? "s " : " ") + names +
+                                " (allowed: " + allowed_names + ")",
+                            *unknown.begin());
+    }
+    for (std::string_view name : allowed)
+        if (query.count(std::string(name)) > 1)
+            return make_problem(Problem::InvalidField, "query parameter " + std::string(name) + " is given more than once",
+                                std::string(name));
+    return std::nullopt;
+}
+
+ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits) {
+    const auto format = mesh_format_for(media_type, request.body);
+    if (!format) {
+        const std::string detail =
+            media_type == "application/octet-stream"
+                ? "could not recognise the mesh format from the content; send a specific Content-Type (" +
+                      accepted_mesh_media_types() + ")"
+                : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_mesh_media_types();
+        return make_problem(Problem::UnsupportedMediaType, detail);
+    }
+    ReadOptions read_options;
+    read_options.max_vertices = static_cast<std::size_t>(limits.max_input_vertices);
+    read_options.max_faces = static_cast<std::size_t>(limits.max_input_faces);
+    auto read = read_mesh(request.body, *format, read_options);
+    if (!read) return geometry_error(read.error(), Source::File);
+    return std::move(read).value();
+}
+
+std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits) {
+    if (mesh.face_count() > limits.max_input_faces || mesh.vertex_count() > limits.max_input_vertices)
+        return make_problem(Problem::BudgetExceeded,
+                            "the mesh has " + std::to_string(mesh.vertex_count()) + " vertices and " +
+                                std::to_string(mesh.face_count()) + " faces; the limits are " +
+                                std::to_string(limits.max_input_vertices) + " and " + std::to_string(limits.max_input_faces));
+    return std::nullopt;
+}
+
+std::optional<ApiError> check_output_options(const OutputOptions& out, Source source) {
+    const auto field = [&](std::string_view leaf) { return (source == Source::Json ? "output." : "") + std::string(leaf); };
+    const bool gltf = out.format == OutputFormat::Glb || out.format == OutputFormat::Gltf;  // binary or text
+    const std::string format(enum_name(kOutputFormatNames, out.format));
+    if (out.draco && !gltf)
+        return make_problem(Problem::InvalidField,
+                            "compression applies only to formats \"glb\" and \"gltf\", not \"" + format + "\"",
+                            field("compression"));
+    if (out.quantize_position) {
+        if (!gltf || !out.draco.value_or(true))
+            return make_problem(Problem::InvalidField,
+                                "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
+                                field("quantize_position"));
+        if (*out.quantize_position < 1 || *out.quantize_position > 24)
+            return make_problem(Problem::InvalidField,
+                                "quantize_position must be between 1 and 24 bits, got " + std::to_string(*out.quantize_position),
+                                field("quantize_position"));
+    }
+    if (out.normals.value_or(false) && out.format == OutputFormat::Json)
+        return make_problem(Problem::InvalidField, "normals are not available in format \"json\"", field("normals"));
+    return std::nullopt;
+}
+
+ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source) {
+    const bool normals = out.normals.value_or(false);
+    switch (out.format) {
+        case OutputFormat::Glb:
+        case OutputFormat::Gltf: {
+            GltfOptions gltf;
+            gltf.draco = out.draco.value_or(true);
+            if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
+            gltf.normals = normals;
+            auto encoded = out.format == OutputFormat::Glb ? write_glb(mesh, gltf) : write_gltf(mesh, gltf);
+            if (!encoded) return geometry_error(encoded.error(), source);
+            return std::move(encoded).value();
+        }
+        case OutputFormat::Obj: {
+            ObjWriteOptions obj;
+            obj.write_normals = normals;
+            if (normals && !mesh.has_normals()) mesh.normals = compute_vertex_normals(mesh);
+            return write_obj(mesh, obj);
+        }
+        case OutputFormat::Ply:
+            // write_ply writes normals exactly when the mesh has them
+            if (normals && !mesh.has_normals()) mesh.normals = compute_vertex_normals(mesh);
+            if (!normals) mesh.normals.clear();
+            return write_ply(mesh);
+        case OutputFormat::Json: break;
+    }
+    return make_problem(Problem::Internal, "JSON output is encoded by the operation");
 }
 
 }  // namespace surfaced::api::operations

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <initializer_list>
 #include <exception>
 #include <map>
 #include <new>
@@ -16,6 +17,7 @@
 #include "api/operation.h"
 #include "geometry/core/result.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/mesh/polygon_mesh.h"
 
 namespace surfaced::api::operations {
 
@@ -53,6 +55,33 @@ ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& te
                         name);
 }
 
+// ---- the two request forms ----------------------------------------------------------------------------------------
+
+//! Body size against the budget, then a Content-Type (normalised into `media_type`): both before anything is parsed.
+std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type);
+//! Options of a JSON request go in its body: query parameters with it are an error naming the first one.
+std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
+//! Parameters must be known and given once; errors name them (and list the allowed ones).
+std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
+                                          std::initializer_list<std::string_view> allowed);
+//! A raw mesh upload: format from the media type (sniffed for application/octet-stream; 415 when unknown), read with
+//! the input budgets as reader limits (errors carry the file line or byte offset).
+ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits);
+//! The input budgets (vertices, faces) for a mesh from any source.
+std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits);
+
+//! "output" options that do not fit the format (compression with OBJ, ...), named by their JSON path (`output.x`) or
+//! query name.
+std::optional<ApiError> check_output_options(const OutputOptions& out, Source source);
+//! The mesh in the requested format (GLB/glTF with Draco unless compression "none", OBJ, PLY); JSON is the
+//! operation's own (`encode_json`). Normals are written when asked (computed if the mesh has none).
+ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source);
+template <class EncodeJson>
+ApiResult<std::string> encode_mesh_output(PolygonMesh& mesh, const OutputOptions& out, Source source,
+                                          EncodeJson&& encode_json) {
+    if (out.format == OutputFormat::Json) return encode_json(mesh);
+    return encode_mesh_file(mesh, out, source);
+}
 //! Runs an operation body; anything escaping it (a bug, or memory exhaustion) becomes a 500 envelope, so that the
 //! Operation contract "never throws" holds.
 template <class F>

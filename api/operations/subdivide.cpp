@@ -22,25 +22,10 @@ namespace {
 
 //! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    static constexpr std::string_view kAllowed[] = {"scheme",        "levels",        "boundary",  "crease_method",
-                                                    "triangle_rule", "uv_interpolation", "loop_weights", "limit_surface", "max_faces", "format",
-                                                    "compression",   "quantize_position", "normals"};
-    std::set<std::string> unknown;
-    for (const auto& [name, value] : query)
-        if (std::find(std::begin(kAllowed), std::end(kAllowed), name) == std::end(kAllowed)) unknown.insert(name);
-    if (!unknown.empty()) {
-        std::string names, allowed;
-        for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
-        for (std::string_view name : kAllowed) allowed += (allowed.empty() ? "" : ", ") + std::string(name);
-        return make_problem(Problem::UnknownParameter,
-                            "unknown query parameter" + std::string(unknown.size() > 1 ? "s " : " ") + names +
-                                " (allowed: " + allowed + ")",
-                            *unknown.begin());
-    }
-    for (std::string_view name : kAllowed)
-        if (query.count(std::string(name)) > 1)
-            return make_problem(Problem::InvalidField,
-                                "query parameter " + std::string(name) + " is given more than once", std::string(name));
+    if (auto error = check_query_names(query, {"scheme", "levels", "boundary", "crease_method", "triangle_rule",
+                                                "uv_interpolation", "loop_weights", "limit_surface", "max_faces", "format",
+                                                "compression", "quantize_position", "normals"}))
+        return std::move(*error);
 
     SubdivideParams params;
     for (const auto& [name, text] : query) {
@@ -104,9 +89,6 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
 
 //! Range checks shared by both request forms. Field names: the JSON path (query parameters use the leaf name).
 std::optional<ApiError> check_params(const SubdivideParams& params, const Limits& limits, Source source) {
-    const auto output_field = [&](std::string_view leaf) {
-        return (source == Source::Json ? "output." : "") + std::string(leaf);
-    };
     if (params.levels < 0)
         return make_problem(Problem::InvalidField, "levels must be >= 0, got " + std::to_string(params.levels), "levels");
     if (params.levels > limits.max_levels)
@@ -117,26 +99,7 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
     if (params.max_faces && *params.max_faces < 1)
         return make_problem(Problem::InvalidField, "max_faces must be >= 1, got " + std::to_string(*params.max_faces),
                             "max_faces");
-    const OutputOptions& out = params.output;
-    const bool glb = out.format == OutputFormat::Glb || out.format == OutputFormat::Gltf;  // glTF, binary or text
-    const std::string format(enum_name(kOutputFormatNames, out.format));
-    if (out.draco && !glb)
-        return make_problem(Problem::InvalidField, "compression applies only to formats \"glb\" and \"gltf\", not \"" + format + "\"",
-                            output_field("compression"));
-    if (out.quantize_position) {
-        if (!glb || !out.draco.value_or(true))
-            return make_problem(Problem::InvalidField,
-                                "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
-                                output_field("quantize_position"));
-        if (*out.quantize_position < 1 || *out.quantize_position > 24)
-            return make_problem(Problem::InvalidField,
-                                "quantize_position must be between 1 and 24 bits, got " +
-                                    std::to_string(*out.quantize_position),
-                                output_field("quantize_position"));
-    }
-    if (out.normals.value_or(false) && out.format == OutputFormat::Json)
-        return make_problem(Problem::InvalidField, "normals are not available in format \"json\"", output_field("normals"));
-    return std::nullopt;
+    return check_output_options(params.output, source);
 }
 
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
@@ -144,63 +107,38 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_start = Clock::now();
 
     // 1. size and media type: nothing is parsed for a request we would refuse anyway.
-    if (request.body.size() > limits.max_body_bytes)
-        return error_response(make_problem(Problem::PayloadTooLarge,
-                                           "request body is " + std::to_string(request.body.size()) +
-                                               " bytes; the limit is " + std::to_string(limits.max_body_bytes) +
-                                               " bytes"));
-    const std::string media_type = media_type_of(request.content_type);
-    if (media_type.empty())
-        return error_response(make_problem(Problem::UnsupportedMediaType,
-                                           "a Content-Type is required; accepted: " + accepted_mesh_media_types()));
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
 
-    // 2. decode options and mesh
+    // 2. decode options and mesh (for uploads the options are checked before the file is parsed)
     Source source = Source::File;
     SubdivideParams params;
     PolygonMesh mesh;
     if (media_type == "application/json") {
         source = Source::Json;
-        if (!request.query.empty())
-            return error_response(make_problem(
-                Problem::UnknownParameter,
-                "query parameters are not accepted with a JSON body (options go in the body), got \"" +
-                    request.query.begin()->first + "\"",
-                request.query.begin()->first));
+        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
         auto decoded = decode_subdivide_request(request.body, limits);
         if (!decoded) return error_response(std::move(decoded.error()));
         params = std::move(decoded->params);
         if (auto error = check_params(params, limits, source)) return error_response(std::move(*error));
         mesh = std::move(decoded->mesh);
     } else {
-        const auto format = mesh_format_for(media_type, request.body);
-        if (!format) {
-            const std::string detail =
-                media_type == "application/octet-stream"
-                    ? "could not recognise the mesh format from the content; send a specific Content-Type (" +
-                          accepted_mesh_media_types() + ")"
-                    : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_mesh_media_types();
-            return error_response(make_problem(Problem::UnsupportedMediaType, detail));
+        if (!mesh_format_for(media_type, request.body)) {
+            auto refused = read_uploaded_mesh(request, media_type, limits);  // the 415, worded in one place
+            return error_response(std::move(refused.error()));
         }
         auto query_params = params_from_query(request.query);
         if (!query_params) return error_response(std::move(query_params.error()));
         params = std::move(query_params.value());
         if (auto error = check_params(params, limits, source)) return error_response(std::move(*error));
-        ReadOptions read_options;
-        read_options.max_vertices = static_cast<std::size_t>(limits.max_input_vertices);
-        read_options.max_faces = static_cast<std::size_t>(limits.max_input_faces);
-        auto read = read_mesh(request.body, *format, read_options);
-        if (!read) return error_response(geometry_error(read.error(), source));
+        auto read = read_uploaded_mesh(request, media_type, limits);
+        if (!read) return error_response(std::move(read.error()));
         mesh = std::move(read.value());
     }
     const auto t_decoded = Clock::now();
 
     // 3. input budget and validity (readers enforce their own limits; this covers every source the same way)
-    if (mesh.face_count() > limits.max_input_faces || mesh.vertex_count() > limits.max_input_vertices)
-        return error_response(make_problem(Problem::BudgetExceeded,
-                                           "the mesh has " + std::to_string(mesh.vertex_count()) + " vertices and " +
-                                               std::to_string(mesh.face_count()) + " faces; the limits are " +
-                                               std::to_string(limits.max_input_vertices) + " and " +
-                                               std::to_string(limits.max_input_faces)));
+    if (auto error = check_input_budget(mesh, limits)) return error_response(std::move(*error));
     if (auto valid = validate(mesh); !valid) return error_response(geometry_error(valid.error(), source));
 
     // 4. options, and the predicted output against the budget, before refining anything
@@ -269,37 +207,12 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.elapsed_ms = ms_between(t_start, t_refined);
 
     // 6. encode
-    const OutputOptions& out = params.output;
-    const bool normals = out.normals.value_or(false);
     ApiResponse response;
-    response.content_type = std::string(output_media_type(out.format));
-    switch (out.format) {
-        case OutputFormat::Glb:
-        case OutputFormat::Gltf: {
-            GltfOptions gltf;
-            gltf.draco = out.draco.value_or(true);
-            if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
-            gltf.normals = normals;
-            auto encoded = out.format == OutputFormat::Glb ? write_glb(result, gltf) : write_gltf(result, gltf);
-            if (!encoded) return error_response(geometry_error(encoded.error(), source));
-            response.body = std::move(encoded.value());
-            break;
-        }
-        case OutputFormat::Obj: {
-            ObjWriteOptions obj;
-            obj.write_normals = normals;
-            if (normals && !result.has_normals()) result.normals = compute_vertex_normals(result);
-            response.body = write_obj(result, obj);
-            break;
-        }
-        case OutputFormat::Ply:
-            // write_ply writes normals exactly when the mesh has them.
-            if (normals && !result.has_normals()) result.normals = compute_vertex_normals(result);
-            if (!normals) result.normals.clear();
-            response.body = write_ply(result);
-            break;
-        case OutputFormat::Json: response.body = encode_mesh_response(result, stats); break;
-    }
+    response.content_type = std::string(output_media_type(params.output.format));
+    auto encoded = encode_mesh_output(result, params.output, source,
+                                      [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); });
+    if (!encoded) return error_response(std::move(encoded.error()));
+    response.body = std::move(encoded.value());
     const auto t_encoded = Clock::now();
 
     response.headers = {
