@@ -233,6 +233,55 @@ void append_number(std::string& out, std::uint64_t value) {
     out.append(buf, result.ptr);
 }
 
+//! "mesh":{"positions":[...],"faces":[...]} (plus "uvs" and "uv_faces" when the mesh has texture coordinates),
+//! doubles in shortest round-trip form.
+void append_mesh(std::string& out, const PolygonMesh& mesh) {
+    out += "\"mesh\":{\"positions\":[";
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3& p = mesh.positions[v];
+        out += v == 0 ? "[" : ",[";
+        append_number(out, p.x);
+        out += ',';
+        append_number(out, p.y);
+        out += ',';
+        append_number(out, p.z);
+        out += ']';
+    }
+    out += "],\"faces\":[";
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        out += f == 0 ? "[" : ",[";
+        bool first = true;
+        for (Index i : mesh.face(f)) {
+            if (!first) out += ',';
+            first = false;
+            append_number(out, static_cast<std::uint64_t>(i));
+        }
+        out += ']';
+    }
+    out += ']';
+    if (mesh.has_uvs()) {
+        out += ",\"uvs\":[";
+        for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
+            out += i == 0 ? "[" : ",[";
+            append_number(out, mesh.uvs[i].x);
+            out += ',';
+            append_number(out, mesh.uvs[i].y);
+            out += ']';
+        }
+        out += "],\"uv_faces\":[";
+        for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+            out += f == 0 ? "[" : ",[";
+            for (Index i = mesh.face_offsets[f]; i < mesh.face_offsets[f + 1]; ++i) {
+                if (i != mesh.face_offsets[f]) out += ',';
+                append_number(out, static_cast<std::uint64_t>(mesh.uv_indices[i]));
+            }
+            out += ']';
+        }
+        out += ']';
+    }
+    out += '}';
+}
+
 }  // namespace
 
 ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& limits, std::string_view path) {
@@ -318,50 +367,9 @@ std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& 
     std::string out;
     // About 20 bytes per coordinate and 8 per index: one allocation for typical meshes.
     out.reserve(64 + mesh.positions.size() * 60 + mesh.face_indices.size() * 8 + mesh.face_count() * 4);
-    out += "{\"mesh\":{\"positions\":[";
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-        const Vec3& p = mesh.positions[v];
-        out += v == 0 ? "[" : ",[";
-        append_number(out, p.x);
-        out += ',';
-        append_number(out, p.y);
-        out += ',';
-        append_number(out, p.z);
-        out += ']';
-    }
-    out += "],\"faces\":[";
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        out += f == 0 ? "[" : ",[";
-        bool first = true;
-        for (Index i : mesh.face(f)) {
-            if (!first) out += ',';
-            first = false;
-            append_number(out, static_cast<std::uint64_t>(i));
-        }
-        out += ']';
-    }
-    out += ']';
-    if (mesh.has_uvs()) {
-        out += ",\"uvs\":[";
-        for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
-            out += i == 0 ? "[" : ",[";
-            append_number(out, mesh.uvs[i].x);
-            out += ',';
-            append_number(out, mesh.uvs[i].y);
-            out += ']';
-        }
-        out += "],\"uv_faces\":[";
-        for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-            out += f == 0 ? "[" : ",[";
-            for (Index i = mesh.face_offsets[f]; i < mesh.face_offsets[f + 1]; ++i) {
-                if (i != mesh.face_offsets[f]) out += ',';
-                append_number(out, static_cast<std::uint64_t>(mesh.uv_indices[i]));
-            }
-            out += ']';
-        }
-        out += ']';
-    }
-    out += "},\"stats\":{\"input_vertices\":";
+    out += '{';
+    append_mesh(out, mesh);
+    out += ",\"stats\":{\"input_vertices\":";
     append_number(out, static_cast<std::uint64_t>(stats.input_vertices));
     out += ",\"input_faces\":";
     append_number(out, static_cast<std::uint64_t>(stats.input_faces));
@@ -433,35 +441,15 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
 std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStats& stats) {
     std::string out;
     out.reserve(256 + mesh.positions.size() * 60 + mesh.face_indices.size() * 8 + mesh.face_count() * 4);
-    out += "{\"mesh\":{\"positions\":[";
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-        const Vec3& p = mesh.positions[v];
-        out += v == 0 ? "[" : ",[";
-        append_number(out, p.x);
-        out += ',';
-        append_number(out, p.y);
-        out += ',';
-        append_number(out, p.z);
-        out += ']';
-    }
-    out += "],\"faces\":[";
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        out += f == 0 ? "[" : ",[";
-        bool first = true;
-        for (Index i : mesh.face(f)) {
-            if (!first) out += ',';
-            first = false;
-            append_number(out, static_cast<std::uint64_t>(i));
-        }
-        out += ']';
-    }
+    out += '{';
+    append_mesh(out, mesh);
     const auto member = [&](const char* name, auto value) {
         out += ",\"";
         out += name;
         out += "\":";
         append_number(out, value);
     };
-    out += "]},\"stats\":{\"input_vertices\":";
+    out += ",\"stats\":{\"input_vertices\":";
     append_number(out, static_cast<std::uint64_t>(stats.input_vertices));
     member("input_faces", static_cast<std::uint64_t>(stats.input_faces));
     member("output_vertices", static_cast<std::uint64_t>(stats.output_vertices));

@@ -101,6 +101,29 @@ ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string&
                         name);
 }
 
+ApiResult<bool> parse_output_parameter(const std::string& name, const std::string& text, OutputOptions& out) {
+    if (name == "format") {
+        auto v = parse_enum_parameter(name, text, kOutputFormatNames);
+        if (!v) return std::move(v.error());
+        out.format = v.value();
+    } else if (name == "compression") {
+        auto v = parse_enum_parameter(name, text, kCompressionNames);
+        if (!v) return std::move(v.error());
+        out.draco = v.value();
+    } else if (name == "quantize_position") {
+        auto v = parse_integer_parameter(name, text);
+        if (!v) return std::move(v.error());
+        out.quantize_position = v.value();
+    } else if (name == "normals") {
+        auto v = parse_bool_parameter(name, text);
+        if (!v) return std::move(v.error());
+        out.normals = v.value();
+    } else {
+        return false;
+    }
+    return true;
+}
+
 std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type) {
     if (request.body.size() > limits.max_body_bytes)
         return make_problem(Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +

@@ -82,6 +82,10 @@ ApiResult<std::string> encode_mesh_output(PolygonMesh& mesh, const OutputOptions
     if (out.format == OutputFormat::Json) return encode_json(mesh);
     return encode_mesh_file(mesh, out, source);
 }
+//! The output options as query parameters (format, compression, quantize_position, normals): true when `name` was one
+//! of them (and is now in `out`), false when it is not an output option.
+ApiResult<bool> parse_output_parameter(const std::string& name, const std::string& text, OutputOptions& out);
+
 //! Runs an operation body; anything escaping it (a bug, or memory exhaustion) becomes a 500 envelope, so that the
 //! Operation contract "never throws" holds.
 template <class F>

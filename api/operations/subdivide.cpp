@@ -66,22 +66,9 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
             auto v = parse_enum_parameter(name, text, kBoundaryNames);
             if (!v) return std::move(v.error());
             params.boundary = v.value();
-        } else if (name == "format") {
-            auto v = parse_enum_parameter(name, text, kOutputFormatNames);
-            if (!v) return std::move(v.error());
-            params.output.format = v.value();
-        } else if (name == "compression") {
-            auto v = parse_enum_parameter(name, text, kCompressionNames);
-            if (!v) return std::move(v.error());
-            params.output.draco = v.value();
-        } else if (name == "quantize_position") {
-            auto v = parse_integer_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.output.quantize_position = v.value();
-        } else if (name == "normals") {
-            auto v = parse_bool_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.output.normals = v.value();
+        } else {
+            auto output = parse_output_parameter(name, text, params.output);
+            if (!output) return std::move(output.error());
         }
     }
     return params;
