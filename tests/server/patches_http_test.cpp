@@ -1,4 +1,5 @@
-// GET /patches/teapot and POST /tessellate over real HTTP (ephemeral loopback port), and `surfaced tessellate`.
+// GET /patches/teapot, POST /tessellate, POST /curves and GET /openapi.json over real HTTP (ephemeral loopback
+// port), and `surfaced tessellate`.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -6,12 +7,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <random>
 #include <string>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "api/openapi.h"
 #include "geometry/io/bez.h"
 #include "server/http_server.h"
 #include "tests/support/gltf_validator.h"
@@ -132,6 +135,32 @@ TEST(TessellateCli, SampleAndFile) {
     EXPECT_EQ(run(cli + " tessellate sample:kettle -o " + glb.string() + " 2> /dev/null"), 1);
     std::error_code ec;
     fs::remove_all(dir, ec);
+}
+
+TEST_F(PatchesHttp, CurvesOverHttp) {
+    // the parabola (t, t^2): point at t = 1/2 and curvature 2 at the vertex
+    auto res = client().Post("/curves", R"({"points":[[0,0],[0.5,0],[1,1]],"evaluate":[0.5],"curvature":[0]})",
+                             "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    const auto json = nlohmann::json::parse(res->body);
+    EXPECT_EQ(json["evaluate"][0], nlohmann::json::parse("[0.5, 0.25]"));
+    EXPECT_NEAR(json["curvature"][0].get<double>(), 2.0, 1e-12);
+
+    auto bad = client().Post("/curves", R"({"evaluate":[0.5]})", "application/json");
+    ASSERT_TRUE(bad);
+    EXPECT_EQ(bad->status, 400);
+    EXPECT_EQ(bad->get_header_value("Content-Type"), "application/problem+json");
+    EXPECT_EQ(nlohmann::json::parse(bad->body).value("field", ""), "points");
+}
+
+TEST_F(PatchesHttp, OpenApiDocumentOverHttp) {
+    auto res = client().Get("/openapi.json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200);
+    EXPECT_EQ(res->get_header_value("Content-Type").rfind("application/json", 0), 0u);
+    EXPECT_EQ(res->body, api::openapi_document());
+    EXPECT_EQ(nlohmann::json::parse(res->body).value("openapi", ""), "3.1.0");
 }
 
 }  // namespace
