@@ -35,7 +35,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitFailed = 1;
 constexpr int kExitUsage = 2;
 
-constexpr std::string_view kMainHelp = R"(surfaced - geometry service: mesh subdivision over HTTP/JSON and on the command line
+constexpr std::string_view kMainHelp = R"(surfaced - geometry service: subdivision, Bezier patch tessellation and simplification over HTTP/JSON and on the command line
 
 Usage:
   surfaced serve [options]                    run the HTTP service
@@ -665,7 +665,7 @@ int run(int argc, char** argv) {
         if (command == "subdivide") return subdivide(args);
         if (command == "tessellate") return tessellate(args);
         if (command == "simplify") return simplify(args);
-        throw UsageError{"unknown command \"" + command + "\" (commands: serve, subdivide; see surfaced --help)"};
+        throw UsageError{"unknown command \"" + command + "\" (commands: serve, subdivide, tessellate, simplify; see surfaced --help)"};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";
         return kExitUsage;
