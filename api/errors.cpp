@@ -39,6 +39,7 @@ const char* title_for(ErrorCode code) {
         case ErrorCode::NonManifold: return "Non-manifold mesh";
         case ErrorCode::BudgetExceeded: return "Request exceeds a budget";
         case ErrorCode::Unsupported: return "Unsupported input";
+        case ErrorCode::Cancelled: return "Request cancelled";
         case ErrorCode::Internal: return "Internal error";
     }
     return "Internal error";
@@ -79,6 +80,8 @@ int http_status(ErrorCode code) {
         case ErrorCode::NonManifold:
         case ErrorCode::BudgetExceeded:
         case ErrorCode::Unsupported: return 422;
+        // The work was abandoned by its deadline or a shutdown: the request itself may succeed later or elsewhere.
+        case ErrorCode::Cancelled: return 503;
         case ErrorCode::Internal: return 500;
     }
     return 500;

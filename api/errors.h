@@ -19,6 +19,7 @@
 //        budget_exceeded (levels over the limit, input or *predicted output* over the face budget). We chose 422 over
 //        413 for budgets because the body itself was accepted; it is the work it asks for that is too large.
 //   500  internal (a bug)
+//   503  cancelled: the request's compute deadline passed or the server is shutting down (Retry-After is set)
 #pragma once
 
 #include <cstdint>

@@ -13,6 +13,7 @@ const char* to_string(ErrorCode code) {
         case ErrorCode::NonManifold: return "non_manifold";
         case ErrorCode::BudgetExceeded: return "budget_exceeded";
         case ErrorCode::Unsupported: return "unsupported";
+        case ErrorCode::Cancelled: return "cancelled";
         case ErrorCode::Internal: return "internal";
     }
     return "unknown";

@@ -20,6 +20,7 @@ enum class ErrorCode {
     NonManifold,       //!< topology the algorithm cannot handle
     BudgetExceeded,    //!< the work or output would exceed a configured limit
     Unsupported,       //!< a valid input using a feature we do not support
+    Cancelled,         //!< the caller's Cancel fired (deadline passed or abort requested); see core/cancel.h
     Internal,          //!< a bug: should never reach a user
 };
 
