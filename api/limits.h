@@ -24,6 +24,20 @@ struct Limits {
     //! predicted triangle count is checked against max_output_faces before tessellating.
     std::uint64_t max_patches = 100'000;
     int max_patch_segments = 256;
+    //! Implicit surfaces (POST /implicit/mesh, /implicit/query, /pointcloud sampling). Meshing grid cells
+    //! (resolution^3, or the finest level of the adaptive mode) are checked before any field is evaluated.
+    std::uint64_t max_grid_cells = std::uint64_t{256} * 256 * 256;
+    std::uint64_t max_scene_nodes = 10'000;        //!< nodes in one scene DAG (after expanding nothing: refs count once)
+    std::uint64_t max_expression_nodes = 10'000;   //!< nodes of one algebraic expression tree
+    int max_expression_depth = 64;                 //!< nesting depth of one expression
+    int max_fractal_iterations = 64;               //!< Mandelbulb / Menger iterations
+    std::uint64_t max_level_set_samples = std::uint64_t{256} * 256 * 256;  //!< uploaded level-set grid values
+    std::uint64_t max_query_points = 1'000'000;    //!< points + rays in one /implicit/query
+    int max_ray_steps = 10'000;                    //!< sphere-tracing steps per ray
+    std::uint64_t max_points = 10'000'000;         //!< points in one point cloud (input or sampled output)
+    //! Per-request compute deadline in milliseconds (0: none). Long work polls a surfaced::Cancel and stops with
+    //! 503 when it passes.
+    std::uint64_t compute_deadline_ms = 0;
 };
 
 }  // namespace surfaced::api
