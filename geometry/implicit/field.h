@@ -9,7 +9,7 @@ namespace surfaced::implicit {
 //! What a field's value promises about the distance to its zero set.
 enum class FieldKind {
     ExactDistance,  //!< |f(p)| is the Euclidean distance to the surface (sphere, box, translated/rotated ones, ...)
-    DistanceBound,  //!< |f(p)| <= distance; |f(p)-f(q)| <= lipschitz()*|p-q| with lipschitz() >= 1 (CSG, blends, ...)
+    DistanceBound,  //!< |f(p)-f(q)| <= lipschitz()*|p-q|, hence |f(p)|/lipschitz() <= distance (CSG, blends, level sets)
     General,        //!< only the sign is meaningful (algebraic expressions); lipschitz() is an estimate or +inf
 };
 

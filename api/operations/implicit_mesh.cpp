@@ -1,0 +1,228 @@
+#include "api/operations/implicit_mesh.h"
+
+#include <cmath>
+#include <string>
+
+#include "api/json_util.h"
+#include "api/operations/request_forms.h"
+#include "api/scene_codec.h"
+#include "geometry/implicit/mesh_field.h"
+
+namespace surfaced::api::operations {
+namespace {
+
+using json::Json;
+
+constexpr EnumName<implicit::MeshFieldMode> kModeNames[] = {
+    {"uniform", implicit::MeshFieldMode::Uniform},
+    {"adaptive", implicit::MeshFieldMode::Adaptive},
+};
+constexpr std::int64_t kDefaultResolution = 64;
+constexpr std::int64_t kMaxResolution = 65536;
+
+struct MeshRequest {
+    std::shared_ptr<const implicit::Field> field;
+    Box3 bounds;
+    implicit::MeshFieldOptions options;
+    bool cell_size_given = false;
+    OutputOptions output;
+};
+
+std::string grid_text(const implicit::MeshFieldGrid& grid) {
+    return std::to_string(grid.nx) + "x" + std::to_string(grid.ny) + "x" + std::to_string(grid.nz);
+}
+
+//! {"mesh": {"positions", "faces"}, "stats": {...}}
+std::string encode_json(const PolygonMesh& mesh, const implicit::MeshFieldStats& stats, double elapsed_ms) {
+    Json positions = Json::array(), faces = Json::array();
+    for (const Vec3& p : mesh.positions) positions.push_back({p.x, p.y, p.z});
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto face = mesh.face(f);
+        faces.push_back(Json::array({face[0], face[1], face[2]}));
+    }
+    Json out;
+    out["mesh"] = {{"positions", std::move(positions)}, {"faces", std::move(faces)}};
+    out["stats"] = {
+        {"grid", {stats.grid.nx, stats.grid.ny, stats.grid.nz}},
+        {"grid_cells", stats.grid.cells},
+        {"surface_cells", stats.surface_cells},
+        {"field_evaluations", stats.field_evaluations},
+        {"output_vertices", mesh.vertex_count()},
+        {"output_faces", mesh.face_count()},
+        {"elapsed_ms", elapsed_ms},
+    };
+    return out.dump();
+}
+
+ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
+    Json root;
+    if (auto error = json::parse(request.body, root)) return std::move(*error);
+    if (!root.is_object()) return json::invalid("", "the body must be a JSON object");
+    if (auto error = json::check_members(root, "", {"scene", "bounds", "resolution", "cell_size", "mode",
+                                                    "simplify_tolerance", "output"}))
+        return std::move(*error);
+    MeshRequest out;
+    if (!root.contains("scene")) return json::invalid("scene", "scene is required");
+    if (!root.contains("bounds")) return json::invalid("bounds", "bounds is required");
+    auto bounds = parse_bounds(root["bounds"], "bounds");
+    if (!bounds) return std::move(bounds.error());
+    out.bounds = bounds.value();
+
+    // grid size
+    if (root.contains("resolution") && root.contains("cell_size"))
+        return json::invalid("cell_size", "give either resolution or cell_size, not both");
+    out.options.resolution = static_cast<int>(kDefaultResolution);
+    if (root.contains("resolution")) {
+        auto resolution = json::read_integer(root["resolution"], "resolution");
+        if (!resolution) return std::move(resolution.error());
+        if (resolution.value() < 2 || resolution.value() > kMaxResolution)
+            return json::invalid("resolution", "resolution must be between 2 and " + std::to_string(kMaxResolution) +
+                                                   ", got " + std::to_string(resolution.value()));
+        out.options.resolution = static_cast<int>(resolution.value());
+    }
+    if (root.contains("cell_size")) {
+        auto cell_size = json::read_number(root["cell_size"], "cell_size");
+        if (!cell_size) return std::move(cell_size.error());
+        if (!(cell_size.value() > 0)) return json::invalid("cell_size", "cell_size must be > 0");
+        out.options.cell_size = cell_size.value();
+        out.cell_size_given = true;
+    }
+    if (root.contains("mode")) {
+        auto mode = json::read_enum(root["mode"], "mode", kModeNames);
+        if (!mode) return std::move(mode.error());
+        out.options.mode = mode.value();
+    }
+    if (root.contains("simplify_tolerance")) {
+        auto tolerance = json::read_number(root["simplify_tolerance"], "simplify_tolerance");
+        if (!tolerance) return std::move(tolerance.error());
+        if (!(tolerance.value() >= 0)) return json::invalid("simplify_tolerance", "simplify_tolerance must be >= 0");
+        if (tolerance.value() > 0 && out.options.mode != implicit::MeshFieldMode::Adaptive)
+            return json::invalid("simplify_tolerance", "simplify_tolerance applies only to mode \"adaptive\"");
+        out.options.simplify_tolerance = tolerance.value();
+    }
+    if (root.contains("output")) {
+        auto output = json::decode_output(root["output"]);
+        if (!output) return std::move(output.error());
+        out.output = output.value();
+    }
+    if (auto error = check_output_options(out.output, Source::Json)) return std::move(*error);
+
+    // the grid against the budget, before the scene is even parsed
+    const char* grid_field = out.cell_size_given ? "cell_size" : "resolution";
+    out.options.max_cells = limits.max_grid_cells;
+    auto grid = implicit::mesh_field_grid(out.bounds, out.options);
+    if (!grid) {
+        ApiError error = from_geo_error(grid.error());
+        error.field = grid_field;
+        if (grid.error().code == ErrorCode::BudgetExceeded)
+            error.detail += out.cell_size_given ? " (use a larger cell_size or smaller bounds)"
+                                                : " (use a lower resolution or smaller bounds)";
+        return error;
+    }
+
+    auto field = parse_scene(root["scene"], limits, "scene");
+    if (!field) return std::move(field.error());
+    out.field = std::move(field.value());
+    return out;
+}
+
+ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    const auto t_start = Clock::now();
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
+    if (media_type != "application/json")
+        return error_response(make_problem(Problem::UnsupportedMediaType,
+                                           (media_type.empty() ? std::string("a Content-Type is required")
+                                                               : "Content-Type \"" + media_type + "\" is not accepted") +
+                                               "; accepted: application/json"));
+    if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
+    auto decoded = decode(request, limits);
+    if (!decoded) return error_response(std::move(decoded.error()));
+    MeshRequest& req = decoded.value();
+    req.options.cancel = context.cancel;
+    const auto t_decoded = Clock::now();
+
+    implicit::MeshFieldStats stats;
+    auto meshed = implicit::mesh_field(*req.field, req.bounds, req.options, &stats);
+    if (!meshed) {
+        ApiError error = from_geo_error(meshed.error());
+        if (meshed.error().code == ErrorCode::BudgetExceeded || meshed.error().code == ErrorCode::InvalidArgument)
+            error.field = req.cell_size_given ? "cell_size" : "resolution";
+        return error_response(std::move(error));
+    }
+    PolygonMesh& mesh = meshed.value();
+    if (mesh.face_count() > limits.max_output_faces)
+        return error_response(make_problem(Problem::BudgetExceeded,
+                                           "the mesh has " + std::to_string(mesh.face_count()) +
+                                               " triangles; the limit is " + std::to_string(limits.max_output_faces) +
+                                               " (use a lower resolution)",
+                                           req.cell_size_given ? "cell_size" : "resolution"));
+    const auto t_meshed = Clock::now();
+
+    ApiResponse response;
+    response.content_type = std::string(output_media_type(req.output.format));
+    const double mesh_ms = ms_between(t_start, t_meshed);
+    auto encoded = encode_mesh_output(mesh, req.output, Source::Json, [&](const PolygonMesh& m) -> ApiResult<std::string> {
+        return encode_json(m, stats, mesh_ms);
+    });
+    if (!encoded) return error_response(std::move(encoded.error()));
+    response.body = std::move(encoded.value());
+    const auto t_encoded = Clock::now();
+    response.headers = {
+        {"X-Grid", grid_text(stats.grid)},
+        {"X-Grid-Cells", std::to_string(stats.grid.cells)},
+        {"X-Surface-Cells", std::to_string(stats.surface_cells)},
+        {"X-Field-Evaluations", std::to_string(stats.field_evaluations)},
+        {"X-Output-Vertices", std::to_string(mesh.vertex_count())},
+        {"X-Output-Faces", std::to_string(mesh.face_count())},
+        {"X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded))},
+        {"Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
+                              ", mesh;dur=" + format_ms(ms_between(t_decoded, t_meshed)) +
+                              ", encode;dur=" + format_ms(ms_between(t_meshed, t_encoded)) +
+                              ", total;dur=" + format_ms(ms_between(t_start, t_encoded))},
+    };
+    return response;
+}
+
+ApiResponse run_from_file(std::string_view file_json, const ImplicitMeshOverrides& overrides,
+                          const ApiContext& context) {
+    Json root;
+    if (auto error = json::parse(file_json, root)) return error_response(std::move(*error));
+    if (!root.is_object())
+        return error_response(json::invalid("", "the file must hold a JSON object {\"scene\": ..., \"bounds\": ...}"));
+    if (overrides.resolution || overrides.cell_size) {
+        root.erase("resolution");
+        root.erase("cell_size");
+    }
+    if (overrides.resolution) root["resolution"] = *overrides.resolution;
+    if (overrides.cell_size) root["cell_size"] = *overrides.cell_size;
+    if (overrides.mode) root["mode"] = *overrides.mode;
+    if (overrides.simplify_tolerance) root["simplify_tolerance"] = *overrides.simplify_tolerance;
+    const OutputOptions& out = overrides.output;
+    Json output = {{"format", std::string(enum_name(kOutputFormatNames, out.format))}};
+    if (out.draco) output["compression"] = std::string(enum_name(kCompressionNames, *out.draco));
+    if (out.quantize_position) output["quantize_position"] = *out.quantize_position;
+    if (out.normals) output["normals"] = *out.normals;
+    root["output"] = std::move(output);
+    const std::string body = root.dump();
+    ApiRequest request;
+    request.method = "POST";
+    request.path = "/implicit/mesh";
+    request.content_type = "application/json";
+    request.body = body;
+    return run(request, context);
+}
+
+}  // namespace
+
+ApiResponse implicit_mesh_from_file(std::string_view file_json, const ImplicitMeshOverrides& overrides,
+                                    const ApiContext& context) noexcept {
+    return guarded([&] { return run_from_file(file_json, overrides, context); });
+}
+
+ApiResponse implicit_mesh(const ApiRequest& request, const ApiContext& context) noexcept {
+    return guarded([&] { return run(request, context); });
+}
+
+}  // namespace surfaced::api::operations

@@ -1,0 +1,48 @@
+// POST /implicit/mesh: the zero level set of an implicit scene, inside given bounds, as a closed triangle mesh
+// (dual marching cubes with QEF vertices: geometry/implicit/mesh_field.h).
+//
+// Body (application/json only; query parameters are refused):
+//   {"scene": {...} (api/scene_codec.h), "bounds": [[xmin,ymin,zmin],[xmax,ymax,zmax]],
+//    "resolution": N (cells along the longest side, 2..; default 64) | "cell_size": h,
+//    "mode": "uniform" (default) | "adaptive", "simplify_tolerance": t (adaptive only; QEM to this Hausdorff
+//    distance; default 0: none), "output": {"format", "compression", "quantize_position", "normals"}}
+// Where the surface meets the bounds it is closed by flat caps on the bounds (the field counts as outside on and
+// beyond them), so the result is always watertight.
+// Order of checks, all before the field is evaluated: body size (413), media type (415), JSON and members (400),
+// resolution / cell_size / mode / output options (400), the grid's cell count against Limits::max_grid_cells (422
+// budget_exceeded, field "resolution" or "cell_size"), the scene and its own budgets (400/422 with the field path).
+// After meshing, a result above Limits::max_output_faces is 422 budget_exceeded (field "resolution"); a fired
+// compute deadline is 503.
+// Response headers: X-Grid (nx x ny x nz), X-Grid-Cells, X-Surface-Cells, X-Field-Evaluations, X-Output-Vertices,
+// X-Output-Faces, X-Elapsed-Ms, Server-Timing.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "api/dto.h"
+#include "api/operation.h"
+
+namespace surfaced::api::operations {
+
+ApiResponse implicit_mesh(const ApiRequest& request, const ApiContext& context) noexcept;
+
+//! Command-line options laid over a request file (`surfaced implicit SCENE.json -o OUT ...`). Unset members keep the
+//! file's value; `output` always replaces the file's (it follows OUT's extension).
+struct ImplicitMeshOverrides {
+    std::optional<std::int64_t> resolution;  //!< replaces the file's resolution / cell_size
+    std::optional<double> cell_size;         //!< replaces the file's resolution / cell_size
+    std::optional<std::string> mode;
+    std::optional<double> simplify_tolerance;
+    OutputOptions output;
+};
+
+//! `file_json` is a POST /implicit/mesh body ({"scene", "bounds", ...}); the overrides are merged into it and the
+//! result goes through implicit_mesh(), so the CLI and the service share one code path. A file that is not such a
+//! JSON object gets the operation's own 400 (invalid_json with the byte offset, or invalid_field).
+ApiResponse implicit_mesh_from_file(std::string_view file_json, const ImplicitMeshOverrides& overrides,
+                                    const ApiContext& context) noexcept;
+
+}  // namespace surfaced::api::operations

@@ -1,0 +1,197 @@
+// POST /implicit/query (see implicit_query.h): decode, check budgets, run geometry/implicit/query, encode.
+#include "api/operations/implicit_query.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "api/json_util.h"
+#include "api/scene_codec.h"
+#include "geometry/implicit/query.h"
+
+namespace surfaced::api::operations {
+namespace {
+
+using namespace json;  // the shared readers (api/json_util.h)
+
+ApiResult<Vec3> read_point(const Json& value, const std::string& field) {
+    if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be [x, y, z]");
+    Vec3 p;
+    for (std::size_t c = 0; c < 3; ++c) {
+        auto x = read_number(value[c], index_path(field, c));
+        if (!x) return std::move(x.error());
+        p[static_cast<int>(c)] = x.value();
+    }
+    return p;
+}
+
+Json vec(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+const char* kind_name(implicit::FieldKind kind) {
+    switch (kind) {
+        case implicit::FieldKind::ExactDistance: return "exact_distance";
+        case implicit::FieldKind::DistanceBound: return "distance_bound";
+        case implicit::FieldKind::General: return "general";
+    }
+    return "general";
+}
+
+ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    if (request.body.size() > limits.max_body_bytes)
+        return error_response(make_problem(Problem::PayloadTooLarge,
+                                           "request body is " + std::to_string(request.body.size()) +
+                                               " bytes; the limit is " + std::to_string(limits.max_body_bytes)));
+    std::string_view type = std::string_view(request.content_type).substr(0, request.content_type.find(';'));
+    while (!type.empty() && type.back() == ' ') type.remove_suffix(1);
+    if (type != "application/json")
+        return error_response(make_problem(Problem::UnsupportedMediaType, "POST /implicit/query takes application/json"));
+    if (!request.query.empty())
+        return error_response(make_problem(Problem::UnknownParameter,
+                                           "query parameters are not accepted (options go in the body), got \"" +
+                                               request.query.begin()->first + "\"",
+                                           request.query.begin()->first));
+    Json root;
+    if (auto error = parse(request.body, root)) return error_response(std::move(*error));
+    if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
+    if (auto error = check_members(root, "", {"scene", "points", "tolerance", "rays", "max_distance", "max_steps"}))
+        return error_response(std::move(*error));
+
+    // Budgets and shapes first, before the scene is built or evaluated.
+    const auto points_it = root.find("points");
+    const auto rays_it = root.find("rays");
+    if (points_it != root.end() && !points_it->is_array())
+        return error_response(invalid("points", "points must be an array of [x, y, z]"));
+    if (rays_it != root.end() && !rays_it->is_array())
+        return error_response(invalid("rays", R"(rays must be an array of {"origin": [x, y, z], "direction": [x, y, z]})"));
+    const std::size_t point_count = points_it == root.end() ? 0 : points_it->size();
+    const std::size_t ray_count = rays_it == root.end() ? 0 : rays_it->size();
+    if (point_count == 0 && ray_count == 0)
+        return error_response(invalid("points", "give at least one of points and rays"));
+    if (point_count + ray_count > limits.max_query_points)
+        return error_response(make_problem(Problem::BudgetExceeded,
+                                           std::to_string(point_count) + " points + " + std::to_string(ray_count) +
+                                               " rays; the limit is " + std::to_string(limits.max_query_points) +
+                                               " in one request",
+                                           point_count > ray_count ? "points" : "rays"));
+    implicit::RayOptions ray_options;
+    ray_options.max_steps = std::min(1000, limits.max_ray_steps);
+    ray_options.cancel = context.cancel;
+    if (auto it = root.find("max_steps"); it != root.end()) {
+        auto n = read_integer(*it, "max_steps");
+        if (!n) return error_response(std::move(n.error()));
+        if (n.value() < 1) return error_response(invalid("max_steps", "max_steps must be >= 1"));
+        if (n.value() > limits.max_ray_steps)
+            return error_response(make_problem(Problem::BudgetExceeded,
+                                               "max_steps is " + std::to_string(n.value()) + "; the limit is " +
+                                                   std::to_string(limits.max_ray_steps),
+                                               "max_steps"));
+        ray_options.max_steps = static_cast<int>(n.value());
+    }
+    if (auto it = root.find("max_distance"); it != root.end()) {
+        auto d = read_number(*it, "max_distance");
+        if (!d) return error_response(std::move(d.error()));
+        if (!(d.value() > 0)) return error_response(invalid("max_distance", "max_distance must be > 0"));
+        ray_options.max_distance = d.value();
+    }
+    implicit::PointQueryOptions point_options;
+    point_options.cancel = context.cancel;
+    if (auto it = root.find("tolerance"); it != root.end()) {
+        auto t = read_number(*it, "tolerance");
+        if (!t) return error_response(std::move(t.error()));
+        if (t.value() < 0) return error_response(invalid("tolerance", "tolerance must be >= 0"));
+        point_options.tolerance = t.value();
+    }
+
+    std::vector<Vec3> points;
+    points.reserve(point_count);
+    for (std::size_t i = 0; i < point_count; ++i) {
+        auto p = read_point((*points_it)[i], index_path("points", i));
+        if (!p) return error_response(std::move(p.error()));
+        points.push_back(p.value());
+    }
+    std::vector<implicit::Ray> rays;
+    rays.reserve(ray_count);
+    for (std::size_t i = 0; i < ray_count; ++i) {
+        const std::string path = index_path("rays", i);
+        const Json& r = (*rays_it)[i];
+        if (!r.is_object())
+            return error_response(invalid(path, path + R"( must be {"origin": [x, y, z], "direction": [x, y, z]})"));
+        if (auto error = check_members(r, path, {"origin", "direction"})) return error_response(std::move(*error));
+        if (!r.contains("origin")) return error_response(invalid(path + ".origin", path + ".origin is required"));
+        if (!r.contains("direction"))
+            return error_response(invalid(path + ".direction", path + ".direction is required"));
+        auto o = read_point(r["origin"], path + ".origin");
+        if (!o) return error_response(std::move(o.error()));
+        auto d = read_point(r["direction"], path + ".direction");
+        if (!d) return error_response(std::move(d.error()));
+        const double n = norm(d.value());
+        if (!(n > 0) || !std::isfinite(n))
+            return error_response(geometry_error(ErrorCode::InvalidArgument, path + ".direction",
+                                                 path + ".direction must be a non-zero vector"));
+        rays.push_back({o.value(), d.value()});
+    }
+
+    const auto scene_it = root.find("scene");
+    if (scene_it == root.end()) return error_response(invalid("scene", "scene is required (a scene node)"));
+    auto scene = parse_scene(*scene_it, limits, "scene");
+    if (!scene) return error_response(std::move(scene.error()));
+    const implicit::Field& field = *scene.value();
+
+    Json out = {{"kind", kind_name(field.kind())}};
+    const double lipschitz = field.lipschitz();
+    out["lipschitz"] = std::isfinite(lipschitz) ? Json(lipschitz) : Json(nullptr);
+    if (points_it != root.end()) {
+        auto samples = implicit::query_points(field, points, point_options);
+        if (!samples) return error_response(from_geo_error(samples.error()));
+        Json list = Json::array();
+        for (const auto& s : samples.value()) {
+            Json item = {{"class", implicit::to_string(s.cls)}};
+            item["value"] = std::isfinite(s.value) ? Json(s.value) : Json(nullptr);
+            item["gradient"] = is_finite(s.gradient) ? vec(s.gradient) : Json(nullptr);
+            list.push_back(std::move(item));
+        }
+        out["points"] = std::move(list);
+    }
+    if (rays_it != root.end()) {
+        auto hits = implicit::cast_rays(field, rays, ray_options);
+        if (!hits) {
+            ApiError error = from_geo_error(hits.error());
+            if (hits.error().element >= 0) error.field = index_path("rays", static_cast<std::size_t>(hits.error().element));
+            return error_response(std::move(error));
+        }
+        Json list = Json::array();
+        for (const auto& h : hits.value()) {
+            Json item = {{"hit", h.hit}};
+            if (h.hit) {
+                item["t"] = h.t;
+                item["point"] = vec(h.point);
+                item["normal"] = vec(h.normal);
+            }
+            item["steps"] = h.steps;
+            list.push_back(std::move(item));
+        }
+        out["rays"] = std::move(list);
+    }
+    ApiResponse response;
+    response.content_type = "application/json";
+    response.body = out.dump(-1, ' ', false, Json::error_handler_t::replace);
+    return response;
+}
+
+}  // namespace
+
+ApiResponse implicit_query(const ApiRequest& request, const ApiContext& context) noexcept {
+    try {
+        return run(request, context);
+    } catch (const std::bad_alloc&) {
+        return error_response(make_problem(Problem::Internal, "out of memory while answering the query"));
+    } catch (const std::exception& e) {
+        return error_response(make_problem(Problem::Internal, std::string("unexpected error: ") + e.what()));
+    }
+}
+
+}  // namespace surfaced::api::operations
