@@ -95,6 +95,9 @@ const Case kCases[] = {
     {"ply_property_before_element.ply", ErrorCode::ParseError, "line 3: property before any element"},
     {"ply_missing_z.ply", ErrorCode::ParseError, "line 3: vertex element has no 'z' property"},
     {"ply_no_faces.ply", ErrorCode::ParseError, "line 9: no faces"},
+    // found by fuzz_ply: a property-less element with a huge count made the ascii reader loop 10^15 times
+    {"ply_element_without_properties.ply", ErrorCode::ParseError,
+     "line 3: element 'junk' declares 666666666666666 items but no properties"},
     {"ply_float_list_count.ply", ErrorCode::ParseError, "line 8: list count type 'float' is not an integer type"},
     {"ply_ascii_truncated.ply", ErrorCode::ParseError, "line 13: unexpected end of file in 'face' element 1 of 2"},
     {"ply_ascii_nan.ply", ErrorCode::NonFinite, "line 11: vertex 1 has a non-finite coordinate"},

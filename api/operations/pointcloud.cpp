@@ -1,0 +1,385 @@
+// POST /pointcloud (see pointcloud.h): decode (file, JSON points or a sampling request), check budgets, sample /
+// estimate normals, encode (GLB POINTS, PLY, JSON).
+#include "api/operations/pointcloud.h"
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "api/json_codec.h"
+#include "api/json_util.h"
+#include "api/operations/request_forms.h"
+#include "api/scene_codec.h"
+#include "geometry/io/pointcloud_glb.h"
+#include "geometry/io/pointcloud_io.h"
+#include "geometry/pointcloud/normals.h"
+#include "geometry/pointcloud/sampling.h"
+
+namespace surfaced::api::operations {
+namespace {
+
+using namespace json;  // the shared readers (api/json_util.h)
+
+constexpr std::int64_t kMinK = 3, kMaxK = 256, kDefaultK = 16;
+
+struct Params {
+    std::optional<std::int64_t> k;  //!< set: estimate normals with k neighbours
+    OutputOptions output;
+};
+
+//! A GeoError about point i names "points[i]" in a JSON request (the mesh mapping in geometry_error would say
+//! mesh.positions).
+ApiError point_error(const GeoError& error, Source source, const char* array = "points") {
+    ApiError out = from_geo_error(error);
+    if (source == Source::Json && error.element >= 0 && error.element_kind == ElementKind::Vertex)
+        out.field = std::string(array) + "[" + std::to_string(error.element) + "]";
+    return out;
+}
+
+std::optional<ApiError> check_k(std::int64_t k, const std::string& field) {
+    if (k < kMinK || k > kMaxK)
+        return make_problem(Problem::InvalidField,
+                            field + " must be in " + std::to_string(kMinK) + ".." + std::to_string(kMaxK) + ", got " +
+                                std::to_string(k),
+                            field);
+    return std::nullopt;
+}
+
+std::optional<ApiError> check_output(const OutputOptions& out, Source source) {
+    if (out.format == OutputFormat::Gltf || out.format == OutputFormat::Obj)
+        return make_problem(Problem::InvalidField,
+                            "point clouds are written as \"glb\", \"ply\" or \"json\", not \"" +
+                                std::string(enum_name(kOutputFormatNames, out.format)) + "\"",
+                            source == Source::Json ? "output.format" : "format");
+    OutputOptions shared = out;
+    shared.normals.reset();  // the mesh rule "no normals in JSON" does not apply: point JSON carries them
+    return check_output_options(shared, source);
+}
+
+ApiResult<Vec3> read_vec3(const Json& value, const std::string& field) {
+    if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be [x, y, z]");
+    Vec3 p;
+    for (std::size_t c = 0; c < 3; ++c) {
+        auto x = read_number(value[c], index_path(field, c));
+        if (!x) return std::move(x.error());
+        p[static_cast<int>(c)] = x.value();
+    }
+    return p;
+}
+
+//! "points", "normals", "colors" of a JSON request.
+ApiResult<PointCloud> decode_points(const Json& root, const Limits& limits) {
+    const Json& points = root["points"];
+    if (!points.is_array() || points.empty()) return invalid("points", "points must be a non-empty array of [x, y, z]");
+    if (points.size() > limits.max_points)
+        return make_problem(Problem::BudgetExceeded,
+                            std::to_string(points.size()) + " points; the limit is " + std::to_string(limits.max_points),
+                            "points");
+    PointCloud cloud;
+    cloud.positions.reserve(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        auto p = read_vec3(points[i], index_path("points", i));
+        if (!p) return std::move(p.error());
+        cloud.positions.push_back(p.value());
+    }
+    if (auto it = root.find("normals"); it != root.end()) {
+        if (!it->is_array() || it->size() != points.size())
+            return invalid("normals", "normals must be an array with one [nx, ny, nz] per point (" +
+                                          std::to_string(points.size()) + ")");
+        cloud.normals.reserve(points.size());
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            const std::string field = index_path("normals", i);
+            auto n = read_vec3((*it)[i], field);
+            if (!n) return std::move(n.error());
+            const double len = norm(n.value());
+            if (!(len > 0)) return invalid(field, field + " has zero length");
+            cloud.normals.push_back(n.value() * (1.0 / len));
+        }
+    }
+    if (auto it = root.find("colors"); it != root.end()) {
+        if (!it->is_array() || it->size() != points.size())
+            return invalid("colors", "colors must be an array with one [r, g, b] or [r, g, b, a] per point (" +
+                                         std::to_string(points.size()) + ")");
+        cloud.colors.reserve(points.size());
+        std::size_t arity = 0;
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            const std::string field = index_path("colors", i);
+            const Json& c = (*it)[i];
+            if (!c.is_array() || (c.size() != 3 && c.size() != 4))
+                return invalid(field, field + " must be [r, g, b] or [r, g, b, a] with channels in 0..1");
+            if (arity == 0) arity = c.size();
+            if (c.size() != arity)
+                return invalid(field, field + " has " + std::to_string(c.size()) + " channels, colors[0] has " +
+                                          std::to_string(arity));
+            float channels[4] = {0, 0, 0, 1};
+            for (std::size_t k = 0; k < c.size(); ++k) {
+                auto v = read_number(c[k], index_path(field, k));
+                if (!v) return std::move(v.error());
+                if (!(v.value() >= 0 && v.value() <= 1))
+                    return invalid(index_path(field, k), index_path(field, k) + " must be in 0..1");
+                channels[k] = static_cast<float>(v.value());
+            }
+            cloud.colors.push_back({channels[0], channels[1], channels[2], channels[3]});
+        }
+        cloud.has_alpha = arity == 4;
+    }
+    return cloud;
+}
+
+//! "sample": {"mesh" | "scene" + "bounds", "count", "seed"}: budgets first, then the sampling.
+ApiResult<PointCloud> run_sampling(const Json& sample, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    if (!sample.is_object())
+        return invalid("sample", R"(sample must be an object {"mesh" or "scene", "bounds", "count", "seed"})");
+    if (auto error = check_members(sample, "sample", {"mesh", "scene", "bounds", "count", "seed"})) return std::move(*error);
+    const bool has_mesh = sample.contains("mesh"), has_scene = sample.contains("scene");
+    if (has_mesh == has_scene) return invalid("sample", "sample needs exactly one of \"mesh\" and \"scene\"");
+    if (!sample.contains("count")) return invalid("sample.count", "sample.count (the number of points) is required");
+    auto count = read_integer(sample["count"], "sample.count");
+    if (!count) return std::move(count.error());
+    if (count.value() < 1) return invalid("sample.count", "sample.count must be >= 1");
+    if (static_cast<std::uint64_t>(count.value()) > limits.max_points)
+        return make_problem(Problem::BudgetExceeded,
+                            "sample.count " + std::to_string(count.value()) + " is over the limit of " +
+                                std::to_string(limits.max_points) + " points",
+                            "sample.count");
+    std::uint64_t seed = 1;
+    if (auto it = sample.find("seed"); it != sample.end()) {
+        auto s = read_integer(*it, "sample.seed");
+        if (!s) return std::move(s.error());
+        if (s.value() < 0) return invalid("sample.seed", "sample.seed must be >= 0");
+        seed = static_cast<std::uint64_t>(s.value());
+    }
+
+    if (has_mesh) {
+        if (sample.contains("bounds")) return invalid("sample.bounds", "sample.bounds applies only to a scene");
+        auto mesh = decode_mesh(sample["mesh"].dump(), limits, "sample.mesh");
+        if (!mesh) return std::move(mesh.error());
+        if (auto error = check_input_budget(mesh.value(), limits)) return std::move(*error);
+        MeshSamplingOptions options;
+        options.count = static_cast<std::size_t>(count.value());
+        options.seed = seed;
+        options.cancel = context.cancel;
+        auto sampled = sample_mesh(mesh.value(), options);
+        if (!sampled) {
+            ApiError error = geometry_error(sampled.error(), Source::Json);
+            if (error.field) error.field = "sample." + *error.field;
+            else error.field = "sample.mesh";
+            return error;
+        }
+        return std::move(sampled.value());
+    }
+    if (!sample.contains("bounds")) return invalid("sample.bounds", "sample.bounds [[xmin,ymin,zmin],[xmax,ymax,zmax]] is required with a scene");
+    auto bounds = parse_bounds(sample["bounds"], "sample.bounds");
+    if (!bounds) return std::move(bounds.error());
+    auto field = parse_scene(sample["scene"], limits, "sample.scene");
+    if (!field) return std::move(field.error());
+    FieldSamplingOptions options;
+    options.count = static_cast<std::size_t>(count.value());
+    options.seed = seed;
+    options.cancel = context.cancel;
+    auto sampled = sample_field(*field.value(), bounds.value(), options);
+    if (!sampled) {
+        ApiError error = from_geo_error(sampled.error());
+        if (sampled.error().code == ErrorCode::InvalidArgument) error.field = "sample.scene";
+        return error;
+    }
+    return std::move(sampled.value());
+}
+
+ApiResult<Params> params_from_query(const std::multimap<std::string, std::string>& query) {
+    if (auto error = check_query_names(query, {"estimate_normals", "k", "format", "compression", "quantize_position",
+                                                "normals"}))
+        return std::move(*error);
+    Params params;
+    bool estimate = false;
+    std::optional<std::int64_t> k;
+    for (const auto& [name, text] : query) {
+        if (name == "estimate_normals") {
+            auto v = parse_bool_parameter(name, text);
+            if (!v) return std::move(v.error());
+            estimate = v.value();
+        } else if (name == "k") {
+            auto v = parse_integer_parameter(name, text);
+            if (!v) return std::move(v.error());
+            if (auto error = check_k(v.value(), "k")) return std::move(*error);
+            k = v.value();
+        } else {
+            auto output = parse_output_parameter(name, text, params.output);
+            if (!output) return std::move(output.error());
+        }
+    }
+    if (k && !estimate) return make_problem(Problem::InvalidField, "k applies only with estimate_normals=true", "k");
+    if (estimate) params.k = k.value_or(kDefaultK);
+    return params;
+}
+
+ApiResult<Params> params_from_json(const Json& root) {
+    Params params;
+    if (auto it = root.find("estimate_normals"); it != root.end()) {
+        if (it->is_boolean()) {
+            if (it->get<bool>()) params.k = kDefaultK;
+        } else if (it->is_object()) {
+            if (auto error = check_members(*it, "estimate_normals", {"k"})) return std::move(*error);
+            params.k = kDefaultK;
+            if (auto k = it->find("k"); k != it->end()) {
+                auto v = read_integer(*k, "estimate_normals.k");
+                if (!v) return std::move(v.error());
+                if (auto error = check_k(v.value(), "estimate_normals.k")) return std::move(*error);
+                params.k = v.value();
+            }
+        } else {
+            return invalid("estimate_normals", R"(estimate_normals must be a boolean or {"k": 3..256})");
+        }
+    }
+    if (auto it = root.find("output"); it != root.end()) {
+        auto output = decode_output(*it);
+        if (!output) return std::move(output.error());
+        params.output = output.value();
+    }
+    return params;
+}
+
+std::string encode_json(const PointCloud& cloud, double elapsed_ms) {
+    Json out = Json::object();
+    Json points = Json::array();
+    for (const Vec3& p : cloud.positions) points.push_back(Json::array({p.x, p.y, p.z}));
+    out["points"] = std::move(points);
+    if (cloud.has_normals()) {
+        Json list = Json::array();
+        for (const Vec3& n : cloud.normals) list.push_back(Json::array({n.x, n.y, n.z}));
+        out["normals"] = std::move(list);
+    }
+    if (cloud.has_colors()) {
+        Json list = Json::array();
+        for (const Color& c : cloud.colors) {
+            Json rgb = Json::array({c.r, c.g, c.b});
+            if (cloud.has_alpha) rgb.push_back(c.a);
+            list.push_back(std::move(rgb));
+        }
+        out["colors"] = std::move(list);
+    }
+    out["stats"] = {{"points", cloud.size()}, {"elapsed_ms", elapsed_ms}};
+    return out.dump();
+}
+
+ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    const auto t_start = Clock::now();
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
+
+    Source source = Source::File;
+    Params params;
+    PointCloud cloud;
+    std::size_t input_points = 0;
+    if (media_type == "application/json") {
+        source = Source::Json;
+        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
+        Json root;
+        if (auto error = parse(request.body, root)) return error_response(std::move(*error));
+        if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
+        if (auto error = check_members(root, "", {"points", "normals", "colors", "sample", "estimate_normals", "output"}))
+            return error_response(std::move(*error));
+        auto decoded_params = params_from_json(root);
+        if (!decoded_params) return error_response(std::move(decoded_params.error()));
+        params = std::move(decoded_params.value());
+        if (auto error = check_output(params.output, source)) return error_response(std::move(*error));
+        const bool has_points = root.contains("points"), has_sample = root.contains("sample");
+        if (has_points == has_sample)
+            return error_response(invalid("points", "give exactly one of \"points\" and \"sample\""));
+        if (has_sample && (root.contains("normals") || root.contains("colors")))
+            return error_response(invalid(root.contains("normals") ? "normals" : "colors",
+                                          "normals and colors go with \"points\", not with \"sample\""));
+        auto points = has_points ? decode_points(root, limits) : run_sampling(root["sample"], context);
+        if (!points) return error_response(std::move(points.error()));
+        cloud = std::move(points.value());
+        input_points = has_points ? cloud.size() : 0;
+    } else {
+        std::optional<PointFormat> format = point_format_from_media_type(media_type);
+        if (!format && (media_type == "application/octet-stream" || media_type == "text/plain"))
+            format = sniff_point_format(request.body);
+        if (!format)
+            return error_response(make_problem(
+                Problem::UnsupportedMediaType,
+                media_type == "application/octet-stream" || media_type == "text/plain"
+                    ? "could not recognise the point format from the content; send Content-Type application/json, "
+                      "application/ply, model/obj or text/x-xyz"
+                    : "Content-Type \"" + media_type +
+                          "\" is not accepted; accepted: application/json, application/ply, model/obj, text/x-xyz, "
+                          "application/octet-stream or text/plain (sniffed)"));
+        auto query_params = params_from_query(request.query);
+        if (!query_params) return error_response(std::move(query_params.error()));
+        params = std::move(query_params.value());
+        if (auto error = check_output(params.output, source)) return error_response(std::move(*error));
+        PointReadOptions read_options;
+        read_options.max_points = static_cast<std::size_t>(limits.max_points);
+        auto read = read_points(request.body, *format, read_options);
+        if (!read) return error_response(point_error(read.error(), source));
+        cloud = std::move(read.value());
+        input_points = cloud.size();
+    }
+    const auto t_decoded = Clock::now();
+
+    if (params.k) {
+        // Orientation keeps the kNN graph (~12 bytes an edge): bound points x k like max_points x the default k.
+        const std::uint64_t edges = static_cast<std::uint64_t>(cloud.size()) * static_cast<std::uint64_t>(*params.k);
+        if (edges > limits.max_points * static_cast<std::uint64_t>(kDefaultK))
+            return error_response(make_problem(
+                Problem::BudgetExceeded,
+                "normal estimation for " + std::to_string(cloud.size()) + " points with k = " + std::to_string(*params.k) +
+                    " needs " + std::to_string(edges) + " neighbour links; the limit is " +
+                    std::to_string(limits.max_points * static_cast<std::uint64_t>(kDefaultK)) + " (points x k)",
+                source == Source::Json ? "estimate_normals.k" : "k"));
+        NormalEstimationOptions options;
+        options.k = static_cast<std::size_t>(*params.k);
+        options.cancel = context.cancel;
+        if (Status s = estimate_normals(cloud, options); !s) {
+            ApiError error = point_error(s.error(), source);
+            if (s.error().code == ErrorCode::InvalidArgument && !error.field && source == Source::Json)
+                error.field = "estimate_normals";
+            return error_response(std::move(error));
+        }
+    }
+    if (Status s = validate(cloud); !s) return error_response(point_error(s.error(), source));
+    const auto t_computed = Clock::now();
+
+    if (!params.output.normals.value_or(true)) cloud.normals.clear();  // "normals": false leaves them out
+    ApiResponse response;
+    response.content_type = std::string(output_media_type(params.output.format));
+    if (params.output.format == OutputFormat::Json) {
+        response.body = encode_json(cloud, ms_between(t_start, t_computed));
+    } else if (params.output.format == OutputFormat::Ply) {
+        response.body = write_ply_points(cloud);
+    } else {
+        PointGlbOptions options;
+        options.draco = params.output.draco.value_or(true);
+        if (params.output.quantize_position) options.quantize_position = static_cast<int>(*params.output.quantize_position);
+        auto glb = write_points_glb(cloud, options);
+        if (!glb) return error_response(point_error(glb.error(), source));
+        response.body = std::move(glb.value());
+    }
+    const auto t_encoded = Clock::now();
+    response.headers = {
+        {"X-Input-Points", std::to_string(input_points)},
+        {"X-Output-Points", std::to_string(cloud.size())},
+        {"X-Normals", cloud.has_normals() ? "true" : "false"},
+        {"X-Colors", cloud.has_colors() ? "true" : "false"},
+        {"X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded))},
+        {"Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
+                              ", compute;dur=" + format_ms(ms_between(t_decoded, t_computed)) +
+                              ", encode;dur=" + format_ms(ms_between(t_computed, t_encoded)) +
+                              ", total;dur=" + format_ms(ms_between(t_start, t_encoded))},
+    };
+    return response;
+}
+
+}  // namespace
+
+ApiResponse pointcloud(const ApiRequest& request, const ApiContext& context) noexcept {
+    return guarded([&] { return run(request, context); });
+}
+
+}  // namespace surfaced::api::operations
