@@ -1,0 +1,310 @@
+#include "api/operations/remesh.h"
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "api/dto.h"
+#include "api/json_codec.h"
+#include "api/json_util.h"
+#include "api/operations/request_forms.h"
+#include "geometry/remesh/remesh.h"
+
+namespace surfaced::api::operations {
+namespace {
+
+using json::Json;
+
+constexpr int kMaxIterations = 100;
+
+inline constexpr EnumName<RemeshSmoothing> kSmoothingNames[] = {
+    {"tangential", RemeshSmoothing::Tangential},
+    {"laplacian", RemeshSmoothing::Laplacian},
+    {"none", RemeshSmoothing::None},
+};
+
+struct RemeshParams {
+    std::optional<double> edge_length;
+    std::int64_t iterations = 10;
+    double feature_angle = 60;
+    bool keep_boundary = true;
+    RemeshSmoothing smoothing = RemeshSmoothing::Tangential;
+    OutputOptions output;
+};
+
+ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::string>& query) {
+    if (auto error = check_query_names(query, {"edge_length", "iterations", "feature_angle", "keep_boundary",
+                                                "smoothing", "format", "compression", "quantize_position", "normals"}))
+        return std::move(*error);
+    RemeshParams params;
+    for (const auto& [name, text] : query) {
+        if (name == "edge_length") {
+            auto v = parse_number_parameter(name, text);
+            if (!v) return std::move(v.error());
+            params.edge_length = v.value();
+        } else if (name == "iterations") {
+            auto v = parse_integer_parameter(name, text);
+            if (!v) return std::move(v.error());
+            params.iterations = v.value();
+        } else if (name == "feature_angle") {
+            auto v = parse_number_parameter(name, text);
+            if (!v) return std::move(v.error());
+            params.feature_angle = v.value();
+        } else if (name == "keep_boundary") {
+            auto v = parse_bool_parameter(name, text);
+            if (!v) return std::move(v.error());
+            params.keep_boundary = v.value();
+        } else if (name == "smoothing") {
+            auto v = parse_enum_parameter(name, text, kSmoothingNames);
+            if (!v) return std::move(v.error());
+            params.smoothing = v.value();
+        } else {
+            auto output = parse_output_parameter(name, text, params.output);
+            if (!output) return std::move(output.error());
+        }
+    }
+    return params;
+}
+
+struct JsonRequest {
+    RemeshParams params;
+    PolygonMesh mesh;
+};
+
+ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limits) {
+    Json root;
+    if (auto error = json::parse(body, root)) return std::move(*error);
+    if (!root.is_object())
+        return make_problem(Problem::InvalidField,
+                            R"(request body must be a JSON object {"mesh": {...}, "edge_length": L, ...})");
+    if (auto error = json::check_members(root, "", {"mesh", "edge_length", "iterations", "feature_angle",
+                                                    "keep_boundary", "smoothing", "output"}))
+        return std::move(*error);
+    JsonRequest request;
+    RemeshParams& params = request.params;
+    if (auto it = root.find("edge_length"); it != root.end()) {
+        auto v = json::read_number(*it, "edge_length");
+        if (!v) return std::move(v.error());
+        params.edge_length = v.value();
+    }
+    if (auto it = root.find("iterations"); it != root.end()) {
+        auto v = json::read_integer(*it, "iterations");
+        if (!v) return std::move(v.error());
+        params.iterations = v.value();
+    }
+    if (auto it = root.find("feature_angle"); it != root.end()) {
+        auto v = json::read_number(*it, "feature_angle");
+        if (!v) return std::move(v.error());
+        params.feature_angle = v.value();
+    }
+    if (auto it = root.find("keep_boundary"); it != root.end()) {
+        auto v = json::read_bool(*it, "keep_boundary");
+        if (!v) return std::move(v.error());
+        params.keep_boundary = v.value();
+    }
+    if (auto it = root.find("smoothing"); it != root.end()) {
+        auto v = json::read_enum(*it, "smoothing", kSmoothingNames);
+        if (!v) return std::move(v.error());
+        params.smoothing = v.value();
+    }
+    if (auto it = root.find("output"); it != root.end()) {
+        auto output = json::decode_output(*it);
+        if (!output) return std::move(output.error());
+        params.output = std::move(output.value());
+    }
+    const auto mesh_it = root.find("mesh");
+    if (mesh_it == root.end())
+        return json::invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
+    // The mesh decoder of json_codec (field paths "mesh.faces[3][1]", budgets) takes text; the member is valid JSON.
+    auto mesh = decode_mesh(mesh_it->dump(), limits, "mesh");
+    if (!mesh) return std::move(mesh.error());
+    request.mesh = std::move(mesh.value());
+    return request;
+}
+
+std::optional<ApiError> check_params(const RemeshParams& params, Source source) {
+    if (params.edge_length && !(std::isfinite(*params.edge_length) && *params.edge_length > 0))
+        return make_problem(Problem::InvalidField,
+                            "edge_length must be a finite length > 0, got " + format_double(*params.edge_length),
+                            "edge_length");
+    if (params.iterations < 0 || params.iterations > kMaxIterations)
+        return make_problem(Problem::InvalidField,
+                            "iterations must be in 0.." + std::to_string(kMaxIterations) + ", got " +
+                                std::to_string(params.iterations),
+                            "iterations");
+    if (!(params.feature_angle >= 0 && params.feature_angle <= 180))
+        return make_problem(Problem::InvalidField,
+                            "feature_angle must be in [0, 180] degrees (180: no features), got " +
+                                format_double(params.feature_angle),
+                            "feature_angle");
+    return check_output_options(params.output, source);
+}
+
+Json quality_json(const MeshQuality& q) {
+    Json valence = Json::object();
+    for (std::size_t k = 0; k < q.valence_histogram.size(); ++k)
+        if (q.valence_histogram[k] > 0) valence[std::to_string(k)] = q.valence_histogram[k];
+    return Json{{"vertices", q.vertices},
+                {"faces", q.faces},
+                {"min_angle", q.min_angle_degrees},
+                {"share_below_30", q.share_below_30},
+                {"mean_radius_ratio", q.mean_radius_ratio},
+                {"max_radius_ratio", q.max_radius_ratio},
+                {"mean_edge_length", q.mean_edge_length},
+                {"edge_length_stddev", q.edge_length_stddev},
+                {"share_regular", q.share_regular},
+                {"valence", std::move(valence)}};
+}
+
+//! {"mesh": ..., "stats": {...}}: the mesh through json_codec's writer (the one every endpoint uses), the stats here.
+std::string encode_json_response(const PolygonMesh& mesh, const Json& stats) {
+    std::string out = encode_simplify_response(mesh, SimplifyStats{});
+    // the writer ends with ,"stats":{...}} and the mesh part holds only numbers, so the last ,"stats": is its own
+    const auto at = out.rfind(",\"stats\":");
+    if (at == std::string::npos) return out;
+    out.resize(at);
+    out += ",\"stats\":";
+    out += stats.dump();
+    out += '}';
+    return out;
+}
+
+ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    const auto t_start = Clock::now();
+
+    // 1. size and media type
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
+
+    // 2. options and mesh (for uploads the options are checked before the file is parsed)
+    Source source = Source::File;
+    RemeshParams params;
+    PolygonMesh mesh;
+    if (media_type == "application/json") {
+        source = Source::Json;
+        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
+        auto decoded = decode_request(request.body, limits);
+        if (!decoded) return error_response(std::move(decoded.error()));
+        params = std::move(decoded->params);
+        if (auto error = check_params(params, source)) return error_response(std::move(*error));
+        mesh = std::move(decoded->mesh);
+    } else {
+        if (!mesh_format_for(media_type, request.body)) {
+            auto refused = read_uploaded_mesh(request, media_type, limits);  // the 415, worded in one place
+            return error_response(std::move(refused.error()));
+        }
+        auto query_params = params_from_query(request.query);
+        if (!query_params) return error_response(std::move(query_params.error()));
+        params = std::move(query_params.value());
+        if (auto error = check_params(params, source)) return error_response(std::move(*error));
+        auto read = read_uploaded_mesh(request, media_type, limits);
+        if (!read) return error_response(std::move(read.error()));
+        mesh = std::move(read.value());
+    }
+    const auto t_decoded = Clock::now();
+
+    // 3. budgets and validity, before any work
+    if (auto error = check_input_budget(mesh, limits)) return error_response(std::move(*error));
+    if (auto valid = validate(mesh); !valid) return error_response(geometry_error(valid.error(), source));
+    if (mesh.face_count() == 0)
+        return error_response(make_problem(Problem::InvalidField, "the mesh has no faces to remesh", "mesh"));
+    const std::uint64_t triangles = mesh.face_indices.size() - 2 * mesh.face_count();
+    if (triangles > limits.max_input_faces)
+        return error_response(make_problem(Problem::BudgetExceeded,
+                                           "the mesh triangulates to " + std::to_string(triangles) +
+                                               " triangles; the limit is " + std::to_string(limits.max_input_faces)));
+    // the target: given, or the input's mean edge length; then the predicted output, area / (sqrt(3)/4 L^2)
+    double area = 0, edge_sum = 0;
+    std::size_t edge_count = 0;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        auto t = mesh.face(f);
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            edge_sum += norm(mesh.positions[t[(j + 1) % t.size()]] - mesh.positions[t[j]]);
+            ++edge_count;
+        }
+        for (std::size_t j = 1; j + 1 < t.size(); ++j)
+            area += 0.5 * norm(cross(mesh.positions[t[j]] - mesh.positions[t[0]],
+                                     mesh.positions[t[j + 1]] - mesh.positions[t[0]]));
+    }
+    const double length = params.edge_length ? *params.edge_length : edge_sum / static_cast<double>(edge_count);
+    if (!(length > 0))
+        return error_response(make_problem(Problem::InvalidField,
+                                           "the mesh's edges have zero length: give edge_length", "edge_length"));
+    const double predicted = area / (std::sqrt(3.0) / 4 * length * length);
+    if (!(predicted <= static_cast<double>(limits.max_output_faces)))
+        return error_response(make_problem(
+            Problem::BudgetExceeded,
+            "edge_length " + format_double(length) + " over a surface of area " + format_double(area) + " predicts " +
+                format_double(std::round(predicted)) + " faces (area / (0.433 L^2)); the limit is " +
+                std::to_string(limits.max_output_faces),
+            "edge_length"));
+
+    // 4. remesh
+    RemeshOptions options;
+    options.target_edge_length = length;
+    options.iterations = static_cast<int>(params.iterations);
+    options.feature_angle_degrees = params.feature_angle;
+    options.keep_boundary = params.keep_boundary;
+    options.smoothing = params.smoothing;
+    // intermediate meshes may briefly exceed the prediction (splits before collapses); never past twice the limit
+    options.max_faces = static_cast<std::size_t>(2 * limits.max_output_faces);
+    options.cancel = context.cancel;
+    auto remeshed = surfaced::remesh(mesh, options);
+    if (!remeshed) return error_response(geometry_error(remeshed.error(), source));
+    RemeshResult& result = remeshed.value();
+    const auto t_remeshed = Clock::now();
+
+    // 5. encode
+    Json stats = {{"input_vertices", mesh.vertex_count()},
+                  {"input_faces", mesh.face_count()},
+                  {"output_vertices", result.mesh.vertex_count()},
+                  {"output_faces", result.mesh.face_count()},
+                  {"triangulated", result.triangulated},
+                  {"edge_length", result.target_edge_length},
+                  {"feature_edges", result.feature_edges},
+                  {"boundary_edges", result.boundary_edges},
+                  {"hausdorff", result.hausdorff.value_or(0.0)},
+                  {"before", quality_json(result.before)},
+                  {"after", quality_json(result.after)},
+                  {"elapsed_ms", ms_between(t_start, t_remeshed)}};
+    ApiResponse response;
+    response.content_type = std::string(output_media_type(params.output.format));
+    auto encoded = encode_mesh_output(result.mesh, params.output, source,
+                                      [&](const PolygonMesh& m) { return encode_json_response(m, stats); });
+    if (!encoded) return error_response(std::move(encoded.error()));
+    response.body = std::move(encoded.value());
+    const auto t_encoded = Clock::now();
+
+    response.headers = {
+        {"X-Input-Vertices", std::to_string(mesh.vertex_count())},
+        {"X-Input-Faces", std::to_string(mesh.face_count())},
+        {"X-Output-Vertices", std::to_string(result.mesh.vertex_count())},
+        {"X-Output-Faces", std::to_string(result.mesh.face_count())},
+        {"X-Triangulated", result.triangulated ? "true" : "false"},
+        {"X-Edge-Length", format_double(result.target_edge_length)},
+        {"X-Feature-Edges", std::to_string(result.feature_edges)},
+        {"X-Hausdorff", format_double(result.hausdorff.value_or(0.0))},
+        {"X-Min-Angle-Before", format_double(result.before.min_angle_degrees)},
+        {"X-Min-Angle-After", format_double(result.after.min_angle_degrees)},
+        {"X-Below-30-Before", format_double(result.before.share_below_30)},
+        {"X-Below-30-After", format_double(result.after.share_below_30)},
+        {"X-Radius-Ratio-Before", format_double(result.before.mean_radius_ratio)},
+        {"X-Radius-Ratio-After", format_double(result.after.mean_radius_ratio)},
+        {"X-Mean-Edge-Length-After", format_double(result.after.mean_edge_length)},
+        {"X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded))},
+        {"Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
+                              ", remesh;dur=" + format_ms(ms_between(t_decoded, t_remeshed)) +
+                              ", encode;dur=" + format_ms(ms_between(t_remeshed, t_encoded)) +
+                              ", total;dur=" + format_ms(ms_between(t_start, t_encoded))},
+    };
+    return response;
+}
+
+}  // namespace
+
+ApiResponse remesh(const ApiRequest& request, const ApiContext& context) noexcept {
+    return guarded([&] { return run(request, context); });
+}
+
+}  // namespace surfaced::api::operations
