@@ -11,6 +11,7 @@
 
 #include "api/errors.h"
 #include "api/limits.h"
+#include "geometry/core/cancel.h"
 
 namespace surfaced::api {
 
@@ -44,9 +45,27 @@ struct ApiResponse {
     std::optional<ApiError> error;
 };
 
-//! What every operation may consult besides the request: budgets (and, later, shared state such as metrics).
+//! What the server running an operation can tell it about itself (GET /readyz, GET /metrics). Implemented by the
+//! HTTP layer; operations called without a server (CLI, tests) see none.
+class ServiceState {
+public:
+    virtual ~ServiceState() = default;
+    //! True once shutdown has begun: /readyz answers 503 so that load balancers stop sending traffic.
+    virtual bool draining() const = 0;
+    //! The Prometheus text exposition (format 0.0.4) of the server's counters.
+    virtual std::string metrics_text() const = 0;
+};
+
+//! What every operation may consult besides the request: budgets, the request's compute deadline, and the server.
 struct ApiContext {
     Limits limits;
+    //! The compute deadline / shutdown abort for this request (Limits::compute_deadline_ms from its start).
+    //! Operations pass it to the algorithms' options; a fired Cancel becomes 503 `cancelled`.
+    Cancel cancel;
+    //! The request id the server logs and echoes in X-Request-Id; empty outside a server.
+    std::string request_id;
+    //! Null when there is no server (CLI, in-process tests).
+    const ServiceState* service = nullptr;
 };
 
 //! An endpoint implementation. Contract: never throws; every failure is an error response.

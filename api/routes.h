@@ -34,7 +34,16 @@ ApiResponse route_not_found(std::string_view method, std::string_view path);
 //! "GET, HEAD" style list of the methods `path` answers to; empty when the path is unknown.
 std::string allowed_methods(std::string_view path);
 
-//! GET /healthz: {"status":"ok"}.
+//! GET /healthz (an alias of /livez): {"status":"ok"}.
 ApiResponse healthz(const ApiRequest& request, const ApiContext& context) noexcept;
+
+//! GET /livez: 200 {"status":"ok"} while the process can answer at all.
+ApiResponse livez(const ApiRequest& request, const ApiContext& context) noexcept;
+
+//! GET /readyz: 200 {"status":"ready"}, or 503 `draining` once shutdown has begun.
+ApiResponse readyz(const ApiRequest& request, const ApiContext& context) noexcept;
+
+//! GET /metrics: the server's Prometheus text exposition (empty without a server).
+ApiResponse metrics(const ApiRequest& request, const ApiContext& context) noexcept;
 
 }  // namespace surfaced::api

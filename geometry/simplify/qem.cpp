@@ -244,6 +244,10 @@ public:
                 // Stale entries pile up (each collapse outdates the entries at two vertices and adds new ones).
                 // Dropping them once they outnumber the live edges keeps the heap small and cache-friendly.
                 if (heap_.size() > 2 * live_faces_ + 1024) compact_heap();
+                if ((++polls_ & 4095) == 0 && options_.cancel.requested()) {
+                    cancelled_ = true;
+                    return;
+                }
                 const Candidate c = heap_.pop();
                 if (!(flags_[c.a] & kAlive) || !(flags_[c.b] & kAlive)) continue;
                 if (version_[c.a] != c.version_a || version_[c.b] != c.version_b) continue;  // stale
@@ -290,6 +294,7 @@ public:
 
     std::size_t live_faces() const { return live_faces_; }
     double max_error() const { return max_error_; }
+    bool cancelled() const { return cancelled_; }
 
 private:
     int corner_of(Index f, Index v) const {
@@ -521,6 +526,8 @@ private:
     }
 
     const SimplifyOptions& options_;
+    std::uint64_t polls_ = 0;
+    bool cancelled_ = false;
     std::vector<Vec3> positions_;
     std::vector<std::array<Index, 3>> faces_;
     std::vector<std::uint8_t> face_alive_;
@@ -580,6 +587,7 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
     if (!options.max_error) {
         Simplifier& simplifier = prototype;  // one run: no copy needed
         simplifier.run(target, std::numeric_limits<double>::infinity());
+        if (simplifier.cancelled()) return make_error(ErrorCode::Cancelled, "simplification cancelled (deadline or shutdown)");
         result.mesh = simplifier.extract();
         result.achieved_error = simplifier.max_error();
     } else {
@@ -593,8 +601,12 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
         result.achieved_error = 0;
         double threshold = max_error, passed = 0, failed = std::numeric_limits<double>::infinity();
         for (int attempt = 0; attempt < kMaxErrorAttempts; ++attempt) {
+            if (options.cancel.requested())
+                return make_error(ErrorCode::Cancelled, "simplification cancelled (deadline or shutdown)");
             Simplifier simplifier = prototype;
             simplifier.run(target, threshold);
+            if (simplifier.cancelled())
+                return make_error(ErrorCode::Cancelled, "simplification cancelled (deadline or shutdown)");
             if (simplifier.live_faces() >= result.mesh.face_count() && passed > 0) break;  // no better than kept
             PolygonMesh candidate = simplifier.extract();
             const double measured = mesh_distance(input, candidate).hausdorff;

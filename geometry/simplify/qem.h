@@ -13,6 +13,7 @@
 #include <optional>
 #include <vector>
 
+#include "geometry/core/cancel.h"
 #include "geometry/core/result.h"
 #include "geometry/mesh/polygon_mesh.h"
 
@@ -34,6 +35,9 @@ struct SimplifyOptions {
     double boundary_weight = 100.0;
     //! Vertices that never move or disappear (indices into the input's positions).
     std::vector<Index> locked_vertices;
+    //! Polled every few thousand collapse candidates and between max_error attempts; when it fires the result is
+    //! Cancelled.
+    Cancel cancel;
 };
 
 struct SimplifyResult {

@@ -741,14 +741,21 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
     }
 
     const bool threaded = use_threads(options);
+    int level_done = 0;
     std::vector<Vec3> src = mesh.positions, dst;
     Level output_level;            // the requested level, when refinement continues past it for the limit
     Sharpness output_sharp;
-    for (int l = 0; l < total; ++l) {
+    const auto cancelled = [&] {
+        return make_error(ErrorCode::Cancelled, "subdivision cancelled at level " + std::to_string(level_done) +
+                                                    " of " + std::to_string(total) + " (deadline or shutdown)");
+    };
+    for (int l = 0; l < total; ++l, ++level_done) {
+        if (options.cancel.requested()) return cancelled();
         const bool last = l + 1 == total;
         const Neighbourhood n = neighbourhood(level, sharp, options.crease_method);
         Level child = loop ? subdivision::refine_triangles(level, !last || options.limit_surface, threaded)
                            : subdivision::refine_quads(level, !last || options.limit_surface, threaded);
+        if (options.cancel.requested()) return cancelled();
         dst.resize(child.vertex_count);
         const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark,
                             options.loop_weights, threaded};
@@ -756,6 +763,7 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
             interpolate_loop(in, n, src.data(), dst.data());
         else
             interpolate_catmark(in, n, src.data(), dst.data());
+        if (options.cancel.requested()) return cancelled();
         Sharpness child_sharp = refine_sharpness(level, child, sharp, n, options.crease_method, loop);
         if (l + 1 == options.levels && extra > 0) {
             output_level = child;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "geometry/core/cancel.h"
 #include "geometry/core/result.h"
 #include "geometry/mesh/polygon_mesh.h"
 
@@ -65,6 +66,8 @@ struct SubdivisionOptions {
     //! 1: refine on the calling thread; anything else: use a second thread for large levels (0 = decide). The
     //! result is bit-identical either way.
     int threads = 1;
+    //! Polled before each level's topology, positions and sharpness; when it fires the result is Cancelled.
+    Cancel cancel;
 };
 
 //! Sharpness at or above this is infinitely sharp (OpenSubdiv's Sdc::Crease::SHARPNESS_INFINITE).
@@ -80,7 +83,8 @@ inline constexpr float kInfiniteSharpness = 10.0f;
 //! Hole faces (mesh.tags.holes) stay in the topology (they shape their neighbours) but their children are not
 //! output; vertices keep OpenSubdiv's numbering, so a vertex used only by holes is still present.
 //! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), InvalidArgument (a crease
-//!         between vertices that share no edge), InvalidArgument (levels < 0), BudgetExceeded (over 2^32 indices).
+//!         between vertices that share no edge), InvalidArgument (levels < 0), BudgetExceeded (over 2^32 indices),
+//!         Cancelled (options.cancel fired).
 //! Worst case output: predicted_face_count(mesh, scheme, levels) faces.
 Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options);
 

@@ -383,6 +383,9 @@ Result<PatchTessellation> tessellate_patches(std::span<const BezierPatch> patche
     std::vector<Vec3> normal_sums;
     std::vector<Index> vertex_of, uv_of;  // per grid vertex of the current patch
     for (std::size_t p = 0; p < patches.size(); ++p) {
+        if (options.cancel.requested())
+            return make_error(ErrorCode::Cancelled, "tessellation cancelled at patch " + std::to_string(p) + " of " +
+                                                        std::to_string(patches.size()) + " (deadline or shutdown)");
         const auto [nu, nv] = out.plan.segments[p];
         const Grid grid = patch_grid(patches[p], nu, nv);
         const auto stride = static_cast<std::size_t>(nu + 1);

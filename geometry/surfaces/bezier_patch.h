@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "geometry/core/cancel.h"
 #include "geometry/core/result.h"
 #include "geometry/core/types.h"
 #include "geometry/mesh/polygon_mesh.h"
@@ -74,6 +75,8 @@ struct TessellationOptions {
     int max_segments = 256;
     //! Merge vertices at bit-identical positions across patches (shared edges, collapsed edges).
     bool weld = true;
+    //! Polled between patches by tessellate_patches; when it fires the result is Cancelled.
+    Cancel cancel;
 };
 
 //! Segment counts of one patch: nu along u, nv along v (the grid has (nu + 1) x (nv + 1) vertices).
