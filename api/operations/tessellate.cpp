@@ -88,6 +88,23 @@ ApiResult<TessellateParams> params_from_query(const std::multimap<std::string, s
     return params;
 }
 
+//! {"patches":[{"degree":[m,n],"points":[[x,y,z],...]},...]}: the JSON form of POST /tessellate's body.
+std::string patch_set_json(const PatchSet& set) {
+    std::string out = "{\"patches\":[";
+    for (std::size_t p = 0; p < set.patches.size(); ++p) {
+        const BezierPatch& patch = set.patches[p];
+        out += (p ? ",{\"degree\":[" : "{\"degree\":[") + std::to_string(patch.degree_u) + "," +
+               std::to_string(patch.degree_v) + "],\"points\":[";
+        for (std::size_t i = 0; i < patch.points.size(); ++i) {
+            const Vec3& q = patch.points[i];
+            out += (i ? ",[" : "[") + format_number(q.x, "%.17g") + "," + format_number(q.y, "%.17g") + "," +
+                   format_number(q.z, "%.17g") + "]";
+        }
+        out += "]}";
+    }
+    return out + "]}";
+}
+
 enum class Source { Json, Query };
 
 //! Range checks shared by every request form, before any work. Field names: the JSON path or the parameter name.
@@ -154,8 +171,9 @@ ApiError patch_error(const GeoError& error, const TessellateParams& params, Sour
 
 //! Plan (budgets) -> tessellate -> encode. `start` is when the request started, for the timing headers.
 ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& params, const Limits& limits,
-                                  Source source, Clock::time_point start) {
-    const TessellationOptions options = tessellation_options(params, limits);
+                                  Source source, Clock::time_point start, const Cancel& cancel) {
+    TessellationOptions options = tessellation_options(params, limits);
+    options.cancel = cancel;  // polled between patches
     auto plan = plan_tessellation(set.patches, options);
     if (!plan) return error_response(patch_error(plan.error(), params, source));
     if (plan->triangles > limits.max_output_faces)
@@ -227,7 +245,7 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
         auto decoded = decode_tessellate_request(request.body, limits);
         if (!decoded) return error_response(std::move(decoded.error()));
         if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
-        return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start);
+        return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start, context.cancel);
     }
     if (std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
         return error_response(make_problem(Problem::UnsupportedMediaType,
@@ -242,7 +260,7 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
     read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
     auto set = read_bez(request.body, read_options);
     if (!set) return error_response(from_geo_error(set.error()));
-    return tessellate_and_encode(set.value(), params.value(), limits, Source::Query, start);
+    return tessellate_and_encode(set.value(), params.value(), limits, Source::Query, start, context.cancel);
 }
 
 //! FNV-1a, 64 bit: a stable content hash for ETags (not security relevant).
@@ -281,8 +299,16 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     }
     auto params = params_from_query(request.query);
     if (!params) return error_response(std::move(params.error()));
-    if (auto error = check_params(params.value(), context.limits, Source::Query))
+    // format=json: the sample's control points (the body POST /tessellate accepts), for editors that show the net.
+    const bool control_points = params->output.format == OutputFormat::Json;
+    if (control_points) {
+        for (const auto& [option, value] : request.query)
+            if (option != "format")
+                return error_response(
+                    invalid_parameter(option, "does not apply to format=json (the control points, not a mesh)"));
+    } else if (auto error = check_params(params.value(), context.limits, Source::Query)) {
         return error_response(std::move(*error));
+    }
 
     // The ETag covers everything the bytes depend on: sample data, normalised options, tessellator revision.
     const TessellateParams& p = params.value();
@@ -307,7 +333,14 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     }
     auto set = read_bez(text);
     if (!set) return error_response(make_problem(Problem::Internal, "built-in sample: " + set.error().message));
-    ApiResponse response = tessellate_and_encode(set.value(), p, context.limits, Source::Query, start);
+    if (control_points) {
+        ApiResponse response;
+        response.content_type = "application/json";
+        response.body = patch_set_json(set.value());
+        response.headers = cache_headers;
+        return response;
+    }
+    ApiResponse response = tessellate_and_encode(set.value(), p, context.limits, Source::Query, start, context.cancel);
     if (response.status == 200)
         response.headers.insert(response.headers.end(), cache_headers.begin(), cache_headers.end());
     return response;

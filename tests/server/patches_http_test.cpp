@@ -106,6 +106,49 @@ TEST_F(PatchesHttp, RawBezUpload) {
     EXPECT_EQ(report.warnings, 0) << report.report;
 }
 
+// format=json gives the control points, exactly as the built-in BEZ text has them, in the form POST /tessellate
+// accepts: posting them back tessellates to the same mesh as GET /patches/teapot with the same options.
+TEST_F(PatchesHttp, TeapotControlPointsRoundTrip) {
+    auto res = client().Get("/patches/teapot?format=json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "application/json");
+    EXPECT_FALSE(res->get_header_value("ETag").empty());
+    const auto json = nlohmann::json::parse(res->body, nullptr, false);
+    ASSERT_FALSE(json.is_discarded()) << res->body.substr(0, 200);
+    auto expected = read_bez(patch_sample_text("teapot"));
+    ASSERT_TRUE(expected);
+    ASSERT_EQ(json["patches"].size(), expected->patches.size());
+    ASSERT_EQ(json["patches"].size(), 32u);
+    for (std::size_t p = 0; p < expected->patches.size(); ++p) {
+        const auto& patch = json["patches"][p];
+        const BezierPatch& want = expected->patches[p];
+        ASSERT_EQ(patch["degree"], nlohmann::json::array({want.degree_u, want.degree_v}));
+        ASSERT_EQ(patch["points"].size(), want.points.size());
+        for (std::size_t i = 0; i < want.points.size(); ++i) {
+            EXPECT_EQ(patch["points"][i][0].get<double>(), want.points[i].x);
+            EXPECT_EQ(patch["points"][i][1].get<double>(), want.points[i].y);
+            EXPECT_EQ(patch["points"][i][2].get<double>(), want.points[i].z);
+        }
+    }
+    nlohmann::json body = json;
+    body["segments"] = 5;
+    body["output"] = {{"format", "obj"}};
+    auto posted = client().Post("/tessellate", body.dump(), "application/json");
+    auto direct = client().Get("/patches/teapot?segments=5&format=obj");
+    ASSERT_TRUE(posted && direct);
+    ASSERT_EQ(posted->status, 200) << posted->body;
+    ASSERT_EQ(direct->status, 200) << direct->body;
+    EXPECT_EQ(posted->body, direct->body);
+
+    auto mixed = client().Get("/patches/teapot?format=json&segments=4");
+    ASSERT_TRUE(mixed);
+    EXPECT_EQ(mixed->status, 400);
+    const auto problem = nlohmann::json::parse(mixed->body, nullptr, false);
+    ASSERT_FALSE(problem.is_discarded()) << mixed->body;
+    EXPECT_EQ(problem.value("field", ""), "segments");
+}
+
 int run(const std::string& command) {
     const int status = std::system(command.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Vendors the parts of three.js the web client uses from npm into clients/web/vendor/ (served by `surfaced serve`,
+# so the client works offline, no CDN). Idempotent; run by install-deps.sh and run.sh, and before copying clients/web
+# into a container image. clients/web/vendor/ and clients/web/node_modules/ are generated (not in git).
+set -euo pipefail
+cd "$(dirname "$0")/../clients/web"
+if [ ! -f node_modules/three/package.json ] || [ package-lock.json -nt node_modules/.package-lock.json ]; then
+  npm ci --no-audit --no-fund --loglevel=error
+fi
+src=node_modules/three
+want=$(node -p "require('./package.json').dependencies.three")
+have=$(node -p "require('./$src/package.json').version")
+[ "$want" = "$have" ] || { echo "vendor-web: three $have installed, package.json pins $want" >&2; exit 1; }
+rm -rf vendor.tmp
+mkdir -p vendor.tmp/three/addons/controls vendor.tmp/three/addons/loaders vendor.tmp/three/addons/utils vendor.tmp/draco
+cp "$src/build/three.module.js" "$src/build/three.core.js" vendor.tmp/three/
+cp "$src/examples/jsm/controls/OrbitControls.js" vendor.tmp/three/addons/controls/
+cp "$src/examples/jsm/loaders/GLTFLoader.js" "$src/examples/jsm/loaders/DRACOLoader.js" vendor.tmp/three/addons/loaders/
+cp "$src/examples/jsm/utils/BufferGeometryUtils.js" "$src/examples/jsm/utils/SkeletonUtils.js" vendor.tmp/three/addons/utils/
+cp "$src"/examples/jsm/libs/draco/gltf/draco_decoder.js "$src"/examples/jsm/libs/draco/gltf/draco_decoder.wasm \
+   "$src"/examples/jsm/libs/draco/gltf/draco_wasm_wrapper.js vendor.tmp/draco/
+cp "$src/LICENSE" vendor.tmp/three/LICENSE
+echo "$have" > vendor.tmp/three/VERSION
+rm -rf vendor && mv vendor.tmp vendor
+echo "vendor-web: three $have -> clients/web/vendor/"

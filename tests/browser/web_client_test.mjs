@@ -1,0 +1,285 @@
+// Browser tests of the web client: Playwright (playwright-core) driving Debian's Chromium headless against a real
+// `surfaced serve` on loopback. Usage:
+//   node tests/browser/web_client_test.mjs SURFACED_BINARY WEB_ROOT ARTIFACT_DIR
+// Exit 0 pass, 1 fail, 77 skipped (no Chromium; said loudly).
+import { existsSync, mkdirSync } from 'node:fs';
+import path from 'node:path';
+import { createRequire } from 'node:module';
+import { startServer } from './serve.mjs';
+
+const [binary, webRoot, artifacts] = process.argv.slice(2);
+if (!binary || !webRoot || !artifacts) {
+  console.error('usage: web_client_test.mjs SURFACED_BINARY WEB_ROOT ARTIFACT_DIR');
+  process.exit(2);
+}
+const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+if (!existsSync(chromiumPath)) {
+  console.error(`\n*** SKIPPED: browser tests need Chromium at ${chromiumPath} (apt-get install chromium; ` +
+                'scripts/install-deps.sh installs it). The web client was NOT tested. ***\n');
+  process.exit(77);
+}
+if (!existsSync(path.join(webRoot, 'vendor/three/three.module.js'))) {
+  console.error(`${webRoot}/vendor is missing: run scripts/vendor-web.sh`);
+  process.exit(1);
+}
+const require = createRequire(import.meta.url);
+const { chromium } = require('playwright-core');
+mkdirSync(artifacts, { recursive: true });
+
+let failures = 0;
+function check(condition, message) {
+  console.log(`${condition ? 'ok  ' : 'FAIL'} ${message}`);
+  if (!condition) failures++;
+}
+
+const server = await startServer(binary, webRoot);
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  headless: true,
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+const consoleErrors = [];
+try {
+  const page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
+  // Chromium logs every 4xx answer as "Failed to load resource"; only the deliberately invalid upload may cause one
+  let expectRejection = false;
+  page.on('console', (m) => {
+    if (m.type() !== 'error') return;
+    if (expectRejection && /Failed to load resource: .*status of 4\d\d/.test(m.text())) return;
+    consoleErrors.push(m.text());
+  });
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  page.setDefaultTimeout(20000);
+
+  const shot = async (name) => {
+    const file = path.join(artifacts, `${name}.png`);
+    await page.screenshot({ path: file });
+    return file;
+  };
+  // Pixels of the WebGL canvas that differ from the background colour (the renderer keeps its drawing buffer).
+  const canvasPixels = () => page.evaluate(() => {
+    const src = document.querySelector('#viewport canvas');
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(src, 0, 0);
+    const d = ctx.getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4)
+      if (Math.abs(d[i] - 0x1b) + Math.abs(d[i + 1] - 0x1d) + Math.abs(d[i + 2] - 0x22) > 24) n++;
+    return { n, total: c.width * c.height, webgl: !!src.getContext('webgl2') || !!src.getContext('webgl') };
+  });
+  const statsUpdates = () => page.$eval('#stats', (el) => Number(el.dataset.updates ?? 0));
+  const meshSignature = () => page.evaluate(() => {
+    const r = window.surfaced.viewer.result;
+    if (!r) return null;
+    const p = r.geometry.attributes.position.array;
+    let s = 0;
+    for (let i = 0; i < p.length; ++i) s += p[i] * ((i % 7) + 1);
+    return `${p.length}:${s.toFixed(4)}`;
+  });
+
+  // 1. the page loads, the teapot appears
+  const loadStart = Date.now();
+  // generous: cpp-httplib (Debian's, built with brotli) compresses the 2 MB of three.js at brotli's slowest setting
+  await page.goto(`${server.url}/`, { timeout: 90000 });
+  await page.waitForSelector('body[data-ready=true]', { timeout: 90000 });
+  console.log(`     page loaded and teapot requested in ${Date.now() - loadStart} ms`);
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.updates ?? 0) > 0);
+  const teapot = await canvasPixels();
+  const teapotShot = await shot('01-teapot');
+  check(teapot.n > 0.05 * teapot.total, `teapot drawn: ${teapot.n} of ${teapot.total} canvas pixels are not background (${teapotShot})`);
+  const patchCount = await page.evaluate(() => window.surfaced.views.patches.patches.patches.length);
+  check(patchCount === 32, `control net of the teapot has 32 patches (got ${patchCount})`);
+
+  // 2. drag a control point: the geometry changes, through POST /tessellate round trips
+  const before = await meshSignature();
+  const target = await page.evaluate(() => {
+    const v = window.surfaced.views.patches;
+    const canvas = window.surfaced.viewer.renderer.domElement.getBoundingClientRect();
+    // the control point furthest right on screen (a point of the spout tip, not hidden behind others)
+    let best = null;
+    for (let i = 0; i < v.positions.count; ++i) {
+      const p = new (window.surfaced.viewer.camera.position.constructor)().fromBufferAttribute(v.positions, i)
+        .applyMatrix4(window.surfaced.viewer.overlay.matrixWorld).project(window.surfaced.viewer.camera);
+      const x = canvas.left + (p.x + 1) / 2 * canvas.width, y = canvas.top + (1 - p.y) / 2 * canvas.height;
+      if (!best || x > best.x) best = { x, y, id: i };
+    }
+    return best;
+  });
+  const originalSet = await page.evaluate(() => JSON.stringify(window.surfaced.views.patches.patches));
+  const updatesBefore = await statsUpdates();
+  await page.mouse.move(target.x, target.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 12; ++k) {
+    await page.mouse.move(target.x - 6 * k, target.y - 8 * k);
+    await page.waitForTimeout(30);
+  }
+  await page.mouse.up();
+  await page.waitForFunction(() => !window.surfaced.views.patches.busy);
+  const after = await meshSignature();
+  const { movedPoint, originalPoint } = await page.evaluate((original) => {
+    const v = window.surfaced.views.patches;
+    const before = JSON.parse(original);
+    const refs = v.lastDragged === undefined ? [] : v.refs[v.lastDragged];
+    return { movedPoint: refs.map(([p, i]) => v.patches.patches[p].points[i]),
+             originalPoint: refs.map(([p, i]) => before.patches[p].points[i]) };
+  }, originalSet);
+  const dragShot = await shot('02-teapot-dragged');
+  const trips = await page.evaluate(() => window.surfaced.views.patches.roundTrips);
+  check(movedPoint.length > 0 && JSON.stringify(movedPoint) !== JSON.stringify(originalPoint) && new Set(movedPoint.map(String)).size === 1,
+        `dragged control point moved (all ${movedPoint.length} copies shared by neighbouring patches together)`);
+  check(before !== after && after !== null, `tessellated geometry changed after the drag (${dragShot})`);
+  check((await statsUpdates()) > updatesBefore && trips.length >= 2,
+        `view updated while dragging: ${trips.length} POST /tessellate round trips during the drag`);
+  const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+  const wire = median(trips.map((t) => t.wire)), shown = median(trips.map((t) => t.shown));
+  console.log(`     drag round trips (ms, request sent -> response received): ${trips.map((t) => t.wire.toFixed(1)).join(' ')}`);
+  console.log(`     until drawn (ms, incl. GLB parse on this GPU-less software renderer): ${trips.map((t) => t.shown.toFixed(1)).join(' ')}`);
+  // measured and printed, not asserted (no timing assertions in tests; the README quotes the number)
+  console.log(`     teapot drag round trip: median ${wire?.toFixed(1)} ms (request sent -> response received); shown after ${shown?.toFixed(1)} ms`);
+
+  // 2b. an uploaded JSON patch set: one bicubic saddle, 8 segments -> 8 x 8 x 2 triangles, with its 16-point net
+  const saddle = { patches: [{ degree: [3, 3], points: [] }] };
+  for (let j = 0; j < 4; ++j) for (let i = 0; i < 4; ++i) saddle.patches[0].points.push([i, j, (i - 1.5) * (j - 1.5) / 2]);
+  const updatesBeforeUpload = await statsUpdates();
+  await page.setInputFiles('#patch-file', { name: 'saddle.json', mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(saddle)) });
+  await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n, updatesBeforeUpload);
+  const saddleStats = await page.$eval('#stats', (el) => el.textContent);
+  const saddleNet = await page.evaluate(() => window.surfaced.views.patches.positions.count);
+  check(/patches: 1\n/.test(saddleStats) && /triangles: 128\n/.test(saddleStats) && saddleNet === 16,
+        `uploaded JSON patch set tessellated: 1 patch, 128 triangles, 16 control points (${await shot('02b-saddle')})`);
+
+  // 3. subdivision through the UI: the cube at level 2 (96 faces), then a picked edge made sharp
+  await page.click('#tabs button[data-view=subdivide]');
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) > 0);
+  const cubeFaces = await page.$eval('#stats', (el) => Number(el.dataset.outputFaces));
+  check(cubeFaces === 96, `Catmull-Clark cube, 2 levels: 96 faces (got ${cubeFaces})`);
+  await page.fill('#sub-levels', '3');
+  await page.dispatchEvent('#sub-levels', 'input');
+  await page.click('#sub-run');
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) === 384);
+  const smooth = await meshSignature();
+  const sub = await canvasPixels();
+  check(sub.n > 0.03 * sub.total, `subdivided cube rendered: ${sub.n} pixels (${await shot('03-subdivided')})`);
+  const edge = await page.evaluate(() => {
+    const v = window.surfaced.views.subdivide;
+    const rect = window.surfaced.viewer.renderer.domElement.getBoundingClientRect();
+    const V = window.surfaced.viewer.camera.position.constructor;
+    const screen = (i) => {
+      const p = new V(...v.mesh.positions[i]).applyMatrix4(window.surfaced.viewer.overlay.matrixWorld).project(window.surfaced.viewer.camera);
+      return [rect.left + (p.x + 1) / 2 * rect.width, rect.top + (1 - p.y) / 2 * rect.height];
+    };
+    // the longest edge on screen: the least likely to be near another one
+    let best = null;
+    for (const [a, b] of v.edges) {
+      const [pa, pb] = [screen(a), screen(b)];
+      const len = Math.hypot(pa[0] - pb[0], pa[1] - pb[1]);
+      if (!best || len > best.len) best = { len, x: (pa[0] + pb[0]) / 2, y: (pa[1] + pb[1]) / 2 };
+    }
+    return best;
+  });
+  const updatesBeforeCrease = await statsUpdates();
+  await page.mouse.click(edge.x, edge.y);
+  await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n, updatesBeforeCrease);
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) === 384);
+  const picked = await page.textContent('#sub-picked');
+  const creased = await meshSignature();
+  check(picked.startsWith('1 edge'), `clicking a cage edge picks it (${picked})`);
+  check(creased !== smooth, `a sharp edge changes the subdivided surface (${await shot('04-crease')})`);
+
+  // 3b. a valid upload: a tetrahedron OBJ, read by the server, Catmull-Clark level 3: 4 x 3 x 4^2 = 192 quads
+  await page.setInputFiles('#sub-file', { name: 'tetra.obj', mimeType: 'model/obj',
+                                          buffer: Buffer.from('v 1 1 1\nv -1 -1 1\nv -1 1 -1\nv 1 -1 -1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n') });
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) === 192);
+  const tetraCage = await page.evaluate(() => window.surfaced.views.subdivide.edges.length);
+  check(tetraCage === 6, `uploaded OBJ subdivided: 192 faces, cage of 6 edges (${await shot('04b-upload')})`);
+
+  // 4. an invalid upload shows the service's error, naming the line
+  expectRejection = true;
+  await page.setInputFiles('#sub-file', { name: 'bad.obj', mimeType: 'model/obj',
+                                          buffer: Buffer.from('v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n') });
+  await page.waitForSelector('#error:not([hidden])');
+  const errorText = await page.textContent('#error');
+  await shot('05-invalid-upload');
+  expectRejection = false;
+  check(/bad\.obj/.test(errorText) && /\b(400|422)\b/.test(errorText) && /line 4/.test(errorText),
+        `invalid upload shows the problem: ${JSON.stringify(errorText.replace(/\s+/g, ' ').slice(0, 160))}`);
+
+  // 5. simplify: the slider gives a live result with its measured error
+  await page.click('#tabs button[data-view=simplify]');
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) > 0);
+  await page.fill('#simp-ratio', '5');
+  await page.dispatchEvent('#simp-ratio', 'input');
+  await page.dispatchEvent('#simp-ratio', 'change');
+  await page.waitForFunction(() => !window.surfaced.views.simplify.busy && /Hausdorff/.test(document.getElementById('stats').textContent)
+                                   && Number(document.getElementById('stats').dataset.outputFaces) <= 0.05 * 5120 + 2);
+  const simplified = await page.$eval('#stats', (el) => el.textContent);
+  check(/Hausdorff \(measured\): [0-9.e+-]+/.test(simplified), `simplified to 5 % with the measured error shown (${await shot('06-simplified')})`);
+  console.log(simplified.split('\n').map((l) => `     ${l}`).join('\n'));
+
+  // 6. downloads: OBJ of the current result (asked of the service again), GLB as received
+  const [objDownload] = await Promise.all([page.waitForEvent('download'), page.click('#download-obj')]);
+  const objPath = path.join(artifacts, objDownload.suggestedFilename());
+  await objDownload.saveAs(objPath);
+  const objText = (await import('node:fs')).readFileSync(objPath, 'utf8');
+  const objFaces = objText.split('\n').filter((l) => l.startsWith('f ')).length;
+  const shownFaces = await page.$eval('#stats', (el) => Number(el.dataset.outputFaces));
+  check(objFaces === shownFaces, `Download OBJ: ${objPath} has the ${shownFaces} faces shown`);
+  const [glbDownload] = await Promise.all([page.waitForEvent('download'), page.click('#download-glb')]);
+  const glbPath = path.join(artifacts, glbDownload.suggestedFilename());
+  await glbDownload.saveAs(glbPath);
+  check((await import('node:fs')).readFileSync(glbPath).subarray(0, 4).toString() === 'glTF', `Download GLB: ${glbPath}`);
+
+  // 6b. remeshing, when this server has it: the bumpy sphere remeshed, the quality report shown
+  if (await page.isVisible('#tabs button[data-view=remesh]')) {
+    await page.click('#tabs button[data-view=remesh]');
+    await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) > 0 ||
+                                     !document.getElementById('error').hidden, null, { timeout: 60000 });
+    const errorShown = await page.isVisible('#error');
+    const remeshStats = await page.$eval('#stats', (el) => el.textContent);
+    const remeshed = await canvasPixels();
+    check(!errorShown && /min angle after: [0-9.]+/.test(remeshStats) && remeshed.n > 0.02 * remeshed.total,
+          `remeshed and drawn: ${remeshStats.replace(/\n/g, ', ')} (${await shot('06b-remesh')})`);
+  } else {
+    console.log('     (this server does not document POST /remesh: no remesh view to test)');
+  }
+
+  // 7. implicit surfaces, when this server has them: the example scene from /openapi.json meshed and drawn
+  if (await page.isVisible('#tabs button[data-view=implicit]')) {
+    await page.click('#tabs button[data-view=implicit]');
+    await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) > 0 ||
+                                     !document.getElementById('error').hidden, null, { timeout: 60000 });
+    const errorShown = await page.isVisible('#error');
+    const implicit = await canvasPixels();
+    check(!errorShown && implicit.n > 0.02 * implicit.total,
+          `implicit scene meshed and drawn: ${implicit.n} pixels (${await shot('07-implicit')})`);
+    // an edit with a mistake: the error names the field path inside the scene
+    const updatesBeforeEdit = await statsUpdates();
+    expectRejection = true;
+    await page.fill('#imp-scene', JSON.stringify({ scene: { op: 'sphere', radius: -1 }, bounds: [[-2, -2, -2], [2, 2, 2]] }));
+    await page.click('#imp-run');
+    await page.waitForSelector('#error:not([hidden])');
+    const sceneError = await page.textContent('#error');
+    expectRejection = false;
+    check(/scene\.radius/.test(sceneError), `a bad scene shows the field: ${JSON.stringify(sceneError.replace(/\s+/g, ' ').slice(0, 140))}`);
+    // and a valid edit re-meshes
+    await page.fill('#imp-scene', JSON.stringify({ scene: { op: 'sphere', radius: 1 }, bounds: [[-2, -2, -2], [2, 2, 2]], resolution: 24 }));
+    await page.click('#imp-run');
+    await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n, updatesBeforeEdit, { timeout: 60000 });
+    check(!(await page.isVisible('#error')), `edited scene re-meshed (${await shot('07b-implicit-edited')})`);
+  } else {
+    console.log('     (this server does not document POST /implicit/mesh: no implicit view to test)');
+  }
+
+  check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
+} catch (e) {
+  console.error(e);
+  failures++;
+} finally {
+  await browser.close();
+  await server.stop();
+}
+console.log(`screenshots: ${path.resolve(artifacts)}`);
+console.log(failures ? `${failures} check(s) FAILED` : 'all browser checks passed');
+process.exit(failures ? 1 : 0);
