@@ -34,7 +34,9 @@ struct Limits {
     std::uint64_t max_level_set_samples = std::uint64_t{256} * 256 * 256;  //!< uploaded level-set grid values
     std::uint64_t max_query_points = 1'000'000;    //!< points + rays in one /implicit/query
     int max_ray_steps = 10'000;                    //!< sphere-tracing steps per ray
-    std::uint64_t max_points = 10'000'000;         //!< points in one point cloud (input or sampled output)
+    //! Points in one point cloud (input or sampled output). Normal orientation keeps a kNN graph of ~190 bytes a point
+    //! (k = 16), so 2M points stay under ~400 MB.
+    std::uint64_t max_points = 2'000'000;
     //! Per-request compute deadline in milliseconds (0: none). Long work polls a surfaced::Cancel and stops with
     //! 503 when it passes.
     std::uint64_t compute_deadline_ms = 0;

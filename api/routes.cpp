@@ -3,25 +3,42 @@
 #include "api/openapi.h"
 #include "api/operations/subdivide.h"
 #include "api/operations/simplify.h"
+#include "api/operations/remesh.h"
 #include "api/operations/curves.h"
 #include "api/operations/tessellate.h"
+#include "api/operations/implicit_query.h"
+#include "api/operations/pointcloud.h"
+#include "api/operations/implicit_mesh.h"
 
 namespace surfaced::api {
 namespace {
 
 constexpr Route kRoutes[] = {
-    {"GET", "/healthz", &healthz, "Liveness: {\"status\":\"ok\"}"},
+    {"GET", "/healthz", &healthz, "Liveness: {\"status\":\"ok\"} (alias of /livez)"},
+    {"GET", "/livez", &livez, "Liveness probe: 200 while the process answers"},
+    {"GET", "/readyz", &readyz, "Readiness probe: 200, or 503 once shutdown (draining) has begun"},
+    {"GET", "/metrics", &metrics, "Prometheus text metrics: requests, latency, in-flight, queue, bytes, output faces"},
     {"GET", "/openapi.json", &openapi, "The OpenAPI 3.1 description of every endpoint"},
     {"POST", "/subdivide", &operations::subdivide,
      "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> GLB/OBJ/PLY/JSON"},
     {"POST", "/simplify", &operations::simplify,
      "QEM edge-collapse simplification to target_faces / ratio / max_error, optional Hausdorff/RMS report -> GLB/OBJ/PLY/JSON"},
+    {"POST", "/remesh", &operations::remesh,
+     "Isotropic remeshing to edge_length (split, collapse, flip, relax, project), features and boundary kept, quality report -> GLB/OBJ/PLY/JSON"},
     {"POST", "/tessellate", &operations::tessellate,
      "Bezier patches (JSON or geomview BEZ/BBP) tessellated by tolerance or segments, crack-free -> GLB/OBJ/PLY"},
     {"GET", "/patches/{name}", &operations::patch_sample,
-     "A built-in patch sample (teapot) tessellated, ?tolerance=T or ?segments=N; ETag / If-None-Match -> 304"},
+     "A built-in patch sample (teapot) tessellated, ?tolerance=T or ?segments=N (?format=json: its control points); "
+     "ETag / If-None-Match -> 304"},
     {"POST", "/curves", &operations::curves,
      "Bezier curve queries (evaluate, derivatives, split, elevate, length, closest point, tessellate) -> JSON"},
+    {"POST", "/implicit/query", &operations::implicit_query,
+     "Implicit scene queries: points inside/on/outside, value and gradient; rays by sphere tracing -> JSON"},
+    {"POST", "/pointcloud", &operations::pointcloud,
+     "Point clouds: convert PLY/OBJ/XYZ/JSON points, sample a mesh or implicit scene, estimate oriented normals "
+     "(kNN PCA) -> GLB POINTS (Draco)/PLY/JSON"},
+    {"POST", "/implicit/mesh", &operations::implicit_mesh,
+     "Implicit scene meshed in bounds (dual marching cubes, QEF vertices; closed, manifold, sharp) -> GLB/OBJ/PLY/JSON"},
 };
 
 }  // namespace
@@ -54,6 +71,36 @@ ApiResponse healthz(const ApiRequest&, const ApiContext&) noexcept {
     ApiResponse response;
     response.content_type = "application/json";
     response.body = R"({"status":"ok"})";
+    return response;
+}
+
+ApiResponse livez(const ApiRequest& request, const ApiContext& context) noexcept {
+    return healthz(request, context);
+}
+
+ApiResponse readyz(const ApiRequest&, const ApiContext& context) noexcept {
+    if (context.service && context.service->draining()) {
+        ApiError error = make_transport_problem(503, "the server is shutting down and accepts no new work");
+        error.code = "draining";
+        error.title = "Server draining";
+        ApiResponse response = error_response(std::move(error));
+        response.headers.emplace_back("Retry-After", "1");
+        return response;
+    }
+    ApiResponse response;
+    response.content_type = "application/json";
+    response.body = R"({"status":"ready"})";
+    return response;
+}
+
+ApiResponse metrics(const ApiRequest&, const ApiContext& context) noexcept {
+    ApiResponse response;
+    response.content_type = "text/plain; version=0.0.4; charset=utf-8";
+    try {
+        if (context.service) response.body = context.service->metrics_text();
+    } catch (...) {
+        return error_response(make_problem(Problem::Internal, "metrics could not be rendered"));
+    }
     return response;
 }
 

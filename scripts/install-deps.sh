@@ -16,6 +16,8 @@ packages=(
   libgtest-dev libgmock-dev
   glmark2-data          # tests: the Stanford bunny (a real scanned mesh) for simplification
   libmeshoptimizer-dev  # benchmarks only: meshoptimizer as the simplification peer (never linked into the service)
+  python3-yaml          # tests: deploy/ (Kubernetes manifests) parsed by tests/deploy/manifests_test.py
+  chromium              # tests: the web client's browser tests (Playwright drives /usr/bin/chromium headless)
   ca-certificates
 )
 missing=()
@@ -37,3 +39,10 @@ if [ "${SURFACED_SKIP_NPM:-0}" != 1 ] && [ -f tests/package.json ]; then
     npm ci --prefix tests --no-audit --no-fund --loglevel=error
   fi
 fi
+
+# The web client's three.js (clients/web/package.json, pinned) vendored into clients/web/vendor/: served by surfaced
+# itself, so the client works offline. Needed to run the service with its web client, so not skipped with the tests'.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  echo "node and npm are needed to vendor three.js for the web client (scripts/vendor-web.sh)" >&2; exit 1
+fi
+scripts/vendor-web.sh

@@ -2,6 +2,8 @@
 # Installs what is needed, builds, and runs every test: the normal build, then the whole suite again under
 # AddressSanitizer + UndefinedBehaviorSanitizer (LeakSanitizer included). Exit status 0 only when all pass.
 #   SURFACED_SKIP_SANITIZE=1 scripts/test.sh   skip the sanitizer pass (quicker local runs; CI runs it)
+#   SURFACED_SKIP_FUZZ=1                       skip the bounded libFuzzer runs (scripts/fuzz.sh, 20 s per target)
+#   SURFACED_SKIP_CONTAINER=1                  skip the container image build + test (scripts/container-test.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # ccache: hit across clones at different paths (CI clones afresh every run)
@@ -21,6 +23,14 @@ if [ "${SURFACED_SKIP_SANITIZE:-0}" != 1 ]; then
   cmake --build build-sanitize -j"$(nproc)"
   echo "== sanitizer build done in $(( $(date +%s) - start )) s"
   (cd build-sanitize && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-     ctest --output-on-failure -j"$(nproc)" --timeout 900)
+     ctest --output-on-failure -j"$(nproc)" --timeout 900 -LE browser)   # the browser tests run in the first pass
   echo "== sanitizer tests done in $(( $(date +%s) - start )) s"
+fi
+
+if [ "${SURFACED_SKIP_FUZZ:-0}" != 1 ]; then
+  scripts/fuzz.sh "${SURFACED_FUZZ_SECONDS:-20}"
+  echo "== fuzz runs done in $(( $(date +%s) - start )) s"
+fi
+if [ "${SURFACED_SKIP_CONTAINER:-0}" != 1 ]; then
+  scripts/container-test.sh   # prints "== container test done in N s"
 fi

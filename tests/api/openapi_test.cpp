@@ -9,6 +9,8 @@
 #include <set>
 #include <string>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "api/openapi.h"
@@ -26,7 +28,9 @@ std::string lower(std::string_view s) {
 }
 
 TEST(OpenApi, IsValidOpenApi31) {
-    const auto path = std::filesystem::temp_directory_path() / "surfaced-openapi-test.json";
+    // One file per process: the normal and sanitizer trees (or two developers) may run this test at once.
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("surfaced-openapi-test-" + std::to_string(::getpid()) + ".json");
     {
         std::ofstream out(path, std::ios::binary);
         out << openapi_document();
