@@ -19,12 +19,15 @@ constexpr EnumName<implicit::MeshFieldMode> kModeNames[] = {
 };
 constexpr std::int64_t kDefaultResolution = 64;
 constexpr std::int64_t kMaxResolution = 65536;
+//! Faces meeting at more than this many degrees get separate normals in GLB/glTF (split_normals_at_creases).
+constexpr double kDefaultCreaseAngle = 40;
 
 struct MeshRequest {
     std::shared_ptr<const implicit::Field> field;
     Box3 bounds;
     implicit::MeshFieldOptions options;
     bool cell_size_given = false;
+    double crease_angle = kDefaultCreaseAngle;
     OutputOptions output;
 };
 
@@ -59,7 +62,7 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
     if (auto error = json::parse(request.body, root)) return std::move(*error);
     if (!root.is_object()) return json::invalid("", "the body must be a JSON object");
     if (auto error = json::check_members(root, "", {"scene", "bounds", "resolution", "cell_size", "mode",
-                                                    "simplify_tolerance", "output"}))
+                                                    "simplify_tolerance", "crease_angle", "output"}))
         return std::move(*error);
     MeshRequest out;
     if (!root.contains("scene")) return json::invalid("scene", "scene is required");
@@ -99,6 +102,13 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
         if (tolerance.value() > 0 && out.options.mode != implicit::MeshFieldMode::Adaptive)
             return json::invalid("simplify_tolerance", "simplify_tolerance applies only to mode \"adaptive\"");
         out.options.simplify_tolerance = tolerance.value();
+    }
+    if (root.contains("crease_angle")) {
+        auto angle = json::read_number(root["crease_angle"], "crease_angle");
+        if (!angle) return std::move(angle.error());
+        if (!(angle.value() >= 0 && angle.value() <= 180))
+            return json::invalid("crease_angle", "crease_angle must be between 0 and 180 degrees");
+        out.crease_angle = angle.value();
     }
     if (root.contains("output")) {
         auto output = json::decode_output(root["output"]);
@@ -158,6 +168,11 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                                                " triangles; the limit is " + std::to_string(limits.max_output_faces) +
                                                " (use a lower resolution)",
                                            req.cell_size_given ? "cell_size" : "resolution"));
+    // GLB/glTF with normals: vertices on sharp edges are split so each side is shaded with its own normal (the
+    // positions stay identical, so the mesh welds back to the watertight one). OBJ and PLY write one normal per
+    // vertex index, where a split would show as duplicate vertices: they keep the welded mesh and smooth normals.
+    const bool gltf = req.output.format == OutputFormat::Glb || req.output.format == OutputFormat::Gltf;
+    if (gltf && req.output.normals.value_or(false)) mesh = implicit::split_normals_at_creases(mesh, req.crease_angle);
     const auto t_meshed = Clock::now();
 
     ApiResponse response;

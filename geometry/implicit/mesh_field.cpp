@@ -16,6 +16,7 @@ namespace surfaced::implicit {
 namespace {
 
 constexpr int kMaxResolution = 65536;
+constexpr double kPiOver180 = 3.14159265358979323846 / 180.0;
 //! QEF re-solves at a sharp feature (each re-samples the Hermite data at the vertex; see refine_feature).
 constexpr int kFeatureRefinements = 4;
 
@@ -327,6 +328,20 @@ private:
             int rank = 0;
             (void)qef.solve(options_.qef_threshold, &rank);
             if (rank >= 2) x = refine_feature(x, points, normals, length, qef.mass_point(), lo, hi);
+            // What is still off the surface (a smooth patch: the QEF point lies on the mean tangent plane, off a
+            // curved surface by the sag of the patch across the cell; a feature whose planes meet outside the cell:
+            // the box-constrained point) moves onto the surface along the gradient, when that stays in the cell and
+            // on a sheet the crossings saw (normal within ~25 degrees of one of theirs).
+            if (rank <= 1 || std::fabs(g_.value(x)) > 1e-9 * h_min_) {
+                Vec3 on_surface = x, normal;
+                if (project_to_surface(on_surface, normal, 3) && in_box(on_surface, lo, hi)) {
+                    const double l = norm(normal);
+                    bool same_sheet = false;
+                    for (int q = 0; q < length && l > 0; ++q)
+                        same_sheet = same_sheet || dot(normal, normals[q]) > 0.9 * l * norm(normals[q]);
+                    if (same_sheet) x = on_surface;
+                }
+            }
             // Clamp into the cell, a little inside its faces so that vertices of neighbouring cells never
             // coincide; on the bounds there is no neighbour, so caps stay exactly on the bounds faces.
             const int cell[3] = {i, j, k};
@@ -348,18 +363,23 @@ private:
         }
     }
 
+    static bool in_box(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+        return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
+    }
+
     // Newton steps along the gradient from p towards g = 0 (at most `steps`); false when g has no usable gradient.
     bool project_to_surface(Vec3& p, Vec3& normal, int steps) const {
-        for (int s = 0; s < steps; ++s) {
+        for (int s = 0;; ++s) {
             const double v = g_.value(p);
+            if (!std::isfinite(v)) return false;
+            const bool done = std::fabs(v) < 1e-9 * h_min_;
+            if (!done && s == steps) return false;
             normal = g_.gradient(p);
             const double n2 = dot(normal, normal);
-            if (!(n2 > 0) || !std::isfinite(n2) || !std::isfinite(v)) return false;
-            if (std::fabs(v) < 1e-12 * h_min_) return true;
+            if (!(n2 > 0) || !std::isfinite(n2)) return false;
+            if (done) return true;
             p -= normal * (v / n2);
         }
-        normal = g_.gradient(p);
-        return std::fabs(g_.value(p)) < 1e-6 * h_min_;
     }
 
     // A sharp feature (QEF rank 2 or 3) on a curved surface: the tangent planes at the edge crossings, up to a cell
@@ -370,25 +390,60 @@ private:
     // features are fixed points (their planes do not change), so sharp cube edges stay as they were.
     Vec3 refine_feature(Vec3 x, const Vec3* points, const Vec3* normals, int count, const Vec3& mass_point,
                         const Vec3& lo, const Vec3& hi) const {
-        Vec3 p[12], n[12];
+        // One plane per sheet: the crossings are grouped by normal (within ~25 degrees of a group's first), each
+        // group represented by its crossing nearest to x. sheet: that crossing's normal, which re-samples keep near.
+        Vec3 p[12], n[12], sheet[12];
+        int sheets = 0;
         for (int q = 0; q < count; ++q) {
-            p[q] = points[q];
             const double l = norm(normals[q]);
-            n[q] = l > 0 ? normals[q] * (1.0 / l) : Vec3{};
+            if (!(l > 0)) continue;
+            const Vec3 unit = normals[q] * (1.0 / l);
+            int group = 0;
+            while (group < sheets && dot(unit, sheet[group]) <= 0.9) ++group;
+            if (group == sheets) {
+                sheet[sheets++] = unit;
+            } else if (norm(points[q] - x) >= norm(p[group] - x)) {
+                continue;
+            }
+            p[group] = points[q];
+            n[group] = unit;
         }
+        count = sheets;
         const double reach = 1.5 * norm(hi - lo);
         for (int iteration = 0; iteration < kFeatureRefinements; ++iteration) {
             Qef qef;
             for (int q = 0; q < count; ++q) {
-                if (norm(n[q]) > 0) {
-                    Vec3 foot = x - n[q] * dot(n[q], x - p[q]);
-                    Vec3 normal;
-                    if (project_to_surface(foot, normal, 3) && norm(foot - x) < reach) {
-                        const double l = norm(normal);
-                        if (l > 0 && dot(normal, n[q]) > 0.9 * l) {
-                            p[q] = foot;
-                            n[q] = normal * (1.0 / l);
+                const double offset = norm(n[q]) > 0 ? dot(n[q], x - p[q]) : 0.0;
+                const Vec3 foot = x - n[q] * offset;
+                // A flat sheet keeps its plane: the gradient halfway from the sample to the foot is the sample's own
+                // normal (straight edges and corners cost one gradient per sample and settle at once).
+                bool flat = norm(foot - p[q]) < 1e-9 * h_min_;
+                if (!flat && norm(n[q]) > 0) {
+                    const Vec3 halfway = g_.gradient((p[q] + foot) * 0.5);
+                    flat = dot(halfway, n[q]) > (1 - 1e-12) * norm(halfway);
+                }
+                if (!flat) {
+                    // the farthest point towards the foot whose surface projection is still on this sheet
+                    if (norm(foot - p[q]) < reach) {
+                        Vec3 best_p = p[q], best_n = n[q];
+                        auto accept = [&](double t) {
+                            Vec3 candidate = p[q] + (foot - p[q]) * t, normal;
+                            if (!project_to_surface(candidate, normal, 3)) return false;
+                            const double l = norm(normal);
+                            if (!(l > 0) || dot(normal, sheet[q]) <= 0.9 * l || norm(candidate - x) >= reach) return false;
+                            best_p = candidate;
+                            best_n = normal * (1.0 / l);
+                            return true;
+                        };
+                        if (!accept(1.0)) {
+                            double good = 0, bad = 1;  // bisection for the end of this sheet
+                            for (int step = 0; step < 6; ++step) {
+                                const double mid = 0.5 * (good + bad);
+                                (accept(mid) ? good : bad) = mid;
+                            }
                         }
+                        p[q] = best_p;
+                        n[q] = best_n;
                     }
                 }
                 qef.add(p[q], n[q]);
@@ -397,7 +452,7 @@ private:
             // crossings are
             qef.set_mass_point(mass_point);
             const Vec3 next = qef.solve_in_box(options_.qef_threshold, lo, hi);
-            const bool settled = norm(next - x) < 1e-9 * h_min_;
+            const bool settled = norm(next - x) < 1e-6 * h_min_;
             x = next;
             if (settled) break;
         }
@@ -670,6 +725,100 @@ Result<PolygonMesh> mesh_field(const Field& field, const Box3& bounds, const Mes
         }
     }
     return mesh;
+}
+
+
+PolygonMesh split_normals_at_creases(const PolygonMesh& mesh, double crease_angle_degrees) {
+    const std::size_t faces = mesh.face_count();
+    // corners of triangle f are 3f..3f+2; union-find over corners: one output vertex per class
+    std::vector<std::uint32_t> parent(3 * faces);
+    for (std::size_t c = 0; c < parent.size(); ++c) parent[c] = static_cast<std::uint32_t>(c);
+    auto find = [&](std::uint32_t c) {
+        while (parent[c] != c) c = parent[c] = parent[parent[c]];
+        return c;
+    };
+    auto unite = [&](std::uint32_t a, std::uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    };
+    std::vector<Vec3> face_normal(faces);
+    std::vector<char> triangle(faces, 0);
+    for (std::size_t f = 0; f < faces; ++f) {
+        const auto face = mesh.face(f);
+        if (face.size() != 3) continue;
+        triangle[f] = 1;
+        const Vec3 n = cross(mesh.positions[face[1]] - mesh.positions[face[0]],
+                             mesh.positions[face[2]] - mesh.positions[face[0]]);
+        const double l = norm(n);
+        face_normal[f] = l > 0 ? n * (1.0 / l) : Vec3{};
+    }
+    const double cos_limit = crease_angle_degrees >= 180 ? -2.0 : std::cos(crease_angle_degrees * kPiOver180);
+    auto edge_key = [](Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); };
+    std::unordered_map<std::uint64_t, int> uses;  // faces per undirected edge; only edges used twice are joined
+    uses.reserve(3 * faces);
+    for (std::size_t f = 0; f < faces; ++f) {
+        if (!triangle[f]) continue;
+        const auto face = mesh.face(f);
+        for (int k = 0; k < 3; ++k) ++uses[edge_key(face[k], face[(k + 1) % 3])];
+    }
+    struct Use {
+        std::uint32_t low_corner, high_corner;  // the face's corners at the edge's smaller and larger vertex
+        std::size_t face;
+    };
+    // second pass: join the two faces of each edge used exactly twice, when their normals are close enough
+    std::unordered_map<std::uint64_t, Use> first;
+    first.reserve(uses.size());
+    for (std::size_t f = 0; f < faces; ++f) {
+        if (!triangle[f]) continue;
+        const auto face = mesh.face(f);
+        for (int k = 0; k < 3; ++k) {
+            const Index a = face[k], b = face[(k + 1) % 3];
+            const std::uint64_t key = edge_key(a, b);
+            if (uses.at(key) != 2) continue;
+            const std::uint32_t ca = static_cast<std::uint32_t>(3 * f + k), cb = static_cast<std::uint32_t>(3 * f + (k + 1) % 3);
+            const Use use{a < b ? ca : cb, a < b ? cb : ca, f};
+            auto [it, inserted] = first.try_emplace(key, use);
+            if (inserted) continue;
+            const Use& other = it->second;
+            if (dot(face_normal[other.face], face_normal[f]) < cos_limit) continue;  // a sharp edge
+            unite(other.low_corner, use.low_corner);
+            unite(other.high_corner, use.high_corner);
+        }
+    }
+    // one output vertex per class, angle-weighted normals of its faces
+    PolygonMesh out;
+    std::vector<Index> vertex_of(parent.size(), kInvalidIndex);
+    std::vector<Vec3> normal_sum;
+    for (std::size_t f = 0; f < faces; ++f) {
+        const auto face = mesh.face(f);
+        std::vector<Index> corners;
+        for (std::size_t k = 0; k < face.size(); ++k) {
+            Index id = kInvalidIndex;
+            if (triangle[f]) id = vertex_of[find(static_cast<std::uint32_t>(3 * f + k))];
+            if (id == kInvalidIndex) {
+                id = static_cast<Index>(out.positions.size());
+                out.positions.push_back(mesh.positions[face[k]]);
+                normal_sum.push_back(Vec3{});
+                if (triangle[f]) vertex_of[find(static_cast<std::uint32_t>(3 * f + k))] = id;
+            }
+            if (triangle[f]) {
+                const Vec3 &p = mesh.positions[face[k]], &p1 = mesh.positions[face[(k + 1) % 3]],
+                           &p2 = mesh.positions[face[(k + 2) % 3]];
+                const Vec3 e1 = p1 - p, e2 = p2 - p;
+                const double angle = std::atan2(norm(cross(e1, e2)), dot(e1, e2));
+                normal_sum[id] += face_normal[f] * angle;
+            }
+            corners.push_back(id);
+        }
+        out.add_face(corners);
+    }
+    out.normals.resize(out.positions.size());
+    for (std::size_t v = 0; v < out.positions.size(); ++v) {
+        const double l = norm(normal_sum[v]);
+        out.normals[v] = l > 0 ? normal_sum[v] * (1.0 / l) : Vec3{0, 0, 1};
+    }
+    return out;
 }
 
 }  // namespace surfaced::implicit

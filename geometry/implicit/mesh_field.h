@@ -13,6 +13,11 @@
 //  2. The segments form closed loops (marching-cubes patches; tunnels inside a cell are not built, every loop is a
 //     disc). Each loop gets one vertex, placed by a QEF on the loop's Hermite data (edge crossings found by Illinois
 //     regula falsi on the field, normals from Field::gradient), small eigenvalues truncated, clamped into the cell.
+//     At a sharp feature (QEF rank >= 2) the Hermite data is re-sampled where the vertex is: one plane per sheet,
+//     each moved to the point of its sheet nearest the vertex's foot on it, and the QEF solved again (a few rounds),
+//     so that curved creases (a hole's rim) get vertices on the crease, not where tangent planes a cell apart meet;
+//     a vertex still off the surface (smooth curved patches: the sag of the mean plane) is moved onto it by Newton
+//     steps along the gradient when that keeps it in its cell on a sheet its crossings saw.
 //  3. Each grid edge with a sign change gives a quad joining the vertices of the four cells around it that own its
 //     crossing, oriented so that normals point out (f < 0 inside). Where both cells sharing an ambiguous face own
 //     both of its segments with one vertex each (the case that makes Nielson's dual mesh non-manifold), a vertex is
@@ -110,5 +115,14 @@ Result<MeshFieldGrid> mesh_field_grid(const Box3& bounds, const MeshFieldOptions
 //! plus O(surface cells).
 Result<PolygonMesh> mesh_field(const Field& field, const Box3& bounds, const MeshFieldOptions& options,
                                MeshFieldStats* stats = nullptr);
+
+//! For renderers: a copy of the triangle mesh `mesh` with per-vertex normals in which a vertex on a sharp edge
+//! (faces meeting at a dihedral angle above `crease_angle_degrees`, i.e. face normals more than that apart) is
+//! split into one copy per smooth group of its faces, each with the angle-weighted normal of its group; so cube
+//! edges stay sharp when shaded instead of being rounded by normals averaged across them. Copies keep the exact
+//! position of the original, so welding by position gives `mesh` back (closed and manifold as it was); faces keep
+//! their order and orientation. 180 (or more): no split, smooth normals everywhere; 0: every face flat. Faces that
+//! are not triangles, or edges shared by more than two faces, are never joined across (they stay split).
+PolygonMesh split_normals_at_creases(const PolygonMesh& mesh, double crease_angle_degrees);
 
 }  // namespace surfaced::implicit
