@@ -10,7 +10,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <initializer_list>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -200,6 +203,239 @@ std::string header(const api::ApiResponse& response, std::string_view name) {
     return "?";
 }
 
+// ---- what the commands share ---------------------------------------------------------------------------------
+
+//! The option loop of every command: splits "--name=value" and hands each argument to `handle(arg, inline_value)`,
+//! which takes the value it needs (Args::value); a value left over is an error ("--normals=yes"). `handle` returns
+//! false when the command is done (it printed its help); so does this.
+template <class Handle>
+bool for_each_argument(Args& args, Handle&& handle) {
+    while (!args.done()) {
+        std::string arg = args.next();
+        std::optional<std::string> inline_value;
+        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
+            inline_value = arg.substr(eq + 1);
+            arg.resize(eq);
+        }
+        if (!handle(arg, inline_value)) return false;
+        if (inline_value) throw UsageError{arg + " takes no value"};
+    }
+    return true;
+}
+
+//! Checks an option's value and returns the text to pass on, or throws a UsageError naming the option.
+using CheckValue = std::function<std::string(std::string_view option, const std::string& text)>;
+
+//! A number option as text, checked to parse (the operation checks its range).
+std::string checked_real(std::string_view name, const std::string& text) {
+    double value = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value))
+        throw UsageError{std::string(name) + " needs a number, got \"" + text + "\""};
+    return text;
+}
+
+CheckValue integer(long long min, long long max) {
+    return [=](std::string_view option, const std::string& text) {
+        return std::to_string(parse_number(option, text, min, max));
+    };
+}
+CheckValue real() { return checked_real; }
+CheckValue any_text() {
+    return [](std::string_view, const std::string& text) { return text; };
+}
+template <class E, std::size_t N>
+CheckValue one_of(const api::EnumName<E> (&table)[N]) {
+    return [&table](std::string_view option, const std::string& text) { return checked_enum(option, text, table); };
+}
+
+//! An option of a file command: "--name VALUE" (checked by `check`), or a switch "--name" (no `check`).
+struct Option {
+    std::string_view name;
+    //! The query parameter it becomes (a switch's value is `switch_value`); empty: the command reads it itself.
+    std::string_view param;
+    CheckValue check;
+    std::string_view switch_value = "true";
+};
+
+//! A switch: "--name" (no value) gives query parameter `param`, if any, the value `value`.
+Option flag(std::string_view name, std::string_view param = "", std::string_view value = "true") {
+    return Option{name, param, nullptr, value};
+}
+
+//! The arguments of `COMMAND IN -o OUT [options]`: the options given, each with its last (checked) value.
+struct Parsed {
+    std::string input, output;
+    std::map<std::string, std::string, std::less<>> given;  //!< by option name; "" for switches
+
+    bool has(std::string_view name) const { return given.find(name) != given.end(); }
+    //! The value of an option that `has` been given.
+    const std::string& value(std::string_view name) const { return given.find(name)->second; }
+};
+
+//! Parses the arguments of a file command against its `options`, with the wording every command shares: -h/--help
+//! prints `help` (nullopt: the command is done), -o/--output, unknown options, one IN (`input_name` when missing),
+//! OUT required.
+std::optional<Parsed> parse_file_command(Args& args, const std::string& command, std::string_view help,
+                                         const std::vector<Option>& options,
+                                         const std::string& input_name = "input file") {
+    Parsed parsed;
+    const bool complete = for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
+        if (arg == "-h" || arg == "--help") {
+            std::cout << help;
+            return false;
+        }
+        if (arg == "-o" || arg == "--output") {
+            parsed.output = args.value(arg, inline_value);
+            return true;
+        }
+        for (const Option& option : options)
+            if (arg == option.name) {
+                parsed.given[arg] = option.check ? option.check(arg, args.value(arg, inline_value)) : std::string();
+                return true;
+            }
+        if (arg.starts_with("-") && arg != "-") throw UsageError{command + ": unknown option \"" + arg + "\""};
+        if (!parsed.input.empty())
+            throw UsageError{command + ": unexpected argument \"" + arg + "\" (input is already " + parsed.input + ")"};
+        parsed.input = arg;
+        return true;
+    });
+    if (!complete) return std::nullopt;
+    if (parsed.input.empty()) throw UsageError{command + ": missing " + input_name};
+    if (parsed.output.empty()) throw UsageError{command + ": missing -o OUT"};
+    return parsed;
+}
+
+//! The mesh format of IN, from its extension.
+MeshFormat mesh_input_format(const std::string& input) {
+    if (lower_extension(input) == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
+    const auto format = format_from_extension(input);
+    if (!format)
+        throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
+    return *format;
+}
+
+//! The output format of OUT, from its extension; `allowed` as the error lists them (".obj .ply .glb").
+api::OutputFormat output_format(const std::string& output, std::initializer_list<api::OutputFormat> allowed,
+                                std::string_view listed) {
+    const std::string ext = lower_extension(output);
+    for (const api::OutputFormat format : allowed)
+        if (ext == "." + std::string(api::enum_name(api::kOutputFormatNames, format))) return format;
+    throw UsageError{"cannot tell the output format of " + output + " from its extension (use " + std::string(listed) +
+                     ")"};
+}
+api::OutputFormat mesh_output_format(const std::string& output) {
+    using enum api::OutputFormat;
+    return output_format(output, {Obj, Ply, Glb, Gltf, Json}, ".obj .ply .glb .gltf .json");
+}
+
+bool is_gltf(api::OutputFormat format) { return format == api::OutputFormat::Glb || format == api::OutputFormat::Gltf; }
+
+//! --quantize-position and --normals against a mesh output format.
+void check_mesh_output_options(const Parsed& parsed, api::OutputFormat format) {
+    if (parsed.has("--quantize-position") && (!is_gltf(format) || parsed.has("--no-draco")))
+        throw UsageError{"--quantize-position applies only to .glb/.gltf output with Draco"};
+    if (parsed.has("--normals") && format == api::OutputFormat::Json)
+        throw UsageError{"--normals is not available for .json output"};
+}
+
+//! The query parameters of the raw-file request form: the options that name one, the output format, and
+//! compression "none" for --no-draco with glTF output.
+std::multimap<std::string, std::string> file_query(const Parsed& parsed, const std::vector<Option>& options,
+                                                   api::OutputFormat format) {
+    std::multimap<std::string, std::string> query;
+    for (const Option& option : options)
+        if (!option.param.empty() && parsed.has(option.name))
+            query.emplace(option.param, option.check ? parsed.value(option.name) : std::string(option.switch_value));
+    query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, format)));
+    if (parsed.has("--no-draco") && is_gltf(format)) query.emplace("compression", "none");
+    return query;
+}
+
+//! The request POST `path` would receive for an upload of `body`: one code path for the CLI and the service.
+api::ApiRequest upload_request(std::string path, std::string content_type, std::string_view body,
+                               std::multimap<std::string, std::string> query) {
+    api::ApiRequest request;
+    request.method = "POST";
+    request.path = std::move(path);
+    request.content_type = std::move(content_type);
+    request.body = body;
+    request.query = std::move(query);
+    return request;
+}
+
+//! The bytes of IN; nullopt (and why, printed) when it cannot be read.
+std::optional<std::string> read_input(const std::string& path) {
+    std::string bytes, error;
+    if (read_file(path, bytes, error)) return bytes;
+    std::cerr << "surfaced: " << error << "\n";
+    return std::nullopt;
+}
+
+//! What a command's problem message locates: "surfaced: IN: [field: ]detail[ (line N)][ (byte offset N)] [code]".
+struct ProblemStyle {
+    bool field = false;  //!< the field path, when the detail does not start with it
+    bool line = true;
+    bool offset = true;  //!< (when there is no line)
+};
+
+//! The end of every file command: a problem is printed (exit 1); a result is written to OUT and `summary(response)`
+//! printed (exit 0).
+template <class Summary>
+int finish(const api::ApiResponse& response, const Parsed& parsed, Summary&& summary, ProblemStyle style = {}) {
+    if (response.status >= 400) {
+        std::cerr << "surfaced: " << parsed.input << ": ";
+        if (const auto& problem = response.error) {
+            if (style.field && problem->field && !problem->field->empty() &&
+                !problem->detail.starts_with(*problem->field))
+                std::cerr << *problem->field << ": ";
+            std::cerr << problem->detail;
+            if (style.line && problem->line) std::cerr << " (line " << *problem->line << ")";
+            else if (style.offset && problem->offset) std::cerr << " (byte offset " << *problem->offset << ")";
+            std::cerr << " [" << problem->code << "]";
+        } else {
+            std::cerr << "failed with status " << response.status;
+        }
+        std::cerr << "\n";
+        return kExitFailed;
+    }
+    std::string error;
+    if (!write_file(parsed.output, response.body, error)) {
+        std::cerr << "surfaced: " << error << "\n";
+        return kExitFailed;
+    }
+    summary(response);
+    return kExitOk;
+}
+
+//! The context of a command run in process. Files are the user's own: the body limit protects the server's memory,
+//! not the CLI's.
+api::ApiContext file_context() {
+    api::ApiContext context;
+    context.limits.max_body_bytes = static_cast<std::size_t>(-1);
+    return context;
+}
+
+//! subdivide, simplify, remesh after their own checks: IN read and sent as the raw-file form of POST `path` with the
+//! query of the options given; then `finish`.
+template <class Summary>
+int upload_mesh(std::string path, const Parsed& parsed, const std::vector<Option>& options, MeshFormat in_format,
+                api::OutputFormat out_format, const api::ApiContext& context, Summary&& summary) {
+    const auto bytes = read_input(parsed.input);
+    if (!bytes) return kExitFailed;
+    const api::ApiRequest request =
+        upload_request(std::move(path), std::string(api::enum_name(api::kMeshMediaTypes, in_format)), *bytes,
+                       file_query(parsed, options, out_format));
+    return finish(api::dispatch(request, context), parsed, std::forward<Summary>(summary));
+}
+
+//! "wrote OUT: T triangles, V vertices (from F faces[, triangulated first])" of simplify and remesh.
+void print_triangulated_result(const Parsed& parsed, const api::ApiResponse& response) {
+    std::cout << "wrote " << parsed.output << ": " << header(response, "X-Output-Faces") << " triangles, "
+              << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
+              << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "") << ")";
+}
+
 // ---- serve ---------------------------------------------------------------------------------------------------
 
 int serve(Args& args) {
@@ -208,18 +444,12 @@ int serve(Args& args) {
     config.access_log = server::ServerConfig::AccessLog::Stderr;
     bool web_root_given = false;
     std::optional<std::string> auth_token_file;
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
+    const bool complete = for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
         if (arg == "-h" || arg == "--help") {
             std::cout << kServeHelp;
             for (const api::Route& route : api::routes())
                 std::cout << "  " << route.method << " " << route.path << "  " << route.description << "\n";
-            return kExitOk;
+            return false;
         } else if (arg == "--host") {
             config.host = args.value(arg, inline_value);
         } else if (arg == "--port") {
@@ -268,8 +498,9 @@ int serve(Args& args) {
         } else {
             throw UsageError{"serve: unknown argument \"" + arg + "\""};
         }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
+        return true;
+    });
+    if (!complete) return kExitOk;
     std::error_code ec;
     if (web_root_given && !std::filesystem::is_directory(config.web_root, ec))
         throw UsageError{"--web-root " + config.web_root + " is not a directory"};
@@ -332,16 +563,10 @@ int healthcheck(Args& args) {
     if (const char* env = std::getenv("SURFACED_PORT"); env && *env) port = static_cast<int>(parse_number("SURFACED_PORT", env, 1, 65535));
     double timeout = 2.0;
     std::string path = "/livez";
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
+    const bool complete = for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
         if (arg == "-h" || arg == "--help") {
             std::cout << kHealthcheckHelp;
-            return kExitOk;
+            return false;
         } else if (arg == "--host") {
             host = args.value(arg, inline_value);
         } else if (arg == "--port") {
@@ -359,8 +584,9 @@ int healthcheck(Args& args) {
         } else {
             throw UsageError{"healthcheck: unknown argument \"" + arg + "\""};
         }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
+        return true;
+    });
+    if (!complete) return kExitOk;
     std::string detail;
     if (server::probe_http(host, port, path, timeout, &detail)) return kExitOk;
     std::cerr << "surfaced healthcheck: " << detail << "\n";
@@ -370,132 +596,41 @@ int healthcheck(Args& args) {
 // ---- subdivide -----------------------------------------------------------------------------------------------
 
 int subdivide(Args& args) {
-    std::string input, output;
-    std::optional<std::string> scheme, levels, boundary, quantize, crease_method, triangle_rule, max_faces, uv_mode,
-        loop_weights;
-    bool no_draco = false, normals = false, limit_surface = false;
-    api::ApiContext context;
-    // Files are the user's own: the body limit protects the server's memory, not the CLI's.
-    context.limits.max_body_bytes = static_cast<std::size_t>(-1);
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kSubdivideHelp;
-            return kExitOk;
-        } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, inline_value);
-        } else if (arg == "--scheme") {
-            scheme = checked_enum(arg, args.value(arg, inline_value), api::kSchemeNames);
-        } else if (arg == "--levels") {
-            levels = std::to_string(parse_number(arg, args.value(arg, inline_value), 0, 1'000'000));
-        } else if (arg == "--boundary") {
-            boundary = checked_enum(arg, args.value(arg, inline_value), api::kBoundaryNames);
-        } else if (arg == "--crease-method") {
-            crease_method = checked_enum(arg, args.value(arg, inline_value), api::kCreaseMethodNames);
-        } else if (arg == "--triangle-rule") {
-            triangle_rule = checked_enum(arg, args.value(arg, inline_value), api::kTriangleRuleNames);
-        } else if (arg == "--loop-weights") {
-            loop_weights = checked_enum(arg, args.value(arg, inline_value), api::kLoopWeightNames);
-        } else if (arg == "--uv-interpolation") {
-            uv_mode = checked_enum(arg, args.value(arg, inline_value), api::kUvInterpolationNames);
-        } else if (arg == "--max-faces") {
-            max_faces = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
-        } else if (arg == "--limit-surface") {
-            limit_surface = true;
-        } else if (arg == "--quantize-position") {
-            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 24));
-        } else if (arg == "--max-output-faces") {
-            context.limits.max_output_faces = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
-        } else if (arg == "--no-draco") {
-            no_draco = true;
-        } else if (arg == "--normals") {
-            normals = true;
-        } else if (arg.starts_with("-") && arg != "-") {
-            throw UsageError{"subdivide: unknown option \"" + arg + "\""};
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw UsageError{"subdivide: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
-        }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
-    if (input.empty()) throw UsageError{"subdivide: missing input file"};
-    if (output.empty()) throw UsageError{"subdivide: missing -o OUT"};
-
-    const std::string in_ext = lower_extension(input);
-    const std::string out_ext = lower_extension(output);
-    if (in_ext == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
-    const auto in_format = format_from_extension(input);
-    if (!in_format)
-        throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
-    std::optional<api::OutputFormat> out_format;
-    if (out_ext == ".obj") out_format = api::OutputFormat::Obj;
-    else if (out_ext == ".ply") out_format = api::OutputFormat::Ply;
-    else if (out_ext == ".glb") out_format = api::OutputFormat::Glb;
-    else if (out_ext == ".gltf") out_format = api::OutputFormat::Gltf;
-    else if (out_ext == ".json") out_format = api::OutputFormat::Json;
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .gltf .json)"};
-    const bool gltf = *out_format == api::OutputFormat::Glb || *out_format == api::OutputFormat::Gltf;
-    if (quantize && !gltf) throw UsageError{"--quantize-position applies only to .glb and .gltf output"};
-    if (quantize && no_draco) throw UsageError{"--quantize-position applies only with Draco (drop --no-draco)"};
-    if (normals && *out_format == api::OutputFormat::Json)
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--scheme", "scheme", one_of(api::kSchemeNames)},
+        {"--levels", "levels", integer(0, 1'000'000)},
+        {"--boundary", "boundary", one_of(api::kBoundaryNames)},
+        {"--crease-method", "crease_method", one_of(api::kCreaseMethodNames)},
+        {"--triangle-rule", "triangle_rule", one_of(api::kTriangleRuleNames)},
+        {"--loop-weights", "loop_weights", one_of(api::kLoopWeightNames)},
+        {"--uv-interpolation", "uv_interpolation", one_of(api::kUvInterpolationNames)},
+        {"--max-faces", "max_faces", integer(1, 4'000'000'000LL)},
+        flag("--limit-surface", "limit_surface"),
+        {"--quantize-position", "quantize_position", integer(1, 24)},
+        {"--max-output-faces", "", integer(1, 4'000'000'000LL)},
+        flag("--no-draco"),
+        flag("--normals", "normals"),
+    };
+    const auto parsed = parse_file_command(args, "subdivide", kSubdivideHelp, options);
+    if (!parsed) return kExitOk;
+    const MeshFormat in_format = mesh_input_format(parsed->input);
+    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    if (parsed->has("--quantize-position") && !is_gltf(out_format))
+        throw UsageError{"--quantize-position applies only to .glb and .gltf output"};
+    if (parsed->has("--quantize-position") && parsed->has("--no-draco"))
+        throw UsageError{"--quantize-position applies only with Draco (drop --no-draco)"};
+    if (parsed->has("--normals") && out_format == api::OutputFormat::Json)
         throw UsageError{"--normals is not available for .json output"};
+    if (parsed->has("--max-output-faces"))
+        context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
-    std::string bytes, error;
-    if (!read_file(input, bytes, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-
-    // The request POST /subdivide would receive for this upload: one code path for the CLI and the service.
-    api::ApiRequest request;
-    request.method = "POST";
-    request.path = "/subdivide";
-    request.content_type = std::string(api::enum_name(api::kMeshMediaTypes, *in_format));
-    request.body = bytes;
-    if (scheme) request.query.emplace("scheme", *scheme);
-    if (levels) request.query.emplace("levels", *levels);
-    if (boundary) request.query.emplace("boundary", *boundary);
-    if (crease_method) request.query.emplace("crease_method", *crease_method);
-    if (triangle_rule) request.query.emplace("triangle_rule", *triangle_rule);
-    if (max_faces) request.query.emplace("max_faces", *max_faces);
-    if (uv_mode) request.query.emplace("uv_interpolation", *uv_mode);
-    if (loop_weights) request.query.emplace("loop_weights", *loop_weights);
-    if (limit_surface) request.query.emplace("limit_surface", "true");
-    request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
-    if (no_draco && gltf) request.query.emplace("compression", "none");
-    if (quantize) request.query.emplace("quantize_position", *quantize);
-    if (normals) request.query.emplace("normals", "true");
-
-    const api::ApiResponse response = api::dispatch(request, context);
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << input << ": ";
-        if (response.error) {
-            std::cerr << response.error->detail;
-            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
-            else if (response.error->offset) std::cerr << " (byte offset " << *response.error->offset << ")";
-            std::cerr << " [" << response.error->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
-    if (!write_file(output, response.body, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    std::cout << "wrote " << output << ": " << header(response, "X-Output-Vertices") << " vertices, "
-              << header(response, "X-Output-Faces") << " faces (from " << header(response, "X-Input-Vertices")
-              << " vertices, " << header(response, "X-Input-Faces") << " faces) in "
-              << header(response, "X-Elapsed-Ms") << " ms\n";
-    return kExitOk;
+    return upload_mesh("/subdivide", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+        std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Vertices") << " vertices, "
+                  << header(response, "X-Output-Faces") << " faces (from " << header(response, "X-Input-Vertices")
+                  << " vertices, " << header(response, "X-Input-Faces") << " faces) in "
+                  << header(response, "X-Elapsed-Ms") << " ms\n";
+    });
 }
 
 // ---- tessellate ----------------------------------------------------------------------------------------------
@@ -517,107 +652,54 @@ Options:
 )";
 
 int tessellate(Args& args) {
-    std::string input, output;
-    std::optional<std::string> tolerance, segments, quantize;
-    bool no_draco = false, no_normals = false;
-    api::ApiContext context;
-    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kTessellateHelp;
-            return kExitOk;
-        } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, inline_value);
-        } else if (arg == "--tolerance") {
-            tolerance = args.value(arg, inline_value);
-            double value = 0;
-            const auto r = std::from_chars(tolerance->data(), tolerance->data() + tolerance->size(), value);
-            if (tolerance->empty() || r.ec != std::errc() || r.ptr != tolerance->data() + tolerance->size() ||
-                !(value > 0))
-                throw UsageError{"--tolerance needs a number > 0, got \"" + *tolerance + "\""};
-        } else if (arg == "--segments") {
-            segments = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 1'000'000));
-        } else if (arg == "--quantize-position") {
-            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 30));
-        } else if (arg == "--max-output-faces") {
-            context.limits.max_output_faces = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
-        } else if (arg == "--no-draco") {
-            no_draco = true;
-        } else if (arg == "--no-normals") {
-            no_normals = true;
-        } else if (arg.starts_with("-") && arg != "-") {
-            throw UsageError{"tessellate: unknown option \"" + arg + "\""};
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw UsageError{"tessellate: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
-        }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
-    if (input.empty()) throw UsageError{"tessellate: missing input file"};
-    if (output.empty()) throw UsageError{"tessellate: missing -o OUT"};
-    if (tolerance && segments) throw UsageError{"tessellate: give --tolerance or --segments, not both"};
-    const std::string out_ext = lower_extension(output);
-    std::string format;
-    if (out_ext == ".glb") format = "glb";
-    else if (out_ext == ".obj") format = "obj";
-    else if (out_ext == ".ply") format = "ply";
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .glb .obj .ply)"};
-    if (quantize && (format != "glb" || no_draco))
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--tolerance", "tolerance",
+         [](std::string_view, const std::string& text) {
+             double value = 0;
+             const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+             if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !(value > 0))
+                 throw UsageError{"--tolerance needs a number > 0, got \"" + text + "\""};
+             return text;
+         }},
+        {"--segments", "segments", integer(1, 1'000'000)},
+        {"--quantize-position", "quantize_position", integer(1, 30)},
+        {"--max-output-faces", "", integer(1, 4'000'000'000LL)},
+        flag("--no-draco"),
+        flag("--no-normals", "normals", "false"),
+    };
+    const auto parsed = parse_file_command(args, "tessellate", kTessellateHelp, options);
+    if (!parsed) return kExitOk;
+    if (parsed->has("--tolerance") && parsed->has("--segments"))
+        throw UsageError{"tessellate: give --tolerance or --segments, not both"};
+    using enum api::OutputFormat;
+    const api::OutputFormat format = output_format(parsed->output, {Glb, Obj, Ply}, ".glb .obj .ply");
+    if (parsed->has("--quantize-position") && (format != Glb || parsed->has("--no-draco")))
         throw UsageError{"--quantize-position applies only to .glb output with Draco"};
+    if (parsed->has("--max-output-faces"))
+        context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
     // The request POST /tessellate (or GET /patches/NAME) would receive: one code path for CLI and service.
+    std::optional<std::string> bytes;
     api::ApiRequest request;
-    std::string bytes, error;
-    if (input.starts_with("sample:")) {
+    if (parsed->input.starts_with("sample:")) {
         request.method = "GET";
-        request.path = "/patches/" + input.substr(7);
+        request.path = "/patches/" + parsed->input.substr(7);
+        request.query = file_query(*parsed, options, format);
     } else {
-        if (!read_file(input, bytes, error)) {
-            std::cerr << "surfaced: " << error << "\n";
-            return kExitFailed;
-        }
-        request.method = "POST";
-        request.path = "/tessellate";
-        request.content_type = "application/x-geomview-bez";
-        request.body = bytes;
+        bytes = read_input(parsed->input);
+        if (!bytes) return kExitFailed;
+        request = upload_request("/tessellate", "application/x-geomview-bez", *bytes, file_query(*parsed, options, format));
     }
-    if (tolerance) request.query.emplace("tolerance", *tolerance);
-    if (segments) request.query.emplace("segments", *segments);
-    request.query.emplace("format", format);
-    if (no_draco && format == "glb") request.query.emplace("compression", "none");
-    if (quantize) request.query.emplace("quantize_position", *quantize);
-    if (no_normals) request.query.emplace("normals", "false");
-
-    const api::ApiResponse response = api::dispatch(request, context);
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << input << ": ";
-        if (response.error) {
-            std::cerr << response.error->detail;
-            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
-            std::cerr << " [" << response.error->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
-    if (!write_file(output, response.body, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    std::cout << "wrote " << output << ": " << header(response, "X-Output-Vertices") << " vertices, "
-              << header(response, "X-Output-Faces") << " triangles from " << header(response, "X-Patches")
-              << " patches, max deviation <= " << header(response, "X-Error-Bound") << ", in "
-              << header(response, "X-Elapsed-Ms") << " ms\n";
-    return kExitOk;
+    return finish(
+        api::dispatch(request, context), *parsed,
+        [&](const api::ApiResponse& response) {
+            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Vertices") << " vertices, "
+                      << header(response, "X-Output-Faces") << " triangles from " << header(response, "X-Patches")
+                      << " patches, max deviation <= " << header(response, "X-Error-Bound") << ", in "
+                      << header(response, "X-Elapsed-Ms") << " ms\n";
+        },
+        ProblemStyle{.line = true, .offset = false});
 }
 
 // ---- simplify ------------------------------------------------------------------------------------------------
@@ -641,126 +723,34 @@ Options:
   -h, --help                this text
 )";
 
-//! A number option as text, checked to parse (the operation checks its range).
-std::string checked_real(std::string_view name, const std::string& text) {
-    double value = 0;
-    const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value))
-        throw UsageError{std::string(name) + " needs a number, got \"" + text + "\""};
-    return text;
-}
-
 int simplify(Args& args) {
-    std::string input, output;
-    std::optional<std::string> target_faces, ratio, max_error, quantize;
-    bool lock_border = false, report_error = false, no_draco = false, normals = false;
-    api::ApiContext context;
-    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kSimplifyHelp;
-            return kExitOk;
-        } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, inline_value);
-        } else if (arg == "--target-faces") {
-            target_faces = std::to_string(parse_number(arg, args.value(arg, inline_value), 0, 4'000'000'000LL));
-        } else if (arg == "--ratio") {
-            ratio = checked_real(arg, args.value(arg, inline_value));
-        } else if (arg == "--max-error") {
-            max_error = checked_real(arg, args.value(arg, inline_value));
-        } else if (arg == "--lock-border") {
-            lock_border = true;
-        } else if (arg == "--report-error") {
-            report_error = true;
-        } else if (arg == "--quantize-position") {
-            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 24));
-        } else if (arg == "--no-draco") {
-            no_draco = true;
-        } else if (arg == "--normals") {
-            normals = true;
-        } else if (arg.starts_with("-") && arg != "-") {
-            throw UsageError{"simplify: unknown option \"" + arg + "\""};
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw UsageError{"simplify: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
-        }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
-    if (input.empty()) throw UsageError{"simplify: missing input file"};
-    if (output.empty()) throw UsageError{"simplify: missing -o OUT"};
-    if (!target_faces && !ratio && !max_error)
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--target-faces", "target_faces", integer(0, 4'000'000'000LL)},
+        {"--ratio", "ratio", real()},
+        {"--max-error", "max_error", real()},
+        flag("--lock-border", "lock_border"),
+        flag("--report-error", "report_error"),
+        {"--quantize-position", "quantize_position", integer(1, 24)},
+        flag("--no-draco"),
+        flag("--normals", "normals"),
+    };
+    const auto parsed = parse_file_command(args, "simplify", kSimplifyHelp, options);
+    if (!parsed) return kExitOk;
+    if (!parsed->has("--target-faces") && !parsed->has("--ratio") && !parsed->has("--max-error"))
         throw UsageError{"simplify: give --target-faces, --ratio or --max-error"};
-    if (lower_extension(input) == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
-    const auto in_format = format_from_extension(input);
-    if (!in_format)
-        throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
-    const std::string out_ext = lower_extension(output);
-    std::optional<api::OutputFormat> out_format;
-    if (out_ext == ".obj") out_format = api::OutputFormat::Obj;
-    else if (out_ext == ".ply") out_format = api::OutputFormat::Ply;
-    else if (out_ext == ".glb") out_format = api::OutputFormat::Glb;
-    else if (out_ext == ".gltf") out_format = api::OutputFormat::Gltf;
-    else if (out_ext == ".json") out_format = api::OutputFormat::Json;
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .gltf .json)"};
-    const bool gltf = *out_format == api::OutputFormat::Glb || *out_format == api::OutputFormat::Gltf;
-    if (quantize && (!gltf || no_draco)) throw UsageError{"--quantize-position applies only to .glb/.gltf output with Draco"};
-    if (normals && *out_format == api::OutputFormat::Json) throw UsageError{"--normals is not available for .json output"};
+    const MeshFormat in_format = mesh_input_format(parsed->input);
+    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    check_mesh_output_options(*parsed, out_format);
 
-    std::string bytes, error;
-    if (!read_file(input, bytes, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    // The request POST /simplify would receive for this upload: one code path for the CLI and the service.
-    api::ApiRequest request;
-    request.method = "POST";
-    request.path = "/simplify";
-    request.content_type = std::string(api::enum_name(api::kMeshMediaTypes, *in_format));
-    request.body = bytes;
-    if (target_faces) request.query.emplace("target_faces", *target_faces);
-    if (ratio) request.query.emplace("ratio", *ratio);
-    if (max_error) request.query.emplace("max_error", *max_error);
-    if (lock_border) request.query.emplace("lock_border", "true");
-    if (report_error) request.query.emplace("report_error", "true");
-    request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
-    if (no_draco && gltf) request.query.emplace("compression", "none");
-    if (quantize) request.query.emplace("quantize_position", *quantize);
-    if (normals) request.query.emplace("normals", "true");
-
-    const api::ApiResponse response = api::dispatch(request, context);
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << input << ": ";
-        if (response.error) {
-            std::cerr << response.error->detail;
-            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
-            else if (response.error->offset) std::cerr << " (byte offset " << *response.error->offset << ")";
-            std::cerr << " [" << response.error->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
-    if (!write_file(output, response.body, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    std::cout << "wrote " << output << ": " << header(response, "X-Output-Faces") << " triangles, "
-              << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
-              << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "")
-              << "), error " << header(response, "X-Achieved-Error") << " (" << header(response, "X-Relative-Error")
-              << " of the bounding-box diagonal)";
-    if (report_error)
-        std::cout << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS " << header(response, "X-RMS");
-    std::cout << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
-    return kExitOk;
+    return upload_mesh("/simplify", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+        print_triangulated_result(*parsed, response);
+        std::cout << ", error " << header(response, "X-Achieved-Error") << " ("
+                  << header(response, "X-Relative-Error") << " of the bounding-box diagonal)";
+        if (parsed->has("--report-error"))
+            std::cout << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS " << header(response, "X-RMS");
+        std::cout << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
+    });
 }
 
 // ---- remesh --------------------------------------------------------------------------------------------------
@@ -786,116 +776,34 @@ Options:
 )";
 
 int remesh(Args& args) {
-    std::string input, output;
-    std::optional<std::string> edge_length, iterations, feature_angle, smoothing, quantize;
-    bool free_boundary = false, no_draco = false, normals = false;
-    api::ApiContext context;
-    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kRemeshHelp;
-            return kExitOk;
-        } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, inline_value);
-        } else if (arg == "--edge-length") {
-            edge_length = checked_real(arg, args.value(arg, inline_value));
-        } else if (arg == "--iterations") {
-            iterations = std::to_string(parse_number(arg, args.value(arg, inline_value), 0, 100));
-        } else if (arg == "--feature-angle") {
-            feature_angle = checked_real(arg, args.value(arg, inline_value));
-        } else if (arg == "--smoothing") {
-            smoothing = args.value(arg, inline_value);
-        } else if (arg == "--free-boundary") {
-            free_boundary = true;
-        } else if (arg == "--quantize-position") {
-            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 24));
-        } else if (arg == "--no-draco") {
-            no_draco = true;
-        } else if (arg == "--normals") {
-            normals = true;
-        } else if (arg.starts_with("-") && arg != "-") {
-            throw UsageError{"remesh: unknown option \"" + arg + "\""};
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw UsageError{"remesh: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
-        }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
-    if (input.empty()) throw UsageError{"remesh: missing input file"};
-    if (output.empty()) throw UsageError{"remesh: missing -o OUT"};
-    if (lower_extension(input) == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
-    const auto in_format = format_from_extension(input);
-    if (!in_format)
-        throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
-    const std::string out_ext = lower_extension(output);
-    std::optional<api::OutputFormat> out_format;
-    if (out_ext == ".obj") out_format = api::OutputFormat::Obj;
-    else if (out_ext == ".ply") out_format = api::OutputFormat::Ply;
-    else if (out_ext == ".glb") out_format = api::OutputFormat::Glb;
-    else if (out_ext == ".gltf") out_format = api::OutputFormat::Gltf;
-    else if (out_ext == ".json") out_format = api::OutputFormat::Json;
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .gltf .json)"};
-    const bool gltf = *out_format == api::OutputFormat::Glb || *out_format == api::OutputFormat::Gltf;
-    if (quantize && (!gltf || no_draco)) throw UsageError{"--quantize-position applies only to .glb/.gltf output with Draco"};
-    if (normals && *out_format == api::OutputFormat::Json) throw UsageError{"--normals is not available for .json output"};
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--edge-length", "edge_length", real()},
+        {"--iterations", "iterations", integer(0, 100)},
+        {"--feature-angle", "feature_angle", real()},
+        {"--smoothing", "smoothing", any_text()},
+        flag("--free-boundary", "keep_boundary", "false"),
+        {"--quantize-position", "quantize_position", integer(1, 24)},
+        flag("--no-draco"),
+        flag("--normals", "normals"),
+    };
+    const auto parsed = parse_file_command(args, "remesh", kRemeshHelp, options);
+    if (!parsed) return kExitOk;
+    const MeshFormat in_format = mesh_input_format(parsed->input);
+    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    check_mesh_output_options(*parsed, out_format);
 
-    std::string bytes, error;
-    if (!read_file(input, bytes, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    // The request POST /remesh would receive for this upload: one code path for the CLI and the service.
-    api::ApiRequest request;
-    request.method = "POST";
-    request.path = "/remesh";
-    request.content_type = std::string(api::enum_name(api::kMeshMediaTypes, *in_format));
-    request.body = bytes;
-    if (edge_length) request.query.emplace("edge_length", *edge_length);
-    if (iterations) request.query.emplace("iterations", *iterations);
-    if (feature_angle) request.query.emplace("feature_angle", *feature_angle);
-    if (smoothing) request.query.emplace("smoothing", *smoothing);
-    if (free_boundary) request.query.emplace("keep_boundary", "false");
-    request.query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, *out_format)));
-    if (no_draco && gltf) request.query.emplace("compression", "none");
-    if (quantize) request.query.emplace("quantize_position", *quantize);
-    if (normals) request.query.emplace("normals", "true");
-
-    const api::ApiResponse response = api::dispatch(request, context);
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << input << ": ";
-        if (response.error) {
-            std::cerr << response.error->detail;
-            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
-            else if (response.error->offset) std::cerr << " (byte offset " << *response.error->offset << ")";
-            std::cerr << " [" << response.error->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
-    if (!write_file(output, response.body, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    std::cout << "wrote " << output << ": " << header(response, "X-Output-Faces") << " triangles, "
-              << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
-              << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "")
-              << "), edge length " << header(response, "X-Edge-Length") << " (mean "
-              << header(response, "X-Mean-Edge-Length-After") << "), min angle "
-              << header(response, "X-Min-Angle-Before") << " -> " << header(response, "X-Min-Angle-After")
-              << " deg, below 30 deg " << header(response, "X-Below-30-Before") << " -> "
-              << header(response, "X-Below-30-After") << ", radius ratio " << header(response, "X-Radius-Ratio-Before")
-              << " -> " << header(response, "X-Radius-Ratio-After") << ", Hausdorff " << header(response, "X-Hausdorff")
-              << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
-    return kExitOk;
+    return upload_mesh("/remesh", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+        print_triangulated_result(*parsed, response);
+        std::cout << ", edge length " << header(response, "X-Edge-Length") << " (mean "
+                  << header(response, "X-Mean-Edge-Length-After") << "), min angle "
+                  << header(response, "X-Min-Angle-Before") << " -> " << header(response, "X-Min-Angle-After")
+                  << " deg, below 30 deg " << header(response, "X-Below-30-Before") << " -> "
+                  << header(response, "X-Below-30-After") << ", radius ratio "
+                  << header(response, "X-Radius-Ratio-Before") << " -> " << header(response, "X-Radius-Ratio-After")
+                  << ", Hausdorff " << header(response, "X-Hausdorff") << ", in " << header(response, "X-Elapsed-Ms")
+                  << " ms\n";
+    });
 }
 
 // ---- implicit ------------------------------------------------------------------------------------------------
@@ -922,100 +830,55 @@ Options:
 )";
 
 int implicit(Args& args) {
-    std::string input, output;
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--resolution", "", integer(2, 65536)},
+        {"--cell-size", "", real()},
+        {"--mode", "",
+         [](std::string_view, const std::string& text) {
+             if (text != "uniform" && text != "adaptive")
+                 throw UsageError{"--mode: unknown value \"" + text + "\" (allowed: uniform, adaptive)"};
+             return text;
+         }},
+        {"--simplify-tolerance", "", real()},
+        {"--max-grid-cells", "", integer(1, 1'000'000'000'000LL)},
+        {"--quantize-position", "", integer(1, 24)},
+        flag("--no-draco"),
+        flag("--normals"),
+    };
+    const auto parsed = parse_file_command(args, "implicit", kImplicitHelp, options, "SCENE.json");
+    if (!parsed) return kExitOk;
+    if (parsed->has("--resolution") && parsed->has("--cell-size"))
+        throw UsageError{"give --resolution or --cell-size, not both"};
+    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    check_mesh_output_options(*parsed, out_format);
+    // The overrides implicit_mesh_from_file lays over the file's request.
     api::operations::ImplicitMeshOverrides overrides;
-    bool no_draco = false, normals = false;
-    std::optional<std::int64_t> quantize;
-    api::ApiContext context;
-    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kImplicitHelp;
-            return kExitOk;
-        } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, inline_value);
-        } else if (arg == "--resolution") {
-            overrides.resolution = parse_number(arg, args.value(arg, inline_value), 2, 65536);
-        } else if (arg == "--cell-size") {
-            overrides.cell_size = std::stod(checked_real(arg, args.value(arg, inline_value)));
-        } else if (arg == "--mode") {
-            overrides.mode = args.value(arg, inline_value);
-            if (*overrides.mode != "uniform" && *overrides.mode != "adaptive")
-                throw UsageError{"--mode: unknown value \"" + *overrides.mode + "\" (allowed: uniform, adaptive)"};
-        } else if (arg == "--simplify-tolerance") {
-            overrides.simplify_tolerance = std::stod(checked_real(arg, args.value(arg, inline_value)));
-        } else if (arg == "--max-grid-cells") {
-            context.limits.max_grid_cells = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, inline_value), 1, 1'000'000'000'000LL));
-        } else if (arg == "--quantize-position") {
-            quantize = parse_number(arg, args.value(arg, inline_value), 1, 24);
-        } else if (arg == "--no-draco") {
-            no_draco = true;
-        } else if (arg == "--normals") {
-            normals = true;
-        } else if (arg.starts_with("-") && arg != "-") {
-            throw UsageError{"implicit: unknown option \"" + arg + "\""};
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw UsageError{"implicit: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
-        }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
-    if (input.empty()) throw UsageError{"implicit: missing SCENE.json"};
-    if (output.empty()) throw UsageError{"implicit: missing -o OUT"};
-    if (overrides.resolution && overrides.cell_size) throw UsageError{"give --resolution or --cell-size, not both"};
-    const std::string out_ext = lower_extension(output);
-    std::optional<api::OutputFormat> out_format;
-    if (out_ext == ".obj") out_format = api::OutputFormat::Obj;
-    else if (out_ext == ".ply") out_format = api::OutputFormat::Ply;
-    else if (out_ext == ".glb") out_format = api::OutputFormat::Glb;
-    else if (out_ext == ".gltf") out_format = api::OutputFormat::Gltf;
-    else if (out_ext == ".json") out_format = api::OutputFormat::Json;
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .obj .ply .glb .gltf .json)"};
-    const bool gltf = *out_format == api::OutputFormat::Glb || *out_format == api::OutputFormat::Gltf;
-    if (quantize && (!gltf || no_draco)) throw UsageError{"--quantize-position applies only to .glb/.gltf output with Draco"};
-    if (normals && *out_format == api::OutputFormat::Json) throw UsageError{"--normals is not available for .json output"};
-    overrides.output.format = *out_format;
-    if (no_draco && gltf) overrides.output.draco = false;
-    if (quantize) overrides.output.quantize_position = *quantize;
-    if (normals) overrides.output.normals = true;
+    if (parsed->has("--resolution")) overrides.resolution = std::stoll(parsed->value("--resolution"));
+    if (parsed->has("--cell-size")) overrides.cell_size = std::stod(parsed->value("--cell-size"));
+    if (parsed->has("--mode")) overrides.mode = parsed->value("--mode");
+    if (parsed->has("--simplify-tolerance"))
+        overrides.simplify_tolerance = std::stod(parsed->value("--simplify-tolerance"));
+    if (parsed->has("--max-grid-cells"))
+        context.limits.max_grid_cells = std::stoull(parsed->value("--max-grid-cells"));
+    overrides.output.format = out_format;
+    if (parsed->has("--no-draco") && is_gltf(out_format)) overrides.output.draco = false;
+    if (parsed->has("--quantize-position"))
+        overrides.output.quantize_position = std::stoll(parsed->value("--quantize-position"));
+    if (parsed->has("--normals")) overrides.output.normals = true;
 
-    std::string bytes, error;
-    if (!read_file(input, bytes, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    const api::ApiResponse response = api::operations::implicit_mesh_from_file(bytes, overrides, context);
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << input << ": ";
-        if (response.error) {
-            const std::string& field = response.error->field ? *response.error->field : std::string();
-            if (!field.empty() && !response.error->detail.starts_with(field)) std::cerr << field << ": ";
-            std::cerr << response.error->detail;
-            if (response.error->offset) std::cerr << " (byte offset " << *response.error->offset << ")";
-            std::cerr << " [" << response.error->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
-    if (!write_file(output, response.body, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    std::cout << "wrote " << output << ": " << header(response, "X-Output-Faces") << " triangles, "
-              << header(response, "X-Output-Vertices") << " vertices, grid " << header(response, "X-Grid") << " ("
-              << header(response, "X-Surface-Cells") << " surface cells, " << header(response, "X-Field-Evaluations")
-              << " field evaluations), in " << header(response, "X-Elapsed-Ms") << " ms\n";
-    return kExitOk;
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    return finish(
+        api::operations::implicit_mesh_from_file(*bytes, overrides, context), *parsed,
+        [&](const api::ApiResponse& response) {
+            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Faces") << " triangles, "
+                      << header(response, "X-Output-Vertices") << " vertices, grid " << header(response, "X-Grid")
+                      << " (" << header(response, "X-Surface-Cells") << " surface cells, "
+                      << header(response, "X-Field-Evaluations") << " field evaluations), in "
+                      << header(response, "X-Elapsed-Ms") << " ms\n";
+        },
+        ProblemStyle{.field = true, .line = false, .offset = true});
 }
 
 // ---- pointcloud ----------------------------------------------------------------------------------------------
@@ -1038,98 +901,41 @@ Options:
 )";
 
 int pointcloud(Args& args) {
-    std::string input, output;
-    std::optional<std::string> k, quantize;
-    bool estimate = false, no_normals = false, no_draco = false;
-    api::ApiContext context;
-    context.limits.max_body_bytes = static_cast<std::size_t>(-1);  // the user's own file
-    while (!args.done()) {
-        std::string arg = args.next();
-        std::optional<std::string> inline_value;
-        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
-            inline_value = arg.substr(eq + 1);
-            arg.resize(eq);
-        }
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kPointcloudHelp;
-            return kExitOk;
-        } else if (arg == "-o" || arg == "--output") {
-            output = args.value(arg, inline_value);
-        } else if (arg == "--estimate-normals") {
-            estimate = true;
-        } else if (arg == "--k") {
-            k = std::to_string(parse_number(arg, args.value(arg, inline_value), 3, 256));
-        } else if (arg == "--no-normals") {
-            no_normals = true;
-        } else if (arg == "--no-draco") {
-            no_draco = true;
-        } else if (arg == "--quantize-position") {
-            quantize = std::to_string(parse_number(arg, args.value(arg, inline_value), 1, 24));
-        } else if (arg.starts_with("-") && arg != "-") {
-            throw UsageError{"pointcloud: unknown option \"" + arg + "\""};
-        } else if (input.empty()) {
-            input = arg;
-        } else {
-            throw UsageError{"pointcloud: unexpected argument \"" + arg + "\" (input is already " + input + ")"};
-        }
-        if (inline_value) throw UsageError{arg + " takes no value"};
-    }
-    if (input.empty()) throw UsageError{"pointcloud: missing input file"};
-    if (output.empty()) throw UsageError{"pointcloud: missing -o OUT"};
-    if (k && !estimate) throw UsageError{"--k applies only with --estimate-normals"};
-    const auto in_format = point_format_from_extension(input);
-    if (!in_format) throw UsageError{"cannot tell the point format of " + input + " from its extension (use .ply .obj .xyz)"};
-    const std::string out_ext = lower_extension(output);
-    std::string out_format;
-    if (out_ext == ".glb") out_format = "glb";
-    else if (out_ext == ".ply") out_format = "ply";
-    else if (out_ext == ".json") out_format = "json";
-    else throw UsageError{"cannot tell the output format of " + output + " from its extension (use .glb .ply .json)"};
-    if ((no_draco || quantize) && out_format != "glb") throw UsageError{"--no-draco and --quantize-position apply only to .glb output"};
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        flag("--estimate-normals", "estimate_normals"),
+        {"--k", "k", integer(3, 256)},
+        flag("--no-normals", "normals", "false"),
+        flag("--no-draco"),
+        {"--quantize-position", "quantize_position", integer(1, 24)},
+    };
+    const auto parsed = parse_file_command(args, "pointcloud", kPointcloudHelp, options);
+    if (!parsed) return kExitOk;
+    if (parsed->has("--k") && !parsed->has("--estimate-normals"))
+        throw UsageError{"--k applies only with --estimate-normals"};
+    const auto in_format = point_format_from_extension(parsed->input);
+    if (!in_format)
+        throw UsageError{"cannot tell the point format of " + parsed->input + " from its extension (use .ply .obj .xyz)"};
+    using enum api::OutputFormat;
+    const api::OutputFormat out_format = output_format(parsed->output, {Glb, Ply, Json}, ".glb .ply .json");
+    const bool no_draco = parsed->has("--no-draco"), quantize = parsed->has("--quantize-position");
+    if ((no_draco || quantize) && out_format != Glb)
+        throw UsageError{"--no-draco and --quantize-position apply only to .glb output"};
     if (quantize && no_draco) throw UsageError{"--quantize-position applies only with Draco"};
 
-    std::string bytes, error;
-    if (!read_file(input, bytes, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    api::ApiRequest request;
-    request.method = "POST";
-    request.path = "/pointcloud";
-    request.content_type = *in_format == PointFormat::Ply   ? "application/ply"
-                           : *in_format == PointFormat::Obj ? "model/obj"
-                                                            : "text/x-xyz";
-    request.body = bytes;
-    if (estimate) request.query.emplace("estimate_normals", "true");
-    if (k) request.query.emplace("k", *k);
-    request.query.emplace("format", out_format);
-    if (no_draco) request.query.emplace("compression", "none");
-    if (quantize) request.query.emplace("quantize_position", *quantize);
-    if (no_normals) request.query.emplace("normals", "false");
-
-    const api::ApiResponse response = api::dispatch(request, context);
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << input << ": ";
-        if (response.error) {
-            std::cerr << response.error->detail;
-            if (response.error->line) std::cerr << " (line " << *response.error->line << ")";
-            else if (response.error->offset) std::cerr << " (byte offset " << *response.error->offset << ")";
-            std::cerr << " [" << response.error->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
-    if (!write_file(output, response.body, error)) {
-        std::cerr << "surfaced: " << error << "\n";
-        return kExitFailed;
-    }
-    std::cout << "wrote " << output << ": " << header(response, "X-Output-Points") << " points"
-              << (header(response, "X-Normals") == "true" ? ", normals" : "")
-              << (header(response, "X-Colors") == "true" ? ", colors" : "") << ", in "
-              << header(response, "X-Elapsed-Ms") << " ms\n";
-    return kExitOk;
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    const std::string content_type = *in_format == PointFormat::Ply   ? "application/ply"
+                                     : *in_format == PointFormat::Obj ? "model/obj"
+                                                                      : "text/x-xyz";
+    const api::ApiRequest request =
+        upload_request("/pointcloud", content_type, *bytes, file_query(*parsed, options, out_format));
+    return finish(api::dispatch(request, context), *parsed, [&](const api::ApiResponse& response) {
+        std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Points") << " points"
+                  << (header(response, "X-Normals") == "true" ? ", normals" : "")
+                  << (header(response, "X-Colors") == "true" ? ", colors" : "") << ", in "
+                  << header(response, "X-Elapsed-Ms") << " ms\n";
+    });
 }
 
 }  // namespace

@@ -367,12 +367,9 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         {"X-Output-Points", std::to_string(cloud.size())},
         {"X-Normals", cloud.has_normals() ? "true" : "false"},
         {"X-Colors", cloud.has_colors() ? "true" : "false"},
-        {"X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded))},
-        {"Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
-                              ", compute;dur=" + format_ms(ms_between(t_decoded, t_computed)) +
-                              ", encode;dur=" + format_ms(ms_between(t_computed, t_encoded)) +
-                              ", total;dur=" + format_ms(ms_between(t_start, t_encoded))},
     };
+    append_timing_headers(response.headers,
+                          Timing{t_start, {{"decode", t_decoded}, {"compute", t_computed}, {"encode", t_encoded}}});
     return response;
 }
 

@@ -38,30 +38,14 @@ ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::
         return std::move(*error);
     RemeshParams params;
     for (const auto& [name, text] : query) {
-        if (name == "edge_length") {
-            auto v = parse_number_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.edge_length = v.value();
-        } else if (name == "iterations") {
-            auto v = parse_integer_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.iterations = v.value();
-        } else if (name == "feature_angle") {
-            auto v = parse_number_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.feature_angle = v.value();
-        } else if (name == "keep_boundary") {
-            auto v = parse_bool_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.keep_boundary = v.value();
-        } else if (name == "smoothing") {
-            auto v = parse_enum_parameter(name, text, kSmoothingNames);
-            if (!v) return std::move(v.error());
-            params.smoothing = v.value();
-        } else {
-            auto output = parse_output_parameter(name, text, params.output);
-            if (!output) return std::move(output.error());
-        }
+        std::optional<ApiError> error;
+        if (name == "edge_length") error = read_parameter(name, text, params.edge_length);
+        else if (name == "iterations") error = read_parameter(name, text, params.iterations);
+        else if (name == "feature_angle") error = read_parameter(name, text, params.feature_angle);
+        else if (name == "keep_boundary") error = read_parameter(name, text, params.keep_boundary);
+        else if (name == "smoothing") error = read_parameter(name, text, kSmoothingNames, params.smoothing);
+        else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
+        if (error) return std::move(*error);
     }
     return params;
 }
@@ -173,47 +157,14 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
 
-    // 1. size and media type
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
-
-    // 2. options and mesh (for uploads the options are checked before the file is parsed)
-    Source source = Source::File;
-    RemeshParams params;
-    PolygonMesh mesh;
-    if (media_type == "application/json") {
-        source = Source::Json;
-        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
-        auto decoded = decode_request(request.body, limits);
-        if (!decoded) return error_response(std::move(decoded.error()));
-        params = std::move(decoded->params);
-        if (auto error = check_params(params, source)) return error_response(std::move(*error));
-        mesh = std::move(decoded->mesh);
-    } else {
-        if (!mesh_format_for(media_type, request.body)) {
-            auto refused = read_uploaded_mesh(request, media_type, limits);  // the 415, worded in one place
-            return error_response(std::move(refused.error()));
-        }
-        auto query_params = params_from_query(request.query);
-        if (!query_params) return error_response(std::move(query_params.error()));
-        params = std::move(query_params.value());
-        if (auto error = check_params(params, source)) return error_response(std::move(*error));
-        auto read = read_uploaded_mesh(request, media_type, limits);
-        if (!read) return error_response(std::move(read.error()));
-        mesh = std::move(read.value());
-    }
-    const auto t_decoded = Clock::now();
-
-    // 3. budgets and validity, before any work
-    if (auto error = check_input_budget(mesh, limits)) return error_response(std::move(*error));
-    if (auto valid = validate(mesh); !valid) return error_response(geometry_error(valid.error(), source));
+    // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
+    // budgets and validity, before any work
+    auto decoded = decode_mesh_request<RemeshParams>(request, limits, decode_request, params_from_query, check_params);
+    if (!decoded) return error_response(std::move(decoded.error()));
+    auto& [source, params, mesh, t_decoded] = decoded.value();
     if (mesh.face_count() == 0)
         return error_response(make_problem(Problem::InvalidField, "the mesh has no faces to remesh", "mesh"));
-    const std::uint64_t triangles = mesh.face_indices.size() - 2 * mesh.face_count();
-    if (triangles > limits.max_input_faces)
-        return error_response(make_problem(Problem::BudgetExceeded,
-                                           "the mesh triangulates to " + std::to_string(triangles) +
-                                               " triangles; the limit is " + std::to_string(limits.max_input_faces)));
+    if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
     // the target: given, or the input's mean edge length; then the predicted output, area / (sqrt(3)/4 L^2)
     double area = 0, edge_sum = 0;
     std::size_t edge_count = 0;
@@ -268,19 +219,9 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                   {"before", quality_json(result.before)},
                   {"after", quality_json(result.after)},
                   {"elapsed_ms", ms_between(t_start, t_remeshed)}};
-    ApiResponse response;
-    response.content_type = std::string(output_media_type(params.output.format));
-    auto encoded = encode_mesh_output(result.mesh, params.output, source,
-                                      [&](const PolygonMesh& m) { return encode_json_response(m, stats); });
-    if (!encoded) return error_response(std::move(encoded.error()));
-    response.body = std::move(encoded.value());
-    const auto t_encoded = Clock::now();
-
-    response.headers = {
-        {"X-Input-Vertices", std::to_string(mesh.vertex_count())},
-        {"X-Input-Faces", std::to_string(mesh.face_count())},
-        {"X-Output-Vertices", std::to_string(result.mesh.vertex_count())},
-        {"X-Output-Faces", std::to_string(result.mesh.face_count())},
+    Headers headers = mesh_count_headers(mesh.vertex_count(), mesh.face_count(), result.mesh.vertex_count(),
+                                         result.mesh.face_count());
+    headers.insert(headers.end(), {
         {"X-Triangulated", result.triangulated ? "true" : "false"},
         {"X-Edge-Length", format_double(result.target_edge_length)},
         {"X-Feature-Edges", std::to_string(result.feature_edges)},
@@ -292,13 +233,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         {"X-Radius-Ratio-Before", format_double(result.before.mean_radius_ratio)},
         {"X-Radius-Ratio-After", format_double(result.after.mean_radius_ratio)},
         {"X-Mean-Edge-Length-After", format_double(result.after.mean_edge_length)},
-        {"X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded))},
-        {"Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
-                              ", remesh;dur=" + format_ms(ms_between(t_decoded, t_remeshed)) +
-                              ", encode;dur=" + format_ms(ms_between(t_remeshed, t_encoded)) +
-                              ", total;dur=" + format_ms(ms_between(t_start, t_encoded))},
-    };
-    return response;
+    });
+    return mesh_response(result.mesh, params.output, source,
+                         [&](const PolygonMesh& m) { return encode_json_response(m, stats); }, std::move(headers),
+                         Timing{t_start, {{"decode", t_decoded}, {"remesh", t_remeshed}}});
 }
 
 }  // namespace

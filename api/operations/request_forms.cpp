@@ -102,25 +102,13 @@ ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string&
 }
 
 ApiResult<bool> parse_output_parameter(const std::string& name, const std::string& text, OutputOptions& out) {
-    if (name == "format") {
-        auto v = parse_enum_parameter(name, text, kOutputFormatNames);
-        if (!v) return std::move(v.error());
-        out.format = v.value();
-    } else if (name == "compression") {
-        auto v = parse_enum_parameter(name, text, kCompressionNames);
-        if (!v) return std::move(v.error());
-        out.draco = v.value();
-    } else if (name == "quantize_position") {
-        auto v = parse_integer_parameter(name, text);
-        if (!v) return std::move(v.error());
-        out.quantize_position = v.value();
-    } else if (name == "normals") {
-        auto v = parse_bool_parameter(name, text);
-        if (!v) return std::move(v.error());
-        out.normals = v.value();
-    } else {
-        return false;
-    }
+    std::optional<ApiError> error;
+    if (name == "format") error = read_parameter(name, text, kOutputFormatNames, out.format);
+    else if (name == "compression") error = read_parameter(name, text, kCompressionNames, out.draco);
+    else if (name == "quantize_position") error = read_parameter(name, text, out.quantize_position);
+    else if (name == "normals") error = read_parameter(name, text, out.normals);
+    else return false;
+    if (error) return std::move(*error);
     return true;
 }
 
@@ -190,6 +178,56 @@ std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits
                                 std::to_string(mesh.face_count()) + " faces; the limits are " +
                                 std::to_string(limits.max_input_vertices) + " and " + std::to_string(limits.max_input_faces));
     return std::nullopt;
+}
+
+std::optional<ApiError> refuse_unknown_mesh_format(const ApiRequest& request, const std::string& media_type,
+                                                   const Limits& limits) {
+    if (mesh_format_for(media_type, request.body)) return std::nullopt;
+    auto refused = read_uploaded_mesh(request, media_type, limits);  // the 415, worded in one place
+    return std::move(refused.error());
+}
+
+std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source) {
+    if (auto error = check_input_budget(mesh, limits)) return error;
+    if (auto valid = validate(mesh); !valid) return geometry_error(valid.error(), source);
+    return std::nullopt;
+}
+
+std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const Limits& limits) {
+    const std::uint64_t triangles = mesh.face_indices.size() - 2 * mesh.face_count();
+    if (triangles > limits.max_input_faces)
+        return make_problem(Problem::BudgetExceeded, "the mesh triangulates to " + std::to_string(triangles) +
+                                                         " triangles; the limit is " +
+                                                         std::to_string(limits.max_input_faces));
+    return std::nullopt;
+}
+
+std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel) {
+    if (!cancel.requested()) return std::nullopt;
+    return from_geo_error(GeoError{ErrorCode::Cancelled, "the request's compute deadline passed before encoding"});
+}
+
+Headers mesh_count_headers(std::size_t input_vertices, std::size_t input_faces, std::size_t output_vertices,
+                           std::size_t output_faces) {
+    return {
+        {"X-Input-Vertices", std::to_string(input_vertices)},
+        {"X-Input-Faces", std::to_string(input_faces)},
+        {"X-Output-Vertices", std::to_string(output_vertices)},
+        {"X-Output-Faces", std::to_string(output_faces)},
+    };
+}
+
+void append_timing_headers(Headers& headers, const Timing& timing) {
+    const Clock::time_point end = timing.stages.empty() ? timing.start : timing.stages.back().second;
+    std::string server_timing;
+    Clock::time_point from = timing.start;
+    for (const auto& [name, to] : timing.stages) {
+        server_timing += std::string(name) + ";dur=" + format_ms(ms_between(from, to)) + ", ";
+        from = to;
+    }
+    server_timing += "total;dur=" + format_ms(ms_between(timing.start, end));
+    headers.emplace_back("X-Elapsed-Ms", format_ms(ms_between(timing.start, end)));
+    headers.emplace_back("Server-Timing", std::move(server_timing));
 }
 
 std::optional<ApiError> check_output_options(const OutputOptions& out, Source source) {

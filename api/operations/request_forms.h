@@ -11,10 +11,14 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "api/dto.h"
 #include "api/errors.h"
 #include "api/operation.h"
+#include "geometry/core/cancel.h"
 #include "geometry/core/result.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/polygon_mesh.h"
@@ -55,6 +59,35 @@ ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& te
                         name);
 }
 
+//! Parses query parameter `name` into `target` by its type (std::int64_t: integer, double: finite number, bool; or a
+//! std::optional of one): nullopt when it parsed, else the error naming the parameter. `target` changes only then.
+template <class T>
+std::optional<ApiError> read_parameter(const std::string& name, const std::string& text, T& target) {
+    if constexpr (requires { typename T::value_type; target.reset(); }) {  // std::optional<U>
+        typename T::value_type value{};
+        if (auto error = read_parameter(name, text, value)) return error;
+        target = value;
+    } else {
+        auto parsed = [&] {
+            if constexpr (std::is_same_v<T, bool>) return parse_bool_parameter(name, text);
+            else if constexpr (std::is_floating_point_v<T>) return parse_number_parameter(name, text);
+            else return parse_integer_parameter(name, text);
+        }();
+        if (!parsed) return std::move(parsed.error());
+        target = parsed.value();
+    }
+    return std::nullopt;
+}
+//! The same for an enumerated parameter (`target` an E or a std::optional<E>): one of the names in `table`.
+template <class E, std::size_t N, class Target>
+std::optional<ApiError> read_parameter(const std::string& name, const std::string& text, const EnumName<E> (&table)[N],
+                                       Target& target) {
+    auto parsed = parse_enum_parameter(name, text, table);
+    if (!parsed) return std::move(parsed.error());
+    target = parsed.value();
+    return std::nullopt;
+}
+
 // ---- the two request forms ----------------------------------------------------------------------------------------
 
 //! Body size against the budget, then a Content-Type (normalised into `media_type`): both before anything is parsed.
@@ -70,6 +103,79 @@ ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::
 //! The input budgets (vertices, faces) for a mesh from any source.
 std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits);
 
+//! A mesh operation's request, decoded from either form, with the mesh within the input budget and valid.
+template <class Params>
+struct MeshRequest {
+    Source source = Source::File;
+    Params params;
+    PolygonMesh mesh;
+    Clock::time_point decoded;  //!< when decoding ended (before the budget and validity checks), for Server-Timing
+};
+
+//! 415 for an upload whose mesh format is unknown (checked before the query, so that a wrong file type is named
+//! first); nullopt when the format is known.
+std::optional<ApiError> refuse_unknown_mesh_format(const ApiRequest& request, const std::string& media_type,
+                                                   const Limits& limits);
+//! The input budgets and the mesh's validity (field paths when the request was JSON).
+std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source);
+//! Triangulation turns an n-gon into n - 2 triangles: for operations whose work is proportional to those.
+std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const Limits& limits);
+//! 503 `cancelled` when the request's deadline passed while computing (encoding cannot be stopped, so check first).
+std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel);
+
+//! The two request forms of a mesh operation, each checked in the same order:
+//! 1. body size and media type, before anything is parsed;
+//! 2. a JSON body: no query parameters, `decode_json(body, limits)` (an ApiResult of something with `params` and
+//!    `mesh`), `check_params(params, Source::Json)`; or an uploaded file: a known format (415), then
+//!    `params_from_query(query)` and `check_params(params, Source::File)`, both before the file is read;
+//! 3. the input budget and the mesh's validity.
+//! The operation states only what differs: its options, their decoders and their checks.
+template <class Params, class DecodeJson, class ParamsFromQuery, class CheckParams>
+ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, const Limits& limits,
+                                                   DecodeJson&& decode_json, ParamsFromQuery&& params_from_query,
+                                                   CheckParams&& check_params) {
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type)) return std::move(*error);
+    MeshRequest<Params> out;
+    if (media_type == "application/json") {
+        out.source = Source::Json;
+        if (auto error = reject_query_with_json(request)) return std::move(*error);
+        auto decoded = decode_json(request.body, limits);
+        if (!decoded) return std::move(decoded.error());
+        out.params = std::move(decoded->params);
+        if (auto error = check_params(out.params, out.source)) return std::move(*error);
+        out.mesh = std::move(decoded->mesh);
+    } else {
+        if (auto error = refuse_unknown_mesh_format(request, media_type, limits)) return std::move(*error);
+        auto query_params = params_from_query(request.query);
+        if (!query_params) return std::move(query_params.error());
+        out.params = std::move(query_params.value());
+        if (auto error = check_params(out.params, out.source)) return std::move(*error);
+        auto read = read_uploaded_mesh(request, media_type, limits);
+        if (!read) return std::move(read.error());
+        out.mesh = std::move(read.value());
+    }
+    out.decoded = Clock::now();
+    if (auto error = check_mesh_input(out.mesh, limits, out.source)) return std::move(*error);
+    return out;
+}
+
+// ---- the response -------------------------------------------------------------------------------------------------
+
+using Headers = std::vector<std::pair<std::string, std::string>>;
+
+//! The stages of a request for Server-Timing: each runs from the end of the previous one (the first from `start`).
+struct Timing {
+    Clock::time_point start;
+    std::vector<std::pair<std::string_view, Clock::time_point>> stages;  //!< name, end
+};
+//! X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces.
+Headers mesh_count_headers(std::size_t input_vertices, std::size_t input_faces, std::size_t output_vertices,
+                           std::size_t output_faces);
+//! Appends X-Elapsed-Ms (start to the end of the last stage) and Server-Timing ("decode;dur=1.234, ...,
+//! total;dur=...").
+void append_timing_headers(Headers& headers, const Timing& timing);
+
 //! "output" options that do not fit the format (compression with OBJ, ...), named by their JSON path (`output.x`) or
 //! query name.
 std::optional<ApiError> check_output_options(const OutputOptions& out, Source source);
@@ -81,6 +187,21 @@ ApiResult<std::string> encode_mesh_output(PolygonMesh& mesh, const OutputOptions
                                           EncodeJson&& encode_json) {
     if (out.format == OutputFormat::Json) return encode_json(mesh);
     return encode_mesh_file(mesh, out, source);
+}
+//! A mesh operation's response: the mesh in the requested format (JSON by `encode_json`), its media type, and the
+//! headers: `headers` (counts, the operation's own), then the timing ones with a last stage "encode" ending now.
+template <class EncodeJson>
+ApiResponse mesh_response(PolygonMesh& mesh, const OutputOptions& out, Source source, EncodeJson&& encode_json,
+                          Headers headers, Timing timing) {
+    ApiResponse response;
+    response.content_type = std::string(output_media_type(out.format));
+    auto encoded = encode_mesh_output(mesh, out, source, std::forward<EncodeJson>(encode_json));
+    if (!encoded) return error_response(std::move(encoded.error()));
+    response.body = std::move(encoded.value());
+    timing.stages.emplace_back("encode", Clock::now());
+    append_timing_headers(headers, timing);
+    response.headers = std::move(headers);
+    return response;
 }
 //! The output options as query parameters (format, compression, quantize_position, normals): true when `name` was one
 //! of them (and is now in `out`), false when it is not an output option.

@@ -1,21 +1,11 @@
 #include "api/operations/simplify.h"
 
-#include <algorithm>
-#include <cctype>
-#include <charconv>
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <exception>
-#include <new>
-#include <set>
+#include <cstdint>
+#include <string>
 
 #include "api/dto.h"
 #include "api/json_codec.h"
 #include "api/operations/request_forms.h"
-#include "geometry/io/gltf.h"
-#include "geometry/io/mesh_io.h"
-#include "geometry/mesh/normals.h"
 #include "geometry/simplify/mesh_distance.h"
 #include "geometry/simplify/qem.h"
 
@@ -29,30 +19,14 @@ ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std
 
     SimplifyParams params;
     for (const auto& [name, text] : query) {
-        if (name == "target_faces") {
-            auto v = parse_integer_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.target_faces = v.value();
-        } else if (name == "ratio") {
-            auto v = parse_number_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.ratio = v.value();
-        } else if (name == "max_error") {
-            auto v = parse_number_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.max_error = v.value();
-        } else if (name == "lock_border") {
-            auto v = parse_bool_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.lock_border = v.value();
-        } else if (name == "report_error") {
-            auto v = parse_bool_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.report_error = v.value();
-        } else {
-            auto output = parse_output_parameter(name, text, params.output);
-            if (!output) return std::move(output.error());
-        }
+        std::optional<ApiError> error;
+        if (name == "target_faces") error = read_parameter(name, text, params.target_faces);
+        else if (name == "ratio") error = read_parameter(name, text, params.ratio);
+        else if (name == "max_error") error = read_parameter(name, text, params.max_error);
+        else if (name == "lock_border") error = read_parameter(name, text, params.lock_border);
+        else if (name == "report_error") error = read_parameter(name, text, params.report_error);
+        else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
+        if (error) return std::move(*error);
     }
     return params;
 }
@@ -79,46 +53,13 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
 
-    // 1. size and media type
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
-
-    // 2. options and mesh (for uploads the options are checked before the file is parsed)
-    Source source = Source::File;
-    SimplifyParams params;
-    PolygonMesh mesh;
-    if (media_type == "application/json") {
-        source = Source::Json;
-        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
-        auto decoded = decode_simplify_request(request.body, limits);
-        if (!decoded) return error_response(std::move(decoded.error()));
-        params = std::move(decoded->params);
-        if (auto error = check_params(params, source)) return error_response(std::move(*error));
-        mesh = std::move(decoded->mesh);
-    } else {
-        if (!mesh_format_for(media_type, request.body)) {
-            auto refused = read_uploaded_mesh(request, media_type, limits);  // the 415, worded in one place
-            return error_response(std::move(refused.error()));
-        }
-        auto query_params = params_from_query(request.query);
-        if (!query_params) return error_response(std::move(query_params.error()));
-        params = std::move(query_params.value());
-        if (auto error = check_params(params, source)) return error_response(std::move(*error));
-        auto read = read_uploaded_mesh(request, media_type, limits);
-        if (!read) return error_response(std::move(read.error()));
-        mesh = std::move(read.value());
-    }
-    const auto t_decoded = Clock::now();
-
-    // 3. budgets and validity, before any work
-    if (auto error = check_input_budget(mesh, limits)) return error_response(std::move(*error));
-    if (auto valid = validate(mesh); !valid) return error_response(geometry_error(valid.error(), source));
-    // Triangulation turns an n-gon into n - 2 triangles: the simplifier's work is proportional to those.
-    const std::uint64_t triangles = mesh.face_indices.size() - 2 * mesh.face_count();
-    if (triangles > limits.max_input_faces)
-        return error_response(make_problem(Problem::BudgetExceeded,
-                                           "the mesh triangulates to " + std::to_string(triangles) +
-                                               " triangles; the limit is " + std::to_string(limits.max_input_faces)));
+    // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
+    // budgets and validity, before any work
+    auto decoded = decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query,
+                                                       check_params);
+    if (!decoded) return error_response(std::move(decoded.error()));
+    auto& [source, params, mesh, t_decoded] = decoded.value();
+    if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
 
     // 4. simplify
     SimplifyOptions options;
@@ -126,8 +67,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.ratio = params.ratio;
     options.max_error = params.max_error;
     options.lock_border = params.lock_border;
+    options.cancel = context.cancel;
     auto simplified = simplify_qem(mesh, options);
     if (!simplified) return error_response(geometry_error(simplified.error(), source));
+    if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
     SimplifyResult& result = simplified.value();
     const auto t_simplified = Clock::now();
 
@@ -148,32 +91,16 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.elapsed_ms = ms_between(t_start, t_measured);
 
     // 5. encode
-    ApiResponse response;
-    response.content_type = std::string(output_media_type(params.output.format));
-    auto encoded = encode_mesh_output(result.mesh, params.output, source,
-                                      [&](const PolygonMesh& m) { return encode_simplify_response(m, stats); });
-    if (!encoded) return error_response(std::move(encoded.error()));
-    response.body = std::move(encoded.value());
-    const auto t_encoded = Clock::now();
-
-    response.headers = {
-        {"X-Input-Vertices", std::to_string(stats.input_vertices)},
-        {"X-Input-Faces", std::to_string(stats.input_faces)},
-        {"X-Output-Vertices", std::to_string(stats.output_vertices)},
-        {"X-Output-Faces", std::to_string(stats.output_faces)},
-        {"X-Triangulated", stats.triangulated ? "true" : "false"},
-        {"X-Achieved-Error", format_double(stats.achieved_error)},
-        {"X-Relative-Error", format_double(stats.relative_error)},
-    };
-    if (stats.hausdorff) response.headers.emplace_back("X-Hausdorff", format_double(*stats.hausdorff));
-    if (stats.rms) response.headers.emplace_back("X-RMS", format_double(*stats.rms));
-    response.headers.emplace_back("X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded)));
-    response.headers.emplace_back("Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
-                                                       ", simplify;dur=" + format_ms(ms_between(t_decoded, t_simplified)) +
-                                                       ", measure;dur=" + format_ms(ms_between(t_simplified, t_measured)) +
-                                                       ", encode;dur=" + format_ms(ms_between(t_measured, t_encoded)) +
-                                                       ", total;dur=" + format_ms(ms_between(t_start, t_encoded)));
-    return response;
+    Headers headers =
+        mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces);
+    headers.emplace_back("X-Triangulated", stats.triangulated ? "true" : "false");
+    headers.emplace_back("X-Achieved-Error", format_double(stats.achieved_error));
+    headers.emplace_back("X-Relative-Error", format_double(stats.relative_error));
+    if (stats.hausdorff) headers.emplace_back("X-Hausdorff", format_double(*stats.hausdorff));
+    if (stats.rms) headers.emplace_back("X-RMS", format_double(*stats.rms));
+    return mesh_response(result.mesh, params.output, source,
+                         [&](const PolygonMesh& m) { return encode_simplify_response(m, stats); }, std::move(headers),
+                         Timing{t_start, {{"decode", t_decoded}, {"simplify", t_simplified}, {"measure", t_measured}}});
 }
 
 }  // namespace

@@ -1,20 +1,11 @@
 #include "api/operations/subdivide.h"
 
-#include <algorithm>
-#include <cctype>
-#include <charconv>
-#include <chrono>
-#include <cstdio>
-#include <exception>
-#include <new>
-#include <set>
+#include <cstdint>
+#include <string>
 
 #include "api/dto.h"
 #include "api/json_codec.h"
 #include "api/operations/request_forms.h"
-#include "geometry/io/gltf.h"
-#include "geometry/io/mesh_io.h"
-#include "geometry/mesh/normals.h"
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::api::operations {
@@ -29,47 +20,21 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
 
     SubdivideParams params;
     for (const auto& [name, text] : query) {
-        if (name == "scheme") {
-            auto v = parse_enum_parameter(name, text, kSchemeNames);
-            if (!v) return std::move(v.error());
-            params.scheme = v.value();
-        } else if (name == "levels") {
-            auto v = parse_integer_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.levels = v.value();
+        std::optional<ApiError> error;
+        if (name == "scheme") error = read_parameter(name, text, kSchemeNames, params.scheme);
+        else if (name == "levels") {
+            error = read_parameter(name, text, params.levels);
             params.levels_given = true;
-        } else if (name == "crease_method") {
-            auto v = parse_enum_parameter(name, text, kCreaseMethodNames);
-            if (!v) return std::move(v.error());
-            params.crease_method = v.value();
-        } else if (name == "triangle_rule") {
-            auto v = parse_enum_parameter(name, text, kTriangleRuleNames);
-            if (!v) return std::move(v.error());
-            params.triangle_rule = v.value();
-        } else if (name == "loop_weights") {
-            auto v = parse_enum_parameter(name, text, kLoopWeightNames);
-            if (!v) return std::move(v.error());
-            params.loop_weights = v.value();
-        } else if (name == "uv_interpolation") {
-            auto v = parse_enum_parameter(name, text, kUvInterpolationNames);
-            if (!v) return std::move(v.error());
-            params.uv_interpolation = v.value();
-        } else if (name == "limit_surface") {
-            auto v = parse_bool_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.limit_surface = v.value();
-        } else if (name == "max_faces") {
-            auto v = parse_integer_parameter(name, text);
-            if (!v) return std::move(v.error());
-            params.max_faces = v.value();
-        } else if (name == "boundary") {
-            auto v = parse_enum_parameter(name, text, kBoundaryNames);
-            if (!v) return std::move(v.error());
-            params.boundary = v.value();
-        } else {
-            auto output = parse_output_parameter(name, text, params.output);
-            if (!output) return std::move(output.error());
         }
+        else if (name == "crease_method") error = read_parameter(name, text, kCreaseMethodNames, params.crease_method);
+        else if (name == "triangle_rule") error = read_parameter(name, text, kTriangleRuleNames, params.triangle_rule);
+        else if (name == "loop_weights") error = read_parameter(name, text, kLoopWeightNames, params.loop_weights);
+        else if (name == "uv_interpolation") error = read_parameter(name, text, kUvInterpolationNames, params.uv_interpolation);
+        else if (name == "limit_surface") error = read_parameter(name, text, params.limit_surface);
+        else if (name == "max_faces") error = read_parameter(name, text, params.max_faces);
+        else if (name == "boundary") error = read_parameter(name, text, kBoundaryNames, params.boundary);
+        else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
+        if (error) return std::move(*error);
     }
     return params;
 }
@@ -93,40 +58,13 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
 
-    // 1. size and media type: nothing is parsed for a request we would refuse anyway.
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
-
-    // 2. decode options and mesh (for uploads the options are checked before the file is parsed)
-    Source source = Source::File;
-    SubdivideParams params;
-    PolygonMesh mesh;
-    if (media_type == "application/json") {
-        source = Source::Json;
-        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
-        auto decoded = decode_subdivide_request(request.body, limits);
-        if (!decoded) return error_response(std::move(decoded.error()));
-        params = std::move(decoded->params);
-        if (auto error = check_params(params, limits, source)) return error_response(std::move(*error));
-        mesh = std::move(decoded->mesh);
-    } else {
-        if (!mesh_format_for(media_type, request.body)) {
-            auto refused = read_uploaded_mesh(request, media_type, limits);  // the 415, worded in one place
-            return error_response(std::move(refused.error()));
-        }
-        auto query_params = params_from_query(request.query);
-        if (!query_params) return error_response(std::move(query_params.error()));
-        params = std::move(query_params.value());
-        if (auto error = check_params(params, limits, source)) return error_response(std::move(*error));
-        auto read = read_uploaded_mesh(request, media_type, limits);
-        if (!read) return error_response(std::move(read.error()));
-        mesh = std::move(read.value());
-    }
-    const auto t_decoded = Clock::now();
-
-    // 3. input budget and validity (readers enforce their own limits; this covers every source the same way)
-    if (auto error = check_input_budget(mesh, limits)) return error_response(std::move(*error));
-    if (auto valid = validate(mesh); !valid) return error_response(geometry_error(valid.error(), source));
+    // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed), input
+    // budget and validity
+    auto decoded = decode_mesh_request<SubdivideParams>(
+        request, limits, decode_subdivide_request, params_from_query,
+        [&](const SubdivideParams& params, Source source) { return check_params(params, limits, source); });
+    if (!decoded) return error_response(std::move(decoded.error()));
+    auto& [source, params, mesh, t_decoded] = decoded.value();
 
     // 4. options, and the predicted output against the budget, before refining anything
     SubdivisionOptions options;
@@ -177,10 +115,12 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                 std::to_string(limits.max_output_faces) + " (use fewer levels or a smaller mesh)",
             "levels"));
 
-    // 5. refine
+    // 5. refine (polling the request's deadline between levels; also before encoding, which cannot be stopped)
     options.levels = levels;
+    options.cancel = context.cancel;
     auto refined = surfaced::subdivide(mesh, options);
     if (!refined) return error_response(geometry_error(refined.error(), source));
+    if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
     PolygonMesh& result = refined.value();
     const auto t_refined = Clock::now();
 
@@ -194,26 +134,11 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.elapsed_ms = ms_between(t_start, t_refined);
 
     // 6. encode
-    ApiResponse response;
-    response.content_type = std::string(output_media_type(params.output.format));
-    auto encoded = encode_mesh_output(result, params.output, source,
-                                      [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); });
-    if (!encoded) return error_response(std::move(encoded.error()));
-    response.body = std::move(encoded.value());
-    const auto t_encoded = Clock::now();
-
-    response.headers = {
-        {"X-Input-Vertices", std::to_string(stats.input_vertices)},
-        {"X-Input-Faces", std::to_string(stats.input_faces)},
-        {"X-Output-Vertices", std::to_string(stats.output_vertices)},
-        {"X-Output-Faces", std::to_string(stats.output_faces)},
-        {"X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded))},
-        {"Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
-                              ", subdivide;dur=" + format_ms(ms_between(t_decoded, t_refined)) +
-                              ", encode;dur=" + format_ms(ms_between(t_refined, t_encoded)) +
-                              ", total;dur=" + format_ms(ms_between(t_start, t_encoded))},
-    };
-    return response;
+    return mesh_response(result, params.output, source,
+                         [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); },
+                         mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices,
+                                            stats.output_faces),
+                         Timing{t_start, {{"decode", t_decoded}, {"subdivide", t_refined}}});
 }
 
 }  // namespace

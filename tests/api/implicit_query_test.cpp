@@ -9,27 +9,17 @@
 
 #include "api/routes.h"
 #include "api/scene_codec.h"
+#include "tests/support/api_request.h"
 
 namespace surfaced::api {
 namespace {
 
 using Json = nlohmann::json;
 
-ApiResponse post(const std::string& body, const ApiContext& context = {}) {
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/implicit/query";
-    request.content_type = "application/json";
-    request.body = body;
-    return dispatch(request, context);
-}
+using namespace fixtures;
 
-void expect_problem(const ApiResponse& response, int status, const std::string& code, const std::string& field) {
-    EXPECT_EQ(response.status, status) << response.body;
-    EXPECT_EQ(response.content_type, "application/problem+json");
-    ASSERT_TRUE(response.error.has_value()) << response.body;
-    EXPECT_EQ(response.error->code, code) << response.body;
-    EXPECT_EQ(response.error->field.value_or("<none>"), field) << response.body;
+ApiResponse post(const std::string& body, const ApiContext& context = {}) {
+    return dispatch(make_request("POST", "/implicit/query", "application/json", body), context);
 }
 
 //! A query of one point at the origin against `scene`.

@@ -11,28 +11,18 @@
 
 #include "api/operations/pointcloud.h"
 #include "geometry/io/pointcloud_io.h"
+#include "tests/support/api_request.h"
 #include "tests/support/gltf_validator.h"
 
 namespace surfaced::api {
 namespace {
 
 using nlohmann::json;
+using namespace fixtures;
 
 ApiResponse post(const std::string& body, const std::string& content_type = "application/json",
                  std::multimap<std::string, std::string> query = {}, const ApiContext& context = {}) {
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/pointcloud";
-    request.content_type = content_type;
-    request.body = body;
-    request.query = std::move(query);
-    return operations::pointcloud(request, context);
-}
-
-std::string header(const ApiResponse& r, const std::string& name) {
-    for (const auto& [k, v] : r.headers)
-        if (k == name) return v;
-    return "";
+    return operations::pointcloud(make_request("POST", "/pointcloud", content_type, body, std::move(query)), context);
 }
 
 const char* kCubeMesh =

@@ -11,6 +11,7 @@
 #include "geometry/io/gltf.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
+#include "tests/support/api_request.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/simplify_meshes.h"
@@ -18,51 +19,12 @@
 namespace surfaced::api {
 namespace {
 
-std::string mesh_json(const PolygonMesh& mesh) {
-    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
-    for (const Vec3& p : mesh.positions) positions.push_back({p.x, p.y, p.z});
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        auto face = mesh.face(f);
-        faces.push_back(std::vector<Index>(face.begin(), face.end()));
-    }
-    return nlohmann::json{{"positions", positions}, {"faces", faces}}.dump();
-}
-
-std::string json_request(const PolygonMesh& mesh, const std::string& extra = "") {
-    return R"({"mesh":)" + mesh_json(mesh) + extra + "}";
-}
+using namespace fixtures;
 
 ApiResponse call(const std::string& content_type, const std::string& body,
                  std::multimap<std::string, std::string> query = {}, const Limits& limits = {},
                  const Cancel& cancel = {}) {
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/remesh";
-    request.content_type = content_type;
-    request.body = body;
-    request.query = std::move(query);
-    ApiContext context;
-    context.limits = limits;
-    context.cancel = cancel;
-    return dispatch(request, context);
-}
-
-std::string header(const ApiResponse& response, const std::string& name) {
-    for (const auto& [key, value] : response.headers)
-        if (key == name) return value;
-    return "";
-}
-
-nlohmann::json expect_problem(const ApiResponse& response, int status, const std::string& code) {
-    EXPECT_EQ(response.status, status) << response.body;
-    EXPECT_EQ(response.content_type, "application/problem+json");
-    EXPECT_TRUE(response.error.has_value());
-    auto json = nlohmann::json::parse(response.body, nullptr, false);
-    EXPECT_FALSE(json.is_discarded()) << response.body;
-    if (json.is_discarded()) return {};
-    EXPECT_EQ(json.value("status", 0), status) << response.body;
-    EXPECT_EQ(json.value("code", ""), code) << response.body;
-    return json;
+    return dispatch(make_request("POST", "/remesh", content_type, body, std::move(query)), context_with(limits, cancel));
 }
 
 std::string field_of(const ApiResponse& response, int status = 400, const std::string& code = "invalid_field") {

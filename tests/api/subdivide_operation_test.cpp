@@ -12,57 +12,18 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/subdivide.h"
+#include "tests/support/api_request.h"
 #include "tests/support/gltf_validator.h"
 
 namespace surfaced::api {
 namespace {
 
-std::string mesh_json(const PolygonMesh& mesh) {
-    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
-    for (const Vec3& p : mesh.positions) positions.push_back({p.x, p.y, p.z});
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        auto face = mesh.face(f);
-        faces.push_back(std::vector<Index>(face.begin(), face.end()));
-    }
-    return nlohmann::json{{"positions", positions}, {"faces", faces}}.dump();
-}
-
-//! {"mesh": <mesh>, <extra members>}
-std::string json_request(const PolygonMesh& mesh, const std::string& extra = "") {
-    return R"({"mesh":)" + mesh_json(mesh) + extra + "}";
-}
+using namespace fixtures;
 
 ApiResponse call(const std::string& content_type, const std::string& body,
                  std::multimap<std::string, std::string> query = {}, const Limits& limits = {}) {
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/subdivide";
-    request.content_type = content_type;
-    request.body = body;
-    request.query = std::move(query);
-    ApiContext context;
-    context.limits = limits;
-    return operations::subdivide(request, context);
-}
-
-std::string header(const ApiResponse& response, const std::string& name) {
-    for (const auto& [key, value] : response.headers)
-        if (key == name) return value;
-    return "";
-}
-
-//! Checks status, code and that the body is the matching problem+json; returns the parsed body.
-nlohmann::json expect_problem(const ApiResponse& response, int status, const std::string& code) {
-    EXPECT_EQ(response.status, status) << response.body;
-    EXPECT_EQ(response.content_type, "application/problem+json");
-    EXPECT_TRUE(response.error.has_value());
-    auto json = nlohmann::json::parse(response.body, nullptr, false);
-    EXPECT_FALSE(json.is_discarded()) << response.body;
-    if (json.is_discarded()) return {};
-    EXPECT_EQ(json.value("status", 0), status) << response.body;
-    EXPECT_EQ(json.value("code", ""), code) << response.body;
-    EXPECT_FALSE(json.value("detail", "").empty());
-    return json;
+    return operations::subdivide(make_request("POST", "/subdivide", content_type, body, std::move(query)),
+                                 context_with(limits));
 }
 
 // A valid cube OBJ, 1-based, outward quads.

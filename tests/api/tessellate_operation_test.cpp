@@ -9,44 +9,23 @@
 
 #include "api/routes.h"
 #include "geometry/io/bez.h"
+#include "tests/support/api_request.h"
 #include "tests/support/gltf_validator.h"
 
 namespace surfaced::api {
 namespace {
 
-std::string header_of(const ApiResponse& response, std::string_view name) {
-    for (const auto& [key, value] : response.headers)
-        if (key == name) return value;
-    return "";
-}
+using namespace fixtures;
 
 ApiResponse post_json(const std::string& body, const ApiContext& context = {}) {
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/tessellate";
-    request.content_type = "application/json";
-    request.body = body;
-    return dispatch(request, context);
+    return dispatch(make_request("POST", "/tessellate", "application/json", body), context);
 }
 
 ApiResponse get_sample(const std::string& name, std::multimap<std::string, std::string> query = {},
                        std::string if_none_match = "") {
-    ApiRequest request;
-    request.method = "GET";
-    request.path = "/patches/" + name;
-    request.query = std::move(query);
+    ApiRequest request = make_request("GET", "/patches/" + name, "", {}, std::move(query));
     if (!if_none_match.empty()) request.headers.emplace("if-none-match", if_none_match);
     return dispatch(request, ApiContext{});
-}
-
-void expect_problem(const ApiResponse& response, int status, const std::string& code, const std::string& field) {
-    EXPECT_EQ(response.status, status) << response.body;
-    EXPECT_EQ(response.content_type, "application/problem+json");
-    ASSERT_TRUE(response.error.has_value()) << response.body;
-    EXPECT_EQ(response.error->code, code) << response.body;
-    if (!field.empty()) {
-        EXPECT_EQ(response.error->field.value_or("<none>"), field) << response.body;
-    }
 }
 
 void expect_valid_glb(const std::string& bytes) {
@@ -79,10 +58,10 @@ TEST(TessellateOperation, JsonBilinearPatchToValidGlb) {
     const ApiResponse response = post_json(std::string(kBilinear) + R"(,"tolerance":0.01})");
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "model/gltf-binary");
-    EXPECT_EQ(header_of(response, "X-Patches"), "1");
-    EXPECT_EQ(header_of(response, "X-Output-Faces"), "50");
-    EXPECT_EQ(header_of(response, "X-Output-Vertices"), "36");
-    EXPECT_LE(std::stod(header_of(response, "X-Error-Bound")), 0.01);
+    EXPECT_EQ(header(response, "X-Patches"), "1");
+    EXPECT_EQ(header(response, "X-Output-Faces"), "50");
+    EXPECT_EQ(header(response, "X-Output-Vertices"), "36");
+    EXPECT_LE(std::stod(header(response, "X-Error-Bound")), 0.01);
     EXPECT_NE(response.body.find("\"NORMAL\""), std::string::npos);
     EXPECT_NE(response.body.find("\"TEXCOORD_0\""), std::string::npos);
     EXPECT_NE(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
@@ -92,8 +71,8 @@ TEST(TessellateOperation, JsonBilinearPatchToValidGlb) {
 TEST(TessellateOperation, JsonTeapotWithinTolerance) {
     const ApiResponse response = post_json(teapot_json(R"(,"tolerance":0.005,"output":{"compression":"none"})"));
     ASSERT_EQ(response.status, 200) << response.body;
-    EXPECT_EQ(header_of(response, "X-Patches"), "32");
-    EXPECT_LE(std::stod(header_of(response, "X-Error-Bound")), 0.005);
+    EXPECT_EQ(header(response, "X-Patches"), "32");
+    EXPECT_LE(std::stod(header(response, "X-Error-Bound")), 0.005);
     EXPECT_EQ(response.body.find("KHR_draco_mesh_compression"), std::string::npos);
     expect_valid_glb(response.body);
 }
@@ -110,7 +89,7 @@ TEST(TessellateOperation, RawBezBodyWithSegments) {
     EXPECT_EQ(response.content_type, "model/obj");
     // 32 patches x 4 x 4 cells x 2 triangles, minus one triangle per cell along the collapsed edges of the lid apex
     // (patches 20-23) and the bottom centre (28-31): 1024 - 8 x 4.
-    EXPECT_EQ(header_of(response, "X-Output-Faces"), "992");
+    EXPECT_EQ(header(response, "X-Output-Faces"), "992");
 }
 
 TEST(TessellateOperation, ErrorsNameTheField) {
@@ -164,27 +143,27 @@ TEST(PatchSamples, TeapotWithETagAndNotModified) {
     const ApiResponse first = get_sample("teapot", {{"tolerance", "0.01"}});
     ASSERT_EQ(first.status, 200) << first.body;
     EXPECT_EQ(first.content_type, "model/gltf-binary");
-    const std::string etag = header_of(first, "ETag");
+    const std::string etag = header(first, "ETag");
     ASSERT_GE(etag.size(), 3u);
     EXPECT_EQ(etag.front(), '"');
     EXPECT_EQ(etag.back(), '"');
-    EXPECT_NE(header_of(first, "Cache-Control").find("max-age"), std::string::npos);
-    EXPECT_LE(std::stod(header_of(first, "X-Error-Bound")), 0.01);
+    EXPECT_NE(header(first, "Cache-Control").find("max-age"), std::string::npos);
+    EXPECT_LE(std::stod(header(first, "X-Error-Bound")), 0.01);
     expect_valid_glb(first.body);
 
     // the same request gives the same ETag; If-None-Match with it (alone, in a list, weak, or *) gives 304
-    EXPECT_EQ(header_of(get_sample("teapot", {{"tolerance", "0.01"}}), "ETag"), etag);
+    EXPECT_EQ(header(get_sample("teapot", {{"tolerance", "0.01"}}), "ETag"), etag);
     for (const std::string& inm : {etag, "\"other\", " + etag, "W/" + etag, std::string("*")}) {
         const ApiResponse cached = get_sample("teapot", {{"tolerance", "0.01"}}, inm);
         EXPECT_EQ(cached.status, 304) << inm;
         EXPECT_TRUE(cached.body.empty());
-        EXPECT_EQ(header_of(cached, "ETag"), etag);
+        EXPECT_EQ(header(cached, "ETag"), etag);
     }
     // other options, other entity
     const ApiResponse other = get_sample("teapot", {{"segments", "6"}}, etag);
     EXPECT_EQ(other.status, 200);
-    EXPECT_NE(header_of(other, "ETag"), etag);
-    EXPECT_NE(header_of(get_sample("teapot", {{"tolerance", "0.02"}}), "ETag"), etag);
+    EXPECT_NE(header(other, "ETag"), etag);
+    EXPECT_NE(header(get_sample("teapot", {{"tolerance", "0.02"}}), "ETag"), etag);
 }
 
 TEST(PatchSamples, Errors) {
@@ -192,12 +171,9 @@ TEST(PatchSamples, Errors) {
     expect_problem(get_sample("teapot", {{"tolerance", "abc"}}), 400, "invalid_field", "tolerance");
     expect_problem(get_sample("teapot", {{"tolerance", "0.1"}, {"segments", "2"}}), 400, "invalid_field", "segments");
     expect_problem(get_sample("teapot", {{"levels", "2"}}), 400, "unknown_parameter", "levels");
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/patches/teapot";
-    const ApiResponse wrong_method = dispatch(request, ApiContext{});
+    const ApiResponse wrong_method = dispatch(make_request("POST", "/patches/teapot"), ApiContext{});
     expect_problem(wrong_method, 405, "method_not_allowed", "");
-    EXPECT_EQ(header_of(wrong_method, "Allow"), "GET, HEAD");
+    EXPECT_EQ(header(wrong_method, "Allow"), "GET, HEAD");
 }
 
 TEST(Routes, PathParameters) {
@@ -216,12 +192,7 @@ TEST(Routes, PathParameters) {
 }
 
 ApiResponse post_curves(const std::string& body) {
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/curves";
-    request.content_type = "application/json";
-    request.body = body;
-    return dispatch(request, ApiContext{});
+    return dispatch(make_request("POST", "/curves", "application/json", body), ApiContext{});
 }
 
 TEST(CurvesOperation, AnswersEveryQuery) {
