@@ -80,9 +80,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     }
     // The work is that of refining to levels + limit_extra_levels (exact limits refine past semi-sharp creases);
     // the output is that of `levels`.
-    const auto work_faces = [&](int levels) {
+    // (init-captures: clang 14, which builds the fuzzers, cannot capture structured bindings)
+    const auto work_faces = [&options, &input = mesh, scheme = params.scheme](int levels) {
         options.levels = levels;
-        return predicted_face_count(mesh, params.scheme, levels + limit_extra_levels(mesh, options));
+        return predicted_face_count(input, scheme, levels + limit_extra_levels(input, options));
     };
     int levels = static_cast<int>(params.levels);  // range-checked above
     if (params.max_faces) {
