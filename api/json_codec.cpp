@@ -396,7 +396,7 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
     if (auto error = check_members(root, "", {"mesh", "target_faces", "ratio", "max_error", "lock_border",
-                                              "report_error", "output"}))
+                                              "report_error", "locked_vertices", "output"}))
         return std::move(*error);
     SimplifyJsonRequest request;
     if (auto it = root.find("target_faces"); it != root.end()) {
@@ -435,6 +435,15 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
     auto mesh = decode_mesh_value(*mesh_it, "mesh", limits);
     if (!mesh) return std::move(mesh.error());
     request.mesh = std::move(mesh.value());
+    if (auto it = root.find("locked_vertices"); it != root.end()) {
+        if (!it->is_array()) return invalid("locked_vertices", "locked_vertices must be an array of vertex indices");
+        request.params.locked_vertices.reserve(it->size());
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            auto v = read_index((*it)[i], index_path("locked_vertices", i), request.mesh.vertex_count(), "vertex");
+            if (!v) return std::move(v.error());
+            request.params.locked_vertices.push_back(v.value());
+        }
+    }
     return request;
 }
 

@@ -17,7 +17,7 @@ std::string at(const std::string& path, std::size_t i) { return path + "[" + std
 ApiResult<BezierPatch> decode_patch(const Json& value, const std::string& path) {
     if (!value.is_object())
         return invalid(path, path + R"( must be an object {"degree": [m, n], "points": [[x, y, z], ...]})");
-    if (auto error = check_members(value, path, {"degree", "points"})) return std::move(*error);
+    if (auto error = check_members(value, path, {"degree", "points", "weights"})) return std::move(*error);
     BezierPatch patch;
     const std::string degree_path = path + ".degree";
     const auto degree = value.find("degree");
@@ -58,6 +58,19 @@ ApiResult<BezierPatch> decode_patch(const Json& value, const std::string& path) 
             }
         }
         patch.points.push_back(q);
+    }
+    if (auto weights = value.find("weights"); weights != value.end()) {
+        const std::string weights_path = path + ".weights";
+        if (!weights->is_array() || weights->size() != expected)
+            return invalid(weights_path, weights_path + " must be an array of " + std::to_string(expected) +
+                                             " weights > 0, one per control point");
+        patch.weights.reserve(expected);
+        for (std::size_t i = 0; i < expected; ++i) {
+            const Json& w = (*weights)[i];
+            if (!w.is_number() || !std::isfinite(w.get<double>()) || !(w.get<double>() > 0))
+                return invalid(at(weights_path, i), at(weights_path, i) + " must be a finite number > 0");
+            patch.weights.push_back(w.get<double>());
+        }
     }
     return patch;
 }

@@ -3,6 +3,7 @@
 //
 // Request form:
 //   {"patches": [{"degree": [m, n], "points": [[x, y, z], ...]}, ...],   (m+1)(n+1) points, u varying fastest
+//              optional per patch "weights": [w, ...] (one > 0 per point, same order): a rational patch
 //    "tolerance": t | "segments": n,
 //    "output": {"format": "glb"|"obj"|"ply", "compression": "draco"|"none", "quantize_position": 14, "normals": true}}
 // Only "patches" is required. Errors name the field: "patches[2].points[7][1] must be a finite number",

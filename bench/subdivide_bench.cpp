@@ -2,13 +2,17 @@
 //
 // OpenSubdiv's side is what a user of Far does for the same result: TopologyRefinerFactory::Create, RefineUniform,
 // then PrimvarRefinerReal<double>::Interpolate level by level (double positions, like ours). Times are the best of
-// several repetitions, single-threaded. Peak memory is the peak of live heap bytes during the call, counted by the
-// global operator new below (both libraries allocate through it), minus what was live before the call.
+// several repetitions (OpenSubdiv, ours, ours with two threads, interleaved), single-threaded but for the two-thread
+// column. Peak memory is the peak of live heap bytes during the call, counted by the global operator new below (both
+// libraries allocate through it), minus what was live before the call.
 //
 // Steady state, as in a long-running service: glibc is told to keep freed memory (M_MMAP_THRESHOLD/M_TRIM_THRESHOLD)
 // so that neither side pays page faults for memory it allocated in the previous repetition; --cold measures without.
 //
-// Usage: bench_subdivide [--quick] [--cold]
+// Rows: each mesh plain (levels 1-4) and with creases (every 7th edge semi-sharp 2.5, every 97th vertex a corner of
+// sharpness 3: the sharp rules and the fractional decay run at every level), same levels.
+//
+// Usage: bench_subdivide [--quick] [--cold] [--max-level N]
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -82,6 +86,23 @@ std::size_t run_osd(const PolygonMesh& mesh, SubdivisionScheme scheme, int level
     desc.numFaces = static_cast<int>(mesh.face_count());
     desc.numVertsPerFace = vpf.data();
     desc.vertIndicesPerFace = reinterpret_cast<const int*>(mesh.face_indices.data());
+    std::vector<int> crease_pairs, corner_vertices;
+    std::vector<float> crease_weights, corner_weights;
+    for (const Crease& c : mesh.tags.creases) {
+        crease_pairs.push_back(static_cast<int>(c.v0));
+        crease_pairs.push_back(static_cast<int>(c.v1));
+        crease_weights.push_back(static_cast<float>(c.sharpness));
+    }
+    for (const Corner& c : mesh.tags.corners) {
+        corner_vertices.push_back(static_cast<int>(c.vertex));
+        corner_weights.push_back(static_cast<float>(c.sharpness));
+    }
+    desc.numCreases = static_cast<int>(crease_weights.size());
+    desc.creaseVertexIndexPairs = crease_pairs.data();
+    desc.creaseWeights = crease_weights.data();
+    desc.numCorners = static_cast<int>(corner_weights.size());
+    desc.cornerVertexIndices = corner_vertices.data();
+    desc.cornerWeights = corner_weights.data();
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
@@ -118,20 +139,16 @@ struct Measure {
     std::size_t faces = 0;
 };
 
+// One repetition of f into m (best time, peak of the last run).
 template <class F>
-Measure measure(F&& f, int reps) {
-    Measure m;
-    m.ms = 1e300;
-    for (int r = 0; r < reps; ++r) {
-        const long long before = g_live.load();
-        g_peak.store(before);
-        const auto t0 = std::chrono::steady_clock::now();
-        m.faces = f();
-        const auto t1 = std::chrono::steady_clock::now();
-        m.ms = std::min(m.ms, std::chrono::duration<double, std::milli>(t1 - t0).count());
-        m.peak_mb = double(g_peak.load() - before) / (1024.0 * 1024.0);
-    }
-    return m;
+void measure_once(F&& f, Measure& m) {
+    const long long before = g_live.load();
+    g_peak.store(before);
+    const auto t0 = std::chrono::steady_clock::now();
+    m.faces = f();
+    const auto t1 = std::chrono::steady_clock::now();
+    m.ms = std::min(m.ms, std::chrono::duration<double, std::milli>(t1 - t0).count());
+    m.peak_mb = double(g_peak.load() - before) / (1024.0 * 1024.0);
 }
 
 PolygonMesh triangulated(const PolygonMesh& quads) {
@@ -145,14 +162,35 @@ PolygonMesh triangulated(const PolygonMesh& quads) {
     return m;
 }
 
+// Every 7th edge (in order of first appearance) semi-sharp 2.5, every 97th vertex a corner of sharpness 3.
+PolygonMesh creased(PolygonMesh m) {
+    std::vector<std::vector<Index>> seen(m.vertex_count());
+    std::size_t edge = 0;
+    for (std::size_t f = 0; f < m.face_count(); ++f) {
+        auto face = m.face(f);
+        for (std::size_t j = 0; j < face.size(); ++j) {
+            const Index a = std::min(face[j], face[(j + 1) % face.size()]);
+            const Index b = std::max(face[j], face[(j + 1) % face.size()]);
+            if (std::find(seen[a].begin(), seen[a].end(), b) != seen[a].end()) continue;
+            seen[a].push_back(b);
+            if (edge++ % 7 == 0) m.tags.creases.push_back({a, b, 2.5});
+        }
+    }
+    for (std::size_t v = 0; v < m.vertex_count(); v += 97) m.tags.corners.push_back({static_cast<Index>(v), 3.0});
+    return m;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     bool quick = false, cold = false;
+    int max_level = 4;
     for (int i = 1; i < argc; ++i) {
         if (std::string(argv[i]) == "--quick") quick = true;
         if (std::string(argv[i]) == "--cold") cold = true;
+        if (std::string(argv[i]) == "--max-level" && i + 1 < argc) max_level = std::atoi(argv[++i]);
     }
+    if (quick) max_level = std::min(max_level, 2);
     if (!cold) {
         mallopt(M_MMAP_THRESHOLD, 1 << 30);
         mallopt(M_TRIM_THRESHOLD, -1);
@@ -171,7 +209,8 @@ int main(int argc, char** argv) {
         cases.push_back({"torus 100k quads", shapes::torus(316, 316), SubdivisionScheme::CatmullClark});
         cases.push_back({"torus 100k tris", triangulated(shapes::torus(224, 224)), SubdivisionScheme::Loop});
     }
-    const int max_level = quick ? 2 : 3;
+    for (std::size_t i = 0, plain = cases.size(); i < plain; ++i)
+        cases.push_back({cases[i].name + ", creases", creased(cases[i].mesh), cases[i].scheme});
 
     std::printf("| mesh | scheme | faces in | level | faces out | OpenSubdiv ms | ours ms | ratio | ours 2 threads ms | "
                 "ratio | OpenSubdiv peak MiB | ours peak MiB | ratio |\n");
@@ -179,10 +218,16 @@ int main(int argc, char** argv) {
     for (const Case& c : cases) {
         for (int level = 1; level <= max_level; ++level) {
             const std::size_t out_faces = predicted_face_count(c.mesh, c.scheme, level);
-            const int reps = out_faces > 2'000'000 ? 2 : (out_faces > 200'000 ? 4 : 10);
-            const Measure osd = measure([&] { return run_osd(c.mesh, c.scheme, level); }, reps);
-            const Measure ours = measure([&] { return run_ours(c.mesh, c.scheme, level, 1); }, reps);
-            const Measure ours2 = measure([&] { return run_ours(c.mesh, c.scheme, level, 2); }, reps);
+            const int reps = out_faces > 2'000'000 ? 3 : (out_faces > 200'000 ? 5 : 10);
+            // the three are interleaved, repetition by repetition, so that a busy moment on a shared machine hits
+            // all of them rather than one
+            Measure osd, ours, ours2;
+            osd.ms = ours.ms = ours2.ms = 1e300;
+            for (int r = 0; r < reps; ++r) {
+                measure_once([&] { return run_osd(c.mesh, c.scheme, level); }, osd);
+                measure_once([&] { return run_ours(c.mesh, c.scheme, level, 1); }, ours);
+                measure_once([&] { return run_ours(c.mesh, c.scheme, level, 2); }, ours2);
+            }
             if (osd.faces != ours.faces) {
                 std::fprintf(stderr, "face counts differ: ours %zu, OpenSubdiv %zu\n", ours.faces, osd.faces);
                 return 1;

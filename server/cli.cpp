@@ -22,6 +22,7 @@
 
 #include "api/dto.h"
 #include "api/routes.h"
+#include "api/operations/curves.h"
 #include "api/operations/implicit_mesh.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/io/pointcloud_io.h"
@@ -52,6 +53,7 @@ Usage:
   surfaced remesh IN -o OUT [options]         isotropic remeshing to one edge length, quality report
   surfaced implicit SCENE.json -o OUT [opts]  mesh an implicit scene (dual marching cubes, closed)
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
+  surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
   surfaced <command> --help                   options of a command
   surfaced --help | --version
 
@@ -74,6 +76,9 @@ Options:
   --keep-alive-max N     requests per connection (default 100)
   --keep-alive-timeout S idle seconds before a keep-alive connection is closed (default 5)
   --header-timeout S     seconds a request line and headers may take to arrive (default 10)
+  --body-timeout S       seconds a request body may take after its head, plus 1 s per --body-min-rate bytes
+                         received; slower bodies get 408 and the connection is closed (default 30)
+  --body-min-rate B      bytes per second that earn a body more time (default 16384; 0: none)
   --drain-timeout S      on SIGTERM, cancel work still running after S seconds (default 30)
   --drain-delay-ms MS    on SIGTERM, keep accepting this long with /readyz at 503 (default 0)
   --access-log WHERE     JSON access log lines to stderr (default), stdout, or off
@@ -478,6 +483,11 @@ int serve(Args& args) {
             config.keep_alive_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
         } else if (arg == "--header-timeout") {
             config.header_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
+        } else if (arg == "--body-timeout") {
+            config.body_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
+        } else if (arg == "--body-min-rate") {
+            config.body_min_rate_bytes = static_cast<std::size_t>(
+                parse_number(arg, args.value(arg, inline_value), 0, 1LL << 40));
         } else if (arg == "--drain-timeout") {
             config.drain_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
         } else if (arg == "--drain-delay-ms") {
@@ -637,8 +647,9 @@ int subdivide(Args& args) {
 
 constexpr std::string_view kTessellateHelp = R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
 
-Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, or sample:teapot for a built-in sample) into a
-crack-free triangle mesh with normals and UVs, through the same operation as POST /tessellate (GET /patches/NAME).
+Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, or
+sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
+operation as POST /tessellate (GET /patches/NAME).
 
 Options:
   -o, --output OUT          output file: .glb (Draco-compressed unless --no-draco), .obj or .ply (required)
@@ -689,7 +700,9 @@ int tessellate(Args& args) {
     } else {
         bytes = read_input(parsed->input);
         if (!bytes) return kExitFailed;
-        request = upload_request("/tessellate", "application/x-geomview-bez", *bytes, file_query(*parsed, options, format));
+        const bool obj = lower_extension(parsed->input) == ".obj";  // free-form cstype bezier surfaces
+        request = upload_request("/tessellate", obj ? "model/obj" : "application/x-geomview-bez", *bytes,
+                                 file_query(*parsed, options, format));
     }
     return finish(
         api::dispatch(request, context), *parsed,
@@ -716,6 +729,7 @@ Options:
   --ratio R                 stop at R times the input's triangles, 0 < R <= 1
   --max-error E             keep the Hausdorff distance to the input <= E (model units)
   --lock-border             boundary vertices stay exactly where they are
+  --locked-vertices LIST    vertices that stay exactly where they are (0-based indices into IN: 0,5,100)
   --report-error            measure and print the Hausdorff and RMS distance to the input
   --no-draco                write an uncompressed .glb
   --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)
@@ -730,6 +744,7 @@ int simplify(Args& args) {
         {"--ratio", "ratio", real()},
         {"--max-error", "max_error", real()},
         flag("--lock-border", "lock_border"),
+        {"--locked-vertices", "locked_vertices", any_text()},
         flag("--report-error", "report_error"),
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
@@ -938,6 +953,66 @@ int pointcloud(Args& args) {
     });
 }
 
+// ---- curve ---------------------------------------------------------------------------------------------------
+
+constexpr std::string_view kCurveHelp = R"(Usage: surfaced curve IN.json|IN.svg -o OUT [--tolerance T] [--continuity] [--enforce-c1 MODE]
+
+Runs curve queries on the curve in IN and writes the answer to OUT, through the same operation as POST /curves.
+  IN:  .json  a POST /curves body: one of "points", "chain", "svg", "bspline", and its queries
+       .svg   the d attributes of the <path> elements (one chain per subpath; transforms are not applied),
+              or a file of bare path data
+  OUT: .json (the answer) .glb .gltf (the tessellation as glTF line strips; no Draco, which is for triangles)
+
+Options:
+  -o, --output OUT       output file (required)
+  --tolerance T          tessellate within T model units (.glb/.gltf: default the file's, else 0.001)
+  --continuity           report every joint: gap, derivative mismatch, angle, class (chains, SVG paths)
+  --enforce-c1 MODE      make every joint C1 or G1 (MODE: C1, G1) by the mirror rule (chains, SVG paths);
+                         the answer has the modified chain, and the tessellation is of it
+  -h, --help             this text
+)";
+
+int curve(Args& args) {
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--tolerance", "", real()},
+        flag("--continuity"),
+        {"--enforce-c1", "",
+         [](std::string_view, const std::string& text) {
+             if (text != "C1" && text != "G1")
+                 throw UsageError{"--enforce-c1: unknown value \"" + text + "\" (allowed: C1, G1)"};
+             return text;
+         }},
+    };
+    const auto parsed = parse_file_command(args, "curve", kCurveHelp, options, "IN.json or IN.svg");
+    if (!parsed) return kExitOk;
+    const std::string in_ext = lower_extension(parsed->input);
+    if (in_ext != ".json" && in_ext != ".svg")
+        throw UsageError{"cannot tell the curve format of " + parsed->input + " from its extension (use .json .svg)"};
+    using enum api::OutputFormat;
+    const api::OutputFormat out_format = output_format(parsed->output, {Json, Glb, Gltf}, ".json .glb .gltf");
+    api::operations::CurveFileOverrides overrides;
+    overrides.svg = in_ext == ".svg";
+    overrides.format = out_format;
+    if (parsed->has("--tolerance")) overrides.tolerance = std::stod(parsed->value("--tolerance"));
+    overrides.continuity = parsed->has("--continuity");
+    if (parsed->has("--enforce-c1")) overrides.enforce_c1 = parsed->value("--enforce-c1");
+
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    return finish(
+        api::operations::curves_from_file(*bytes, overrides, context), *parsed,
+        [&](const api::ApiResponse& response) {
+            std::cout << "wrote " << parsed->output;
+            if (out_format != Json)
+                std::cout << ": " << header(response, "X-Polylines") << " line strip(s), "
+                          << header(response, "X-Segments") << " segments within " << header(response, "X-Error-Bound")
+                          << " of the curve";
+            std::cout << "\n";
+        },
+        ProblemStyle{.field = true, .line = true, .offset = true});
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -964,7 +1039,8 @@ int run(int argc, char** argv) {
         if (command == "remesh") return remesh(args);
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
-        throw UsageError{"unknown command \"" + command + "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, implicit, pointcloud; see surfaced --help)"};
+        if (command == "curve") return curve(args);
+        throw UsageError{"unknown command \"" + command + "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, implicit, pointcloud, curve; see surfaced --help)"};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";
         return kExitUsage;

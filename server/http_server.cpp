@@ -1,6 +1,8 @@
 #include "server/http_server.h"
 
 #include <arpa/inet.h>
+#include <fcntl.h>
+#include <linux/filter.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -55,6 +57,7 @@ struct RequestState {
     int status = 0;      // 0: no response was produced (the client went away)
     std::uint64_t output_faces = 0;
     bool force_close = false;  // the request body may be unread: do not parse another request from this stream
+    bool body_timed_out = false;  // the body did not arrive in time (set by ConnectionStream::read): answer 408
 };
 
 //! How the current thread runs a connection handed to it by the task queue.
@@ -272,6 +275,7 @@ public:
         head_deadline_ = Clock::now() + std::chrono::seconds(config_.header_timeout_seconds);
         bytes_in_ = 0;
         bytes_out_ = 0;
+        body_bytes_ = 0;
     }
     bool has_buffered() const { return offset_ < size_; }
     //! Whether the buffered bytes hold a whole request head (up to the blank line), or cannot hold more.
@@ -299,7 +303,18 @@ public:
 
     ssize_t read(char* ptr, size_t size) override {
         if (!has_buffered()) {
-            if (!wait(POLLIN, read_wait_ms())) return -1;
+            if (head_done_) {
+                // Past the body deadline nothing more is read, however steadily a trickle still arrives.
+                for (;;) {
+                    if (body_deadline_passed()) return body_timeout();
+                    const int per_read = config_.read_timeout_seconds * 1000;
+                    const int left = millis_until(body_deadline()) + 1;  // poll may wake a fraction of a ms early
+                    if (wait(POLLIN, std::min(per_read, left))) break;
+                    if (left > per_read) return -1;  // the per-read timeout
+                }
+            } else if (!wait(POLLIN, read_wait_ms())) {
+                return -1;
+            }
             const ssize_t n = recv(fd_, buffer_.data(), buffer_.size(), 0);
             if (n <= 0) return n;
             offset_ = 0;
@@ -309,7 +324,8 @@ public:
         std::memcpy(ptr, buffer_.data() + offset_, n);
         offset_ += n;
         bytes_in_ += n;
-        if (!head_done_) track_head(ptr, n);
+        if (head_done_) body_bytes_ += n;
+        else track_head(ptr, n);
         return static_cast<ssize_t>(n);
     }
 
@@ -325,10 +341,23 @@ public:
     socket_t socket() const override { return fd_; }
 
 private:
-    // While the head is being read the total head deadline applies, afterwards the per-read timeout.
+    // While the head is being read the total head deadline applies, afterwards the body deadline; both are capped
+    // by the per-read timeout.
     int read_wait_ms() const {
         const int per_read = config_.read_timeout_seconds * 1000;
-        return head_done_ ? per_read : std::min(per_read, millis_until(head_deadline_));
+        return std::min(per_read, millis_until(head_done_ ? body_deadline() : head_deadline_));
+    }
+    //! body_timeout after the head, plus one second per body_min_rate_bytes received since.
+    Clock::time_point body_deadline() const {
+        auto credit = std::chrono::milliseconds(0);
+        if (config_.body_min_rate_bytes > 0)
+            credit = std::chrono::milliseconds(body_bytes_ * 1000 / config_.body_min_rate_bytes);
+        return body_start_ + std::chrono::seconds(std::max(1, config_.body_timeout_seconds)) + credit;
+    }
+    bool body_deadline_passed() const { return Clock::now() >= body_deadline(); }
+    ssize_t body_timeout() const {
+        t_request.body_timed_out = true;
+        return -1;
     }
     bool wait(short events, int timeout_ms) const {
         pollfd pfd{fd_, events, 0};
@@ -343,7 +372,11 @@ private:
         static constexpr char kEnd[] = "\r\n\r\n";
         for (std::size_t i = 0; i < n && !head_done_; ++i) {
             head_tail_ = ptr[i] == kEnd[head_tail_] ? head_tail_ + 1 : (ptr[i] == '\r' ? 1 : 0);
-            if (head_tail_ == 4) head_done_ = true;
+            if (head_tail_ == 4) {
+                head_done_ = true;
+                body_start_ = Clock::now();
+                body_bytes_ = n - i - 1;  // the rest of this read is body
+            }
         }
     }
 
@@ -355,6 +388,8 @@ private:
     bool head_done_ = false;
     int head_tail_ = 0;
     Clock::time_point head_deadline_;
+    Clock::time_point body_start_;
+    std::uint64_t body_bytes_ = 0;
     std::uint64_t bytes_in_ = 0;
     std::uint64_t bytes_out_ = 0;
 };
@@ -532,6 +567,13 @@ struct HttpServer::Impl final : public api::ServiceState {
     public:
         explicit CoreServer(Impl& owner) : owner_(owner) {}
 
+        //! The listening socket bound by bind_to_port / bind_to_any_port, handed over to the caller (our accept
+        //! loop owns it from then on; httplib's listen loop is never run).
+        int take_listening_socket() { return svr_sock_.exchange(INVALID_SOCKET); }
+
+        //! Serves one accepted socket (in the mode the calling thread runs in) and closes it.
+        void serve_connection(int sock) { process_and_close_socket(sock); }
+
     private:
         bool process_and_close_socket(socket_t sock) override {
             switch (t_mode) {
@@ -587,6 +629,8 @@ struct HttpServer::Impl final : public api::ServiceState {
     LoadCounters counters;
     std::atomic<bool> draining_{false};
     std::atomic<bool> abort_{false};  // set when the drain timeout passes: in-flight work is cancelled
+    int listen_fd = -1;             // owned by the accept loop once it runs
+    int wake_pipe[2] = {-1, -1};    // stop() writes a byte: the accept loop drains and ends
     std::thread listener;
     std::mutex done_mutex;
     std::condition_variable done_cv;
@@ -658,6 +702,74 @@ struct HttpServer::Impl final : public api::ServiceState {
                 counters.queued.load() > 0)
                 return stream.has_buffered() ? Next::Shed : Next::Close;
         }
+    }
+
+    //! Accepts every connection the kernel has completed (non-blocking, until EAGAIN) into the pool.
+    void accept_pending(BoundedPool& pool) {
+        for (;;) {
+            const int sock = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC);
+            if (sock < 0) {
+                if (errno == EINTR || errno == ECONNABORTED) continue;
+                // EMFILE/ENFILE: the connection stays in the backlog; poll() reports it again after a pause.
+                if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM)
+                    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                return;  // EAGAIN: nothing more queued
+            }
+            // As cpp-httplib's own loop does: a blocking send() of a large response to a client that stops reading
+            // (poll() only says some space is free) gives up after write_timeout instead of holding the worker.
+            const timeval read_timeout{static_cast<time_t>(config.read_timeout_seconds), 0};
+            const timeval write_timeout{static_cast<time_t>(config.write_timeout_seconds), 0};
+            setsockopt(sock, SOL_SOCKET, SO_RCVTIMEO, &read_timeout, sizeof read_timeout);
+            setsockopt(sock, SOL_SOCKET, SO_SNDTIMEO, &write_timeout, sizeof write_timeout);
+            pool.enqueue([this, sock] { server.serve_connection(sock); });
+        }
+    }
+
+    //! The accept loop (our own: cpp-httplib's stop() shuts the listening socket down, which resets every
+    //! connection still in the kernel's listen backlog; those clients had already sent their requests).
+    //! On stop: a socket filter drops new SYNs (a client that was not yet connected sees its connection refused once
+    //! the socket closes, and may retry elsewhere), handshakes already under way complete, everything the kernel
+    //! queued is accepted and answered like any accepted connection (with Connection: close while draining), then
+    //! the socket is closed and the pool drained.
+    void accept_loop() {
+        BoundedPool pool(static_cast<std::size_t>(threads), queue_capacity, counters);
+        for (;;) {
+            pollfd fds[2] = {{listen_fd, POLLIN, 0}, {wake_pipe[0], POLLIN, 0}};
+            const int rc = poll(fds, 2, -1);
+            if (rc < 0) {
+                if (errno == EINTR) continue;
+                break;
+            }
+            if (fds[1].revents != 0) break;
+            if ((fds[0].revents & (POLLERR | POLLNVAL)) != 0) break;
+            if ((fds[0].revents & POLLIN) != 0) accept_pending(pool);
+        }
+        refuse_new_handshakes(listen_fd);
+        accept_pending(pool);
+        // A handshake whose final ACK passed the filter while it was being attached lands in the queue a moment
+        // later; loopback delivers it within microseconds, a network path within a round trip.
+        for (int round = 0; round < 5; ++round) {
+            pollfd pfd{listen_fd, POLLIN, 0};
+            if (poll(&pfd, 1, 20) > 0) accept_pending(pool);
+        }
+        ::close(listen_fd);
+        listen_fd = -1;
+        pool.shutdown();  // serves what is queued, joins the workers
+    }
+
+    //! Attaches a classic BPF filter to the listening socket that drops every segment carrying SYN (new
+    //! connections) and keeps the rest (the ACKs that complete handshakes already under way). For TCP the filter
+    //! sees the segment from its TCP header: byte 13 holds the flags, SYN is 0x02.
+    static void refuse_new_handshakes(int fd) {
+        sock_filter code[] = {
+            BPF_STMT(BPF_LD | BPF_B | BPF_ABS, 13),
+            BPF_JUMP(BPF_JMP | BPF_JSET | BPF_K, 0x02, 0, 1),
+            BPF_STMT(BPF_RET | BPF_K, 0),
+            BPF_STMT(BPF_RET | BPF_K, 0xffffffffu),
+        };
+        sock_fprog program{static_cast<unsigned short>(std::size(code)), code};
+        // Best effort: without the filter, connections arriving in the last moment are reset as before.
+        (void)setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &program, sizeof program);
     }
 
     //! The 503 + Retry-After problem+json answer of the shedding paths, as raw bytes.
@@ -774,9 +886,6 @@ struct HttpServer::Impl final : public api::ServiceState {
         // Not used by our connection loop (CoreServer), but keeps httplib's own bookkeeping consistent.
         server.set_keep_alive_max_count(static_cast<std::size_t>(std::max(1, config.keep_alive_max_requests)));
         server.set_keep_alive_timeout(config.keep_alive_timeout_seconds);
-        const std::size_t workers = static_cast<std::size_t>(threads);
-        const std::size_t capacity = queue_capacity;
-        server.new_task_queue = [this, workers, capacity] { return new BoundedPool(workers, capacity, counters); };
         // Without a limit cpp-httplib buffers bodies of any size; with it, an oversized Content-Length is refused
         // (413, rendered by the error handler below) before the body is read.
         server.set_payload_max_length(config.limits.max_body_bytes);
@@ -878,6 +987,17 @@ struct HttpServer::Impl final : public api::ServiceState {
             if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
             t_request.force_close = true;
             api::ApiResponse problem_response;
+            if (t_request.body_timed_out) {
+                res.headers.erase("Keep-Alive");
+                res.headers.erase("Connection");
+                res.set_header("Connection", "close");
+                write_response(problem(408, "body_timeout", "Request body too slow",
+                                       "the request body did not arrive within " +
+                                           std::to_string(config.body_timeout_seconds) + " s plus 1 s per " +
+                                           std::to_string(config.body_min_rate_bytes) + " bytes received"),
+                               res);
+                return httplib::Server::HandlerResponse::Handled;
+            }
             switch (res.status) {
                 case 404: problem_response = api::route_not_found(req.method, req.path); break;
                 case 413:
@@ -927,26 +1047,25 @@ bool HttpServer::start(std::string* error) {
         if (error) *error = "cannot listen on " + where + " (address in use, not local, or not permitted)";
         return false;
     }
+    s.listen_fd = s.server.take_listening_socket();
+    // httplib listens with a backlog of 5: under a burst of connections the kernel would drop SYNs (clients retry
+    // after a second). The kernel caps this at net.core.somaxconn.
+    if (s.listen_fd < 0 || ::listen(s.listen_fd, SOMAXCONN) != 0 ||
+        fcntl(s.listen_fd, F_SETFL, fcntl(s.listen_fd, F_GETFL) | O_NONBLOCK) != 0 ||
+        pipe2(s.wake_pipe, O_CLOEXEC | O_NONBLOCK) != 0) {
+        if (s.listen_fd >= 0) ::close(s.listen_fd);
+        s.listen_fd = -1;
+        if (error) *error = "cannot listen on " + where + ": " + std::strerror(errno);
+        return false;
+    }
+    // The socket is listening already: connections made from now on wait in the backlog until the loop runs, and
+    // a stop() right away finds the wake-up byte.
     s.listener = std::thread([&s] {
-        s.server.listen_after_bind();
+        s.accept_loop();
         std::lock_guard done(s.done_mutex);
         s.listener_done = true;
         s.done_cv.notify_all();
     });
-    // httplib's stop() does nothing until the accept loop runs, so a stop() right after start() would be lost and
-    // the join would hang: return only once the loop is running.
-    for (;;) {
-        {
-            std::lock_guard done(s.done_mutex);
-            if (s.server.is_running() || s.listener_done) break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    if (!s.server.is_running()) {
-        s.listener.join();
-        if (error) *error = "the server on " + where + " stopped immediately";
-        return false;
-    }
     return true;
 }
 
@@ -964,8 +1083,11 @@ void HttpServer::stop() {
     if (!s.listener.joinable()) return;
     s.draining_ = true;
     if (s.config.drain_delay_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(s.config.drain_delay_ms));
-    // Closes the listening socket; the accept loop ends and shuts the pool down, which serves what was accepted.
-    s.server.stop();
+    // Wakes the accept loop: it refuses new handshakes, accepts the listen backlog, closes the listening socket and
+    // shuts the pool down, which serves everything accepted.
+    const char byte = 1;
+    while (::write(s.wake_pipe[1], &byte, 1) < 0 && errno == EINTR) {
+    }
     {
         std::unique_lock done(s.done_mutex);
         if (!s.done_cv.wait_for(done, std::chrono::seconds(std::max(0, s.config.drain_timeout_seconds)),
@@ -973,6 +1095,10 @@ void HttpServer::stop() {
             s.abort_ = true;  // cancel the work still running; its requests are answered 503 `cancelled`
     }
     s.listener.join();
+    for (int& fd : s.wake_pipe) {
+        if (fd >= 0) ::close(fd);
+        fd = -1;
+    }
 }
 
 ServerStats HttpServer::stats() const {

@@ -7,7 +7,10 @@
 //    keep-alive limits (requests per connection, idle timeout, and idle connections give their worker up as soon
 //    as another connection waits); a deadline for reading a request head (slowloris); a per-request compute
 //    deadline handed to operations as a surfaced::Cancel; the request body limit (413 before buffering);
-//  * graceful shutdown: stop() refuses new connections, answers what was accepted (with Connection: close),
+//    a deadline for the body (408: a client trickling its body cannot hold a worker indefinitely);
+//  * graceful shutdown: stop() refuses new connections (new handshakes are dropped by a socket filter, so their
+//    clients see a refused connection, never a reset request), accepts and answers what is already in the kernel's
+//    listen backlog and what was accepted (with Connection: close),
 //    lets in-flight work finish (cancelling it after drain_timeout), /readyz answers 503 meanwhile;
 //  * observability: /metrics (Prometheus), request ids (X-Request-Id), JSON access log lines;
 //  * security: optional bearer-token auth, a CORS allow-list with preflight, static files of the web client at
@@ -15,6 +18,7 @@
 //  * problem+json for every error the HTTP library produces itself, and a fail-safe exception handler (500).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -37,6 +41,11 @@ struct ServerConfig {
     int write_timeout_seconds = 30;  //!< per socket write
     //! A request line and headers must arrive within this many seconds of their first byte (slowloris).
     int header_timeout_seconds = 10;
+    //! A request body must arrive within body_timeout_seconds of the end of its head, plus one second for every
+    //! body_min_rate_bytes received (so uploads faster than that rate are never cut off, and a client trickling its
+    //! body slower holds a worker for a bounded time); otherwise 408 `body_timeout` and the connection is closed.
+    int body_timeout_seconds = 30;
+    std::size_t body_min_rate_bytes = 16384;  //!< bytes per second; 0: the body gets body_timeout_seconds in all
     //! Accepted connections that may wait for a worker; more are answered 503 + Retry-After. 0: max(64, 8 x threads).
     int queue_capacity = 0;
     //! Requests served on one connection before it is closed (Connection: close on the last).

@@ -139,14 +139,7 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
-    if (media_type != "application/json")
-        return error_response(make_problem(Problem::UnsupportedMediaType,
-                                           (media_type.empty() ? std::string("a Content-Type is required")
-                                                               : "Content-Type \"" + media_type + "\" is not accepted") +
-                                               "; accepted: application/json"));
-    if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
+    if (auto error = check_json_only_body(request, limits, "POST /implicit/mesh")) return error_response(std::move(*error));
     auto decoded = decode(request, limits);
     if (!decoded) return error_response(std::move(decoded.error()));
     MeshRequest& req = decoded.value();

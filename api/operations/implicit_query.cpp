@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "api/operations/request_forms.h"
 #include "api/scene_codec.h"
 #include "geometry/implicit/query.h"
 
@@ -41,19 +42,7 @@ const char* kind_name(implicit::FieldKind kind) {
 
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
-    if (request.body.size() > limits.max_body_bytes)
-        return error_response(make_problem(Problem::PayloadTooLarge,
-                                           "request body is " + std::to_string(request.body.size()) +
-                                               " bytes; the limit is " + std::to_string(limits.max_body_bytes)));
-    std::string_view type = std::string_view(request.content_type).substr(0, request.content_type.find(';'));
-    while (!type.empty() && type.back() == ' ') type.remove_suffix(1);
-    if (type != "application/json")
-        return error_response(make_problem(Problem::UnsupportedMediaType, "POST /implicit/query takes application/json"));
-    if (!request.query.empty())
-        return error_response(make_problem(Problem::UnknownParameter,
-                                           "query parameters are not accepted (options go in the body), got \"" +
-                                               request.query.begin()->first + "\"",
-                                           request.query.begin()->first));
+    if (auto error = check_json_only_body(request, limits, "POST /implicit/query")) return error_response(std::move(*error));
     Json root;
     if (auto error = parse(request.body, root)) return error_response(std::move(*error));
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
@@ -130,7 +119,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         if (!d) return error_response(std::move(d.error()));
         const double n = norm(d.value());
         if (!(n > 0) || !std::isfinite(n))
-            return error_response(geometry_error(ErrorCode::InvalidArgument, path + ".direction",
+            return error_response(json::geometry_error(ErrorCode::InvalidArgument, path + ".direction",
                                                  path + ".direction must be a non-zero vector"));
         rays.push_back({o.value(), d.value()});
     }

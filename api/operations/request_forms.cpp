@@ -132,6 +132,16 @@ std::optional<ApiError> reject_query_with_json(const ApiRequest& request) {
                         name);
 }
 
+std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits, std::string_view operation) {
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type)) return error;
+    if (media_type != "application/json")
+        return make_problem(Problem::UnsupportedMediaType,
+                            std::string(operation) + " takes application/json" +
+                                (media_type.empty() ? std::string() : ", not \"" + media_type + "\""));
+    return reject_query_with_json(request);
+}
+
 std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
                                           std::initializer_list<std::string_view> allowed) {
     std::set<std::string> unknown;

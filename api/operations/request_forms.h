@@ -94,6 +94,9 @@ std::optional<ApiError> read_parameter(const std::string& name, const std::strin
 std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type);
 //! Options of a JSON request go in its body: query parameters with it are an error naming the first one.
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
+//! The intake of an endpoint that takes only a JSON body (`operation` names it in the message, e.g.
+//! "POST /curves"): body size, Content-Type application/json, no query parameters.
+std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits, std::string_view operation);
 //! Parameters must be known and given once; errors name them (and list the allowed ones).
 std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
                                           std::initializer_list<std::string_view> allowed);

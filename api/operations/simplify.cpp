@@ -1,7 +1,11 @@
 #include "api/operations/simplify.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cstdint>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include "api/dto.h"
 #include "api/json_codec.h"
@@ -12,9 +16,48 @@
 namespace surfaced::api::operations {
 namespace {
 
+//! "0,5,100": vertex indices, comma-separated (empty: none). Each must be a non-negative integer; whether it names a
+//! vertex is checked once the mesh is read (check_locked_vertices).
+std::optional<ApiError> read_locked_vertices(const std::string& text, std::vector<std::int64_t>& out) {
+    out.clear();
+    if (text.empty()) return std::nullopt;
+    for (std::size_t start = 0, k = 0;; ++k) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, comma - start);
+        const std::string field = "locked_vertices[" + std::to_string(k) + "]";
+        std::int64_t value = -1;
+        const auto parsed = std::from_chars(item.data(), item.data() + item.size(), value);
+        if (item.empty() || parsed.ec != std::errc() || parsed.ptr != item.data() + item.size() || value < 0)
+            return make_problem(Problem::InvalidField,
+                                "query parameter locked_vertices: item " + std::to_string(k) + " (\"" + item +
+                                    "\") must be a non-negative integer vertex index (locked_vertices=0,5,100)",
+                                field);
+        out.push_back(value);
+        if (comma == text.size()) return std::nullopt;
+        start = comma + 1;
+    }
+}
+
+//! Every locked vertex must be a vertex of the mesh (422 naming locked_vertices[k]). Triangulation keeps the vertices
+//! and their order, so the indices mean the same after it.
+std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& locked, const PolygonMesh& mesh) {
+    const std::size_t nv = mesh.vertex_count();
+    for (std::size_t k = 0; k < locked.size(); ++k)
+        if (locked[k] < 0 || static_cast<std::uint64_t>(locked[k]) >= nv) {
+            const std::string field = "locked_vertices[" + std::to_string(k) + "]";
+            ApiError error = from_geo_error(make_error(
+                ErrorCode::IndexOutOfRange, field + ": vertex " + std::to_string(locked[k]) + " out of range (" +
+                                                std::to_string(nv) + (nv == 1 ? " vertex)" : " vertices)")));
+            error.field = field;
+            return error;
+        }
+    return std::nullopt;
+}
+
 ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     if (auto error = check_query_names(query, {"target_faces", "ratio", "max_error", "lock_border", "report_error",
-                                                "format", "compression", "quantize_position", "normals"}))
+                                                "locked_vertices", "format", "compression", "quantize_position",
+                                                "normals"}))
         return std::move(*error);
 
     SimplifyParams params;
@@ -25,6 +68,7 @@ ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std
         else if (name == "max_error") error = read_parameter(name, text, params.max_error);
         else if (name == "lock_border") error = read_parameter(name, text, params.lock_border);
         else if (name == "report_error") error = read_parameter(name, text, params.report_error);
+        else if (name == "locked_vertices") error = read_locked_vertices(text, params.locked_vertices);
         else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
         if (error) return std::move(*error);
     }
@@ -60,6 +104,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     if (!decoded) return error_response(std::move(decoded.error()));
     auto& [source, params, mesh, t_decoded] = decoded.value();
     if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
+    if (auto error = check_locked_vertices(params.locked_vertices, mesh)) return error_response(std::move(*error));
 
     // 4. simplify
     SimplifyOptions options;
@@ -67,6 +112,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.ratio = params.ratio;
     options.max_error = params.max_error;
     options.lock_border = params.lock_border;
+    options.locked_vertices.reserve(params.locked_vertices.size());
+    for (std::int64_t v : params.locked_vertices) options.locked_vertices.push_back(static_cast<Index>(v));  // checked
     options.cancel = context.cancel;
     auto simplified = simplify_qem(mesh, options);
     if (!simplified) return error_response(geometry_error(simplified.error(), source));

@@ -15,6 +15,7 @@
 #include "geometry/io/bez.h"
 #include "geometry/io/gltf.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/obj_patches.h"
 #include "geometry/surfaces/bezier_patch.h"
 
 namespace surfaced::api::operations {
@@ -22,6 +23,7 @@ namespace {
 
 constexpr std::int64_t kDefaultSegments = 8;
 constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
+constexpr std::string_view kObjMediaType = "model/obj";  // free-form cstype bezier surfaces
 constexpr std::string_view kQueryOptions[] = {"tolerance", "segments", "format", "compression", "quantize_position",
                                               "normals"};
 
@@ -34,7 +36,7 @@ std::string format_number(double value, const char* format = "%.3f") {
 std::string accepted_media_types() {
     std::string out = "application/json";
     for (std::string_view type : kBezMediaTypes) out += ", " + std::string(type);
-    return out;
+    return out + ", " + std::string(kObjMediaType);
 }
 
 ApiError invalid_parameter(const std::string& name, const std::string& detail) {
@@ -100,7 +102,14 @@ std::string patch_set_json(const PatchSet& set) {
             out += (i ? ",[" : "[") + format_number(q.x, "%.17g") + "," + format_number(q.y, "%.17g") + "," +
                    format_number(q.z, "%.17g") + "]";
         }
-        out += "]}";
+        out += "]";
+        if (patch.rational()) {
+            out += ",\"weights\":[";
+            for (std::size_t i = 0; i < patch.weights.size(); ++i)
+                out += (i ? "," : "") + format_number(patch.weights[i], "%.17g");
+            out += "]";
+        }
+        out += "}";
     }
     return out + "]}";
 }
@@ -247,7 +256,8 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
         if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
         return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start, context.cancel);
     }
-    if (std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
+    const bool obj = media_type == kObjMediaType;
+    if (!obj && std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
         return error_response(make_problem(Problem::UnsupportedMediaType,
                                            (media_type.empty() ? std::string("a Content-Type is required")
                                                                : "Content-Type \"" + media_type + "\" is not accepted") +
@@ -256,9 +266,17 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
     auto params = params_from_query(request.query);
     if (!params) return error_response(std::move(params.error()));
     if (auto error = check_params(params.value(), limits, Source::Query)) return error_response(std::move(*error));
-    BezReadOptions read_options;
-    read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
-    auto set = read_bez(request.body, read_options);
+    Result<PatchSet> set = make_error(ErrorCode::Internal, "unread");
+    if (obj) {
+        ObjPatchReadOptions read_options;
+        read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
+        read_options.max_vertices = static_cast<std::size_t>(limits.max_input_vertices);
+        set = read_obj_patches(request.body, read_options);
+    } else {
+        BezReadOptions read_options;
+        read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
+        set = read_bez(request.body, read_options);
+    }
     if (!set) return error_response(from_geo_error(set.error()));
     return tessellate_and_encode(set.value(), params.value(), limits, Source::Query, start, context.cancel);
 }

@@ -5,8 +5,10 @@
 //  * application/json: see api/patch_codec.h ({"patches": [...], "tolerance": t | "segments": n, "output": {...}}).
 //    Query parameters are rejected (options belong in the body).
 //  * a geomview BEZ/BBP file as the body (Content-Type application/x-geomview-bez, text/plain, or
-//    application/octet-stream), options as query parameters: ?tolerance=0.01 | ?segments=8, format, compression,
-//    quantize_position, normals.
+//    application/octet-stream), or a Wavefront OBJ file with free-form `cstype [rat] bezier` surfaces
+//    (Content-Type model/obj; geometry/io/obj_patches.h), options as query parameters: ?tolerance=0.01 |
+//    ?segments=8, format, compression, quantize_position, normals. BEZ _ST corner texture coordinates become the
+//    output UVs; BEZ Nd = 4, OBJ `rat` and JSON "weights" give rational patches (X-Error-Bound still a guarantee).
 // GET /patches/{name} (name: a built-in sample, `teapot`): the same query parameters. The response carries a strong
 // ETag (a hash of the name, the sample's data, the options and kPatchSampleRevision) and Cache-Control; a request
 // whose If-None-Match lists that ETag (or is "*") gets 304 Not Modified without any tessellation.

@@ -1,6 +1,7 @@
 // Geomview BEZ / BBP reader (see bez.h for the format) and the built-in patch samples.
 #include "geometry/io/bez.h"
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -96,9 +97,6 @@ private:
                 return error_at_line(ErrorCode::ParseError, line,
                                      "header " + quote(token) + ": dimension must be 3 or 4");
         }
-        if (type.dimension == 4)
-            return error_at_line(ErrorCode::Unsupported, line,
-                                 "header " + quote(token) + ": rational (4-D) patches are not supported");
         return Ok{};
     }
 
@@ -129,18 +127,51 @@ private:
         const int count = (type.degree_u + 1) * (type.degree_v + 1);
         patch.points.resize(static_cast<std::size_t>(count));
         std::string_view* pending = &first;
+        const std::int64_t first_line = tokens.line();
         for (int k = 0; k < count; ++k) {
             const std::string what = "control point " + std::to_string(k) + " coordinate";
+            Vec3& point = patch.points[static_cast<std::size_t>(k)];
             for (int c = 0; c < 3; ++c) {
-                if (auto ok = number(tokens, pending, patch.points[static_cast<std::size_t>(k)][c], what); !ok)
-                    return ok;
+                if (auto ok = number(tokens, pending, point[c], what); !ok) return ok;
                 pending = nullptr;
+            }
+            if (type.dimension == 4) {
+                // homogeneous (x, y, z, w) as geomview's HPoint3: the control point is (x, y, z) / w, weight w
+                double w = 0;
+                if (auto ok = number(tokens, nullptr, w, "control point " + std::to_string(k) + " weight"); !ok)
+                    return ok;
+                if (!(w > 0))
+                    return error_at_line(ErrorCode::InvalidArgument, tokens.line(),
+                                         "patch " + std::to_string(set_.patches.size()) + ": control point " +
+                                             std::to_string(k) + " weight (4th coordinate) must be > 0");
+                point = point * (1.0 / w);
+                if (!is_finite(point))
+                    return error_at_line(ErrorCode::NonFinite, tokens.line(),
+                                         "patch " + std::to_string(set_.patches.size()) + ": control point " +
+                                             std::to_string(k) + " divided by its weight is not finite");
+                patch.weights.push_back(w);
+            }
+        }
+        if (type.dimension == 4) {
+            // the geometric checks (weight ratio, overflow) with this file's line
+            if (auto valid = validate(std::span<const BezierPatch>(&patch, 1)); !valid) {
+                const std::string message = valid.error().message;  // "patch 0: ..."
+                const std::size_t colon = message.find(": ");
+                return error_at_line(valid.error().code, first_line,
+                                     "patch " + std::to_string(set_.patches.size()) +
+                                         (colon == std::string::npos ? ": " + message : message.substr(colon)));
             }
         }
         double ignored = 0;
-        if (type.texcoords)
+        if (type.texcoords) {
+            std::array<Vec2, 4> corners;
             for (int k = 0; k < 8; ++k)
-                if (auto ok = number(tokens, nullptr, ignored, "corner texture coordinate"); !ok) return ok;
+                if (auto ok = number(tokens, nullptr, k % 2 ? corners[k / 2].y : corners[k / 2].x,
+                                     "corner texture coordinate");
+                    !ok)
+                    return ok;
+            patch.corner_uvs = corners;
+        }
         if (type.colors)
             for (int k = 0; k < 16; ++k)
                 if (auto ok = number(tokens, nullptr, ignored, "corner colour component"); !ok) return ok;

@@ -4,6 +4,11 @@
 // degrees in u and v (single digits 1..6), Nd the coordinates per control point (3, or 4 for rational patches);
 // BBP = BEZ333 -- followed by any number of patches, each (Nu+1)*(Nv+1) control points with u varying fastest,
 // then 4 corner (s, t) pairs when ST is given, then 4 corner RGBA colours when C is given. `#` starts a comment.
+//
+// Conventions we chose (geomview's own documentation does not spell them out): with Nd = 4 each control point is
+// homogeneous (x, y, z, w) as geomview's HPoint3 everywhere else, i.e. already multiplied by its weight: the
+// Euclidean control point is (x, y, z) / w and w its weight (w > 0). The 4 (s, t) pairs belong to the corners in
+// the order they appear in the control net: (u, v) = (0, 0), (1, 0), (0, 1), (1, 1).
 #pragma once
 
 #include <cstddef>
@@ -20,11 +25,12 @@ struct BezReadOptions {
 };
 
 //! Reads every patch of a BEZ/BBP text. A header keyword may also reappear before any patch to change the patch
-//! type for the patches after it (geomview files may mix types). Corner texture coordinates and colours are read
-//! (and checked to be numbers) but not kept: tessellation produces the patches' own (u, v) as UVs.
+//! type for the patches after it (geomview files may mix types). Corner texture coordinates are read
+//! into BezierPatch::corner_uvs (tessellation interpolates them bilinearly as the output UVs); colours are read
+//! (and checked to be numbers) but not kept. Nd = 4 patches become rational patches (BezierPatch::weights).
 //! Errors (with the 1-based line in GeoError::line and the message): ParseError (no or unknown header, a token that
-//! is not a number, a patch cut short, no patches), NonFinite, Unsupported (Nd = 4: rational patches),
-//! BudgetExceeded (more than max_patches).
+//! is not a number, a patch cut short, no patches), NonFinite, InvalidArgument (a weight <= 0, weights more than
+//! kMaxWeightRatio apart), BudgetExceeded (more than max_patches).
 Result<PatchSet> read_bez(std::string_view text, const BezReadOptions& options = {});
 
 //! Names of the built-in patch samples ("teapot").

@@ -28,9 +28,9 @@ struct Layout {
     int indices = -1;
 };
 
-class PlyReader {
+class PlyReader : io_detail::ply::BinaryCursor {
 public:
-    PlyReader(std::string_view bytes, const ReadOptions& options) : bytes_(bytes), options_(options) {}
+    PlyReader(std::string_view bytes, const ReadOptions& options) : BinaryCursor(bytes), options_(options) {}
 
     Result<PolygonMesh> read() {
         auto parsed = parse_header(bytes_, options_);
@@ -103,18 +103,6 @@ private:
     }
 
     // ---- binary
-    bool take(std::size_t n, const unsigned char*& p) {
-        if (bytes_.size() - pos_ < n) return false;
-        p = reinterpret_cast<const unsigned char*>(bytes_.data()) + pos_;
-        pos_ += n;
-        return true;
-    }
-    GeoError truncated(const PlyElement& e, std::uint64_t item) const {
-        return error_at_offset(ErrorCode::ParseError, static_cast<std::int64_t>(pos_),
-                               "unexpected end of file in " + quote(e.name) + " element " + std::to_string(item) + " of " +
-                                   std::to_string(e.count));
-    }
-
     std::optional<GeoError> read_binary_element(const PlyElement& e) {
         const Role r = role(e);
         std::vector<Index> face, scratch;
@@ -278,14 +266,12 @@ private:
         return std::nullopt;
     }
 
-    std::string_view bytes_;
     const ReadOptions& options_;
     PlyHeader header_;
     Layout layout_;
     bool read_normals_ = false;
     bool normals_finite_ = true;
     bool big_endian_ = false;
-    std::size_t pos_ = 0;
     std::uint64_t vertex_count_ = 0;
     PolygonMesh mesh_;
 };

@@ -118,6 +118,28 @@ inline std::int64_t bits_to_int(std::uint64_t bits, PlyType type) {
     }
 }
 
+//! The read position in a binary PLY body, shared by the mesh and point readers: `take` hands out the next n bytes
+//! or fails at the end of the file; `truncated` is the error naming the element and item cut short.
+class BinaryCursor {
+protected:
+    explicit BinaryCursor(std::string_view bytes) : bytes_(bytes) {}
+
+    bool take(std::size_t n, const unsigned char*& p) {
+        if (bytes_.size() - pos_ < n) return false;
+        p = reinterpret_cast<const unsigned char*>(bytes_.data()) + pos_;
+        pos_ += n;
+        return true;
+    }
+    GeoError truncated(const PlyElement& e, std::uint64_t item) const {
+        return error_at_offset(ErrorCode::ParseError, static_cast<std::int64_t>(pos_),
+                               "unexpected end of file in " + quote(e.name) + " element " + std::to_string(item) +
+                                   " of " + std::to_string(e.count));
+    }
+
+    std::string_view bytes_;
+    std::size_t pos_ = 0;
+};
+
 inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions& options) {
     if (bytes.empty()) return make_error(ErrorCode::ParseError, "empty file", -1, 0);
     if (bytes.size() >= 2 && ((static_cast<unsigned char>(bytes[0]) == 0xff && static_cast<unsigned char>(bytes[1]) == 0xfe) ||

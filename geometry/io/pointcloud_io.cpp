@@ -62,9 +62,9 @@ double color_scale(PlyType type) {
     }
 }
 
-class PlyPointReader {
+class PlyPointReader : io_detail::ply::BinaryCursor {
 public:
-    PlyPointReader(std::string_view bytes, const PointReadOptions& options) : bytes_(bytes), options_(options) {}
+    PlyPointReader(std::string_view bytes, const PointReadOptions& options) : BinaryCursor(bytes), options_(options) {}
 
     Result<PointCloud> read() {
         ReadOptions limits;
@@ -194,18 +194,6 @@ private:
     }
 
     // ---- binary
-    bool take(std::size_t n, const unsigned char*& p) {
-        if (bytes_.size() - pos_ < n) return false;
-        p = reinterpret_cast<const unsigned char*>(bytes_.data()) + pos_;
-        pos_ += n;
-        return true;
-    }
-    GeoError truncated(const PlyElement& e, std::uint64_t item) const {
-        return error_at_offset(ErrorCode::ParseError, static_cast<std::int64_t>(pos_),
-                               "unexpected end of file in " + quote(e.name) + " element " + std::to_string(item) +
-                                   " of " + std::to_string(e.count));
-    }
-
     std::optional<GeoError> read_binary_element(const PlyElement& e, bool is_vertex) {
         for (std::uint64_t item = 0; item < e.count; ++item) {
             const std::size_t item_offset = pos_;
@@ -237,13 +225,11 @@ private:
         return std::nullopt;
     }
 
-    std::string_view bytes_;
     const PointReadOptions& options_;
     PlyHeader header_;
     std::vector<Role> roles_;
     std::vector<double> scales_;
     bool normals_ = false, colors_ = false, alpha_ = false, normals_finite_ = true, big_endian_ = false;
-    std::size_t pos_ = 0;
     PointCloud cloud_;
 };
 

@@ -209,9 +209,12 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
         Vec3 n{};
         for (Index k = vs_offsets[v]; k < vs_offsets[v + 1]; ++k) {
             const Index s = vs_slots[k];
-            const Vec3& a = points[level.face_verts[prev_slot(s)]];
-            const Vec3& b = points[level.face_verts[next_slot(s)]];
-            n += cross(points[v] - a, b - points[v]);
+            // the nearest corners before and after that are somewhere else: a face that repeats a vertex, or a
+            // degenerate edge's descendants (which stay on top of their vertex), would give no area
+            Index before = prev_slot(s), after = next_slot(s);
+            while (before != s && points[level.face_verts[before]] == points[v]) before = prev_slot(before);
+            while (after != s && points[level.face_verts[after]] == points[v]) after = next_slot(after);
+            n += cross(points[v] - points[level.face_verts[before]], points[level.face_verts[after]] - points[v]);
         }
         limit_normals[v] = normalized(n);
     };

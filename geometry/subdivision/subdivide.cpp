@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <thread>
 #include <string>
@@ -228,7 +229,7 @@ struct LevelInput {
     bool threaded;
 };
 
-// The scatter pass of both schemes, into zeroed accumulators: vertex_acc[v] = sum of v's edge neighbours plus
+// The scatter pass of both schemes, into zeroed accumulators (the caller's, which must be all zero on entry): vertex_acc[v] = sum of v's edge neighbours plus
 // face_term(f) of each face around v (Catmull-Clark adds face points; Loop nothing); edge_acc[e] = sum of
 // face_to_edge(f, corner) over e's faces. Large levels are cut into two fixed parts whose partial sums are added
 // in a fixed order, so the result does not depend on the thread count.
@@ -242,17 +243,25 @@ void scatter_level(const Level& p, const Vec3* src, Vec3* vertex_acc, Vec3* edge
             vacc[b] += src[a];
         }
     };
-    for_range(nv, threaded, [&](Index b, Index e) { std::fill(vertex_acc + b, vertex_acc + e, Vec3{}); });
-    for_range(ne, threaded, [&](Index b, Index e) { std::fill(edge_acc + b, edge_acc + e, Vec3{}); });
+    // the accumulators arrive zeroed (a freshly sized std::vector<Vec3>): zeroing them again would cost a pass
     if (nf < subdivision::kSplitMinimum) {
         edges(0, ne, vertex_acc);
         face_pass(Index{0}, nf, vertex_acc, edge_acc);
         return;
     }
-    std::vector<Vec3> second(static_cast<std::size_t>(nv) + ne);
+    // The second part's accumulators: raw storage that part 1 zeroes itself, so that with two threads the zeroing
+    // overlaps part 0 and the pages are first touched by the thread that writes them.
+    const std::size_t second_count = static_cast<std::size_t>(nv) + ne;
+    struct Storage {  // Vec3 is trivially destructible: freeing is all there is to do
+        Vec3* data;
+        std::size_t count;
+        ~Storage() { std::allocator<Vec3>().deallocate(data, count); }
+    } storage{std::allocator<Vec3>().allocate(second_count), second_count};
+    Vec3* const second = storage.data;
     run_two_parts(threaded, [&](int part) {
-        Vec3* vacc = part == 0 ? vertex_acc : second.data();
-        Vec3* eacc = part == 0 ? edge_acc : second.data() + nv;
+        if (part == 1) std::uninitialized_value_construct_n(second, second_count);
+        Vec3* vacc = part == 0 ? vertex_acc : second;
+        Vec3* eacc = part == 0 ? edge_acc : second + nv;
         edges(part == 0 ? 0 : ne / 2, part == 0 ? ne / 2 : ne, vacc);
         face_pass(part == 0 ? 0 : nf / 2, part == 0 ? nf / 2 : nf, vacc, eacc);
     });
@@ -347,10 +356,21 @@ void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* 
 }
 
 // Sharpness of the child level (vertices: children of vertices first; edges: face-interior edges first, then two
-// per parent edge), and holes carried to child faces.
+// per parent edge), and holes carried to child faces. `holes_only`: the last level, where nothing refines the
+// sharpness further; only the holes are needed (for the output), and the rest would be written for nothing.
 Sharpness refine_sharpness(const Level& p, const Level& child, const Sharpness& sharp, const Neighbourhood& n,
-                           CreaseMethod method, bool loop) {
+                           CreaseMethod method, bool loop, bool holes_only = false) {
     Sharpness c;
+    if (!sharp.hole.empty()) {
+        c.hole.assign(child.face_count(), 0);
+        for (Index f = 0; f < p.face_count(); ++f) {
+            if (!sharp.hole[f]) continue;
+            const Index first = loop ? 4 * f : p.face_offsets[f];
+            const Index count = loop ? 4 : p.face_offsets[f + 1] - p.face_offsets[f];
+            for (Index i = 0; i < count; ++i) c.hole[first + i] = 1;
+        }
+    }
+    if (holes_only) return c;
     c.vertex.assign(child.vertex_count, 0.0f);
     for (Index v = 0; v < p.vertex_count; ++v) c.vertex[v] = decrement(sharp.vertex[v]);
     const Index interior = loop ? 3 * p.face_count() : static_cast<Index>(p.face_verts.size());
@@ -360,15 +380,6 @@ Sharpness refine_sharpness(const Level& p, const Level& child, const Sharpness& 
         if (!is_sharp(s)) continue;
         c.edge[interior + 2 * e] = child_edge_sharpness(s, p.edge_verts[2 * e], n, method);
         c.edge[interior + 2 * e + 1] = child_edge_sharpness(s, p.edge_verts[2 * e + 1], n, method);
-    }
-    if (!sharp.hole.empty()) {
-        c.hole.assign(child.face_count(), 0);
-        for (Index f = 0; f < p.face_count(); ++f) {
-            if (!sharp.hole[f]) continue;
-            const Index first = loop ? 4 * f : p.face_offsets[f];
-            const Index count = loop ? 4 : p.face_offsets[f + 1] - p.face_offsets[f];
-            for (Index i = 0; i < count; ++i) c.hole[first + i] = 1;
-        }
     }
     return c;
 }
@@ -445,8 +456,9 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
         }
         for (std::size_t i = 0; i < mesh.tags.creases.size(); ++i) {
             const Crease& crease = mesh.tags.creases[i];
+            // the first instance, as OpenSubdiv's FindEdge (an edge a face uses twice has two)
             Index found = kInvalidIndex;
-            for (Index k = offsets[crease.v0]; k < offsets[crease.v0 + 1]; ++k)
+            for (Index k = offsets[crease.v0]; k < offsets[crease.v0 + 1] && found == kInvalidIndex; ++k)
                 if (other_end(level, edges[k], crease.v0) == crease.v1) found = edges[k];
             if (found == kInvalidIndex)
                 return element_error(ErrorCode::InvalidArgument,
@@ -468,7 +480,8 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
         if (edge_faces[e] < 2 && !is_infinite(s.edge[e]))
             open_boundary_vertex[level.edge_verts[2 * e]] = open_boundary_vertex[level.edge_verts[2 * e + 1]] = 1;
     for (Index e = 0; e < ne; ++e) {
-        non_manifold_edge[e] = edge_faces[e] > 2 || (edge_faces[e] == 2 && edge_forward[e] != 1);
+        non_manifold_edge[e] = edge_faces[e] > 2 || (edge_faces[e] == 2 && edge_forward[e] != 1) ||
+                               (!level.non_manifold_edge.empty() && level.non_manifold_edge[e]);
         if (edge_faces[e] < 2 || non_manifold_edge[e]) s.edge[e] = kInfiniteSharpness;
     }
     std::vector<std::uint32_t> vertex_faces(nv, 0), vertex_edges(nv, 0), vertex_boundary(nv, 0), vertex_nm(nv, 0);
@@ -613,7 +626,8 @@ Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const 
         }
     std::vector<std::uint8_t> non_manifold_edge(ne, 0);
     for (Index e = 0; e < ne; ++e) {
-        non_manifold_edge[e] = edge_faces[e] > 2 || (edge_faces[e] == 2 && edge_forward[e] != 1);
+        non_manifold_edge[e] = edge_faces[e] > 2 || (edge_faces[e] == 2 && edge_forward[e] != 1) ||
+                               (!vl.non_manifold_edge.empty() && vl.non_manifold_edge[e]);
         if (edge_faces[e] < 2 || non_manifold_edge[e]) c.sharp.edge[e] = kInfiniteSharpness;
     }
     c.sharp.vertex.resize(nvals);
@@ -675,6 +689,80 @@ std::uint64_t saturating_mul(std::uint64_t a, std::uint64_t b) {
 
 }  // namespace
 
+Status validate_for_subdivision(const PolygonMesh& mesh) {
+    // validate() first: it passes almost everything. It stops at the first problem, so when that is a repeated
+    // vertex, everything is checked again here without that rule.
+    Status full = validate(mesh);
+    if (full || full.error().code != ErrorCode::DegenerateFace || full.error().element_kind != ElementKind::Face ||
+        full.error().element < 0 || mesh.face_size(static_cast<std::size_t>(full.error().element)) < 3)
+        return full;
+    const std::size_t nv = mesh.positions.size();
+    if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 || mesh.face_offsets.back() != mesh.face_indices.size())
+        return make_error(ErrorCode::InvalidArgument, "face offsets do not match the face index array");
+    for (std::size_t v = 0; v < nv; ++v)
+        if (!is_finite(mesh.positions[v]))
+            return element_error(ErrorCode::NonFinite, "vertex " + std::to_string(v) + " has a non-finite coordinate",
+                                 ElementKind::Vertex, static_cast<std::int64_t>(v));
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        if (mesh.face_offsets[f + 1] < mesh.face_offsets[f])
+            return make_error(ErrorCode::InvalidArgument, "face offsets are not increasing at face " + std::to_string(f));
+        const auto face = mesh.face(f);
+        const auto fi = static_cast<std::int64_t>(f);
+        if (face.size() < 3)
+            return element_error(ErrorCode::DegenerateFace,
+                                 "face " + std::to_string(f) + " has " + std::to_string(face.size()) +
+                                     " vertices (at least 3 needed)", ElementKind::Face, fi);
+        for (Index v : face)
+            if (v >= nv)
+                return element_error(ErrorCode::IndexOutOfRange,
+                                     "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                                         " but there are " + std::to_string(nv) + " vertices", ElementKind::Face, fi);
+    }
+    if (!mesh.uv_indices.empty()) {
+        if (mesh.uv_indices.size() != mesh.face_indices.size())
+            return make_error(ErrorCode::InvalidArgument, "uv indices do not parallel the face indices");
+        for (Index i : mesh.uv_indices)
+            if (i >= mesh.uvs.size())
+                return make_error(ErrorCode::IndexOutOfRange, "uv index " + std::to_string(i) + " out of range (" +
+                                                                  std::to_string(mesh.uvs.size()) + " uvs)");
+        for (const Vec2& uv : mesh.uvs)
+            if (!is_finite(uv)) return make_error(ErrorCode::NonFinite, "a texture coordinate is not finite");
+    }
+    if (!mesh.normals.empty()) {
+        if (mesh.normals.size() != nv) return make_error(ErrorCode::InvalidArgument, "normals must have one entry per vertex");
+        for (const Vec3& n : mesh.normals)
+            if (!is_finite(n)) return make_error(ErrorCode::NonFinite, "a normal is not finite");
+    }
+    const auto bad_sharpness = [](double s) { return !(s >= 0) || !std::isfinite(s); };
+    for (std::size_t i = 0; i < mesh.tags.creases.size(); ++i) {
+        const Crease& c = mesh.tags.creases[i];
+        const auto ci = static_cast<std::int64_t>(i);
+        if (c.v0 >= nv || c.v1 >= nv)
+            return element_error(ErrorCode::IndexOutOfRange, "crease " + std::to_string(i) + " refers to a missing vertex",
+                                 ElementKind::Crease, ci);
+        if (bad_sharpness(c.sharpness))
+            return element_error(ErrorCode::InvalidArgument, "crease " + std::to_string(i) + " has an invalid sharpness",
+                                 ElementKind::Crease, ci);
+    }
+    for (std::size_t i = 0; i < mesh.tags.corners.size(); ++i) {
+        const Corner& c = mesh.tags.corners[i];
+        const auto ci = static_cast<std::int64_t>(i);
+        if (c.vertex >= nv)
+            return element_error(ErrorCode::IndexOutOfRange, "corner " + std::to_string(i) + " refers to a missing vertex",
+                                 ElementKind::Corner, ci);
+        if (bad_sharpness(c.sharpness))
+            return element_error(ErrorCode::InvalidArgument, "corner " + std::to_string(i) + " has an invalid sharpness",
+                                 ElementKind::Corner, ci);
+    }
+    for (std::size_t i = 0; i < mesh.tags.holes.size(); ++i)
+        if (mesh.tags.holes[i] >= mesh.face_count())
+            return element_error(ErrorCode::IndexOutOfRange,
+                                 "hole " + std::to_string(i) + " refers to face " + std::to_string(mesh.tags.holes[i]) +
+                                     " but there are " + std::to_string(mesh.face_count()) + " faces",
+                                 ElementKind::Hole, static_cast<std::int64_t>(i));
+    return Ok{};
+}
+
 std::uint64_t predicted_face_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels) {
     if (levels <= 0) return mesh.face_count();
     std::uint64_t faces = scheme == SubdivisionScheme::CatmullClark ? mesh.face_indices.size() : 4 * mesh.face_count();
@@ -702,7 +790,7 @@ std::uint64_t predicted_vertex_count(const PolygonMesh& mesh, SubdivisionScheme 
 Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options) {
     if (options.levels < 0)
         return make_error(ErrorCode::InvalidArgument, "levels must be >= 0, got " + std::to_string(options.levels));
-    if (Status valid = validate(mesh); !valid) return valid.error();
+    if (Status valid = validate_for_subdivision(mesh); !valid) return valid.error();
     const bool loop = options.scheme == SubdivisionScheme::Loop;
     if (loop) {
         for (std::size_t f = 0; f < mesh.face_count(); ++f)
@@ -756,6 +844,7 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         Level child = loop ? subdivision::refine_triangles(level, !last || options.limit_surface, threaded)
                            : subdivision::refine_quads(level, !last || options.limit_surface, threaded);
         if (options.cancel.requested()) return cancelled();
+        dst.clear();  // every point is written below: growing need not copy the stale ones
         dst.resize(child.vertex_count);
         const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark,
                             options.loop_weights, threaded};
@@ -764,7 +853,8 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         else
             interpolate_catmark(in, n, src.data(), dst.data());
         if (options.cancel.requested()) return cancelled();
-        Sharpness child_sharp = refine_sharpness(level, child, sharp, n, options.crease_method, loop);
+        Sharpness child_sharp =
+            refine_sharpness(level, child, sharp, n, options.crease_method, loop, last && !options.limit_surface);
         if (l + 1 == options.levels && extra > 0) {
             output_level = child;
             output_sharp = child_sharp;

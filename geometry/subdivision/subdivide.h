@@ -79,7 +79,8 @@ inline constexpr float kInfiniteSharpness = 10.0f;
 //! orderVerticesFromFacesFirst = false): per level, child vertices of parent vertices first, then of faces, then of
 //! edges; child faces grouped by parent face in parent order.
 //!
-//! \pre validate(mesh) succeeded (the function validates anyway and returns its error).
+//! \pre validate_for_subdivision(mesh) succeeded (the function validates anyway and returns its error); faces that
+//! repeat a vertex are refined as OpenSubdiv refines them.
 //! Hole faces (mesh.tags.holes) stay in the topology (they shape their neighbours) but their children are not
 //! output; vertices keep OpenSubdiv's numbering, so a vertex used only by holes is still present.
 //! \return the refined mesh, or NotTriangleMesh (Loop on a non-triangle, naming the face), InvalidArgument (a crease
@@ -87,6 +88,13 @@ inline constexpr float kInfiniteSharpness = 10.0f;
 //!         Cancelled (options.cancel fired).
 //! Worst case output: predicted_face_count(mesh, scheme, levels) faces.
 Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options);
+
+//! The input check `subdivide` applies: validate()'s checks (offsets, at least 3 vertices per face, indices in range,
+//! finite coordinates, attribute sizes, tag indices and sharpness), except that a face may use a vertex more than once
+//! (`[0, 1, 2, 2]`). OpenSubdiv refines such faces, and so do we: a corner followed by the same vertex gets a
+//! degenerate edge of its own, an edge a face uses twice gets a second instance, and both are non-manifold
+//! (infinitely sharp, their vertices sharpened). The error names the face, vertex or tag (GeoError::element).
+Status validate_for_subdivision(const PolygonMesh& mesh);
 
 //! Number of faces `subdivide` will produce, without refining (saturates at UINT64_MAX). Used for budgets.
 std::uint64_t predicted_face_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels);

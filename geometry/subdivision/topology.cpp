@@ -28,6 +28,9 @@ Level build_base_level(const PolygonMesh& mesh) {
     std::vector<Index> bucket_fill(nv, 0);
     std::vector<Index> bucket_edges(bucket_start[nv]);
     level.edge_verts.reserve(mesh.face_indices.size());  // at most one edge per half-edge
+    std::vector<Index> last_face;                          // per edge: the last face found using it
+    last_face.reserve(mesh.face_indices.size());
+    std::vector<Index> tagged;                             // edges OpenSubdiv tags non-manifold as it builds them
 
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const Index begin = mesh.face_offsets[f];
@@ -38,27 +41,41 @@ Level build_base_level(const PolygonMesh& mesh) {
             const Index lo = std::min(a, b), hi = std::max(a, b);
             Index* slots = bucket_edges.data() + bucket_start[lo];
             Index found = kInvalidIndex;
-            for (Index k = 0; k < bucket_fill[lo]; ++k) {
-                const Index e = slots[k];
-                const Index u = level.edge_verts[2 * e], w = level.edge_verts[2 * e + 1];
-                if (u == hi || w == hi) { found = e; break; }
+            if (a != b) {  // a degenerate edge (a corner followed by the same vertex) is always new
+                for (Index k = 0; k < bucket_fill[lo]; ++k) {
+                    const Index e = slots[k];
+                    const Index u = level.edge_verts[2 * e], w = level.edge_verts[2 * e + 1];
+                    if (u != w && (u == hi || w == hi)) { found = e; break; }
+                }
+                if (found != kInvalidIndex && last_face[found] == static_cast<Index>(f)) {
+                    // this face uses the edge a second time: a new instance, and both are non-manifold
+                    tagged.push_back(found);
+                    tagged.push_back(static_cast<Index>(level.edge_verts.size() / 2));
+                    found = kInvalidIndex;
+                }
+            } else {
+                tagged.push_back(static_cast<Index>(level.edge_verts.size() / 2));
             }
             if (found == kInvalidIndex) {
                 found = static_cast<Index>(level.edge_verts.size() / 2);
                 level.edge_verts.push_back(a);
                 level.edge_verts.push_back(b);
+                last_face.push_back(static_cast<Index>(f));
                 slots[bucket_fill[lo]++] = found;
+            } else {
+                last_face[found] = static_cast<Index>(f);
             }
             level.face_edges[begin + j] = found;
         }
+    }
+    if (!tagged.empty()) {
+        level.non_manifold_edge.assign(level.edge_verts.size() / 2, 0);
+        for (Index e : tagged) level.non_manifold_edge[e] = 1;
     }
     return level;
 }
 
 namespace {
-
-// Which child of parent edge e touches parent vertex v (0 or 1).
-inline Index edge_child_at(const Level& p, Index e, Index v) { return p.edge_verts[2 * e] == v ? 0 : 1; }
 
 // The two children of every parent edge, (edge point, child of end 0) and (edge point, child of end 1), numbered
 // after the face-interior edges; the same for both schemes.
@@ -85,7 +102,9 @@ Level refine_quads(const Level& p, bool with_edges, bool threaded) {
     Level c;
     c.vertex_count = nv + nf + ne;
     c.face_offsets.resize(static_cast<std::size_t>(corners) + 1);
-    for (Index i = 0; i <= corners; ++i) c.face_offsets[i] = 4 * i;
+    for_range(corners + 1, threaded, [&](Index b, Index e) {
+        for (Index i = b; i < e; ++i) c.face_offsets[i] = 4 * i;
+    });
     c.face_verts.resize(4 * static_cast<std::size_t>(corners));
     if (with_edges) {
         c.face_edges.resize(4 * static_cast<std::size_t>(corners));
@@ -112,10 +131,10 @@ Level refine_quads(const Level& p, bool with_edges, bool threaded) {
             fv[(rot + 3) & 3] = first_edge_vert + e_prev;
             if (with_edges) {
                 Index* fe = &c.face_edges[4 * (static_cast<std::size_t>(begin) + j)];
-                fe[rot] = first_edge_edge + 2 * e_next + edge_child_at(p, e_next, v);
+                fe[rot] = first_edge_edge + 2 * e_next + edge_child_at(p, e_next, v, false);
                 fe[(rot + 1) & 3] = begin + j;
                 fe[(rot + 2) & 3] = begin + jp;
-                fe[(rot + 3) & 3] = first_edge_edge + 2 * e_prev + edge_child_at(p, e_prev, v);
+                fe[(rot + 3) & 3] = first_edge_edge + 2 * e_prev + edge_child_at(p, e_prev, v, true);
                 c.edge_verts[2 * (begin + j)] = cf;
                 c.edge_verts[2 * (begin + j) + 1] = first_edge_vert + e_next;
             }
@@ -133,7 +152,9 @@ Level refine_triangles(const Level& p, bool with_edges, bool threaded) {
     Level c;
     c.vertex_count = nv + ne;
     c.face_offsets.resize(4 * static_cast<std::size_t>(nf) + 1);
-    for (Index i = 0; i <= 4 * nf; ++i) c.face_offsets[i] = 3 * i;
+    for_range(4 * nf + 1, threaded, [&](Index b, Index e) {
+        for (Index i = b; i < e; ++i) c.face_offsets[i] = 3 * i;
+    });
     c.face_verts.resize(12 * static_cast<std::size_t>(nf));
     if (with_edges) {
         c.face_edges.resize(12 * static_cast<std::size_t>(nf));
@@ -159,12 +180,17 @@ Level refine_triangles(const Level& p, bool with_edges, bool threaded) {
                 c.edge_verts[2 * (ie + j)] = ce[j];
                 c.edge_verts[2 * (ie + j) + 1] = ce[(j + 2) % 3];
             }
-            auto half = [&](Index edge, Index vert) { return first_edge_edge + 2 * edge + edge_child_at(p, edge, vert); };
+            // half of edge e_j at its start v_j (out), or of e_{j-1} at its end v_j (in)
+            auto out = [&](Index j) { return first_edge_edge + 2 * e[j] + edge_child_at(p, e[j], v[j], false); };
+            auto in = [&](Index j) {
+                const Index jp = (j + 2) % 3;
+                return first_edge_edge + 2 * e[jp] + edge_child_at(p, e[jp], v[j], true);
+            };
             Index* fe = &c.face_edges[12 * static_cast<std::size_t>(f)];
             // corner triangles: (v_j, ce_j) is half of e_j, (ce_j, ce_{j-1}) interior j, (ce_{j-1}, v_j) half of e_{j-1}
-            fe[0] = half(e[0], v[0]); fe[1] = ie + 0; fe[2] = half(e[2], v[0]);
-            fe[3] = half(e[0], v[1]); fe[4] = half(e[1], v[1]); fe[5] = ie + 1;
-            fe[6] = ie + 2;           fe[7] = half(e[1], v[2]); fe[8] = half(e[2], v[2]);
+            fe[0] = out(0); fe[1] = ie + 0; fe[2] = in(0);
+            fe[3] = in(1);  fe[4] = out(1); fe[5] = ie + 1;
+            fe[6] = ie + 2; fe[7] = in(2);  fe[8] = out(2);
             // middle triangle (ce1, ce2, ce0)
             fe[9] = ie + 2;
             fe[10] = ie + 0;

@@ -9,6 +9,22 @@
 // weighted mean of |du dv| at most hk/4. Hence |L - S| <= (1/8)(Muu h^2 + 2 Muv h k + Mvv k^2). The second partial
 // derivatives are Bernstein combinations (convex) of the net's scaled second differences, so
 // Muu <= m(m-1) max|D2u b|, Mvv <= n(n-1) max|D2v b|, Muv <= m n max|DuDv b| (Filip, Magedson, Markot 1986).
+//
+// Rational patches. S = A / w with A = sum B_ij w_ij P_ij and w = sum B_ij w_ij, all w_ij > 0. The distance
+// argument above needs only bounds on |S_uu|, |S_uv|, |S_vv|, so it carries over once those are bounded. S is
+// translation-equivariant, so write it about a centre c (the control points' bounding-box centre): S - c = A' / w
+// with A' = sum B_ij Q_ij, Q_ij = w_ij (P_ij - c). Differentiating w (S - c) = A':
+//   S_u  = (A'_u - w_u (S - c)) / w
+//   S_uu = (A'_uu - 2 w_u S_u - w_uu (S - c)) / w
+//   S_uv = (A'_uv - w_u S_v - w_v S_u - w_uv (S - c)) / w          (and v alike).
+// Bounds over the whole patch: w >= wmin = min w_ij (w is a convex combination of the weights); |S - c| <= R =
+// max |P_ij - c| (positive weights: S is a convex combination of the P_ij); |A'_u| <= m max|Du Q|, |A'_uu| <=
+// m(m-1) max|D2u Q|, |A'_uv| <= m n max|DuDv Q|, and the same for w's derivatives from its net of weights (the
+// Bernstein-convexity argument above, applied to the homogeneous nets). Hence with Gu = (|A'_u| + |w_u| R) / wmin:
+//   Muu <= (|A'_uu| + |w_uu| R + 2 |w_u| Gu) / wmin,  Muv <= (|A'_uv| + |w_uv| R + |w_u| Gv + |w_v| Gu) / wmin,
+// a guaranteed (if pessimistic for strongly varying weights) bound; with all weights equal it is the polynomial one.
+// Evaluation is de Casteljau on the homogeneous net (w P, w), divided at the end; derivatives by the quotient rule
+// above (exact up to rounding).
 #include "geometry/surfaces/bezier_patch.h"
 
 #include <algorithm>
@@ -48,7 +64,10 @@ struct NetBounds {
     double uu = 0, uv = 0, vv = 0;  //!< bounds on |S_uu|, |S_uv|, |S_vv| over the patch
 };
 
+NetBounds rational_second_derivative_bounds(const BezierPatch& patch);
+
 NetBounds second_derivative_bounds(const BezierPatch& patch) {
+    if (patch.rational()) return rational_second_derivative_bounds(patch);
     const int m = patch.degree_u, n = patch.degree_v;
     double d2u = 0, d2v = 0, duv = 0;
     for (int j = 0; j <= n; ++j)
@@ -63,6 +82,117 @@ NetBounds second_derivative_bounds(const BezierPatch& patch) {
     return {m * (m - 1) * d2u, m * n * duv, n * (n - 1) * d2v};
 }
 
+//! Bounds on the first and second partial derivatives of the polynomial patch with net `q` (u fastest).
+template <class T, class Norm>
+std::array<double, 5> net_derivative_bounds(const std::vector<T>& q, int m, int n, Norm size) {
+    const auto at = [&](int i, int j) { return q[static_cast<std::size_t>(j * (m + 1) + i)]; };
+    double du = 0, dv = 0, d2u = 0, d2v = 0, duv = 0;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i < m; ++i) du = std::max(du, size(at(i + 1, j) - at(i, j)));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i <= m; ++i) dv = std::max(dv, size(at(i, j + 1) - at(i, j)));
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i + 2 <= m; ++i) d2u = std::max(d2u, size(at(i + 2, j) - 2.0 * at(i + 1, j) + at(i, j)));
+    for (int j = 0; j + 2 <= n; ++j)
+        for (int i = 0; i <= m; ++i) d2v = std::max(d2v, size(at(i, j + 2) - 2.0 * at(i, j + 1) + at(i, j)));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < m; ++i)
+            duv = std::max(duv, size(at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)));
+    return {m * du, n * dv, m * (m - 1) * d2u, n * (n - 1) * d2v, m * n * duv};
+}
+
+// The rational bound derived at the top of this file, from one net.
+NetBounds single_net_rational_bounds(const BezierPatch& patch) {
+    const int m = patch.degree_u, n = patch.degree_v;
+    Box3 box;
+    for (const Vec3& p : patch.points) box.add(p);
+    const Vec3 c = 0.5 * (box.min + box.max);
+    double radius = 0, wmin = patch.weights[0];
+    std::vector<Vec3> q(patch.points.size());
+    for (std::size_t k = 0; k < q.size(); ++k) {
+        radius = std::max(radius, norm(patch.points[k] - c));
+        wmin = std::min(wmin, patch.weights[k]);
+        q[k] = patch.weights[k] * (patch.points[k] - c);
+    }
+    const auto a = net_derivative_bounds(q, m, n, [](const Vec3& x) { return norm(x); });
+    const auto w = net_derivative_bounds(patch.weights, m, n, [](double x) { return std::fabs(x); });
+    const double gu = (a[0] + w[0] * radius) / wmin, gv = (a[1] + w[1] * radius) / wmin;
+    NetBounds out;
+    out.uu = (a[2] + w[2] * radius + 2 * w[0] * gu) / wmin;
+    out.vv = (a[3] + w[3] * radius + 2 * w[1] * gv) / wmin;
+    out.uv = (a[4] + w[4] * radius + w[0] * gv + w[1] * gu) / wmin;
+    return out;
+}
+
+using Homogeneous = std::array<double, 4>;  //!< (w x, w y, w z, w)
+
+//! Replaces the Bézier curve p[first + k stride], k = 0..degree, by its piece over [a, b] (de Casteljau splits at
+//! b, then at a / b of the left part; exact up to rounding).
+void restrict_curve(std::vector<Homogeneous>& net, std::size_t first, std::size_t stride, int degree, double a,
+                    double b) {
+    Homogeneous c[kMaxPatchDegree + 1];
+    const auto n = static_cast<std::size_t>(degree);
+    for (std::size_t k = 0; k <= n; ++k) c[k] = net[first + k * stride];
+    const auto lerp = [](const Homogeneous& x, const Homogeneous& y, double t) {
+        return Homogeneous{x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1]), x[2] + t * (y[2] - x[2]),
+                           x[3] + t * (y[3] - x[3])};
+    };
+    // left part [0, b]: the first points of each de Casteljau level, computed in place from the right
+    if (b < 1)
+        for (std::size_t level = 1; level <= n; ++level)
+            for (std::size_t k = n; k >= level; --k) c[k] = lerp(c[k - 1], c[k], b);
+    // right part [a / b, 1] of that: the last points of each level, in place from the left
+    if (a > 0) {
+        const double t = a / b;
+        for (std::size_t level = 1; level <= n; ++level)
+            for (std::size_t k = 0; k + level <= n; ++k) c[k] = lerp(c[k], c[k + 1], t);
+    }
+    for (std::size_t k = 0; k <= n; ++k) net[first + k * stride] = c[k];
+}
+
+//! Bounds for a rational patch, tightened by subdivision: the patch is cut into pieces x pieces sub-patches (exact
+//! homogeneous de Casteljau subdivision); each piece's single-net bound on its own second derivatives, divided by
+//! the squared piece size (T(s, t) = S(a + h s, c + h t) has T_ss = h^2 S_uu), bounds S's derivatives over that piece,
+//! so the maximum over the pieces is again a guaranteed bound on the whole patch -- and a far tighter one, as the
+//! weights and the radius R vary little over a small piece. The smaller of this and the single-net bound is kept.
+NetBounds rational_second_derivative_bounds(const BezierPatch& patch) {
+    NetBounds best = single_net_rational_bounds(patch);
+    constexpr int pieces = 8;
+    const int m = patch.degree_u, n = patch.degree_v;
+    const auto row = static_cast<std::size_t>(m + 1);
+    std::vector<Homogeneous> whole(patch.points.size());
+    for (std::size_t k = 0; k < whole.size(); ++k) {
+        const double w = patch.weights[k];
+        whole[k] = {w * patch.points[k].x, w * patch.points[k].y, w * patch.points[k].z, w};
+    }
+    NetBounds sub_max;
+    BezierPatch piece;
+    piece.degree_u = m;
+    piece.degree_v = n;
+    piece.points.resize(whole.size());
+    piece.weights.resize(whole.size());
+    std::vector<Homogeneous> net;
+    const double h = 1.0 / pieces;
+    for (int pj = 0; pj < pieces; ++pj)
+        for (int pi = 0; pi < pieces; ++pi) {
+            net = whole;
+            for (int j = 0; j <= n; ++j) restrict_curve(net, static_cast<std::size_t>(j) * row, 1, m, pi * h, (pi + 1) * h);
+            for (int i = 0; i <= m; ++i) restrict_curve(net, static_cast<std::size_t>(i), row, n, pj * h, (pj + 1) * h);
+            for (std::size_t k = 0; k < net.size(); ++k) {
+                piece.weights[k] = net[k][3];
+                piece.points[k] = Vec3{net[k][0], net[k][1], net[k][2]} * (1.0 / net[k][3]);
+            }
+            const NetBounds b = single_net_rational_bounds(piece);
+            sub_max.uu = std::max(sub_max.uu, b.uu / (h * h));
+            sub_max.uv = std::max(sub_max.uv, b.uv / (h * h));
+            sub_max.vv = std::max(sub_max.vv, b.vv / (h * h));
+        }
+    best.uu = std::min(best.uu, sub_max.uu);
+    best.uv = std::min(best.uv, sub_max.uv);
+    best.vv = std::min(best.vv, sub_max.vv);
+    return best;
+}
+
 // ---- shared edges ---------------------------------------------------------------------------------------------
 
 //! Edges of a patch, in this order: v = 0 and v = 1 (running along u), u = 0 and u = 1 (running along v).
@@ -70,14 +200,18 @@ enum EdgeSide { kEdgeV0 = 0, kEdgeV1 = 1, kEdgeU0 = 2, kEdgeU1 = 3 };
 
 bool runs_along_u(int side) { return side == kEdgeV0 || side == kEdgeV1; }
 
-std::vector<Vec3> edge_points(const BezierPatch& patch, int side) {
+std::vector<Vec3> edge_points(const BezierPatch& patch, int side, std::vector<double>* weights = nullptr) {
     std::vector<Vec3> out;
+    const auto add = [&](int i, int j) {
+        out.push_back(patch.at(i, j));
+        if (weights) weights->push_back(patch.weight(i, j));
+    };
     if (runs_along_u(side)) {
         const int j = side == kEdgeV0 ? 0 : patch.degree_v;
-        for (int i = 0; i <= patch.degree_u; ++i) out.push_back(patch.at(i, j));
+        for (int i = 0; i <= patch.degree_u; ++i) add(i, j);
     } else {
         const int i = side == kEdgeU0 ? 0 : patch.degree_u;
-        for (int j = 0; j <= patch.degree_v; ++j) out.push_back(patch.at(i, j));
+        for (int j = 0; j <= patch.degree_v; ++j) add(i, j);
     }
     return out;
 }
@@ -101,35 +235,57 @@ struct PointKeyHash {
     }
 };
 
+//! A control point and its weight (1 for polynomial patches): edges match only when both agree.
+using EdgePointKey = std::array<std::uint64_t, 4>;
+
 //! An edge's control points in a direction both patches agree on (the lexicographically smaller of the two).
 struct CanonicalEdge {
-    std::vector<PointKey> key;
+    std::vector<EdgePointKey> key;
     std::vector<Vec3> points;  //!< in canonical order
+    std::vector<double> weights;  //!< in canonical order, empty for a polynomial edge
     bool reversed = false;     //!< the patch runs along the edge opposite to the canonical order
     bool collapsed = false;    //!< all control points equal: the edge is a single point
 };
 
 CanonicalEdge canonical_edge(const BezierPatch& patch, int side) {
     CanonicalEdge edge;
-    edge.points = edge_points(patch, side);
-    for (const Vec3& p : edge.points) edge.key.push_back(point_key(p));
-    std::vector<PointKey> reversed_key(edge.key.rbegin(), edge.key.rend());
+    edge.points = edge_points(patch, side, patch.rational() ? &edge.weights : nullptr);
+    for (std::size_t k = 0; k < edge.points.size(); ++k) {
+        const PointKey p = point_key(edge.points[k]);
+        edge.key.push_back({p[0], p[1], p[2], coordinate_key(edge.weights.empty() ? 1.0 : edge.weights[k])});
+    }
+    std::vector<EdgePointKey> reversed_key(edge.key.rbegin(), edge.key.rend());
     if (reversed_key < edge.key) {
         edge.key = std::move(reversed_key);
         std::reverse(edge.points.begin(), edge.points.end());
+        std::reverse(edge.weights.begin(), edge.weights.end());
         edge.reversed = true;
     }
-    edge.collapsed = std::all_of(edge.key.begin(), edge.key.end(), [&](const PointKey& k) { return k == edge.key[0]; });
+    edge.collapsed = std::all_of(edge.points.begin(), edge.points.end(),
+                                 [&](const Vec3& p) { return point_key(p) == point_key(edge.points[0]); });
+    if (edge.collapsed)  // one point whatever the weights: identify it by position alone
+        for (EdgePointKey& k : edge.key) k[3] = coordinate_key(1.0);
     return edge;
 }
 
 //! Points of an edge at parameters k/segments, k = 0..segments, in the patch's own direction. Computed from the
 //! canonical control points at canonical parameters, so two patches sharing the edge get bit-identical points.
+//! Rational edges are evaluated in homogeneous coordinates; their ends are the end control points exactly (so a
+//! corner is bit-identical whichever edge, patch or weights it is computed from).
 std::vector<Vec3> edge_samples(const CanonicalEdge& edge, int segments) {
     std::vector<Vec3> out(static_cast<std::size_t>(segments) + 1);
+    std::vector<Vec3> homogeneous, weights;  // (w P) and (w, 0, 0)
+    for (std::size_t i = 0; i < edge.weights.size(); ++i) {
+        homogeneous.push_back(edge.weights[i] * edge.points[i]);
+        weights.push_back({edge.weights[i], 0, 0});
+    }
     for (int k = 0; k <= segments; ++k) {
-        const Vec3 p = edge.collapsed ? edge.points[0]
-                                      : bezier::de_casteljau(edge.points, static_cast<double>(k) / segments);
+        const double t = static_cast<double>(k) / segments;
+        Vec3 p;
+        if (edge.collapsed || k == 0) p = edge.points.front();
+        else if (k == segments) p = edge.points.back();
+        else if (edge.weights.empty()) p = bezier::de_casteljau(edge.points, t);
+        else p = bezier::de_casteljau(homogeneous, t) * (1.0 / bezier::de_casteljau(weights, t).x);
         out[static_cast<std::size_t>(edge.reversed ? segments - k : k)] = p;
     }
     return out;
@@ -153,20 +309,22 @@ std::size_t direction_class(std::size_t patch, int side) { return 2 * patch + (r
 
 //! Evaluates position and derivatives with the rows' hodographs computed once per patch (the tessellator's inner
 //! loop; evaluate_derivatives() is the same arithmetic).
-class PatchEvaluator {
+class NetEvaluator {
 public:
-    explicit PatchEvaluator(const BezierPatch& patch) : patch_(patch) {
-        for (int j = 0; j <= patch.degree_v; ++j) {
-            d1_.push_back(bezier::hodograph(row(patch, j), 1));
-            d2_.push_back(bezier::hodograph(row(patch, j), 2));
+    //! `points`: a (degree_u + 1) x (degree_v + 1) net, u fastest (must outlive the evaluator).
+    NetEvaluator(const std::vector<Vec3>& points, int degree_u, int degree_v)
+        : points_(points), degree_u_(degree_u), degree_v_(degree_v) {
+        for (int j = 0; j <= degree_v; ++j) {
+            d1_.push_back(bezier::hodograph(row(j), 1));
+            d2_.push_back(bezier::hodograph(row(j), 2));
         }
     }
 
     PatchDerivatives operator()(double u, double v) const {
-        const auto count = static_cast<std::size_t>(patch_.degree_v + 1);
+        const auto count = static_cast<std::size_t>(degree_v_ + 1);
         Vec3 c0[kMaxPatchDegree + 1], c1[kMaxPatchDegree + 1], c2[kMaxPatchDegree + 1];
         for (std::size_t j = 0; j < count; ++j) {
-            c0[j] = bezier::de_casteljau(row(patch_, static_cast<int>(j)), u);
+            c0[j] = bezier::de_casteljau(row(static_cast<int>(j)), u);
             c1[j] = d1_[j].empty() ? Vec3{} : bezier::de_casteljau(d1_[j], u);
             c2[j] = d2_[j].empty() ? Vec3{} : bezier::de_casteljau(d2_[j], u);
         }
@@ -182,8 +340,55 @@ public:
     }
 
 private:
-    const BezierPatch& patch_;
+    std::span<const Vec3> row(int j) const {
+        return {points_.data() + static_cast<std::size_t>(j * (degree_u_ + 1)), static_cast<std::size_t>(degree_u_ + 1)};
+    }
+
+    const std::vector<Vec3>& points_;
+    int degree_u_, degree_v_;
     std::vector<std::vector<Vec3>> d1_, d2_;
+};
+
+//! The homogeneous nets of a rational patch: (w P) and (w, 0, 0).
+struct HomogeneousNets {
+    std::vector<Vec3> weighted, weights;
+    explicit HomogeneousNets(const BezierPatch& patch) {
+        if (!patch.rational()) return;
+        for (std::size_t k = 0; k < patch.points.size(); ++k) {
+            weighted.push_back(patch.weights[k] * patch.points[k]);
+            weights.push_back({patch.weights[k], 0, 0});
+        }
+    }
+};
+
+//! Position and derivatives of a polynomial or rational patch (the quotient rule of the derivation at the top).
+class PatchEvaluator {
+public:
+    explicit PatchEvaluator(const BezierPatch& patch)
+        : nets_(patch),
+          numerator_(patch.rational() ? nets_.weighted : patch.points, patch.degree_u, patch.degree_v) {
+        if (patch.rational()) denominator_.emplace(nets_.weights, patch.degree_u, patch.degree_v);
+    }
+
+    PatchDerivatives operator()(double u, double v) const {
+        const PatchDerivatives a = numerator_(u, v);
+        if (!denominator_) return a;
+        const PatchDerivatives w = (*denominator_)(u, v);
+        const double inv = 1.0 / w.position.x;
+        PatchDerivatives s;
+        s.position = a.position * inv;
+        s.du = (a.du - w.du.x * s.position) * inv;
+        s.dv = (a.dv - w.dv.x * s.position) * inv;
+        s.duu = (a.duu - 2.0 * w.du.x * s.du - w.duu.x * s.position) * inv;
+        s.dvv = (a.dvv - 2.0 * w.dv.x * s.dv - w.dvv.x * s.position) * inv;
+        s.duv = (a.duv - w.du.x * s.dv - w.dv.x * s.du - w.duv.x * s.position) * inv;
+        return s;
+    }
+
+private:
+    HomogeneousNets nets_;
+    NetEvaluator numerator_;
+    std::optional<NetEvaluator> denominator_;
 };
 
 struct Grid {
@@ -256,14 +461,52 @@ Status validate(std::span<const BezierPatch> patches) {
                 error.element = static_cast<std::int64_t>(p);
                 return error;
             }
+        if (!patch.rational()) continue;
+        const auto fail = [&](const std::string& what) {
+            GeoError error = make_error(ErrorCode::InvalidArgument, name + ": " + what);
+            error.element = static_cast<std::int64_t>(p);
+            return error;
+        };
+        if (patch.weights.size() != expected)
+            return fail("has " + std::to_string(patch.weights.size()) + " weights for " + std::to_string(expected) +
+                        " control points");
+        double lo = patch.weights[0], hi = patch.weights[0];
+        for (std::size_t k = 0; k < patch.weights.size(); ++k) {
+            const double w = patch.weights[k];
+            if (!std::isfinite(w) || !(w > 0))
+                return fail("weight " + std::to_string(k) + " must be a finite number > 0");
+            if (!is_finite(w * patch.points[k]))
+                return fail("weight " + std::to_string(k) + " times its control point overflows");
+            lo = std::min(lo, w);
+            hi = std::max(hi, w);
+        }
+        if (hi > kMaxWeightRatio * lo)
+            return fail("the largest weight is more than 1e12 times the smallest");
     }
     return Ok{};
 }
 
 Vec3 evaluate(const BezierPatch& patch, double u, double v) {
+    const auto count = static_cast<std::size_t>(patch.degree_v + 1);
     Vec3 column[kMaxPatchDegree + 1];
-    for (int j = 0; j <= patch.degree_v; ++j) column[j] = bezier::de_casteljau(row(patch, j), u);
-    return bezier::de_casteljau(std::span<const Vec3>(column, static_cast<std::size_t>(patch.degree_v + 1)), v);
+    if (!patch.rational()) {
+        for (int j = 0; j <= patch.degree_v; ++j) column[j] = bezier::de_casteljau(row(patch, j), u);
+        return bezier::de_casteljau(std::span<const Vec3>(column, count), v);
+    }
+    // homogeneous de Casteljau on (w P, w), then the division
+    Vec3 weights[kMaxPatchDegree + 1], hrow[kMaxPatchDegree + 1], wrow[kMaxPatchDegree + 1];
+    for (int j = 0; j <= patch.degree_v; ++j) {
+        for (int i = 0; i <= patch.degree_u; ++i) {
+            hrow[i] = patch.weight(i, j) * patch.at(i, j);
+            wrow[i] = {patch.weight(i, j), 0, 0};
+        }
+        const std::span<const Vec3> h(hrow, static_cast<std::size_t>(patch.degree_u + 1));
+        const std::span<const Vec3> w(wrow, static_cast<std::size_t>(patch.degree_u + 1));
+        column[j] = bezier::de_casteljau(h, u);
+        weights[j] = bezier::de_casteljau(w, u);
+    }
+    return bezier::de_casteljau(std::span<const Vec3>(column, count), v) *
+           (1.0 / bezier::de_casteljau(std::span<const Vec3>(weights, count), v).x);
 }
 
 PatchDerivatives evaluate_derivatives(const BezierPatch& patch, double u, double v) {
@@ -340,7 +583,7 @@ Result<TessellationPlan> plan_tessellation(std::span<const BezierPatch> patches,
 
     // 2. equal counts along shared edges: merge direction classes of patches that share an edge
     UnionFind classes(2 * patches.size());
-    std::map<std::vector<PointKey>, std::size_t> first_owner;  // canonical edge -> direction class
+    std::map<std::vector<EdgePointKey>, std::size_t> first_owner;  // canonical edge -> direction class
     for (std::size_t p = 0; p < patches.size(); ++p)
         for (int side = 0; side < 4; ++side) {
             CanonicalEdge edge = canonical_edge(patches[p], side);
@@ -405,7 +648,14 @@ Result<PatchTessellation> tessellate_patches(std::span<const BezierPatch> patche
             }
             vertex_of[k] = index;
             uv_of[k] = static_cast<Index>(mesh.uvs.size());
-            mesh.uvs.push_back({static_cast<double>(k % stride) / nu, static_cast<double>(k / stride) / nv});
+            const double u = static_cast<double>(k % stride) / nu, v = static_cast<double>(k / stride) / nv;
+            if (const auto& c = patches[p].corner_uvs) {  // bilinear in the corners' texture coordinates
+                const double a = (1 - u) * (1 - v), b = u * (1 - v), d = (1 - u) * v, e = u * v;
+                mesh.uvs.push_back({a * (*c)[0].x + b * (*c)[1].x + d * (*c)[2].x + e * (*c)[3].x,
+                                    a * (*c)[0].y + b * (*c)[1].y + d * (*c)[2].y + e * (*c)[3].y});
+            } else {
+                mesh.uvs.push_back({u, v});
+            }
         }
 
         // two triangles per grid cell, counter-clockwise in (u, v) so that they face du x dv

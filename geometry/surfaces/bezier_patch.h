@@ -20,16 +20,28 @@
 
 namespace surfaced {
 
-//! A polynomial tensor-product Bézier patch of degree degree_u x degree_v.
+//! A tensor-product Bézier patch of degree degree_u x degree_v, polynomial or rational.
 //! `points` holds (degree_u + 1) * (degree_v + 1) control points row-major with u varying fastest (geomview's
 //! order): control point (i, j) -- i along u, j along v -- is points[j * (degree_u + 1) + i].
+//! `weights`, when not empty, makes the patch rational: one weight > 0 per control point (same order), and the
+//! surface is S = sum B_i B_j w_ij P_ij / sum B_i B_j w_ij (evaluated in homogeneous coordinates (w P, w)). The
+//! points are the Euclidean control points (not multiplied by their weights).
+//! `corner_uvs`, when set, are texture coordinates at the corners (u, v) = (0, 0), (1, 0), (0, 1), (1, 1) (the
+//! order of the control net's corners in `points`); tessellation interpolates them bilinearly in (u, v) instead of
+//! emitting (u, v) itself as the UVs.
 struct BezierPatch {
     int degree_u = 3;
     int degree_v = 3;
     std::vector<Vec3> points;
+    std::vector<double> weights;
+    std::optional<std::array<Vec2, 4>> corner_uvs;
 
     int row_size() const { return degree_u + 1; }
+    bool rational() const { return !weights.empty(); }
     const Vec3& at(int i, int j) const { return points[static_cast<std::size_t>(j * (degree_u + 1) + i)]; }
+    double weight(int i, int j) const {
+        return weights.empty() ? 1.0 : weights[static_cast<std::size_t>(j * (degree_u + 1) + i)];
+    }
 };
 
 //! A collection of patches, e.g. the Utah teapot's 32. Patches meet along edges with identical control points.
@@ -40,8 +52,13 @@ struct PatchSet {
 //! Largest degree in either direction accepted by validate() (geomview's BEZ allows 1..6; JSON may go higher).
 inline constexpr int kMaxPatchDegree = 15;
 
-//! Degrees in 1..kMaxPatchDegree, the point count matching them, finite coordinates. Errors name the patch
-//! (ElementKind::None with GeoError::element = patch index) and what is wrong.
+//! Largest ratio between the largest and the smallest weight of one rational patch (beyond it the error bound,
+//! which divides by the smallest weight, is meaningless and evaluation loses all precision).
+inline constexpr double kMaxWeightRatio = 1e12;
+
+//! Degrees in 1..kMaxPatchDegree, the point count matching them, finite coordinates; for rational patches one
+//! finite weight > 0 per point with w * P finite, and a largest/smallest weight ratio of at most kMaxWeightRatio.
+//! Errors name the patch (ElementKind::None with GeoError::element = patch index) and what is wrong.
 Status validate(std::span<const BezierPatch> patches);
 
 //! Point at (u, v) in [0,1]^2 by separable de Casteljau: u on each row, then v on the resulting column.
@@ -62,7 +79,9 @@ PatchDerivatives evaluate_derivatives(const BezierPatch& patch, double u, double
 Vec3 unit_normal(const BezierPatch& patch, double u, double v);
 
 //! Upper bound on the distance between the patch and its grid triangulation with nu x nv segments (any diagonal),
-//! measured between points of equal parameter: (1/8) (Muu/nu^2 + 2 Muv/(nu nv) + Mvv/nv^2), M from the control net.
+//! measured between points of equal parameter: (1/8) (Muu/nu^2 + 2 Muv/(nu nv) + Mvv/nv^2), M from the control net
+//! (for rational patches, bounds on the quotient's second derivatives from the homogeneous net's differences and
+//! the smallest weight; derivation in bezier_patch.cpp). A guarantee in both cases, not an estimate.
 double tessellation_error_bound(const BezierPatch& patch, int nu, int nv);
 
 struct TessellationOptions {
@@ -99,7 +118,8 @@ Result<TessellationPlan> plan_tessellation(std::span<const BezierPatch> patches,
 
 struct PatchTessellation {
     //! Triangles, counter-clockwise around du x dv; per-vertex unit normals (exact surface normals; averaged where
-    //! welded vertices come from several patches); face-varying uvs = the patch's own (u, v).
+    //! welded vertices come from several patches); face-varying uvs = the patch's own (u, v), or its corner_uvs
+    //! interpolated bilinearly at (u, v) when it has them.
     PolygonMesh mesh;
     std::vector<Index> face_patches;  //!< index of the patch each face of `mesh` comes from
     TessellationPlan plan;

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -66,19 +68,26 @@ TEST(OpenApi, JsonRequestExamplesAreAccepted) {
         for (const auto& [method, operation] : item.items()) {
             if (!operation.contains("requestBody")) continue;
             const auto& content = operation["requestBody"]["content"];
-            if (!content.contains("application/json") || !content["application/json"].contains("example")) continue;
-            const std::string body = content["application/json"]["example"].dump();
-            ApiRequest request;
-            request.method.clear();
-            for (char c : method) request.method += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-            request.path = path;
-            request.content_type = "application/json";
-            request.body = body;
-            const ApiResponse response = dispatch(request, ApiContext{});
-            EXPECT_EQ(response.status, 200) << method << " " << path << ": " << response.body;
-            ++examples;
+            if (!content.contains("application/json")) continue;
+            const auto& media = content["application/json"];
+            std::vector<std::pair<std::string, std::string>> bodies;  // (name, body): `example` and every `examples` entry
+            if (media.contains("example")) bodies.emplace_back("example", media["example"].dump());
+            if (media.contains("examples"))
+                for (const auto& [name, entry] : media["examples"].items())
+                    if (entry.contains("value")) bodies.emplace_back(name, entry["value"].dump());
+            for (const auto& [name, body] : bodies) {
+                ApiRequest request;
+                request.method.clear();
+                for (char c : method) request.method += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+                request.path = path;
+                request.content_type = "application/json";
+                request.body = body;
+                const ApiResponse response = dispatch(request, ApiContext{});
+                EXPECT_EQ(response.status, 200) << method << " " << path << " (" << name << "): " << response.body;
+                ++examples;
+            }
         }
-    EXPECT_GE(examples, 1);
+    EXPECT_GE(examples, 10);
 }
 
 TEST(OpenApi, ServedAtOpenApiJson) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -126,6 +127,65 @@ TEST(SimplifyOperation, LockBorderKeepsTheBoundaryOfAGrid) {
     ASSERT_TRUE(mesh.ok());
     EXPECT_EQ(testing::boundary_positions(mesh.value()), testing::boundary_positions(grid));
     EXPECT_EQ(testing::boundary_loop_count(mesh.value()), 1u);
+}
+
+//! How many of `vertices` (indices into `input`) appear in a JSON response's mesh at exactly their input position.
+std::size_t kept_exactly(const ApiResponse& response, const PolygonMesh& input, const std::vector<Index>& vertices) {
+    const auto json = nlohmann::json::parse(response.body);
+    std::size_t kept = 0;
+    for (Index v : vertices) {
+        const Vec3& p = input.positions[v];
+        bool found = false;
+        for (const auto& q : json["mesh"]["positions"])
+            found = found || (q[0].get<double>() == p.x && q[1].get<double>() == p.y && q[2].get<double>() == p.z);
+        kept += found ? 1 : 0;
+    }
+    return kept;
+}
+
+TEST(SimplifyOperation, LockedVerticesKeepTheirPositionsInBothForms) {
+    const PolygonMesh sphere = testing::icosphere(3);  // 642 vertices, 1280 faces
+    const std::vector<Index> locked = {0, 5, 100, 300, 641};
+    const std::string list = R"(,"locked_vertices":[0,5,100,300,641])";
+    // without the lock most of them move or go: the test below can fail
+    const auto free = call("application/json", json_request(sphere, R"(,"target_faces":80,"output":{"format":"json"})"));
+    ASSERT_EQ(free.status, 200) << free.body;
+    EXPECT_LT(kept_exactly(free, sphere, locked), locked.size());
+
+    const auto json = call("application/json",
+                           json_request(sphere, R"(,"target_faces":80,"output":{"format":"json"})" + list));
+    ASSERT_EQ(json.status, 200) << json.body;
+    EXPECT_EQ(kept_exactly(json, sphere, locked), locked.size());
+    EXPECT_LE(std::stoi(header(json, "X-Output-Faces")), 80);
+
+    const auto query = call("model/obj", write_obj(sphere),
+                            {{"target_faces", "80"}, {"format", "json"}, {"locked_vertices", "0,5,100,300,641"}});
+    ASSERT_EQ(query.status, 200) << query.body;
+    EXPECT_EQ(kept_exactly(query, sphere, locked), locked.size());
+    // an empty list locks nothing
+    const auto empty = call("model/obj", write_obj(sphere),
+                            {{"target_faces", "80"}, {"format", "json"}, {"locked_vertices", ""}});
+    ASSERT_EQ(empty.status, 200) << empty.body;
+}
+
+TEST(SimplifyOperation, LockedVerticesOutOfRangeAre422NamingTheItem) {
+    const PolygonMesh m = testing::icosphere(1);  // 42 vertices
+    expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"locked_vertices":[0,42])")), 422,
+                   "index_out_of_range", "locked_vertices[1]");
+    expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"locked_vertices":[3,-1])")), 400,
+                   "invalid_field", "locked_vertices[1]");
+    expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"locked_vertices":[1.5])")), 400,
+                   "invalid_field", "locked_vertices[0]");
+    expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"locked_vertices":7)")), 400,
+                   "invalid_field", "locked_vertices");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "1,2,1000"}}), 422,
+                   "index_out_of_range", "locked_vertices[2]");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "1,x"}}), 400,
+                   "invalid_field", "locked_vertices[1]");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "1,,2"}}), 400,
+                   "invalid_field", "locked_vertices[1]");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "-4"}}), 400,
+                   "invalid_field", "locked_vertices[0]");
 }
 
 TEST(SimplifyOperation, OctetStreamIsSniffed) {

@@ -131,12 +131,73 @@ TEST(TessellateOperation, RawBodyErrors) {
     expect_problem(response, 400, "parse_error", "");
     EXPECT_EQ(response.error->line.value_or(-1), 3);
 
-    request.content_type = "model/obj";
+    request.content_type = "model/stl";
     expect_problem(dispatch(request, ApiContext{}), 415, "unsupported_media_type", "");
 
     request.content_type = "text/plain";
     request.query = {{"resolution", "3"}};
     expect_problem(dispatch(request, ApiContext{}), 400, "unknown_parameter", "resolution");
+}
+
+ApiResponse post_raw(const std::string& content_type, const std::string& body,
+                     std::multimap<std::string, std::string> query = {}) {
+    return dispatch(make_request("POST", "/tessellate", content_type, body, std::move(query)), ApiContext{});
+}
+
+TEST(TessellateOperation, ObjFreeFormSurfaces) {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\ncstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 4\nend\n";
+    // the same bilinear patch as kBilinear: 50 triangles at tolerance 0.01, like the JSON form
+    const ApiResponse response = post_raw("model/obj", obj, {{"tolerance", "0.01"}, {"format", "obj"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(header(response, "X-Patches"), "1");
+    EXPECT_EQ(header(response, "X-Output-Faces"), "50");
+
+    std::string bspline = obj;
+    bspline.replace(bspline.find("cstype bezier"), 13, "cstype bspline");
+    const ApiResponse refused = post_raw("model/obj", bspline);
+    expect_problem(refused, 422, "unsupported", "");
+    EXPECT_EQ(refused.error->line.value_or(-1), 5);
+    EXPECT_NE(refused.body.find("line 5: cstype bspline is not supported"), std::string::npos) << refused.body;
+
+    const ApiResponse bad = post_raw("model/obj", "v 0 0 0\ncstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 1 1 7\nend\n");
+    expect_problem(bad, 400, "parse_error", "");
+    EXPECT_EQ(bad.error->line.value_or(-1), 4);
+}
+
+TEST(TessellateOperation, RationalPatchesFromJsonAndBez) {
+    // a quarter cylinder of radius 2: every output vertex at distance 2 from the z axis
+    const double s = std::sqrt(0.5);
+    nlohmann::json patch = {{"degree", {2, 1}},
+                            {"points", {{2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1}}},
+                            {"weights", {1, s, 1, 1, s, 1}}};
+    nlohmann::json body = {{"patches", {patch}}, {"tolerance", 1e-3}, {"output", {{"format", "obj"}}}};
+    const ApiResponse response = post_json(body.dump());
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_LE(std::stod(header(response, "X-Error-Bound")), 1e-3);
+    std::size_t vertices = 0;
+    for (std::size_t at = response.body.find("\nv "); at != std::string::npos; at = response.body.find("\nv ", at + 1)) {
+        double x = 0, y = 0, z = 0;
+        ASSERT_EQ(std::sscanf(response.body.c_str() + at + 3, "%lf %lf %lf", &x, &y, &z), 3);
+        EXPECT_NEAR(std::hypot(x, y), 2.0, 1e-9);  // the OBJ writer's precision
+        ++vertices;
+    }
+    EXPECT_GT(vertices, 20u);
+
+    // the same patch as BEZ214 (homogeneous points) gives the same mesh
+    char bez[512];
+    std::snprintf(bez, sizeof bez, "BEZ214\n2 0 0 1 %.17g %.17g 0 %.17g 0 2 0 1\n2 0 1 1 %.17g %.17g %.17g %.17g 0 2 1 1\n",
+                  2 * s, 2 * s, s, 2 * s, 2 * s, s, s);
+    const ApiResponse from_bez = post_raw("application/x-geomview-bez", bez, {{"tolerance", "0.001"}, {"format", "obj"}});
+    ASSERT_EQ(from_bez.status, 200) << from_bez.body;
+    EXPECT_EQ(header(from_bez, "X-Output-Faces"), header(response, "X-Output-Faces"));
+
+    // weights: field paths
+    patch["weights"] = {1, s, 1, 1, -1, 1};
+    expect_problem(post_json(nlohmann::json{{"patches", {patch}}}.dump()), 400, "invalid_field", "patches[0].weights[4]");
+    patch["weights"] = {1, 2};
+    expect_problem(post_json(nlohmann::json{{"patches", {patch}}}.dump()), 400, "invalid_field", "patches[0].weights");
+    patch["weights"] = {1, 1e13, 1, 1, 1, 1};
+    expect_problem(post_json(nlohmann::json{{"patches", {patch}}}.dump()), 422, "invalid_argument", "patches[0]");
 }
 
 TEST(PatchSamples, TeapotWithETagAndNotModified) {

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <random>
+#include <set>
 #include <vector>
 
 #include "geometry/curves/de_casteljau.h"
@@ -433,6 +435,208 @@ TEST(BezierPatch, Errors) {
     options.segments = 0;
     EXPECT_EQ(tessellate_patches(std::span<const BezierPatch>(&good, 1), options).error().code,
               ErrorCode::InvalidArgument);
+}
+
+// ---- rational patches ---------------------------------------------------------------------------------------------
+
+//! One octant of the unit sphere as a rational biquadratic patch: the quarter circle (1,0),(1,1),(0,1) with weights
+//! 1, sqrt(2)/2, 1 swept (tensor product) along the meridian quarter circle from the equator to the pole. Signs pick
+//! the octant; an odd number of flips reverses u so that every octant faces outwards.
+BezierPatch sphere_octant(double sx, double sy, double sz) {
+    const double s = std::sqrt(0.5);
+    const double cx[3] = {1, 1, 0}, cy[3] = {0, 1, 1}, cw[3] = {1, s, 1};  // circle in the xy plane
+    const double mr[3] = {1, 1, 0}, mz[3] = {0, 1, 1}, mw[3] = {1, s, 1};  // meridian (radius, height)
+    const bool reverse = sx * sy * sz < 0;
+    BezierPatch patch;
+    patch.degree_u = 2;
+    patch.degree_v = 2;
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) {
+            const int i = reverse ? 2 - k : k;
+            patch.points.push_back({sx * mr[j] * cx[i], sy * mr[j] * cy[i], sz * mz[j]});
+            patch.weights.push_back(cw[i] * mw[j]);
+        }
+    return patch;
+}
+
+PatchSet unit_sphere() {
+    PatchSet set;
+    for (double sz : {1.0, -1.0})
+        for (double sy : {1.0, -1.0})
+            for (double sx : {1.0, -1.0}) set.patches.push_back(sphere_octant(sx, sy, sz));
+    return set;
+}
+
+BezierPatch random_rational_patch(int m, int n, unsigned seed) {
+    BezierPatch patch = random_patch(m, n, seed);
+    std::mt19937 rng(seed + 1000);
+    std::uniform_real_distribution<double> weight(0.3, 3.0);
+    for (std::size_t k = 0; k < patch.points.size(); ++k) patch.weights.push_back(weight(rng));
+    return patch;
+}
+
+TEST(RationalPatch, SphereOctantIsExact) {
+    const BezierPatch octant = sphere_octant(1, 1, 1);
+    ASSERT_TRUE(validate(std::span<const BezierPatch>(&octant, 1)).ok());
+    double worst = 0;
+    for (int a = 0; a <= 40; ++a)
+        for (int b = 0; b <= 40; ++b) {
+            const Vec3 p = evaluate(octant, a / 40.0, b / 40.0);
+            worst = std::max(worst, std::fabs(norm(p) - 1.0));
+            EXPECT_GE(std::min({p.x, p.y, p.z}), -1e-15);
+        }
+    EXPECT_LE(worst, 1e-12);
+    // the corners are the control net's corners; (1/2, 0) is the equator at 45 degrees
+    EXPECT_EQ(evaluate(octant, 0, 0), (Vec3{1, 0, 0}));
+    expect_near(evaluate(octant, 0.5, 0), Vec3{std::sqrt(0.5), std::sqrt(0.5), 0}, 1e-15, "equator at 45 degrees");
+    expect_near(evaluate(octant, 0.3, 1), Vec3{0, 0, 1}, 1e-15, "pole");
+}
+
+TEST(RationalPatch, DerivativesMatchFiniteDifferences) {
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+        const BezierPatch patch = random_rational_patch(static_cast<int>(seed % 3) + 1, static_cast<int>(seed % 2) + 2, seed);
+        for (auto [u, v] : {std::pair{0.3, 0.6}, {0.1, 0.9}, {0.5, 0.5}}) {
+            const double h = 1e-4;
+            const PatchDerivatives d = evaluate_derivatives(patch, u, v);
+            const auto S = [&](double du, double dv) { return evaluate(patch, u + du, v + dv); };
+            expect_near(d.position, S(0, 0), 1e-13, "position");
+            expect_near(d.du, (S(h, 0) - S(-h, 0)) * (1 / (2 * h)), 1e-6, "du");
+            expect_near(d.dv, (S(0, h) - S(0, -h)) * (1 / (2 * h)), 1e-6, "dv");
+            expect_near(d.duu, (S(h, 0) - 2.0 * S(0, 0) + S(-h, 0)) * (1 / (h * h)), 1e-4, "duu");
+            expect_near(d.dvv, (S(0, h) - 2.0 * S(0, 0) + S(0, -h)) * (1 / (h * h)), 1e-4, "dvv");
+            expect_near(d.duv, (S(h, h) - S(h, -h) - S(-h, h) + S(-h, -h)) * (1 / (4 * h * h)), 1e-4, "duv");
+        }
+    }
+}
+
+TEST(RationalPatch, EqualWeightsAreThePolynomialPatch) {
+    const BezierPatch polynomial = random_patch(3, 2, 5);
+    BezierPatch rational = polynomial;
+    rational.weights.assign(rational.points.size(), 2.5);
+    for (double u : {0.0, 0.25, 0.7, 1.0})
+        for (double v : {0.0, 0.4, 1.0}) {
+            expect_near(evaluate(rational, u, v), evaluate(polynomial, u, v), 1e-14, "position");
+            const PatchDerivatives a = evaluate_derivatives(rational, u, v), b = evaluate_derivatives(polynomial, u, v);
+            expect_near(a.duv, b.duv, 1e-12, "duv");
+            expect_near(a.dvv, b.dvv, 1e-12, "dvv");
+        }
+    EXPECT_NEAR(tessellation_error_bound(rational, 5, 7), tessellation_error_bound(polynomial, 5, 7), 1e-12);
+}
+
+TEST(RationalPatch, SphereNormalsAreRadialIncludingThePole) {
+    for (const BezierPatch& octant : unit_sphere().patches)
+        for (double u : {0.0, 0.2, 0.5, 1.0})
+            for (double v : {0.0, 0.35, 0.9, 1.0}) {
+                const Vec3 p = evaluate(octant, u, v);
+                const Vec3 n = unit_normal(octant, u, v);
+                EXPECT_NEAR(dot(n, p), 1.0, 1e-9) << "u " << u << " v " << v;
+            }
+}
+
+TEST(RationalPatch, ToleranceHonouredAndGuaranteed) {
+    const PatchSet sphere = unit_sphere();
+    for (double tolerance : {0.05, 0.002}) {
+        TessellationOptions options;
+        options.tolerance = tolerance;
+        auto result = tessellate_patches(sphere.patches, options);
+        ASSERT_TRUE(result.ok()) << result.error().message;
+        EXPECT_LE(result->plan.error_bound, tolerance);
+        const double measured = measured_max_deviation(sphere, *result, 4);
+        EXPECT_LE(measured, tolerance) << "tolerance " << tolerance;
+        EXPECT_GT(measured, tolerance / 10) << "the bound should not be wildly pessimistic on a sphere";
+        // every vertex is on the sphere (exact evaluation)
+        for (const Vec3& p : result->mesh.positions) EXPECT_NEAR(norm(p), 1.0, 1e-12);
+    }
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+        const PatchSet set{{random_rational_patch(static_cast<int>(seed % 4) + 1, static_cast<int>(seed % 3) + 2, seed)}};
+        TessellationOptions options;
+        options.tolerance = 0.05;
+        options.max_segments = 1024;
+        auto result = tessellate_patches(set.patches, options);
+        ASSERT_TRUE(result.ok()) << result.error().message;
+        EXPECT_LE(measured_max_deviation(set, *result, 3), 0.05) << "seed " << seed;
+        // the guarantee holds for any grid, not only the planned one
+        for (int n : {2, 5, 11}) {
+            TessellationOptions fixed;
+            fixed.segments = n;
+            auto grid = tessellate_patches(set.patches, fixed);
+            ASSERT_TRUE(grid.ok());
+            EXPECT_LE(measured_max_deviation(set, *grid, 8), grid->plan.error_bound) << "seed " << seed << " n " << n;
+        }
+    }
+}
+
+TEST(RationalPatch, SphereOfEightOctantsIsWatertight) {
+    const PatchSet sphere = unit_sphere();
+    for (double tolerance : {0.02, 0.001}) {
+        TessellationOptions options;
+        options.tolerance = tolerance;
+        auto result = tessellate_patches(sphere.patches, options);
+        ASSERT_TRUE(result.ok()) << result.error().message;
+        const testing::EdgeStats stats = testing::edge_stats(result->mesh);
+        EXPECT_EQ(stats.boundary_edges, 0u) << "tolerance " << tolerance;
+        EXPECT_EQ(stats.non_manifold_edges, 0u);
+        EXPECT_EQ(stats.inconsistent_edges, 0u);
+        EXPECT_TRUE(testing::is_watertight(result->mesh));
+        EXPECT_EQ(testing::euler_characteristic(result->mesh), 2);
+        // inscribed polyhedron: volume a little under 4/3 pi, within the chord tolerance's shell
+        const double volume = testing::signed_volume(result->mesh);
+        EXPECT_LT(volume, 4.0 / 3.0 * std::numbers::pi);
+        EXPECT_GT(volume, 4.0 / 3.0 * std::numbers::pi * std::pow(1 - tolerance, 3));
+    }
+    // unwelded, shared-edge vertices are still bit-identical: welding by position changes nothing but the count
+    TessellationOptions unwelded;
+    unwelded.segments = 6;
+    unwelded.weld = false;
+    auto loose = tessellate_patches(sphere.patches, unwelded);
+    ASSERT_TRUE(loose.ok());
+    std::set<std::array<double, 3>> distinct;
+    for (const Vec3& p : loose->mesh.positions) distinct.insert({p.x + 0.0, p.y + 0.0, p.z + 0.0});
+    TessellationOptions welded = unwelded;
+    welded.weld = true;
+    EXPECT_EQ(distinct.size(), tessellate_patches(sphere.patches, welded)->mesh.vertex_count());
+}
+
+TEST(RationalPatch, ValidationErrors) {
+    BezierPatch patch = sphere_octant(1, 1, 1);
+    patch.weights.pop_back();
+    auto count = validate(std::span<const BezierPatch>(&patch, 1));
+    ASSERT_FALSE(count.ok());
+    EXPECT_NE(count.error().message.find("8 weights for 9 control points"), std::string::npos) << count.error().message;
+    patch = sphere_octant(1, 1, 1);
+    patch.weights[4] = 0;
+    auto zero = validate(std::span<const BezierPatch>(&patch, 1));
+    ASSERT_FALSE(zero.ok());
+    EXPECT_NE(zero.error().message.find("weight 4 must be a finite number > 0"), std::string::npos);
+    patch.weights[4] = 1e13;
+    auto ratio = validate(std::span<const BezierPatch>(&patch, 1));
+    ASSERT_FALSE(ratio.ok());
+    EXPECT_NE(ratio.error().message.find("largest weight"), std::string::npos);
+}
+
+// ---- corner texture coordinates -------------------------------------------------------------------------------
+
+TEST(BezierPatch, CornerUvsInterpolatedBilinearly) {
+    BezierPatch patch = random_patch(3, 2, 9);
+    patch.corner_uvs = std::array<Vec2, 4>{Vec2{0.5, 0.25}, Vec2{1, 0.25}, Vec2{0.5, 0.75}, Vec2{2, 1}};
+    TessellationOptions options;
+    options.segments = 4;
+    auto result = tessellate_patches(std::span<const BezierPatch>(&patch, 1), options);
+    ASSERT_TRUE(result.ok());
+    const PolygonMesh& mesh = result->mesh;
+    ASSERT_EQ(mesh.uvs.size(), 25u);
+    // grid vertex (i, j) at (u, v) = (i/4, j/4), u fastest
+    for (int j = 0; j <= 4; ++j)
+        for (int i = 0; i <= 4; ++i) {
+            const double u = i / 4.0, v = j / 4.0;
+            const Vec2 uv = mesh.uvs[static_cast<std::size_t>(j * 5 + i)];
+            EXPECT_NEAR(uv.x, (1 - u) * (1 - v) * 0.5 + u * (1 - v) * 1 + (1 - u) * v * 0.5 + u * v * 2, 1e-15);
+            EXPECT_NEAR(uv.y, (1 - v) * 0.25 + v * (1 - u) * 0.75 + u * v * 1, 1e-15);
+        }
+    // corners exactly
+    EXPECT_EQ(mesh.uvs[0].x, 0.5);
+    EXPECT_EQ(mesh.uvs[24].x, 2.0);
+    EXPECT_EQ(mesh.uvs[24].y, 1.0);
 }
 
 }  // namespace

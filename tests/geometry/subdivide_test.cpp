@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <limits>
+#include <tuple>
 #include <string>
 
 #include "geometry/mesh/shapes.h"
@@ -172,6 +174,137 @@ TEST(Subdivision, RejectsInvalidInput) {
     SubdivisionOptions negative;
     negative.levels = -1;
     EXPECT_EQ(subdivide(shapes::cube(), negative).error().code, ErrorCode::InvalidArgument);
+}
+
+// Faces that repeat a vertex, as OpenSubdiv refines them: a corner followed by the same vertex is a degenerate edge of
+// its own; an edge a face uses twice gets a second instance (found again by later faces as the first one, and by a
+// crease tag); all of them non-manifold, so infinitely sharp. Built into small grids, compared with OpenSubdiv in every
+// boundary mode and crease method.
+PolygonMesh with_face(PolygonMesh m, std::size_t f, std::initializer_list<Index> verts) {
+    std::size_t k = m.face_offsets[f];
+    for (Index v : verts) m.face_indices[k++] = v;
+    return m;
+}
+
+TEST(Subdivision, FacesThatRepeatAVertexMatchOpenSubdiv) {
+    const PolygonMesh quads = jittered(shapes::grid(3, 3));  // vertex (i, j) is 4j + i; face 4 is the middle one
+    const PolygonMesh tris = jittered(shapes::grid(3, 3, true));
+    PolygonMesh folded_creased = with_face(quads, 4, {5, 6, 5, 9});
+    folded_creased.tags.creases = {{5, 6, 2.5}, {9, 5, 1.5}, {6, 10, 3.0}};
+    folded_creased.tags.corners = {{5, 0.5}};
+    PolygonMesh pinched_hole = with_face(quads, 4, {5, 6, 10, 10});
+    pinched_hole.tags.holes = {4};
+    PolygonMesh tri_folded_creased = with_face(tris, 8, {5, 10, 5});
+    tri_folded_creased.tags.creases = {{5, 10, 2.0}};
+    const PolygonMesh cube = shapes::cube();
+    const auto c2 = cube.face(2);
+    const std::tuple<const char*, PolygonMesh, bool> cases[] = {
+        {"pinched quad (degenerate edge)", with_face(quads, 4, {5, 6, 10, 10}), false},
+        {"folded quad (an edge used twice, joined by a neighbour)", with_face(quads, 4, {5, 6, 5, 9}), false},
+        {"folded quad with creases on the repeated edges", folded_creased, false},
+        {"pinched hole", pinched_hole, false},
+        {"quad of one vertex", with_face(quads, 4, {5, 5, 5, 5}), false},
+        {"pinched closed cube", jittered(with_face(cube, 2, {c2[0], c2[1], c2[1], c2[3]})), false},
+        {"pinched triangle, Loop", with_face(tris, 8, {5, 10, 10}), true},
+        {"pinched triangle, Catmull-Clark", with_face(tris, 8, {5, 10, 10}), false},
+        {"triangle of one vertex, Loop", with_face(tris, 8, {5, 5, 5}), true},
+        {"folded triangle with a crease, Loop", tri_folded_creased, true},
+    };
+    for (const auto& [name, mesh, loop] : cases) {
+        ASSERT_FALSE(validate(mesh).ok()) << name << ": the case must really repeat a vertex";
+        ASSERT_TRUE(validate_for_subdivision(mesh).ok()) << name;
+        for (auto method : {CreaseMethod::Uniform, CreaseMethod::Chaikin})
+            for (auto boundary : {BoundaryInterpolation::None, BoundaryInterpolation::EdgeOnly,
+                                  BoundaryInterpolation::EdgeAndCorner})
+                for (int levels = 1; levels <= 3; ++levels) {
+                    SCOPED_TRACE(std::string(name) + ", level " + std::to_string(levels));
+                    SubdivisionOptions options;
+                    options.scheme = loop ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
+                    options.levels = levels;
+                    options.crease_method = method;
+                    options.boundary = boundary;
+                    expect_same_as_opensubdiv(mesh, options);
+                }
+    }
+}
+
+// Random small meshes whose faces often repeat vertices (and share edges every which way), with random creases,
+// corners, holes, boundary modes and crease methods: wherever both accept the input, we and OpenSubdiv agree.
+TEST(Subdivision, RandomFacesWithRepeatedVerticesMatchOpenSubdiv) {
+    std::uint32_t state = 2026;
+    auto next = [&](std::uint32_t n) {
+        state = state * 1664525u + 1013904223u;
+        return (state >> 8) % n;
+    };
+    int compared = 0, with_repeats = 0;
+    for (int iteration = 0; iteration < 400; ++iteration) {
+        PolygonMesh m;
+        const std::uint32_t nv = 3 + next(8);
+        for (std::uint32_t v = 0; v < nv; ++v) m.positions.push_back({next(1000) / 100.0, next(1000) / 100.0, next(1000) / 100.0});
+        const bool loop = next(2) == 1;
+        const std::uint32_t nf = 1 + next(6);
+        for (std::uint32_t f = 0; f < nf; ++f) {
+            std::vector<Index> face(loop ? 3 : 3 + next(3));
+            for (Index& v : face) v = next(nv);
+            m.add_face(face);
+        }
+        if (next(3) == 0) m.tags.creases.push_back({m.face_indices[0], m.face_indices[1], next(40) / 10.0});
+        if (next(3) == 0) m.tags.corners.push_back({next(nv), next(40) / 10.0});
+        if (next(4) == 0) m.tags.holes.push_back(next(nf));
+        SubdivisionOptions options;
+        options.scheme = loop ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
+        options.levels = 1 + static_cast<int>(next(3));
+        options.boundary = static_cast<BoundaryInterpolation>(next(3));
+        options.crease_method = next(2) == 1 ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
+        auto ours = subdivide(m, options);
+        if (!ours.ok()) continue;  // a crease between vertices that share no edge: OpenSubdiv warns and ignores it
+        const PolygonMesh ref = osd_subdivide(m, options);
+        ASSERT_FALSE(ref.positions.empty()) << "OpenSubdiv refused what we refined, iteration " << iteration;
+        ++compared;
+        with_repeats += !validate(m).ok();
+        ASSERT_EQ(ours->vertex_count(), ref.vertex_count()) << iteration;
+        ASSERT_EQ(ours->face_indices, ref.face_indices) << iteration;
+        double worst = 0;
+        for (std::size_t v = 0; v < ref.vertex_count(); ++v) worst = std::max(worst, norm(ours->positions[v] - ref.positions[v]));
+        EXPECT_LE(worst, 1e-9 * m.bounds().diagonal()) << iteration;
+    }
+    EXPECT_GE(compared, 300);
+    EXPECT_GE(with_repeats, 150);  // most random faces repeat a vertex: the test is about them
+}
+
+// What is really invalid stays a clear error naming the face: too few vertices, an index out of range, also when
+// another face repeats a vertex (the lenient check must not stop at the first repeat).
+TEST(Subdivision, RepeatedVerticesAreAllowedButBrokenFacesAreNot) {
+    PolygonMesh m = with_face(shapes::grid(3, 3), 4, {5, 6, 10, 10});
+    EXPECT_TRUE(subdivide(m, SubdivisionOptions{}).ok());
+    PolygonMesh out_of_range = m;
+    out_of_range.face_indices[out_of_range.face_offsets[7] + 2] = 99;
+    auto range = subdivide(out_of_range, SubdivisionOptions{});
+    ASSERT_FALSE(range.ok());
+    EXPECT_EQ(range.error().code, ErrorCode::IndexOutOfRange);
+    EXPECT_EQ(range.error().element_kind, ElementKind::Face);
+    EXPECT_EQ(range.error().element, 7);
+    PolygonMesh two_vertices = m;  // face 8 keeps only two of its vertices
+    two_vertices.face_indices.erase(two_vertices.face_indices.begin() + two_vertices.face_offsets[8] + 2,
+                                    two_vertices.face_indices.end());
+    two_vertices.face_offsets.back() = static_cast<Index>(two_vertices.face_indices.size());
+    auto short_face = subdivide(two_vertices, SubdivisionOptions{});
+    ASSERT_FALSE(short_face.ok());
+    EXPECT_EQ(short_face.error().code, ErrorCode::DegenerateFace);
+    EXPECT_EQ(short_face.error().element, 8);
+    PolygonMesh bad_crease = m;
+    bad_crease.tags.creases = {{5, 6, 1.0}, {0, 42, 1.0}};
+    auto crease = subdivide(bad_crease, SubdivisionOptions{});
+    ASSERT_FALSE(crease.ok());
+    EXPECT_EQ(crease.error().code, ErrorCode::IndexOutOfRange);
+    EXPECT_EQ(crease.error().element_kind, ElementKind::Crease);
+    EXPECT_EQ(crease.error().element, 1);
+    PolygonMesh bad_hole = m;
+    bad_hole.tags.holes = {9};
+    EXPECT_EQ(subdivide(bad_hole, SubdivisionOptions{}).error().element_kind, ElementKind::Hole);
+    PolygonMesh nan = m;
+    nan.positions[3].y = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(subdivide(nan, SubdivisionOptions{}).error().code, ErrorCode::NonFinite);
 }
 
 TEST(Subdivision, LevelZeroIsIdentity) {

@@ -2,6 +2,8 @@
 // tessellated teapot as a GLB that the Khronos validator accepts.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <set>
 #include <string>
 
@@ -89,7 +91,8 @@ TEST(Bez, ErrorsNameTheLine) {
         {"OFF\n", ErrorCode::ParseError, 1, "expected a BEZ header"},
         {"BEZ733\n", ErrorCode::ParseError, 1, "degrees must be 1..6"},
         {"BEZ335\n", ErrorCode::ParseError, 1, "dimension must be 3 or 4"},
-        {"# rational\nBEZ114\n0 0 0 1\n", ErrorCode::Unsupported, 2, "rational"},
+        {"# rational\nBEZ114\n0 0 0 1\n1 0 0 0\n", ErrorCode::InvalidArgument, 4, "weight (4th coordinate) must be > 0"},
+        {"BEZ114\n0 0 0 1  1 0 0 1e13\n0 1 0 1  1 1 0 1\n", ErrorCode::InvalidArgument, 2, "largest weight"},
         {"BEZ113\n0 0 0\n1 0 zero\n", ErrorCode::ParseError, 3, "'zero' is not a number"},
         {"BEZ113\n0 0 0\n1 0 0\n0 1 0\n", ErrorCode::ParseError, 4, "unexpected end of file in patch 0"},
         {"BEZ113\n0 0 0\n1 0 nan\n0 1 0 1 1 0\n", ErrorCode::NonFinite, 3, "not finite"},
@@ -135,6 +138,82 @@ TEST(Bez, TessellatedTeapotIsValidGlb) {
         EXPECT_NE(glb->find("\"NORMAL\""), std::string::npos);
         EXPECT_NE(glb->find("\"TEXCOORD_0\""), std::string::npos);
     }
+}
+
+TEST(Bez, TextureCoordinatesBecomeTheUvs) {
+    // STBBP = BEZ333_ST: after the 16 points, (s, t) at the corners (u, v) = (0, 0), (1, 0), (0, 1), (1, 1)
+    std::string text = "STBBP\n";
+    for (int k = 0; k < 16; ++k) text += std::to_string(k % 4) + " " + std::to_string(k / 4) + " 0\n";
+    text += "0.25 0.5  0.75 0.5  0.25 1  0.75 1\n";
+    text += "BEZ113\n0 0 5 1 0 5 0 1 5 1 1 5\n";  // no ST: its own (u, v)
+    auto set = read_bez(text);
+    ASSERT_TRUE(set.ok()) << set.error().message;
+    ASSERT_EQ(set->patches.size(), 2u);
+    ASSERT_TRUE(set->patches[0].corner_uvs.has_value());
+    EXPECT_FALSE(set->patches[1].corner_uvs.has_value());
+    EXPECT_EQ((*set->patches[0].corner_uvs)[3].x, 0.75);
+    EXPECT_EQ((*set->patches[0].corner_uvs)[1].y, 0.5);
+
+    TessellationOptions options;
+    options.segments = 2;
+    auto tess = tessellate_patches(set->patches, options);
+    ASSERT_TRUE(tess.ok()) << tess.error().message;
+    const PolygonMesh& mesh = tess->mesh;
+    // patch 0 is the plane z = 0 over [0,3]^2 with x = 3u, y = 3v: every uv is (0.25 + u/2, 0.5 + v/2)
+    std::size_t checked = 0;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        for (std::size_t c = 0; c < 3; ++c) {
+            const Vec3 p = mesh.positions[mesh.face_indices[mesh.face_offsets[f] + c]];
+            const Vec2 uv = mesh.uvs[mesh.uv_indices[mesh.face_offsets[f] + c]];
+            if (tess->face_patches[f] == 0) {
+                EXPECT_NEAR(uv.x, 0.25 + p.x / 6, 1e-14);
+                EXPECT_NEAR(uv.y, 0.5 + p.y / 6, 1e-14);
+                ++checked;
+            } else {
+                EXPECT_NEAR(uv.x, p.x, 1e-14);  // the unit square: (u, v) = (x, y)
+                EXPECT_NEAR(uv.y, p.y, 1e-14);
+            }
+        }
+    EXPECT_EQ(checked, 3u * 8u);
+    // and they reach the GLB's TEXCOORD_0 (the validator checks the accessor)
+    GltfOptions gltf;
+    gltf.texcoords = true;
+    auto glb = write_glb(mesh, gltf);
+    ASSERT_TRUE(glb.ok()) << glb.error().message;
+    const auto report = testing::run_gltf_validator(*glb);
+    ASSERT_TRUE(report.ran) << report.report;
+    EXPECT_EQ(report.errors, 0) << report.report;
+}
+
+TEST(Bez, RationalPatchesAreHomogeneous) {
+    // BEZ214: a quadratic x linear rational patch, points (x, y, z, w) already multiplied by w (geomview's HPoint3):
+    // the quarter circle (1,0) (1,1) (0,1) with weights 1, sqrt(2)/2, 1, extruded along z -- a quarter cylinder.
+    const double s = std::sqrt(0.5);
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "BEZ214\n1 0 0 1  %.17g %.17g 0 %.17g  0 1 0 1\n1 0 2 1  %.17g %.17g %.17g %.17g  0 1 2 1\n",
+                  s, s, s, s, s, 2 * s, s);
+    auto set = read_bez(buf);
+    ASSERT_TRUE(set.ok()) << set.error().message;
+    ASSERT_EQ(set->patches.size(), 1u);
+    const BezierPatch& patch = set->patches[0];
+    ASSERT_TRUE(patch.rational());
+    EXPECT_EQ(patch.weights[1], s);
+    EXPECT_NEAR(patch.at(1, 1).x, 1.0, 1e-15);  // (s, s, 2s) / s
+    EXPECT_NEAR(patch.at(1, 1).z, 2.0, 1e-15);
+    for (int a = 0; a <= 20; ++a)
+        for (int b = 0; b <= 4; ++b) {
+            const Vec3 p = evaluate(patch, a / 20.0, b / 4.0);
+            EXPECT_NEAR(std::hypot(p.x, p.y), 1.0, 1e-12);
+            EXPECT_NEAR(p.z, b / 2.0, 1e-12);
+        }
+    TessellationOptions options;
+    options.tolerance = 1e-3;
+    auto tess = tessellate_patches(set->patches, options);
+    ASSERT_TRUE(tess.ok()) << tess.error().message;
+    EXPECT_LE(tess->plan.error_bound, 1e-3);
+    // the chord of a unit circle arc of angle a deviates by 1 - cos(a/2): the segments needed are at least
+    // (pi/2) / (2 acos(1 - 1e-3)) = 17.6, and a guarantee cannot use fewer
+    EXPECT_GE(tess->plan.segments[0].nu, 18);
 }
 
 }  // namespace

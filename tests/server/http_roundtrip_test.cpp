@@ -22,6 +22,7 @@
 #include "geometry/io/mesh_io.h"
 #include "server/http_server.h"
 #include "tests/support/gltf_validator.h"
+#include "tests/support/http_test_server.h"
 
 namespace surfaced::server {
 namespace {
@@ -67,10 +68,7 @@ protected:
         config.threads = 4;
         config.web_root = web_root_->string();
         config.limits.max_body_bytes = kTestBodyLimit;
-        server_ = new HttpServer(config);
-        std::string error;
-        ASSERT_TRUE(server_->start(&error)) << error;
-        ASSERT_GT(server_->port(), 0);
+        server_ = new testing::LoopbackServer(config);
     }
     static void TearDownTestSuite() {
         delete server_;  // stops and joins
@@ -80,11 +78,7 @@ protected:
         delete web_root_;
     }
 
-    httplib::Client client() const {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(30, 0);
-        return c;
-    }
+    httplib::Client client() const { return server_->client(30); }
 
     //! The property every failure test ends with: the server still answers.
     void expect_healthy() const {
@@ -108,11 +102,11 @@ protected:
         return json;
     }
 
-    static HttpServer* server_;
+    static testing::LoopbackServer* server_;
     static fs::path* web_root_;
 };
 
-HttpServer* HttpRoundTrip::server_ = nullptr;
+testing::LoopbackServer* HttpRoundTrip::server_ = nullptr;
 fs::path* HttpRoundTrip::web_root_ = nullptr;
 
 TEST_F(HttpRoundTrip, Healthz) {
@@ -124,7 +118,7 @@ TEST_F(HttpRoundTrip, Healthz) {
 }
 
 TEST_F(HttpRoundTrip, ServesWebRoot) {
-    EXPECT_TRUE(server_->serves_web_root());
+    EXPECT_TRUE(server_->server().serves_web_root());
     auto res = client().Get("/");
     ASSERT_TRUE(res) << httplib::to_string(res.error());
     EXPECT_EQ(res->status, 200);

@@ -18,6 +18,7 @@
 #include "geometry/io/bez.h"
 #include "server/http_server.h"
 #include "tests/support/gltf_validator.h"
+#include "tests/support/http_test_server.h"
 
 namespace surfaced::server {
 namespace {
@@ -28,27 +29,19 @@ class PatchesHttp : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         ServerConfig config;
-        config.host = "127.0.0.1";
-        config.port = 0;
         config.threads = 2;
         config.web_root = "";
-        server_ = new HttpServer(config);
-        std::string error;
-        ASSERT_TRUE(server_->start(&error)) << error;
+        server_ = new testing::LoopbackServer(config);
     }
     static void TearDownTestSuite() {
         delete server_;
         server_ = nullptr;
     }
-    httplib::Client client() const {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(30, 0);
-        return c;
-    }
-    static HttpServer* server_;
+    httplib::Client client() const { return server_->client(30); }
+    static testing::LoopbackServer* server_;
 };
 
-HttpServer* PatchesHttp::server_ = nullptr;
+testing::LoopbackServer* PatchesHttp::server_ = nullptr;
 
 TEST_F(PatchesHttp, TeapotGlbThenNotModified) {
     auto res = client().Get("/patches/teapot?tolerance=0.01");

@@ -27,12 +27,17 @@
 #include <nlohmann/json.hpp>
 
 #include "server/http_server.h"
+#include "tests/support/http_test_server.h"
 
 namespace surfaced::server {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using testing::connect_to;
+using testing::eventually;
+using testing::read_until_close;
+using testing::status_of;
 
 constexpr const char* kCubeObj =
     "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
@@ -59,47 +64,10 @@ fs::path make_temp_dir(const std::string& tag) {
     return dir;
 }
 
-//! Polls `condition` every 5 ms for up to 20 s (a bound for a stuck test, not a timing assertion).
-bool eventually(const std::function<bool()>& condition) {
-    const auto deadline = std::chrono::steady_clock::now() + 20s;
-    while (std::chrono::steady_clock::now() < deadline) {
-        if (condition()) return true;
-        std::this_thread::sleep_for(5ms);
-    }
-    return condition();
-}
-
 // ---- raw sockets, for what a well-behaved client library will not send --------------------------------------
-
-int connect_to(int port) {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_port = htons(static_cast<std::uint16_t>(port));
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-        close(fd);
-        return -1;
-    }
-    return fd;
-}
 
 void send_text(int fd, const std::string& text) {
     ASSERT_EQ(send(fd, text.data(), text.size(), MSG_NOSIGNAL), static_cast<ssize_t>(text.size()));
-}
-
-//! Reads until the peer closes (or 20 s pass).
-std::string read_until_close(int fd) {
-    std::string out;
-    char buffer[4096];
-    for (;;) {
-        pollfd pfd{fd, POLLIN, 0};
-        if (poll(&pfd, 1, 20'000) <= 0) break;
-        const ssize_t n = recv(fd, buffer, sizeof buffer, 0);
-        if (n <= 0) break;
-        out.append(buffer, static_cast<std::size_t>(n));
-    }
-    return out;
 }
 
 //! Reads one response (head + Content-Length body) from a kept-alive connection.
@@ -125,10 +93,6 @@ std::string read_response(int fd) {
         got += static_cast<std::size_t>(n);
     }
     return out + body.substr(0, got);
-}
-
-int status_of(const std::string& response) {
-    return response.rfind("HTTP/1.1 ", 0) == 0 ? std::atoi(response.c_str() + 9) : -1;
 }
 
 // ---- Prometheus text ----------------------------------------------------------------------------------------

@@ -17,6 +17,7 @@
 #include "geometry/mesh/shapes.h"
 #include "server/http_server.h"
 #include "tests/support/gltf_validator.h"
+#include "tests/support/http_test_server.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/simplify_meshes.h"
 
@@ -33,28 +34,19 @@ class SimplifyHttp : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         ServerConfig config;
-        config.host = "127.0.0.1";
-        config.port = 0;
         config.threads = 2;
         config.web_root = "";
         config.limits.max_body_bytes = 4 << 20;
-        server_ = new HttpServer(config);
-        std::string error;
-        ASSERT_TRUE(server_->start(&error)) << error;
-        ASSERT_GT(server_->port(), 0);
+        server_ = new testing::LoopbackServer(config);
     }
     static void TearDownTestSuite() {
         delete server_;
         server_ = nullptr;
     }
-    httplib::Client client() const {
-        httplib::Client c("127.0.0.1", server_->port());
-        c.set_read_timeout(60, 0);
-        return c;
-    }
-    static HttpServer* server_;
+    httplib::Client client() const { return server_->client(60); }
+    static testing::LoopbackServer* server_;
 };
-HttpServer* SimplifyHttp::server_ = nullptr;
+testing::LoopbackServer* SimplifyHttp::server_ = nullptr;
 
 TEST_F(SimplifyHttp, ObjUploadToValidGlbWithErrorHeaders) {
     const PolygonMesh sphere = testing::icosphere(4);

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Installs the benchmark-only peers, builds the benchmarks and runs them: ours against the reference in one process
+# each (OpenSubdiv for subdivision, meshoptimizer and CGAL for simplification), plus implicit meshing and patch
+# tessellation. Debian 12, as root for the installs. The peers are never linked into the service.
+#   scripts/bench.sh                       every benchmark, full size (the 1M-triangle simplifications take minutes)
+#   scripts/bench.sh --quick               smaller meshes only
+#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate
+# Each output also goes to build/bench-results/NAME.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+quick=()
+selected=()
+for arg in "$@"; do
+  case "$arg" in
+    --quick) quick=(--quick) ;;
+    subdivide|simplify|implicit|tessellate) selected+=("$arg") ;;
+    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate]..." >&2; exit 2 ;;
+  esac
+done
+[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate)
+
+# The build dependencies come from scripts/install-deps.sh (run it first on a fresh machine); here only the bench-only
+# peers: meshoptimizer, CGAL (header-only; pulls Boost, GMP, MPFR) and Eigen (CGAL's Garland-Heckbert policies use
+# it), and glmark2-data for the scanned bunny.
+command -v cmake >/dev/null && dpkg-query -W libosd-dev >/dev/null 2>&1 ||
+  { echo "run scripts/install-deps.sh first (build dependencies)" >&2; exit 1; }
+bench_packages=(libmeshoptimizer-dev libcgal-dev libeigen3-dev glmark2-data)
+missing=()
+for p in "${bench_packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# A build tree configured before CGAL was installed does not know bench_simplify_cgal yet: configure again (under the
+# build lock that scripts/dev-build.sh takes, so as not to disturb a build in progress).
+if [ -f build/build.ninja ] && ! grep -q bench_simplify_cgal build/build.ninja; then
+  flock /tmp/surfaced-build.lock cmake -S . -B build >/dev/null
+fi
+
+targets=()
+for name in "${selected[@]}"; do
+  case "$name" in
+    simplify) targets+=(bench_simplify_cgal) ;;
+    tessellate) [ -f bench/tessellate_bench.cpp ] && targets+=(bench_tessellate) ;;
+    *) targets+=("bench_$name") ;;
+  esac
+done
+scripts/dev-build.sh "${targets[@]}"
+
+mkdir -p build/bench-results
+for name in "${selected[@]}"; do
+  binary=build/bench/bench_$name
+  [ "$name" = simplify ] && binary=build/bench/bench_simplify_cgal
+  if [ ! -x "$binary" ]; then
+    echo "== $name: $binary not built, skipped" >&2
+    continue
+  fi
+  echo "== $name ($(date -u +%FT%TZ), $binary ${quick[*]})"
+  "$binary" "${quick[@]}" | tee "build/bench-results/$name.md"
+done

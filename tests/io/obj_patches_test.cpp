@@ -1,0 +1,188 @@
+// OBJ free-form Bézier surfaces (geometry/io/obj_patches.h): the teapot written as `cstype bezier` surfaces
+// tessellates exactly as its BEZ form; multi-segment surfaces split into patches sharing their boundary control
+// points; rational surfaces take the vertices' w; everything refused names its line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <string>
+
+#include "geometry/io/bez.h"
+#include "geometry/io/obj_patches.h"
+#include "tests/support/mesh_asserts.h"
+
+namespace surfaced {
+namespace {
+
+std::string number(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    return buf;
+}
+
+//! The patch set as OBJ free-form surfaces: distinct control points as `v` lines, one surf per patch.
+std::string as_obj(const PatchSet& set) {
+    std::map<std::array<double, 3>, std::size_t> index;
+    std::string vertices, surfaces;
+    for (const BezierPatch& patch : set.patches) {
+        surfaces += "deg " + std::to_string(patch.degree_u) + " " + std::to_string(patch.degree_v) + "\n";
+        surfaces += "surf 0 1 0 1";
+        for (const Vec3& p : patch.points) {
+            auto [it, inserted] = index.emplace(std::array<double, 3>{p.x, p.y, p.z}, index.size() + 1);
+            if (inserted) vertices += "v " + number(p.x) + " " + number(p.y) + " " + number(p.z) + "\n";
+            surfaces += " " + std::to_string(it->second);
+        }
+        surfaces += "\nparm u 0 1\nparm v 0 1\nend\n";
+    }
+    return "# the Utah teapot as free-form Bezier surfaces\ng teapot\n" + vertices + "cstype bezier\n" + surfaces;
+}
+
+PatchSet teapot() {
+    auto set = read_bez(patch_sample_text("teapot"));
+    EXPECT_TRUE(set.ok());
+    return set.ok() ? set.value() : PatchSet{};
+}
+
+TEST(ObjPatches, TeapotTessellatesAsItsBezForm) {
+    const PatchSet bez = teapot();
+    const std::string obj = as_obj(bez);
+    auto read = read_obj_patches(obj);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    ASSERT_EQ(read->patches.size(), 32u);
+    for (std::size_t p = 0; p < 32; ++p) EXPECT_EQ(read->patches[p].points, bez.patches[p].points) << "patch " << p;
+    for (double tolerance : {0.01, 0.003}) {
+        TessellationOptions options;
+        options.tolerance = tolerance;
+        auto a = tessellate_patches(bez.patches, options);
+        auto b = tessellate_patches(read->patches, options);
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_EQ(a->mesh.positions, b->mesh.positions);
+        EXPECT_EQ(a->mesh.face_indices, b->mesh.face_indices);
+        EXPECT_EQ(a->mesh.face_offsets, b->mesh.face_offsets);
+        EXPECT_EQ(a->plan.error_bound, b->plan.error_bound);
+    }
+}
+
+TEST(ObjPatches, MultiSegmentSurfaceSplitsIntoPatches) {
+    // degree 3 x 2 over 2 x 1 segments: a (2*3+1) x (1*2+1) = 7 x 3 net, u fastest; negative references
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> coord(-1, 1);
+    std::vector<Vec3> net;
+    std::string text = "cstype bezier\ndeg 3 2\n";
+    for (int k = 0; k < 21; ++k) {
+        net.push_back({coord(rng), coord(rng), coord(rng)});
+        text += "v " + number(net.back().x) + " " + number(net.back().y) + " " + number(net.back().z) + "\n";
+    }
+    text += "surf 0 2 0 1";
+    for (int k = 0; k < 21; ++k) text += " " + std::to_string(k - 21) + "/1/1";  // v/vt/vn forms, relative
+    text += "\nparm u 0 1 2\nparm v 0 1\nend\n";
+    auto read = read_obj_patches(text);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    ASSERT_EQ(read->patches.size(), 2u);
+    for (int s = 0; s < 2; ++s) {
+        const BezierPatch& patch = read->patches[static_cast<std::size_t>(s)];
+        EXPECT_EQ(patch.degree_u, 3);
+        EXPECT_EQ(patch.degree_v, 2);
+        EXPECT_FALSE(patch.rational());
+        for (int j = 0; j <= 2; ++j)
+            for (int i = 0; i <= 3; ++i) EXPECT_EQ(patch.at(i, j), net[static_cast<std::size_t>(j * 7 + s * 3 + i)]);
+    }
+    // the blocks share their boundary column: the tessellation is one welded strip with no crack between them
+    TessellationOptions options;
+    options.segments = 5;
+    auto tess = tessellate_patches(read->patches, options);
+    ASSERT_TRUE(tess.ok());
+    EXPECT_EQ(tess->mesh.vertex_count(), 11u * 6u);
+    EXPECT_EQ(testing::boundary_loop_count(tess->mesh), 1u);
+}
+
+TEST(ObjPatches, RationalSurfacesUseTheWeights) {
+    // a quarter cylinder: the quarter circle with weights 1, sqrt(2)/2, 1 (Euclidean points), extruded along z
+    const std::string w = number(std::sqrt(0.5));
+    const std::string text = "v 1 0 0\nv 1 1 0 " + w + "\nv 0 1 0\nv 1 0 1\nv 1 1 1 " + w +
+                             "\nv 0 1 1\ncstype rat bezier\ndeg 2 1\nsurf 0 1 0 1 1 2 3 4 5 6\nend\n";
+    auto read = read_obj_patches(text);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    ASSERT_EQ(read->patches.size(), 1u);
+    ASSERT_TRUE(read->patches[0].rational());
+    for (int a = 0; a <= 16; ++a) {
+        const Vec3 p = evaluate(read->patches[0], a / 16.0, 0.5);
+        EXPECT_NEAR(std::hypot(p.x, p.y), 1.0, 1e-12);
+    }
+    // without `rat` the same vertices make a polynomial patch (w ignored, as the specification says)
+    std::string polynomial = text;
+    polynomial.replace(polynomial.find("rat "), 4, "");
+    auto plain = read_obj_patches(polynomial);
+    ASSERT_TRUE(plain.ok());
+    EXPECT_FALSE(plain->patches[0].rational());
+}
+
+struct BadCase {
+    std::string text;
+    ErrorCode code;
+    std::int64_t line;
+    const char* message;
+};
+
+TEST(ObjPatches, ErrorsNameTheLine) {
+    const std::string header = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";  // lines 1-4
+    const std::string quad = "surf 0 1 0 1 1 2 3 4\n";
+    std::string lines11 = header;
+    for (int k = 5; k <= 11; ++k) lines11 += "# line " + std::to_string(k) + "\n";
+    const BadCase cases[] = {
+        {lines11 + "cstype bspline\ndeg 1 1\n" + quad + "end\n", ErrorCode::Unsupported, 12,
+         "line 12: cstype bspline is not supported"},
+        {header + "cstype rat taylor\n", ErrorCode::Unsupported, 5, "cstype rat taylor is not supported"},
+        {header + "cstype nurbs\n", ErrorCode::ParseError, 5, "unknown cstype"},
+        {header + "cstype bezier\ndeg 1 1\n" + quad + "trim 0 1 1\nend\n", ErrorCode::Unsupported, 8, "trimming"},
+        {header + "cstype bezier\ndeg 2 1\n" + quad + "end\n", ErrorCode::ParseError, 7, "needs (1*2+1) x (1*1+1) = 6"},
+        {header + "cstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 9\nend\n", ErrorCode::ParseError, 7,
+         "refers to vertex 9, but 4 vertices"},
+        {header + "cstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 x\nend\n", ErrorCode::ParseError, 7, "not a vertex index"},
+        {header + "cstype bezier\ndeg 1 1\n" + quad, ErrorCode::ParseError, 7, "surf has no matching end"},
+        {header + "deg 1 1\n" + quad + "end\n", ErrorCode::ParseError, 6, "surf before any cstype"},
+        {header + "cstype bezier\ndeg 1\n" + quad + "end\n", ErrorCode::ParseError, 7, "two degrees"},
+        {header + "cstype bezier\ndeg 1 16\n", ErrorCode::InvalidArgument, 6, "outside 1..15"},
+        {header + "cstype bezier\ndeg 1 1\n" + quad + "parm u 0 0.5\nend\n", ErrorCode::Unsupported, 7,
+         "sub-ranges are not supported"},
+        {header + "cstype bezier\ndeg 1 1\n" + quad + "parm u 1 0\nend\n", ErrorCode::ParseError, 8, "must increase"},
+        {header + "parm u 0 1\n", ErrorCode::ParseError, 5, "parm outside a surf"},
+        {header + "end\n", ErrorCode::ParseError, 5, "end without a surf"},
+        {"v 0 0 nan\n", ErrorCode::NonFinite, 1, "not finite"},
+        {"v 0 0\n", ErrorCode::ParseError, 1, "missing v z"},
+        {header + "f 1 2 3\n", ErrorCode::ParseError, 5, "no free-form surfaces"},
+        {"v 1 0 0 0\nv 0 0 0\nv 0 1 0\nv 1 1 0\ncstype rat bezier\ndeg 1 1\n" + quad + "end\n",
+         ErrorCode::InvalidArgument, 7, "weight 0 must be a finite number > 0"},
+    };
+    for (const BadCase& c : cases) {
+        auto result = read_obj_patches(c.text);
+        ASSERT_FALSE(result.ok()) << c.text;
+        EXPECT_EQ(result.error().code, c.code) << c.text << " -> " << result.error().message;
+        EXPECT_EQ(result.error().line, c.line) << c.text << " -> " << result.error().message;
+        EXPECT_NE(result.error().message.find(c.message), std::string::npos) << result.error().message;
+        EXPECT_NE(result.error().message.find("line " + std::to_string(c.line) + ": "), std::string::npos)
+            << result.error().message;
+    }
+}
+
+TEST(ObjPatches, BudgetsBeforeAllocation) {
+    const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\nv 2 1 0\ncstype bezier\ndeg 1 1\n"
+                             "surf 0 2 0 1 1 2 5 3 4 6\nparm u 0 1 2\nend\n";
+    ASSERT_TRUE(read_obj_patches(text).ok());
+    ObjPatchReadOptions options;
+    options.max_patches = 1;
+    auto patches = read_obj_patches(text, options);
+    ASSERT_FALSE(patches.ok());
+    EXPECT_EQ(patches.error().code, ErrorCode::BudgetExceeded);
+    EXPECT_EQ(patches.error().line, 9);
+    options = {};
+    options.max_vertices = 5;
+    auto vertices = read_obj_patches(text, options);
+    ASSERT_FALSE(vertices.ok());
+    EXPECT_EQ(vertices.error().code, ErrorCode::BudgetExceeded);
+    EXPECT_EQ(vertices.error().line, 6);
+}
+
+}  // namespace
+}  // namespace surfaced

@@ -1,0 +1,156 @@
+// POST /remesh, /implicit/mesh, /implicit/query and /pointcloud through the real server on an ephemeral loopback
+// port: status, media type, a decoded-body invariant, and one problem+json naming its field for each.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "geometry/io/gltf.h"
+#include "geometry/io/pointcloud_io.h"
+#include "tests/support/http_test_server.h"
+#include "tests/support/mesh_asserts.h"
+
+namespace surfaced::server {
+namespace {
+
+using Json = nlohmann::json;
+using testing::expect_http_problem;
+
+constexpr const char* kCubeObj =
+    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+    "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+constexpr const char* kUnitSphere = R"({"op": "sphere", "radius": 1})";
+
+class GeometryHttp : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        ServerConfig config;
+        config.threads = 2;
+        config.web_root = "";
+        server_ = new testing::LoopbackServer(config);
+    }
+    static void TearDownTestSuite() {
+        delete server_;  // stops and joins
+        server_ = nullptr;
+    }
+    static httplib::Client client() { return server_->client(60); }
+    static testing::LoopbackServer* server_;
+};
+testing::LoopbackServer* GeometryHttp::server_ = nullptr;
+
+double length(const Vec3& p) { return std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z); }
+
+TEST_F(GeometryHttp, RemeshObjToClosedGlb) {
+    auto res = client().Post("/remesh?edge_length=0.2&iterations=3", kCubeObj, "model/obj");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "model/gltf-binary");
+    EXPECT_EQ(res->get_header_value("X-Triangulated"), "true");  // quads in, triangles out
+    auto mesh = read_glb(res->body);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    ASSERT_GT(mesh->face_count(), 12u);  // refined from the 12 triangles of the triangulated cube
+    EXPECT_EQ(std::to_string(mesh->face_count()), res->get_header_value("X-Output-Faces"));
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    EXPECT_NEAR(testing::signed_volume(mesh.value()), 1.0, 1e-3);  // the cube's features are kept
+
+    const std::string bad = std::string(R"({"mesh": {"positions": [[0,0,0],[1,0,0],[0,1,0]], "faces": [[0,1,2]]},)") +
+                            R"( "edge_length": 0})";
+    expect_http_problem(client().Post("/remesh", bad, "application/json"), 400, "invalid_field", "edge_length");
+}
+
+TEST_F(GeometryHttp, ImplicitMeshSphereToClosedGlb) {
+    const std::string body = std::string(R"({"scene": )") + kUnitSphere +
+                             R"(, "bounds": [[-1.5,-1.5,-1.5],[1.5,1.5,1.5]], "resolution": 24})";
+    auto res = client().Post("/implicit/mesh", body, "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "model/gltf-binary");
+    auto mesh = read_glb(res->body);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    ASSERT_GT(mesh->face_count(), 0u);
+    EXPECT_EQ(std::to_string(mesh->face_count()), res->get_header_value("X-Output-Faces"));
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    for (const Vec3& p : mesh->positions) EXPECT_NEAR(length(p), 1.0, 0.01);  // on the sphere (cell 0.125)
+    EXPECT_NEAR(testing::signed_volume(mesh.value()) / (4.0 / 3.0 * std::numbers::pi), 1.0, 0.02);
+
+    expect_http_problem(client().Post("/implicit/mesh", std::string(R"({"scene": )") + kUnitSphere + "}",
+                                      "application/json"),
+                        400, "invalid_field", "bounds");
+}
+
+TEST_F(GeometryHttp, ImplicitQueryUnitSphere) {
+    const std::string body = std::string(R"({"scene": )") + kUnitSphere +
+                             R"(, "points": [[0,0,0],[2,0,0],[0,1,0],[0,0,-0.25]], "tolerance": 1e-9,)"
+                             R"( "rays": [{"origin": [-5,0,0], "direction": [1,0,0]},)"
+                             R"( {"origin": [0,5,0], "direction": [0,1,0]}], "max_distance": 20})";
+    auto res = client().Post("/implicit/query", body, "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "application/json");
+    const Json out = Json::parse(res->body);
+    EXPECT_EQ(out["kind"], "exact_distance");
+    const auto& points = out["points"];
+    ASSERT_EQ(points.size(), 4u);
+    EXPECT_EQ(points[0]["class"], "inside");
+    EXPECT_DOUBLE_EQ(points[0]["value"].get<double>(), -1.0);
+    EXPECT_EQ(points[1]["class"], "outside");
+    EXPECT_DOUBLE_EQ(points[1]["value"].get<double>(), 1.0);
+    EXPECT_EQ(points[1]["gradient"], Json::array({1.0, 0.0, 0.0}));
+    EXPECT_EQ(points[2]["class"], "on");
+    EXPECT_EQ(points[2]["gradient"], Json::array({0.0, 1.0, 0.0}));
+    EXPECT_DOUBLE_EQ(points[3]["value"].get<double>(), -0.75);
+    const auto& rays = out["rays"];
+    ASSERT_EQ(rays.size(), 2u);
+    EXPECT_TRUE(rays[0]["hit"].get<bool>());
+    EXPECT_NEAR(rays[0]["t"].get<double>(), 4.0, 1e-6);
+    EXPECT_NEAR(rays[0]["normal"][0].get<double>(), -1.0, 1e-6);
+    EXPECT_FALSE(rays[1]["hit"].get<bool>());  // pointing away
+
+    const std::string bad = std::string(R"({"scene": )") + kUnitSphere + R"(, "points": [[0,0,0],[1,0,"x"]]})";
+    const Json problem = expect_http_problem(client().Post("/implicit/query", bad, "application/json"), 400,
+                                             "invalid_field");
+    EXPECT_EQ(problem.value("field", "").rfind("points[1]", 0), 0u) << problem.dump();
+}
+
+TEST_F(GeometryHttp, PointcloudSampledSphereWithOutwardNormals) {
+    const std::string body = std::string(R"({"sample": {"scene": )") + kUnitSphere +
+                             R"(, "bounds": [[-2,-2,-2],[2,2,2]], "count": 300, "seed": 5},)"
+                             R"( "estimate_normals": {"k": 12}, "output": {"format": "json"}})";
+    auto res = client().Post("/pointcloud", body, "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "application/json");
+    EXPECT_EQ(res->get_header_value("X-Output-Points"), "300");
+    const Json out = Json::parse(res->body);
+    ASSERT_EQ(out["points"].size(), 300u);
+    ASSERT_EQ(out["normals"].size(), 300u);
+    for (std::size_t i = 0; i < 300; ++i) {
+        const Vec3 p{out["points"][i][0], out["points"][i][1], out["points"][i][2]};
+        const Vec3 n{out["normals"][i][0], out["normals"][i][1], out["normals"][i][2]};
+        EXPECT_NEAR(length(p), 1.0, 1e-5) << i;
+        EXPECT_GT((p.x * n.x + p.y * n.y + p.z * n.z) / length(p), 0.9) << i;  // outward
+    }
+
+    // the same points as binary PLY, read back
+    auto ply = client().Post("/pointcloud", R"({"points": [[0,0,0],[1,0,0],[0,1,0]], "output": {"format": "ply"}})",
+                             "application/json");
+    ASSERT_TRUE(ply);
+    ASSERT_EQ(ply->status, 200) << ply->body;
+    EXPECT_EQ(ply->get_header_value("Content-Type"), "application/ply");
+    auto cloud = read_ply_points(ply->body);
+    ASSERT_TRUE(cloud.ok()) << cloud.error().message;
+    ASSERT_EQ(cloud->positions.size(), 3u);
+    EXPECT_EQ(cloud->positions[1].x, 1.0);
+
+    expect_http_problem(client().Post("/pointcloud", R"({"points": 3})", "application/json"), 400, "invalid_field",
+                        "points");
+}
+
+}  // namespace
+}  // namespace surfaced::server
