@@ -9,6 +9,7 @@
 
 #include "geometry/io/gltf.h"
 #include "geometry/mesh/normals.h"
+#include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::api::operations {
 
@@ -163,7 +164,8 @@ std::optional<ApiError> check_query_names(const std::multimap<std::string, std::
     return std::nullopt;
 }
 
-ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits) {
+ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits,
+                                          MeshRules rules) {
     const auto format = mesh_format_for(media_type, request.body);
     if (!format) {
         const std::string detail =
@@ -176,6 +178,7 @@ ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::
     ReadOptions read_options;
     read_options.max_vertices = static_cast<std::size_t>(limits.max_input_vertices);
     read_options.max_faces = static_cast<std::size_t>(limits.max_input_faces);
+    read_options.allow_repeated_vertices = rules == MeshRules::Subdivision;
     auto read = read_mesh(request.body, *format, read_options);
     if (!read) return geometry_error(read.error(), Source::File);
     return std::move(read).value();
@@ -197,9 +200,10 @@ std::optional<ApiError> refuse_unknown_mesh_format(const ApiRequest& request, co
     return std::move(refused.error());
 }
 
-std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source) {
+std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source, MeshRules rules) {
     if (auto error = check_input_budget(mesh, limits)) return error;
-    if (auto valid = validate(mesh); !valid) return geometry_error(valid.error(), source);
+    const Status valid = rules == MeshRules::Subdivision ? validate_for_subdivision(mesh) : validate(mesh);
+    if (!valid) return geometry_error(valid.error(), source);
     return std::nullopt;
 }
 

@@ -100,9 +100,13 @@ std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Li
 //! Parameters must be known and given once; errors name them (and list the allowed ones).
 std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
                                           std::initializer_list<std::string_view> allowed);
+//! What the input mesh must satisfy: `validate()` (every operation), or `validate_for_subdivision()` (faces may repeat a
+//! vertex, as OpenSubdiv allows: /subdivide).
+enum class MeshRules { Strict, Subdivision };
 //! A raw mesh upload: format from the media type (sniffed for application/octet-stream; 415 when unknown), read with
 //! the input budgets as reader limits (errors carry the file line or byte offset).
-ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits);
+ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits,
+                                          MeshRules rules = MeshRules::Strict);
 //! The input budgets (vertices, faces) for a mesh from any source.
 std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits);
 
@@ -120,7 +124,8 @@ struct MeshRequest {
 std::optional<ApiError> refuse_unknown_mesh_format(const ApiRequest& request, const std::string& media_type,
                                                    const Limits& limits);
 //! The input budgets and the mesh's validity (field paths when the request was JSON).
-std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source);
+std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source,
+                                         MeshRules rules = MeshRules::Strict);
 //! Triangulation turns an n-gon into n - 2 triangles: for operations whose work is proportional to those.
 std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const Limits& limits);
 //! 503 `cancelled` when the request's deadline passed while computing (encoding cannot be stopped, so check first).
@@ -136,7 +141,7 @@ std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel);
 template <class Params, class DecodeJson, class ParamsFromQuery, class CheckParams>
 ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, const Limits& limits,
                                                    DecodeJson&& decode_json, ParamsFromQuery&& params_from_query,
-                                                   CheckParams&& check_params) {
+                                                   CheckParams&& check_params, MeshRules rules = MeshRules::Strict) {
     std::string media_type;
     if (auto error = check_body(request, limits, media_type)) return std::move(*error);
     MeshRequest<Params> out;
@@ -154,12 +159,12 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
         if (!query_params) return std::move(query_params.error());
         out.params = std::move(query_params.value());
         if (auto error = check_params(out.params, out.source)) return std::move(*error);
-        auto read = read_uploaded_mesh(request, media_type, limits);
+        auto read = read_uploaded_mesh(request, media_type, limits, rules);
         if (!read) return std::move(read.error());
         out.mesh = std::move(read.value());
     }
     out.decoded = Clock::now();
-    if (auto error = check_mesh_input(out.mesh, limits, out.source)) return std::move(*error);
+    if (auto error = check_mesh_input(out.mesh, limits, out.source, rules)) return std::move(*error);
     return out;
 }
 

@@ -62,7 +62,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     // budget and validity
     auto decoded = decode_mesh_request<SubdivideParams>(
         request, limits, decode_subdivide_request, params_from_query,
-        [&](const SubdivideParams& params, Source source) { return check_params(params, limits, source); });
+        [&](const SubdivideParams& params, Source source) { return check_params(params, limits, source); },
+        MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
     auto& [source, params, mesh, t_decoded] = decoded.value();
 

@@ -15,6 +15,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>  // JDEBUG
+#include <cstdlib>  // JDEBUG
 #include <numbers>
 #include <string>
 #include <unordered_map>
@@ -49,6 +51,10 @@ Vec3 unit(const Vec3& v) {
 GeoError cancelled() { return make_error(ErrorCode::Cancelled, "remeshing was cancelled"); }
 
 enum VertexKind : std::uint8_t { kFree = 0, kCurve = 1, kCorner = 2 };
+// e_constrained_: 0, or why the edge is constrained (operations copy the flag, only its being non-zero matters then)
+enum ConstraintKind : std::uint8_t { kBoundaryEdge = 1, kFeatureEdge = 2 };
+// Loose or closed chains of feature edges shorter than this many L are noise, not creases (prune_features).
+constexpr double kMinFeatureLength = 2.0;
 
 class Remesher {
 public:
@@ -136,24 +142,23 @@ public:
 
     //! Marks boundary (keep_boundary) and sharp feature edges constrained and classifies vertices; builds the
     //! projection targets from the input.
-    void set_constraints(const PolygonMesh& input, const RemeshOptions& options) {
+    void set_constraints(const PolygonMesh& input, const RemeshOptions& options, double length) {
         const double cos_feature = std::cos(options.feature_angle_degrees * std::numbers::pi / 180.0);
         const bool features = options.feature_angle_degrees < 180.0;
         for (Index e = 0; e < e_dead_.size(); ++e) {
             const Index h = 2 * e, o = 2 * e + 1;
             if (h_face_[h] == kNone || h_face_[o] == kNone) {
                 ++boundary_edges_;
-                if (options.keep_boundary) e_constrained_[e] = 1;
+                if (options.keep_boundary) e_constrained_[e] = kBoundaryEdge;
                 continue;
             }
             if (!features) continue;
             const Index fa = h_face_[h], fb = h_face_[o];
             if (face_thinness(fa) < kThin || face_thinness(fb) < kThin) continue;  // no reliable normal
-            if (dot(unit(face_normal(fa)), unit(face_normal(fb))) < cos_feature) {
-                e_constrained_[e] = 1;
-                ++feature_edges_;
-            }
+            if (dot(unit(face_normal(fa)), unit(face_normal(fb))) < cos_feature) e_constrained_[e] = kFeatureEdge;
         }
+        if (features) prune_features(kMinFeatureLength * length);
+        for (const std::uint8_t c : e_constrained_) feature_edges_ += c == kFeatureEdge;
         for (Index v = 0; v < pos_.size(); ++v) {
             if (v_dead_[v]) continue;
             Index n = 0;
@@ -194,6 +199,106 @@ public:
         if (curves.face_count() > 0) curves_ = std::make_unique<SurfaceDistance>(curves);
     }
 
+    //! Drops the feature edges that look like noise rather than a crease (a scan's dihedral noise at the default
+    //! feature angle): chains of feature edges (between vertices not on exactly two constrained edges) that are
+    //! shorter than min_length and either hang loose (an end on no other constrained edge) or close on themselves,
+    //! repeatedly, since dropping one may leave another loose; then whole groups of connected feature edges shorter than
+    //! min_length in all. Chains between two junctions (a cube's edges between its corners) stay whatever their length.
+    void prune_features(double min_length) {
+        const std::size_t nv = pos_.size();
+        std::vector<Index> degree(nv, 0);
+        for (Index e = 0; e < e_dead_.size(); ++e)
+            if (e_constrained_[e]) ++degree[h_to_[2 * e]], ++degree[h_to_[2 * e + 1]];
+        std::vector<Index> chain;
+        // the other constrained edge at a vertex on exactly two, seen from halfedge h arriving there
+        auto next_constrained = [&](Index h) {
+            Index found = kNone;
+            for_out(h_to_[h], [&](Index g) {
+                if (e_constrained_[g >> 1] && (g >> 1) != (h >> 1)) found = g;
+            });
+            return found;
+        };
+        std::vector<std::uint32_t> seen(e_dead_.size(), 0);
+        std::uint32_t pass = 0;
+        for (bool changed = true; changed;) {
+            changed = false;
+            ++pass;
+            for (Index e = 0; e < e_dead_.size(); ++e) {
+                if (e_constrained_[e] != kFeatureEdge || seen[e] == pass) continue;
+                // walk back to the start of e's chain (or around its loop), then forward along it
+                Index start = 2 * e;
+                bool closed = false;
+                for (Index h = start;;) {
+                    const Index from_v = h_to_[h ^ 1];
+                    if (degree[from_v] != 2) break;
+                    const Index g = next_constrained(h ^ 1);  // leaves from_v backwards, along the other edge
+                    if (g == kNone || e_constrained_[g >> 1] != kFeatureEdge) break;
+                    h = g ^ 1;  // arrives at from_v
+                    if ((h >> 1) == e) {
+                        closed = true;
+                        break;
+                    }
+                    start = h;
+                }
+                chain.clear();
+                double total = 0;
+                Index h = start;
+                for (;;) {
+                    chain.push_back(h >> 1);
+                    seen[h >> 1] = pass;
+                    total += std::sqrt(length2(h >> 1));
+                    const Index v = h_to_[h];
+                    if (degree[v] != 2) break;
+                    const Index g = next_constrained(h);
+                    if (g == kNone || e_constrained_[g >> 1] != kFeatureEdge || (g >> 1) == (start >> 1)) break;
+                    h = g;
+                }
+                const bool loose = degree[h_to_[start ^ 1]] == 1 || degree[h_to_[h]] == 1;
+                if ((loose || closed) && total < min_length) {
+                    for (const Index c : chain) {
+                        e_constrained_[c] = 0;
+                        --degree[h_to_[2 * c]], --degree[h_to_[2 * c + 1]];
+                    }
+                    changed = true;
+                }
+            }
+        }
+        // connected groups of feature edges (through any vertex) shorter than min_length in all
+        std::vector<Index> group(nv, kNone), stack;
+        std::vector<double> group_length;
+        for (Index e = 0; e < e_dead_.size(); ++e) {
+            if (e_constrained_[e] != kFeatureEdge || group[h_to_[2 * e]] != kNone) continue;
+            const auto id = static_cast<Index>(group_length.size());
+            group_length.push_back(0);
+            group[h_to_[2 * e]] = id;
+            stack.assign(1, h_to_[2 * e]);
+            while (!stack.empty()) {
+                const Index v = stack.back();
+                stack.pop_back();
+                for_out(v, [&](Index g) {
+                    if (e_constrained_[g >> 1] != kFeatureEdge) return;
+                    if (v < h_to_[g]) group_length[id] += std::sqrt(length2(g >> 1));
+                    if (group[h_to_[g]] == kNone) {
+                        group[h_to_[g]] = id;
+                        stack.push_back(h_to_[g]);
+                    }
+                });
+            }
+        }
+        for (Index e = 0; e < e_dead_.size(); ++e)
+            if (e_constrained_[e] == kFeatureEdge && group_length[group[h_to_[2 * e]]] < min_length)
+                e_constrained_[e] = 0;
+        if (std::getenv("J_DEBUG")) {  // JDEBUG
+            for (std::size_t g = 0; g < group_length.size(); ++g) {  // JDEBUG
+                if (group_length[g] < min_length) continue;  // JDEBUG
+                std::size_t n = 0, corners = 0; Vec3 at;  // JDEBUG
+                for (Index e = 0; e < e_dead_.size(); ++e) if (e_constrained_[e] == kFeatureEdge && group[h_to_[2 * e]] == g) { ++n; at = pos_[h_to_[2*e]]; }  // JDEBUG
+                for (Index v = 0; v < nv; ++v) if (group[v] == g && degree[v] != 2) ++corners;  // JDEBUG
+                std::fprintf(stderr, "group %zu: %zu edges, length %.4g (%.2f L), %zu non-2 vertices, at %.3f %.3f %.3f\n", g, n, group_length[g], group_length[g] / min_length * 2, corners, at.x, at.y, at.z);  // JDEBUG
+            }  // JDEBUG
+        }  // JDEBUG
+    }
+
     std::size_t feature_edges() const { return feature_edges_; }
     std::size_t boundary_edges() const { return boundary_edges_; }
 
@@ -209,6 +314,17 @@ public:
             if (auto s = relax(options); !s) return s;
         }
         if (options.iterations > 0) remove_caps();
+        if (std::getenv("J_DEBUG")) {  // JDEBUG
+            for (Index f = 0; f < f_h_.size(); ++f) {  // JDEBUG
+                if (f_dead_[f]) continue;  // JDEBUG
+                auto t = face_vertices(f);  // JDEBUG
+                double mn = 1e9; for (int j = 0; j < 3; ++j) { Vec3 u = pos_[t[(j+1)%3]] - pos_[t[j]], w = pos_[t[(j+2)%3]] - pos_[t[j]]; mn = std::min(mn, std::atan2(norm(cross(u, w)), dot(u, w)) * 180 / std::numbers::pi); }  // JDEBUG
+                if (mn > 15) continue;  // JDEBUG
+                std::fprintf(stderr, "bad face %.2f deg at %.3f %.3f %.3f: kinds %d %d %d cdeg %u %u %u val %u %u %u, edges", mn, pos_[t[0]].x, pos_[t[0]].y, pos_[t[0]].z, v_kind_[t[0]], v_kind_[t[1]], v_kind_[t[2]], constrained_degree(t[0]), constrained_degree(t[1]), constrained_degree(t[2]), valence(t[0]), valence(t[1]), valence(t[2]));  // JDEBUG
+                Index hh = f_h_[f]; for (int j = 0; j < 3; ++j, hh = h_next_[hh]) std::fprintf(stderr, " %.3f%s", std::sqrt(length2(hh >> 1)) / length, e_constrained_[hh >> 1] ? "c" : "");  // JDEBUG
+                std::fprintf(stderr, "\n");  // JDEBUG
+            }  // JDEBUG
+        }  // JDEBUG
         return Ok{};
     }
 
@@ -276,6 +392,11 @@ private:
             f(h);
             h = next;
         } while (h != h0);
+    }
+    Index constrained_degree(Index v) const {
+        Index n = 0;
+        for_out(v, [&](Index h) { n += e_constrained_[h >> 1] != 0; });
+        return n;
     }
     Index valence(Index v) const {
         Index n = 0;
@@ -447,9 +568,14 @@ private:
     }
 
     //! Constraints and geometry for removing from(h) into to(h), which stays where it is.
+    //! A corner goes only along a constrained edge (shorter than 4/5 L, as every edge collapse_short_edges tries) into
+    //! another corner, or when it is the loose end of a feature curve: corners that close are noise (a scan's ragged
+    //! creases), and keeping both would keep a needle between them.
     bool collapse_ok(Index h, double high2) {
         const Index v0 = from(h), v1 = h_to_[h];
-        if (v_kind_[v0] == kCorner) return false;
+        if (v_kind_[v0] == kCorner &&
+            !(e_constrained_[h >> 1] && (v_kind_[v1] == kCorner || constrained_degree(v0) == 1)))
+            return false;
         if (v_kind_[v0] == kCurve && !e_constrained_[h >> 1]) return false;
         bool ok = true;
         for_out(v0, [&](Index g) {
@@ -503,6 +629,15 @@ private:
         if (fo != kNone && h_next_[h_next_[on]] == on) remove_loop(on);
     }
 
+    //! collapse(h); a corner removed leaves its corner where it went (a curve vertex that takes in a loose end or a
+    //! junction is one).
+    void collapse_keeping_corners(Index h) {
+        const bool corner = v_kind_[from(h)] == kCorner;
+        const Index v1 = h_to_[h];
+        collapse(h);
+        if (corner) v_kind_[v1] = kCorner;
+    }
+
     Status collapse_short_edges(double low, double high, const RemeshOptions& options) {
         const double low2 = low * low, high2 = high * high;
         for (Index e = 0; e < e_dead_.size(); ++e) {
@@ -511,10 +646,13 @@ private:
             const Index h = 2 * e, o = 2 * e + 1;  // h removes from(h) = to(o)
             const Index va = h_to_[o], vb = h_to_[h];
             // prefer removing the less constrained vertex, then the one of lower valence
-            bool a_first = v_kind_[va] != v_kind_[vb] ? v_kind_[va] < v_kind_[vb] : valence(va) <= valence(vb);
+            const auto key = [&](Index v) {
+                return std::array<Index, 3>{v_kind_[v], v_kind_[v] == kCorner ? constrained_degree(v) : 0, valence(v)};
+            };
+            const bool a_first = key(va) <= key(vb);
             const Index first = a_first ? h : o, second = a_first ? o : h;
-            if (collapse_ok(first, high2)) collapse(first);
-            else if (collapse_ok(second, high2)) collapse(second);
+            if (collapse_ok(first, high2)) collapse_keeping_corners(first);
+            else if (collapse_ok(second, high2)) collapse_keeping_corners(second);
         }
         return Ok{};
     }
@@ -802,7 +940,7 @@ Result<RemeshResult> remesh(const PolygonMesh& mesh, const RemeshOptions& option
 
     Remesher remesher;
     if (auto built = remesher.build(input); !built) return built.error();
-    remesher.set_constraints(input, options);
+    remesher.set_constraints(input, options, length);
     result.feature_edges = remesher.feature_edges();
     result.boundary_edges = remesher.boundary_edges();
     if (auto ran = remesher.run(options, length); !ran) return ran.error();

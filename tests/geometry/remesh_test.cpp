@@ -343,6 +343,23 @@ TEST(Remesh, ScannedBunny) {
     EXPECT_LT(*r->hausdorff, 0.6 * r->target_edge_length);
 }
 
+TEST(Remesh, ScannedBunnyAtTheDefaultFeatureAngle) {
+    const PolygonMesh input = bunny();
+    ASSERT_GT(input.face_count(), 0u);
+    for (const bool own_density : {false, true}) {
+        RemeshOptions options;  // feature angle 60 degrees
+        if (!own_density) {
+            options.relative_edge_length = 0.01;
+            options.iterations = 5;
+        }
+        auto r = remesh(input, options);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        print(*r, own_density ? "bunny, defaults" : "bunny, 60 degrees");
+        std::printf("  feature edges %zu\n", r->feature_edges);
+        expect_clean(*r, input, "bunny, 60 degrees");
+    }
+}
+
 TEST(Remesh, RefusesBadInput) {
     RemeshOptions options;
     options.target_edge_length = -1;

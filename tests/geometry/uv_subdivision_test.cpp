@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -148,6 +150,38 @@ TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
         ++checked;
     }
     EXPECT_GE(checked, 100);
+}
+
+
+// TEMPORARY diagnostics (engineer I)
+TEST(UvSubdivision, DiagGaps) {
+    const char* env = std::getenv("UV_DIAG");
+    if (!env) GTEST_SKIP();
+    const std::string spec = env;  // shape:mode:levels
+    const auto c1 = spec.find(':'), c2 = spec.rfind(':');
+    const std::string name = spec.substr(0, c1);
+    const int mode = std::stoi(spec.substr(c1 + 1, c2 - c1 - 1)), levels = std::stoi(spec.substr(c2 + 1));
+    const fs::path dir = fs::path(SURFACED_SHARED_DIR) / "data" / "opensubdiv-shapes";
+    auto mesh = read_obj(testing::read_file((dir / (name + ".obj")).string()));
+    ASSERT_TRUE(mesh.ok());
+    SubdivisionOptions options;
+    options.scheme = name.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
+    options.levels = levels;
+    options.uv_interpolation = kModes[mode];
+    auto ours = subdivide(*mesh, options);
+    ASSERT_TRUE(ours.ok());
+    const PolygonMesh ref = testing::osd_subdivide(*mesh, options);
+    std::printf("dev %g\n", uv_deviation(*ours, ref));
+    int shown = 0;
+    for (std::size_t i = 0; i < ref.uv_indices.size() && shown < 20; ++i) {
+        const Vec2 a = ours->uvs[ours->uv_indices[i]], b = ref.uvs[ref.uv_indices[i]];
+        const double d = std::max(std::abs(a.x - b.x), std::abs(a.y - b.y));
+        if (d > 1e-9) {
+            ++shown;
+            std::printf("corner %zu vertex %u (base nv %zu) ours (%.6f %.6f) ref (%.6f %.6f)\n", i, ref.face_indices[i],
+                        mesh->vertex_count(), a.x, a.y, b.x, b.y);
+        }
+    }
 }
 
 }  // namespace
