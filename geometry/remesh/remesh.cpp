@@ -53,8 +53,13 @@ GeoError cancelled() { return make_error(ErrorCode::Cancelled, "remeshing was ca
 enum VertexKind : std::uint8_t { kFree = 0, kCurve = 1, kCorner = 2 };
 // e_constrained_: 0, or why the edge is constrained (operations copy the flag, only its being non-zero matters then)
 enum ConstraintKind : std::uint8_t { kBoundaryEdge = 1, kFeatureEdge = 2 };
+// Bounds of the working target edge length that run() steers the mean edge length to L with, in L.
+constexpr double kMinWorking = 0.8, kMaxWorking = 1.25;
+// Within this share of L the mean edge length is left alone; kFinalRelaxations rounds of flips and relaxation end run().
+constexpr double kSettled = 0.02;
+constexpr int kFinalRelaxations = 3;
 // Loose or closed chains of feature edges shorter than this many L are noise, not creases (prune_features).
-constexpr double kMinFeatureLength = 2.0;
+constexpr double kMinFeatureLength = 5.0;
 
 class Remesher {
 public:
@@ -157,7 +162,7 @@ public:
             if (face_thinness(fa) < kThin || face_thinness(fb) < kThin) continue;  // no reliable normal
             if (dot(unit(face_normal(fa)), unit(face_normal(fb))) < cos_feature) e_constrained_[e] = kFeatureEdge;
         }
-        if (features) prune_features(kMinFeatureLength * length);
+        if (features) prune_features(kMinFeatureLength * length, std::max(cos_feature, kMaxTurnCos));
         for (const std::uint8_t c : e_constrained_) feature_edges_ += c == kFeatureEdge;
         for (Index v = 0; v < pos_.size(); ++v) {
             if (v_dead_[v]) continue;
@@ -204,19 +209,32 @@ public:
     //! shorter than min_length and either hang loose (an end on no other constrained edge) or close on themselves,
     //! repeatedly, since dropping one may leave another loose; then whole groups of connected feature edges shorter than
     //! min_length in all. Chains between two junctions (a cube's edges between its corners) stay whatever their length.
-    void prune_features(double min_length) {
+    void prune_features(double min_length, double corner_cos) {
         const std::size_t nv = pos_.size();
         std::vector<Index> degree(nv, 0);
         for (Index e = 0; e < e_dead_.size(); ++e)
             if (e_constrained_[e]) ++degree[h_to_[2 * e]], ++degree[h_to_[2 * e + 1]];
         std::vector<Index> chain;
-        // the other constrained edge at a vertex on exactly two, seen from halfedge h arriving there
+        // the other constrained edge at a vertex on exactly two, seen from halfedge h arriving there, when the curve
+        // goes on there without turning into a corner
         auto next_constrained = [&](Index h) {
+            const Index v = h_to_[h];
             Index found = kNone;
-            for_out(h_to_[h], [&](Index g) {
+            if (degree[v] != 2) return found;
+            for_out(v, [&](Index g) {
                 if (e_constrained_[g >> 1] && (g >> 1) != (h >> 1)) found = g;
             });
-            return found;
+            if (found == kNone || e_constrained_[found >> 1] != kFeatureEdge) return kNone;
+            const double c = dot(unit(pos_[h_to_[h ^ 1]] - pos_[v]), unit(pos_[h_to_[found]] - pos_[v]));
+            return -c < corner_cos ? kNone : found;
+        };
+        // a chain end that holds it: a junction of three or more constrained edges, or where it runs into the
+        // boundary (a loose end or a sharp turn does not)
+        auto holds = [&](Index v) {
+            if (degree[v] >= 3) return true;
+            bool boundary = false;
+            for_out(v, [&](Index g) { boundary = boundary || e_constrained_[g >> 1] == kBoundaryEdge; });
+            return boundary;
         };
         std::vector<std::uint32_t> seen(e_dead_.size(), 0);
         std::uint32_t pass = 0;
@@ -228,17 +246,14 @@ public:
                 // walk back to the start of e's chain (or around its loop), then forward along it
                 Index start = 2 * e;
                 bool closed = false;
-                for (Index h = start;;) {
-                    const Index from_v = h_to_[h ^ 1];
-                    if (degree[from_v] != 2) break;
-                    const Index g = next_constrained(h ^ 1);  // leaves from_v backwards, along the other edge
-                    if (g == kNone || e_constrained_[g >> 1] != kFeatureEdge) break;
-                    h = g ^ 1;  // arrives at from_v
-                    if ((h >> 1) == e) {
+                for (;;) {
+                    const Index g = next_constrained(start ^ 1);  // leaves from(start), away from start
+                    if (g == kNone) break;
+                    if ((g >> 1) == e) {
                         closed = true;
                         break;
                     }
-                    start = h;
+                    start = g ^ 1;
                 }
                 chain.clear();
                 double total = 0;
@@ -247,20 +262,16 @@ public:
                     chain.push_back(h >> 1);
                     seen[h >> 1] = pass;
                     total += std::sqrt(length2(h >> 1));
-                    const Index v = h_to_[h];
-                    if (degree[v] != 2) break;
                     const Index g = next_constrained(h);
-                    if (g == kNone || e_constrained_[g >> 1] != kFeatureEdge || (g >> 1) == (start >> 1)) break;
+                    if (g == kNone || (g >> 1) == (start >> 1)) break;
                     h = g;
                 }
-                const bool loose = degree[h_to_[start ^ 1]] == 1 || degree[h_to_[h]] == 1;
-                if ((loose || closed) && total < min_length) {
-                    for (const Index c : chain) {
-                        e_constrained_[c] = 0;
-                        --degree[h_to_[2 * c]], --degree[h_to_[2 * c + 1]];
-                    }
-                    changed = true;
+                if (total >= min_length || (!closed && holds(h_to_[start ^ 1]) && holds(h_to_[h]))) continue;
+                for (const Index c : chain) {
+                    e_constrained_[c] = 0;
+                    --degree[h_to_[2 * c]], --degree[h_to_[2 * c + 1]];
                 }
+                changed = true;
             }
         }
         // connected groups of feature edges (through any vertex) shorter than min_length in all
@@ -304,12 +315,28 @@ public:
 
     // ---- the remeshing loop -----------------------------------------------------------------------------------------
 
+    //! The (4/5, 4/3) band leaves a mesh stable whose edges average anywhere in it (longest-edge bisection of a coarse
+    //! grid lands at 1.13 L, of a finer one at 0.88 L), so the thresholds follow a working target that is corrected
+    //! after every iteration by the ratio of L to the mean edge length reached, within [kMinWorking, kMaxWorking] L.
     Status run(const RemeshOptions& options, double length) {
-        const double high = 4.0 / 3.0 * length, low = 4.0 / 5.0 * length;
+        double working = length;
         for (int it = 0; it < options.iterations; ++it) {
             if (options.cancel.requested()) return cancelled();
+            const double high = 4.0 / 3.0 * working, low = 4.0 / 5.0 * working;
             if (auto s = split_long_edges(high, options); !s) return s;
             if (auto s = collapse_short_edges(low, high, options); !s) return s;
+            if (auto s = equalize_valences(options); !s) return s;
+            if (auto s = relax(options); !s) return s;
+            if (const double mean = mean_live_edge_length(); mean > 0 && std::abs(mean - length) > (std::getenv("J_SETTLED") ? std::atof(std::getenv("J_SETTLED")) : kSettled) * length)
+                working = std::clamp(working * length / mean, kMinWorking * length, kMaxWorking * length);
+        }
+        // the last corrections leave fresh splits and collapses: relax them without changing the vertex count
+        const int jfinal = std::getenv("J_FINAL") ? std::atoi(std::getenv("J_FINAL")) : kFinalRelaxations;  // JDEBUG
+        const double jsettled = std::getenv("J_SETTLED") ? std::atof(std::getenv("J_SETTLED")) : kSettled;  // JDEBUG
+        (void)jsettled;  // JDEBUG
+        for (int it = 0; it < std::min(options.iterations, jfinal); ++it) {
+            if (options.cancel.requested()) return cancelled();
+            if (std::getenv("J_C")) { if (auto s = collapse_short_edges(std::atof(std::getenv("J_C")) * length, 4.0 / 3.0 * length, options); !s) return s; }  // JDEBUG
             if (auto s = equalize_valences(options); !s) return s;
             if (auto s = relax(options); !s) return s;
         }
@@ -319,9 +346,10 @@ public:
                 if (f_dead_[f]) continue;  // JDEBUG
                 auto t = face_vertices(f);  // JDEBUG
                 double mn = 1e9; for (int j = 0; j < 3; ++j) { Vec3 u = pos_[t[(j+1)%3]] - pos_[t[j]], w = pos_[t[(j+2)%3]] - pos_[t[j]]; mn = std::min(mn, std::atan2(norm(cross(u, w)), dot(u, w)) * 180 / std::numbers::pi); }  // JDEBUG
-                if (mn > 15) continue;  // JDEBUG
+                if (mn > 28) continue;  // JDEBUG
                 std::fprintf(stderr, "bad face %.2f deg at %.3f %.3f %.3f: kinds %d %d %d cdeg %u %u %u val %u %u %u, edges", mn, pos_[t[0]].x, pos_[t[0]].y, pos_[t[0]].z, v_kind_[t[0]], v_kind_[t[1]], v_kind_[t[2]], constrained_degree(t[0]), constrained_degree(t[1]), constrained_degree(t[2]), valence(t[0]), valence(t[1]), valence(t[2]));  // JDEBUG
                 Index hh = f_h_[f]; for (int j = 0; j < 3; ++j, hh = h_next_[hh]) std::fprintf(stderr, " %.3f%s", std::sqrt(length2(hh >> 1)) / length, e_constrained_[hh >> 1] ? "c" : "");  // JDEBUG
+                hh = f_h_[f]; for (int j = 0; j < 3; ++j, hh = h_next_[hh]) std::fprintf(stderr, " [ok %d/%d topo %d/%d move %d/%d]", collapse_ok(hh, 16.0/9*length*length), collapse_ok(hh^1, 16.0/9*length*length), collapse_topology_ok(hh), collapse_topology_ok(hh^1), move_ok(from(hh), pos_[h_to_[hh]], v_ref_[h_to_[hh]], h_to_[hh]), move_ok(from(hh^1), pos_[h_to_[hh^1]], v_ref_[h_to_[hh^1]], h_to_[hh^1]));  // JDEBUG
                 std::fprintf(stderr, "\n");  // JDEBUG
             }  // JDEBUG
         }  // JDEBUG
@@ -392,6 +420,13 @@ private:
             f(h);
             h = next;
         } while (h != h0);
+    }
+    double mean_live_edge_length() const {
+        double sum = 0;
+        std::size_t n = 0;
+        for (Index e = 0; e < e_dead_.size(); ++e)
+            if (!e_dead_[e]) sum += std::sqrt(length2(e)), ++n;
+        return n ? sum / static_cast<double>(n) : 0.0;
     }
     Index constrained_degree(Index v) const {
         Index n = 0;

@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -113,18 +111,28 @@ TEST(UvSubdivision, CornersStayPutWhereTheModeKeepsThem) {
     }
 }
 
-// Shape/mode pairs we do not match yet. Where a UV seam meets mesh creases, OpenSubdiv smooths the seam value as a
-// crease along the seam whatever interior mesh creases it has (and, with corners-plus1/2, makes the other value at a
-// two-value vertex "dependent-sharp" on a semi-sharp one); our value-mesh rules treat those creases as sharp edges
-// of the UV region. catmark_fan has a non-manifold vertex in UV space. Everything else must match.
-bool known_uv_gap(const std::string& shape, UvInterpolation mode) {
-    const bool plus = mode == UvInterpolation::CornersPlus1 || mode == UvInterpolation::CornersPlus2;
-    if (shape == "catmark_fan") return mode != UvInterpolation::Boundaries && mode != UvInterpolation::All;
-    if (shape == "catmark_bishop" || shape == "catmark_car" || shape == "catmark_rook") return mode == UvInterpolation::None;
-    for (const char* name : {"loop_cube_creases1", "loop_cubes_infsharp", "loop_cubes_semisharp", "loop_icos_infsharp",
-                             "loop_icos_semisharp"})
-        if (shape == name) return plus;
-    return false;
+TEST(UvSubdivision, DependentSharpValueDecaysWithItsSibling) {
+    // the seam vertex (2, 1) of the seamed grid has two values; a semi-sharp crease inside the left one's span makes
+    // OpenSubdiv keep the right one a corner too (corners-plus1/2, "dependent-sharp") until the crease decays, then
+    // blend it into a crease with the left one's fractional weight: sharpness below, at and past the levels
+    for (const double sharpness : {0.5, 1.0, 1.5, 2.7})
+        for (const CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
+            PolygonMesh mesh = seamed_grid();
+            mesh.tags.creases.push_back({6, 7, sharpness});
+            mesh.tags.creases.push_back({11, 12, sharpness * 0.5});  // and a second seam vertex, other sharpness
+            for (UvInterpolation mode : kModes)
+                for (int levels = 1; levels <= 3; ++levels) {
+                    SubdivisionOptions options;
+                    options.levels = levels;
+                    options.uv_interpolation = mode;
+                    options.crease_method = method;
+                    auto ours = subdivide(mesh, options);
+                    ASSERT_TRUE(ours.ok()) << ours.error().message;
+                    const PolygonMesh ref = testing::osd_subdivide(mesh, options);
+                    EXPECT_LE(uv_deviation(*ours, ref), 1e-9)
+                        << "sharpness " << sharpness << " " << mode_name(mode) << " level " << levels;
+                }
+        }
 }
 
 TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
@@ -137,7 +145,6 @@ TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
         if (!mesh.ok() || !mesh->has_uvs()) continue;  // repeated-vertex shapes are covered (skipped) elsewhere
         for (UvInterpolation mode : kModes)
             for (int levels = 1; levels <= 2; ++levels) {
-                if (known_uv_gap(name, mode)) continue;
                 SubdivisionOptions options;
                 options.scheme = name.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
                 options.levels = levels;
@@ -152,37 +159,6 @@ TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
     EXPECT_GE(checked, 100);
 }
 
-
-// TEMPORARY diagnostics (engineer I)
-TEST(UvSubdivision, DiagGaps) {
-    const char* env = std::getenv("UV_DIAG");
-    if (!env) GTEST_SKIP();
-    const std::string spec = env;  // shape:mode:levels
-    const auto c1 = spec.find(':'), c2 = spec.rfind(':');
-    const std::string name = spec.substr(0, c1);
-    const int mode = std::stoi(spec.substr(c1 + 1, c2 - c1 - 1)), levels = std::stoi(spec.substr(c2 + 1));
-    const fs::path dir = fs::path(SURFACED_SHARED_DIR) / "data" / "opensubdiv-shapes";
-    auto mesh = read_obj(testing::read_file((dir / (name + ".obj")).string()));
-    ASSERT_TRUE(mesh.ok());
-    SubdivisionOptions options;
-    options.scheme = name.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
-    options.levels = levels;
-    options.uv_interpolation = kModes[mode];
-    auto ours = subdivide(*mesh, options);
-    ASSERT_TRUE(ours.ok());
-    const PolygonMesh ref = testing::osd_subdivide(*mesh, options);
-    std::printf("dev %g\n", uv_deviation(*ours, ref));
-    int shown = 0;
-    for (std::size_t i = 0; i < ref.uv_indices.size() && shown < 20; ++i) {
-        const Vec2 a = ours->uvs[ours->uv_indices[i]], b = ref.uvs[ref.uv_indices[i]];
-        const double d = std::max(std::abs(a.x - b.x), std::abs(a.y - b.y));
-        if (d > 1e-9) {
-            ++shown;
-            std::printf("corner %zu vertex %u (base nv %zu) ours (%.6f %.6f) ref (%.6f %.6f)\n", i, ref.face_indices[i],
-                        mesh->vertex_count(), a.x, a.y, b.x, b.y);
-        }
-    }
-}
 
 }  // namespace
 }  // namespace surfaced

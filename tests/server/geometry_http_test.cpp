@@ -1,14 +1,18 @@
 // POST /remesh, /implicit/mesh, /implicit/query and /pointcloud through the real server on an ephemeral loopback
-// port: status, media type, a decoded-body invariant, and one problem+json naming its field for each.
+// port: status, media type, a decoded-body invariant, and one problem+json naming its field for each. And every JSON
+// request example of the OpenAPI document (`example` and named `examples`) sent to the live server.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "api/openapi.h"
 #include "geometry/io/gltf.h"
 #include "geometry/io/pointcloud_io.h"
 #include "tests/support/http_test_server.h"
@@ -150,6 +154,32 @@ TEST_F(GeometryHttp, PointcloudSampledSphereWithOutwardNormals) {
 
     expect_http_problem(client().Post("/pointcloud", R"({"points": 3})", "application/json"), 400, "invalid_field",
                         "points");
+}
+
+// The document's request examples are what users copy: each one, sent over HTTP as documented, must succeed.
+TEST_F(GeometryHttp, EveryOpenApiRequestExampleSucceedsOnTheLiveServer) {
+    const Json doc = Json::parse(api::openapi_document());
+    int sent = 0;
+    for (const auto& [path, item] : doc["paths"].items())
+        for (const auto& [method, operation] : item.items()) {
+            if (method != "post" || !operation.contains("requestBody")) continue;
+            const auto& content = operation["requestBody"]["content"];
+            if (!content.contains("application/json")) continue;
+            const auto& media = content["application/json"];
+            std::vector<std::pair<std::string, std::string>> bodies;
+            if (media.contains("example")) bodies.emplace_back("example", media["example"].dump());
+            if (media.contains("examples"))
+                for (const auto& [name, entry] : media["examples"].items())
+                    if (entry.contains("value")) bodies.emplace_back(name, entry["value"].dump());
+            for (const auto& [name, body] : bodies) {
+                auto res = client().Post(path, body, "application/json");
+                ASSERT_TRUE(res) << path << " (" << name << "): " << httplib::to_string(res.error());
+                EXPECT_EQ(res->status, 200) << path << " (" << name << "): " << res->body;
+                EXPECT_FALSE(res->body.empty()) << path << " (" << name << ")";
+                ++sent;
+            }
+        }
+    EXPECT_GE(sent, 10);
 }
 
 }  // namespace
