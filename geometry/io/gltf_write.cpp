@@ -11,7 +11,7 @@
 
 #include "geometry/io/draco_codec.h"
 #include "geometry/io/gltf.h"
-#include "geometry/io/tinygltf_config.h"
+#include "geometry/io/gltf_model.h"
 #include "geometry/mesh/normals.h"
 #include "geometry/mesh/triangulate.h"
 
@@ -268,43 +268,17 @@ Result<std::string> write_glb_unchecked(const PolygonMesh& mesh, const GltfOptio
     } else {
         add_plain_primitive(model, primitive, data);
     }
-    // The BIN chunk is padded to 4 bytes anyway; padding the buffer too keeps byteLength equal to the chunk.
-    model.buffers[0].data.resize((model.buffers[0].data.size() + 3) & ~std::size_t{3}, 0);
-    // GLB lengths are uint32; the JSON part is a few hundred bytes, 1 MiB leaves ample room for it.
-    if (model.buffers[0].data.size() > std::numeric_limits<std::uint32_t>::max() - (std::size_t{1} << 20))
-        return make_error(ErrorCode::BudgetExceeded, "GLB would exceed 4 GiB (" +
-                                                         std::to_string(model.buffers[0].data.size()) + " bytes of data)");
-
+    if (Status s = gltf_detail::pad_and_check_buffer(model); !s) return s.error();
     tinygltf::Mesh gltf_mesh;
     gltf_mesh.primitives.push_back(std::move(primitive));
-    model.meshes.push_back(std::move(gltf_mesh));
-    tinygltf::Node node;
-    node.mesh = 0;
-    model.nodes.push_back(std::move(node));
-    tinygltf::Scene scene;
-    scene.nodes.push_back(0);
-    model.scenes.push_back(std::move(scene));
-    model.defaultScene = 0;
-
-    // serialize
-    std::ostringstream stream;
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/true) || !stream)
-        return make_error(ErrorCode::Internal, "tinygltf failed to serialise the GLB");
-    return std::move(stream).str();
+    gltf_detail::add_single_mesh_scene(model, std::move(gltf_mesh));
+    return gltf_detail::serialise(model, /*binary=*/true);
 }
 
 }  // namespace
 
 Result<std::string> write_glb(const PolygonMesh& mesh, const GltfOptions& options) {
-    // tinygltf and nlohmann::json report failures by throwing; nothing may cross the public API.
-    try {
-        return write_glb_unchecked(mesh, options);
-    } catch (const std::bad_alloc&) {
-        return make_error(ErrorCode::BudgetExceeded, "out of memory while writing the GLB");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string("GLB writer failed: ") + e.what());
-    }
+    return gltf_detail::guarded([&] { return write_glb_unchecked(mesh, options); }, "GLB");
 }
 
 }  // namespace surfaced

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "geometry/io/draco_points.h"
-#include "geometry/io/tinygltf_config.h"
+#include "geometry/io/gltf_model.h"
 
 namespace surfaced {
 namespace {
@@ -190,38 +190,17 @@ Result<std::string> write_unchecked(const PointCloud& cloud, const PointGlbOptio
     } else {
         add_plain_primitive(model, primitive, cloud, with_normals, with_colors);
     }
-    model.buffers[0].data.resize((model.buffers[0].data.size() + 3) & ~std::size_t{3}, 0);
-    if (model.buffers[0].data.size() > std::numeric_limits<std::uint32_t>::max() - (std::size_t{1} << 20))
-        return make_error(ErrorCode::BudgetExceeded, "GLB would exceed 4 GiB (" +
-                                                         std::to_string(model.buffers[0].data.size()) + " bytes of data)");
+    if (Status s = gltf_detail::pad_and_check_buffer(model); !s) return s.error();
     tinygltf::Mesh mesh;
     mesh.primitives.push_back(std::move(primitive));
-    model.meshes.push_back(std::move(mesh));
-    tinygltf::Node node;
-    node.mesh = 0;
-    model.nodes.push_back(std::move(node));
-    tinygltf::Scene scene;
-    scene.nodes.push_back(0);
-    model.scenes.push_back(std::move(scene));
-    model.defaultScene = 0;
-
-    std::ostringstream stream;
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/true) || !stream)
-        return make_error(ErrorCode::Internal, "tinygltf failed to serialise the GLB");
-    return std::move(stream).str();
+    gltf_detail::add_single_mesh_scene(model, std::move(mesh));
+    return gltf_detail::serialise(model, /*binary=*/true);
 }
 
 }  // namespace
 
 Result<std::string> write_points_glb(const PointCloud& cloud, const PointGlbOptions& options) {
-    try {
-        return write_unchecked(cloud, options);
-    } catch (const std::bad_alloc&) {
-        return make_error(ErrorCode::BudgetExceeded, "out of memory while writing the GLB");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string("GLB writer failed: ") + e.what());
-    }
+    return gltf_detail::guarded([&] { return write_unchecked(cloud, options); }, "GLB");
 }
 
 }  // namespace surfaced

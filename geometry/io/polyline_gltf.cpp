@@ -9,7 +9,7 @@
 #include <limits>
 #include <sstream>
 
-#include "geometry/io/tinygltf_config.h"
+#include "geometry/io/gltf_model.h"
 
 namespace surfaced {
 namespace {
@@ -81,14 +81,7 @@ tinygltf::Model build_model(const std::vector<Polyline>& polylines) {
     view.target = TINYGLTF_TARGET_ARRAY_BUFFER;
     model.bufferViews.push_back(std::move(view));
 
-    model.meshes.push_back(std::move(mesh));
-    tinygltf::Node node;
-    node.mesh = 0;
-    model.nodes.push_back(std::move(node));
-    tinygltf::Scene scene;
-    scene.nodes.push_back(0);
-    model.scenes.push_back(std::move(scene));
-    model.defaultScene = 0;
+    gltf_detail::add_single_mesh_scene(model, std::move(mesh));
     return model;
 }
 
@@ -100,23 +93,12 @@ Result<std::string> write_unchecked(const std::vector<Polyline>& polylines, bool
     if (total > (std::numeric_limits<std::uint32_t>::max() - (std::size_t{1} << 20)) / (3 * sizeof(float)))
         return make_error(ErrorCode::BudgetExceeded, "polylines too large for glTF: " + std::to_string(total) + " points");
     tinygltf::Model model = build_model(polylines);
-    std::ostringstream stream;
-    tinygltf::TinyGLTF writer;
-    // Text: tinygltf embeds buffers without a uri as a base64 data URI, so the .gltf is self-contained.
-    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/binary) || !stream)
-        return make_error(ErrorCode::Internal, "tinygltf failed to serialise the polylines");
-    return std::move(stream).str();
+    // text: the buffer is embedded as a base64 data URI, so the .gltf is self-contained
+    return gltf_detail::serialise(model, binary);
 }
 
 Result<std::string> write_guarded(const std::vector<Polyline>& polylines, bool binary) {
-    // tinygltf and nlohmann::json report failures by throwing; nothing may cross the public API.
-    try {
-        return write_unchecked(polylines, binary);
-    } catch (const std::bad_alloc&) {
-        return make_error(ErrorCode::BudgetExceeded, "out of memory while writing the polylines");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string("polyline glTF writer failed: ") + e.what());
-    }
+    return gltf_detail::guarded([&] { return write_unchecked(polylines, binary); }, "polyline glTF");
 }
 
 }  // namespace

@@ -15,8 +15,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>  // JDEBUG
-#include <cstdlib>  // JDEBUG
 #include <numbers>
 #include <string>
 #include <unordered_map>
@@ -58,6 +56,8 @@ constexpr double kMinWorking = 0.8, kMaxWorking = 1.25;
 // Within this share of L the mean edge length is left alone; kFinalRelaxations rounds of flips and relaxation end run().
 constexpr double kSettled = 0.02;
 constexpr int kFinalRelaxations = 3;
+// A flip that does not worsen valences is made when the angles opposite the edge exceed pi by this (radians).
+constexpr double kDelaunaySlack = 0.05;
 // Loose or closed chains of feature edges shorter than this many L are noise, not creases (prune_features).
 constexpr double kMinFeatureLength = 5.0;
 
@@ -299,15 +299,6 @@ public:
         for (Index e = 0; e < e_dead_.size(); ++e)
             if (e_constrained_[e] == kFeatureEdge && group_length[group[h_to_[2 * e]]] < min_length)
                 e_constrained_[e] = 0;
-        if (std::getenv("J_DEBUG")) {  // JDEBUG
-            for (std::size_t g = 0; g < group_length.size(); ++g) {  // JDEBUG
-                if (group_length[g] < min_length) continue;  // JDEBUG
-                std::size_t n = 0, corners = 0; Vec3 at;  // JDEBUG
-                for (Index e = 0; e < e_dead_.size(); ++e) if (e_constrained_[e] == kFeatureEdge && group[h_to_[2 * e]] == g) { ++n; at = pos_[h_to_[2*e]]; }  // JDEBUG
-                for (Index v = 0; v < nv; ++v) if (group[v] == g && degree[v] != 2) ++corners;  // JDEBUG
-                std::fprintf(stderr, "group %zu: %zu edges, length %.4g (%.2f L), %zu non-2 vertices, at %.3f %.3f %.3f\n", g, n, group_length[g], group_length[g] / min_length * 2, corners, at.x, at.y, at.z);  // JDEBUG
-            }  // JDEBUG
-        }  // JDEBUG
     }
 
     std::size_t feature_edges() const { return feature_edges_; }
@@ -327,32 +318,16 @@ public:
             if (auto s = collapse_short_edges(low, high, options); !s) return s;
             if (auto s = equalize_valences(options); !s) return s;
             if (auto s = relax(options); !s) return s;
-            if (const double mean = mean_live_edge_length(); mean > 0 && std::abs(mean - length) > (std::getenv("J_SETTLED") ? std::atof(std::getenv("J_SETTLED")) : kSettled) * length)
+            if (const double mean = mean_live_edge_length(); mean > 0 && std::abs(mean - length) > kSettled * length)
                 working = std::clamp(working * length / mean, kMinWorking * length, kMaxWorking * length);
         }
         // the last corrections leave fresh splits and collapses: relax them without changing the vertex count
-        const int jfinal = std::getenv("J_FINAL") ? std::atoi(std::getenv("J_FINAL")) : kFinalRelaxations;  // JDEBUG
-        const double jsettled = std::getenv("J_SETTLED") ? std::atof(std::getenv("J_SETTLED")) : kSettled;  // JDEBUG
-        (void)jsettled;  // JDEBUG
-        for (int it = 0; it < std::min(options.iterations, jfinal); ++it) {
+        for (int it = 0; it < std::min(options.iterations, kFinalRelaxations); ++it) {
             if (options.cancel.requested()) return cancelled();
-            if (std::getenv("J_C")) { if (auto s = collapse_short_edges(std::atof(std::getenv("J_C")) * length, 4.0 / 3.0 * length, options); !s) return s; }  // JDEBUG
             if (auto s = equalize_valences(options); !s) return s;
             if (auto s = relax(options); !s) return s;
         }
         if (options.iterations > 0) remove_caps();
-        if (std::getenv("J_DEBUG")) {  // JDEBUG
-            for (Index f = 0; f < f_h_.size(); ++f) {  // JDEBUG
-                if (f_dead_[f]) continue;  // JDEBUG
-                auto t = face_vertices(f);  // JDEBUG
-                double mn = 1e9; for (int j = 0; j < 3; ++j) { Vec3 u = pos_[t[(j+1)%3]] - pos_[t[j]], w = pos_[t[(j+2)%3]] - pos_[t[j]]; mn = std::min(mn, std::atan2(norm(cross(u, w)), dot(u, w)) * 180 / std::numbers::pi); }  // JDEBUG
-                if (mn > 28) continue;  // JDEBUG
-                std::fprintf(stderr, "bad face %.2f deg at %.3f %.3f %.3f: kinds %d %d %d cdeg %u %u %u val %u %u %u, edges", mn, pos_[t[0]].x, pos_[t[0]].y, pos_[t[0]].z, v_kind_[t[0]], v_kind_[t[1]], v_kind_[t[2]], constrained_degree(t[0]), constrained_degree(t[1]), constrained_degree(t[2]), valence(t[0]), valence(t[1]), valence(t[2]));  // JDEBUG
-                Index hh = f_h_[f]; for (int j = 0; j < 3; ++j, hh = h_next_[hh]) std::fprintf(stderr, " %.3f%s", std::sqrt(length2(hh >> 1)) / length, e_constrained_[hh >> 1] ? "c" : "");  // JDEBUG
-                hh = f_h_[f]; for (int j = 0; j < 3; ++j, hh = h_next_[hh]) std::fprintf(stderr, " [ok %d/%d topo %d/%d move %d/%d]", collapse_ok(hh, 16.0/9*length*length), collapse_ok(hh^1, 16.0/9*length*length), collapse_topology_ok(hh), collapse_topology_ok(hh^1), move_ok(from(hh), pos_[h_to_[hh]], v_ref_[h_to_[hh]], h_to_[hh]), move_ok(from(hh^1), pos_[h_to_[hh^1]], v_ref_[h_to_[hh^1]], h_to_[hh^1]));  // JDEBUG
-                std::fprintf(stderr, "\n");  // JDEBUG
-            }  // JDEBUG
-        }  // JDEBUG
         return Ok{};
     }
 
@@ -736,6 +711,20 @@ private:
         if (v_out_[b] == o) v_out_[b] = hn;
     }
 
+    //! Angles opposite edge e (at c and d) adding up to more than pi: the other diagonal is the Delaunay one, and
+    //! flipping to it raises the smallest angle of the pair.
+    bool non_delaunay(Index e) const {
+        const Index a = h_to_[2 * e + 1], b = h_to_[2 * e];
+        const Index c = h_to_[h_next_[2 * e]], d = h_to_[h_next_[2 * e + 1]];
+        auto angle = [&](Index at) {
+            const Vec3 u = pos_[a] - pos_[at], w = pos_[b] - pos_[at];
+            return std::atan2(norm(cross(u, w)), dot(u, w));
+        };
+        return angle(c) + angle(d) > std::numbers::pi + kDelaunaySlack;
+    }
+
+    //! Flips to even out valences (6 inside, 4 on a boundary), and flips that leave the valences as far from ideal
+    //! as before when that makes the pair of faces Delaunay (valence flips alone leave needles where ties block them).
     Status equalize_valences(const RemeshOptions& options) {
         for (Index e = 0; e < e_dead_.size(); ++e) {
             if (e % kPollEvery == 0 && options.cancel.requested()) return cancelled();
@@ -749,7 +738,7 @@ private:
             const int dd = static_cast<int>(valence(d)) - target_valence(d);
             const int before = std::abs(da) + std::abs(db) + std::abs(dc) + std::abs(dd);
             const int after = std::abs(da - 1) + std::abs(db - 1) + std::abs(dc + 1) + std::abs(dd + 1);
-            if (after < before && flip_ok(e)) flip(e);
+            if ((after < before || (after == before && non_delaunay(e))) && flip_ok(e)) flip(e);
         }
         return Ok{};
     }

@@ -111,13 +111,32 @@ TEST(UvSubdivision, CornersStayPutWhereTheModeKeepsThem) {
     }
 }
 
+// The same two charts with shared UV indices inside each chart: the seam vertices have two values each.
+PolygonMesh two_chart_grid() {
+    PolygonMesh m = shapes::grid(4, 3);
+    std::vector<Index> ids(2 * m.positions.size(), kInvalidIndex);
+    for (std::size_t f = 0; f < m.face_count(); ++f)
+        for (Index v : m.face(f)) {
+            const bool right = (f % 4) >= 2;
+            Index& id = ids[2 * v + right];
+            if (id == kInvalidIndex) {
+                const Vec3& p = m.positions[v];
+                id = static_cast<Index>(m.uvs.size());
+                // curved along the seam too, so that corner and crease rules differ there
+                m.uvs.push_back({p.x * 0.8 + (right ? 0.15 : 0.0) + p.y * p.y * 0.2, p.y * 0.9 + p.x * p.x * 0.1});
+            }
+            m.uv_indices.push_back(id);
+        }
+    return m;
+}
+
 TEST(UvSubdivision, DependentSharpValueDecaysWithItsSibling) {
-    // the seam vertex (2, 1) of the seamed grid has two values; a semi-sharp crease inside the left one's span makes
+    // the seam vertex (2, 1) has two values; a semi-sharp crease inside the left one's span makes
     // OpenSubdiv keep the right one a corner too (corners-plus1/2, "dependent-sharp") until the crease decays, then
     // blend it into a crease with the left one's fractional weight: sharpness below, at and past the levels
     for (const double sharpness : {0.5, 1.0, 1.5, 2.7})
         for (const CreaseMethod method : {CreaseMethod::Uniform, CreaseMethod::Chaikin}) {
-            PolygonMesh mesh = seamed_grid();
+            PolygonMesh mesh = two_chart_grid();
             mesh.tags.creases.push_back({6, 7, sharpness});
             mesh.tags.creases.push_back({11, 12, sharpness * 0.5});  // and a second seam vertex, other sharpness
             for (UvInterpolation mode : kModes)
