@@ -50,6 +50,12 @@ struct Quadric {
         return e > 0 ? e : 0;
     }
 
+    //! |det A| <= kSingularDet trace(A)^3 counts as singular. Small on purpose: on a finely tessellated smooth surface
+    //! the tangential eigenvalues are (edge length x curvature)^2 of the normal one, det / trace^3 about 1e-10..1e-7,
+    //! and the exact minimiser there is what keeps vertices on the surface rather than on chords (the caller rejects
+    //! placements far from the edge, which is what an ill-conditioned solve would produce).
+    static constexpr double kSingularDet = 1e-15;
+
     //! Solves A x = -b by Cramer's rule. Returns false when A is (nearly) singular: flat or cylindrical regions,
     //! where the minimum is a plane or a line and the caller must pick a point on it.
     bool minimizer(Vec3& out) const {
@@ -60,7 +66,7 @@ struct Quadric {
         // Relative test: det scales with the cube of the matrix entries. The largest eigenvalue is <= trace, so
         // |det| < 1e-6 trace^3 means the smallest eigenvalue is tiny compared to the largest (ill-conditioned).
         const double trace = a00 + a11 + a22;
-        if (!(trace > 0) || std::fabs(det) <= 1e-6 * trace * trace * trace) return false;
+        if (!(trace > 0) || std::fabs(det) <= kSingularDet * trace * trace * trace) return false;
         const double c11 = a00 * a22 - a02 * a02;
         const double c12 = a01 * a02 - a00 * a12;
         const double c22 = a00 * a11 - a01 * a01;
