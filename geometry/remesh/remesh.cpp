@@ -308,9 +308,13 @@ public:
 
     //! The (4/5, 4/3) band leaves a mesh stable whose edges average anywhere in it (longest-edge bisection of a coarse
     //! grid lands at 1.13 L, of a finer one at 0.88 L), so the thresholds follow a working target that is corrected
-    //! after every iteration by the ratio of L to the mean edge length reached, within [kMinWorking, kMaxWorking] L.
+    //! after every iteration by the ratio of L to the mean edge length reached (unless within kSettled of L), within
+    //! [kMinWorking, kMaxWorking] L; when the mean crosses L the working target goes half way back to L (the mesh
+    //! answers a correction over several iterations, and a pure integral correction would overshoot). Then
+    //! kFinalRelaxations rounds of flips and relaxation smooth the last splits and collapses.
     Status run(const RemeshOptions& options, double length) {
         double working = length;
+        double last_error = 0;
         for (int it = 0; it < options.iterations; ++it) {
             if (options.cancel.requested()) return cancelled();
             const double high = 4.0 / 3.0 * working, low = 4.0 / 5.0 * working;
@@ -318,7 +322,12 @@ public:
             if (auto s = collapse_short_edges(low, high, options); !s) return s;
             if (auto s = equalize_valences(options); !s) return s;
             if (auto s = relax(options); !s) return s;
-            if (const double mean = mean_live_edge_length(); mean > 0 && std::abs(mean - length) > kSettled * length)
+            const double mean = mean_live_edge_length();
+            const double error = mean - length;
+            // the mean crossed L: the corrections so far overshoot, take half of them back (in ratio)
+            if (error * last_error < 0) working = std::sqrt(working * length);
+            last_error = error;
+            if (mean > 0 && std::abs(error) > kSettled * length)
                 working = std::clamp(working * length / mean, kMinWorking * length, kMaxWorking * length);
         }
         // the last corrections leave fresh splits and collapses: relax them without changing the vertex count

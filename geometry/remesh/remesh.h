@@ -32,9 +32,12 @@ struct RemeshOptions {
     int iterations = 10;  //!< rounds of split, collapse, flip, relax, project; >= 0
     //! An interior edge whose faces' normals differ by more than this angle is a sharp feature: features are only
     //! split or collapsed along themselves, their vertices slide along the input's feature polylines, and feature
-    //! corners (not exactly two feature edges, or a turn sharper than this angle or 60 degrees) never move. 180
-    //! disables features (boundary corners are still kept); use it for scans, whose dihedral noise would otherwise be
-    //! taken for features, fixed corners and all.
+    //! corners (not exactly two feature edges, or a turn sharper than this angle or 60 degrees) stay where they are.
+    //! Noise is dropped first: chains of feature edges (between corners) shorter than 5 L that are not held at both
+    //! ends by a junction of three or more constrained edges or by the boundary, repeatedly, then connected groups of
+    //! feature edges shorter than 5 L in all (a scan's dihedral noise). Corners closer than 4/5 L along a constrained
+    //! edge may merge, and a loose end of a feature curve may retreat along it. 180 disables features (boundary
+    //! corners are still kept).
     double feature_angle_degrees = 60.0;
     //! Boundary edges are constrained like features: boundary vertices stay on the input's boundary polyline,
     //! boundary edges are split and collapsed only along it, and boundary corners stay fixed. Off: boundary
@@ -76,11 +79,13 @@ struct RemeshResult {
 };
 
 //! Remeshes a triangle mesh (polygons are triangulated first) towards edges of length L: per iteration, split
-//! edges longer than 4/3 L at their midpoints, collapse edges shorter than 4/5 L (when no edge longer than 4/3 L
-//! results), flip edges when that brings valences closer to 6 (4 on a boundary), move vertices towards their
-//! relaxed position and project them back onto the input (the closest point of the input surface, or of the input's
-//! feature/boundary polylines for constrained vertices). A last pass flips edges opposite an angle above 170 degrees
-//! (caps) where that is allowed.
+//! edges longer than 4/3 W at their midpoints, collapse edges shorter than 4/5 W (when no edge longer than 4/3 W
+//! results), flip edges when that brings valences closer to 6 (4 on a boundary) or, at equal valences, makes the two
+//! faces Delaunay, move vertices towards their relaxed position and project them back onto the input (the closest
+//! point of the input surface, or of the input's feature/boundary polylines for constrained vertices). W, the working
+//! target, starts at L and is corrected after each iteration by L / the mean edge length, within [0.8, 1.25] L, so
+//! that the mean edge length ends within about 2% of L. Three rounds of flips and relaxation follow, and a last pass
+//! flips edges opposite an angle above 170 degrees (caps) where that is allowed.
 //!
 //! Guarantees on the output, for manifold, consistently oriented input: the topology (Euler characteristic, number of
 //! boundary loops) is unchanged; no operation creates a non-manifold edge or vertex (link condition), a face whose
