@@ -22,7 +22,9 @@ Box3 PolygonMesh::bounds() const {
     return box;
 }
 
-Status validate(const PolygonMesh& mesh) {
+Status validate(const PolygonMesh& mesh) { return validate(mesh, ValidateOptions{}); }
+
+Status validate(const PolygonMesh& mesh, const ValidateOptions& options) {
     const std::size_t nv = mesh.positions.size();
     if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 || mesh.face_offsets.back() != mesh.face_indices.size())
         return make_error(ErrorCode::InvalidArgument, "face offsets do not match the face index array");
@@ -45,6 +47,7 @@ Status validate(const PolygonMesh& mesh) {
                 return element_error(ErrorCode::IndexOutOfRange,
                                      "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
                                          " but there are " + std::to_string(nv) + " vertices", ElementKind::Face, fi);
+        if (options.allow_repeated_vertices) continue;
         scratch.assign(face.begin(), face.end());
         std::sort(scratch.begin(), scratch.end());
         auto dup = std::adjacent_find(scratch.begin(), scratch.end());

@@ -78,6 +78,11 @@ struct PolygonMesh {
 //! Checks the invariants every algorithm relies on: offsets well formed, at least 3 vertices per face, indices in
 //! range, no vertex repeated within a face, finite coordinates, attribute arrays sized consistently, tag indices in
 //! range and sharpness finite and >= 0. The error names the face or vertex (GeoError::element).
+struct ValidateOptions {
+    //! Faces may use a vertex more than once (`[0, 1, 2, 2]`), as OpenSubdiv allows: subdivision only.
+    bool allow_repeated_vertices = false;
+};
+Status validate(const PolygonMesh& mesh, const ValidateOptions& options);
 Status validate(const PolygonMesh& mesh);
 
 }  // namespace surfaced

@@ -969,77 +969,9 @@ std::uint64_t saturating_mul(std::uint64_t a, std::uint64_t b) {
 }  // namespace
 
 Status validate_for_subdivision(const PolygonMesh& mesh) {
-    // validate() first: it passes almost everything. It stops at the first problem, so when that is a repeated
-    // vertex, everything is checked again here without that rule.
-    Status full = validate(mesh);
-    if (full || full.error().code != ErrorCode::DegenerateFace || full.error().element_kind != ElementKind::Face ||
-        full.error().element < 0 || mesh.face_size(static_cast<std::size_t>(full.error().element)) < 3)
-        return full;
-    const std::size_t nv = mesh.positions.size();
-    if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 || mesh.face_offsets.back() != mesh.face_indices.size())
-        return make_error(ErrorCode::InvalidArgument, "face offsets do not match the face index array");
-    for (std::size_t v = 0; v < nv; ++v)
-        if (!is_finite(mesh.positions[v]))
-            return element_error(ErrorCode::NonFinite, "vertex " + std::to_string(v) + " has a non-finite coordinate",
-                                 ElementKind::Vertex, static_cast<std::int64_t>(v));
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        if (mesh.face_offsets[f + 1] < mesh.face_offsets[f])
-            return make_error(ErrorCode::InvalidArgument, "face offsets are not increasing at face " + std::to_string(f));
-        const auto face = mesh.face(f);
-        const auto fi = static_cast<std::int64_t>(f);
-        if (face.size() < 3)
-            return element_error(ErrorCode::DegenerateFace,
-                                 "face " + std::to_string(f) + " has " + std::to_string(face.size()) +
-                                     " vertices (at least 3 needed)", ElementKind::Face, fi);
-        for (Index v : face)
-            if (v >= nv)
-                return element_error(ErrorCode::IndexOutOfRange,
-                                     "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
-                                         " but there are " + std::to_string(nv) + " vertices", ElementKind::Face, fi);
-    }
-    if (!mesh.uv_indices.empty()) {
-        if (mesh.uv_indices.size() != mesh.face_indices.size())
-            return make_error(ErrorCode::InvalidArgument, "uv indices do not parallel the face indices");
-        for (Index i : mesh.uv_indices)
-            if (i >= mesh.uvs.size())
-                return make_error(ErrorCode::IndexOutOfRange, "uv index " + std::to_string(i) + " out of range (" +
-                                                                  std::to_string(mesh.uvs.size()) + " uvs)");
-        for (const Vec2& uv : mesh.uvs)
-            if (!is_finite(uv)) return make_error(ErrorCode::NonFinite, "a texture coordinate is not finite");
-    }
-    if (!mesh.normals.empty()) {
-        if (mesh.normals.size() != nv) return make_error(ErrorCode::InvalidArgument, "normals must have one entry per vertex");
-        for (const Vec3& n : mesh.normals)
-            if (!is_finite(n)) return make_error(ErrorCode::NonFinite, "a normal is not finite");
-    }
-    const auto bad_sharpness = [](double s) { return !(s >= 0) || !std::isfinite(s); };
-    for (std::size_t i = 0; i < mesh.tags.creases.size(); ++i) {
-        const Crease& c = mesh.tags.creases[i];
-        const auto ci = static_cast<std::int64_t>(i);
-        if (c.v0 >= nv || c.v1 >= nv)
-            return element_error(ErrorCode::IndexOutOfRange, "crease " + std::to_string(i) + " refers to a missing vertex",
-                                 ElementKind::Crease, ci);
-        if (bad_sharpness(c.sharpness))
-            return element_error(ErrorCode::InvalidArgument, "crease " + std::to_string(i) + " has an invalid sharpness",
-                                 ElementKind::Crease, ci);
-    }
-    for (std::size_t i = 0; i < mesh.tags.corners.size(); ++i) {
-        const Corner& c = mesh.tags.corners[i];
-        const auto ci = static_cast<std::int64_t>(i);
-        if (c.vertex >= nv)
-            return element_error(ErrorCode::IndexOutOfRange, "corner " + std::to_string(i) + " refers to a missing vertex",
-                                 ElementKind::Corner, ci);
-        if (bad_sharpness(c.sharpness))
-            return element_error(ErrorCode::InvalidArgument, "corner " + std::to_string(i) + " has an invalid sharpness",
-                                 ElementKind::Corner, ci);
-    }
-    for (std::size_t i = 0; i < mesh.tags.holes.size(); ++i)
-        if (mesh.tags.holes[i] >= mesh.face_count())
-            return element_error(ErrorCode::IndexOutOfRange,
-                                 "hole " + std::to_string(i) + " refers to face " + std::to_string(mesh.tags.holes[i]) +
-                                     " but there are " + std::to_string(mesh.face_count()) + " faces",
-                                 ElementKind::Hole, static_cast<std::int64_t>(i));
-    return Ok{};
+    ValidateOptions options;
+    options.allow_repeated_vertices = true;
+    return validate(mesh, options);
 }
 
 std::uint64_t predicted_face_count(const PolygonMesh& mesh, SubdivisionScheme scheme, int levels) {
