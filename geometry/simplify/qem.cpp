@@ -1,26 +1,31 @@
 // Quadric-error edge collapse (Garland-Heckbert 1997), with the safety checks a service needs: every collapse keeps
 // the mesh a manifold with consistently oriented, non-degenerate, non-duplicate faces.
 //
-// Data: triangles as index triples, each vertex's faces as a list threaded through the triangles' corners (enough for
-// one-rings; pmp and meshoptimizer use the same adjacency for decimation), and per vertex one 128-byte record of
-// quadric, position, version and flags. Candidates sit in a 4-ary heap keyed on quadric cost; an entry remembers the
-// sum of its endpoints' version stamps, and an entry whose endpoint changed since it was pushed is stale and skipped
-// (lazy invalidation). After a collapse only the edges at the surviving vertex change cost, and those are pushed
-// again with its new version.
+// Data: triangles as index triples with the normal of the input face each started as; each vertex's faces as one
+// contiguous fan in a shared pool (enough for one-rings: pmp and meshoptimizer use the same adjacency for
+// decimation); per vertex one 128-byte record of quadric, position and fan, and apart from it a version stamp and
+// flags. Candidates sit in a radix heap keyed on quadric cost; an entry remembers the sum of its endpoints' version
+// stamps, and an entry whose endpoint changed since it was pushed is stale and skipped (lazy invalidation). After a
+// collapse only the edges at the surviving vertex change cost, and those are pushed again with its new version.
 //
-// Speed (issue #4; 1.3M-triangle icosphere to 1%, one core): the run is bound by cache and TLB misses, since
-// vertices are visited in heap and one-ring order. Measured with perf before the changes: heap pops and compaction
-// ~20%, evaluate() ~18% (85% of its calls took the singular-quadric fallback, which evaluated Q at four points),
-// is_valid() ~25%, page faults and zeroing of ~260 MB of arrays ~15%. What changed, output unchanged except for
-// ties: the vertex records and the heap's sibling groups are cache-line aligned, large arrays ask for transparent
-// huge pages, adjacency needs no per-vertex allocation, the fallback evaluates the quadric along the edge as a
-// polynomial, rings and link condition use plain scans, candidate vertices are prefetched in batches.
+// Speed (issue #4): a 1.3M-triangle icosphere to 1% is bound by cache misses, since vertices are visited in heap and
+// one-ring order; the 70k-triangle bunny, whose data fits in cache, by instructions. What was done, measured with perf
+// and with callgrind's cache simulation: vertex records are cache-line aligned and large arrays ask for transparent
+// huge pages (first touch of fresh memory costs ~2 ms per MB on this VM with 4 KiB pages); the singular-quadric
+// fallback evaluates the quadric along the edge as a polynomial; fans are contiguous, so a one-ring's triangles are
+// fetched together (a list threaded through the triangles, as before, was a chain of dependent misses); the stale
+// check reads a 4-byte stamp array that stays in cache rather than the records; the radix heap moves entries by
+// sequential copies where the 4-ary heap it replaced walked a path of misses per pop, and drops stale entries while
+// it copies them; the manifold check runs per vertex on its fan. Together, under callgrind: -18% instructions and -15%
+// read misses to memory on the icosphere (write misses doubled: the heap's sequential copies), -17% instructions on
+// the bunny.
 #include "geometry/simplify/qem.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <new>
 #include <string>
@@ -58,10 +63,6 @@ enum VertexFlag : std::uint8_t {
     kPinned = 4,    //!< never moves or disappears: locked, lock_border boundary, UV seam, non-manifold boundary
 };
 
-double thinness(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const double l = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
-    return l > 0 ? norm(cross(b - a, c - a)) / l : 0.0;
-}
 
 //! Allocates on 64-byte boundaries (so that the heap's groups of four siblings and each VertexData fill whole cache
 //! lines), and large arrays on 2 MiB boundaries with transparent huge pages requested where the kernel leaves that to
@@ -96,109 +97,135 @@ using BlockVector = std::vector<T, BlockAllocator<T>>;
 struct Candidate {
     float cost;  //!< ordering only; the collapse itself is re-evaluated in double when popped
     Index a, b;
-    //! vx_[a].version + vx_[b].version when pushed. Versions only grow (a vertex's also when it dies), so the entry is
+    //! version_[a] + version_[b] when pushed. Versions only grow (a vertex's also when it dies), so the entry is
     //! current exactly while the sum is unchanged.
     std::uint32_t stamp;
 };
 static_assert(sizeof(Candidate) == 16);
 
-//! A 4-ary min-heap on cost: half the depth of a binary heap. Storage starts three slots before the root, so node i
-//! sits at slot i + 3 and the children 4i+1..4i+4 of every node share one 64-byte line; each level of a sift-down is
-//! one cache miss, and the next level's lines are prefetched while the current one is compared. Popping dominates
-//! the heap's cost on large meshes (millions of entries).
+//! A radix heap (Ahuja, Mehlhorn, Orlin, Tarjan 1990) on the cost's float bits, which order like the costs for
+//! costs >= 0. Keys popped never decrease, and an edge's cost only grows when quadrics are merged, so a pushed key is
+//! nearly always >= the last one popped; one that is not is clamped to it and comes out next, which is where a
+//! comparison heap would put it too. Bucket i > 0 holds the keys whose highest bit differing from the last key popped
+//! is bit i - 1; popping refills bucket 0 from the lowest non-empty bucket. Every entry moves to a lower bucket a few
+//! times in all, by sequential copies: on meshes of millions of triangles that is cheaper than a comparison heap's
+//! root-to-leaf walk of cache misses per pop.
 class CandidateHeap {
 public:
-    CandidateHeap() { items_.resize(kPad); }
-    bool empty() const { return items_.size() == kPad; }
-    std::size_t size() const { return items_.size() - kPad; }
-    void reserve(std::size_t n) { items_.reserve(n + kPad); }
-    void clear() { items_.resize(kPad); }
-    //! Appends without ordering; call make() before the next pop().
-    void append(const Candidate& c) { items_.push_back(c); }
-    void make() {
-        const std::size_t n = size();
-        if (n < 2) return;
-        for (std::size_t i = (n - 2) / 4 + 1; i-- > 0;) sift_down(i, at(i));
+    bool empty() const { return size_ == 0; }
+    std::size_t size() const { return size_; }
+    void clear() {
+        for (auto& bucket : buckets_) bucket.clear();
+        size_ = 0;
+        last_ = 0;
     }
-    void push(const Candidate& c) {
-        items_.push_back(c);
-        std::size_t i = size() - 1;
-        while (i > 0) {
-            const std::size_t parent = (i - 1) / 4;
-            if (!(c.cost < at(parent).cost)) break;
-            at(i) = at(parent);
-            i = parent;
+    void push(Candidate c) {
+        std::uint32_t key = bits(c.cost);
+        if (key < last_) {
+            key = last_;
+            std::memcpy(&c.cost, &key, sizeof key);
         }
-        at(i) = c;
+        buckets_[bucket_of(key)].push_back(c);
+        ++size_;
     }
-    const Candidate& top() { return at(0); }
+    //! The entry with the lowest key, or nullptr when none is left. Entries for which current(entry) is false are
+    //! dropped on the way (stale ones: checked while they are copied anyway).
+    template <class Current>
+    const Candidate* top(Current current) {
+        settle(current);
+        return buckets_[0].empty() ? nullptr : &buckets_[0].back();
+    }
+    //! \pre top() returned an entry
     Candidate pop() {
-        const Candidate top = at(0);
-        const Candidate last = items_.back();
-        items_.pop_back();
-        if (!empty()) sift_down(0, last);
-        return top;
+        const Candidate c = buckets_[0].back();
+        buckets_[0].pop_back();
+        --size_;
+        return c;
     }
     template <class Pred>
     void erase_if(Pred pred) {
-        items_.erase(std::remove_if(items_.begin() + kPad, items_.end(), pred), items_.end());
-        make();
+        size_ = 0;
+        for (auto& bucket : buckets_) {
+            bucket.erase(std::remove_if(bucket.begin(), bucket.end(), pred), bucket.end());
+            size_ += bucket.size();
+        }
     }
 
 private:
-    static constexpr std::size_t kPad = 3;
-    Candidate& at(std::size_t i) { return items_[i + kPad]; }
-    void sift_down(std::size_t i, const Candidate c) {
-        const std::size_t n = size();
-        for (;;) {
-            const std::size_t first = 4 * i + 1;
-            if (first >= n) break;
-            // the grandchildren: four lines, fetched while this line is compared
-            if (16 * i + 5 < n) {
-                const Candidate* g = &at(16 * i + 5);
-                __builtin_prefetch(g);
-                __builtin_prefetch(g + 4);
-                __builtin_prefetch(g + 8);
-                __builtin_prefetch(g + 12);
-            }
-            std::size_t best = first;
-            const std::size_t end = std::min(first + 4, n);
-            for (std::size_t j = first + 1; j < end; ++j)
-                if (at(j).cost < at(best).cost) best = j;
-            if (!(at(best).cost < c.cost)) break;
-            at(i) = at(best);
-            i = best;
-        }
-        at(i) = c;
+    //! Costs are >= 0 (Quadric::error clamps); a negative or NaN bit pattern would only sort last.
+    static std::uint32_t bits(float cost) {
+        std::uint32_t key;
+        std::memcpy(&key, &cost, sizeof key);
+        return key;
     }
-    std::vector<Candidate, BlockAllocator<Candidate>> items_;
+    std::size_t bucket_of(std::uint32_t key) const {
+        return key == last_ ? 0 : 32 - static_cast<std::size_t>(__builtin_clz(key ^ last_));
+    }
+    template <class Current>
+    void settle(Current current) {
+        std::size_t i = 0;
+        while (buckets_[0].empty()) {
+            do {
+                if (++i == buckets_.size()) return;  // empty
+            } while (buckets_[i].empty());
+            auto& from = buckets_[i];
+            // drop stale entries, then move the rest below the lowest
+            std::size_t kept = 0;
+            std::uint32_t lowest = std::numeric_limits<std::uint32_t>::max();
+            for (const Candidate& c : from)
+                if (current(c)) {
+                    from[kept++] = c;
+                    lowest = std::min(lowest, bits(c.cost));
+                }
+            size_ -= from.size() - kept;
+            from.resize(kept);
+            if (kept == 0) continue;
+            last_ = lowest;
+            for (const Candidate& c : from) buckets_[bucket_of(bits(c.cost))].push_back(c);
+            from.clear();
+        }
+    }
+    std::array<std::vector<Candidate>, 33> buckets_;
+    std::size_t size_ = 0;
+    std::uint32_t last_ = 0;
 };
 
 struct Collapse {
     Index keep = kInvalidIndex, remove = kInvalidIndex;
     Vec3 position;
-    double s = 0;      //!< position's parameter along keep -> remove, for attribute interpolation
+    //! position's parameter along keep -> remove, for attribute interpolation; < 0: the projection of position
+    double s = 0;
     double cost = 0;   //!< Q(position), the heap key
-    double error = 0;  //!< sqrt(Q(position) / weight): a distance
+    double weight = 0;  //!< the summed quadric's weight
+    double error = 0;   //!< sqrt(cost / weight): a distance (set by the caller, only for collapses popped)
 };
 
-//! What a collapse reads of a vertex, in one 128-byte block (two cache lines) instead of four arrays: vertices are
-//! visited in heap and one-ring order, nearly always a cache miss each.
+//! What a collapse reads of a vertex, in one 128-byte block (two cache lines) instead of several arrays: vertices
+//! are visited in heap and one-ring order, nearly always a cache miss each.
 struct alignas(64) VertexData {
     Quadric q;
     Vec3 p;
-    std::uint32_t version = 0;  //!< bumped whenever the vertex moves, changes quadric or dies
-    std::uint8_t flags = kAlive;
+    //! The vertex's live faces are fans_[fan, fan + degree), in the order they joined; `capacity` entries from `fan`
+    //! belong to it. A fan is read in one piece, so all its triangles can be fetched at once (a list threaded through
+    //! the triangles is a chain of dependent cache misses).
+    Index fan = 0, degree = 0, capacity = 0;
 };
 static_assert(sizeof(VertexData) == 128);
 
-//! A live triangle and, per corner, the next corner (3 f + j) around the same vertex: each vertex's faces are a
-//! singly linked list threaded through the triangles (no per-vertex allocation; walking it reads the triangles the
-//! walk needs anyway).
+//! A triangle and the unit normal of the input face it started as (0 when that had no area), which every
+//! collapse that changes the face compares against: one fetch gives both. Float is ample for a cosine bound.
 struct Tri {
     std::array<Index, 3> v;
-    std::array<Index, 3> next;
+    std::array<float, 3> normal;
+    Index& operator[](int j) { return v[static_cast<std::size_t>(j)]; }
+    Index operator[](int j) const { return v[static_cast<std::size_t>(j)]; }
+    const Index* begin() const { return v.data(); }
+    const Index* end() const { return v.data() + 3; }
 };
+static_assert(sizeof(Tri) == 24);
+
+//! Room left in each fan at the start, so that most collapses append the removed vertex's faces in place.
+constexpr Index kFanSlack = 2;
 
 class Simplifier {
 public:
@@ -206,10 +233,12 @@ public:
         const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
         vx_.resize(nv);
         for (std::size_t v = 0; v < nv; ++v) vx_[v].p = mesh.positions[v];
+        flags_.assign(nv, kAlive);
+        version_.assign(nv, 0);
         tris_.resize(nf);
         face_alive_.assign(nf, 1);
         for (std::size_t f = 0; f < nf; ++f) {
-            auto face = mesh.face(f);
+            const Index* face = mesh.face_indices.data() + mesh.face_offsets[f];
             tris_[f].v = {face[0], face[1], face[2]};
         }
         if (mesh.has_uvs()) {
@@ -222,114 +251,144 @@ public:
         }
         normals_ = mesh.normals;
         live_faces_ = nf;
-        head_.assign(nv, kInvalidIndex);
-        degree_.assign(nv, 0);
     }
 
     //! Adjacency, the manifold check, quadrics and pinned vertices.
     Status init() {
-        const std::size_t nv = vx_.size();
-        // threaded back to front, so that every vertex lists its faces in increasing order
-        for (Index f = static_cast<Index>(tris_.size()); f-- > 0;)
-            for (int j = 3; j-- > 0;) {
-                const Index v = tris_[f].v[j];
-                tris_[f].next[j] = head_[v];
-                head_[v] = 3 * f + static_cast<Index>(j);
-                ++degree_[v];
-            }
+        const std::size_t nv = vx_.size(), nf = tris_.size();
+        // fans: every vertex lists its faces in increasing order, with kFanSlack spare entries
+        for (const auto& t : tris_)
+            for (Index v : t) ++vx_[v].degree;
+        std::size_t total = 0;
+        for (VertexData& x : vx_) {
+            x.fan = static_cast<Index>(total);
+            x.capacity = x.degree + kFanSlack;
+            total += x.capacity;
+            x.degree = 0;
+        }
+        if (total >= kInvalidIndex) return make_error(ErrorCode::InvalidArgument, "mesh too large to simplify");
+        fans_.reserve(total + total / 4);
+        fans_.resize(total);
+        for (Index f = 0; f < nf; ++f)
+            for (Index v : tris_[f]) fans_[vx_[v].fan + vx_[v].degree++] = f;
 
-        reference_normals_.assign(tris_.size(), Vec3{});
         // face planes, weighted by area so that the metric does not depend on the tessellation density
-        for (std::size_t f = 0; f < tris_.size(); ++f) {
-            const auto& t = tris_[f].v;
+        for (std::size_t f = 0; f < nf; ++f) {
+            const auto& t = tris_[f];
             const Vec3& p0 = vx_[t[0]].p;
             Vec3 n = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
             const double len = norm(n);
+            tris_[f].normal = {0.0f, 0.0f, 0.0f};
             if (!(len > 0)) continue;  // no plane; its edges still get the quadrics of their other faces
             n *= 1.0 / len;
-            reference_normals_[f] = n;
+            tris_[f].normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
             const Quadric q = Quadric::from_plane(n, -dot(n, p0), 0.5 * len);
             for (Index v : t) vx_[v].q += q;
         }
 
-        // Every half-edge must have at most one twin, running the other way; boundary edges get constraint planes.
+        // Every half-edge u -> w must have at most one twin, running the other way; boundary edges get constraint
+        // planes. Checked per vertex u on its fan: the faces' vertices after u (outgoing edges) and before u
+        // (incoming). The error names the first offending half-edge in face order, whatever the vertex order.
         std::vector<Index> boundary_edges(nv, 0);
-        boundary_halfedges_.assign(tris_.size(), 0);
-        for (Index f = 0; f < tris_.size(); ++f) {
-            for (int j = 0; j < 3; ++j) {
-                const Index u = tris_[f].v[j], w = tris_[f].v[(j + 1) % 3];
+        boundary_halfedges_.assign(nf, 0);
+        std::size_t first_bad = std::numeric_limits<std::size_t>::max();
+        bool bad_orientation = false;
+        std::vector<Index> outgoing, incoming;
+        for (Index u = 0; u < nv; ++u) {
+            const Index* fan = fan_of(u);
+            const Index degree = vx_[u].degree;
+            outgoing.resize(degree);
+            incoming.resize(degree);
+            for (Index i = 0; i < degree; ++i) {
+                const auto& t = tris_[fan[i]];
+                const int j = corner_of(fan[i], u);
+                outgoing[i] = t[(j + 1) % 3];
+                incoming[i] = t[(j + 2) % 3];
+            }
+            for (Index i = 0; i < degree; ++i) {
+                const Index w = outgoing[i];
                 int same = 0, opposite = 0;
-                for (Index c = head_[u]; c != kInvalidIndex; c = next(c)) {
-                    const Index g = c / 3;
-                    if (g == f) continue;
-                    const Index k = c % 3;
-                    if (tris_[g].v[(k + 1) % 3] == w) ++same;
-                    if (tris_[g].v[(k + 2) % 3] == w) ++opposite;
+                for (Index x = 0; x < degree; ++x) {
+                    if (x == i) continue;
+                    same += outgoing[x] == w;
+                    opposite += incoming[x] == w;
                 }
+                const Index f = fan[i];
+                const int j = corner_of(f, u);
                 if (same > 0 || opposite > 1) {
-                    const std::string edge = "(" + std::to_string(u) + ", " + std::to_string(w) + ")";
-                    return element_error(ErrorCode::NonManifold,
-                                         same > 0 && opposite == 0
-                                             ? "edge " + edge + " is traversed in the same direction by face " +
-                                                   std::to_string(f) +
-                                                   " and another face (inconsistent orientation or a duplicate face)"
-                                             : "edge " + edge + " is shared by more than two faces (face " +
-                                                   std::to_string(f) + " is one)",
-                                         ElementKind::Face, f);
+                    const std::size_t halfedge = 3 * std::size_t{f} + static_cast<std::size_t>(j);
+                    if (halfedge < first_bad) {
+                        first_bad = halfedge;
+                        bad_orientation = same > 0 && opposite == 0;
+                    }
+                    continue;
                 }
                 if (opposite == 0) {
                     boundary_halfedges_[f] |= static_cast<std::uint8_t>(1u << j);
-                    vx_[u].flags |= kBoundary;
-                    vx_[w].flags |= kBoundary;
+                    flags_[u] |= kBoundary;
+                    flags_[w] |= kBoundary;
                     ++boundary_edges[u];
                     ++boundary_edges[w];
                     if (!options_.lock_border) add_boundary_plane(f, j);
                 }
             }
         }
+        if (first_bad != std::numeric_limits<std::size_t>::max()) {
+            const Index f = static_cast<Index>(first_bad / 3);
+            const int j = static_cast<int>(first_bad % 3);
+            const std::string edge =
+                "(" + std::to_string(tris_[f][j]) + ", " + std::to_string(tris_[f][(j + 1) % 3]) + ")";
+            return element_error(ErrorCode::NonManifold,
+                                 bad_orientation
+                                     ? "edge " + edge + " is traversed in the same direction by face " +
+                                           std::to_string(f) +
+                                           " and another face (inconsistent orientation or a duplicate face)"
+                                     : "edge " + edge + " is shared by more than two faces (face " +
+                                           std::to_string(f) + " is one)",
+                                 ElementKind::Face, f);
+        }
         for (std::size_t v = 0; v < nv; ++v) {
             // two boundary fans meeting at one vertex: no collapse there could keep the mesh manifold for sure
-            if (boundary_edges[v] > 2) vx_[v].flags |= kPinned;
-            if (options_.lock_border && (vx_[v].flags & kBoundary)) vx_[v].flags |= kPinned;
+            if (boundary_edges[v] > 2) flags_[v] |= kPinned;
+            if (options_.lock_border && (flags_[v] & kBoundary)) flags_[v] |= kPinned;
         }
-        for (Index v : options_.locked_vertices) vx_[v].flags |= kPinned;
+        for (Index v : options_.locked_vertices) flags_[v] |= kPinned;
         // UV seams: a vertex whose corners use different uv indices. Pinning it keeps every seam exactly, and a
         // collapse onto it takes the uv of the chart the collapsing edge lies in.
         if (!face_uvs_.empty()) {
             std::vector<Index> first_uv(nv, kInvalidIndex);
-            for (std::size_t f = 0; f < tris_.size(); ++f)
+            for (std::size_t f = 0; f < nf; ++f)
                 for (int j = 0; j < 3; ++j) {
-                    const Index v = tris_[f].v[j], uv = face_uvs_[f][j];
+                    const Index v = tris_[f][j], uv = face_uvs_[f][j];
                     if (first_uv[v] == kInvalidIndex) first_uv[v] = uv;
-                    else if (first_uv[v] != uv) vx_[v].flags |= kPinned;
+                    else if (first_uv[v] != uv) flags_[v] |= kPinned;
                 }
         }
         for (std::size_t v = 0; v < nv; ++v)
-            if (degree_[v] == 0) vx_[v].flags &= static_cast<std::uint8_t>(~kAlive);
+            if (vx_[v].degree == 0) flags_[v] &= static_cast<std::uint8_t>(~kAlive);
         return Ok{};
     }
 
     //! Collapses edges until at most `target` faces remain or no valid collapse with error <= threshold is left.
     void run(std::size_t target, double threshold) {
         // Compaction (below) keeps the heap under 2 live faces + 1024 entries, plus one collapse's pushes.
-        heap_.reserve(2 * live_faces_ + 2048);
         for (int pass = 0; pass < kMaxPasses && live_faces_ > target; ++pass) {
             // Later passes retry collapses that were invalid when popped but may have become valid since.
             heap_.clear();
             for (Index f = 0; f < tris_.size(); ++f) {
                 if (!face_alive_[f]) continue;
                 for (int j = 0; j < 3; ++j) {
-                    const Index u = tris_[f].v[j], w = tris_[f].v[(j + 1) % 3];
+                    const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
                     // interior edges appear twice (once per direction); push once, boundary edges always
                     // (the first pass knows the boundary from init)
                     if (u < w || (pass == 0 ? (boundary_halfedges_[f] >> j & 1) != 0 : is_boundary_halfedge(f, j)))
                         add_candidate(u, w);
                 }
             }
-            heap_.make();  // O(n), not n pushes
             std::size_t collapses = 0, compacted = heap_.size();
             pushes_ = 0;
-            while (!heap_.empty() && live_faces_ > target) {
+            const auto current = [this](const Candidate& c) { return stamp(c.a, c.b) == c.stamp; };
+            while (live_faces_ > target) {
                 // Stale entries pile up (each collapse outdates the entries at two vertices and adds new ones).
                 // Dropping them once they outnumber the live edges keeps the heap small and cache-friendly. Only
                 // after pushes of a quarter of what the last compaction kept, so that a compaction costs at most a
@@ -344,11 +403,14 @@ public:
                     cancelled_ = true;
                     return;
                 }
+                if (!heap_.top(current)) break;
                 const Candidate c = heap_.pop();
-                if (!heap_.empty()) prefetch_vertex(heap_.top().a), prefetch_vertex(heap_.top().b);  // the next pop
-                if (stamp(c.a, c.b) != c.stamp) continue;  // stale: an endpoint moved, changed or died
+                if (const Candidate* next = heap_.top(current)) prefetch_vertex(next->a), prefetch_vertex(next->b);
+                if (!current(c)) continue;  // stale: an endpoint moved, changed or died
                 Collapse collapse;
-                if (!evaluate(c.a, c.b, collapse) || collapse.error > threshold) continue;
+                if (!evaluate(c.a, c.b, collapse)) continue;
+                collapse.error = collapse.weight > 0 ? std::sqrt(collapse.cost / collapse.weight) : 0.0;
+                if (collapse.error > threshold) continue;
                 if (!is_valid(collapse)) continue;
                 apply(collapse);
                 max_error_ = std::max(max_error_, collapse.error);
@@ -367,7 +429,7 @@ public:
         for (std::size_t f = 0; f < tris_.size(); ++f) {
             if (!face_alive_[f]) continue;
             for (int j = 0; j < 3; ++j) {
-                const Index v = tris_[f].v[j];
+                const Index v = tris_[f][j];
                 if (remap[v] == kInvalidIndex) {
                     remap[v] = static_cast<Index>(out.positions.size());
                     out.positions.push_back(vx_[v].p);
@@ -393,19 +455,18 @@ public:
     bool cancelled() const { return cancelled_; }
 
 private:
-    //! The corner after c around c's vertex (kInvalidIndex at the end of the list).
-    Index next(Index c) const { return tris_[c / 3].next[c % 3]; }
-    Index& next(Index c) { return tris_[c / 3].next[c % 3]; }
+    const Index* fan_of(Index v) const { return fans_.data() + vx_[v].fan; }
+    Index* fan_of(Index v) { return fans_.data() + vx_[v].fan; }
     int corner_of(Index f, Index v) const {
-        const auto& t = tris_[f].v;
+        const auto& t = tris_[f];
         return t[0] == v ? 0 : (t[1] == v ? 1 : 2);
     }
     bool contains(Index f, Index v) const {
-        const auto& t = tris_[f].v;
+        const auto& t = tris_[f];
         return t[0] == v || t[1] == v || t[2] == v;
     }
-    bool pinned(Index v) const { return (vx_[v].flags & kPinned) != 0; }
-    std::uint32_t stamp(Index a, Index b) const { return vx_[a].version + vx_[b].version; }
+    bool pinned(Index v) const { return (flags_[v] & kPinned) != 0; }
+    std::uint32_t stamp(Index a, Index b) const { return version_[a] + version_[b]; }
     //! What evaluate() reads of v. Vertices come from the heap and from one-rings in no useful order, so nearly
     //! every access misses the cache; prefetching a batch lets the misses overlap instead of queueing one by one.
     void prefetch_vertex(Index v) const {
@@ -413,12 +474,18 @@ private:
         __builtin_prefetch(data);
         __builtin_prefetch(data + 64);
     }
+    //! The triangles of v's fan (v's record must be at hand).
+    void prefetch_fan(Index v) const {
+        const Index* fan = fan_of(v);
+        for (Index i = 0, n = vx_[v].degree; i < n; ++i) __builtin_prefetch(&tris_[fan[i]]);
+    }
 
     bool is_boundary_halfedge(Index f, int j) const {
-        const Index u = tris_[f].v[j], w = tris_[f].v[(j + 1) % 3];
-        for (Index c = head_[w]; c != kInvalidIndex; c = next(c)) {
-            const Index g = c / 3;
-            if (g != f && tris_[g].v[(c % 3 + 1) % 3] == u) return false;
+        const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
+        const Index* fan = fan_of(w);
+        for (Index i = 0, n = vx_[w].degree; i < n; ++i) {
+            const Index g = fan[i];
+            if (g != f && tris_[g][(corner_of(g, w) + 1) % 3] == u) return false;
         }
         return true;
     }
@@ -426,7 +493,7 @@ private:
     //! Constraint plane through boundary edge j of face f, perpendicular to the face (Garland-Heckbert 1998 sec. 4):
     //! it lets boundary vertices slide along the boundary but resists pulling the boundary inwards.
     void add_boundary_plane(Index f, int j) {
-        const auto& t = tris_[f].v;
+        const auto& t = tris_[f];
         const Vec3& p0 = vx_[t[0]].p;
         const Vec3 face_normal = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
         const Vec3& u = vx_[t[j]].p;
@@ -444,7 +511,7 @@ private:
     bool add_candidate(Index a, Index b) {
         Collapse collapse;
         if (!evaluate(a, b, collapse)) return false;
-        heap_.append({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
+        heap_.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
         return true;
     }
     void compact_heap() {
@@ -480,7 +547,7 @@ private:
             Vec3 x;
             if (q.minimizer(x) && dot(x - mid, x - mid) <= kMaxPlacementReach * kMaxPlacementReach * len2) {
                 out.position = x;
-                out.s = len2 > 0 ? std::clamp(dot(x - xa, d) / len2, 0.0, 1.0) : 0.5;
+                out.s = -1;  // found by apply() when attributes need it: most evaluations only want the cost
             } else {
                 // Singular system: the minimum is a line or plane. Best of the endpoints, the midpoint and the
                 // minimum of Q along the edge, f(s) = Q(a) + 2 s (A a + b).d + s^2 d^T A d (the polynomial, not Q
@@ -505,27 +572,29 @@ private:
             }
         }
         out.cost = q.error(out.position);
-        out.error = q.weight > 0 ? std::sqrt(out.cost / q.weight) : 0.0;
+        out.weight = q.weight;
         return true;
     }
 
     //! Appends the distinct neighbours of v (over its live faces) to `out`.
     void neighbours(Index v, std::vector<Index>& out) const {
         out.clear();
-        for (Index c = head_[v]; c != kInvalidIndex; c = next(c))
-            for (Index w : tris_[c / 3].v) {
+        const Index* fan = fan_of(v);
+        for (Index i = 0, n = vx_[v].degree; i < n; ++i)
+            for (Index w : tris_[fan[i]]) {
                 if (w == v) continue;
                 bool seen = false;
-                for (std::size_t i = 0; i < out.size() && !seen; ++i) seen = out[i] == w;
+                for (std::size_t k = 0; k < out.size() && !seen; ++k) seen = out[k] == w;
                 if (!seen) out.push_back(w);
             }
     }
     //! The same set in another order, cheaper: away from boundaries every neighbour follows v in exactly one face
     //! (the edge manifold check of init() and the link condition keep it so).
     void neighbour_set(Index v, std::vector<Index>& out) const {
-        if (vx_[v].flags & kBoundary) return neighbours(v, out);
+        if (flags_[v] & kBoundary) return neighbours(v, out);
         out.clear();
-        for (Index c = head_[v]; c != kInvalidIndex; c = next(c)) out.push_back(tris_[c / 3].v[(c % 3 + 1) % 3]);
+        const Index* fan = fan_of(v);
+        for (Index i = 0, n = vx_[v].degree; i < n; ++i) out.push_back(tris_[fan[i]][(corner_of(fan[i], v) + 1) % 3]);
     }
     bool is_apex(Index w) const {
         for (Index a : apexes_)
@@ -536,14 +605,19 @@ private:
     //! Link condition, geometry (flips, thin faces) and duplicate faces, for the collapse as evaluated.
     bool is_valid(const Collapse& c) {
         const Index k = c.keep, r = c.remove;
+        prefetch_fan(r);
+        prefetch_fan(k);
+        const Index* fan_r = fan_of(r);
+        const Index* fan_k = fan_of(k);
+        const Index degree_r = vx_[r].degree, degree_k = vx_[k].degree;
         // faces on the edge and their apexes
         shared_.clear();
         apexes_.clear();
-        for (Index corner = head_[r]; corner != kInvalidIndex; corner = next(corner)) {
-            const Index f = corner / 3;
+        for (Index i = 0; i < degree_r; ++i) {
+            const Index f = fan_r[i];
             if (contains(f, k)) {
                 shared_.push_back(f);
-                for (Index w : tris_[f].v)
+                for (Index w : tris_[f])
                     if (w != k && w != r) apexes_.push_back(w);
             }
         }
@@ -551,13 +625,13 @@ private:
         const bool edge_on_boundary = shared_.size() == 1;
         // An interior edge between two boundary vertices: collapsing it would pinch the surface into a non-manifold
         // vertex (the link condition with the boundary's virtual vertex).
-        if (!edge_on_boundary && (vx_[k].flags & kBoundary) && (vx_[r].flags & kBoundary)) return false;
+        if (!edge_on_boundary && (flags_[k] & kBoundary) && (flags_[r] & kBoundary)) return false;
         // Nothing may be left without faces (a lone triangle, or an apex whose only faces are the edge's).
-        if (degree_[k] + degree_[r] <= 2 * shared_.size()) return false;
+        if (degree_k + degree_r <= 2 * shared_.size()) return false;
         for (Index w : apexes_) {
             std::size_t on_edge = 0;
             for (Index f : shared_) on_edge += contains(f, w) ? 1 : 0;
-            if (degree_[w] <= on_edge) return false;
+            if (vx_[w].degree <= on_edge) return false;
         }
         // Link condition (Dey et al.): the common neighbours of k and r are exactly the apexes of the edge's faces.
         neighbour_set(k, ring_k_);
@@ -570,34 +644,37 @@ private:
                 if (x == w) return false;
         }
         // geometry of every face that survives with a moved or renamed corner
+        // Geometry of a face that survives with corner `moved` at c.position: (moved, o1, o2) in the face's order.
+        // Compared squared, without square roots where the sides are >= 0.
+        const double cos2 = kMinNormalCos * kMinNormalCos;
         auto face_ok = [&](Index f, Index moved) {
-            const auto& t = tris_[f].v;
-            Vec3 before[3], after[3];
-            for (int j = 0; j < 3; ++j) {
-                before[j] = vx_[t[j]].p;
-                after[j] = t[j] == moved ? c.position : before[j];
-            }
-            // compared squared, without square roots (all sides are >= 0 where squared)
-            const Vec3 n1 = cross(after[1] - after[0], after[2] - after[0]);
+            const Tri& t = tris_[f];
+            const int j = corner_of(f, moved);
+            const Vec3& o1 = vx_[t[(j + 1) % 3]].p;
+            const Vec3& o2 = vx_[t[(j + 2) % 3]].p;
+            const Vec3& m0 = vx_[moved].p;
+            const Vec3 e = o2 - o1, a1 = o1 - c.position, b1 = o2 - c.position;
+            const Vec3 n1 = cross(a1, b1);
             const double l1sq = dot(n1, n1);
-            const double longest = std::max({dot(after[1] - after[0], after[1] - after[0]),
-                                             dot(after[2] - after[1], after[2] - after[1]),
-                                             dot(after[0] - after[2], after[0] - after[2])});
-            // thinness after (see thinness()) = |n1| / longest: never below kDegenerate, below kThin only if the
-            // face was already thinner
+            const double ee = dot(e, e);
+            const double longest = std::max({dot(a1, a1), dot(b1, b1), ee});
+            // thinness after = |n1| / longest (see kThin): never below kDegenerate, below kThin only if the face
+            // was already thinner
             if (!(longest > 0) || l1sq < kDegenerate * kDegenerate * longest * longest) return false;
-            if (l1sq < kThin * kThin * longest * longest &&
-                std::sqrt(l1sq) / longest < thinness(before[0], before[1], before[2]))
-                return false;
+            const Vec3 a0 = o1 - m0, b0 = o2 - m0;
+            const Vec3 n0 = cross(a0, b0);
+            const double l0sq = dot(n0, n0);
+            if (l1sq < kThin * kThin * longest * longest) {
+                const double longest0 = std::max({dot(a0, a0), dot(b0, b0), ee});
+                const double thin0 = longest0 > 0 ? std::sqrt(l0sq) / longest0 : 0.0;
+                if (std::sqrt(l1sq) / longest < thin0) return false;
+            }
             // Small turns add up over many collapses: a face may also never face away from the input face it
             // started as (cos < kMinNormalCos).
-            const double cos2 = kMinNormalCos * kMinNormalCos;
-            if (reference_normals_[f] != Vec3{}) {
-                const double d = dot(reference_normals_[f], n1);
+            if (t.normal[0] != 0 || t.normal[1] != 0 || t.normal[2] != 0) {
+                const double d = dot(Vec3{t.normal[0], t.normal[1], t.normal[2]}, n1);
                 if (d < 0 || d * d < cos2 * l1sq) return false;
             }
-            const Vec3 n0 = cross(before[1] - before[0], before[2] - before[0]);
-            const double l0sq = dot(n0, n0);
             // a face that had no normal before cannot flip; compare the ones that had
             if (l0sq > 0) {
                 const double d = dot(n0, n1);
@@ -605,35 +682,37 @@ private:
             }
             return true;
         };
-        for (Index corner = head_[r]; corner != kInvalidIndex; corner = next(corner)) {
-            const Index f = corner / 3;
+        for (Index i = 0; i < degree_r; ++i) {
+            const Index f = fan_r[i];
             if (contains(f, k)) continue;
             if (!face_ok(f, r)) return false;
             // The face becomes (k, x, y): a face already on x, y and k would duplicate it. x and y would then both
             // be common neighbours of k and r, which the link condition allows only for the apexes.
-            const Index j = corner % 3;
-            const Index x = tris_[f].v[(j + 1) % 3], y = tris_[f].v[(j + 2) % 3];
+            const int j = corner_of(f, r);
+            const Index x = tris_[f][(j + 1) % 3], y = tris_[f][(j + 2) % 3];
             if (!is_apex(x) || !is_apex(y)) continue;
-            for (Index cx = head_[x]; cx != kInvalidIndex; cx = next(cx)) {
-                const Index g = cx / 3;
+            const Index* fan_x = fan_of(x);
+            for (Index m = 0, n = vx_[x].degree; m < n; ++m) {
+                const Index g = fan_x[m];
                 if (g != f && contains(g, y) && contains(g, k)) return false;
             }
         }
         if (!pinned(k) || c.position != vx_[k].p)
-            for (Index corner = head_[k]; corner != kInvalidIndex; corner = next(corner)) {
-                const Index f = corner / 3;
+            for (Index i = 0; i < degree_k; ++i) {
+                const Index f = fan_k[i];
                 if (!contains(f, r) && !face_ok(f, k)) return false;
             }
         return true;
     }
 
-    //! Removes face f from v's list.
+    //! Removes face f from v's fan, keeping the order of the others.
     void unlink(Index v, Index f) {
-        Index prev = kInvalidIndex;
-        for (Index c = head_[v]; c != kInvalidIndex; prev = c, c = next(c))
-            if (c / 3 == f) {
-                (prev == kInvalidIndex ? head_[v] : next(prev)) = next(c);
-                --degree_[v];
+        Index* fan = fan_of(v);
+        const Index n = vx_[v].degree;
+        for (Index i = 0; i < n; ++i)
+            if (fan[i] == f) {
+                std::copy(fan + i + 1, fan + n, fan + i);
+                --vx_[v].degree;
                 return;
             }
     }
@@ -641,6 +720,12 @@ private:
     void apply(const Collapse& c) {
         const Index k = c.keep, r = c.remove;
         // attributes first, while the edge's faces still exist
+        double s = c.s;
+        if (s < 0 && (!face_uvs_.empty() || !normals_.empty())) {
+            const Vec3 d = vx_[r].p - vx_[k].p;
+            const double len2 = dot(d, d);
+            s = len2 > 0 ? std::clamp(dot(c.position - vx_[k].p, d) / len2, 0.0, 1.0) : 0.5;
+        }
         if (!face_uvs_.empty()) {
             const Index f0 = shared_.front();
             const Index uv_k = face_uvs_[f0][corner_of(f0, k)];
@@ -649,50 +734,68 @@ private:
             if (!pinned(k)) {
                 // neither end is on a seam: one uv each; interpolate along the edge as the position moved
                 const Vec2 a = uvs_[uv_k], b = uvs_[uv_r];
-                uvs_.push_back({a.x + (b.x - a.x) * c.s, a.y + (b.y - a.y) * c.s});
+                uvs_.push_back({a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s});
                 target = static_cast<Index>(uvs_.size() - 1);
-                for (Index corner = head_[k]; corner != kInvalidIndex; corner = next(corner))
-                    face_uvs_[corner / 3][corner % 3] = target;
+                const Index* fan = fan_of(k);
+                for (Index i = 0, n = vx_[k].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], k)] = target;
             }
-            for (Index corner = head_[r]; corner != kInvalidIndex; corner = next(corner))
-                face_uvs_[corner / 3][corner % 3] = target;
+            const Index* fan = fan_of(r);
+            for (Index i = 0, n = vx_[r].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], r)] = target;
         }
         if (!normals_.empty()) {
-            Vec3 n = normals_[k] + (normals_[r] - normals_[k]) * c.s;
+            Vec3 n = normals_[k] + (normals_[r] - normals_[k]) * s;
             const double len = norm(n);
             if (len > 0) normals_[k] = n * (1.0 / len);
         }
-        // topology: the edge's faces die, r's other faces move to k (appended to k's list, in r's order)
+        // topology: the edge's faces die, r's other faces move to k (appended to k's fan, in r's order)
         for (Index f : shared_) {
             face_alive_[f] = 0;
             --live_faces_;
-            for (Index w : tris_[f].v)
+            for (Index w : tris_[f])
                 if (w != r) unlink(w, f);
         }
-        Index tail = kInvalidIndex;
-        for (Index corner = head_[k]; corner != kInvalidIndex; corner = next(corner)) tail = corner;
-        for (Index corner = head_[r]; corner != kInvalidIndex;) {
-            const Index following = next(corner);
-            const Index f = corner / 3;
-            if (face_alive_[f]) {
-                tris_[f].v[corner % 3] = k;
-                (tail == kInvalidIndex ? head_[k] : next(tail)) = corner;
-                tail = corner;
-                ++degree_[k];
+        VertexData& xk = vx_[k];
+        VertexData& xr = vx_[r];
+        Index moved = 0;  // r's faces that stay, compacted to the front of r's fan
+        {
+            Index* fan = fan_of(r);
+            for (Index i = 0; i < xr.degree; ++i) {
+                const Index f = fan[i];
+                if (!face_alive_[f]) continue;
+                tris_[f][corner_of(f, r)] = k;
+                fan[moved++] = f;
             }
-            corner = following;
         }
-        if (tail != kInvalidIndex) next(tail) = kInvalidIndex;
-        head_[r] = kInvalidIndex;
-        degree_[r] = 0;
-        vx_[k].flags |= vx_[r].flags & kBoundary;
-        vx_[r].flags = 0;
-        vx_[k].q += vx_[r].q;
-        vx_[k].p = c.position;
-        ++vx_[k].version;
-        ++vx_[r].version;
+        const Index degree = xk.degree + moved;
+        if (degree <= xk.capacity) {
+            std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xk.fan + xk.degree);
+        } else if (degree <= xr.capacity) {
+            // r's block is big enough: k's faces go in front of r's there, and k takes the block
+            std::copy_backward(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved,
+                               fans_.begin() + xr.fan + degree);
+            std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + xr.fan);
+            std::swap(xk.fan, xr.fan);
+            std::swap(xk.capacity, xr.capacity);
+        } else {
+            // a new block at the end, with room to grow
+            const Index capacity = degree + std::max<Index>(4, degree / 2);
+            const std::size_t start = fans_.size();
+            fans_.resize(start + capacity);
+            std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + start);
+            std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + start + xk.degree);
+            xk.fan = static_cast<Index>(start);
+            xk.capacity = capacity;
+        }
+        xk.degree = degree;
+        xr.degree = 0;
+        flags_[k] |= flags_[r] & kBoundary;
+        flags_[r] = 0;
+        xk.q += xr.q;
+        xk.p = c.position;
+        ++version_[k];
+        ++version_[r];
         // only edges at k changed cost (their quadric or endpoint moved); push them with k's new stamp
-        neighbours(k, ring_k_);
+        neighbour_set(k, ring_k_);
         for (Index w : ring_k_) prefetch_vertex(w);
         for (Index w : ring_k_) push(k, w);
     }
@@ -702,15 +805,17 @@ private:
     std::size_t pushes_ = 0;  //!< heap pushes since the last compaction
     bool cancelled_ = false;
     BlockVector<VertexData> vx_;
+    std::vector<std::uint8_t> flags_;  //!< VertexFlag bits per vertex
+    //! Bumped whenever the vertex moves, changes quadric or dies. Apart from the records: every candidate popped is
+    //! checked against it, most of them stale, and 4 bytes per vertex stay in cache where 128 would not.
+    std::vector<std::uint32_t> version_;
     BlockVector<Tri> tris_;
+    BlockVector<Index> fans_;  //!< every vertex's faces (VertexData::fan, degree, capacity)
     std::vector<std::uint8_t> face_alive_;
     std::vector<std::uint8_t> boundary_halfedges_;  //!< per input face, bit j: edge j (v[j] -> v[j+1]) is a boundary
-    BlockVector<Vec3> reference_normals_;  //!< unit normal of each input face (0 when it had no area)
     std::vector<Vec2> uvs_;
     std::vector<std::array<Index, 3>> face_uvs_;
     std::vector<Vec3> normals_;
-    BlockVector<Index> head_;    //!< first corner (3 f + j) of each vertex's face list
-    BlockVector<Index> degree_;  //!< live faces at each vertex
     std::size_t live_faces_ = 0;
     double max_error_ = 0;
     CandidateHeap heap_;

@@ -89,8 +89,8 @@ inline std::size_t duplicate_faces(const PolygonMesh& mesh) {
 }
 
 //! Output faces that face away from the input: the face normal against the sum of the unit normals of the input
-//! triangles nearest to its centroid and to its three corners. (One probe alone is fooled by scan noise: a bunny
-//! face can have one nearly perpendicular input triangle under its centroid.)
+//! triangles nearest to its centroid and to three points towards its corners. (One probe alone is fooled by scan
+//! noise: a bunny face can have one nearly perpendicular input triangle under its centroid.)
 inline std::size_t flipped_faces(const PolygonMesh& output, const PolygonMesh& input) {
     const SurfaceDistance surface(input);
     // unit normals of the input's fan triangles, in face order as SurfaceDistance numbers them
@@ -106,9 +106,12 @@ inline std::size_t flipped_faces(const PolygonMesh& output, const PolygonMesh& i
     std::size_t count = 0;
     for (std::size_t f = 0; f < output.face_count(); ++f) {
         auto t = output.face(f);
-        const Vec3 probes[4] = {
-            (output.positions[t[0]] + output.positions[t[1]] + output.positions[t[2]]) * (1.0 / 3.0),
-            output.positions[t[0]], output.positions[t[1]], output.positions[t[2]]};
+        // the centroid and a point towards each corner, inside the face: a probe on an input vertex or edge (an
+        // output vertex that never moved) would take whichever of the faces there the search meets first
+        const Vec3 centroid = (output.positions[t[0]] + output.positions[t[1]] + output.positions[t[2]]) * (1.0 / 3.0);
+        const Vec3 probes[4] = {centroid, (output.positions[t[0]] * 2.0 + centroid) * (1.0 / 3.0),
+                                (output.positions[t[1]] * 2.0 + centroid) * (1.0 / 3.0),
+                                (output.positions[t[2]] * 2.0 + centroid) * (1.0 / 3.0)};
         Vec3 reference;
         for (const Vec3& p : probes) {
             std::size_t nearest = 0;
