@@ -70,8 +70,8 @@ struct SimplifyResult {
 //! \return the simplified mesh, or InvalidArgument (no stop criterion, ratio outside (0, 1], negative max_error,
 //!         locked vertex out of range), NonManifold (an edge shared by more than two faces, or two faces traversing
 //!         an edge in the same direction; the message names the edge and the error the face).
-//! Work: O(F log F) per pass (about 2.5-3 s for 1.3M triangles to 1% on one core here); with max_error, up to 7
-//! passes each followed by mesh_distance(). Memory about 160 bytes per input triangle.
+//! Work: O(F log F) per pass (about 1.3 s for 1.3M triangles to 1% on one core here); with max_error, up to 7
+//! passes each followed by mesh_distance(). Memory about 150 bytes per input triangle.
 Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptions& options);
 
 }  // namespace surfaced
