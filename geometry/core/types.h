@@ -46,10 +46,11 @@ struct Box3 {
              -std::numeric_limits<double>::infinity()};
 
     bool empty() const { return min.x > max.x; }
+    //! A NaN coordinate leaves the box as it was (as std::fmin/fmax would; comparisons are inlined, those are calls).
     void add(const Vec3& p) {
         for (int i = 0; i < 3; ++i) {
-            min[i] = std::fmin(min[i], p[i]);
-            max[i] = std::fmax(max[i], p[i]);
+            if (p[i] < min[i]) min[i] = p[i];
+            if (p[i] > max[i]) max[i] = p[i];
         }
     }
     //! Length of the diagonal; 0 for an empty box.

@@ -48,12 +48,21 @@ Status validate(const PolygonMesh& mesh, const ValidateOptions& options) {
                                      "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
                                          " but there are " + std::to_string(nv) + " vertices", ElementKind::Face, fi);
         if (options.allow_repeated_vertices) continue;
-        scratch.assign(face.begin(), face.end());
-        std::sort(scratch.begin(), scratch.end());
-        auto dup = std::adjacent_find(scratch.begin(), scratch.end());
-        if (dup != scratch.end())
+        // the smallest vertex used more than once, if any (triangles, nearly every face there is, without sorting)
+        Index dup = kInvalidIndex;
+        if (face.size() == 3) {
+            const Index a = face[0], b = face[1], c = face[2];
+            if (a == b || a == c) dup = a;
+            else if (b == c) dup = b;
+        } else {
+            scratch.assign(face.begin(), face.end());
+            std::sort(scratch.begin(), scratch.end());
+            auto it = std::adjacent_find(scratch.begin(), scratch.end());
+            if (it != scratch.end()) dup = *it;
+        }
+        if (dup != kInvalidIndex)
             return element_error(ErrorCode::DegenerateFace,
-                                 "face " + std::to_string(f) + " uses vertex " + std::to_string(*dup) + " more than once",
+                                 "face " + std::to_string(f) + " uses vertex " + std::to_string(dup) + " more than once",
                                  ElementKind::Face, fi);
     }
     if (!mesh.uv_indices.empty()) {
