@@ -257,21 +257,34 @@ public:
     //! Adjacency, the manifold check, quadrics and pinned vertices.
     Status init() {
         const std::size_t nv = vx_.size(), nf = tris_.size();
-        // fans: every vertex lists its faces in increasing order, with kFanSlack spare entries
+        // fans: every vertex lists its faces in increasing order, with kFanSlack spare entries. Degrees and fill
+        // cursors are counted in a compact array (4 bytes a vertex stay in cache where the 128-byte records do
+        // not), and beside each fan slot go the corner's next and previous vertex, the ends of the vertex's outgoing
+        // and incoming edges, so that the manifold check below reads them in order instead of every triangle again.
+        std::vector<Index> cursor(nv, 0);
         for (const auto& t : tris_)
-            for (Index v : t) ++vx_[v].degree;
+            for (Index v : t) ++cursor[v];
         std::size_t total = 0;
-        for (VertexData& x : vx_) {
+        for (std::size_t v = 0; v < nv; ++v) {
+            VertexData& x = vx_[v];
             x.fan = static_cast<Index>(total);
+            x.degree = cursor[v];
             x.capacity = x.degree + kFanSlack;
+            cursor[v] = static_cast<Index>(total);
             total += x.capacity;
-            x.degree = 0;
         }
         if (total >= kInvalidIndex) return make_error(ErrorCode::InvalidArgument, "mesh too large to simplify");
         fans_.reserve(total + total / 4);
         fans_.resize(total);
-        for (Index f = 0; f < nf; ++f)
-            for (Index v : tris_[f]) fans_[vx_[v].fan + vx_[v].degree++] = f;
+        BlockVector<std::array<Index, 2>> ends(total);  //!< per fan slot: the corner's next and previous vertex
+        for (Index f = 0; f < nf; ++f) {
+            const auto& t = tris_[f];
+            for (int j = 0; j < 3; ++j) {
+                const Index slot = cursor[t[j]]++;
+                fans_[slot] = f;
+                ends[slot] = {t[(j + 1) % 3], t[(j + 2) % 3]};
+            }
+        }
 
         // face planes, weighted by area so that the metric does not depend on the tessellation density
         for (std::size_t f = 0; f < nf; ++f) {
@@ -294,26 +307,20 @@ public:
         boundary_halfedges_.assign(nf, 0);
         std::size_t first_bad = std::numeric_limits<std::size_t>::max();
         bool bad_orientation = false;
-        std::vector<Index> outgoing, incoming;
         for (Index u = 0; u < nv; ++u) {
             const Index* fan = fan_of(u);
+            const std::array<Index, 2>* edge = ends.data() + vx_[u].fan;
             const Index degree = vx_[u].degree;
-            outgoing.resize(degree);
-            incoming.resize(degree);
             for (Index i = 0; i < degree; ++i) {
-                const auto& t = tris_[fan[i]];
-                const int j = corner_of(fan[i], u);
-                outgoing[i] = t[(j + 1) % 3];
-                incoming[i] = t[(j + 2) % 3];
-            }
-            for (Index i = 0; i < degree; ++i) {
-                const Index w = outgoing[i];
-                int same = 0, opposite = 0;
+                const Index w = edge[i][0];
+                // other faces with u -> w (same direction) and with w -> u (opposite); a face's own incoming edge
+                // never ends at w (validated: no face repeats a vertex)
+                int same = -1, opposite = 0;
                 for (Index x = 0; x < degree; ++x) {
-                    if (x == i) continue;
-                    same += outgoing[x] == w;
-                    opposite += incoming[x] == w;
+                    same += edge[x][0] == w;
+                    opposite += edge[x][1] == w;
                 }
+                if (same == 0 && opposite == 1) continue;  // an interior edge, as nearly all are
                 const Index f = fan[i];
                 const int j = corner_of(f, u);
                 if (same > 0 || opposite > 1) {
@@ -324,14 +331,12 @@ public:
                     }
                     continue;
                 }
-                if (opposite == 0) {
-                    boundary_halfedges_[f] |= static_cast<std::uint8_t>(1u << j);
-                    flags_[u] |= kBoundary;
-                    flags_[w] |= kBoundary;
-                    ++boundary_edges[u];
-                    ++boundary_edges[w];
-                    if (!options_.lock_border) add_boundary_plane(f, j);
-                }
+                boundary_halfedges_[f] |= static_cast<std::uint8_t>(1u << j);
+                flags_[u] |= kBoundary;
+                flags_[w] |= kBoundary;
+                ++boundary_edges[u];
+                ++boundary_edges[w];
+                if (!options_.lock_border) add_boundary_plane(f, j);
             }
         }
         if (first_bad != std::numeric_limits<std::size_t>::max()) {
@@ -637,8 +642,10 @@ private:
         // Link condition (Dey et al.): the common neighbours of k and r are exactly the apexes of the edge's faces.
         neighbour_set(k, ring_k_);
         neighbour_set(r, ring_r_);
-        for (Index w : ring_k_) __builtin_prefetch(&vx_[w].p);
-        for (Index w : ring_r_) __builtin_prefetch(&vx_[w].p);
+        // the whole records: the checks below read positions (second line), and apply() evaluates the edges to
+        // every one of these vertices (quadric, both lines)
+        for (Index w : ring_k_) prefetch_vertex(w);
+        for (Index w : ring_r_) prefetch_vertex(w);
         for (Index w : ring_r_) {
             if (w == k || is_apex(w)) continue;
             for (Index x : ring_k_)
@@ -795,10 +802,13 @@ private:
         xk.p = c.position;
         ++version_[k];
         ++version_[r];
-        // only edges at k changed cost (their quadric or endpoint moved); push them with k's new stamp
-        neighbour_set(k, ring_k_);
-        for (Index w : ring_k_) prefetch_vertex(w);
-        for (Index w : ring_k_) push(k, w);
+        // Only edges at k changed cost (their quadric or endpoint moved): push them with k's new stamp. k's ring is
+        // now its ring and r's before the collapse (is_valid), less k and r; the two shared only the apexes (link
+        // condition). Their records were fetched for the checks.
+        for (Index w : ring_k_)
+            if (w != r) push(k, w);
+        for (Index w : ring_r_)
+            if (w != k && !is_apex(w)) push(k, w);
     }
 
     const SimplifyOptions& options_;
