@@ -35,9 +35,13 @@ namespace {
 using namespace surfaced;
 using Clock = std::chrono::steady_clock;
 
-//! Meshes with fewer triangles are timed best of 5; larger ones best of 2, CGAL's once (14-20 s a run). The machine
-//! this runs on is a shared VM whose speed moves by up to 40% between seconds: the fastest run is the measurement.
+//! The machine this runs on is a shared VM whose speed moves by up to 40% between seconds: the peers run in turn,
+//! and each one's fastest run is the measurement. Meshes with fewer triangles than kRepeatBelow: kSmallRounds rounds
+//! (CGAL, at about a second a run, kCgalSmallRounds); larger ones kLargeRounds (CGAL once, 15-20 s a run).
 constexpr std::size_t kRepeatBelow = 500'000;
+constexpr int kSmallRounds = 15;
+constexpr int kCgalSmallRounds = 5;
+constexpr int kLargeRounds = 3;
 
 struct Row {
     bool ran = false;
@@ -88,94 +92,132 @@ void measure(const PolygonMesh& input, const PolygonMesh& output, Row& row) {
     invariants(output, row);
 }
 
-// Each peer runs `repeats` times (deterministic: the same output each time) and reports its fastest run.
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-Row ours(const PolygonMesh& input, std::size_t target, int repeats) {
-    SimplifyOptions options;
-    options.target_faces = target;
-    Row row;
-    row.seconds = 1e300;
-    Result<SimplifyResult> result = make_error(ErrorCode::InvalidArgument, "not run");
-    for (int i = 0; i < repeats; ++i) {
+//! One simplifier on one mesh and target: run() simplifies once and returns the seconds it took; finish() measures
+//! the last output (the runs are deterministic: every run gives the same output).
+struct Peer {
+    virtual ~Peer() = default;
+    virtual double run() = 0;
+    virtual Row finish() = 0;
+};
+
+struct Ours final : Peer {
+    Ours(const PolygonMesh& mesh, std::size_t faces) : input(mesh) { options.target_faces = faces; }
+    double run() override {
         const auto start = Clock::now();
         result = simplify_qem(input, options);
-        row.seconds = std::min(row.seconds, seconds_since(start));
+        return seconds_since(start);
     }
-    if (!result) {
-        std::fprintf(stderr, "simplify_qem failed: %s\n", result.error().message.c_str());
+    Row finish() override {
+        Row row;
+        if (!result) {
+            std::fprintf(stderr, "simplify_qem failed: %s\n", result.error().message.c_str());
+            return row;
+        }
+        measure(input, result->mesh, row);
         return row;
     }
-    measure(input, result->mesh, row);
-    return row;
-}
+    const PolygonMesh& input;
+    SimplifyOptions options;
+    Result<SimplifyResult> result = make_error(ErrorCode::InvalidArgument, "not run");
+};
 
-Row meshopt(const PolygonMesh& input, std::size_t target, int repeats) {
-    std::vector<float> positions;
-    positions.reserve(3 * input.vertex_count());
-    for (const Vec3& p : input.positions) {
-        positions.push_back(static_cast<float>(p.x));
-        positions.push_back(static_cast<float>(p.y));
-        positions.push_back(static_cast<float>(p.z));
+struct Meshopt final : Peer {
+    Meshopt(const PolygonMesh& mesh, std::size_t faces)
+        : input(mesh), target(faces), indices(input.face_indices.begin(), input.face_indices.end()),
+          out(indices.size()) {
+        positions.reserve(3 * input.vertex_count());
+        for (const Vec3& p : input.positions) {
+            positions.push_back(static_cast<float>(p.x));
+            positions.push_back(static_cast<float>(p.y));
+            positions.push_back(static_cast<float>(p.z));
+        }
     }
-    std::vector<unsigned int> indices(input.face_indices.begin(), input.face_indices.end());
-    std::vector<unsigned int> out(indices.size());
-    Row row;
-    row.seconds = 1e300;
-    std::size_t count = 0;
-    for (int i = 0; i < repeats; ++i) {
+    double run() override {
         const auto start = Clock::now();
         float error = 0;
         // target_error 1 (relative): no error limit, stop at the count, as simplify_qem does with target_faces alone
         count = meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(), input.vertex_count(),
                                  3 * sizeof(float), 3 * target, 1.0f, 0, &error);
-        row.seconds = std::min(row.seconds, seconds_since(start));
+        return seconds_since(start);
     }
-    // meshopt keeps the original vertex buffer; drop unused vertices so that every vertex sampled is on the surface
-    PolygonMesh mesh;
-    std::vector<Index> remap(input.vertex_count(), kInvalidIndex);
-    for (std::size_t i = 0; i < count; ++i) {
-        const Index v = out[i];
-        if (remap[v] == kInvalidIndex) {
-            remap[v] = static_cast<Index>(mesh.positions.size());
-            mesh.positions.push_back(input.positions[v]);
+    Row finish() override {
+        // meshopt keeps the original vertex buffer; drop unused vertices so that every vertex sampled is on the
+        // surface
+        PolygonMesh mesh;
+        std::vector<Index> remap(input.vertex_count(), kInvalidIndex);
+        for (std::size_t i = 0; i < count; ++i) {
+            const Index v = out[i];
+            if (remap[v] == kInvalidIndex) {
+                remap[v] = static_cast<Index>(mesh.positions.size());
+                mesh.positions.push_back(input.positions[v]);
+            }
+            mesh.face_indices.push_back(remap[v]);
+            if (i % 3 == 2) mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
         }
-        mesh.face_indices.push_back(remap[v]);
-        if (i % 3 == 2) mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
-    }
-    measure(input, mesh, row);
-    return row;
-}
-
-#ifdef SURFACED_BENCH_CGAL
-Row cgal(const PolygonMesh& input, std::size_t target, int repeats) {
-    std::vector<double> positions;
-    positions.reserve(3 * input.vertex_count());
-    for (const Vec3& p : input.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
-    const std::vector<unsigned> triangles(input.face_indices.begin(), input.face_indices.end());
-    Row row;
-    row.seconds = 1e300;
-    bench::CgalSimplifyResult result;
-    for (int i = 0; i < repeats; ++i) {
-        result = bench::cgal_simplify(positions, triangles, target);
-        row.seconds = std::min(row.seconds, result.seconds);
-    }
-    if (!result.error.empty() || result.rejected_faces > 0) {
-        std::fprintf(stderr, "CGAL failed: %s (%zu input faces rejected)\n", result.error.c_str(),
-                     result.rejected_faces);
+        Row row;
+        measure(input, mesh, row);
         return row;
     }
-    PolygonMesh mesh;
-    for (std::size_t i = 0; i + 2 < result.positions.size(); i += 3)
-        mesh.positions.push_back({result.positions[i], result.positions[i + 1], result.positions[i + 2]});
-    for (std::size_t i = 0; i < result.triangles.size(); ++i) {
-        mesh.face_indices.push_back(result.triangles[i]);
-        if (i % 3 == 2) mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
+    const PolygonMesh& input;
+    std::size_t target;
+    std::vector<float> positions;
+    std::vector<unsigned int> indices, out;
+    std::size_t count = 0;
+};
+
+#ifdef SURFACED_BENCH_CGAL
+struct Cgal final : Peer {
+    Cgal(const PolygonMesh& mesh, std::size_t faces)
+        : input(mesh), target(faces), triangles(input.face_indices.begin(), input.face_indices.end()) {
+        positions.reserve(3 * input.vertex_count());
+        for (const Vec3& p : input.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
     }
-    measure(input, mesh, row);
-    return row;
-}
+    double run() override {
+        result = bench::cgal_simplify(positions, triangles, target);
+        return result.seconds;
+    }
+    Row finish() override {
+        Row row;
+        if (!result.error.empty() || result.rejected_faces > 0) {
+            std::fprintf(stderr, "CGAL failed: %s (%zu input faces rejected)\n", result.error.c_str(),
+                         result.rejected_faces);
+            return row;
+        }
+        PolygonMesh mesh;
+        for (std::size_t i = 0; i + 2 < result.positions.size(); i += 3)
+            mesh.positions.push_back({result.positions[i], result.positions[i + 1], result.positions[i + 2]});
+        for (std::size_t i = 0; i < result.triangles.size(); ++i) {
+            mesh.face_indices.push_back(result.triangles[i]);
+            if (i % 3 == 2) mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
+        }
+        measure(input, mesh, row);
+        return row;
+    }
+    const PolygonMesh& input;
+    std::size_t target;
+    std::vector<double> positions;
+    std::vector<unsigned> triangles;
+    bench::CgalSimplifyResult result;
+};
 #endif
+
+//! Runs the peers in turn, round after round (so that each ratio compares runs made under the same load on this
+//! shared machine), peer i in rounds[i] of them, and keeps each peer's fastest run.
+std::vector<Row> race(const std::vector<Peer*>& peers, const std::vector<int>& rounds) {
+    std::vector<double> best(peers.size(), 1e300);
+    const int most = *std::max_element(rounds.begin(), rounds.end());
+    for (int round = 0; round < most; ++round)
+        for (std::size_t i = 0; i < peers.size(); ++i)
+            if (round < rounds[i]) best[i] = std::min(best[i], peers[i]->run());
+    std::vector<Row> rows;
+    for (std::size_t i = 0; i < peers.size(); ++i) {
+        rows.push_back(peers[i]->finish());
+        rows.back().seconds = best[i];
+    }
+    return rows;
+}
 
 // "a / b / c" with printf format `format` per value, "-" for a peer that did not run
 template <typename Get>
@@ -206,13 +248,19 @@ void run(const std::string& name, const PolygonMesh& mesh) {
     for (double fraction : {0.1, 0.01}) {
         const auto target = static_cast<std::size_t>(fraction * static_cast<double>(mesh.face_count()));
         const bool small = mesh.face_count() < kRepeatBelow;
-        const Row a = ours(mesh, target, small ? 5 : 2);
-        const Row b = meshopt(mesh, target, small ? 5 : 2);
+        Ours ours(mesh, target);
+        Meshopt meshopt(mesh, target);
+        std::vector<Peer*> peers{&ours, &meshopt};
+        std::vector<int> rounds{small ? kSmallRounds : kLargeRounds, small ? kSmallRounds : kLargeRounds};
 #ifdef SURFACED_BENCH_CGAL
-        const Row c = cgal(mesh, target, small ? 5 : 1);
-#else
-        const Row c;
+        Cgal cgal(mesh, target);
+        peers.push_back(&cgal);
+        rounds.push_back(small ? kCgalSmallRounds : 1);
 #endif
+        const std::vector<Row> rows = race(peers, rounds);
+        const Row& a = rows[0];
+        const Row& b = rows[1];
+        const Row c = rows.size() > 2 ? rows[2] : Row{};
         auto relative = [diagonal](double Row::*field) {
             return [diagonal, field](const Row& r) { return r.*field / diagonal; };
         };
@@ -239,8 +287,9 @@ int main(int argc, char** argv) {
     const std::string cgal_name = "CGAL (not built: bench_simplify_cgal)";
 #endif
     std::printf("ours / meshoptimizer %d.%d / %s; errors relative to the bounding-box diagonal; time in seconds, one "
-                "thread, best of 5 runs below %zu triangles (else best of 2, CGAL one run)\n\n",
-                MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10, cgal_name.c_str(), kRepeatBelow);
+                "thread, the peers in turn, fastest of %d runs below %zu triangles (CGAL %d), else of %d (CGAL 1)\n\n",
+                MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10, cgal_name.c_str(), kSmallRounds,
+                kRepeatBelow, kCgalSmallRounds, kLargeRounds);
     std::printf("| mesh | triangles | target | faces | time | time ours/meshopt | time ours/CGAL | Hausdorff | "
                 "Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | duplicate faces |\n");
     std::printf("|---|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
