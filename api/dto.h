@@ -57,6 +57,7 @@ struct SimplifyParams {
     std::optional<double> ratio;      //!< (0, 1]
     std::optional<double> max_error;  //!< absolute distance, >= 0
     bool lock_border = false;
+    double restore_volume = 0;        //!< [0, 1]: volume restoration (SimplifyOptions::restore_volume)
     bool report_error = false;        //!< measure Hausdorff/RMS to the input and return them
     std::vector<std::int64_t> locked_vertices;  //!< vertices that never move or disappear (checked against the mesh)
     OutputOptions output;

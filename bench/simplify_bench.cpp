@@ -4,6 +4,7 @@
 // table: time, faces reached, symmetric Hausdorff and two-sided RMS distance to the input (mesh_distance, the same
 // sampling for all three), the invariants we promise (non-manifold edges, duplicate faces), and the ratios the issue
 // sets targets for (time ours/meshopt <= 2, ours/CGAL <= 0.1; Hausdorff ours/meshopt <= 1; RMS ours/CGAL <= 1).
+// Two rows per mesh and target: ours as by default, and with volume restoration (SimplifyOptions::restore_volume).
 //
 // Usage: bench_simplify[_cgal] [--quick]   (--quick skips the 1M-triangle meshes)
 #include <algorithm>
@@ -42,6 +43,8 @@ constexpr std::size_t kRepeatBelow = 500'000;
 constexpr int kSmallRounds = 15;
 constexpr int kCgalSmallRounds = 5;
 constexpr int kLargeRounds = 3;
+//! Our second row per mesh and target: SimplifyOptions::restore_volume.
+constexpr double kRestoreVolume = 0.5;
 
 struct Row {
     bool ran = false;
@@ -103,7 +106,10 @@ struct Peer {
 };
 
 struct Ours final : Peer {
-    Ours(const PolygonMesh& mesh, std::size_t faces) : input(mesh) { options.target_faces = faces; }
+    Ours(const PolygonMesh& mesh, std::size_t faces, double restore_volume) : input(mesh) {
+        options.target_faces = faces;
+        options.restore_volume = restore_volume;
+    }
     double run() override {
         const auto start = Clock::now();
         result = simplify_qem(input, options);
@@ -248,31 +254,36 @@ void run(const std::string& name, const PolygonMesh& mesh) {
     for (double fraction : {0.1, 0.01}) {
         const auto target = static_cast<std::size_t>(fraction * static_cast<double>(mesh.face_count()));
         const bool small = mesh.face_count() < kRepeatBelow;
-        Ours ours(mesh, target);
+        // ours twice: plain Garland-Heckbert (the default) and with volume restoration
+        Ours ours(mesh, target, 0.0), restoring(mesh, target, kRestoreVolume);
         Meshopt meshopt(mesh, target);
-        std::vector<Peer*> peers{&ours, &meshopt};
-        std::vector<int> rounds{small ? kSmallRounds : kLargeRounds, small ? kSmallRounds : kLargeRounds};
+        const int rounds_each = small ? kSmallRounds : kLargeRounds;
+        std::vector<Peer*> peers{&ours, &restoring, &meshopt};
+        std::vector<int> rounds{rounds_each, rounds_each, rounds_each};
 #ifdef SURFACED_BENCH_CGAL
         Cgal cgal(mesh, target);
         peers.push_back(&cgal);
         rounds.push_back(small ? kCgalSmallRounds : 1);
 #endif
         const std::vector<Row> rows = race(peers, rounds);
-        const Row& a = rows[0];
-        const Row& b = rows[1];
-        const Row c = rows.size() > 2 ? rows[2] : Row{};
+        const Row& b = rows[2];
+        const Row c = rows.size() > 3 ? rows[3] : Row{};
         auto relative = [diagonal](double Row::*field) {
             return [diagonal, field](const Row& r) { return r.*field / diagonal; };
         };
-        std::printf("| %s | %zu | %g%% | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(),
-                    mesh.face_count(), fraction * 100,
-                    triple(a, b, c, "%zu", [](const Row& r) { return r.faces; }).c_str(),
-                    triple(a, b, c, "%.3f", [](const Row& r) { return r.seconds; }).c_str(),
-                    ratio(a, b, &Row::seconds).c_str(), ratio(a, c, &Row::seconds).c_str(),
-                    triple(a, b, c, "%.2e", relative(&Row::hausdorff)).c_str(), ratio(a, b, &Row::hausdorff).c_str(),
-                    triple(a, b, c, "%.2e", relative(&Row::rms)).c_str(), ratio(a, c, &Row::rms).c_str(),
-                    triple(a, b, c, "%zu", [](const Row& r) { return r.non_manifold; }).c_str(),
-                    triple(a, b, c, "%zu", [](const Row& r) { return r.duplicates; }).c_str());
+        for (int variant = 0; variant < 2; ++variant) {
+            const Row& a = rows[static_cast<std::size_t>(variant)];
+            std::printf("| %s | %zu | %g%% | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(),
+                        mesh.face_count(), fraction * 100, variant == 0 ? "0" : "0.5",
+                        triple(a, b, c, "%zu", [](const Row& r) { return r.faces; }).c_str(),
+                        triple(a, b, c, "%.3f", [](const Row& r) { return r.seconds; }).c_str(),
+                        ratio(a, b, &Row::seconds).c_str(), ratio(a, c, &Row::seconds).c_str(),
+                        triple(a, b, c, "%.2e", relative(&Row::hausdorff)).c_str(),
+                        ratio(a, b, &Row::hausdorff).c_str(), triple(a, b, c, "%.2e", relative(&Row::rms)).c_str(),
+                        ratio(a, c, &Row::rms).c_str(),
+                        triple(a, b, c, "%zu", [](const Row& r) { return r.non_manifold; }).c_str(),
+                        triple(a, b, c, "%zu", [](const Row& r) { return r.duplicates; }).c_str());
+        }
         std::fflush(stdout);
     }
 }
@@ -290,9 +301,9 @@ int main(int argc, char** argv) {
                 "thread, the peers in turn, fastest of %d runs below %zu triangles (CGAL %d), else of %d (CGAL 1)\n\n",
                 MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10, cgal_name.c_str(), kSmallRounds,
                 kRepeatBelow, kCgalSmallRounds, kLargeRounds);
-    std::printf("| mesh | triangles | target | faces | time | time ours/meshopt | time ours/CGAL | Hausdorff | "
-                "Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | duplicate faces |\n");
-    std::printf("|---|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
+    std::printf("| mesh | triangles | target | our restore_volume | faces | time | time ours/meshopt | time ours/CGAL | "
+                "Hausdorff | Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | duplicate faces |\n");
+    std::printf("|---|---:|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
     const char* bunny_path = "/usr/share/glmark2/models/bunny.obj";
     if (std::filesystem::exists(bunny_path)) {
         std::ifstream in(bunny_path, std::ios::binary);

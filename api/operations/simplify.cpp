@@ -55,9 +55,9 @@ std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& l
 }
 
 ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(query, {"target_faces", "ratio", "max_error", "lock_border", "report_error",
-                                                "locked_vertices", "format", "compression", "quantize_position",
-                                                "normals"}))
+    if (auto error = check_query_names(query, {"target_faces", "ratio", "max_error", "lock_border", "restore_volume",
+                                                "report_error", "locked_vertices", "format", "compression",
+                                                "quantize_position", "normals"}))
         return std::move(*error);
 
     SimplifyParams params;
@@ -67,6 +67,7 @@ ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std
         else if (name == "ratio") error = read_parameter(name, text, params.ratio);
         else if (name == "max_error") error = read_parameter(name, text, params.max_error);
         else if (name == "lock_border") error = read_parameter(name, text, params.lock_border);
+        else if (name == "restore_volume") error = read_parameter(name, text, params.restore_volume);
         else if (name == "report_error") error = read_parameter(name, text, params.report_error);
         else if (name == "locked_vertices") error = read_locked_vertices(text, params.locked_vertices);
         else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
@@ -90,6 +91,10 @@ std::optional<ApiError> check_params(const SimplifyParams& params, Source source
     if (params.max_error && !(*params.max_error >= 0))
         return make_problem(Problem::InvalidField,
                             "max_error must be a distance >= 0, got " + format_double(*params.max_error), "max_error");
+    if (!(params.restore_volume >= 0 && params.restore_volume <= 1))
+        return make_problem(Problem::InvalidField,
+                            "restore_volume must be in [0, 1], got " + format_double(params.restore_volume),
+                            "restore_volume");
     return check_output_options(params.output, source);
 }
 
@@ -112,6 +117,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.ratio = params.ratio;
     options.max_error = params.max_error;
     options.lock_border = params.lock_border;
+    options.restore_volume = params.restore_volume;
     options.locked_vertices.reserve(params.locked_vertices.size());
     for (std::int64_t v : params.locked_vertices) options.locked_vertices.push_back(static_cast<Index>(v));  // checked
     options.cancel = context.cancel;

@@ -331,10 +331,13 @@ public:
         }
 
         // face planes, weighted by area so that the metric does not depend on the tessellation density
+        if (volume_) fan_area_.assign(nv, Vec3{0, 0, 0});
         for (std::size_t f = 0; f < nf; ++f) {
             const auto& t = tris_[f];
             const Vec3& p0 = vx_[t[0]].p;
             Vec3 n = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
+            if (volume_)
+                for (Index v : t) fan_area_[v] += n;
             const double len = norm(n);
             tris_[f].normal = {0.0f, 0.0f, 0.0f};
             if (!(len > 0)) continue;  // no plane; its edges still get the quadrics of their other faces
@@ -425,16 +428,8 @@ public:
         for (int pass = 0; pass < kMaxPasses && live_faces_ > target; ++pass) {
             // Later passes retry collapses that were invalid when popped but may have become valid since.
             heap_.clear();
-            for (Index f = 0; f < tris_.size(); ++f) {
-                if (!face_alive_[f]) continue;
-                for (int j = 0; j < 3; ++j) {
-                    const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
-                    // interior edges appear twice (once per direction); push once, boundary edges always
-                    // (the first pass knows the boundary from init)
-                    if (u < w || (pass == 0 ? (boundary_halfedges_[f] >> j & 1) != 0 : is_boundary_halfedge(f, j)))
-                        add_candidate(u, w);
-                }
-            }
+            if (volume_) push_edges_by_vertex(pass);
+            else push_edges_by_face(pass);
             std::size_t collapses = 0, compacted = heap_.size();
             pushes_ = 0;
             const auto current = [this](const Candidate& c) { return stamp(c.a, c.b) == c.stamp; };
@@ -457,6 +452,7 @@ public:
                 const Candidate c = heap_.pop();
                 if (const Candidate* next = heap_.top(current)) prefetch_vertex(next->a), prefetch_vertex(next->b);
                 if (!current(c)) continue;  // stale: an endpoint moved, changed or died
+                if (volume_) prefetch_fan(c.a);
                 Collapse collapse;
                 if (!evaluate(c.a, c.b, collapse)) continue;
                 collapse.error = collapse.weight > 0 ? std::sqrt(collapse.cost / collapse.weight) : 0.0;
@@ -527,6 +523,7 @@ private:
         const char* data = reinterpret_cast<const char*>(&vx_[v]);
         __builtin_prefetch(data);
         __builtin_prefetch(data + 64);
+        if (volume_) __builtin_prefetch(&fan_area_[v]);
     }
     //! The triangles of v's fan (v's record must be at hand).
     void prefetch_fan(Index v) const {
@@ -561,25 +558,63 @@ private:
         vx_[t[(j + 1) % 3]].q += q;
     }
 
+    //! Fills the heap with every live edge: interior edges appear twice (once per direction) and are pushed once,
+    //! boundary edges always (the first pass knows the boundary from init).
+    bool is_candidate_halfedge(Index f, int j, int pass) const {
+        const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
+        return u < w || (pass == 0 ? (boundary_halfedges_[f] >> j & 1) != 0 : is_boundary_halfedge(f, j));
+    }
+    void push_edges_by_face(int pass) {
+        for (Index f = 0; f < tris_.size(); ++f) {
+            if (!face_alive_[f]) continue;
+            for (int j = 0; j < 3; ++j)
+                if (is_candidate_halfedge(f, j, pass)) add_candidate(tris_[f][j], tris_[f][(j + 1) % 3]);
+        }
+    }
+    //! The same by vertex, each half-edge u -> w from its face in u's fan, so that the fan's cross products, which
+    //! volume restoration needs, are computed once per vertex.
+    void push_edges_by_vertex(int pass) {
+        for (Index u = 0; u < vx_.size(); ++u) {
+            const Index degree = vx_[u].degree;
+            if (degree == 0) continue;
+            const bool interior = !(flags_[u] & kBoundary);
+            if (interior) fan_crosses(u);
+            const Index* fan = fan_of(u);
+            for (Index i = 0; i < degree; ++i) {
+                const Index f = fan[i];
+                const int j = corner_of(f, u);
+                if (!is_candidate_halfedge(f, j, pass)) continue;
+                const Index w = tris_[f][(j + 1) % 3];
+                if (interior) {
+                    const Vec3 edge_faces = edge_faces_area(w);
+                    add_candidate(u, w, &edge_faces);
+                } else {
+                    add_candidate(u, w);
+                }
+            }
+        }
+    }
+
     //! Appends edge (a, b) to heap_ without restoring the heap order; false when it cannot collapse at all.
-    bool add_candidate(Index a, Index b) {
+    bool add_candidate(Index a, Index b, const Vec3* edge_faces_area = nullptr) {
         Collapse collapse;
-        if (!evaluate(a, b, collapse)) return false;
+        if (!evaluate(a, b, collapse, edge_faces_area)) return false;
         heap_.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
         return true;
     }
     void compact_heap() {
         heap_.erase_if([&](const Candidate& c) { return stamp(c.a, c.b) != c.stamp; });
     }
-    void push(Index a, Index b) {
+    void push(Index a, Index b, const Vec3* edge_faces_area = nullptr) {
         Collapse collapse;
-        if (!evaluate(a, b, collapse)) return;
+        if (!evaluate(a, b, collapse, edge_faces_area)) return;
         heap_.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
         ++pushes_;
     }
 
     //! Placement and cost of collapsing edge (a, b); false when both ends are pinned.
-    bool evaluate(Index a, Index b, Collapse& out) const {
+    //! edge_faces_area: the sum of the cross products of the edge's two faces, when the caller has it at hand.
+    bool evaluate(Index a, Index b, Collapse& out, const Vec3* edge_faces_area = nullptr) const {
         const bool pa = pinned(a), pb = pinned(b);
         if (pa && pb) return false;
         Quadric q = vx_[a].q;
@@ -624,10 +659,72 @@ private:
                 out.position = xa + d * best_s;
                 out.s = best_s;
             }
+            if (volume_ && !((flags_[a] | flags_[b]) & kBoundary)) restore_volume(a, b, q, out, edge_faces_area);
         }
         out.cost = q.error(out.position);
         out.weight = q.weight;
         return true;
+    }
+
+    //! Moves out.position towards the point on the line out.position + t A^-1 g (where Q is least for each volume)
+    //! at which collapsing (a, b) leaves the volume under the two fans unchanged, restore_volume of the way. Volume
+    //! change x 6 = g.(p - xa) - (xb - xa).G_b, with g = G_a + G_b - the edge's two faces' cross products (twice the
+    //! vector area of the two fans, whose boundary the collapse keeps) and G the fan areas. Closed fans only: an
+    //! interior edge between interior vertices (the caller checks the boundary flags).
+    void restore_volume(Index a, Index b, const Quadric& q, Collapse& out, const Vec3* edge_faces_area) const {
+        const Vec3& xa = vx_[a].p;
+        const Vec3 d = vx_[b].p - xa;
+        Vec3 g = fan_area_[a] + fan_area_[b];
+        if (edge_faces_area) {
+            g -= *edge_faces_area;
+        } else {
+            int shared = 0;
+            const Index* fan = fan_of(a);
+            for (Index i = 0, n = vx_[a].degree; i < n; ++i) {
+                const Tri& t = tris_[fan[i]];
+                const int j = corner_of(fan[i], a);
+                const Index next = t[(j + 1) % 3], prev = t[(j + 2) % 3];
+                if (next == b) g -= cross(d, vx_[prev].p - xa), ++shared;
+                else if (prev == b) g -= cross(vx_[next].p - xa, d), ++shared;
+            }
+            if (shared != 2) return;
+        }
+        const double change = dot(out.position - xa, g) - dot(d, fan_area_[b]);
+        Vec3 dir = g;
+        if (Vec3 u; q.solve(g, u) && dot(u, g) > 0) dir = u;
+        const double dg = dot(dir, g);
+        if (!(dg > 0)) return;
+        const Vec3 p = out.position - dir * (options_.restore_volume * change / dg);
+        const Vec3 mid = xa + d * 0.5;
+        if (!is_finite(p) || dot(p - mid, p - mid) > kMaxPlacementReach * kMaxPlacementReach * dot(d, d)) return;
+        out.position = p;
+        out.s = -1;
+    }
+
+    //! The cross products of v's faces, in fan order, into fan_cross_, and the vertices after and before v in each
+    //! into fan_ends_; returns their sum.
+    Vec3 fan_crosses(Index v) {
+        const Index* fan = fan_of(v);
+        const Index degree = vx_[v].degree;
+        fan_cross_.resize(degree);
+        fan_ends_.resize(degree);
+        Vec3 sum{0, 0, 0};
+        for (Index i = 0; i < degree; ++i) {
+            const Tri& t = tris_[fan[i]];
+            const Vec3 cr = cross(vx_[t[1]].p - vx_[t[0]].p, vx_[t[2]].p - vx_[t[0]].p);
+            fan_cross_[i] = cr;
+            const int j = corner_of(fan[i], v);
+            fan_ends_[i] = {t[(j + 1) % 3], t[(j + 2) % 3]};
+            sum += cr;
+        }
+        return sum;
+    }
+    //! After fan_crosses(v): the sum of the cross products of the faces on edge (v, w).
+    Vec3 edge_faces_area(Index w) const {
+        Vec3 sum{0, 0, 0};
+        for (std::size_t m = 0; m < fan_ends_.size(); ++m)
+            if (fan_ends_[m][0] == w || fan_ends_[m][1] == w) sum += fan_cross_[m];
+        return sum;
     }
 
     //! Appends the distinct neighbours of v (over its live faces) to `out`.
@@ -775,6 +872,18 @@ private:
 
     void apply(const Collapse& c) {
         const Index k = c.keep, r = c.remove;
+        // fan areas: take out the faces that change (all of k's and r's) from their other corners, put back below
+        if (volume_)
+            for (const Index v : {k, r}) {
+                const Index* fan = fan_of(v);
+                for (Index i = 0, n = vx_[v].degree; i < n; ++i) {
+                    const Tri& t = tris_[fan[i]];
+                    if (v == r && contains(fan[i], k)) continue;  // an edge face, done with k's
+                    const Vec3 cr = cross(vx_[t[1]].p - vx_[t[0]].p, vx_[t[2]].p - vx_[t[0]].p);
+                    for (Index w : t)
+                        if (w != k && w != r) fan_area_[w] -= cr;
+                }
+            }
         // attributes first, while the edge's faces still exist
         double s = c.s;
         if (s < 0 && (!face_uvs_.empty() || !normals_.empty())) {
@@ -848,18 +957,33 @@ private:
         flags_[r] = 0;
         xk.q += xr.q;
         xk.p = c.position;
+        if (volume_) {
+            fan_area_[k] = fan_crosses(k);
+            fan_area_[r] = Vec3{0, 0, 0};
+            const Index* fan = fan_of(k);
+            for (Index i = 0; i < degree; ++i)
+                for (Index w : tris_[fan[i]])
+                    if (w != k) fan_area_[w] += fan_cross_[i];
+        }
         ++version_[k];
         ++version_[r];
         // Only edges at k changed cost (their quadric or endpoint moved): push them with k's new stamp. k's ring is
         // now its ring and r's before the collapse (is_valid), less k and r; the two shared only the apexes (link
         // condition). Their records were fetched for the checks.
+        const bool interior = volume_ && !(flags_[k] & kBoundary);
+        auto push_edge = [&](Index w) {
+            if (!interior) return push(k, w);
+            const Vec3 edge_faces = edge_faces_area(w);
+            push(k, w, &edge_faces);
+        };
         for (Index w : ring_k_)
-            if (w != r) push(k, w);
+            if (w != r) push_edge(w);
         for (Index w : ring_r_)
-            if (w != k && !is_apex(w)) push(k, w);
+            if (w != k && !is_apex(w)) push_edge(w);
     }
 
     const SimplifyOptions& options_;
+    const bool volume_ = options_.restore_volume > 0;  //!< volume restoration on (restore_volume)
     std::vector<Index> rank_;  //!< rank_[input vertex] = its number here (spatial_order)
     std::uint64_t polls_ = 0;
     std::size_t pushes_ = 0;  //!< heap pushes since the last compaction
@@ -869,6 +993,9 @@ private:
     //! Bumped whenever the vertex moves, changes quadric or dies. Apart from the records: every candidate popped is
     //! checked against it, most of them stale, and 4 bytes per vertex stay in cache where 128 would not.
     BlockVector<std::uint32_t> version_;
+    //! Per vertex, the sum of its live faces' cross products (twice the vector area of its fan), for volume
+    //! restoration; kept current by apply().
+    BlockVector<Vec3> fan_area_;
     BlockVector<Tri> tris_;
     BlockVector<Index> fans_;  //!< every vertex's faces (VertexData::fan, degree, capacity)
     BlockVector<std::uint8_t> face_alive_;
@@ -881,6 +1008,8 @@ private:
     CandidateHeap heap_;
     // scratch for is_valid/apply (one collapse at a time)
     std::vector<Index> shared_, apexes_, ring_k_, ring_r_;
+    std::vector<Vec3> fan_cross_;                  //!< fan_crosses()
+    std::vector<std::array<Index, 2>> fan_ends_;   //!< fan_crosses()
 };
 
 }  // namespace
@@ -895,6 +1024,9 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
     if (options.max_error && !(*options.max_error >= 0 && std::isfinite(*options.max_error)))
         return make_error(ErrorCode::InvalidArgument,
                           "max_error must be a finite distance >= 0, got " + std::to_string(*options.max_error));
+    if (!(options.restore_volume >= 0 && options.restore_volume <= 1))
+        return make_error(ErrorCode::InvalidArgument,
+                          "restore_volume must be in [0, 1], got " + std::to_string(options.restore_volume));
     if (!(options.boundary_weight >= 0 && std::isfinite(options.boundary_weight)))
         return make_error(ErrorCode::InvalidArgument, "boundary_weight must be finite and >= 0");
     for (Index v : options.locked_vertices)

@@ -56,23 +56,26 @@ struct Quadric {
     //! placements far from the edge, which is what an ill-conditioned solve would produce).
     static constexpr double kSingularDet = 1e-15;
 
-    //! Solves A x = -b by Cramer's rule. Returns false when A is (nearly) singular: flat or cylindrical regions,
-    //! where the minimum is a plane or a line and the caller must pick a point on it.
-    bool minimizer(Vec3& out) const {
+    //! Solves A x = -b: the point where Q is least. Returns false when A is (nearly) singular: flat or cylindrical
+    //! regions, where the minimum is a plane or a line and the caller must pick a point on it.
+    bool minimizer(Vec3& out) const { return solve({-b0, -b1, -b2}, out); }
+
+    //! Solves A x = rhs by Cramer's rule; false when A is (nearly) singular (see kSingularDet).
+    bool solve(const Vec3& rhs, Vec3& out) const {
         const double c00 = a11 * a22 - a12 * a12;
         const double c01 = a02 * a12 - a01 * a22;
         const double c02 = a01 * a12 - a02 * a11;
         const double det = a00 * c00 + a01 * c01 + a02 * c02;
         // Relative test: det scales with the cube of the matrix entries. The largest eigenvalue is <= trace, so
-        // |det| < 1e-6 trace^3 means the smallest eigenvalue is tiny compared to the largest (ill-conditioned).
+        // |det| <= kSingularDet trace^3 means the smallest eigenvalue is tiny compared to the largest.
         const double trace = a00 + a11 + a22;
         if (!(trace > 0) || std::fabs(det) <= kSingularDet * trace * trace * trace) return false;
         const double c11 = a00 * a22 - a02 * a02;
         const double c12 = a01 * a02 - a00 * a12;
         const double c22 = a00 * a11 - a01 * a01;
-        const double inv = -1.0 / det;
-        out = {inv * (c00 * b0 + c01 * b1 + c02 * b2), inv * (c01 * b0 + c11 * b1 + c12 * b2),
-               inv * (c02 * b0 + c12 * b1 + c22 * b2)};
+        const double inv = 1.0 / det;
+        out = {inv * (c00 * rhs.x + c01 * rhs.y + c02 * rhs.z), inv * (c01 * rhs.x + c11 * rhs.y + c12 * rhs.z),
+               inv * (c02 * rhs.x + c12 * rhs.y + c22 * rhs.z)};
         return is_finite(out);
     }
 };

@@ -118,6 +118,23 @@ TEST(SimplifyOperation, ObjWithUvsKeepsThemInUncompressedGlb) {
     EXPECT_LE(back->face_count(), 256u);
 }
 
+TEST(SimplifyOperation, RestoreVolumeKeepsTheVolumeOfASphere) {
+    const PolygonMesh sphere = testing::icosphere(4);
+    const double before = testing::signed_volume(sphere);
+    // plain quadrics leave the coarse sphere inside the fine one; restore_volume=1 keeps the volume
+    auto volume_after = [&](const char* restore) {
+        const auto response = call("model/obj", write_obj(sphere),
+                                   {{"target_faces", "200"}, {"restore_volume", restore}, {"format", "obj"}});
+        EXPECT_EQ(response.status, 200) << response.body;
+        auto mesh = read_obj(response.body);
+        EXPECT_TRUE(mesh.ok());
+        return mesh.ok() ? testing::signed_volume(mesh.value()) : 0.0;
+    };
+    const double plain = volume_after("0"), restored = volume_after("1");
+    EXPECT_LT(plain, before);
+    EXPECT_LT(std::fabs(restored - before), 0.2 * std::fabs(plain - before)) << before << " " << plain << " " << restored;
+}
+
 TEST(SimplifyOperation, LockBorderKeepsTheBoundaryOfAGrid) {
     const PolygonMesh grid = shapes::grid(16, 16, true);
     const auto response = call("application/ply", write_ply(grid), {{"ratio", "0.2"}, {"lock_border", "true"},
@@ -224,6 +241,14 @@ TEST(SimplifyOperation, OutOfRangeOptionsAre400WithField) {
                              "invalid_field")
                   .value("field", ""),
               "lock_border");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"restore_volume":1.5)")), 400,
+                             "invalid_field")
+                  .value("field", ""),
+              "restore_volume");
+    EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"restore_volume", "-0.1"}}), 400,
+                             "invalid_field")
+                  .value("field", ""),
+              "restore_volume");
     EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "abc"}}), 400, "invalid_field").value("field", ""),
               "ratio");
     EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "inf"}}), 400, "invalid_field").value("field", ""),
