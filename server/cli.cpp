@@ -731,7 +731,7 @@ Options:
   --lock-border             boundary vertices stay exactly where they are
   --locked-vertices LIST    vertices that stay exactly where they are (0-based indices into IN: 0,5,100)
   --restore-volume A        volume restoration, 0..1 (default 0): 1 keeps the volume, 0.5 lowers the RMS error
-                            by 4-20% on smooth meshes; 25-60% more time
+                            by 4-20% on smooth meshes; 25-70% more time
   --report-error            measure and print the Hausdorff and RMS distance to the input
   --no-draco                write an uncompressed .glb
   --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)
