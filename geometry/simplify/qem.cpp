@@ -558,12 +558,13 @@ private:
         vx_[t[(j + 1) % 3]].q += q;
     }
 
-    //! Fills the heap with every live edge: interior edges appear twice (once per direction) and are pushed once,
-    //! boundary edges always (the first pass knows the boundary from init).
+    //! Whether half-edge j of face f stands for its edge in the heap: interior edges appear twice (once per
+    //! direction) and are pushed once, boundary edges always (the first pass knows the boundary from init).
     bool is_candidate_halfedge(Index f, int j, int pass) const {
         const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
         return u < w || (pass == 0 ? (boundary_halfedges_[f] >> j & 1) != 0 : is_boundary_halfedge(f, j));
     }
+    //! Fills the heap with every live edge, in face order.
     void push_edges_by_face(int pass) {
         for (Index f = 0; f < tris_.size(); ++f) {
             if (!face_alive_[f]) continue;
