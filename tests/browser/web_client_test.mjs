@@ -218,6 +218,39 @@ try {
   check(/Hausdorff \(measured\): [0-9.e+-]+/.test(simplified), `simplified to 5 % with the measured error shown (${await shot('06-simplified')})`);
   console.log(simplified.split('\n').map((l) => `     ${l}`).join('\n'));
 
+  // 5b. "Keep volume", toggled from the keyboard: the next POST /simplify carries restore_volume 0.5 and its result
+  // (different vertex positions, the measured error) is shown; turned off again, none is sent and the plain result is back
+  const simplifyRequests = [];
+  const onSimplify = (req) => {
+    if (req.method() !== 'POST' || new URL(req.url()).pathname !== '/simplify') return;
+    const body = req.postData();
+    const query = new URL(req.url()).searchParams.get('restore_volume');
+    simplifyRequests.push(query !== null ? Number(query) : body?.startsWith('{') ? JSON.parse(body).restore_volume : undefined);
+  };
+  page.on('request', onSimplify);
+  const toggleVolume = async () => {
+    const n = await statsUpdates();
+    simplifyRequests.length = 0;
+    await page.getByLabel('Keep volume (restore_volume 0.5)').focus();
+    await page.keyboard.press('Space');
+    await page.waitForFunction((m) => Number(document.getElementById('stats').dataset.updates) > m &&
+                                      !window.surfaced.views.simplify.busy, n);
+    return { sent: [...simplifyRequests], stats: await page.$eval('#stats', (el) => el.textContent),
+             faces: await page.$eval('#stats', (el) => Number(el.dataset.outputFaces)), mesh: await meshSignature() };
+  };
+  const plainMesh = await meshSignature();
+  const kept = await toggleVolume();
+  check(kept.sent.length > 0 && kept.sent.every((v) => v === 0.5) && await page.isChecked('#simp-volume'),
+        `Keep volume on: POST /simplify sent restore_volume 0.5 (${JSON.stringify(kept.sent)})`);
+  check(kept.faces > 0 && kept.faces <= 0.05 * 5120 + 2 && /RMS \(measured\): [0-9.e+-]+/.test(kept.stats) &&
+        kept.mesh !== null && kept.mesh !== plainMesh && !(await page.isVisible('#error')),
+        `Keep volume on: a different result shown, ${kept.faces} faces with its measured error (${await shot('06a-keep-volume')})`);
+  const plain = await toggleVolume();
+  check(plain.sent.length > 0 && plain.sent.every((v) => v === undefined) && !(await page.isChecked('#simp-volume')),
+        `Keep volume off: POST /simplify sent no restore_volume (${plain.sent.length} request(s))`);
+  check(plain.mesh === plainMesh && /RMS \(measured\)/.test(plain.stats), 'Keep volume off: the plain result is shown again');
+  page.off('request', onSimplify);
+
   // 6. downloads: OBJ of the current result (asked of the service again), GLB as received
   const [objDownload] = await Promise.all([page.waitForEvent('download'), page.click('#download-obj')]);
   const objPath = path.join(artifacts, objDownload.suggestedFilename());

@@ -1,5 +1,5 @@
 // Simplify view: a target slider; each position is simplified on the server (POST /simplify) and shown with the
-// measured error (report_error: Hausdorff and RMS distances to the input).
+// measured error (report_error: Hausdorff and RMS distances to the input). "Keep volume" sends restore_volume 0.5.
 import { call, meshMediaType, headerStats } from './api.js';
 import { builtins } from './meshes.js';
 
@@ -21,6 +21,7 @@ export class SimplifyView {
     $('simp-ratio').addEventListener('input', () => { this.showRatio(); this.run(false); });
     $('simp-ratio').addEventListener('change', () => this.run(true));
     $('simp-lock').addEventListener('change', () => this.run(true));
+    $('simp-volume').addEventListener('change', () => this.run(true));
     this.showRatio();
   }
 
@@ -45,13 +46,16 @@ export class SimplifyView {
   }
 
   options(report) {
-    return { ratio: Number($('simp-ratio').value) / 100, lock_border: $('simp-lock').checked, report_error: report };
+    const o = { ratio: Number($('simp-ratio').value) / 100, lock_border: $('simp-lock').checked, report_error: report };
+    if ($('simp-volume').checked) o.restore_volume = 0.5;   // the README's value for the lowest RMS; 0 (off) is the default: not sent
+    return o;
   }
 
   send(format, report = this.report) {
     const o = this.options(report);
     if (this.source.json) return call('POST', '/simplify', { body: { mesh: this.source.json, ...o, output: { format } } });
     const q = new URLSearchParams({ ratio: String(o.ratio), lock_border: String(o.lock_border), report_error: String(report), format });
+    if (o.restore_volume) q.set('restore_volume', String(o.restore_volume));
     return call('POST', `/simplify?${q}`, { body: this.source.bytes, contentType: this.source.type });
   }
 
