@@ -58,6 +58,7 @@ struct SimplifyParams {
     std::optional<double> max_error;  //!< absolute distance, >= 0
     bool lock_border = false;
     double restore_volume = 0;        //!< [0, 1]: volume restoration (SimplifyOptions::restore_volume)
+    std::int64_t threads = 1;         //!< 1 or 2 (SimplifyOptions::threads)
     bool report_error = false;        //!< measure Hausdorff/RMS to the input and return them
     std::vector<std::int64_t> locked_vertices;  //!< vertices that never move or disappear (checked against the mesh)
     OutputOptions output;

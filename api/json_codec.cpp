@@ -396,7 +396,8 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
     if (auto error = check_members(root, "", {"mesh", "target_faces", "ratio", "max_error", "lock_border",
-                                              "restore_volume", "report_error", "locked_vertices", "output"}))
+                                              "restore_volume", "threads", "report_error", "locked_vertices",
+                                              "output"}))
         return std::move(*error);
     SimplifyJsonRequest request;
     if (auto it = root.find("target_faces"); it != root.end()) {
@@ -423,6 +424,11 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
         auto v = read_number(*it, "restore_volume");
         if (!v) return std::move(v.error());
         request.params.restore_volume = v.value();
+    }
+    if (auto it = root.find("threads"); it != root.end()) {
+        auto v = read_integer(*it, "threads");
+        if (!v) return std::move(v.error());
+        request.params.threads = v.value();
     }
     if (auto it = root.find("report_error"); it != root.end()) {
         auto v = read_bool(*it, "report_error");

@@ -47,8 +47,8 @@ struct SimplifyJsonRequest {
 };
 
 //! Decodes {"mesh": {...}, "target_faces": N, "ratio": r, "max_error": e, "lock_border": bool, "restore_volume": r,
-//! "report_error": bool, "output": {...}} for POST /simplify. Only "mesh" is required here; the operation checks that a stop criterion is
-//! given and the ranges (the same checks apply to query parameters).
+//! "threads": n, "report_error": bool, "output": {...}} for POST /simplify. Only "mesh" is required here; the operation
+//! checks that a stop criterion is given and the ranges (the same checks apply to query parameters).
 ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, const Limits& limits);
 
 //! {"mesh": {...}, "stats": {"input_vertices", ..., "triangulated", "achieved_error", "relative_error",

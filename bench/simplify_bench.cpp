@@ -4,7 +4,8 @@
 // table: time, faces reached, symmetric Hausdorff and two-sided RMS distance to the input (mesh_distance, the same
 // sampling for all three), the invariants we promise (non-manifold edges, duplicate faces), and the ratios the issue
 // sets targets for (time ours/meshopt <= 2, ours/CGAL <= 0.1; Hausdorff ours/meshopt <= 1; RMS ours/CGAL <= 1).
-// Two rows per mesh and target: ours as by default, and with volume restoration (SimplifyOptions::restore_volume).
+// Four rows per mesh and target: ours as by default, and with volume restoration (SimplifyOptions::restore_volume),
+// each on one thread and with SimplifyOptions::threads = 2 (meshoptimizer and CGAL: one thread).
 //
 // Usage: bench_simplify[_cgal] [--quick]   (--quick skips the 1M-triangle meshes)
 #include <algorithm>
@@ -106,9 +107,10 @@ struct Peer {
 };
 
 struct Ours final : Peer {
-    Ours(const PolygonMesh& mesh, std::size_t faces, double restore_volume) : input(mesh) {
+    Ours(const PolygonMesh& mesh, std::size_t faces, double restore_volume, int threads) : input(mesh) {
         options.target_faces = faces;
         options.restore_volume = restore_volume;
+        options.threads = threads;
     }
     double run() override {
         const auto start = Clock::now();
@@ -254,27 +256,30 @@ void run(const std::string& name, const PolygonMesh& mesh) {
     for (double fraction : {0.1, 0.01}) {
         const auto target = static_cast<std::size_t>(fraction * static_cast<double>(mesh.face_count()));
         const bool small = mesh.face_count() < kRepeatBelow;
-        // ours twice: plain Garland-Heckbert (the default) and with volume restoration
-        Ours ours(mesh, target, 0.0), restoring(mesh, target, kRestoreVolume);
+        // ours four times: plain Garland-Heckbert (the default) and with volume restoration, on one thread and with
+        // threads = 2
+        Ours ours(mesh, target, 0.0, 1), restoring(mesh, target, kRestoreVolume, 1);
+        Ours ours2(mesh, target, 0.0, 2), restoring2(mesh, target, kRestoreVolume, 2);
         Meshopt meshopt(mesh, target);
         const int rounds_each = small ? kSmallRounds : kLargeRounds;
-        std::vector<Peer*> peers{&ours, &restoring, &meshopt};
-        std::vector<int> rounds{rounds_each, rounds_each, rounds_each};
+        std::vector<Peer*> peers{&ours, &restoring, &ours2, &restoring2, &meshopt};
+        std::vector<int> rounds{rounds_each, rounds_each, rounds_each, rounds_each, rounds_each};
 #ifdef SURFACED_BENCH_CGAL
         Cgal cgal(mesh, target);
         peers.push_back(&cgal);
         rounds.push_back(small ? kCgalSmallRounds : 1);
 #endif
         const std::vector<Row> rows = race(peers, rounds);
-        const Row& b = rows[2];
-        const Row c = rows.size() > 3 ? rows[3] : Row{};
+        const Row& b = rows[4];
+        const Row c = rows.size() > 5 ? rows[5] : Row{};
         auto relative = [diagonal](double Row::*field) {
             return [diagonal, field](const Row& r) { return r.*field / diagonal; };
         };
-        for (int variant = 0; variant < 2; ++variant) {
+        for (int variant = 0; variant < 4; ++variant) {
             const Row& a = rows[static_cast<std::size_t>(variant)];
-            std::printf("| %s | %zu | %g%% | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(),
-                        mesh.face_count(), fraction * 100, variant == 0 ? "0" : "0.5",
+            std::printf("| %s | %zu | %g%% | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
+                        name.c_str(), mesh.face_count(), fraction * 100, variant % 2 == 0 ? "0" : "0.5",
+                        variant < 2 ? 1 : 2,
                         triple(a, b, c, "%zu", [](const Row& r) { return r.faces; }).c_str(),
                         triple(a, b, c, "%.3f", [](const Row& r) { return r.seconds; }).c_str(),
                         ratio(a, b, &Row::seconds).c_str(), ratio(a, c, &Row::seconds).c_str(),
@@ -297,13 +302,14 @@ int main(int argc, char** argv) {
 #else
     const std::string cgal_name = "CGAL (not built: bench_simplify_cgal)";
 #endif
-    std::printf("ours / meshoptimizer %d.%d / %s; errors relative to the bounding-box diagonal; time in seconds, one "
-                "thread, the peers in turn, fastest of %d runs below %zu triangles (CGAL %d), else of %d (CGAL 1)\n\n",
+    std::printf("ours / meshoptimizer %d.%d / %s; errors relative to the bounding-box diagonal; time in seconds, the "
+                "peers on one thread (ours also with threads = 2) in turn, fastest of %d runs below %zu triangles (CGAL %d), else of %d (CGAL 1)\n\n",
                 MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10, cgal_name.c_str(), kSmallRounds,
                 kRepeatBelow, kCgalSmallRounds, kLargeRounds);
-    std::printf("| mesh | triangles | target | our restore_volume | faces | time | time ours/meshopt | time ours/CGAL | "
-                "Hausdorff | Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | duplicate faces |\n");
-    std::printf("|---|---:|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
+    std::printf("| mesh | triangles | target | our restore_volume | our threads | faces | time | time ours/meshopt | "
+                "time ours/CGAL | Hausdorff | Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | "
+                "duplicate faces |\n");
+    std::printf("|---|---:|---:|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
     const char* bunny_path = "/usr/share/glmark2/models/bunny.obj";
     if (std::filesystem::exists(bunny_path)) {
         std::ifstream in(bunny_path, std::ios::binary);

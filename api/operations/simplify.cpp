@@ -56,7 +56,7 @@ std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& l
 
 ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     if (auto error = check_query_names(query, {"target_faces", "ratio", "max_error", "lock_border", "restore_volume",
-                                                "report_error", "locked_vertices", "format", "compression",
+                                                "threads", "report_error", "locked_vertices", "format", "compression",
                                                 "quantize_position", "normals"}))
         return std::move(*error);
 
@@ -68,6 +68,7 @@ ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std
         else if (name == "max_error") error = read_parameter(name, text, params.max_error);
         else if (name == "lock_border") error = read_parameter(name, text, params.lock_border);
         else if (name == "restore_volume") error = read_parameter(name, text, params.restore_volume);
+        else if (name == "threads") error = read_parameter(name, text, params.threads);
         else if (name == "report_error") error = read_parameter(name, text, params.report_error);
         else if (name == "locked_vertices") error = read_locked_vertices(text, params.locked_vertices);
         else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
@@ -95,6 +96,9 @@ std::optional<ApiError> check_params(const SimplifyParams& params, Source source
         return make_problem(Problem::InvalidField,
                             "restore_volume must be in [0, 1], got " + format_double(params.restore_volume),
                             "restore_volume");
+    if (params.threads != 1 && params.threads != 2)
+        return make_problem(Problem::InvalidField, "threads must be 1 or 2, got " + std::to_string(params.threads),
+                            "threads");
     return check_output_options(params.output, source);
 }
 
@@ -118,6 +122,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.max_error = params.max_error;
     options.lock_border = params.lock_border;
     options.restore_volume = params.restore_volume;
+    options.threads = static_cast<int>(params.threads);
     options.locked_vertices.reserve(params.locked_vertices.size());
     for (std::int64_t v : params.locked_vertices) options.locked_vertices.push_back(static_cast<Index>(v));  // checked
     options.cancel = context.cancel;

@@ -44,9 +44,15 @@ struct SimplifyOptions {
     //! that leaves the volume under the edge's two fans unchanged. 1 keeps the volume (mean signed distance near 0,
     //! lowest RMS distance, but vertices then stand out by the chords' mean sag: Hausdorff grows); 0.5 gives 0.8-0.96
     //! times the RMS distance of 0 on the bench meshes with about the same or a lower Hausdorff distance there
-    //! (higher on some coarse outputs). Both cost about 25-70% more time. Interior edges only (a fan at a boundary
-    //! is not closed).
+    //! (higher on some coarse outputs). Either costs a few percent more time. Interior edges only (a fan at a
+    //! boundary is not closed).
     double restore_volume = 0;
+    //! 1 (the default): one thread. 2 or more: a mesh of 20,000 triangles or more (without texture coordinates) first
+    //! collapses on two threads, one spatial half each, in cost order across both to within a factor of two, until
+    //! the faces on the cut between the halves plus 5% of the way to the target are left; those then collapse in
+    //! global order. The result depends only on the mesh and the options (not on timing, nor on whether a second
+    //! thread could be started), and is close to but not the same as one thread's.
+    int threads = 1;
     //! Polled every few thousand collapse candidates and between max_error attempts; when it fires the result is
     //! Cancelled.
     Cancel cancel;
@@ -70,7 +76,7 @@ struct SimplifyResult {
 //!
 //! Guarantees on the output, for manifold, consistently oriented input:
 //!  * no collapse creates a non-manifold edge or vertex (link condition), a duplicate face, a face whose normal turns
-//!    by more than ~78 degrees from its normal before the collapse or from the input face it started as (flips and
+//!    by more than 60 degrees from its normal before the collapse or from the input face it started as (flips and
 //!    folds), or a degenerate face (twice the area / longest edge^2 below 1e-3 when it was not already that thin;
 //!    below 1e-6 never). Faces of the input that no collapse touches are output as they are;
 //!  * locked vertices, and boundary vertices with lock_border, keep their index order and positions;
@@ -80,7 +86,7 @@ struct SimplifyResult {
 //!
 //! \pre validate(mesh) succeeds (validated anyway, its error returned).
 //! \return the simplified mesh, or InvalidArgument (no stop criterion, ratio outside (0, 1], negative max_error,
-//!         restore_volume outside [0, 1], locked vertex out of range), NonManifold (an edge shared by more than two faces, or two faces traversing
+//!         restore_volume outside [0, 1], threads < 1, locked vertex out of range), NonManifold (an edge shared by more than two faces, or two faces traversing
 //!         an edge in the same direction; the message names the edge and the error the face).
 //! Work: O(F log F) per pass (1.3-3.4 s for 1.3M triangles to 1% on one core here, depending on the machine's load;
 //! restore_volume adds 25-70%); with max_error, up to 7 passes each followed by mesh_distance(). Memory about 180

@@ -135,6 +135,28 @@ TEST(SimplifyOperation, RestoreVolumeKeepsTheVolumeOfASphere) {
     EXPECT_LT(std::fabs(restored - before), 0.2 * std::fabs(plain - before)) << before << " " << plain << " " << restored;
 }
 
+// threads=2 reaches the same count through the same operation, as query parameter and as JSON field; on a mesh above
+// the two-thread minimum (20,000 triangles) the result is its own (not threads=1's), the same on every call.
+TEST(SimplifyOperation, TwoThreadsReachTheTargetAndRepeat) {
+    const PolygonMesh sphere = testing::icosphere(5);  // 20,480 faces
+    auto simplify = [&](const char* threads) {
+        const auto response =
+            call("model/obj", write_obj(sphere), {{"target_faces", "2000"}, {"threads", threads}, {"format", "obj"}});
+        EXPECT_EQ(response.status, 200) << response.body;
+        auto mesh = read_obj(response.body);
+        EXPECT_TRUE(mesh.ok());
+        return mesh.ok() ? std::move(mesh.value()) : PolygonMesh{};
+    };
+    const PolygonMesh one = simplify("1"), two = simplify("2"), again = simplify("2");
+    EXPECT_EQ(one.face_count(), 2000u);
+    EXPECT_EQ(two.face_count(), 2000u);
+    EXPECT_TRUE(testing::is_watertight(two));
+    EXPECT_EQ(two.positions, again.positions);
+    EXPECT_NE(two.positions, one.positions);
+    const auto json = call("application/json", json_request(sphere, R"(,"target_faces":2000,"threads":2)"));
+    ASSERT_EQ(json.status, 200) << json.body.substr(0, 300);
+}
+
 TEST(SimplifyOperation, LockBorderKeepsTheBoundaryOfAGrid) {
     const PolygonMesh grid = shapes::grid(16, 16, true);
     const auto response = call("application/ply", write_ply(grid), {{"ratio", "0.2"}, {"lock_border", "true"},
@@ -249,6 +271,13 @@ TEST(SimplifyOperation, OutOfRangeOptionsAre400WithField) {
                              "invalid_field")
                   .value("field", ""),
               "restore_volume");
+    EXPECT_EQ(expect_problem(call("application/json", json_request(m, R"(,"ratio":0.5,"threads":3)")), 400,
+                             "invalid_field")
+                  .value("field", ""),
+              "threads");
+    EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"threads", "0"}}), 400, "invalid_field")
+                  .value("field", ""),
+              "threads");
     EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "abc"}}), 400, "invalid_field").value("field", ""),
               "ratio");
     EXPECT_EQ(expect_problem(call("model/obj", write_obj(m), {{"ratio", "inf"}}), 400, "invalid_field").value("field", ""),

@@ -503,6 +503,9 @@ TEST(Qem, RejectsBadOptions) {
     SimplifyOptions locked = target(10);
     locked.locked_vertices = {1000};
     EXPECT_EQ(simplify_qem(sphere, locked).error().code, ErrorCode::IndexOutOfRange);
+    SimplifyOptions threads = target(10);
+    threads.threads = 0;
+    EXPECT_EQ(simplify_qem(sphere, threads).error().code, ErrorCode::InvalidArgument);
 }
 
 TEST(Qem, TetrahedronCannotCollapseFurther) {
@@ -546,6 +549,90 @@ TEST(Qem, IsDeterministic) {
     EXPECT_EQ(a->mesh.face_indices, b->mesh.face_indices);
     ASSERT_EQ(a->mesh.positions.size(), b->mesh.positions.size());
     for (std::size_t i = 0; i < a->mesh.positions.size(); ++i) EXPECT_EQ(a->mesh.positions[i], b->mesh.positions[i]);
+}
+
+// threads = 2: the two spatial halves collapse at once before the rest in global order. Same guarantees, errors
+// within a few percent of one thread's, a result that depends on nothing but the input (run twice: the same), and
+// not one thread's result (else the first phase did not run and the test would prove nothing).
+TEST(Qem, TwoThreadsKeepTheGuaranteesAndTheQualityOfOne) {
+    struct Case {
+        std::string name;
+        PolygonMesh mesh;
+        double ratio;
+    };
+    std::vector<Case> cases;
+    cases.push_back({"bunny 5%", bunny(), 0.05});
+    cases.push_back({"icosphere 6 1%", testing::icosphere(6), 0.01});
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        ASSERT_GT(c.mesh.face_count(), 60000u);
+        SimplifyOptions options;
+        options.ratio = c.ratio;
+        auto one = simplify_qem(c.mesh, options);
+        options.threads = 2;
+        auto two = simplify_qem(c.mesh, options);
+        auto again = simplify_qem(c.mesh, options);
+        ASSERT_TRUE(one.ok() && two.ok() && again.ok());
+        const auto target = static_cast<std::size_t>(c.ratio * static_cast<double>(c.mesh.face_count()));
+        EXPECT_LE(two->faces, target);
+        EXPECT_GE(two->faces, target - 2);
+        expect_clean(two->mesh, c.mesh, c.name + ", 2 threads");
+        EXPECT_EQ(boundary_loop_count(two->mesh), boundary_loop_count(c.mesh));
+        EXPECT_EQ(two->mesh.face_indices, again->mesh.face_indices);
+        EXPECT_EQ(two->mesh.positions, again->mesh.positions);
+        EXPECT_NE(two->mesh.positions, one->mesh.positions);
+        const MeshDistance d1 = mesh_distance(c.mesh, one->mesh), d2 = mesh_distance(c.mesh, two->mesh);
+        EXPECT_LT(d2.rms, 1.05 * d1.rms);
+        EXPECT_LT(d2.hausdorff, 1.3 * d1.hausdorff);
+        std::printf("%s: RMS %.3g (one thread %.3g), Hausdorff %.3g (%.3g)\n", c.name.c_str(), d2.rms, d1.rms,
+                    d2.hausdorff, d1.hausdorff);
+    }
+}
+
+TEST(Qem, TwoThreadsWithLockedBorderMaxErrorAndVolumeRestoration) {
+    const PolygonMesh input = bunny();
+    ASSERT_GT(input.face_count(), 60000u);
+    const double max_error = 0.002 * input.bounds().diagonal();
+    SimplifyOptions options;
+    options.max_error = max_error;
+    options.lock_border = true;
+    options.threads = 2;
+    auto out = simplify_qem(input, options);
+    ASSERT_TRUE(out.ok());
+    EXPECT_LE(out->achieved_error, max_error);
+    EXPECT_LT(out->faces, input.face_count() / 3);
+    expect_clean(out->mesh, input, "bunny max_error, 2 threads");
+    EXPECT_EQ(testing::boundary_positions(out->mesh), testing::boundary_positions(input));
+
+    const PolygonMesh sphere = testing::icosphere(6);
+    SimplifyOptions plain = target(819);
+    SimplifyOptions restoring = plain;
+    restoring.restore_volume = 0.5;
+    restoring.threads = 2;
+    auto a = simplify_qem(sphere, plain), b = simplify_qem(sphere, restoring);
+    ASSERT_TRUE(a.ok() && b.ok());
+    expect_clean(b->mesh, sphere, "icosphere 6, restore_volume 0.5, 2 threads");
+    EXPECT_LT(mesh_distance(sphere, b->mesh).rms, 0.9 * mesh_distance(sphere, a->mesh).rms);
+}
+
+// Below 20,000 triangles, and with texture coordinates, threads = 2 runs on one thread: the same result as threads = 1.
+TEST(Qem, TwoThreadsOnSmallOrTexturedMeshesAreOneThread) {
+    for (const PolygonMesh& mesh : {testing::icosphere(4), testing::uv_cylinder(256, 48)}) {
+        SimplifyOptions options;
+        options.ratio = 0.1;
+        auto one = simplify_qem(mesh, options);
+        options.threads = 2;
+        auto two = simplify_qem(mesh, options);
+        ASSERT_TRUE(one.ok() && two.ok());
+        EXPECT_EQ(one->mesh.face_indices, two->mesh.face_indices);
+        EXPECT_EQ(one->mesh.positions, two->mesh.positions);
+        EXPECT_EQ(one->mesh.uv_indices, two->mesh.uv_indices);
+        ASSERT_EQ(one->mesh.uvs.size(), two->mesh.uvs.size());
+        for (std::size_t i = 0; i < one->mesh.uvs.size(); ++i) {
+            EXPECT_EQ(one->mesh.uvs[i].x, two->mesh.uvs[i].x);
+            EXPECT_EQ(one->mesh.uvs[i].y, two->mesh.uvs[i].y);
+        }
+    }
 }
 
 }  // namespace
