@@ -42,6 +42,7 @@
 #include <sys/mman.h>
 #endif
 
+#include "geometry/core/two_parts.h"
 #include "geometry/mesh/triangulate.h"
 #include "geometry/simplify/mesh_distance.h"
 #include "geometry/simplify/quadric.h"
@@ -364,19 +365,37 @@ public:
             }
         }
 
+        // With threads >= 2 the face planes and the manifold check run on two threads, one per half of the vertex
+        // numbers (as run_regions() cuts them): each adds planes only to its own vertices, in face order as on one
+        // thread, so the quadrics come out bit for bit the same; the half-edges needing more than the common
+        // interior test are collected per half and handled afterwards in vertex order, as on one thread.
+        const bool two = options_.threads >= 2 && nf >= kRegionsMinimum;
+        const Index half = two ? static_cast<Index>(nv / 2) : static_cast<Index>(nv);
+        const auto part_range = [&](int part) {
+            return part == 0 ? std::array<Index, 2>{0, half} : std::array<Index, 2>{half, static_cast<Index>(nv)};
+        };
+
         // face planes, weighted by area so that the metric does not depend on the tessellation density
-        for (std::size_t f = 0; f < nf; ++f) {
-            const auto& t = tris_[f];
-            const Vec3& p0 = vx_[t[0]].p;
-            Vec3 n = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
-            const double len = norm(n);
-            tris_[f].normal = {0.0f, 0.0f, 0.0f};
-            if (!(len > 0)) continue;  // no plane; its edges still get the quadrics of their other faces
-            n *= 1.0 / len;
-            tris_[f].normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
-            const Quadric q = Quadric::from_plane(n, -dot(n, p0), 0.5 * len);
-            for (Index v : t) vx_[v].q += q;
-        }
+        run_two_parts(two, [&](int part) {
+            const auto [lo, hi] = part_range(part);
+            if (lo == hi) return;
+            const auto mine = [lo = lo, hi = hi](Index v) { return v >= lo && v < hi; };
+            for (std::size_t f = 0; f < nf; ++f) {
+                const auto& t = tris_[f];
+                if (!mine(t[0]) && !mine(t[1]) && !mine(t[2])) continue;
+                const Vec3& p0 = vx_[t[0]].p;
+                Vec3 n = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
+                const double len = norm(n);
+                if (mine(t[0])) tris_[f].normal = {0.0f, 0.0f, 0.0f};
+                if (!(len > 0)) continue;  // no plane; its edges still get the quadrics of their other faces
+                n *= 1.0 / len;
+                if (mine(t[0]))
+                    tris_[f].normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
+                const Quadric q = Quadric::from_plane(n, -dot(n, p0), 0.5 * len);
+                for (Index v : t)
+                    if (mine(v)) vx_[v].q += q;
+            }
+        });
 
         // Every half-edge u -> w must have at most one twin, running the other way; boundary edges get constraint
         // planes. Checked per vertex u on its fan: the faces' vertices after u (outgoing edges) and before u
@@ -385,21 +404,34 @@ public:
         boundary_halfedges_.assign(nf, 0);
         std::size_t first_bad = std::numeric_limits<std::size_t>::max();
         bool bad_orientation = false;
-        for (Index u = 0; u < nv; ++u) {
-            const Index* fan = fan_of(u);
-            const std::array<Index, 2>* edge = ends.data() + vx_[u].fan;
-            const Index degree = vx_[u].degree;
-            for (Index i = 0; i < degree; ++i) {
-                const Index w = edge[i][0];
-                // other faces with u -> w (same direction) and with w -> u (opposite); a face's own incoming edge
-                // never ends at w (validated: no face repeats a vertex)
-                int same = -1, opposite = 0;
-                for (Index x = 0; x < degree; ++x) {
-                    same += edge[x][0] == w;
-                    opposite += edge[x][1] == w;
+        struct Odd {  // a half-edge u -> (fan slot i's next vertex) that is not simply interior
+            Index u, i;
+            int same, opposite;
+        };
+        std::array<std::vector<Odd>, 2> odd;
+        run_two_parts(two, [&](int part) {
+            const auto [lo, hi] = part_range(part);
+            for (Index u = lo; u < hi; ++u) {
+                const std::array<Index, 2>* edge = ends.data() + vx_[u].fan;
+                const Index degree = vx_[u].degree;
+                for (Index i = 0; i < degree; ++i) {
+                    const Index w = edge[i][0];
+                    // other faces with u -> w (same direction) and with w -> u (opposite); a face's own incoming
+                    // edge never ends at w (validated: no face repeats a vertex)
+                    int same = -1, opposite = 0;
+                    for (Index x = 0; x < degree; ++x) {
+                        same += edge[x][0] == w;
+                        opposite += edge[x][1] == w;
+                    }
+                    if (same == 0 && opposite == 1) continue;  // an interior edge, as nearly all are
+                    odd[static_cast<std::size_t>(part)].push_back({u, i, same, opposite});
                 }
-                if (same == 0 && opposite == 1) continue;  // an interior edge, as nearly all are
-                const Index f = fan[i];
+            }
+        });
+        for (const auto& list : odd)
+            for (const auto& [u, i, same, opposite] : list) {
+                const Index f = fan_of(u)[i];
+                const Index w = ends[vx_[u].fan + i][0];
                 const int j = corner_of(f, u);
                 if (same > 0 || opposite > 1) {
                     const std::size_t halfedge = 3 * std::size_t{f} + static_cast<std::size_t>(j);
@@ -416,7 +448,6 @@ public:
                 ++boundary_edges[w];
                 if (!options_.lock_border) add_boundary_plane(f, j);
             }
-        }
         if (first_bad != std::numeric_limits<std::size_t>::max()) {
             const Index f = static_cast<Index>(first_bad / 3);
             const int j = static_cast<int>(first_bad % 3);

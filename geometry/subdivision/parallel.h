@@ -3,34 +3,13 @@
 // are bit-identical for any thread count.
 #pragma once
 
-#include <thread>
-
+#include "geometry/core/two_parts.h"
 #include "geometry/core/types.h"
 
 namespace surfaced::subdivision {
 
 //! Levels with fewer elements than this are not split (thread start-up would cost more than it saves).
 inline constexpr Index kSplitMinimum = 16384;
-
-//! Runs part(0) and part(1), concurrently when `threaded`. `part` must not throw.
-template <class F>
-void run_two_parts(bool threaded, F&& part) {
-    if (threaded) {
-        std::thread other;
-        try {
-            other = std::thread([&] { part(1); });
-        } catch (...) {  // no thread to be had: do both parts here
-            part(0);
-            part(1);
-            return;
-        }
-        part(0);
-        other.join();
-        return;
-    }
-    part(0);
-    part(1);
-}
 
 //! body(begin, end) over [0, n): independent per element, so split in two when large and threads are allowed.
 template <class F>

@@ -27,7 +27,6 @@ namespace {
 
 using subdivision::Level;
 using subdivision::for_range;
-using subdivision::run_two_parts;
 
 bool is_sharp(float s) { return s > 0.0f; }
 bool is_infinite(float s) { return s >= kInfiniteSharpness; }
