@@ -88,9 +88,9 @@ struct SimplifyResult {
 //! \return the simplified mesh, or InvalidArgument (no stop criterion, ratio outside (0, 1], negative max_error,
 //!         restore_volume outside [0, 1], threads < 1, locked vertex out of range), NonManifold (an edge shared by more than two faces, or two faces traversing
 //!         an edge in the same direction; the message names the edge and the error the face).
-//! Work: O(F log F) per pass (1.3-3.4 s for 1.3M triangles to 1% on one core here, depending on the machine's load;
-//! restore_volume adds 25-70%); with max_error, up to 7 passes each followed by mesh_distance(). Memory about 180
-//! bytes per input triangle at the peak (init), 12 more with restore_volume.
+//! Work: O(F log F) per pass (0.7-3.4 s for 1.3M triangles to 1% on one core here, depending on the machine's load;
+//! about half that with threads 2; restore_volume adds up to ~10%); with max_error, up to 7 passes each followed by
+//! mesh_distance(). Memory about 180 bytes per input triangle at the peak (init); threads 2 adds 6 (fan room).
 Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptions& options);
 
 }  // namespace surfaced

@@ -392,16 +392,19 @@ TEST(Qem, ScannedBunnyWithMaxErrorAndLockedBorder) {
     const PolygonMesh input = bunny();
     ASSERT_GT(input.face_count(), 0u);
     const double max_error = 0.002 * input.bounds().diagonal();
-    SimplifyOptions options;
-    options.max_error = max_error;
-    options.lock_border = true;
-    auto out = simplify_qem(input, options);
-    ASSERT_TRUE(out.ok());
-    EXPECT_LE(out->achieved_error, max_error);
-    EXPECT_LT(out->faces, input.face_count() / 3);
-    expect_clean(out->mesh, input, "bunny max_error");
-    EXPECT_EQ(testing::boundary_positions(out->mesh), testing::boundary_positions(input));
-    EXPECT_EQ(boundary_loop_count(out->mesh), boundary_loop_count(input));
+    for (int threads : {1, 2}) {
+        SimplifyOptions options;
+        options.max_error = max_error;
+        options.lock_border = true;
+        options.threads = threads;
+        auto out = simplify_qem(input, options);
+        ASSERT_TRUE(out.ok());
+        EXPECT_LE(out->achieved_error, max_error);
+        EXPECT_LT(out->faces, input.face_count() / 3);
+        expect_clean(out->mesh, input, "bunny max_error, threads " + std::to_string(threads));
+        EXPECT_EQ(testing::boundary_positions(out->mesh), testing::boundary_positions(input));
+        EXPECT_EQ(boundary_loop_count(out->mesh), boundary_loop_count(input));
+    }
 }
 
 // A large closed mesh to 1%: counts and invariants at scale (speed is bench/simplify_bench.cpp's business).
@@ -589,21 +592,8 @@ TEST(Qem, TwoThreadsKeepTheGuaranteesAndTheQualityOfOne) {
     }
 }
 
-TEST(Qem, TwoThreadsWithLockedBorderMaxErrorAndVolumeRestoration) {
-    const PolygonMesh input = bunny();
-    ASSERT_GT(input.face_count(), 60000u);
-    const double max_error = 0.002 * input.bounds().diagonal();
-    SimplifyOptions options;
-    options.max_error = max_error;
-    options.lock_border = true;
-    options.threads = 2;
-    auto out = simplify_qem(input, options);
-    ASSERT_TRUE(out.ok());
-    EXPECT_LE(out->achieved_error, max_error);
-    EXPECT_LT(out->faces, input.face_count() / 3);
-    expect_clean(out->mesh, input, "bunny max_error, 2 threads");
-    EXPECT_EQ(testing::boundary_positions(out->mesh), testing::boundary_positions(input));
-
+// (max_error and lock_border with two threads: ScannedBunnyWithMaxErrorAndLockedBorder)
+TEST(Qem, TwoThreadsWithVolumeRestoration) {
     const PolygonMesh sphere = testing::icosphere(6);
     SimplifyOptions plain = target(819);
     SimplifyOptions restoring = plain;
