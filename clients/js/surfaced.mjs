@@ -85,7 +85,8 @@ export class Client {
   /** POST /subdivide: {mesh | data + contentType, scheme, levels, boundary, creases, limit_surface, ..., output} */
   subdivide(args) { return this.meshOperation('/subdivide', args); }
 
-  /** POST /simplify: {mesh | data + contentType, target_faces | ratio | max_error, lock_border, report_error, output} */
+  /** POST /simplify: {mesh | data + contentType, target_faces | ratio | max_error, lock_border, restore_volume,
+   *  threads, locked_vertices, report_error, output} */
   simplify(args) { return this.meshOperation('/simplify', args); }
 
   /** POST /tessellate: {patches, tolerance | segments, output} or {bez: text, tolerance | segments, format, ...} */

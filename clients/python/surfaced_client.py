@@ -133,7 +133,8 @@ class Client:
 
     def simplify(self, mesh: Any = None, *, data: Optional[bytes] = None, content_type: Optional[str] = None,
                  **options: Any) -> Result:
-        """POST /simplify. Options: target_faces, ratio, max_error, lock_border, restore_volume, report_error, output."""
+        """POST /simplify. Options: target_faces, ratio, max_error, lock_border, restore_volume, threads,
+        locked_vertices, report_error, output."""
         return self._mesh_operation("/simplify", mesh, data, content_type, options)
 
     def tessellate(self, patches: Any = None, *, bez: Optional[str] = None, **options: Any) -> Result:

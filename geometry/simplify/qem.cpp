@@ -221,7 +221,6 @@ struct Worker {
     int region = -1;         //!< -1: the whole mesh
     std::size_t live = 0;    //!< live faces of the whole mesh as this worker sees them (its own collapses counted)
     std::size_t stop_at = 0;  //!< collapse while live > stop_at
-    std::size_t faces = 0;   //!< live faces in its part at the start (for the compaction rule)
     double max_error = 0;
     std::size_t collapses = 0;
     std::uint64_t polls = 0;
@@ -495,7 +494,6 @@ public:
             // Later passes retry collapses that were invalid when popped but may have become valid since.
             w.heap.clear();
             push_edges_by_face(w, pass);
-            w.faces = w.live;
             w.stop_at = target;
             w.compacted = w.heap.size();
             w.pushes = 0;
@@ -585,7 +583,6 @@ private:
             Worker& w = workers[static_cast<std::size_t>(i)];
             w.region = i;
             w.live = w.stop_at = s.live;
-            w.faces = s.live / 2;
             w.fan_next = pool + static_cast<std::size_t>(i) * room;
             w.fan_end = w.fan_next + room;
         }
