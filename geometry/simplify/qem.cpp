@@ -238,8 +238,9 @@ struct Worker {
     std::size_t compacted = 0;  //!< heap size after the last compaction
     bool cancelled = false;
     bool done = false;  //!< region workers: nothing left to do (heap empty, or no room for a new fan block)
-    //! Region workers place grown fans in [fan_next, fan_end) of the pool, which must not reallocate meanwhile.
-    std::size_t fan_next = 0, fan_end = 0;
+    //! Region workers place grown fans in [fan_next, fan_end) of the pool and interpolated texture coordinates in
+    //! [uv_next, uv_end) of the uv list, neither of which may reallocate meanwhile.
+    std::size_t fan_next = 0, fan_end = 0, uv_next = 0, uv_end = 0;
     CandidateHeap heap;
     // scratch for is_valid/apply (one collapse at a time)
     std::vector<Index> shared, apexes, ring_k, ring_r;
@@ -593,13 +594,13 @@ private:
     //! the edges at frozen vertices, evaluated then (serial_.heap, filled here when it returns true). Which
     //! collapses are made depends only on the mesh and the options, not on the threads' timing (the epochs' levels
     //! and shares are decided while both wait), and is the same when a second thread cannot be had and the halves
-    //! take turns. Off with texture coordinates (collapses there add uv values to one shared list). Returns whether
-    //! it ran.
+    //! take turns. Returns whether it ran.
     bool run_regions(std::size_t target, double threshold) {
         Worker& s = serial_;
-        if (!face_uvs_.empty() || s.live < kRegionsMinimum || s.live <= target) return false;
+        if (s.live < kRegionsMinimum || s.live <= target) return false;
         const std::size_t pool = fans_.size(), room = pool / 4 + 1024;
-        if (pool + 2 * room >= kInvalidIndex) return false;
+        const std::size_t uv_pool = uvs_.size(), uv_room = face_uvs_.empty() ? 0 : s.live / 4 + 1024;
+        if (pool + 2 * room >= kInvalidIndex || uv_pool + 2 * uv_room >= kInvalidIndex) return false;
         split_ = static_cast<Index>(vx_.size() / 2);
         std::size_t seam = 0;
         for (std::size_t f = 0; f < tris_.size(); ++f) {
@@ -619,6 +620,7 @@ private:
             return false;
         }
         fans_.resize(pool + 2 * room);
+        uvs_.resize(uv_pool + 2 * uv_room);
         std::array<Worker, 2> workers;
         std::array<std::exception_ptr, 2> failures;
         for (int i = 0; i < 2; ++i) {
@@ -627,6 +629,8 @@ private:
             w.live = w.stop_at = s.live;
             w.fan_next = pool + static_cast<std::size_t>(i) * room;
             w.fan_end = w.fan_next + room;
+            w.uv_next = uv_pool + static_cast<std::size_t>(i) * uv_room;
+            w.uv_end = w.uv_next + uv_room;
         }
         const auto current = [this](const Candidate& c) { return stamp(c.a, c.b) == c.stamp; };
         float level = 0;
@@ -777,9 +781,10 @@ private:
             collapse.error = collapse.weight > 0 ? std::sqrt(collapse.cost / collapse.weight) : 0.0;
             if (collapse.error > threshold) continue;
             if (w.region >= 0) {
-                // a region worker's pool room must hold the largest fan block this collapse could need
+                // a region worker's room must hold the largest fan block this collapse could need, and a uv
                 const std::size_t degree = std::size_t{vx_[collapse.keep].degree} + vx_[collapse.remove].degree;
-                if (w.fan_end - w.fan_next < degree + std::max<std::size_t>(4, degree / 2)) {
+                if (w.fan_end - w.fan_next < degree + std::max<std::size_t>(4, degree / 2) ||
+                    (!face_uvs_.empty() && w.uv_next == w.uv_end)) {
                     w.heap.push(c);  // for the second phase
                     w.done = true;
                     return;
@@ -1139,8 +1144,14 @@ private:
             if (!pinned(k)) {
                 // neither end is on a seam: one uv each; interpolate along the edge as the position moved
                 const Vec2 a = uvs_[uv_k], b = uvs_[uv_r];
-                uvs_.push_back({a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s});
-                target = static_cast<Index>(uvs_.size() - 1);
+                const Vec2 uv{a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s};
+                if (wk.region < 0) {
+                    uvs_.push_back(uv);
+                    target = static_cast<Index>(uvs_.size() - 1);
+                } else {
+                    uvs_[wk.uv_next] = uv;  // room checked before the collapse (collapse_in_order)
+                    target = static_cast<Index>(wk.uv_next++);
+                }
                 const Index* fan = fan_of(k);
                 for (Index i = 0, n = vx_[k].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], k)] = target;
             }

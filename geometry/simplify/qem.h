@@ -47,10 +47,9 @@ struct SimplifyOptions {
     //! (higher on some coarse outputs). Either costs a few percent more time. Interior edges only (a fan at a
     //! boundary is not closed).
     double restore_volume = 0;
-    //! 1 (the default): one thread. 2 or more: a mesh of 20,000 triangles or more (without texture coordinates) first
-    //! collapses on two threads, one spatial half each, in cost order across both to within a factor of two, until
-    //! the faces on the cut between the halves plus 5% of the way to the target are left; those then collapse in
-    //! global order. The result depends only on the mesh and the options (not on timing, nor on whether a second
+    //! 1 (the default): one thread. 2 or more: a mesh of 20,000 triangles or more first collapses on two threads,
+    //! one spatial half each, in cost order across both to within a factor of two, until the faces on the cut
+    //! between the halves plus 5% of the way to the target are left; those then collapse in global order. The result depends only on the mesh and the options (not on timing, nor on whether a second
     //! thread could be started), and is close to but not the same as one thread's.
     int threads = 1;
     //! Polled every few thousand collapse candidates and between max_error attempts; when it fires the result is

@@ -233,17 +233,10 @@ TEST(Qem, LockedVerticesStayInPlace) {
     }
 }
 
-TEST(Qem, UvSeamsAreKeptAndUvsInterpolated) {
-    const PolygonMesh cylinder = testing::uv_cylinder(64, 16);  // 2048 faces, seam at angle 0
-    SimplifyOptions options;
-    options.ratio = 0.25;
-    auto out = simplify_qem(cylinder, options);
-    ASSERT_TRUE(out.ok());
-    const PolygonMesh& m = out->mesh;
+//! A simplified uv_cylinder: every uv still describes its position, no face spans the seam, both sides survive.
+void expect_cylinder_uvs(const PolygonMesh& m) {
     ASSERT_TRUE(m.has_uvs());
     ASSERT_EQ(m.uv_indices.size(), m.face_indices.size());
-    EXPECT_LE(out->faces, 512u);
-    expect_clean(m, cylinder, "uv cylinder");
     for (std::size_t f = 0; f < m.face_count(); ++f) {
         double umin = 1, umax = 0;
         for (Index k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) {
@@ -267,6 +260,36 @@ TEST(Qem, UvSeamsAreKeptAndUvsInterpolated) {
         one = one || m.uvs[uv].x == 1.0;
     }
     EXPECT_TRUE(zero && one);
+}
+
+TEST(Qem, UvSeamsAreKeptAndUvsInterpolated) {
+    const PolygonMesh cylinder = testing::uv_cylinder(64, 16);  // 2048 faces, seam at angle 0
+    SimplifyOptions options;
+    options.ratio = 0.25;
+    auto out = simplify_qem(cylinder, options);
+    ASSERT_TRUE(out.ok());
+    EXPECT_LE(out->faces, 512u);
+    expect_clean(out->mesh, cylinder, "uv cylinder");
+    expect_cylinder_uvs(out->mesh);
+}
+
+// threads = 2 on a textured mesh: each half interpolates uvs into its own part of the uv list
+TEST(Qem, TwoThreadsKeepUvSeamsAndInterpolateUvs) {
+    const PolygonMesh cylinder = testing::uv_cylinder(256, 48);  // 24,576 faces
+    SimplifyOptions options;
+    options.ratio = 0.1;
+    auto one = simplify_qem(cylinder, options);
+    options.threads = 2;
+    auto two = simplify_qem(cylinder, options), again = simplify_qem(cylinder, options);
+    ASSERT_TRUE(one.ok() && two.ok() && again.ok());
+    EXPECT_LE(two->faces, 2457u);
+    EXPECT_GE(two->faces, 2455u);
+    expect_clean(two->mesh, cylinder, "uv cylinder, 2 threads");
+    expect_cylinder_uvs(two->mesh);
+    EXPECT_NE(two->mesh.positions, one->mesh.positions);
+    EXPECT_EQ(two->mesh.positions, again->mesh.positions);
+    EXPECT_EQ(two->mesh.uv_indices, again->mesh.uv_indices);
+    EXPECT_LT(mesh_distance(cylinder, two->mesh).rms, 1.05 * mesh_distance(cylinder, one->mesh).rms);
 }
 
 TEST(Qem, VertexNormalsAreInterpolated) {
@@ -605,9 +628,9 @@ TEST(Qem, TwoThreadsWithVolumeRestoration) {
     EXPECT_LT(mesh_distance(sphere, b->mesh).rms, 0.9 * mesh_distance(sphere, a->mesh).rms);
 }
 
-// Below 20,000 triangles, and with texture coordinates, threads = 2 runs on one thread: the same result as threads = 1.
-TEST(Qem, TwoThreadsOnSmallOrTexturedMeshesAreOneThread) {
-    for (const PolygonMesh& mesh : {testing::icosphere(4), testing::uv_cylinder(256, 48)}) {
+// Below 20,000 triangles threads = 2 runs on one thread: the same result as threads = 1.
+TEST(Qem, TwoThreadsOnSmallMeshesAreOneThread) {
+    for (const PolygonMesh& mesh : {testing::icosphere(4), testing::uv_cylinder(96, 64)}) {
         SimplifyOptions options;
         options.ratio = 0.1;
         auto one = simplify_qem(mesh, options);
