@@ -72,8 +72,12 @@ bool mirror(BezierCurve& left, BezierCurve& right, JointSide side, EnforceMode m
     if (!left_movable) side = JointSide::Right;
     if (!right_movable) side = JointSide::Left;
     const Vec3 p = right.points.front();
-    Vec3& b = left.points[static_cast<std::size_t>(n - 1)];  // b_{n-1}
-    Vec3& c = right.points[1];                                 // c_1
+    // b_{n-1} and c_1. A piece of degree 0 is a point, with derivative 0 and no control point beside the joint: it
+    // never moves (degree < 2), so it gets a stand-in that is read only as 0 x something (found by fuzz_json_curves:
+    // c_1 of a one-point piece was read past its end).
+    Vec3 no_b{}, no_c{};
+    Vec3& b = n >= 1 ? left.points[static_cast<std::size_t>(n - 1)] : no_b;
+    Vec3& c = m >= 1 ? right.points[1] : no_c;
     const Vec3 dl = static_cast<double>(n) * (p - b), dr = static_cast<double>(m) * (c - p);
     if (mode == EnforceMode::C1) {
         if (dl == dr) return true;  // already C1: leave bit-identical

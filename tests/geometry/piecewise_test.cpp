@@ -325,6 +325,32 @@ TEST(Piecewise, LinesNeverMove) {
     }
 }
 
+// A piece of degree 0 (one point: derivative 0) next to a cubic: C1 gives the cubic a zero end derivative, G1 has no
+// direction to follow and leaves it; two points next to each other are skipped. (fuzz_json_curves found the mirror
+// rule reading past a one-point piece.)
+TEST(Piecewise, PointPiecesNeverMoveAndNeverOverrun) {
+    BezierChain chain;
+    chain.pieces = {left_cubic(), curve({{3, 1, 0}}), curve({{3, 1, 0}}), curve({{3, 1, 0}, {4, 1, 0}, {5, 0, 0}})};
+    for (EnforceMode mode : {EnforceMode::C1, EnforceMode::G1})
+        for (JointSide side : {JointSide::Left, JointSide::Right, JointSide::Both}) {
+            EnforceOptions options;
+            options.mode = mode;
+            options.side = side;
+            auto r = enforce_c1(chain, options);
+            ASSERT_TRUE(r.ok());
+            EXPECT_EQ(r->skipped_joints, std::vector<std::size_t>{1});
+            EXPECT_EQ(r->chain.pieces[1].points, chain.pieces[1].points);
+            EXPECT_EQ(r->chain.pieces[2].points, chain.pieces[2].points);
+            if (mode == EnforceMode::C1) {
+                EXPECT_EQ(r->chain.pieces[0].points[2], (Vec3{3, 1, 0}));  // b_2 on the joint: derivative 0
+                EXPECT_EQ(r->chain.pieces[3].points[1], (Vec3{3, 1, 0}));
+            } else {
+                EXPECT_EQ(r->chain.pieces[0].points, chain.pieces[0].points);
+                EXPECT_EQ(r->chain.pieces[3].points, chain.pieces[3].points);
+            }
+        }
+}
+
 TEST(Piecewise, EnforceErrors) {
     BezierChain chain = random_chain({3, 2, 3}, 51);
     chain.pieces[1].weights = {1, 2, 1};
