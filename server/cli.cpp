@@ -733,7 +733,7 @@ Options:
   --restore-volume A        volume restoration, 0..1 (default 0): 1 keeps the volume, 0.5 lowers the RMS error
                             by 4-20% on smooth meshes, for a few percent more time
   --threads N               1 (default) or 2: meshes of 20,000 triangles or more first collapse on two
-                            threads, one half of the mesh each; 1.4-2x faster, a slightly different result
+                            threads, one half of the mesh each; 1.3-2x faster, a slightly different result
   --report-error            measure and print the Hausdorff and RMS distance to the input
   --no-draco                write an uncompressed .glb
   --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)

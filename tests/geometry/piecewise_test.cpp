@@ -304,15 +304,20 @@ TEST(Piecewise, EnforceClosedChain) {
     EXPECT_LT(report->max_derivative_mismatch, 1e-12);
 }
 
+Result<EnforceResult> enforced(const BezierChain& chain, JointSide side, EnforceMode mode = EnforceMode::C1) {
+    EnforceOptions options;
+    options.side = side;
+    options.mode = mode;
+    return enforce_c1(chain, options);
+}
+
 TEST(Piecewise, LinesNeverMove) {
     // line, cubic, line, line: joints 0 and 1 are corrected on the cubic, joint 2 (two lines) is skipped
     BezierChain chain;
     chain.pieces = {curve({{0, 0, 0}, {1, 0, 0}}), curve({{1, 0, 0}, {1, 1, 0}, {2, 1, 0}, {2, 2, 0}}),
                     curve({{2, 2, 0}, {3, 2, 0}}), curve({{3, 2, 0}, {3, 3, 0}})};
     for (JointSide side : {JointSide::Left, JointSide::Right, JointSide::Both}) {
-        EnforceOptions options;
-        options.side = side;
-        auto r = enforce_c1(chain, options);
+        auto r = enforced(chain, side);
         ASSERT_TRUE(r.ok());
         EXPECT_EQ(r->skipped_joints, std::vector<std::size_t>{2});
         EXPECT_EQ(r->chain.pieces[0].points, chain.pieces[0].points);
@@ -333,10 +338,7 @@ TEST(Piecewise, PointPiecesNeverMoveAndNeverOverrun) {
     chain.pieces = {left_cubic(), curve({{3, 1, 0}}), curve({{3, 1, 0}}), curve({{3, 1, 0}, {4, 1, 0}, {5, 0, 0}})};
     for (EnforceMode mode : {EnforceMode::C1, EnforceMode::G1})
         for (JointSide side : {JointSide::Left, JointSide::Right, JointSide::Both}) {
-            EnforceOptions options;
-            options.mode = mode;
-            options.side = side;
-            auto r = enforce_c1(chain, options);
+            auto r = enforced(chain, side, mode);
             ASSERT_TRUE(r.ok());
             EXPECT_EQ(r->skipped_joints, std::vector<std::size_t>{1});
             EXPECT_EQ(r->chain.pieces[1].points, chain.pieces[1].points);
