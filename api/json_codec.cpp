@@ -302,52 +302,18 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
         return std::move(*error);
 
     SubdivideJsonRequest request;
-    if (auto it = root.find("scheme"); it != root.end()) {
-        auto scheme = read_enum(*it, "scheme", kSchemeNames);
-        if (!scheme) return std::move(scheme.error());
-        request.params.scheme = scheme.value();
-    }
-    if (auto it = root.find("levels"); it != root.end()) {
-        auto levels = read_integer(*it, "levels");
-        if (!levels) return std::move(levels.error());
-        request.params.levels = levels.value();
-        request.params.levels_given = true;
-    }
-    if (auto it = root.find("crease_method"); it != root.end()) {
-        auto method = read_enum(*it, "crease_method", kCreaseMethodNames);
-        if (!method) return std::move(method.error());
-        request.params.crease_method = method.value();
-    }
-    if (auto it = root.find("triangle_rule"); it != root.end()) {
-        auto rule = read_enum(*it, "triangle_rule", kTriangleRuleNames);
-        if (!rule) return std::move(rule.error());
-        request.params.triangle_rule = rule.value();
-    }
-    if (auto it = root.find("loop_weights"); it != root.end()) {
-        auto weights = read_enum(*it, "loop_weights", kLoopWeightNames);
-        if (!weights) return std::move(weights.error());
-        request.params.loop_weights = weights.value();
-    }
-    if (auto it = root.find("uv_interpolation"); it != root.end()) {
-        auto mode = read_enum(*it, "uv_interpolation", kUvInterpolationNames);
-        if (!mode) return std::move(mode.error());
-        request.params.uv_interpolation = mode.value();
-    }
-    if (auto it = root.find("limit_surface"); it != root.end()) {
-        auto limit = read_bool(*it, "limit_surface");
-        if (!limit) return std::move(limit.error());
-        request.params.limit_surface = limit.value();
-    }
-    if (auto it = root.find("max_faces"); it != root.end()) {
-        auto max_faces = read_integer(*it, "max_faces");
-        if (!max_faces) return std::move(max_faces.error());
-        request.params.max_faces = max_faces.value();
-    }
-    if (auto it = root.find("boundary"); it != root.end()) {
-        auto boundary = read_enum(*it, "boundary", kBoundaryNames);
-        if (!boundary) return std::move(boundary.error());
-        request.params.boundary = boundary.value();
-    }
+    SubdivideParams& params = request.params;
+    request.params.levels_given = root.contains("levels");
+    for (auto error : {read_member(root, "scheme", kSchemeNames, params.scheme),
+                       read_member(root, "levels", params.levels),
+                       read_member(root, "crease_method", kCreaseMethodNames, params.crease_method),
+                       read_member(root, "triangle_rule", kTriangleRuleNames, params.triangle_rule),
+                       read_member(root, "loop_weights", kLoopWeightNames, params.loop_weights),
+                       read_member(root, "uv_interpolation", kUvInterpolationNames, params.uv_interpolation),
+                       read_member(root, "limit_surface", params.limit_surface),
+                       read_member(root, "max_faces", params.max_faces),
+                       read_member(root, "boundary", kBoundaryNames, params.boundary)})
+        if (error) return std::move(*error);
     if (auto it = root.find("output"); it != root.end()) {
         auto output = decode_output(*it);
         if (!output) return std::move(output.error());
@@ -400,41 +366,14 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
                                               "output"}))
         return std::move(*error);
     SimplifyJsonRequest request;
-    if (auto it = root.find("target_faces"); it != root.end()) {
-        auto v = read_integer(*it, "target_faces");
-        if (!v) return std::move(v.error());
-        request.params.target_faces = v.value();
-    }
-    if (auto it = root.find("ratio"); it != root.end()) {
-        auto v = read_number(*it, "ratio");
-        if (!v) return std::move(v.error());
-        request.params.ratio = v.value();
-    }
-    if (auto it = root.find("max_error"); it != root.end()) {
-        auto v = read_number(*it, "max_error");
-        if (!v) return std::move(v.error());
-        request.params.max_error = v.value();
-    }
-    if (auto it = root.find("lock_border"); it != root.end()) {
-        auto v = read_bool(*it, "lock_border");
-        if (!v) return std::move(v.error());
-        request.params.lock_border = v.value();
-    }
-    if (auto it = root.find("restore_volume"); it != root.end()) {
-        auto v = read_number(*it, "restore_volume");
-        if (!v) return std::move(v.error());
-        request.params.restore_volume = v.value();
-    }
-    if (auto it = root.find("threads"); it != root.end()) {
-        auto v = read_integer(*it, "threads");
-        if (!v) return std::move(v.error());
-        request.params.threads = v.value();
-    }
-    if (auto it = root.find("report_error"); it != root.end()) {
-        auto v = read_bool(*it, "report_error");
-        if (!v) return std::move(v.error());
-        request.params.report_error = v.value();
-    }
+    SimplifyParams& params = request.params;
+    for (auto error : {read_member(root, "target_faces", params.target_faces),
+                       read_member(root, "ratio", params.ratio), read_member(root, "max_error", params.max_error),
+                       read_member(root, "lock_border", params.lock_border),
+                       read_member(root, "restore_volume", params.restore_volume),
+                       read_member(root, "threads", params.threads),
+                       read_member(root, "report_error", params.report_error)})
+        if (error) return std::move(*error);
     if (auto it = root.find("output"); it != root.end()) {
         auto output = decode_output(*it);
         if (!output) return std::move(output.error());
