@@ -731,7 +731,7 @@ Options:
   --lock-border             boundary vertices stay exactly where they are
   --locked-vertices LIST    vertices that stay exactly where they are (0-based indices into IN: 0,5,100)
   --restore-volume A        volume restoration, 0..1 (default 0): 1 keeps the volume, 0.5 lowers the RMS error
-                            by 4-20% on smooth meshes, for a few percent more time
+                            by 4-20% on smooth meshes, for 0-14% more time
   --threads N               1 (default) or 2: meshes of 20,000 triangles or more first collapse on two
                             threads, one half of the mesh each; 1.3-2x faster, a slightly different result
   --report-error            measure and print the Hausdorff and RMS distance to the input

@@ -3,7 +3,7 @@
 // Same two request forms as POST /subdivide:
 //  * Content-Type application/json:
 //      {"mesh": {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]},
-//       "target_faces": N, "ratio": r, "max_error": e, "lock_border": false, "restore_volume": 0,
+//       "target_faces": N, "ratio": r, "max_error": e, "lock_border": false, "restore_volume": 0, "threads": 1,
 //       "report_error": false, "locked_vertices": [i, ...],
 //       "output": {"format": "glb"|"gltf"|"obj"|"ply"|"json", "compression": "draco"|"none", "quantize_position": 14,
 //                  "normals": false}}
@@ -12,9 +12,9 @@
 //  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary,
 //    application/octet-stream): the same options as query parameters, output options unnested:
 //    ?target_faces=1000&ratio=0.1&max_error=0.01&lock_border=true&report_error=true&format=obj&compression=none
-//    &locked_vertices=0,5,100&restore_volume=0.5
-//    restore_volume in [0, 1] (default 0): volume restoration, see SimplifyOptions::restore_volume; outside: 400
-//    naming restore_volume.
+//    &locked_vertices=0,5,100&restore_volume=0.5&threads=2
+//    restore_volume in [0, 1] (default 0): volume restoration, see SimplifyOptions::restore_volume; threads 1 or 2
+//    (default 1), see SimplifyOptions::threads; outside: 400 naming the field.
 //    Locked vertices keep their positions bit for bit and are never removed (indices into the input's vertices, which
 //    triangulation keeps); an index that is not a vertex is 422 index_out_of_range naming locked_vertices[k], one
 //    that is not a non-negative integer 400 naming the same.

@@ -341,7 +341,10 @@ class Simplifier {
 public:
     Simplifier(const PolygonMesh& mesh, const SimplifyOptions& options)
         : options_(options),
-          rank_(spatial_order(mesh.positions, options.threads >= 2 && mesh.face_count() >= kRegionsMinimum)) {
+          split_(static_cast<Index>(options.threads >= 2 && mesh.face_count() >= kRegionsMinimum
+                                        ? mesh.vertex_count() / 2
+                                        : mesh.vertex_count())),
+          rank_(spatial_order(mesh.positions, split_ < mesh.vertex_count())) {
         const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
         vx_.resize(nv);
         for (std::size_t v = 0; v < nv; ++v) vx_[rank_[v]].p = mesh.positions[v];
@@ -404,10 +407,9 @@ public:
         // numbers (as run_regions() cuts them): each adds planes only to its own vertices, in face order as on one
         // thread, so the quadrics come out bit for bit the same; the half-edges needing more than the common
         // interior test are collected per half and handled afterwards in vertex order, as on one thread.
-        const bool two = options_.threads >= 2 && nf >= kRegionsMinimum;
-        const Index half = two ? static_cast<Index>(nv / 2) : static_cast<Index>(nv);
+        const bool two = split_ < nv;
         const auto part_range = [&](int part) {
-            return part == 0 ? std::array<Index, 2>{0, half} : std::array<Index, 2>{half, static_cast<Index>(nv)};
+            return part == 0 ? std::array<Index, 2>{0, split_} : std::array<Index, 2>{split_, static_cast<Index>(nv)};
         };
 
         // face planes, weighted by area so that the metric does not depend on the tessellation density
@@ -486,8 +488,8 @@ public:
         if (first_bad != std::numeric_limits<std::size_t>::max()) {
             const Index f = static_cast<Index>(first_bad / 3);
             const int j = static_cast<int>(first_bad % 3);
-            const std::string edge =
-                "(" + std::to_string(input_index(tris_[f][j])) + ", " + std::to_string(input_index(tris_[f][(j + 1) % 3])) + ")";
+            const std::string edge = "(" + std::to_string(input_index(tris_[f][j])) + ", " +
+                                     std::to_string(input_index(tris_[f][(j + 1) % 3])) + ")";
             return element_error(ErrorCode::NonManifold,
                                  bad_orientation
                                      ? "edge " + edge + " is traversed in the same direction by face " +
@@ -597,11 +599,10 @@ private:
     //! take turns. Returns whether it ran.
     bool run_regions(std::size_t target, double threshold) {
         Worker& s = serial_;
-        if (s.live < kRegionsMinimum || s.live <= target) return false;
+        if (split_ == vx_.size() || s.live < kRegionsMinimum || s.live <= target) return false;
         const std::size_t pool = fans_.size(), room = pool / 4 + 1024;
         const std::size_t uv_pool = uvs_.size(), uv_room = face_uvs_.empty() ? 0 : s.live / 4 + 1024;
         if (pool + 2 * room >= kInvalidIndex || uv_pool + 2 * uv_room >= kInvalidIndex) return false;
-        split_ = static_cast<Index>(vx_.size() / 2);
         std::size_t seam = 0;
         for (std::size_t f = 0; f < tris_.size(); ++f) {
             if (!face_alive_[f]) continue;
@@ -1226,6 +1227,9 @@ private:
 
     const SimplifyOptions& options_;
     const bool volume_ = options_.restore_volume > 0;  //!< volume restoration on (restore_volume)
+    //! threads >= 2 on a mesh of kRegionsMinimum faces or more: vertices below split_ are the first half (numbered
+    //! so by spatial_order), for init's two parts and run_regions(); else the vertex count (one part)
+    const Index split_;
     std::vector<Index> rank_;  //!< rank_[input vertex] = its number here (spatial_order)
     BlockVector<VertexData> vx_;
     BlockVector<std::uint8_t> flags_;  //!< VertexFlag bits per vertex
@@ -1240,7 +1244,6 @@ private:
     std::vector<std::array<Index, 3>> face_uvs_;
     std::vector<Vec3> normals_;
     Worker serial_;      //!< the whole-mesh worker: run()'s passes, and the counts after them
-    Index split_ = 0;    //!< run_regions(): vertices below it are region 0, the others region 1
 };
 
 }  // namespace
