@@ -88,8 +88,9 @@ struct SimplifyResult {
 //!         restore_volume outside [0, 1], threads < 1, locked vertex out of range), NonManifold (an edge shared by more than two faces, or two faces traversing
 //!         an edge in the same direction; the message names the edge and the error the face).
 //! Work: O(F log F) per pass (0.7-3.4 s for 1.3M triangles to 1% on one core here, depending on the machine's load;
-//! about half that with threads 2; restore_volume adds up to ~10%); with max_error, up to 7 passes each followed by
-//! mesh_distance(). Memory about 180 bytes per input triangle at the peak (init); threads 2 adds 6 (fan room).
+//! 0.5-0.65 of that with threads 2; restore_volume adds 0-14%); with max_error, up to 7 passes each followed by
+//! mesh_distance(). Memory about 180 bytes per input triangle at the peak (init); threads 2 adds 6 (fan room), 8 more
+//! with texture coordinates (uv room).
 Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptions& options);
 
 }  // namespace surfaced
