@@ -57,7 +57,10 @@ try {
     return file;
   };
   // Pixels of the WebGL canvas that differ from the background colour (the renderer keeps its drawing buffer).
-  const canvasPixels = () => page.evaluate(() => {
+  // The viewer draws at the next animation frame after a change: wait for two frames, so that a frame asked for
+  // before this call has been drawn (the stats can be set before the first frame of a new result).
+  const canvasPixels = () => page.evaluate(async () => {
+    await new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
     const src = document.querySelector('#viewport canvas');
     const c = document.createElement('canvas');
     c.width = src.width; c.height = src.height;
