@@ -34,6 +34,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <string>
 #include <thread>
@@ -78,30 +79,103 @@ enum VertexFlag : std::uint8_t {
 };
 
 
+//! Blocks of whole 2 MiB pages, freed, kept for the next allocations of the same size. Every first touch of fresh
+//! memory faults and has the kernel clear it (a 2 MiB huge page at a time), and glibc returns blocks this large to the
+//! system when they are freed, so every simplification paid that again. A service simplifies one request after
+//! another, so the blocks of the last ones are kept, up to kKeep bytes in the process (the oldest freed first beyond
+//! that), and reused when the same size is asked for again (sizes are whole pages and vectors grow by doubling, so
+//! sizes repeat). One pool for all threads, behind a mutex (a few dozen blocks per simplification), so that what is
+//! kept does not grow with the number of worker threads.
+class HugeBlockCache {
+public:
+    static constexpr std::size_t kKeep = std::size_t{64} << 20;
+    static constexpr std::size_t kAlign = std::size_t{2} << 20;
+    //! The process's pool; never destroyed (blocks may be freed by static destructors or late threads).
+    static HugeBlockCache& instance() {
+        static HugeBlockCache& cache = *new HugeBlockCache;
+        return cache;
+    }
+    //! A kept block of exactly `bytes`, or nullptr.
+    void* take(std::size_t bytes) noexcept {
+        const std::lock_guard lock(mutex_);
+        for (std::size_t i = count_; i-- > 0;)
+            if (blocks_[i].bytes == bytes) {
+                void* p = blocks_[i].p;
+                std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_), blocks_.begin() + static_cast<std::ptrdiff_t>(i));
+                --count_;
+                total_ -= bytes;
+                return p;
+            }
+        return nullptr;
+    }
+    //! Keeps the block, freeing the oldest kept ones to stay within kKeep (or this one, when it is larger).
+    void give(void* p, std::size_t bytes) noexcept {
+        Block freed[kSlots + 1];
+        std::size_t n = 0;
+        {
+            const std::lock_guard lock(mutex_);
+            if (bytes > kKeep) {
+                freed[n++] = {p, bytes};
+            } else {
+                std::size_t drop = 0;
+                while (total_ + bytes > kKeep || count_ - drop == kSlots) {
+                    total_ -= blocks_[drop].bytes;
+                    freed[n++] = blocks_[drop++];
+                }
+                std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(drop),
+                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_), blocks_.begin());
+                count_ -= drop;
+                blocks_[count_++] = {p, bytes};
+                total_ += bytes;
+            }
+        }
+        for (std::size_t i = 0; i < n; ++i) ::operator delete(freed[i].p, std::align_val_t{kAlign});
+    }
+
+private:
+    HugeBlockCache() = default;
+    struct Block {
+        void* p = nullptr;
+        std::size_t bytes = 0;
+    };
+    static constexpr std::size_t kSlots = kKeep / kAlign;  //!< no more blocks than this can be kept anyway
+    std::mutex mutex_;
+    std::array<Block, kSlots> blocks_{};  //!< [0, count_): oldest first
+    std::size_t count_ = 0;
+    std::size_t total_ = 0;
+};
+
 //! Allocates on 64-byte boundaries (so that each VertexData fills whole cache lines), and arrays of 1 MiB or more on
 //! 2 MiB boundaries, rounded up to whole 2 MiB pages, with transparent huge pages requested where the kernel leaves
 //! that to the program (Linux THP "madvise"): the simplifier reads its arrays of up to hundreds of MB at random, and
 //! with 4 KiB pages nearly every access also misses the TLB and every first touch faults. Faults are what costs most
 //! on a virtual machine: here a 4 KiB fault costs ~15 us, so the ~1,500 of a 70k-triangle run took 20 ms of its 60.
+//! Those blocks are kept for the next simplification (HugeBlockCache).
 template <class T>
 struct BlockAllocator {
     using value_type = T;
     BlockAllocator() = default;
     template <class U>
     BlockAllocator(const BlockAllocator<U>&) noexcept {}
-    static constexpr std::size_t kHuge = std::size_t{2} << 20;
-    static std::size_t alignment(std::size_t n) { return n * sizeof(T) >= kHuge / 2 ? kHuge : 64; }
+    static constexpr std::size_t kHuge = HugeBlockCache::kAlign;
+    static bool huge(std::size_t n) { return n * sizeof(T) >= kHuge / 2; }
+    static std::size_t bytes(std::size_t n) { return huge(n) ? (n * sizeof(T) + kHuge - 1) / kHuge * kHuge : n * sizeof(T); }
     T* allocate(std::size_t n) {
         if (n > (std::numeric_limits<std::size_t>::max() >> 2) / sizeof(T)) throw std::bad_array_new_length();
-        const std::size_t align = alignment(n);
-        const std::size_t bytes = (n * sizeof(T) + align - 1) / align * align;
-        void* p = ::operator new(bytes, std::align_val_t{align});
+        if (!huge(n)) return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64}));
+        const std::size_t size = bytes(n);
+        if (void* kept = HugeBlockCache::instance().take(size)) return static_cast<T*>(kept);
+        void* p = ::operator new(size, std::align_val_t{kHuge});
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-        if (align == kHuge) ::madvise(p, bytes, MADV_HUGEPAGE);  // advice only: failure changes nothing
+        ::madvise(p, size, MADV_HUGEPAGE);  // advice only: failure changes nothing
 #endif
         return static_cast<T*>(p);
     }
-    void deallocate(T* p, std::size_t n) noexcept { ::operator delete(p, std::align_val_t{alignment(n)}); }
+    void deallocate(T* p, std::size_t n) noexcept {
+        if (huge(n)) HugeBlockCache::instance().give(p, bytes(n));
+        else ::operator delete(p, std::align_val_t{64});
+    }
     template <class U>
     bool operator==(const BlockAllocator<U>&) const noexcept { return true; }
 };

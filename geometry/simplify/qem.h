@@ -90,7 +90,8 @@ struct SimplifyResult {
 //! Work: O(F log F) per pass (0.7-3.4 s for 1.3M triangles to 1% on one core here, depending on the machine's load;
 //! 0.5-0.65 of that with threads 2; restore_volume adds 0-14%); with max_error, up to 7 passes each followed by
 //! mesh_distance(). Memory about 180 bytes per input triangle at the peak (init); threads 2 adds 6 (fan room), 8 more
-//! with texture coordinates (uv room).
+//! with texture coordinates (uv room). Arrays of 1 MiB or more are kept after the call, up to 64 MiB in the
+//! process, and reused by later calls (their pages are then faulted in and cleared already).
 Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptions& options);
 
 }  // namespace surfaced
