@@ -86,9 +86,19 @@ enum VertexFlag : std::uint8_t {
 //! that), and reused when the same size is asked for again (sizes are whole pages and vectors grow by doubling, so
 //! sizes repeat). One pool for all threads, behind a mutex (a few dozen blocks per simplification), so that what is
 //! kept does not grow with the number of worker threads.
+#if defined(__SANITIZE_ADDRESS__)
+#define SURFACED_QEM_KEEP_BLOCKS 0  // AddressSanitizer must see every block freed, to catch a use after free
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SURFACED_QEM_KEEP_BLOCKS 0
+#endif
+#endif
+#ifndef SURFACED_QEM_KEEP_BLOCKS
+#define SURFACED_QEM_KEEP_BLOCKS 1
+#endif
 class HugeBlockCache {
 public:
-    static constexpr std::size_t kKeep = std::size_t{64} << 20;
+    static constexpr std::size_t kKeep = SURFACED_QEM_KEEP_BLOCKS ? std::size_t{64} << 20 : 0;
     static constexpr std::size_t kAlign = std::size_t{2} << 20;
     //! The process's pool; never destroyed (blocks may be freed by static destructors or late threads).
     static HugeBlockCache& instance() {
@@ -139,7 +149,7 @@ private:
         void* p = nullptr;
         std::size_t bytes = 0;
     };
-    static constexpr std::size_t kSlots = kKeep / kAlign;  //!< no more blocks than this can be kept anyway
+    static constexpr std::size_t kSlots = kKeep / kAlign + 1;  //!< more blocks than kKeep holds are never kept
     std::mutex mutex_;
     std::array<Block, kSlots> blocks_{};  //!< [0, count_): oldest first
     std::size_t count_ = 0;
