@@ -314,11 +314,7 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
                        read_member(root, "max_faces", params.max_faces),
                        read_member(root, "boundary", kBoundaryNames, params.boundary)})
         if (error) return std::move(*error);
-    if (auto it = root.find("output"); it != root.end()) {
-        auto output = decode_output(*it);
-        if (!output) return std::move(output.error());
-        request.params.output = std::move(output.value());
-    }
+    if (auto error = read_output(root, request.params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
@@ -374,11 +370,7 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
                        read_member(root, "threads", params.threads),
                        read_member(root, "report_error", params.report_error)})
         if (error) return std::move(*error);
-    if (auto it = root.find("output"); it != root.end()) {
-        auto output = decode_output(*it);
-        if (!output) return std::move(output.error());
-        request.params.output = std::move(output.value());
-    }
+    if (auto error = read_output(root, request.params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");

@@ -130,4 +130,13 @@ ApiResult<OutputOptions> decode_output(const Json& value) {
     return out;
 }
 
+std::optional<ApiError> read_output(const Json& object, OutputOptions& target) {
+    const auto it = object.find("output");
+    if (it == object.end()) return std::nullopt;
+    auto output = decode_output(*it);
+    if (!output) return std::move(output.error());
+    target = std::move(output.value());
+    return std::nullopt;
+}
+
 }  // namespace surfaced::api::json

@@ -85,5 +85,7 @@ std::optional<ApiError> read_member(const Json& object, const std::string& name,
 
 //! "output": {"format", "compression", "quantize_position", "normals"}; ranges are checked by the operations.
 ApiResult<OutputOptions> decode_output(const Json& value);
+//! Member "output" of `object` decoded into `target` when it is there (decode_output): nullopt when absent or read.
+std::optional<ApiError> read_output(const Json& object, OutputOptions& target);
 
 }  // namespace surfaced::api::json

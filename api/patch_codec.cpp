@@ -115,16 +115,8 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
         if (!it->is_number()) return invalid("tolerance", "tolerance must be a number (model units)");
         request.params.tolerance = it->get<double>();
     }
-    if (auto it = root.find("segments"); it != root.end()) {
-        auto segments = read_integer(*it, "segments");
-        if (!segments) return std::move(segments.error());
-        request.params.segments = segments.value();
-    }
-    if (auto it = root.find("output"); it != root.end()) {
-        auto output = decode_output(*it);
-        if (!output) return std::move(output.error());
-        request.params.output = output.value();
-    }
+    if (auto error = read_member(root, "segments", request.params.segments)) return std::move(*error);
+    if (auto error = read_output(root, request.params.output)) return std::move(*error);
     return request;
 }
 

@@ -234,11 +234,7 @@ ApiResult<Params> params_from_json(const Json& root) {
             return invalid("estimate_normals", R"(estimate_normals must be a boolean or {"k": 3..256})");
         }
     }
-    if (auto it = root.find("output"); it != root.end()) {
-        auto output = decode_output(*it);
-        if (!output) return std::move(output.error());
-        params.output = output.value();
-    }
+    if (auto error = read_output(root, params.output)) return std::move(*error);
     return params;
 }
 

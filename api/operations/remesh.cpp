@@ -66,36 +66,13 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
         return std::move(*error);
     JsonRequest request;
     RemeshParams& params = request.params;
-    if (auto it = root.find("edge_length"); it != root.end()) {
-        auto v = json::read_number(*it, "edge_length");
-        if (!v) return std::move(v.error());
-        params.edge_length = v.value();
-    }
-    if (auto it = root.find("iterations"); it != root.end()) {
-        auto v = json::read_integer(*it, "iterations");
-        if (!v) return std::move(v.error());
-        params.iterations = v.value();
-    }
-    if (auto it = root.find("feature_angle"); it != root.end()) {
-        auto v = json::read_number(*it, "feature_angle");
-        if (!v) return std::move(v.error());
-        params.feature_angle = v.value();
-    }
-    if (auto it = root.find("keep_boundary"); it != root.end()) {
-        auto v = json::read_bool(*it, "keep_boundary");
-        if (!v) return std::move(v.error());
-        params.keep_boundary = v.value();
-    }
-    if (auto it = root.find("smoothing"); it != root.end()) {
-        auto v = json::read_enum(*it, "smoothing", kSmoothingNames);
-        if (!v) return std::move(v.error());
-        params.smoothing = v.value();
-    }
-    if (auto it = root.find("output"); it != root.end()) {
-        auto output = json::decode_output(*it);
-        if (!output) return std::move(output.error());
-        params.output = std::move(output.value());
-    }
+    for (auto error : {json::read_member(root, "edge_length", params.edge_length),
+                       json::read_member(root, "iterations", params.iterations),
+                       json::read_member(root, "feature_angle", params.feature_angle),
+                       json::read_member(root, "keep_boundary", params.keep_boundary),
+                       json::read_member(root, "smoothing", kSmoothingNames, params.smoothing)})
+        if (error) return std::move(*error);
+    if (auto error = json::read_output(root, params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return json::invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
