@@ -170,11 +170,12 @@ struct BlockAllocator {
     BlockAllocator(const BlockAllocator<U>&) noexcept {}
     static constexpr std::size_t kHuge = HugeBlockCache::kAlign;
     static bool huge(std::size_t n) { return n * sizeof(T) >= kHuge / 2; }
-    static std::size_t bytes(std::size_t n) { return huge(n) ? (n * sizeof(T) + kHuge - 1) / kHuge * kHuge : n * sizeof(T); }
+    //! A huge block's size: whole 2 MiB pages
+    static std::size_t huge_bytes(std::size_t n) { return (n * sizeof(T) + kHuge - 1) / kHuge * kHuge; }
     T* allocate(std::size_t n) {
         if (n > (std::numeric_limits<std::size_t>::max() >> 2) / sizeof(T)) throw std::bad_array_new_length();
         if (!huge(n)) return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64}));
-        const std::size_t size = bytes(n);
+        const std::size_t size = huge_bytes(n);
         if (void* kept = HugeBlockCache::instance().take(size)) return static_cast<T*>(kept);
         void* p = ::operator new(size, std::align_val_t{kHuge});
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -183,7 +184,7 @@ struct BlockAllocator {
         return static_cast<T*>(p);
     }
     void deallocate(T* p, std::size_t n) noexcept {
-        if (huge(n)) HugeBlockCache::instance().give(p, bytes(n));
+        if (huge(n)) HugeBlockCache::instance().give(p, huge_bytes(n));
         else ::operator delete(p, std::align_val_t{64});
     }
     template <class U>
