@@ -21,9 +21,9 @@ enum class OutputFormat { Glb, Gltf, Obj, Ply, Json };
 //! not apply to the chosen format (compression with OBJ) can be rejected instead of silently ignored.
 struct OutputOptions {
     OutputFormat format = OutputFormat::Glb;
-    std::optional<bool> draco;                 //!< glb only; default true ("compression": "draco"|"none")
+    std::optional<bool> draco;                      //!< glb only; default true ("compression": "draco"|"none")
     std::optional<std::int64_t> quantize_position;  //!< glb with Draco only; 1..24, default 14
-    std::optional<bool> normals;               //!< glb/obj/ply; default false
+    std::optional<bool> normals;                    //!< glb/obj/ply; default false
 };
 
 struct SubdivideParams {
@@ -57,9 +57,9 @@ struct SimplifyParams {
     std::optional<double> ratio;      //!< (0, 1]
     std::optional<double> max_error;  //!< absolute distance, >= 0
     bool lock_border = false;
-    double restore_volume = 0;        //!< [0, 1]: volume restoration (SimplifyOptions::restore_volume)
-    std::int64_t threads = 1;         //!< 1 or 2 (SimplifyOptions::threads)
-    bool report_error = false;        //!< measure Hausdorff/RMS to the input and return them
+    double restore_volume = 0;                  //!< [0, 1]: volume restoration (SimplifyOptions::restore_volume)
+    std::int64_t threads = 1;                   //!< 1 or 2 (SimplifyOptions::threads)
+    bool report_error = false;                  //!< measure Hausdorff/RMS to the input and return them
     std::vector<std::int64_t> locked_vertices;  //!< vertices that never move or disappear (checked against the mesh)
     OutputOptions output;
 };
@@ -114,11 +114,8 @@ inline constexpr EnumName<UvInterpolation> kUvInterpolationNames[] = {
     {"all", UvInterpolation::All},
 };
 inline constexpr EnumName<OutputFormat> kOutputFormatNames[] = {
-    {"glb", OutputFormat::Glb},
-    {"gltf", OutputFormat::Gltf},
-    {"obj", OutputFormat::Obj},
-    {"ply", OutputFormat::Ply},
-    {"json", OutputFormat::Json},
+    {"glb", OutputFormat::Glb}, {"gltf", OutputFormat::Gltf}, {"obj", OutputFormat::Obj},
+    {"ply", OutputFormat::Ply}, {"json", OutputFormat::Json},
 };
 //! "compression": value true means Draco.
 inline constexpr EnumName<bool> kCompressionNames[] = {
@@ -129,11 +126,8 @@ inline constexpr EnumName<bool> kCompressionNames[] = {
 //! The media type we send for each mesh file format, and the one we always accept for it (format_from_media_type
 //! in geometry/io may accept more aliases). OFF and PLY have no registered media type; these are the common ones.
 inline constexpr EnumName<MeshFormat> kMeshMediaTypes[] = {
-    {"model/obj", MeshFormat::Obj},
-    {"model/off", MeshFormat::Off},
-    {"application/ply", MeshFormat::Ply},
-    {"model/stl", MeshFormat::Stl},
-    {"model/gltf-binary", MeshFormat::Glb},
+    {"model/obj", MeshFormat::Obj}, {"model/off", MeshFormat::Off},         {"application/ply", MeshFormat::Ply},
+    {"model/stl", MeshFormat::Stl}, {"model/gltf-binary", MeshFormat::Glb},
 };
 
 template <class E, std::size_t N>

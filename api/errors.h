@@ -37,9 +37,9 @@ inline constexpr std::string_view kProblemJsonMediaType = "application/problem+j
 
 struct ApiError {
     int status = 500;
-    std::string code;    //!< stable, snake_case ("index_out_of_range")
-    std::string title;   //!< short summary of `code`
-    std::string detail;  //!< this occurrence, human-readable
+    std::string code;                    //!< stable, snake_case ("index_out_of_range")
+    std::string title;                   //!< short summary of `code`
+    std::string detail;                  //!< this occurrence, human-readable
     std::optional<std::string> field;    //!< path into a JSON request: "mesh.faces[12][3]", "levels"
     std::optional<std::int64_t> line;    //!< 1-based line in an uploaded text file
     std::optional<std::int64_t> offset;  //!< byte offset in an uploaded binary file or a JSON body
@@ -89,13 +89,28 @@ public:
 
     bool ok() const { return data_.index() == 0; }
     explicit operator bool() const { return ok(); }
-    T& value() & { assert(ok()); return std::get<0>(data_); }
-    const T& value() const& { assert(ok()); return std::get<0>(data_); }
-    T&& value() && { assert(ok()); return std::get<0>(std::move(data_)); }
+    T& value() & {
+        assert(ok());
+        return std::get<0>(data_);
+    }
+    const T& value() const& {
+        assert(ok());
+        return std::get<0>(data_);
+    }
+    T&& value() && {
+        assert(ok());
+        return std::get<0>(std::move(data_));
+    }
     T* operator->() { return &value(); }
     const T* operator->() const { return &value(); }
-    ApiError& error() & { assert(!ok()); return std::get<1>(data_); }
-    const ApiError& error() const& { assert(!ok()); return std::get<1>(data_); }
+    ApiError& error() & {
+        assert(!ok());
+        return std::get<1>(data_);
+    }
+    const ApiError& error() const& {
+        assert(!ok());
+        return std::get<1>(data_);
+    }
 
 private:
     std::variant<T, ApiError> data_;

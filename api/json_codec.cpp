@@ -17,7 +17,8 @@ using namespace json;  // the shared readers (api/json_util.h)
 ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path, const Limits& limits) {
     const std::string mesh_path(path);
     if (!root.is_object())
-        return invalid(mesh_path, mesh_path + R"( must be an object {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
+        return invalid(mesh_path,
+                       mesh_path + R"( must be an object {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
     if (auto error = check_members(root, path, {"positions", "faces", "uvs", "uv_faces"})) return std::move(*error);
 
     const std::string positions_path = member_path(path, "positions");
@@ -79,8 +80,7 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
         if (!face.is_array()) return invalid(face_field, face_field + " must be an array of vertex indices");
         if (face.size() < 3)
             return geometry_error(ErrorCode::DegenerateFace, face_field,
-                                  face_field + " has " + std::to_string(face.size()) +
-                                      " vertices (at least 3 needed)");
+                                  face_field + " has " + std::to_string(face.size()) + " vertices (at least 3 needed)");
         for (std::size_t k = 0; k < face.size(); ++k) {
             const Json& index = face[k];
             if (!index.is_number_unsigned()) {
@@ -106,7 +106,8 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
     const std::string uvs_path = member_path(path, "uvs"), uv_faces_path = member_path(path, "uv_faces");
     if ((uvs_it == root.end()) != (uv_faces_it == root.end()))
         return invalid(uvs_it == root.end() ? uvs_path : uv_faces_path,
-                       uvs_path + " and " + uv_faces_path + " go together (texture coordinates and, per face corner, their indices)");
+                       uvs_path + " and " + uv_faces_path +
+                           " go together (texture coordinates and, per face corner, their indices)");
     if (uvs_it != root.end()) {
         const Json& uvs = *uvs_it;
         const Json& uv_faces = *uv_faces_it;
@@ -135,7 +136,8 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
             for (std::size_t k = 0; k < n; ++k) {
                 const Json& index = face[k];
                 const std::string corner = index_path(field, k);
-                if (!index.is_number_unsigned()) return invalid(corner, corner + " must be a non-negative integer uv index");
+                if (!index.is_number_unsigned())
+                    return invalid(corner, corner + " must be a non-negative integer uv index");
                 const auto value = index.get<std::uint64_t>();
                 if (value >= mesh.uvs.size())
                     return geometry_error(ErrorCode::IndexOutOfRange, corner,
@@ -155,12 +157,13 @@ ApiResult<double> read_sharpness(const Json& value, const std::string& field) {
 }
 
 ApiResult<Index> read_index(const Json& value, const std::string& field, std::size_t count, const char* what) {
-    if (!value.is_number_unsigned()) return invalid(field, field + " must be a non-negative integer " + what + " index");
+    if (!value.is_number_unsigned())
+        return invalid(field, field + " must be a non-negative integer " + what + " index");
     const auto v = value.get<std::uint64_t>();
     if (v >= count)
         return geometry_error(ErrorCode::IndexOutOfRange, field,
-                              field + ": " + what + " " + std::to_string(v) + " out of range (" + std::to_string(count) +
-                                  " " + what + (count == 1 ? ")" : "s)"));
+                              field + ": " + what + " " + std::to_string(v) + " out of range (" +
+                                  std::to_string(count) + " " + what + (count == 1 ? ")" : "s)"));
     return static_cast<Index>(v);
 }
 
@@ -168,7 +171,8 @@ ApiResult<Index> read_index(const Json& value, const std::string& field, std::si
 std::optional<ApiError> decode_tags(const Json& root, PolygonMesh& mesh) {
     const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
     if (auto it = root.find("creases"); it != root.end()) {
-        if (!it->is_array()) return invalid("creases", R"(creases must be an array of {"edge": [a, b], "sharpness": s})");
+        if (!it->is_array())
+            return invalid("creases", R"(creases must be an array of {"edge": [a, b], "sharpness": s})");
         for (std::size_t i = 0; i < it->size(); ++i) {
             const Json& c = (*it)[i];
             const std::string path = index_path("creases", i);
@@ -177,8 +181,10 @@ std::optional<ApiError> decode_tags(const Json& root, PolygonMesh& mesh) {
             const auto edge = c.find("edge");
             const auto sharp = c.find("sharpness");
             if (edge == c.end() || !edge->is_array() || edge->size() != 2)
-                return invalid(member_path(path, "edge"), member_path(path, "edge") + " must be [a, b], two vertex indices");
-            if (sharp == c.end()) return invalid(member_path(path, "sharpness"), member_path(path, "sharpness") + " is required");
+                return invalid(member_path(path, "edge"),
+                               member_path(path, "edge") + " must be [a, b], two vertex indices");
+            if (sharp == c.end())
+                return invalid(member_path(path, "sharpness"), member_path(path, "sharpness") + " is required");
             auto a = read_index((*edge)[0], index_path(member_path(path, "edge"), 0), nv, "vertex");
             if (!a) return std::move(a.error());
             auto b = read_index((*edge)[1], index_path(member_path(path, "edge"), 1), nv, "vertex");
@@ -197,8 +203,10 @@ std::optional<ApiError> decode_tags(const Json& root, PolygonMesh& mesh) {
             if (auto error = check_members(c, path, {"vertex", "sharpness"})) return error;
             const auto vertex = c.find("vertex");
             const auto sharp = c.find("sharpness");
-            if (vertex == c.end()) return invalid(member_path(path, "vertex"), member_path(path, "vertex") + " is required");
-            if (sharp == c.end()) return invalid(member_path(path, "sharpness"), member_path(path, "sharpness") + " is required");
+            if (vertex == c.end())
+                return invalid(member_path(path, "vertex"), member_path(path, "vertex") + " is required");
+            if (sharp == c.end())
+                return invalid(member_path(path, "sharpness"), member_path(path, "sharpness") + " is required");
             auto v = read_index(*vertex, member_path(path, "vertex"), nv, "vertex");
             if (!v) return std::move(v.error());
             auto s = read_sharpness(*sharp, member_path(path, "sharpness"));
@@ -296,23 +304,23 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
     if (!root.is_object())
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
-    if (auto error = check_members(root, "", {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule",
-                                              "uv_interpolation", "loop_weights", "limit_surface", "max_faces", "creases", "corners",
-                                              "holes", "output"}))
+    if (auto error =
+            check_members(root, "",
+                          {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule", "uv_interpolation",
+                           "loop_weights", "limit_surface", "max_faces", "creases", "corners", "holes", "output"}))
         return std::move(*error);
 
     SubdivideJsonRequest request;
     SubdivideParams& params = request.params;
     request.params.levels_given = root.contains("levels");
-    for (auto error : {read_member(root, "scheme", kSchemeNames, params.scheme),
-                       read_member(root, "levels", params.levels),
-                       read_member(root, "crease_method", kCreaseMethodNames, params.crease_method),
-                       read_member(root, "triangle_rule", kTriangleRuleNames, params.triangle_rule),
-                       read_member(root, "loop_weights", kLoopWeightNames, params.loop_weights),
-                       read_member(root, "uv_interpolation", kUvInterpolationNames, params.uv_interpolation),
-                       read_member(root, "limit_surface", params.limit_surface),
-                       read_member(root, "max_faces", params.max_faces),
-                       read_member(root, "boundary", kBoundaryNames, params.boundary)})
+    for (auto error :
+         {read_member(root, "scheme", kSchemeNames, params.scheme), read_member(root, "levels", params.levels),
+          read_member(root, "crease_method", kCreaseMethodNames, params.crease_method),
+          read_member(root, "triangle_rule", kTriangleRuleNames, params.triangle_rule),
+          read_member(root, "loop_weights", kLoopWeightNames, params.loop_weights),
+          read_member(root, "uv_interpolation", kUvInterpolationNames, params.uv_interpolation),
+          read_member(root, "limit_surface", params.limit_surface), read_member(root, "max_faces", params.max_faces),
+          read_member(root, "boundary", kBoundaryNames, params.boundary)})
         if (error) return std::move(*error);
     if (auto error = read_output(root, request.params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");
@@ -355,20 +363,20 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
     Json root;
     if (auto error = parse(body, root)) return std::move(*error);
     if (!root.is_object())
-        return make_problem(Problem::InvalidField,
-                            R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
-    if (auto error = check_members(root, "", {"mesh", "target_faces", "ratio", "max_error", "lock_border",
-                                              "restore_volume", "threads", "report_error", "locked_vertices",
-                                              "output"}))
+        return make_problem(
+            Problem::InvalidField,
+            R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
+    if (auto error = check_members(root, "",
+                                   {"mesh", "target_faces", "ratio", "max_error", "lock_border", "restore_volume",
+                                    "threads", "report_error", "locked_vertices", "output"}))
         return std::move(*error);
     SimplifyJsonRequest request;
     SimplifyParams& params = request.params;
-    for (auto error : {read_member(root, "target_faces", params.target_faces),
-                       read_member(root, "ratio", params.ratio), read_member(root, "max_error", params.max_error),
-                       read_member(root, "lock_border", params.lock_border),
-                       read_member(root, "restore_volume", params.restore_volume),
-                       read_member(root, "threads", params.threads),
-                       read_member(root, "report_error", params.report_error)})
+    for (auto error :
+         {read_member(root, "target_faces", params.target_faces), read_member(root, "ratio", params.ratio),
+          read_member(root, "max_error", params.max_error), read_member(root, "lock_border", params.lock_border),
+          read_member(root, "restore_volume", params.restore_volume), read_member(root, "threads", params.threads),
+          read_member(root, "report_error", params.report_error)})
         if (error) return std::move(*error);
     if (auto error = read_output(root, request.params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");

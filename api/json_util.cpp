@@ -50,8 +50,8 @@ std::optional<ApiError> parse(std::string_view text, Json& out) {
     } catch (const Json::out_of_range& e) {
         // Not a parse_error: nlohmann throws out_of_range.406 for a literal that overflows a double ("1e999"),
         // without a position. It is a non-finite coordinate (or option), so it gets the NonFinite status.
-        return from_geo_error(make_error(ErrorCode::NonFinite,
-                                         std::string("a number in the body does not fit a double: ") + e.what()));
+        return from_geo_error(
+            make_error(ErrorCode::NonFinite, std::string("a number in the body does not fit a double: ") + e.what()));
     } catch (const Json::exception& e) {
         return make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what());
     }
@@ -96,7 +96,8 @@ ApiResult<bool> read_bool(const Json& value, const std::string& field) {
 }
 
 ApiResult<double> read_number(const Json& value, const std::string& field) {
-    if (!value.is_number() || !std::isfinite(value.get<double>())) return invalid(field, field + " must be a finite number");
+    if (!value.is_number() || !std::isfinite(value.get<double>()))
+        return invalid(field, field + " must be a finite number");
     return value.get<double>();
 }
 

@@ -20,7 +20,7 @@ namespace surfaced::api::json {
 
 using Json = nlohmann::json;
 
-std::string index_path(std::string_view path, std::size_t i);        //!< "a.b" + 3 -> "a.b[3]"
+std::string index_path(std::string_view path, std::size_t i);           //!< "a.b" + 3 -> "a.b[3]"
 std::string member_path(std::string_view path, std::string_view name);  //!< "a" + "b" -> "a.b"; "" + "b" -> "b"
 
 //! 400 invalid_field naming `field`.
@@ -54,11 +54,17 @@ std::optional<ApiError> read_member(const Json& object, const std::string& name,
     const auto it = object.find(name);
     if (it == object.end()) return std::nullopt;
     auto value = [&] {
-        if constexpr (requires { typename T::value_type; target.reset(); }) {  // std::optional<U>
+        if constexpr (requires {
+                          typename T::value_type;
+                          target.reset();
+                      }) {  // std::optional<U>
             using U = typename T::value_type;
-            if constexpr (std::is_same_v<U, bool>) return read_bool(*it, name);
-            else if constexpr (std::is_floating_point_v<U>) return read_number(*it, name);
-            else return read_integer(*it, name);
+            if constexpr (std::is_same_v<U, bool>)
+                return read_bool(*it, name);
+            else if constexpr (std::is_floating_point_v<U>)
+                return read_number(*it, name);
+            else
+                return read_integer(*it, name);
         } else if constexpr (std::is_same_v<T, bool>) {
             return read_bool(*it, name);
         } else if constexpr (std::is_floating_point_v<T>) {

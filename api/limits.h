@@ -27,13 +27,13 @@ struct Limits {
     //! Implicit surfaces (POST /implicit/mesh, /implicit/query, /pointcloud sampling). Meshing grid cells
     //! (resolution^3, or the finest level of the adaptive mode) are checked before any field is evaluated.
     std::uint64_t max_grid_cells = std::uint64_t{256} * 256 * 256;
-    std::uint64_t max_scene_nodes = 10'000;        //!< nodes in one scene DAG (after expanding nothing: refs count once)
-    std::uint64_t max_expression_nodes = 10'000;   //!< nodes of one algebraic expression tree
-    int max_expression_depth = 64;                 //!< nesting depth of one expression
-    int max_fractal_iterations = 64;               //!< Mandelbulb / Menger iterations
+    std::uint64_t max_scene_nodes = 10'000;       //!< nodes in one scene DAG (after expanding nothing: refs count once)
+    std::uint64_t max_expression_nodes = 10'000;  //!< nodes of one algebraic expression tree
+    int max_expression_depth = 64;                //!< nesting depth of one expression
+    int max_fractal_iterations = 64;              //!< Mandelbulb / Menger iterations
     std::uint64_t max_level_set_samples = std::uint64_t{256} * 256 * 256;  //!< uploaded level-set grid values
-    std::uint64_t max_query_points = 1'000'000;    //!< points + rays in one /implicit/query
-    int max_ray_steps = 10'000;                    //!< sphere-tracing steps per ray
+    std::uint64_t max_query_points = 1'000'000;                            //!< points + rays in one /implicit/query
+    int max_ray_steps = 10'000;                                            //!< sphere-tracing steps per ray
     //! Points in one point cloud (input or sampled output). Normal orientation keeps a kNN graph of ~190 bytes a point
     //! (k = 16), so 2M points stay under ~400 MB.
     std::uint64_t max_points = 2'000'000;

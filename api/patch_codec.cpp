@@ -81,7 +81,8 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
     Json root;
     if (auto error = parse(body, root)) return std::move(*error);
     if (!root.is_object())
-        return invalid("", R"(the body must be an object {"patches": [...], "tolerance": t | "segments": n, "output": {...}})");
+        return invalid(
+            "", R"(the body must be an object {"patches": [...], "tolerance": t | "segments": n, "output": {...}})");
     if (auto error = check_members(root, "", {"patches", "tolerance", "segments", "output"})) return std::move(*error);
 
     TessellateJsonRequest request;

@@ -23,9 +23,9 @@
 namespace surfaced::api {
 
 struct TessellateParams {
-    std::optional<double> tolerance;        //!< "tolerance" (model units), as sent; checked by the operation
-    std::optional<std::int64_t> segments;   //!< "segments" per patch direction, as sent
-    OutputOptions output;                   //!< normals default to true here (see operations/tessellate.h)
+    std::optional<double> tolerance;       //!< "tolerance" (model units), as sent; checked by the operation
+    std::optional<std::int64_t> segments;  //!< "segments" per patch direction, as sent
+    OutputOptions output;                  //!< normals default to true here (see operations/tessellate.h)
 };
 
 struct TessellateJsonRequest {

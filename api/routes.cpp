@@ -22,9 +22,11 @@ constexpr Route kRoutes[] = {
     {"POST", "/subdivide", &operations::subdivide,
      "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> GLB/OBJ/PLY/JSON"},
     {"POST", "/simplify", &operations::simplify,
-     "QEM edge-collapse simplification to target_faces / ratio / max_error, optional Hausdorff/RMS report -> GLB/OBJ/PLY/JSON"},
+     "QEM edge-collapse simplification to target_faces / ratio / max_error, optional Hausdorff/RMS report -> "
+     "GLB/OBJ/PLY/JSON"},
     {"POST", "/remesh", &operations::remesh,
-     "Isotropic remeshing to edge_length (split, collapse, flip, relax, project), features and boundary kept, quality report -> GLB/OBJ/PLY/JSON"},
+     "Isotropic remeshing to edge_length (split, collapse, flip, relax, project), features and boundary kept, quality "
+     "report -> GLB/OBJ/PLY/JSON"},
     {"POST", "/tessellate", &operations::tessellate,
      "Bezier patches (JSON or geomview BEZ/BBP) tessellated by tolerance or segments, crack-free -> GLB/OBJ/PLY"},
     {"GET", "/patches/{name}", &operations::patch_sample,
@@ -38,7 +40,8 @@ constexpr Route kRoutes[] = {
      "Point clouds: convert PLY/OBJ/XYZ/JSON points, sample a mesh or implicit scene, estimate oriented normals "
      "(kNN PCA) -> GLB POINTS (Draco)/PLY/JSON"},
     {"POST", "/implicit/mesh", &operations::implicit_mesh,
-     "Implicit scene meshed in bounds (dual marching cubes, QEF vertices; closed, manifold, sharp) -> GLB/OBJ/PLY/JSON"},
+     "Implicit scene meshed in bounds (dual marching cubes, QEF vertices; closed, manifold, sharp) -> "
+     "GLB/OBJ/PLY/JSON"},
 };
 
 }  // namespace
@@ -74,9 +77,7 @@ ApiResponse healthz(const ApiRequest&, const ApiContext&) noexcept {
     return response;
 }
 
-ApiResponse livez(const ApiRequest& request, const ApiContext& context) noexcept {
-    return healthz(request, context);
-}
+ApiResponse livez(const ApiRequest& request, const ApiContext& context) noexcept { return healthz(request, context); }
 
 ApiResponse readyz(const ApiRequest&, const ApiContext& context) noexcept {
     if (context.service && context.service->draining()) {
@@ -124,10 +125,10 @@ std::string allowed_methods(std::string_view path) {
 
 ApiResponse route_not_found(std::string_view method, std::string_view path) {
     const std::string allow = allowed_methods(path);
-    if (allow.empty())
-        return error_response(make_problem(Problem::NotFound, "no endpoint at " + std::string(path)));
-    ApiResponse response = error_response(make_problem(
-        Problem::MethodNotAllowed, std::string(path) + " does not accept " + std::string(method) + "; allowed: " + allow));
+    if (allow.empty()) return error_response(make_problem(Problem::NotFound, "no endpoint at " + std::string(path)));
+    ApiResponse response =
+        error_response(make_problem(Problem::MethodNotAllowed, std::string(path) + " does not accept " +
+                                                                   std::string(method) + "; allowed: " + allow));
     response.headers.emplace_back("Allow", allow);
     return response;
 }

@@ -12,8 +12,8 @@
 namespace surfaced::api {
 
 struct Route {
-    std::string_view method;       //!< "GET", "POST", ...
-    std::string_view path;         //!< exact path ("/subdivide"), or with `{name}` segments ("/patches/{name}")
+    std::string_view method;  //!< "GET", "POST", ...
+    std::string_view path;    //!< exact path ("/subdivide"), or with `{name}` segments ("/patches/{name}")
     Operation handler;
     std::string_view description;  //!< one line, for --help and a future index page
 };

@@ -95,8 +95,7 @@ private:
     ApiResult<FieldPtr> node(const Json& v, const std::string& path, int depth) {
         if (depth > kMaxSceneDepth)
             return budget(path, "the scene is nested deeper than " + std::to_string(kMaxSceneDepth) + " nodes");
-        if (!v.is_object())
-            return invalid(path, path + R"( must be a scene node: {"op": ...} or {"ref": "id"})");
+        if (!v.is_object()) return invalid(path, path + R"( must be a scene node: {"op": ...} or {"ref": "id"})");
         if (auto it = v.find("ref"); it != v.end()) return reference(v, *it, path, depth);
 
         std::string id;
@@ -149,7 +148,8 @@ private:
     ApiResult<double> positive(const Json& v, const std::string& path, const char* name,
                                std::optional<double> fallback = std::nullopt) {
         auto x = number(v, path, name, fallback);
-        if (x && !(x.value() > 0)) return range_error(member_path(path, name), member_path(path, name) + " must be > 0");
+        if (x && !(x.value() > 0))
+            return range_error(member_path(path, name), member_path(path, name) + " must be > 0");
         return x;
     }
 
@@ -213,15 +213,16 @@ private:
 
     // One builder per op, each its own (non-inlined) function: the recursion node() -> op() -> build_*() -> node()
     // then carries only the locals of the ops on the path, which keeps deep scenes within the stack (ASan too).
-#define SURFACED_MEMBERS(...)                                                  \
+#define SURFACED_MEMBERS(...) \
     if (auto error = check_members(v, path, {"op", "id", __VA_ARGS__})) return std::move(*error)
-#define SURFACED_TRY(var, expr)           \
-    auto var = (expr);                    \
+#define SURFACED_TRY(var, expr) \
+    auto var = (expr);          \
     if (!var) return std::move(var.error())
 
     //! sphere
-    [[gnu::noinline]] ApiResult<FieldPtr> build_sphere(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_sphere(const Json& v, const std::string& path,
+                                                       [[maybe_unused]] int depth,
+                                                       [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("radius");
         SURFACED_TRY(r, positive(v, path, "radius"));
         return implicit::sphere(r.value());
@@ -229,15 +230,16 @@ private:
 
     //! box
     [[gnu::noinline]] ApiResult<FieldPtr> build_box(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+                                                    [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("half_size");
         SURFACED_TRY(h, positive_vec3(v, path, "half_size"));
         return implicit::box(h.value());
     }
 
     //! rounded_box
-    [[gnu::noinline]] ApiResult<FieldPtr> build_rounded_box(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_rounded_box(const Json& v, const std::string& path,
+                                                            [[maybe_unused]] int depth,
+                                                            [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("half_size", "radius");
         SURFACED_TRY(h, positive_vec3(v, path, "half_size"));
         SURFACED_TRY(r, number(v, path, "radius"));
@@ -249,8 +251,9 @@ private:
     }
 
     //! torus
-    [[gnu::noinline]] ApiResult<FieldPtr> build_torus(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_torus(const Json& v, const std::string& path,
+                                                      [[maybe_unused]] int depth,
+                                                      [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("major_radius", "minor_radius");
         SURFACED_TRY(big, positive(v, path, "major_radius"));
         SURFACED_TRY(small, positive(v, path, "minor_radius"));
@@ -258,8 +261,9 @@ private:
     }
 
     //! cylinder
-    [[gnu::noinline]] ApiResult<FieldPtr> build_cylinder(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_cylinder(const Json& v, const std::string& path,
+                                                         [[maybe_unused]] int depth,
+                                                         [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("radius", "half_height");
         SURFACED_TRY(r, positive(v, path, "radius"));
         SURFACED_TRY(h, positive(v, path, "half_height"));
@@ -268,7 +272,7 @@ private:
 
     //! cone
     [[gnu::noinline]] ApiResult<FieldPtr> build_cone(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+                                                     [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("radius", "half_height", "top_radius");
         SURFACED_TRY(r, positive(v, path, "radius"));
         SURFACED_TRY(h, positive(v, path, "half_height"));
@@ -279,8 +283,9 @@ private:
     }
 
     //! capsule
-    [[gnu::noinline]] ApiResult<FieldPtr> build_capsule(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_capsule(const Json& v, const std::string& path,
+                                                        [[maybe_unused]] int depth,
+                                                        [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("a", "b", "radius");
         SURFACED_TRY(a, vec3(v, path, "a"));
         SURFACED_TRY(b, vec3(v, path, "b"));
@@ -289,8 +294,9 @@ private:
     }
 
     //! plane
-    [[gnu::noinline]] ApiResult<FieldPtr> build_plane(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_plane(const Json& v, const std::string& path,
+                                                      [[maybe_unused]] int depth,
+                                                      [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("normal", "offset");
         SURFACED_TRY(n, vec3(v, path, "normal"));
         SURFACED_TRY(d, number(v, path, "offset", 0.0));
@@ -300,16 +306,18 @@ private:
     }
 
     //! ellipsoid
-    [[gnu::noinline]] ApiResult<FieldPtr> build_ellipsoid(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_ellipsoid(const Json& v, const std::string& path,
+                                                          [[maybe_unused]] int depth,
+                                                          [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("radii");
         SURFACED_TRY(r, positive_vec3(v, path, "radii"));
         return implicit::ellipsoid(r.value());
     }
 
     //! translate
-    [[gnu::noinline]] ApiResult<FieldPtr> build_translate(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_translate(const Json& v, const std::string& path,
+                                                          [[maybe_unused]] int depth,
+                                                          [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("offset", "arg");
         SURFACED_TRY(o, vec3(v, path, "offset"));
         SURFACED_TRY(c, child(v, path, depth));
@@ -317,8 +325,9 @@ private:
     }
 
     //! rotate
-    [[gnu::noinline]] ApiResult<FieldPtr> build_rotate(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_rotate(const Json& v, const std::string& path,
+                                                       [[maybe_unused]] int depth,
+                                                       [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("arg", "axis", "angle", "euler");
         implicit::Mat3 rotation;
         if (v.contains("euler")) {
@@ -339,8 +348,9 @@ private:
     }
 
     //! scale
-    [[gnu::noinline]] ApiResult<FieldPtr> build_scale(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_scale(const Json& v, const std::string& path,
+                                                      [[maybe_unused]] int depth,
+                                                      [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("factor", "arg");
         SURFACED_TRY(m, member(v, path, "factor"));
         if (m.value()->is_array()) {
@@ -354,8 +364,9 @@ private:
     }
 
     //! union, intersection
-    [[gnu::noinline]] ApiResult<FieldPtr> build_boolean(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_boolean(const Json& v, const std::string& path,
+                                                        [[maybe_unused]] int depth,
+                                                        [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("args");
         SURFACED_TRY(args, children(v, path, depth, 1));
         return name == "union" ? implicit::csg_union(std::move(args.value()))
@@ -363,16 +374,18 @@ private:
     }
 
     //! difference
-    [[gnu::noinline]] ApiResult<FieldPtr> build_difference(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_difference(const Json& v, const std::string& path,
+                                                           [[maybe_unused]] int depth,
+                                                           [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("args");
         SURFACED_TRY(args, children(v, path, depth, 2));
         return implicit::csg_difference(std::move(args.value()));
     }
 
     //! blend
-    [[gnu::noinline]] ApiResult<FieldPtr> build_blend(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_blend(const Json& v, const std::string& path,
+                                                      [[maybe_unused]] int depth,
+                                                      [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("args", "t");
         SURFACED_TRY(t, number(v, path, "t"));
         if (t.value() < 0 || t.value() > 1)
@@ -382,8 +395,9 @@ private:
     }
 
     //! smooth_union, smooth_intersection, smooth_difference
-    [[gnu::noinline]] ApiResult<FieldPtr> build_smooth(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_smooth(const Json& v, const std::string& path,
+                                                       [[maybe_unused]] int depth,
+                                                       [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("args", "k");
         SURFACED_TRY(k, positive(v, path, "k"));
         SURFACED_TRY(args, children(v, path, depth, name == "smooth_difference" ? 2 : 1));
@@ -393,8 +407,9 @@ private:
     }
 
     //! offset
-    [[gnu::noinline]] ApiResult<FieldPtr> build_offset(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_offset(const Json& v, const std::string& path,
+                                                       [[maybe_unused]] int depth,
+                                                       [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("arg", "distance");
         SURFACED_TRY(d, number(v, path, "distance"));
         SURFACED_TRY(c, child(v, path, depth));
@@ -402,8 +417,9 @@ private:
     }
 
     //! shell
-    [[gnu::noinline]] ApiResult<FieldPtr> build_shell(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_shell(const Json& v, const std::string& path,
+                                                      [[maybe_unused]] int depth,
+                                                      [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("arg", "thickness");
         SURFACED_TRY(t, positive(v, path, "thickness"));
         SURFACED_TRY(c, child(v, path, depth));
@@ -411,8 +427,9 @@ private:
     }
 
     //! expression
-    [[gnu::noinline]] ApiResult<FieldPtr> build_expression(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_expression(const Json& v, const std::string& path,
+                                                           [[maybe_unused]] int depth,
+                                                           [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("expr");
         const std::string field = member_path(path, "expr");
         SURFACED_TRY(m, member(v, path, "expr"));
@@ -430,8 +447,9 @@ private:
     }
 
     //! mandelbulb
-    [[gnu::noinline]] ApiResult<FieldPtr> build_mandelbulb(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_mandelbulb(const Json& v, const std::string& path,
+                                                           [[maybe_unused]] int depth,
+                                                           [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("power", "iterations", "bailout");
         SURFACED_TRY(power, number(v, path, "power", 8.0));
         if (power.value() < 2 || power.value() > 32)
@@ -444,8 +462,9 @@ private:
     }
 
     //! menger
-    [[gnu::noinline]] ApiResult<FieldPtr> build_menger(const Json& v, const std::string& path, [[maybe_unused]] int depth,
-            [[maybe_unused]] const std::string& name) {
+    [[gnu::noinline]] ApiResult<FieldPtr> build_menger(const Json& v, const std::string& path,
+                                                       [[maybe_unused]] int depth,
+                                                       [[maybe_unused]] const std::string& name) {
         SURFACED_MEMBERS("iterations", "half_size");
         SURFACED_TRY(n, iterations(v, path, 0, std::nullopt));
         SURFACED_TRY(h, positive(v, path, "half_size", 1.0));
@@ -559,7 +578,7 @@ private:
 }  // namespace
 
 ApiResult<std::shared_ptr<const implicit::Field>> parse_scene(const json::Json& node, const Limits& limits,
-                                                             const std::string& path) {
+                                                              const std::string& path) {
     SceneParser parser(limits);
     return parser.run(node, path);
 }

@@ -20,7 +20,7 @@ namespace surfaced::api {
 
 //! Parses a scene node (the value of the request's "scene" member); errors name paths under `path`.
 ApiResult<std::shared_ptr<const implicit::Field>> parse_scene(const json::Json& node, const Limits& limits,
-                                                             const std::string& path = "scene");
+                                                              const std::string& path = "scene");
 //! "bounds": [[xmin,ymin,zmin],[xmax,ymax,zmax]] with min < max on every axis.
 ApiResult<Box3> parse_bounds(const json::Json& value, const std::string& path = "bounds");
 

@@ -102,12 +102,14 @@ int main(int argc, char** argv) {
         Box3 bounds;
     };
     const Box3 cube{{-1.25, -1.25, -1.25}, {1.25, 1.25, 1.25}};
-    const Case cases[] = {{"sphere", &sphere, cube}, {"box minus ball", &box_minus_ball, cube}, {"gyroid in ball", &gyroid, cube}};
+    const Case cases[] = {
+        {"sphere", &sphere, cube}, {"box minus ball", &box_minus_ball, cube}, {"gyroid in ball", &gyroid, cube}};
     std::vector<int> resolutions = {32, 64, 128};
     if (!quick) resolutions.push_back(256);
 
-    std::printf("| field | resolution | grid cells | surface cells | uniform ms | uniform evaluations | adaptive ms | "
-                "adaptive evaluations | evaluations ratio | triangles | adaptive + QEM (0.1 cell) triangles | QEM ms |\n");
+    std::printf(
+        "| field | resolution | grid cells | surface cells | uniform ms | uniform evaluations | adaptive ms | "
+        "adaptive evaluations | evaluations ratio | triangles | adaptive + QEM (0.1 cell) triangles | QEM ms |\n");
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const Case& c : cases)
         for (int resolution : resolutions) {

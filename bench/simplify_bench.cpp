@@ -133,7 +133,9 @@ struct Ours final : Peer {
 
 struct Meshopt final : Peer {
     Meshopt(const PolygonMesh& mesh, std::size_t faces)
-        : input(mesh), target(faces), indices(input.face_indices.begin(), input.face_indices.end()),
+        : input(mesh),
+          target(faces),
+          indices(input.face_indices.begin(), input.face_indices.end()),
           out(indices.size()) {
         positions.reserve(3 * input.vertex_count());
         for (const Vec3& p : input.positions) {
@@ -279,8 +281,7 @@ void run(const std::string& name, const PolygonMesh& mesh) {
             const Row& a = rows[static_cast<std::size_t>(variant)];
             std::printf("| %s | %zu | %g%% | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
                         name.c_str(), mesh.face_count(), fraction * 100, variant % 2 == 0 ? "0" : "0.5",
-                        variant < 2 ? 1 : 2,
-                        triple(a, b, c, "%zu", [](const Row& r) { return r.faces; }).c_str(),
+                        variant < 2 ? 1 : 2, triple(a, b, c, "%zu", [](const Row& r) { return r.faces; }).c_str(),
                         triple(a, b, c, "%.3f", [](const Row& r) { return r.seconds; }).c_str(),
                         ratio(a, b, &Row::seconds).c_str(), ratio(a, c, &Row::seconds).c_str(),
                         triple(a, b, c, "%.2e", relative(&Row::hausdorff)).c_str(),
@@ -302,13 +303,16 @@ int main(int argc, char** argv) {
 #else
     const std::string cgal_name = "CGAL (not built: bench_simplify_cgal)";
 #endif
-    std::printf("ours / meshoptimizer %d.%d / %s; errors relative to the bounding-box diagonal; time in seconds, the "
-                "peers on one thread (ours also with threads = 2) in turn, fastest of %d runs below %zu triangles (CGAL %d), else of %d (CGAL 1)\n\n",
-                MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10, cgal_name.c_str(), kSmallRounds,
-                kRepeatBelow, kCgalSmallRounds, kLargeRounds);
-    std::printf("| mesh | triangles | target | our restore_volume | our threads | faces | time | time ours/meshopt | "
-                "time ours/CGAL | Hausdorff | Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | "
-                "duplicate faces |\n");
+    std::printf(
+        "ours / meshoptimizer %d.%d / %s; errors relative to the bounding-box diagonal; time in seconds, the "
+        "peers on one thread (ours also with threads = 2) in turn, fastest of %d runs below %zu triangles (CGAL %d), "
+        "else of %d (CGAL 1)\n\n",
+        MESHOPTIMIZER_VERSION / 1000, MESHOPTIMIZER_VERSION % 1000 / 10, cgal_name.c_str(), kSmallRounds, kRepeatBelow,
+        kCgalSmallRounds, kLargeRounds);
+    std::printf(
+        "| mesh | triangles | target | our restore_volume | our threads | faces | time | time ours/meshopt | "
+        "time ours/CGAL | Hausdorff | Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | "
+        "duplicate faces |\n");
     std::printf("|---|---:|---:|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
     const char* bunny_path = "/usr/share/glmark2/models/bunny.obj";
     if (std::filesystem::exists(bunny_path)) {

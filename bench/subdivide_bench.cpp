@@ -39,8 +39,7 @@ std::atomic<long long> g_live{0}, g_peak{0};
 void note_alloc(long long n) {
     const long long live = g_live.fetch_add(n) + n;
     long long peak = g_peak.load();
-    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {
-    }
+    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
 }
 }  // namespace
 
@@ -212,8 +211,9 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0, plain = cases.size(); i < plain; ++i)
         cases.push_back({cases[i].name + ", creases", creased(cases[i].mesh), cases[i].scheme});
 
-    std::printf("| mesh | scheme | faces in | level | faces out | OpenSubdiv ms | ours ms | ratio | ours 2 threads ms | "
-                "ratio | OpenSubdiv peak MiB | ours peak MiB | ratio |\n");
+    std::printf(
+        "| mesh | scheme | faces in | level | faces out | OpenSubdiv ms | ours ms | ratio | ours 2 threads ms | "
+        "ratio | OpenSubdiv peak MiB | ours peak MiB | ratio |\n");
     std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const Case& c : cases) {
         for (int level = 1; level <= max_level; ++level) {

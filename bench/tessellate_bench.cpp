@@ -45,8 +45,8 @@ double measured_max_deviation(const PatchSet& set, const PatchTessellation& t, i
                 const double l0 = 1 - l1 - l2;
                 const Vec3 linear =
                     l0 * mesh.positions[face[0]] + l1 * mesh.positions[face[1]] + l2 * mesh.positions[face[2]];
-                const Vec3 exact = evaluate(patch, l0 * uv0.x + l1 * uv1.x + l2 * uv2.x,
-                                            l0 * uv0.y + l1 * uv1.y + l2 * uv2.y);
+                const Vec3 exact =
+                    evaluate(patch, l0 * uv0.x + l1 * uv1.x + l2 * uv2.x, l0 * uv0.y + l1 * uv1.y + l2 * uv2.y);
                 worst = std::max(worst, norm(linear - exact));
             }
     }
@@ -102,7 +102,8 @@ int main(int argc, char** argv) {
     if (!quick) segment_counts.push_back(32);
 
     std::printf("teapot: %zu bicubic patches, single thread, best of N calls\n\n", set.patches.size());
-    std::printf("| input | triangles | ms per call (best) | patches/s | triangles/s | bound | measured max deviation |\n");
+    std::printf(
+        "| input | triangles | ms per call (best) | patches/s | triangles/s | bound | measured max deviation |\n");
     std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
     const auto row = [&](const char* kind, double value, const Run& run) {
         std::printf("| %s %g | %zu | %.3f | %.0f | %.3g | %.3g | %.3g |\n", kind, value, run.triangles, run.ms,
@@ -128,8 +129,9 @@ int main(int argc, char** argv) {
         row("segments", segments, measure(set, options, repeats_for(triangles, quick), true));
     }
 
-    std::printf("\n| tolerance | ours: triangles | ours: segments per patch (min..max) | uniform Wang n | uniform "
-                "triangles (32 x 2 n^2) | ratio ours / uniform |\n");
+    std::printf(
+        "\n| tolerance | ours: triangles | ours: segments per patch (min..max) | uniform Wang n | uniform "
+        "triangles (32 x 2 n^2) | ratio ours / uniform |\n");
     std::printf("|---:|---:|---:|---:|---:|---:|\n");
     for (double tolerance : tolerances) {
         TessellationOptions options;

@@ -27,7 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     if (response.status == 503) return 0;  // the deadline above
     if (response.status < 400 || response.status >= 500)
-        fuzz::fail("POST /curves answered an unexpected status", std::to_string(response.status) + ": " + response.body);
+        fuzz::fail("POST /curves answered an unexpected status",
+                   std::to_string(response.status) + ": " + response.body);
     if (response.content_type != "application/problem+json" || response.body.find("\"detail\"") == std::string::npos)
         fuzz::fail("POST /curves error without a problem+json detail", response.body);
     return 0;

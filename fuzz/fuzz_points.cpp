@@ -16,7 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto result = read_points(bytes, format);
     if (!result.ok()) {
         if (result.error().message.empty()) fuzz::fail("read_points error", "empty message");
-        if (result.error().code == ErrorCode::Internal) fuzz::fail("read_points error is Internal", result.error().message);
+        if (result.error().code == ErrorCode::Internal)
+            fuzz::fail("read_points error is Internal", result.error().message);
         return 0;
     }
     const Status valid = validate(*result);

@@ -32,7 +32,8 @@ void check_chains(std::string_view text, const surfaced::SvgPathOptions& options
     }
     std::size_t pieces = 0;
     for (const BezierChain& chain : *result) {
-        if (const Status valid = validate(chain); !valid.ok()) fuzz::fail("chain fails validate()", valid.error().message);
+        if (const Status valid = validate(chain); !valid.ok())
+            fuzz::fail("chain fails validate()", valid.error().message);
         for (std::size_t i = 1; i < chain.pieces.size(); ++i)
             if (chain.pieces[i].points.front() != chain.pieces[i - 1].points.back())
                 fuzz::fail("pieces do not meet", std::to_string(i));

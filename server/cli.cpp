@@ -42,7 +42,8 @@ constexpr int kExitOk = 0;
 constexpr int kExitFailed = 1;
 constexpr int kExitUsage = 2;
 
-constexpr std::string_view kMainHelp = R"(surfaced - geometry service: subdivision, Bezier patch tessellation and simplification over HTTP/JSON and on the command line
+constexpr std::string_view kMainHelp =
+    R"(surfaced - geometry service: subdivision, Bezier patch tessellation and simplification over HTTP/JSON and on the command line
 
 Usage:
   surfaced serve [options]                    run the HTTP service
@@ -161,7 +162,8 @@ long long parse_number(std::string_view name, const std::string& text, long long
 template <class E, std::size_t N>
 std::string checked_enum(std::string_view name, const std::string& text, const api::EnumName<E> (&table)[N]) {
     if (!api::enum_from_name(table, text))
-        throw UsageError{std::string(name) + ": unknown value \"" + text + "\" (allowed: " + api::enum_names(table) + ")"};
+        throw UsageError{std::string(name) + ": unknown value \"" + text + "\" (allowed: " + api::enum_names(table) +
+                         ")"};
     return text;
 }
 
@@ -285,7 +287,8 @@ std::optional<Parsed> parse_file_command(Args& args, const std::string& command,
                                          const std::vector<Option>& options,
                                          const std::string& input_name = "input file") {
     Parsed parsed;
-    const bool complete = for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
+    const bool complete = for_each_argument(args, [&](const std::string& arg,
+                                                      std::optional<std::string>& inline_value) {
         if (arg == "-h" || arg == "--help") {
             std::cout << help;
             return false;
@@ -395,8 +398,10 @@ int finish(const api::ApiResponse& response, const Parsed& parsed, Summary&& sum
                 !problem->detail.starts_with(*problem->field))
                 std::cerr << *problem->field << ": ";
             std::cerr << problem->detail;
-            if (style.line && problem->line) std::cerr << " (line " << *problem->line << ")";
-            else if (style.offset && problem->offset) std::cerr << " (byte offset " << *problem->offset << ")";
+            if (style.line && problem->line)
+                std::cerr << " (line " << *problem->line << ")";
+            else if (style.offset && problem->offset)
+                std::cerr << " (byte offset " << *problem->offset << ")";
             std::cerr << " [" << problem->code << "]";
         } else {
             std::cerr << "failed with status " << response.status;
@@ -449,7 +454,8 @@ int serve(Args& args) {
     config.access_log = server::ServerConfig::AccessLog::Stderr;
     bool web_root_given = false;
     std::optional<std::string> auth_token_file;
-    const bool complete = for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
+    const bool complete = for_each_argument(args, [&](const std::string& arg,
+                                                      std::optional<std::string>& inline_value) {
         if (arg == "-h" || arg == "--help") {
             std::cout << kServeHelp;
             for (const api::Route& route : api::routes())
@@ -465,39 +471,45 @@ int serve(Args& args) {
             config.web_root = args.value(arg, inline_value);
             web_root_given = true;
         } else if (arg == "--max-body-mb") {
-            config.limits.max_body_bytes = static_cast<std::size_t>(
-                parse_number(arg, args.value(arg, inline_value), 1, 1 << 20)) << 20;
+            config.limits.max_body_bytes =
+                static_cast<std::size_t>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20)) << 20;
         } else if (arg == "--max-levels") {
             config.limits.max_levels = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 16));
         } else if (arg == "--max-output-faces") {
-            config.limits.max_output_faces = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
+            config.limits.max_output_faces =
+                static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
         } else if (arg == "--queue") {
             config.queue_capacity = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
         } else if (arg == "--deadline-ms") {
-            config.limits.compute_deadline_ms = static_cast<std::uint64_t>(
-                parse_number(arg, args.value(arg, inline_value), 0, 86'400'000LL));
+            config.limits.compute_deadline_ms =
+                static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 0, 86'400'000LL));
         } else if (arg == "--keep-alive-max") {
-            config.keep_alive_max_requests = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
+            config.keep_alive_max_requests =
+                static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
         } else if (arg == "--keep-alive-timeout") {
-            config.keep_alive_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
+            config.keep_alive_timeout_seconds =
+                static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
         } else if (arg == "--header-timeout") {
             config.header_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
         } else if (arg == "--body-timeout") {
             config.body_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
         } else if (arg == "--body-min-rate") {
-            config.body_min_rate_bytes = static_cast<std::size_t>(
-                parse_number(arg, args.value(arg, inline_value), 0, 1LL << 40));
+            config.body_min_rate_bytes =
+                static_cast<std::size_t>(parse_number(arg, args.value(arg, inline_value), 0, 1LL << 40));
         } else if (arg == "--drain-timeout") {
             config.drain_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
         } else if (arg == "--drain-delay-ms") {
             config.drain_delay_ms = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 600'000));
         } else if (arg == "--access-log") {
             const std::string where = args.value(arg, inline_value);
-            if (where == "off") config.access_log = server::ServerConfig::AccessLog::Off;
-            else if (where == "stdout") config.access_log = server::ServerConfig::AccessLog::Stdout;
-            else if (where == "stderr") config.access_log = server::ServerConfig::AccessLog::Stderr;
-            else throw UsageError{"--access-log: unknown value \"" + where + "\" (allowed: off, stdout, stderr)"};
+            if (where == "off")
+                config.access_log = server::ServerConfig::AccessLog::Off;
+            else if (where == "stdout")
+                config.access_log = server::ServerConfig::AccessLog::Stdout;
+            else if (where == "stderr")
+                config.access_log = server::ServerConfig::AccessLog::Stderr;
+            else
+                throw UsageError{"--access-log: unknown value \"" + where + "\" (allowed: off, stdout, stderr)"};
         } else if (arg == "--auth-token-file") {
             auth_token_file = args.value(arg, inline_value);
         } else if (arg == "--cors-origin") {
@@ -518,7 +530,8 @@ int serve(Args& args) {
         std::string text, error;
         if (!read_file(*auth_token_file, text, error)) throw UsageError{"--auth-token-file: " + error};
         config.auth_token = text.substr(0, text.find_first_of("\r\n"));
-        if (config.auth_token.empty()) throw UsageError{"--auth-token-file " + *auth_token_file + ": the first line is empty"};
+        if (config.auth_token.empty())
+            throw UsageError{"--auth-token-file " + *auth_token_file + ": the first line is empty"};
     } else if (const char* token = std::getenv("SURFACED_AUTH_TOKEN"); token && *token) {
         config.auth_token = token;
     }
@@ -540,8 +553,8 @@ int serve(Args& args) {
         return kExitFailed;
     }
     std::cout << "surfaced " << SURFACED_VERSION << " listening on http://" << config.host << ":" << http.port()
-              << "/ (" << http.threads() << " threads, web client: "
-              << (http.serves_web_root() ? config.web_root : std::string("none"))
+              << "/ (" << http.threads()
+              << " threads, web client: " << (http.serves_web_root() ? config.web_root : std::string("none"))
               << (config.auth_token.empty() ? "" : ", bearer-token auth") << ")" << std::endl;
 
     int signal_number = 0;
@@ -570,32 +583,34 @@ Options:
 int healthcheck(Args& args) {
     std::string host = "127.0.0.1";
     int port = 8080;
-    if (const char* env = std::getenv("SURFACED_PORT"); env && *env) port = static_cast<int>(parse_number("SURFACED_PORT", env, 1, 65535));
+    if (const char* env = std::getenv("SURFACED_PORT"); env && *env)
+        port = static_cast<int>(parse_number("SURFACED_PORT", env, 1, 65535));
     double timeout = 2.0;
     std::string path = "/livez";
-    const bool complete = for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kHealthcheckHelp;
-            return false;
-        } else if (arg == "--host") {
-            host = args.value(arg, inline_value);
-        } else if (arg == "--port") {
-            port = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 65535));
-        } else if (arg == "--timeout") {
-            const std::string text = args.value(arg, inline_value);
-            char* end = nullptr;
-            timeout = std::strtod(text.c_str(), &end);
-            if (text.empty() || *end != '\0' || !(timeout > 0 && timeout <= 3600))
-                throw UsageError{"--timeout needs seconds in (0, 3600], got \"" + text + "\""};
-        } else if (arg == "--path") {
-            path = args.value(arg, inline_value);
-            if (!path.starts_with("/") || path.find_first_of("\r\n ") != std::string::npos)
-                throw UsageError{"--path must start with / and contain no spaces"};
-        } else {
-            throw UsageError{"healthcheck: unknown argument \"" + arg + "\""};
-        }
-        return true;
-    });
+    const bool complete =
+        for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
+            if (arg == "-h" || arg == "--help") {
+                std::cout << kHealthcheckHelp;
+                return false;
+            } else if (arg == "--host") {
+                host = args.value(arg, inline_value);
+            } else if (arg == "--port") {
+                port = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 65535));
+            } else if (arg == "--timeout") {
+                const std::string text = args.value(arg, inline_value);
+                char* end = nullptr;
+                timeout = std::strtod(text.c_str(), &end);
+                if (text.empty() || *end != '\0' || !(timeout > 0 && timeout <= 3600))
+                    throw UsageError{"--timeout needs seconds in (0, 3600], got \"" + text + "\""};
+            } else if (arg == "--path") {
+                path = args.value(arg, inline_value);
+                if (!path.starts_with("/") || path.find_first_of("\r\n ") != std::string::npos)
+                    throw UsageError{"--path must start with / and contain no spaces"};
+            } else {
+                throw UsageError{"healthcheck: unknown argument \"" + arg + "\""};
+            }
+            return true;
+        });
     if (!complete) return kExitOk;
     std::string detail;
     if (server::probe_http(host, port, path, timeout, &detail)) return kExitOk;
@@ -635,17 +650,19 @@ int subdivide(Args& args) {
     if (parsed->has("--max-output-faces"))
         context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
-    return upload_mesh("/subdivide", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
-        std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Vertices") << " vertices, "
-                  << header(response, "X-Output-Faces") << " faces (from " << header(response, "X-Input-Vertices")
-                  << " vertices, " << header(response, "X-Input-Faces") << " faces) in "
-                  << header(response, "X-Elapsed-Ms") << " ms\n";
-    });
+    return upload_mesh(
+        "/subdivide", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Vertices") << " vertices, "
+                      << header(response, "X-Output-Faces") << " faces (from " << header(response, "X-Input-Vertices")
+                      << " vertices, " << header(response, "X-Input-Faces") << " faces) in "
+                      << header(response, "X-Elapsed-Ms") << " ms\n";
+        });
 }
 
 // ---- tessellate ----------------------------------------------------------------------------------------------
 
-constexpr std::string_view kTessellateHelp = R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
+constexpr std::string_view kTessellateHelp =
+    R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
 
 Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, or
 sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
@@ -717,7 +734,8 @@ int tessellate(Args& args) {
 
 // ---- simplify ------------------------------------------------------------------------------------------------
 
-constexpr std::string_view kSimplifyHelp = R"(Usage: surfaced simplify IN -o OUT (--target-faces N | --ratio R | --max-error E) [options]
+constexpr std::string_view kSimplifyHelp =
+    R"(Usage: surfaced simplify IN -o OUT (--target-faces N | --ratio R | --max-error E) [options]
 
 Simplifies the mesh in IN by quadric-error edge collapse and writes it to OUT, through the same operation as
 POST /simplify. Polygons are triangulated first. Stops at whichever of the given criteria is reached first.
@@ -764,19 +782,21 @@ int simplify(Args& args) {
     const api::OutputFormat out_format = mesh_output_format(parsed->output);
     check_mesh_output_options(*parsed, out_format);
 
-    return upload_mesh("/simplify", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
-        print_triangulated_result(*parsed, response);
-        std::cout << ", error " << header(response, "X-Achieved-Error") << " ("
-                  << header(response, "X-Relative-Error") << " of the bounding-box diagonal)";
-        if (parsed->has("--report-error"))
-            std::cout << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS " << header(response, "X-RMS");
-        std::cout << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
-    });
+    return upload_mesh(
+        "/simplify", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            print_triangulated_result(*parsed, response);
+            std::cout << ", error " << header(response, "X-Achieved-Error") << " ("
+                      << header(response, "X-Relative-Error") << " of the bounding-box diagonal)";
+            if (parsed->has("--report-error"))
+                std::cout << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS " << header(response, "X-RMS");
+            std::cout << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
+        });
 }
 
 // ---- remesh --------------------------------------------------------------------------------------------------
 
-constexpr std::string_view kRemeshHelp = R"(Usage: surfaced remesh IN -o OUT [--edge-length L] [--iterations K] [options]
+constexpr std::string_view kRemeshHelp =
+    R"(Usage: surfaced remesh IN -o OUT [--edge-length L] [--iterations K] [options]
 
 Remeshes the mesh in IN isotropically (split, collapse, flip, relax, project; Botsch-Kobbelt) towards edges of
 length L and writes it to OUT, through the same operation as POST /remesh. Polygons are triangulated first. Sharp
@@ -814,22 +834,24 @@ int remesh(Args& args) {
     const api::OutputFormat out_format = mesh_output_format(parsed->output);
     check_mesh_output_options(*parsed, out_format);
 
-    return upload_mesh("/remesh", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
-        print_triangulated_result(*parsed, response);
-        std::cout << ", edge length " << header(response, "X-Edge-Length") << " (mean "
-                  << header(response, "X-Mean-Edge-Length-After") << "), min angle "
-                  << header(response, "X-Min-Angle-Before") << " -> " << header(response, "X-Min-Angle-After")
-                  << " deg, below 30 deg " << header(response, "X-Below-30-Before") << " -> "
-                  << header(response, "X-Below-30-After") << ", radius ratio "
-                  << header(response, "X-Radius-Ratio-Before") << " -> " << header(response, "X-Radius-Ratio-After")
-                  << ", Hausdorff " << header(response, "X-Hausdorff") << ", in " << header(response, "X-Elapsed-Ms")
-                  << " ms\n";
-    });
+    return upload_mesh(
+        "/remesh", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            print_triangulated_result(*parsed, response);
+            std::cout << ", edge length " << header(response, "X-Edge-Length") << " (mean "
+                      << header(response, "X-Mean-Edge-Length-After") << "), min angle "
+                      << header(response, "X-Min-Angle-Before") << " -> " << header(response, "X-Min-Angle-After")
+                      << " deg, below 30 deg " << header(response, "X-Below-30-Before") << " -> "
+                      << header(response, "X-Below-30-After") << ", radius ratio "
+                      << header(response, "X-Radius-Ratio-Before") << " -> " << header(response, "X-Radius-Ratio-After")
+                      << ", Hausdorff " << header(response, "X-Hausdorff") << ", in "
+                      << header(response, "X-Elapsed-Ms") << " ms\n";
+        });
 }
 
 // ---- implicit ------------------------------------------------------------------------------------------------
 
-constexpr std::string_view kImplicitHelp = R"(Usage: surfaced implicit SCENE.json -o OUT [--resolution N | --cell-size H] [options]
+constexpr std::string_view kImplicitHelp =
+    R"(Usage: surfaced implicit SCENE.json -o OUT [--resolution N | --cell-size H] [options]
 
 Meshes the zero level set of an implicit scene inside its bounds, through the same operation as POST /implicit/mesh
 (dual marching cubes with QEF vertices: closed, manifold, consistently oriented, sharp edges kept). Where the
@@ -880,8 +902,7 @@ int implicit(Args& args) {
     if (parsed->has("--mode")) overrides.mode = parsed->value("--mode");
     if (parsed->has("--simplify-tolerance"))
         overrides.simplify_tolerance = std::stod(parsed->value("--simplify-tolerance"));
-    if (parsed->has("--max-grid-cells"))
-        context.limits.max_grid_cells = std::stoull(parsed->value("--max-grid-cells"));
+    if (parsed->has("--max-grid-cells")) context.limits.max_grid_cells = std::stoull(parsed->value("--max-grid-cells"));
     overrides.output.format = out_format;
     if (parsed->has("--no-draco") && is_gltf(out_format)) overrides.output.draco = false;
     if (parsed->has("--quantize-position"))
@@ -904,7 +925,8 @@ int implicit(Args& args) {
 
 // ---- pointcloud ----------------------------------------------------------------------------------------------
 
-constexpr std::string_view kPointcloudHelp = R"(Usage: surfaced pointcloud IN -o OUT [--estimate-normals [--k N]] [options]
+constexpr std::string_view kPointcloudHelp =
+    R"(Usage: surfaced pointcloud IN -o OUT [--estimate-normals [--k N]] [options]
 
 Reads the points in IN and writes them to OUT, through the same operation as POST /pointcloud; with
 --estimate-normals the normals are replaced by PCA of the k nearest neighbours, consistently oriented (outward on
@@ -936,7 +958,8 @@ int pointcloud(Args& args) {
         throw UsageError{"--k applies only with --estimate-normals"};
     const auto in_format = point_format_from_extension(parsed->input);
     if (!in_format)
-        throw UsageError{"cannot tell the point format of " + parsed->input + " from its extension (use .ply .obj .xyz)"};
+        throw UsageError{"cannot tell the point format of " + parsed->input +
+                         " from its extension (use .ply .obj .xyz)"};
     using enum api::OutputFormat;
     const api::OutputFormat out_format = output_format(parsed->output, {Glb, Ply, Json}, ".glb .ply .json");
     const bool no_draco = parsed->has("--no-draco"), quantize = parsed->has("--quantize-position");
@@ -961,7 +984,8 @@ int pointcloud(Args& args) {
 
 // ---- curve ---------------------------------------------------------------------------------------------------
 
-constexpr std::string_view kCurveHelp = R"(Usage: surfaced curve IN.json|IN.svg -o OUT [--tolerance T] [--continuity] [--enforce-c1 MODE]
+constexpr std::string_view kCurveHelp =
+    R"(Usage: surfaced curve IN.json|IN.svg -o OUT [--tolerance T] [--continuity] [--enforce-c1 MODE]
 
 Runs curve queries on the curve in IN and writes the answer to OUT, through the same operation as POST /curves.
   IN:  .json  a POST /curves body: one of "points", "chain", "svg", "bspline", and its queries
@@ -1046,7 +1070,9 @@ int run(int argc, char** argv) {
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
         if (command == "curve") return curve(args);
-        throw UsageError{"unknown command \"" + command + "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, implicit, pointcloud, curve; see surfaced --help)"};
+        throw UsageError{"unknown command \"" + command +
+                         "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, implicit, "
+                         "pointcloud, curve; see surfaced --help)"};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";
         return kExitUsage;

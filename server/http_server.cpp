@@ -50,13 +50,13 @@ using Clock = std::chrono::steady_clock;
 struct RequestState {
     Clock::time_point start;
     std::string id;
-    std::string route;   // route template, "static" or "unmatched"
+    std::string route;  // route template, "static" or "unmatched"
     std::string method;
     std::string path;
     std::string remote;
-    int status = 0;      // 0: no response was produced (the client went away)
+    int status = 0;  // 0: no response was produced (the client went away)
     std::uint64_t output_faces = 0;
-    bool force_close = false;  // the request body may be unread: do not parse another request from this stream
+    bool force_close = false;     // the request body may be unread: do not parse another request from this stream
     bool body_timed_out = false;  // the body did not arrive in time (set by ConnectionStream::read): answer 408
 };
 
@@ -324,8 +324,10 @@ public:
         std::memcpy(ptr, buffer_.data() + offset_, n);
         offset_ += n;
         bytes_in_ += n;
-        if (head_done_) body_bytes_ += n;
-        else track_head(ptr, n);
+        if (head_done_)
+            body_bytes_ += n;
+        else
+            track_head(ptr, n);
         return static_cast<ssize_t>(n);
     }
 
@@ -599,8 +601,8 @@ struct HttpServer::Impl final : public api::ServiceState {
                 if (next != Next::Serve) break;
                 // Connection: close on the last allowed request, when draining, and while other connections wait
                 // for a worker (one request per turn then: fair, and no idle-close race with the client).
-                const bool last = served + 1 == max_requests || owner_.draining_.load() ||
-                                  owner_.counters.queued.load() > 0;
+                const bool last =
+                    served + 1 == max_requests || owner_.draining_.load() || owner_.counters.queued.load() > 0;
                 stream.begin_request();
                 t_request = RequestState{};
                 t_request.start = Clock::now();
@@ -629,8 +631,8 @@ struct HttpServer::Impl final : public api::ServiceState {
     LoadCounters counters;
     std::atomic<bool> draining_{false};
     std::atomic<bool> abort_{false};  // set when the drain timeout passes: in-flight work is cancelled
-    int listen_fd = -1;             // owned by the accept loop once it runs
-    int wake_pipe[2] = {-1, -1};    // stop() writes a byte: the accept loop drains and ends
+    int listen_fd = -1;               // owned by the accept loop once it runs
+    int wake_pipe[2] = {-1, -1};      // stop() writes a byte: the accept loop drains and ends
     std::thread listener;
     std::mutex done_mutex;
     std::condition_variable done_cv;
@@ -646,7 +648,8 @@ struct HttpServer::Impl final : public api::ServiceState {
         context.limits = config.limits;
         context.service = this;
         threads = config.threads > 0 ? config.threads : default_threads();
-        queue_capacity = static_cast<std::size_t>(config.queue_capacity > 0 ? config.queue_capacity : std::max(64, 8 * threads));
+        queue_capacity =
+            static_cast<std::size_t>(config.queue_capacity > 0 ? config.queue_capacity : std::max(64, 8 * threads));
         if (!config.web_root.empty()) {
             std::error_code ec;
             const fs::path root = fs::canonical(config.web_root, ec);
@@ -792,12 +795,12 @@ struct HttpServer::Impl final : public api::ServiceState {
         // the method of an unparsable request line is whatever the client sent: keep the label set bounded
         static constexpr std::string_view kMethods[] = {"GET", "HEAD", "POST", "PUT", "DELETE", "OPTIONS", "PATCH"};
         const bool known = std::find(std::begin(kMethods), std::end(kMethods), r.method) != std::end(kMethods);
-        metrics.observe(route, known ? r.method : "other", r.status, seconds, stream.bytes_in(),
-                        stream.bytes_out(), r.output_faces);
+        metrics.observe(route, known ? r.method : "other", r.status, seconds, stream.bytes_in(), stream.bytes_out(),
+                        r.output_faces);
         if (config.access_log == ServerConfig::AccessLog::Off) return;
         std::string line = "{\"ts\":\"" + utc_timestamp() + "\",\"id\":" + api::json_quote(r.id) +
-                           ",\"remote\":" + api::json_quote(peer_address(fd)) + ",\"method\":" +
-                           api::json_quote(r.method) + ",\"path\":" + api::json_quote(r.path) +
+                           ",\"remote\":" + api::json_quote(peer_address(fd)) +
+                           ",\"method\":" + api::json_quote(r.method) + ",\"path\":" + api::json_quote(r.path) +
                            ",\"route\":" + api::json_quote(route) + ",\"status\":" + std::to_string(r.status);
         char ms[32];
         std::snprintf(ms, sizeof ms, "%.3f", seconds * 1000.0);
@@ -843,11 +846,12 @@ struct HttpServer::Impl final : public api::ServiceState {
 
     api::ApiResponse unauthorized(const httplib::Request& req) const {
         const bool had_token = req.has_header("Authorization");
-        api::ApiResponse response =
-            problem(401, "unauthorized", "Authentication required",
-                    had_token ? "the bearer token is not valid" : "this endpoint needs \"Authorization: Bearer <token>\"");
-        response.headers.emplace_back(
-            "WWW-Authenticate", had_token ? R"(Bearer realm="surfaced", error="invalid_token")" : R"(Bearer realm="surfaced")");
+        api::ApiResponse response = problem(
+            401, "unauthorized", "Authentication required",
+            had_token ? "the bearer token is not valid" : "this endpoint needs \"Authorization: Bearer <token>\"");
+        response.headers.emplace_back("WWW-Authenticate", had_token
+                                                              ? R"(Bearer realm="surfaced", error="invalid_token")"
+                                                              : R"(Bearer realm="surfaced")");
         return response;
     }
 
@@ -911,11 +915,16 @@ struct HttpServer::Impl final : public api::ServiceState {
                 write_response(operation(request, request_context), res);
             };
             const std::string pattern = literal_pattern(route.path);
-            if (route.method == "GET") server.Get(pattern, handler);
-            else if (route.method == "POST") server.Post(pattern, handler);
-            else if (route.method == "PUT") server.Put(pattern, handler);
-            else if (route.method == "PATCH") server.Patch(pattern, handler);
-            else if (route.method == "DELETE") server.Delete(pattern, handler);
+            if (route.method == "GET")
+                server.Get(pattern, handler);
+            else if (route.method == "POST")
+                server.Post(pattern, handler);
+            else if (route.method == "PUT")
+                server.Put(pattern, handler);
+            else if (route.method == "PATCH")
+                server.Patch(pattern, handler);
+            else if (route.method == "DELETE")
+                server.Delete(pattern, handler);
         }
 
         // Runs after the head is parsed and before the body is read: request id, route label, OPTIONS, static files.
@@ -984,38 +993,39 @@ struct HttpServer::Impl final : public api::ServiceState {
         // unparsable request) and get the same envelope; the body may be unread, so the connection is closed after.
         server.set_error_handler(httplib::Server::HandlerWithResponse(
             [this](const httplib::Request& req, httplib::Response& res) -> httplib::Server::HandlerResponse {
-            if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-            t_request.force_close = true;
-            api::ApiResponse problem_response;
-            if (t_request.body_timed_out) {
-                res.headers.erase("Keep-Alive");
-                res.headers.erase("Connection");
-                res.set_header("Connection", "close");
-                write_response(problem(408, "body_timeout", "Request body too slow",
-                                       "the request body did not arrive within " +
-                                           std::to_string(config.body_timeout_seconds) + " s plus 1 s per " +
-                                           std::to_string(config.body_min_rate_bytes) + " bytes received"),
-                               res);
+                if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+                t_request.force_close = true;
+                api::ApiResponse problem_response;
+                if (t_request.body_timed_out) {
+                    res.headers.erase("Keep-Alive");
+                    res.headers.erase("Connection");
+                    res.set_header("Connection", "close");
+                    write_response(problem(408, "body_timeout", "Request body too slow",
+                                           "the request body did not arrive within " +
+                                               std::to_string(config.body_timeout_seconds) + " s plus 1 s per " +
+                                               std::to_string(config.body_min_rate_bytes) + " bytes received"),
+                                   res);
+                    return httplib::Server::HandlerResponse::Handled;
+                }
+                switch (res.status) {
+                    case 404: problem_response = api::route_not_found(req.method, req.path); break;
+                    case 413:
+                        problem_response = api::error_response(api::make_problem(
+                            api::Problem::PayloadTooLarge, "request body is larger than the limit of " +
+                                                               std::to_string(config.limits.max_body_bytes) +
+                                                               " bytes"));
+                        break;
+                    case 400:
+                        problem_response = api::error_response(
+                            api::make_problem(api::Problem::BadRequest, "the HTTP request could not be parsed"));
+                        break;
+                    default:
+                        problem_response = api::error_response(
+                            api::make_transport_problem(res.status, "the HTTP layer rejected the request"));
+                }
+                write_response(std::move(problem_response), res);
                 return httplib::Server::HandlerResponse::Handled;
-            }
-            switch (res.status) {
-                case 404: problem_response = api::route_not_found(req.method, req.path); break;
-                case 413:
-                    problem_response = api::error_response(api::make_problem(
-                        api::Problem::PayloadTooLarge, "request body is larger than the limit of " +
-                                                           std::to_string(config.limits.max_body_bytes) + " bytes"));
-                    break;
-                case 400:
-                    problem_response = api::error_response(
-                        api::make_problem(api::Problem::BadRequest, "the HTTP request could not be parsed"));
-                    break;
-                default:
-                    problem_response = api::error_response(
-                        api::make_transport_problem(res.status, "the HTTP layer rejected the request"));
-            }
-            write_response(std::move(problem_response), res);
-            return httplib::Server::HandlerResponse::Handled;
-        }));
+            }));
 
         // Operations never throw; this is the fail-safe for bugs in this file or the library.
         server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
@@ -1086,8 +1096,7 @@ void HttpServer::stop() {
     // Wakes the accept loop: it refuses new handshakes, accepts the listen backlog, closes the listening socket and
     // shuts the pool down, which serves everything accepted.
     const char byte = 1;
-    while (::write(s.wake_pipe[1], &byte, 1) < 0 && errno == EINTR) {
-    }
+    while (::write(s.wake_pipe[1], &byte, 1) < 0 && errno == EINTR) {}
     {
         std::unique_lock done(s.done_mutex);
         if (!s.done_cv.wait_for(done, std::chrono::seconds(std::max(0, s.config.drain_timeout_seconds)),
@@ -1125,7 +1134,9 @@ bool probe_http(const std::string& host, int port, const std::string& path, doub
     client.set_keep_alive(false);
     const auto result = client.Get(path);
     if (!result) {
-        if (detail) *detail = "no answer from " + target + ":" + std::to_string(port) + ": " + httplib::to_string(result.error());
+        if (detail)
+            *detail =
+                "no answer from " + target + ":" + std::to_string(port) + ": " + httplib::to_string(result.error());
         return false;
     }
     if (detail) *detail = "HTTP " + std::to_string(result->status) + " from " + path;

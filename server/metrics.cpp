@@ -69,7 +69,8 @@ std::string Metrics::render(const MetricsGauges& gauges) const {
     std::string out;
     out.reserve(4096 + routes_.size() * 2048);
 
-    header(out, "surfaced_http_requests_total", "counter", "HTTP requests answered, by route template, method and status.");
+    header(out, "surfaced_http_requests_total", "counter",
+           "HTTP requests answered, by route template, method and status.");
     for (const auto& [key, count] : requests_) {
         const auto& [route, method, status] = key;
         out += "surfaced_http_requests_total{route=\"" + label(route) + "\",method=\"" + label(method) +

@@ -27,7 +27,7 @@ class Metrics {
 public:
     //! Upper bounds of the latency histogram buckets, in seconds (+Inf is implicit).
     static constexpr std::array<double, 13> kBuckets = {0.005, 0.01, 0.025, 0.05, 0.1,  0.25, 0.5,
-                                                         1.0,   2.5,  5.0,   10.0, 30.0, 60.0};
+                                                        1.0,   2.5,  5.0,   10.0, 30.0, 60.0};
 
     //! One answered request. `output_faces` comes from the response's X-Output-Faces header (0 when absent).
     void observe(std::string_view route, std::string_view method, int status, double seconds, std::uint64_t bytes_in,

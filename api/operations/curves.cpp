@@ -133,9 +133,7 @@ ApiError error_at(const GeoError& error, const std::string& field) {
 
 struct Encoder {
     std::size_t dimension = 3;
-    Json point(const Vec3& p) const {
-        return dimension == 2 ? Json::array({p.x, p.y}) : Json::array({p.x, p.y, p.z});
-    }
+    Json point(const Vec3& p) const { return dimension == 2 ? Json::array({p.x, p.y}) : Json::array({p.x, p.y, p.z}); }
     Json points(const std::vector<Vec3>& ps) const {
         Json out = Json::array();
         for (const Vec3& p : ps) out.push_back(point(p));
@@ -185,7 +183,8 @@ ApiResult<OutputFormat> read_output(const Json& root) {
                        "points only): leave compression out or give \"none\"");
     if (out.draco && format == OutputFormat::Json)
         return invalid("output.compression", "output.compression applies to glb/gltf output only");
-    if (out.quantize_position) return invalid("output.quantize_position", "output.quantize_position applies to Draco only");
+    if (out.quantize_position)
+        return invalid("output.quantize_position", "output.quantize_position applies to Draco only");
     if (out.normals) return invalid("output.normals", "line strips have no normals");
     return format;
 }
@@ -198,8 +197,8 @@ std::optional<ApiError> check_gltf_request(const Json& root, OutputFormat format
     const std::string name(enum_name(kOutputFormatNames, format));
     if (!root.contains("tessellate"))
         return invalid("tessellate", name + " output is the tessellated curve: add \"tessellate\": {\"tolerance\": e}");
-    static constexpr std::string_view kCurveMembers[] = {"points", "weights", "chain", "svg", "bspline", "output",
-                                                         "tessellate"};
+    static constexpr std::string_view kCurveMembers[] = {"points",  "weights", "chain",     "svg",
+                                                         "bspline", "output",  "tessellate"};
     for (const auto& item : root.items()) {
         const std::string& key = item.key();
         if (std::find(std::begin(kCurveMembers), std::end(kCurveMembers), key) != std::end(kCurveMembers)) continue;
@@ -241,8 +240,8 @@ std::optional<ApiError> check_form_members(const Json& root, std::string_view fo
             std::string names;
             for (std::string_view name : allowed)
                 if (name != form) names += (names.empty() ? "" : ", ") + std::string(name);
-            return invalid(item.key(), "\"" + item.key() + "\" does not apply to " + std::string(description) +
-                                           " (\"" + std::string(form) + "\" takes: " + names + ")");
+            return invalid(item.key(), "\"" + item.key() + "\" does not apply to " + std::string(description) + " (\"" +
+                                           std::string(form) + "\" takes: " + names + ")");
         }
     return std::nullopt;
 }
@@ -251,8 +250,8 @@ std::optional<ApiError> check_form_members(const Json& root, std::string_view fo
 
 ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat format) {
     if (auto error = check_form_members(root, "points", "one Bézier curve",
-                                        {"points", "weights", "evaluate", "derivatives", "curvature", "split", "elevate",
-                                         "bounding_box", "length", "closest", "tessellate", "output"}))
+                                        {"points", "weights", "evaluate", "derivatives", "curvature", "split",
+                                         "elevate", "bounding_box", "length", "closest", "tessellate", "output"}))
         return error_response(std::move(*error));
     if (auto error = check_gltf_request(root, format, {})) return error_response(std::move(*error));
 
@@ -279,12 +278,13 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
     std::size_t queries = 0;
     for (const char* name : {"evaluate", "curvature"})
         if (auto it = root.find(name); it != root.end() && it->is_array()) queries += it->size();
-    if (auto it = root.find("derivatives"); it != root.end() && it->is_object() && it->contains("t") && (*it)["t"].is_array())
+    if (auto it = root.find("derivatives");
+        it != root.end() && it->is_object() && it->contains("t") && (*it)["t"].is_array())
         queries += (*it)["t"].size();
     if (queries > kMaxCurveQueries)
-        return error_response(make_problem(Problem::BudgetExceeded,
-                                           std::to_string(queries) + " parameters requested; the limit is " +
-                                               std::to_string(kMaxCurveQueries)));
+        return error_response(make_problem(
+            Problem::BudgetExceeded,
+            std::to_string(queries) + " parameters requested; the limit is " + std::to_string(kMaxCurveQueries)));
 
     Json out = {{"degree", curve.degree()}, {"rational", curve.is_rational()}};
     if (auto it = root.find("evaluate"); it != root.end()) {
@@ -303,7 +303,8 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
             return error_response(invalid("derivatives.order", "derivatives.order must be an integer in 1..64"));
         out["derivatives"] = Json::array();
         for (double t : ts.value())
-            out["derivatives"].push_back(encoder.point(derivative(curve, t, static_cast<int>(order.get<std::int64_t>()))));
+            out["derivatives"].push_back(
+                encoder.point(derivative(curve, t, static_cast<int>(order.get<std::int64_t>()))));
     }
     if (auto it = root.find("curvature"); it != root.end()) {
         auto ts = read_parameters(*it, "curvature");
@@ -320,8 +321,8 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
     if (auto it = root.find("elevate"); it != root.end()) {
         if (!it->is_number_integer() || it->get<std::int64_t>() < 0 ||
             curve.degree() + it->get<std::int64_t>() > kMaxCurveDegree)
-            return error_response(invalid("elevate", "elevate must be an integer >= 0 keeping the degree <= " +
-                                                         std::to_string(kMaxCurveDegree)));
+            return error_response(invalid(
+                "elevate", "elevate must be an integer >= 0 keeping the degree <= " + std::to_string(kMaxCurveDegree)));
         out["elevate"] = encoder.curve(elevate_degree(curve, static_cast<int>(it->get<std::int64_t>())));
     }
     if (auto it = root.find("bounding_box"); it != root.end() && it->is_boolean() && it->get<bool>()) {
@@ -332,8 +333,8 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
         auto tolerance = read_tolerance(*it, "length");
         if (!tolerance) return error_response(std::move(tolerance.error()));
         const ArcLength length = arc_length(curve, std::max(tolerance.value(), 1e-12));
-        out["length"] = {{"length", length.length}, {"error_bound", length.error_bound},
-                         {"guaranteed", !curve.is_rational()}};
+        out["length"] = {
+            {"length", length.length}, {"error_bound", length.error_bound}, {"guaranteed", !curve.is_rational()}};
     }
     if (auto it = root.find("closest"); it != root.end()) {
         auto q = read_point(*it, "closest", encoder.dimension);
@@ -361,7 +362,8 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
 
 //! "chain": {"pieces": [{"points", "weights"?}, ...], "closed"?}; `dimension` from the first point.
 ApiResult<BezierChain> decode_chain(const Json& value, std::size_t& dimension) {
-    if (!value.is_object()) return invalid("chain", R"(chain must be {"pieces": [{"points": [...]}, ...], "closed": b})");
+    if (!value.is_object())
+        return invalid("chain", R"(chain must be {"pieces": [{"points": [...]}, ...], "closed": b})");
     if (auto error = check_members(value, "chain", {"pieces", "closed"})) return std::move(*error);
     BezierChain chain;
     if (auto it = value.find("closed"); it != value.end()) {
@@ -373,9 +375,9 @@ ApiResult<BezierChain> decode_chain(const Json& value, std::size_t& dimension) {
     if (pieces == value.end() || !pieces->is_array() || pieces->empty())
         return invalid("chain.pieces", "chain.pieces must be a non-empty array of {\"points\": [...]}");
     if (pieces->size() > kMaxChainPieces)
-        return budget("chain has " + std::to_string(pieces->size()) + " pieces; the limit is " +
-                          std::to_string(kMaxChainPieces),
-                      "chain.pieces");
+        return budget(
+            "chain has " + std::to_string(pieces->size()) + " pieces; the limit is " + std::to_string(kMaxChainPieces),
+            "chain.pieces");
     // shapes and sizes of every piece before reading any point
     std::size_t total = 0;
     for (std::size_t i = 0; i < pieces->size(); ++i) {
@@ -393,9 +395,9 @@ ApiResult<BezierChain> decode_chain(const Json& value, std::size_t& dimension) {
         total += points->size();
     }
     if (total > kMaxChainPoints)
-        return budget("chain has " + std::to_string(total) + " control points; the limit is " +
-                          std::to_string(kMaxChainPoints),
-                      "chain.pieces");
+        return budget(
+            "chain has " + std::to_string(total) + " control points; the limit is " + std::to_string(kMaxChainPoints),
+            "chain.pieces");
     dimension = (*pieces)[0]["points"][0].size() == 2 ? 2 : 3;
     chain.pieces.resize(pieces->size());
     for (std::size_t i = 0; i < pieces->size(); ++i) {
@@ -437,8 +439,7 @@ ApiResult<std::vector<BezierChain>> decode_svg(const Json& value) {
     options.max_pieces = kMaxChainPieces;
     auto chains = parse_svg_path(data, options);
     if (!chains) return svg_error(chains.error());
-    if (chains->empty())
-        return invalid("svg", "svg has no drawing segment (path data with only moves, or empty)");
+    if (chains->empty()) return invalid("svg", "svg has no drawing segment (path data with only moves, or empty)");
     return std::move(chains.value());
 }
 
@@ -459,8 +460,11 @@ ApiResult<ContinuityOptions> read_continuity(const Json& value) {
     ContinuityOptions options;
     if (value.is_boolean()) return options;
     if (!value.is_object())
-        return invalid("continuity", R"(continuity must be true or {"position_tolerance", "angle_tolerance", "derivative_tolerance"})");
-    if (auto error = check_members(value, "continuity", {"position_tolerance", "angle_tolerance", "derivative_tolerance"}))
+        return invalid(
+            "continuity",
+            R"(continuity must be true or {"position_tolerance", "angle_tolerance", "derivative_tolerance"})");
+    if (auto error =
+            check_members(value, "continuity", {"position_tolerance", "angle_tolerance", "derivative_tolerance"}))
         return std::move(*error);
     for (auto [name, target] : {std::pair<const char*, double*>{"position_tolerance", &options.position_tolerance},
                                 {"angle_tolerance", &options.angle_tolerance},
@@ -478,7 +482,9 @@ ApiResult<ContinuityOptions> read_continuity(const Json& value) {
 
 ApiResult<EnforceOptions> read_enforce(const Json& value, std::size_t max_joints) {
     if (!value.is_object())
-        return invalid("enforce_c1", R"(enforce_c1 must be {"mode": "C1" | "G1", "side": "left" | "right" | "both", "joints": [i, ...]})");
+        return invalid(
+            "enforce_c1",
+            R"(enforce_c1 must be {"mode": "C1" | "G1", "side": "left" | "right" | "both", "joints": [i, ...]})");
     if (auto error = check_members(value, "enforce_c1", {"mode", "side", "joints"})) return std::move(*error);
     EnforceOptions options;
     if (auto it = value.find("mode"); it != value.end()) {
@@ -530,8 +536,8 @@ ApiResult<ChainQueries> read_chain_queries(const Json& root, const std::vector<B
     if (auto it = root.find("evaluate"); it != root.end()) {
         std::size_t pieces = static_cast<std::size_t>(-1);
         for (const BezierChain& chain : chains) pieces = std::min(pieces, chain.pieces.size());
-        const std::string what = svg && chains.size() > 1 ? "the parameter range of the shortest subpath"
-                                                           : "the chain's parameter range";
+        const std::string what =
+            svg && chains.size() > 1 ? "the parameter range of the shortest subpath" : "the chain's parameter range";
         auto ts = read_parameters_in(*it, "evaluate", 0.0, static_cast<double>(pieces), what);
         if (!ts) return std::move(ts.error());
         if (ts->size() * chains.size() > kMaxCurveQueries)
@@ -634,12 +640,9 @@ ApiResult<Json> run_chain_queries(const BezierChain& input, const ChainQueries& 
         if (!polyline) return error_at(polyline.error(), "tessellate.tolerance");
         run.segments += polyline->segments;
         run.bound = std::max(run.bound, polyline->bound);
-        out["tessellate"] = {{"points", run.encoder.points(polyline->points)},
-                             {"params", polyline->params},
-                             {"piece_start", polyline->piece_start},
-                             {"segments", polyline->segments},
-                             {"max_deviation", polyline->max_deviation},
-                             {"bound", polyline->bound}};
+        out["tessellate"] = {{"points", run.encoder.points(polyline->points)}, {"params", polyline->params},
+                             {"piece_start", polyline->piece_start},           {"segments", polyline->segments},
+                             {"max_deviation", polyline->max_deviation},       {"bound", polyline->bound}};
         run.polylines.push_back(std::move(polyline->points));
     }
     if (q.to_bezier) out["to_bezier"] = run.encoder.chain(*chain);
@@ -648,13 +651,13 @@ ApiResult<Json> run_chain_queries(const BezierChain& input, const ChainQueries& 
 
 ApiResponse run_chains(const Json& root, const ApiContext& context, OutputFormat format, bool svg) {
     if (svg) {
-        if (auto error = check_form_members(root, "svg", "SVG path data",
-                                            {"svg", "continuity", "enforce_c1", "evaluate", "length", "tessellate",
-                                             "to_bezier", "output"}))
+        if (auto error = check_form_members(
+                root, "svg", "SVG path data",
+                {"svg", "continuity", "enforce_c1", "evaluate", "length", "tessellate", "to_bezier", "output"}))
             return error_response(std::move(*error));
-    } else if (auto error = check_form_members(root, "chain", "a Bézier chain",
-                                               {"chain", "continuity", "enforce_c1", "evaluate", "length",
-                                                "tessellate", "output"})) {
+    } else if (auto error = check_form_members(
+                   root, "chain", "a Bézier chain",
+                   {"chain", "continuity", "enforce_c1", "evaluate", "length", "tessellate", "output"})) {
         return error_response(std::move(*error));
     }
     if (auto error = check_gltf_request(root, format, {"enforce_c1"})) return error_response(std::move(*error));
@@ -692,7 +695,8 @@ constexpr std::string_view kKnotVectors[] = {"clamped", "uniform", "closed"};
 
 ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension) {
     if (!value.is_object())
-        return invalid("bspline", R"(bspline must be {"degree": p, "points": [...], "knots"?: [...], "knot_vector"?: "clamped"})");
+        return invalid("bspline",
+                       R"(bspline must be {"degree": p, "points": [...], "knots"?: [...], "knot_vector"?: "clamped"})");
     if (auto error = check_members(value, "bspline", {"degree", "points", "weights", "knots", "knot_vector"}))
         return std::move(*error);
     BSplineCurve curve;
@@ -712,9 +716,9 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
                           std::to_string(kMaxBsplinePoints),
                       "bspline.points");
     if (points->size() < static_cast<std::size_t>(curve.degree) + 1)
-        return invalid("bspline.points", "bspline.points needs at least degree + 1 = " +
-                                             std::to_string(curve.degree + 1) + " control points, got " +
-                                             std::to_string(points->size()));
+        return invalid("bspline.points",
+                       "bspline.points needs at least degree + 1 = " + std::to_string(curve.degree + 1) +
+                           " control points, got " + std::to_string(points->size()));
     dimension = (*points)[0].size() == 2 ? 2 : 3;
     if (auto error = read_control_points(*points, "bspline.points", dimension, curve.points)) return std::move(*error);
     if (auto it = value.find("weights"); it != value.end())
@@ -738,9 +742,8 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
     } else {
         std::string_view name = "clamped";
         if (kind != value.end()) {
-            if (!kind->is_string() ||
-                std::find(std::begin(kKnotVectors), std::end(kKnotVectors), kind->get_ref<const std::string&>()) ==
-                    std::end(kKnotVectors))
+            if (!kind->is_string() || std::find(std::begin(kKnotVectors), std::end(kKnotVectors),
+                                                kind->get_ref<const std::string&>()) == std::end(kKnotVectors))
                 return invalid("bspline.knot_vector",
                                R"(bspline.knot_vector must be one of "clamped", "uniform", "closed")");
             name = kind->get_ref<const std::string&>();
@@ -761,7 +764,7 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
         std::string field = "bspline";
         if (e.element >= 0 && e.element_kind == ElementKind::Vertex)
             field = at(curve.is_rational() && e.message.find("weight") != std::string::npos ? "bspline.weights"
-                                                                                              : "bspline.points",
+                                                                                            : "bspline.points",
                        static_cast<std::size_t>(e.element));
         else if (e.element >= 0 && knots != value.end())
             field = at("bspline.knots", static_cast<std::size_t>(e.element));
@@ -773,9 +776,9 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
 }
 
 ApiResponse run_bspline(const Json& root, const ApiContext& context, OutputFormat format) {
-    if (auto error = check_form_members(root, "bspline", "a B-spline",
-                                        {"bspline", "evaluate", "derivatives", "insert_knot", "to_bezier",
-                                         "bounding_box", "tessellate", "output"}))
+    if (auto error = check_form_members(
+            root, "bspline", "a B-spline",
+            {"bspline", "evaluate", "derivatives", "insert_knot", "to_bezier", "bounding_box", "tessellate", "output"}))
         return error_response(std::move(*error));
     if (auto error = check_gltf_request(root, format, {})) return error_response(std::move(*error));
     Encoder encoder;
@@ -809,9 +812,9 @@ ApiResponse run_bspline(const Json& root, const ApiContext& context, OutputForma
     }
     const std::size_t queries = (evaluate_at ? evaluate_at->size() : 0) + (derivatives_at ? derivatives_at->size() : 0);
     if (queries > kMaxCurveQueries)
-        return error_response(budget(std::to_string(queries) + " parameters requested; the limit is " +
-                                         std::to_string(kMaxCurveQueries),
-                                     evaluate_at ? "evaluate" : "derivatives.t"));
+        return error_response(
+            budget(std::to_string(queries) + " parameters requested; the limit is " + std::to_string(kMaxCurveQueries),
+                   evaluate_at ? "evaluate" : "derivatives.t"));
     if (auto it = root.find("insert_knot"); it != root.end()) {
         if (!it->is_object() || !it->contains("u"))
             return error_response(invalid("insert_knot", R"(insert_knot must be {"u": u, "times"?: k})"));
@@ -897,25 +900,26 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     if (type != "application/json")
         return error_response(make_problem(Problem::UnsupportedMediaType, "POST /curves takes application/json"));
     if (!request.query.empty())
-        return error_response(make_problem(Problem::UnknownParameter,
-                                           "query parameters are not accepted (options go in the body), got \"" +
-                                               request.query.begin()->first + "\"",
-                                           request.query.begin()->first));
+        return error_response(make_problem(
+            Problem::UnknownParameter,
+            "query parameters are not accepted (options go in the body), got \"" + request.query.begin()->first + "\"",
+            request.query.begin()->first));
     Json root;
     try {
         root = Json::parse(request.body.begin(), request.body.end());
     } catch (const Json::exception& e) {
-        return error_response(make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what()));
+        return error_response(
+            make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what()));
     }
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
     static constexpr std::string_view kMembers[] = {
-        "points",  "weights",     "evaluate", "derivatives", "curvature",  "split",       "elevate",
-        "bounding_box", "length", "closest",  "tessellate",  "chain",      "svg",         "bspline",
-        "continuity", "enforce_c1", "to_bezier", "insert_knot", "output"};
+        "points",       "weights",    "evaluate",  "derivatives", "curvature", "split", "elevate",
+        "bounding_box", "length",     "closest",   "tessellate",  "chain",     "svg",   "bspline",
+        "continuity",   "enforce_c1", "to_bezier", "insert_knot", "output"};
     for (const auto& item : root.items())
         if (std::find(std::begin(kMembers), std::end(kMembers), item.key()) == std::end(kMembers))
-            return error_response(make_problem(Problem::UnknownField, "unknown field \"" + item.key() + "\" at top level",
-                                               item.key()));
+            return error_response(
+                make_problem(Problem::UnknownField, "unknown field \"" + item.key() + "\" at top level", item.key()));
 
     // the form: exactly one of them
     static constexpr const char* kForms[] = {"points", "chain", "svg", "bspline"};
@@ -926,8 +930,9 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         return error_response(invalid(forms[1], "give exactly one curve: \"" + forms[0] + "\" and \"" + forms[1] +
                                                     "\" were both given (forms: points, chain, svg, bspline)"));
     if (forms.empty())
-        return error_response(invalid("points", "a curve is required: \"points\" (one Bézier curve: [[x, y], ...] or "
-                                                "[[x, y, z], ...]), \"chain\", \"svg\" or \"bspline\""));
+        return error_response(invalid("points",
+                                      "a curve is required: \"points\" (one Bézier curve: [[x, y], ...] or "
+                                      "[[x, y, z], ...]), \"chain\", \"svg\" or \"bspline\""));
     auto format = read_output(root);
     if (!format) return error_response(std::move(format.error()));
 
@@ -960,8 +965,8 @@ SvgText extract_svg_paths(std::string_view file) {
         const std::string_view element = file.substr(pos, end - pos);
         // the attribute " d=" (not "id=" or "data-d="): preceded by whitespace
         for (std::size_t a = element.find("d="); a != std::string_view::npos; a = element.find("d=", a + 1)) {
-            if (a == 0 || (element[a - 1] != ' ' && element[a - 1] != '\t' && element[a - 1] != '\n' &&
-                           element[a - 1] != '\r'))
+            if (a == 0 ||
+                (element[a - 1] != ' ' && element[a - 1] != '\t' && element[a - 1] != '\n' && element[a - 1] != '\r'))
                 continue;
             if (a + 2 >= element.size() || (element[a + 2] != '"' && element[a + 2] != '\'')) continue;
             const char quote = element[a + 2];

@@ -49,14 +49,14 @@
 namespace surfaced::api::operations {
 
 inline constexpr int kMaxCurveDegree = 64;
-inline constexpr std::size_t kMaxCurveQueries = 100'000;  //!< parameters in evaluate + derivatives + curvature
-                                                          //!< (times the subpaths of an SVG path)
-inline constexpr std::size_t kMaxChainPieces = 100'000;   //!< pieces of a chain, or of all subpaths of an SVG path
+inline constexpr std::size_t kMaxCurveQueries = 100'000;   //!< parameters in evaluate + derivatives + curvature
+                                                           //!< (times the subpaths of an SVG path)
+inline constexpr std::size_t kMaxChainPieces = 100'000;    //!< pieces of a chain, or of all subpaths of an SVG path
 inline constexpr std::size_t kMaxChainPoints = 1'000'000;  //!< control points of all pieces of a chain
 inline constexpr std::size_t kMaxSvgBytes = std::size_t{4} << 20;  //!< length of "svg"
-inline constexpr std::size_t kMaxSvgCommands = 200'000;   //!< drawing commands in "svg" (implicit repeats count)
+inline constexpr std::size_t kMaxSvgCommands = 200'000;    //!< drawing commands in "svg" (implicit repeats count)
 inline constexpr std::size_t kMaxBsplinePoints = 100'000;  //!< control points of a B-spline
-inline constexpr int kMaxBsplineDegree = 32;              //!< to_bezier is O(spans p^2), evaluation O(p^2)
+inline constexpr int kMaxBsplineDegree = 32;               //!< to_bezier is O(spans p^2), evaluation O(p^2)
 
 ApiResponse curves(const ApiRequest& request, const ApiContext& context) noexcept;
 

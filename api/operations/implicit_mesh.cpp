@@ -61,8 +61,9 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
     Json root;
     if (auto error = json::parse(request.body, root)) return std::move(*error);
     if (!root.is_object()) return json::invalid("", "the body must be a JSON object");
-    if (auto error = json::check_members(root, "", {"scene", "bounds", "resolution", "cell_size", "mode",
-                                                    "simplify_tolerance", "crease_angle", "output"}))
+    if (auto error = json::check_members(
+            root, "",
+            {"scene", "bounds", "resolution", "cell_size", "mode", "simplify_tolerance", "crease_angle", "output"}))
         return std::move(*error);
     MeshRequest out;
     if (!root.contains("scene")) return json::invalid("scene", "scene is required");
@@ -139,7 +140,8 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
-    if (auto error = check_json_only_body(request, limits, "POST /implicit/mesh")) return error_response(std::move(*error));
+    if (auto error = check_json_only_body(request, limits, "POST /implicit/mesh"))
+        return error_response(std::move(*error));
     auto decoded = decode(request, limits);
     if (!decoded) return error_response(std::move(decoded.error()));
     MeshRequest& req = decoded.value();
@@ -171,9 +173,9 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     ApiResponse response;
     response.content_type = std::string(output_media_type(req.output.format));
     const double mesh_ms = ms_between(t_start, t_meshed);
-    auto encoded = encode_mesh_output(mesh, req.output, Source::Json, [&](const PolygonMesh& m) -> ApiResult<std::string> {
-        return encode_json(m, stats, mesh_ms);
-    });
+    auto encoded = encode_mesh_output(
+        mesh, req.output, Source::Json,
+        [&](const PolygonMesh& m) -> ApiResult<std::string> { return encode_json(m, stats, mesh_ms); });
     if (!encoded) return error_response(std::move(encoded.error()));
     response.body = std::move(encoded.value());
     const auto t_encoded = Clock::now();

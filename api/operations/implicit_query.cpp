@@ -42,7 +42,8 @@ const char* kind_name(implicit::FieldKind kind) {
 
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
-    if (auto error = check_json_only_body(request, limits, "POST /implicit/query")) return error_response(std::move(*error));
+    if (auto error = check_json_only_body(request, limits, "POST /implicit/query"))
+        return error_response(std::move(*error));
     Json root;
     if (auto error = parse(request.body, root)) return error_response(std::move(*error));
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
@@ -55,7 +56,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     if (points_it != root.end() && !points_it->is_array())
         return error_response(invalid("points", "points must be an array of [x, y, z]"));
     if (rays_it != root.end() && !rays_it->is_array())
-        return error_response(invalid("rays", R"(rays must be an array of {"origin": [x, y, z], "direction": [x, y, z]})"));
+        return error_response(
+            invalid("rays", R"(rays must be an array of {"origin": [x, y, z], "direction": [x, y, z]})"));
     const std::size_t point_count = points_it == root.end() ? 0 : points_it->size();
     const std::size_t ray_count = rays_it == root.end() ? 0 : rays_it->size();
     if (point_count == 0 && ray_count == 0)
@@ -74,10 +76,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         if (!n) return error_response(std::move(n.error()));
         if (n.value() < 1) return error_response(invalid("max_steps", "max_steps must be >= 1"));
         if (n.value() > limits.max_ray_steps)
-            return error_response(make_problem(Problem::BudgetExceeded,
-                                               "max_steps is " + std::to_string(n.value()) + "; the limit is " +
-                                                   std::to_string(limits.max_ray_steps),
-                                               "max_steps"));
+            return error_response(make_problem(
+                Problem::BudgetExceeded,
+                "max_steps is " + std::to_string(n.value()) + "; the limit is " + std::to_string(limits.max_ray_steps),
+                "max_steps"));
         ray_options.max_steps = static_cast<int>(n.value());
     }
     if (auto it = root.find("max_distance"); it != root.end()) {
@@ -120,7 +122,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         const double n = norm(d.value());
         if (!(n > 0) || !std::isfinite(n))
             return error_response(json::geometry_error(ErrorCode::InvalidArgument, path + ".direction",
-                                                 path + ".direction must be a non-zero vector"));
+                                                       path + ".direction must be a non-zero vector"));
         rays.push_back({o.value(), d.value()});
     }
 
@@ -149,7 +151,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         auto hits = implicit::cast_rays(field, rays, ray_options);
         if (!hits) {
             ApiError error = from_geo_error(hits.error());
-            if (hits.error().element >= 0) error.field = index_path("rays", static_cast<std::size_t>(hits.error().element));
+            if (hits.error().element >= 0)
+                error.field = index_path("rays", static_cast<std::size_t>(hits.error().element));
             return error_response(std::move(error));
         }
         Json list = Json::array();

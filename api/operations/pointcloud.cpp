@@ -74,9 +74,9 @@ ApiResult<PointCloud> decode_points(const Json& root, const Limits& limits) {
     const Json& points = root["points"];
     if (!points.is_array() || points.empty()) return invalid("points", "points must be a non-empty array of [x, y, z]");
     if (points.size() > limits.max_points)
-        return make_problem(Problem::BudgetExceeded,
-                            std::to_string(points.size()) + " points; the limit is " + std::to_string(limits.max_points),
-                            "points");
+        return make_problem(
+            Problem::BudgetExceeded,
+            std::to_string(points.size()) + " points; the limit is " + std::to_string(limits.max_points), "points");
     PointCloud cloud;
     cloud.positions.reserve(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -133,7 +133,8 @@ ApiResult<PointCloud> run_sampling(const Json& sample, const ApiContext& context
     const Limits& limits = context.limits;
     if (!sample.is_object())
         return invalid("sample", R"(sample must be an object {"mesh" or "scene", "bounds", "count", "seed"})");
-    if (auto error = check_members(sample, "sample", {"mesh", "scene", "bounds", "count", "seed"})) return std::move(*error);
+    if (auto error = check_members(sample, "sample", {"mesh", "scene", "bounds", "count", "seed"}))
+        return std::move(*error);
     const bool has_mesh = sample.contains("mesh"), has_scene = sample.contains("scene");
     if (has_mesh == has_scene) return invalid("sample", "sample needs exactly one of \"mesh\" and \"scene\"");
     if (!sample.contains("count")) return invalid("sample.count", "sample.count (the number of points) is required");
@@ -165,13 +166,16 @@ ApiResult<PointCloud> run_sampling(const Json& sample, const ApiContext& context
         auto sampled = sample_mesh(mesh.value(), options);
         if (!sampled) {
             ApiError error = geometry_error(sampled.error(), Source::Json);
-            if (error.field) error.field = "sample." + *error.field;
-            else error.field = "sample.mesh";
+            if (error.field)
+                error.field = "sample." + *error.field;
+            else
+                error.field = "sample.mesh";
             return error;
         }
         return std::move(sampled.value());
     }
-    if (!sample.contains("bounds")) return invalid("sample.bounds", "sample.bounds [[xmin,ymin,zmin],[xmax,ymax,zmax]] is required with a scene");
+    if (!sample.contains("bounds"))
+        return invalid("sample.bounds", "sample.bounds [[xmin,ymin,zmin],[xmax,ymax,zmax]] is required with a scene");
     auto bounds = parse_bounds(sample["bounds"], "sample.bounds");
     if (!bounds) return std::move(bounds.error());
     auto field = parse_scene(sample["scene"], limits, "sample.scene");
@@ -190,8 +194,8 @@ ApiResult<PointCloud> run_sampling(const Json& sample, const ApiContext& context
 }
 
 ApiResult<Params> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(query, {"estimate_normals", "k", "format", "compression", "quantize_position",
-                                                "normals"}))
+    if (auto error = check_query_names(
+            query, {"estimate_normals", "k", "format", "compression", "quantize_position", "normals"}))
         return std::move(*error);
     Params params;
     bool estimate = false;
@@ -277,7 +281,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         Json root;
         if (auto error = parse(request.body, root)) return error_response(std::move(*error));
         if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
-        if (auto error = check_members(root, "", {"points", "normals", "colors", "sample", "estimate_normals", "output"}))
+        if (auto error =
+                check_members(root, "", {"points", "normals", "colors", "sample", "estimate_normals", "output"}))
             return error_response(std::move(*error));
         auto decoded_params = params_from_json(root);
         if (!decoded_params) return error_response(std::move(decoded_params.error()));
@@ -325,8 +330,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         if (edges > limits.max_points * static_cast<std::uint64_t>(kDefaultK))
             return error_response(make_problem(
                 Problem::BudgetExceeded,
-                "normal estimation for " + std::to_string(cloud.size()) + " points with k = " + std::to_string(*params.k) +
-                    " needs " + std::to_string(edges) + " neighbour links; the limit is " +
+                "normal estimation for " + std::to_string(cloud.size()) + " points with k = " +
+                    std::to_string(*params.k) + " needs " + std::to_string(edges) + " neighbour links; the limit is " +
                     std::to_string(limits.max_points * static_cast<std::uint64_t>(kDefaultK)) + " (points x k)",
                 source == Source::Json ? "estimate_normals.k" : "k"));
         NormalEstimationOptions options;
@@ -352,7 +357,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     } else {
         PointGlbOptions options;
         options.draco = params.output.draco.value_or(true);
-        if (params.output.quantize_position) options.quantize_position = static_cast<int>(*params.output.quantize_position);
+        if (params.output.quantize_position)
+            options.quantize_position = static_cast<int>(*params.output.quantize_position);
         auto glb = write_points_glb(cloud, options);
         if (!glb) return error_response(point_error(glb.error(), source));
         response.body = std::move(glb.value());

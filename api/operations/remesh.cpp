@@ -34,17 +34,23 @@ struct RemeshParams {
 
 ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     if (auto error = check_query_names(query, {"edge_length", "iterations", "feature_angle", "keep_boundary",
-                                                "smoothing", "format", "compression", "quantize_position", "normals"}))
+                                               "smoothing", "format", "compression", "quantize_position", "normals"}))
         return std::move(*error);
     RemeshParams params;
     for (const auto& [name, text] : query) {
         std::optional<ApiError> error;
-        if (name == "edge_length") error = read_parameter(name, text, params.edge_length);
-        else if (name == "iterations") error = read_parameter(name, text, params.iterations);
-        else if (name == "feature_angle") error = read_parameter(name, text, params.feature_angle);
-        else if (name == "keep_boundary") error = read_parameter(name, text, params.keep_boundary);
-        else if (name == "smoothing") error = read_parameter(name, text, kSmoothingNames, params.smoothing);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
+        if (name == "edge_length")
+            error = read_parameter(name, text, params.edge_length);
+        else if (name == "iterations")
+            error = read_parameter(name, text, params.iterations);
+        else if (name == "feature_angle")
+            error = read_parameter(name, text, params.feature_angle);
+        else if (name == "keep_boundary")
+            error = read_parameter(name, text, params.keep_boundary);
+        else if (name == "smoothing")
+            error = read_parameter(name, text, kSmoothingNames, params.smoothing);
+        else if (auto output = parse_output_parameter(name, text, params.output); !output)
+            error = std::move(output.error());
         if (error) return std::move(*error);
     }
     return params;
@@ -61,8 +67,8 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
     if (!root.is_object())
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "edge_length": L, ...})");
-    if (auto error = json::check_members(root, "", {"mesh", "edge_length", "iterations", "feature_angle",
-                                                    "keep_boundary", "smoothing", "output"}))
+    if (auto error = json::check_members(
+            root, "", {"mesh", "edge_length", "iterations", "feature_angle", "keep_boundary", "smoothing", "output"}))
         return std::move(*error);
     JsonRequest request;
     RemeshParams& params = request.params;
@@ -89,15 +95,15 @@ std::optional<ApiError> check_params(const RemeshParams& params, Source source) 
                             "edge_length must be a finite length > 0, got " + format_double(*params.edge_length),
                             "edge_length");
     if (params.iterations < 0 || params.iterations > kMaxIterations)
-        return make_problem(Problem::InvalidField,
-                            "iterations must be in 0.." + std::to_string(kMaxIterations) + ", got " +
-                                std::to_string(params.iterations),
-                            "iterations");
+        return make_problem(
+            Problem::InvalidField,
+            "iterations must be in 0.." + std::to_string(kMaxIterations) + ", got " + std::to_string(params.iterations),
+            "iterations");
     if (!(params.feature_angle >= 0 && params.feature_angle <= 180))
-        return make_problem(Problem::InvalidField,
-                            "feature_angle must be in [0, 180] degrees (180: no features), got " +
-                                format_double(params.feature_angle),
-                            "feature_angle");
+        return make_problem(
+            Problem::InvalidField,
+            "feature_angle must be in [0, 180] degrees (180: no features), got " + format_double(params.feature_angle),
+            "feature_angle");
     return check_output_options(params.output, source);
 }
 
@@ -157,16 +163,16 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     }
     const double length = params.edge_length ? *params.edge_length : edge_sum / static_cast<double>(edge_count);
     if (!(length > 0))
-        return error_response(make_problem(Problem::InvalidField,
-                                           "the mesh's edges have zero length: give edge_length", "edge_length"));
+        return error_response(
+            make_problem(Problem::InvalidField, "the mesh's edges have zero length: give edge_length", "edge_length"));
     const double predicted = area / (std::sqrt(3.0) / 4 * length * length);
     if (!(predicted <= static_cast<double>(limits.max_output_faces)))
-        return error_response(make_problem(
-            Problem::BudgetExceeded,
-            "edge_length " + format_double(length) + " over a surface of area " + format_double(area) + " predicts " +
-                format_double(std::round(predicted)) + " faces (area / (0.433 L^2)); the limit is " +
-                std::to_string(limits.max_output_faces),
-            "edge_length"));
+        return error_response(
+            make_problem(Problem::BudgetExceeded,
+                         "edge_length " + format_double(length) + " over a surface of area " + format_double(area) +
+                             " predicts " + format_double(std::round(predicted)) +
+                             " faces (area / (0.433 L^2)); the limit is " + std::to_string(limits.max_output_faces),
+                         "edge_length"));
 
     // 4. remesh
     RemeshOptions options;
@@ -184,36 +190,30 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_remeshed = Clock::now();
 
     // 5. encode
-    Json stats = {{"input_vertices", mesh.vertex_count()},
-                  {"input_faces", mesh.face_count()},
-                  {"output_vertices", result.mesh.vertex_count()},
-                  {"output_faces", result.mesh.face_count()},
-                  {"triangulated", result.triangulated},
-                  {"edge_length", result.target_edge_length},
-                  {"feature_edges", result.feature_edges},
-                  {"boundary_edges", result.boundary_edges},
-                  {"hausdorff", result.hausdorff.value_or(0.0)},
-                  {"before", quality_json(result.before)},
-                  {"after", quality_json(result.after)},
-                  {"elapsed_ms", ms_between(t_start, t_remeshed)}};
+    Json stats = {{"input_vertices", mesh.vertex_count()},         {"input_faces", mesh.face_count()},
+                  {"output_vertices", result.mesh.vertex_count()}, {"output_faces", result.mesh.face_count()},
+                  {"triangulated", result.triangulated},           {"edge_length", result.target_edge_length},
+                  {"feature_edges", result.feature_edges},         {"boundary_edges", result.boundary_edges},
+                  {"hausdorff", result.hausdorff.value_or(0.0)},   {"before", quality_json(result.before)},
+                  {"after", quality_json(result.after)},           {"elapsed_ms", ms_between(t_start, t_remeshed)}};
     Headers headers = mesh_count_headers(mesh.vertex_count(), mesh.face_count(), result.mesh.vertex_count(),
                                          result.mesh.face_count());
     headers.insert(headers.end(), {
-        {"X-Triangulated", result.triangulated ? "true" : "false"},
-        {"X-Edge-Length", format_double(result.target_edge_length)},
-        {"X-Feature-Edges", std::to_string(result.feature_edges)},
-        {"X-Hausdorff", format_double(result.hausdorff.value_or(0.0))},
-        {"X-Min-Angle-Before", format_double(result.before.min_angle_degrees)},
-        {"X-Min-Angle-After", format_double(result.after.min_angle_degrees)},
-        {"X-Below-30-Before", format_double(result.before.share_below_30)},
-        {"X-Below-30-After", format_double(result.after.share_below_30)},
-        {"X-Radius-Ratio-Before", format_double(result.before.mean_radius_ratio)},
-        {"X-Radius-Ratio-After", format_double(result.after.mean_radius_ratio)},
-        {"X-Mean-Edge-Length-After", format_double(result.after.mean_edge_length)},
-    });
-    return mesh_response(result.mesh, params.output, source,
-                         [&](const PolygonMesh& m) { return encode_json_response(m, stats); }, std::move(headers),
-                         Timing{t_start, {{"decode", t_decoded}, {"remesh", t_remeshed}}});
+                                      {"X-Triangulated", result.triangulated ? "true" : "false"},
+                                      {"X-Edge-Length", format_double(result.target_edge_length)},
+                                      {"X-Feature-Edges", std::to_string(result.feature_edges)},
+                                      {"X-Hausdorff", format_double(result.hausdorff.value_or(0.0))},
+                                      {"X-Min-Angle-Before", format_double(result.before.min_angle_degrees)},
+                                      {"X-Min-Angle-After", format_double(result.after.min_angle_degrees)},
+                                      {"X-Below-30-Before", format_double(result.before.share_below_30)},
+                                      {"X-Below-30-After", format_double(result.after.share_below_30)},
+                                      {"X-Radius-Ratio-Before", format_double(result.before.mean_radius_ratio)},
+                                      {"X-Radius-Ratio-After", format_double(result.after.mean_radius_ratio)},
+                                      {"X-Mean-Edge-Length-After", format_double(result.after.mean_edge_length)},
+                                  });
+    return mesh_response(
+        result.mesh, params.output, source, [&](const PolygonMesh& m) { return encode_json_response(m, stats); },
+        std::move(headers), Timing{t_start, {{"decode", t_decoded}, {"remesh", t_remeshed}}});
 }
 
 }  // namespace

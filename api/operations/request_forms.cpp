@@ -81,8 +81,8 @@ ApiResult<std::int64_t> parse_integer_parameter(const std::string& name, const s
     std::int64_t value = 0;
     const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
     if (text.empty() || result.ec != std::errc() || result.ptr != text.data() + text.size())
-        return make_problem(Problem::InvalidField, "query parameter " + name + " must be an integer, got \"" + text + "\"",
-                            name);
+        return make_problem(Problem::InvalidField,
+                            "query parameter " + name + " must be an integer, got \"" + text + "\"", name);
     return value;
 }
 
@@ -98,17 +98,22 @@ ApiResult<double> parse_number_parameter(const std::string& name, const std::str
 ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string& text) {
     if (text == "true" || text == "1") return true;
     if (text == "false" || text == "0") return false;
-    return make_problem(Problem::InvalidField, "query parameter " + name + " must be true or false, got \"" + text + "\"",
-                        name);
+    return make_problem(Problem::InvalidField,
+                        "query parameter " + name + " must be true or false, got \"" + text + "\"", name);
 }
 
 ApiResult<bool> parse_output_parameter(const std::string& name, const std::string& text, OutputOptions& out) {
     std::optional<ApiError> error;
-    if (name == "format") error = read_parameter(name, text, kOutputFormatNames, out.format);
-    else if (name == "compression") error = read_parameter(name, text, kCompressionNames, out.draco);
-    else if (name == "quantize_position") error = read_parameter(name, text, out.quantize_position);
-    else if (name == "normals") error = read_parameter(name, text, out.normals);
-    else return false;
+    if (name == "format")
+        error = read_parameter(name, text, kOutputFormatNames, out.format);
+    else if (name == "compression")
+        error = read_parameter(name, text, kCompressionNames, out.draco);
+    else if (name == "quantize_position")
+        error = read_parameter(name, text, out.quantize_position);
+    else if (name == "normals")
+        error = read_parameter(name, text, out.normals);
+    else
+        return false;
     if (error) return std::move(*error);
     return true;
 }
@@ -116,8 +121,8 @@ ApiResult<bool> parse_output_parameter(const std::string& name, const std::strin
 std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type) {
     if (request.body.size() > limits.max_body_bytes)
         return make_problem(Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
-                                                          " bytes; the limit is " + std::to_string(limits.max_body_bytes) +
-                                                          " bytes");
+                                                          " bytes; the limit is " +
+                                                          std::to_string(limits.max_body_bytes) + " bytes");
     media_type = media_type_of(request.content_type);
     if (media_type.empty())
         return make_problem(Problem::UnsupportedMediaType,
@@ -128,12 +133,13 @@ std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limi
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request) {
     if (request.query.empty()) return std::nullopt;
     const std::string& name = request.query.begin()->first;
-    return make_problem(Problem::UnknownParameter,
-                        "query parameters are not accepted with a JSON body (options go in the body), got \"" + name + "\"",
-                        name);
+    return make_problem(
+        Problem::UnknownParameter,
+        "query parameters are not accepted with a JSON body (options go in the body), got \"" + name + "\"", name);
 }
 
-std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits, std::string_view operation) {
+std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits,
+                                             std::string_view operation) {
     std::string media_type;
     if (auto error = check_body(request, limits, media_type)) return error;
     if (media_type != "application/json")
@@ -159,13 +165,13 @@ std::optional<ApiError> check_query_names(const std::multimap<std::string, std::
     }
     for (std::string_view name : allowed)
         if (query.count(std::string(name)) > 1)
-            return make_problem(Problem::InvalidField, "query parameter " + std::string(name) + " is given more than once",
-                                std::string(name));
+            return make_problem(Problem::InvalidField,
+                                "query parameter " + std::string(name) + " is given more than once", std::string(name));
     return std::nullopt;
 }
 
-ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits,
-                                          MeshRules rules) {
+ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type,
+                                          const Limits& limits, MeshRules rules) {
     const auto format = mesh_format_for(media_type, request.body);
     if (!format) {
         const std::string detail =
@@ -186,10 +192,11 @@ ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::
 
 std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits) {
     if (mesh.face_count() > limits.max_input_faces || mesh.vertex_count() > limits.max_input_vertices)
-        return make_problem(Problem::BudgetExceeded,
-                            "the mesh has " + std::to_string(mesh.vertex_count()) + " vertices and " +
-                                std::to_string(mesh.face_count()) + " faces; the limits are " +
-                                std::to_string(limits.max_input_vertices) + " and " + std::to_string(limits.max_input_faces));
+        return make_problem(Problem::BudgetExceeded, "the mesh has " + std::to_string(mesh.vertex_count()) +
+                                                         " vertices and " + std::to_string(mesh.face_count()) +
+                                                         " faces; the limits are " +
+                                                         std::to_string(limits.max_input_vertices) + " and " +
+                                                         std::to_string(limits.max_input_faces));
     return std::nullopt;
 }
 
@@ -200,7 +207,8 @@ std::optional<ApiError> refuse_unknown_mesh_format(const ApiRequest& request, co
     return std::move(refused.error());
 }
 
-std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source, MeshRules rules) {
+std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& limits, Source source,
+                                         MeshRules rules) {
     if (auto error = check_input_budget(mesh, limits)) return error;
     const Status valid = rules == MeshRules::Subdivision ? validate_for_subdivision(mesh) : validate(mesh);
     if (!valid) return geometry_error(valid.error(), source);
@@ -245,7 +253,9 @@ void append_timing_headers(Headers& headers, const Timing& timing) {
 }
 
 std::optional<ApiError> check_output_options(const OutputOptions& out, Source source) {
-    const auto field = [&](std::string_view leaf) { return (source == Source::Json ? "output." : "") + std::string(leaf); };
+    const auto field = [&](std::string_view leaf) {
+        return (source == Source::Json ? "output." : "") + std::string(leaf);
+    };
     const bool gltf = out.format == OutputFormat::Glb || out.format == OutputFormat::Gltf;  // binary or text
     const std::string format(enum_name(kOutputFormatNames, out.format));
     if (out.draco && !gltf)
@@ -254,13 +264,15 @@ std::optional<ApiError> check_output_options(const OutputOptions& out, Source so
                             field("compression"));
     if (out.quantize_position) {
         if (!gltf || !out.draco.value_or(true))
-            return make_problem(Problem::InvalidField,
-                                "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
-                                field("quantize_position"));
+            return make_problem(
+                Problem::InvalidField,
+                "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
+                field("quantize_position"));
         if (*out.quantize_position < 1 || *out.quantize_position > 24)
-            return make_problem(Problem::InvalidField,
-                                "quantize_position must be between 1 and 24 bits, got " + std::to_string(*out.quantize_position),
-                                field("quantize_position"));
+            return make_problem(
+                Problem::InvalidField,
+                "quantize_position must be between 1 and 24 bits, got " + std::to_string(*out.quantize_position),
+                field("quantize_position"));
     }
     if (out.normals.value_or(false) && out.format == OutputFormat::Json)
         return make_problem(Problem::InvalidField, "normals are not available in format \"json\"", field("normals"));

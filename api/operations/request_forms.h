@@ -54,24 +54,30 @@ ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string&
 template <class E, std::size_t N>
 ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& text, const EnumName<E> (&table)[N]) {
     if (auto value = enum_from_name(table, text)) return *value;
-    return make_problem(Problem::InvalidField,
-                        "query parameter " + name + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")",
-                        name);
+    return make_problem(
+        Problem::InvalidField,
+        "query parameter " + name + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")", name);
 }
 
 //! Parses query parameter `name` into `target` by its type (std::int64_t: integer, double: finite number, bool; or a
 //! std::optional of one): nullopt when it parsed, else the error naming the parameter. `target` changes only then.
 template <class T>
 std::optional<ApiError> read_parameter(const std::string& name, const std::string& text, T& target) {
-    if constexpr (requires { typename T::value_type; target.reset(); }) {  // std::optional<U>
+    if constexpr (requires {
+                      typename T::value_type;
+                      target.reset();
+                  }) {  // std::optional<U>
         typename T::value_type value{};
         if (auto error = read_parameter(name, text, value)) return error;
         target = value;
     } else {
         auto parsed = [&] {
-            if constexpr (std::is_same_v<T, bool>) return parse_bool_parameter(name, text);
-            else if constexpr (std::is_floating_point_v<T>) return parse_number_parameter(name, text);
-            else return parse_integer_parameter(name, text);
+            if constexpr (std::is_same_v<T, bool>)
+                return parse_bool_parameter(name, text);
+            else if constexpr (std::is_floating_point_v<T>)
+                return parse_number_parameter(name, text);
+            else
+                return parse_integer_parameter(name, text);
         }();
         if (!parsed) return std::move(parsed.error());
         target = parsed.value();
@@ -96,7 +102,8 @@ std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limi
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
 //! The intake of an endpoint that takes only a JSON body (`operation` names it in the message, e.g.
 //! "POST /curves"): body size, Content-Type application/json, no query parameters.
-std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits, std::string_view operation);
+std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits,
+                                             std::string_view operation);
 //! Parameters must be known and given once; errors name them (and list the allowed ones).
 std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
                                           std::initializer_list<std::string_view> allowed);
@@ -105,8 +112,8 @@ std::optional<ApiError> check_query_names(const std::multimap<std::string, std::
 enum class MeshRules { Strict, Subdivision };
 //! A raw mesh upload: format from the media type (sniffed for application/octet-stream; 415 when unknown), read with
 //! the input budgets as reader limits (errors carry the file line or byte offset).
-ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type, const Limits& limits,
-                                          MeshRules rules = MeshRules::Strict);
+ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type,
+                                          const Limits& limits, MeshRules rules = MeshRules::Strict);
 //! The input budgets (vertices, faces) for a mesh from any source.
 std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits);
 

@@ -55,23 +55,32 @@ std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& l
 }
 
 ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(query, {"target_faces", "ratio", "max_error", "lock_border", "restore_volume",
-                                                "threads", "report_error", "locked_vertices", "format", "compression",
-                                                "quantize_position", "normals"}))
+    if (auto error = check_query_names(
+            query, {"target_faces", "ratio", "max_error", "lock_border", "restore_volume", "threads", "report_error",
+                    "locked_vertices", "format", "compression", "quantize_position", "normals"}))
         return std::move(*error);
 
     SimplifyParams params;
     for (const auto& [name, text] : query) {
         std::optional<ApiError> error;
-        if (name == "target_faces") error = read_parameter(name, text, params.target_faces);
-        else if (name == "ratio") error = read_parameter(name, text, params.ratio);
-        else if (name == "max_error") error = read_parameter(name, text, params.max_error);
-        else if (name == "lock_border") error = read_parameter(name, text, params.lock_border);
-        else if (name == "restore_volume") error = read_parameter(name, text, params.restore_volume);
-        else if (name == "threads") error = read_parameter(name, text, params.threads);
-        else if (name == "report_error") error = read_parameter(name, text, params.report_error);
-        else if (name == "locked_vertices") error = read_locked_vertices(text, params.locked_vertices);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
+        if (name == "target_faces")
+            error = read_parameter(name, text, params.target_faces);
+        else if (name == "ratio")
+            error = read_parameter(name, text, params.ratio);
+        else if (name == "max_error")
+            error = read_parameter(name, text, params.max_error);
+        else if (name == "lock_border")
+            error = read_parameter(name, text, params.lock_border);
+        else if (name == "restore_volume")
+            error = read_parameter(name, text, params.restore_volume);
+        else if (name == "threads")
+            error = read_parameter(name, text, params.threads);
+        else if (name == "report_error")
+            error = read_parameter(name, text, params.report_error);
+        else if (name == "locked_vertices")
+            error = read_locked_vertices(text, params.locked_vertices);
+        else if (auto output = parse_output_parameter(name, text, params.output); !output)
+            error = std::move(output.error());
         if (error) return std::move(*error);
     }
     return params;
@@ -108,8 +117,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 
     // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
     // budgets and validity, before any work
-    auto decoded = decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query,
-                                                       check_params);
+    auto decoded =
+        decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query, check_params);
     if (!decoded) return error_response(std::move(decoded.error()));
     auto& [source, params, mesh, t_decoded] = decoded.value();
     if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
@@ -156,9 +165,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     headers.emplace_back("X-Relative-Error", format_double(stats.relative_error));
     if (stats.hausdorff) headers.emplace_back("X-Hausdorff", format_double(*stats.hausdorff));
     if (stats.rms) headers.emplace_back("X-RMS", format_double(*stats.rms));
-    return mesh_response(result.mesh, params.output, source,
-                         [&](const PolygonMesh& m) { return encode_simplify_response(m, stats); }, std::move(headers),
-                         Timing{t_start, {{"decode", t_decoded}, {"simplify", t_simplified}, {"measure", t_measured}}});
+    return mesh_response(
+        result.mesh, params.output, source, [&](const PolygonMesh& m) { return encode_simplify_response(m, stats); },
+        std::move(headers),
+        Timing{t_start, {{"decode", t_decoded}, {"simplify", t_simplified}, {"measure", t_measured}}});
 }
 
 }  // namespace

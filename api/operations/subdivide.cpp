@@ -14,26 +14,34 @@ namespace {
 //! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     if (auto error = check_query_names(query, {"scheme", "levels", "boundary", "crease_method", "triangle_rule",
-                                                "uv_interpolation", "loop_weights", "limit_surface", "max_faces", "format",
-                                                "compression", "quantize_position", "normals"}))
+                                               "uv_interpolation", "loop_weights", "limit_surface", "max_faces",
+                                               "format", "compression", "quantize_position", "normals"}))
         return std::move(*error);
 
     SubdivideParams params;
     for (const auto& [name, text] : query) {
         std::optional<ApiError> error;
-        if (name == "scheme") error = read_parameter(name, text, kSchemeNames, params.scheme);
+        if (name == "scheme")
+            error = read_parameter(name, text, kSchemeNames, params.scheme);
         else if (name == "levels") {
             error = read_parameter(name, text, params.levels);
             params.levels_given = true;
-        }
-        else if (name == "crease_method") error = read_parameter(name, text, kCreaseMethodNames, params.crease_method);
-        else if (name == "triangle_rule") error = read_parameter(name, text, kTriangleRuleNames, params.triangle_rule);
-        else if (name == "loop_weights") error = read_parameter(name, text, kLoopWeightNames, params.loop_weights);
-        else if (name == "uv_interpolation") error = read_parameter(name, text, kUvInterpolationNames, params.uv_interpolation);
-        else if (name == "limit_surface") error = read_parameter(name, text, params.limit_surface);
-        else if (name == "max_faces") error = read_parameter(name, text, params.max_faces);
-        else if (name == "boundary") error = read_parameter(name, text, kBoundaryNames, params.boundary);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output) error = std::move(output.error());
+        } else if (name == "crease_method")
+            error = read_parameter(name, text, kCreaseMethodNames, params.crease_method);
+        else if (name == "triangle_rule")
+            error = read_parameter(name, text, kTriangleRuleNames, params.triangle_rule);
+        else if (name == "loop_weights")
+            error = read_parameter(name, text, kLoopWeightNames, params.loop_weights);
+        else if (name == "uv_interpolation")
+            error = read_parameter(name, text, kUvInterpolationNames, params.uv_interpolation);
+        else if (name == "limit_surface")
+            error = read_parameter(name, text, params.limit_surface);
+        else if (name == "max_faces")
+            error = read_parameter(name, text, params.max_faces);
+        else if (name == "boundary")
+            error = read_parameter(name, text, kBoundaryNames, params.boundary);
+        else if (auto output = parse_output_parameter(name, text, params.output); !output)
+            error = std::move(output.error());
         if (error) return std::move(*error);
     }
     return params;
@@ -42,7 +50,8 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
 //! Range checks shared by both request forms. Field names: the JSON path (query parameters use the leaf name).
 std::optional<ApiError> check_params(const SubdivideParams& params, const Limits& limits, Source source) {
     if (params.levels < 0)
-        return make_problem(Problem::InvalidField, "levels must be >= 0, got " + std::to_string(params.levels), "levels");
+        return make_problem(Problem::InvalidField, "levels must be >= 0, got " + std::to_string(params.levels),
+                            "levels");
     if (params.levels > limits.max_levels)
         return make_problem(Problem::BudgetExceeded,
                             "levels is " + std::to_string(params.levels) + "; this server allows at most " +
@@ -105,17 +114,17 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     }
     const std::uint64_t predicted = work_faces(levels);
     if (predicted > limits.max_output_faces)
-        return error_response(make_problem(
-            Problem::BudgetExceeded,
-            "subdividing " + std::to_string(mesh.face_count()) + " faces " + std::to_string(levels) +
-                (levels == 1 ? " time" : " times") +
-                (options.limit_surface && limit_extra_levels(mesh, options) > 0
-                     ? " (plus " + std::to_string(limit_extra_levels(mesh, options)) +
-                           " internal levels to evaluate the limit past semi-sharp creases)"
-                     : std::string()) +
-                " would produce " + std::to_string(predicted) + " faces; the limit is " +
-                std::to_string(limits.max_output_faces) + " (use fewer levels or a smaller mesh)",
-            "levels"));
+        return error_response(
+            make_problem(Problem::BudgetExceeded,
+                         "subdividing " + std::to_string(mesh.face_count()) + " faces " + std::to_string(levels) +
+                             (levels == 1 ? " time" : " times") +
+                             (options.limit_surface && limit_extra_levels(mesh, options) > 0
+                                  ? " (plus " + std::to_string(limit_extra_levels(mesh, options)) +
+                                        " internal levels to evaluate the limit past semi-sharp creases)"
+                                  : std::string()) +
+                             " would produce " + std::to_string(predicted) + " faces; the limit is " +
+                             std::to_string(limits.max_output_faces) + " (use fewer levels or a smaller mesh)",
+                         "levels"));
 
     // 5. refine (polling the request's deadline between levels; also before encoding, which cannot be stopped)
     options.levels = levels;
@@ -136,11 +145,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.elapsed_ms = ms_between(t_start, t_refined);
 
     // 6. encode
-    return mesh_response(result, params.output, source,
-                         [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); },
-                         mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices,
-                                            stats.output_faces),
-                         Timing{t_start, {{"decode", t_decoded}, {"subdivide", t_refined}}});
+    return mesh_response(
+        result, params.output, source, [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); },
+        mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces),
+        Timing{t_start, {{"decode", t_decoded}, {"subdivide", t_refined}}});
 }
 
 }  // namespace

@@ -24,8 +24,8 @@ namespace {
 constexpr std::int64_t kDefaultSegments = 8;
 constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
 constexpr std::string_view kObjMediaType = "model/obj";  // free-form cstype bezier surfaces
-constexpr std::string_view kQueryOptions[] = {"tolerance", "segments", "format", "compression", "quantize_position",
-                                              "normals"};
+constexpr std::string_view kQueryOptions[] = {"tolerance",   "segments",          "format",
+                                              "compression", "quantize_position", "normals"};
 
 std::string format_number(double value, const char* format = "%.3f") {
     char buf[64];
@@ -48,7 +48,8 @@ ApiResult<TessellateParams> params_from_query(const std::multimap<std::string, s
     for (const auto& [name, value] : query) {
         if (std::find(std::begin(kQueryOptions), std::end(kQueryOptions), name) == std::end(kQueryOptions)) {
             std::string allowed;
-            for (std::string_view option : kQueryOptions) allowed += (allowed.empty() ? "" : ", ") + std::string(option);
+            for (std::string_view option : kQueryOptions)
+                allowed += (allowed.empty() ? "" : ", ") + std::string(option);
             return make_problem(Problem::UnknownParameter,
                                 "unknown query parameter \"" + name + "\" (allowed: " + allowed + ")", name);
         }
@@ -71,9 +72,12 @@ ApiResult<TessellateParams> params_from_query(const std::multimap<std::string, s
                 return invalid_parameter(name, "must be an integer, got \"" + text + "\"");
             (name == "segments" ? params.segments : params.output.quantize_position) = value;
         } else if (name == "normals") {
-            if (text == "true" || text == "1") params.output.normals = true;
-            else if (text == "false" || text == "0") params.output.normals = false;
-            else return invalid_parameter(name, "must be true or false, got \"" + text + "\"");
+            if (text == "true" || text == "1")
+                params.output.normals = true;
+            else if (text == "false" || text == "0")
+                params.output.normals = false;
+            else
+                return invalid_parameter(name, "must be true or false, got \"" + text + "\"");
         } else if (name == "format") {
             auto format = enum_from_name(kOutputFormatNames, text);
             if (!format)
@@ -82,8 +86,8 @@ ApiResult<TessellateParams> params_from_query(const std::multimap<std::string, s
         } else if (name == "compression") {
             auto draco = enum_from_name(kCompressionNames, text);
             if (!draco)
-                return invalid_parameter(name, ": unknown value \"" + text + "\" (allowed: " +
-                                                   enum_names(kCompressionNames) + ")");
+                return invalid_parameter(
+                    name, ": unknown value \"" + text + "\" (allowed: " + enum_names(kCompressionNames) + ")");
             params.output.draco = *draco;
         }
     }
@@ -127,8 +131,8 @@ std::optional<ApiError> check_params(const TessellateParams& params, const Limit
         return make_problem(Problem::InvalidField, "tolerance must be a finite number > 0", "tolerance");
     if (params.segments) {
         if (*params.segments < 1)
-            return make_problem(Problem::InvalidField,
-                                "segments must be >= 1, got " + std::to_string(*params.segments), "segments");
+            return make_problem(Problem::InvalidField, "segments must be >= 1, got " + std::to_string(*params.segments),
+                                "segments");
         if (*params.segments > limits.max_patch_segments)
             return make_problem(Problem::BudgetExceeded,
                                 "segments is " + std::to_string(*params.segments) + "; this server allows at most " +
@@ -151,10 +155,10 @@ std::optional<ApiError> check_params(const TessellateParams& params, const Limit
                                 "quantize_position applies only to format \"glb\" with compression \"draco\"",
                                 output_field("quantize_position"));
         if (*out.quantize_position < 1 || *out.quantize_position > 30)
-            return make_problem(Problem::InvalidField,
-                                "quantize_position must be between 1 and 30 bits, got " +
-                                    std::to_string(*out.quantize_position),
-                                output_field("quantize_position"));
+            return make_problem(
+                Problem::InvalidField,
+                "quantize_position must be between 1 and 30 bits, got " + std::to_string(*out.quantize_position),
+                output_field("quantize_position"));
     }
     return std::nullopt;
 }
@@ -186,12 +190,13 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
     auto plan = plan_tessellation(set.patches, options);
     if (!plan) return error_response(patch_error(plan.error(), params, source));
     if (plan->triangles > limits.max_output_faces)
-        return error_response(make_problem(
-            Problem::BudgetExceeded,
-            "tessellating " + std::to_string(set.patches.size()) + " patches would produce up to " +
-                std::to_string(plan->triangles) + " triangles; the limit is " + std::to_string(limits.max_output_faces) +
-                (params.tolerance ? " (use a larger tolerance)" : " (use fewer segments)"),
-            params.tolerance ? "tolerance" : "segments"));
+        return error_response(
+            make_problem(Problem::BudgetExceeded,
+                         "tessellating " + std::to_string(set.patches.size()) + " patches would produce up to " +
+                             std::to_string(plan->triangles) + " triangles; the limit is " +
+                             std::to_string(limits.max_output_faces) +
+                             (params.tolerance ? " (use a larger tolerance)" : " (use fewer segments)"),
+                         params.tolerance ? "tolerance" : "segments"));
     const auto t_planned = Clock::now();
 
     auto tessellated = tessellate_patches(set.patches, options);
@@ -239,18 +244,17 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
     const Limits& limits = context.limits;
     const auto start = Clock::now();
     if (request.body.size() > limits.max_body_bytes)
-        return error_response(make_problem(Problem::PayloadTooLarge,
-                                           "request body is " + std::to_string(request.body.size()) +
-                                               " bytes; the limit is " + std::to_string(limits.max_body_bytes) +
-                                               " bytes"));
+        return error_response(make_problem(
+            Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
+                                          " bytes; the limit is " + std::to_string(limits.max_body_bytes) + " bytes"));
     const std::string media_type = media_type_of(request.content_type);
     if (media_type == "application/json") {
         if (!request.query.empty())
-            return error_response(make_problem(
-                Problem::UnknownParameter,
-                "query parameters are not accepted with a JSON body (options go in the body), got \"" +
-                    request.query.begin()->first + "\"",
-                request.query.begin()->first));
+            return error_response(
+                make_problem(Problem::UnknownParameter,
+                             "query parameters are not accepted with a JSON body (options go in the body), got \"" +
+                                 request.query.begin()->first + "\"",
+                             request.query.begin()->first));
         auto decoded = decode_tessellate_request(request.body, limits);
         if (!decoded) return error_response(std::move(decoded.error()));
         if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
@@ -258,10 +262,11 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
     }
     const bool obj = media_type == kObjMediaType;
     if (!obj && std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
-        return error_response(make_problem(Problem::UnsupportedMediaType,
-                                           (media_type.empty() ? std::string("a Content-Type is required")
-                                                               : "Content-Type \"" + media_type + "\" is not accepted") +
-                                               "; accepted: " + accepted_media_types()));
+        return error_response(
+            make_problem(Problem::UnsupportedMediaType,
+                         (media_type.empty() ? std::string("a Content-Type is required")
+                                             : "Content-Type \"" + media_type + "\" is not accepted") +
+                             "; accepted: " + accepted_media_types()));
     // options first: a file is not parsed for a request we would refuse anyway
     auto params = params_from_query(request.query);
     if (!params) return error_response(std::move(params.error()));
@@ -339,8 +344,8 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     key += "|normals=" + std::to_string(p.output.normals.value_or(true));
     char etag[24];
     std::snprintf(etag, sizeof etag, "\"%016llx\"", static_cast<unsigned long long>(fnv1a(text, fnv1a(key))));
-    const std::vector<std::pair<std::string, std::string>> cache_headers = {
-        {"ETag", etag}, {"Cache-Control", "public, max-age=3600"}};
+    const std::vector<std::pair<std::string, std::string>> cache_headers = {{"ETag", etag},
+                                                                            {"Cache-Control", "public, max-age=3600"}};
 
     if (etag_matches(request.header("if-none-match"), etag)) {
         ApiResponse not_modified;

@@ -95,7 +95,8 @@ std::size_t wang_segments(const BezierCurve& curve, double tolerance) {
 //! distance to a segment is a convex function).
 double hull_distance_to_chord(const BezierCurve& curve) {
     double d = 0;
-    for (const Vec3& p : curve.points) d = std::max(d, distance_to_segment(p, curve.points.front(), curve.points.back()));
+    for (const Vec3& p : curve.points)
+        d = std::max(d, distance_to_segment(p, curve.points.front(), curve.points.back()));
     return d;
 }
 
@@ -118,8 +119,8 @@ Status validate(const BezierCurve& curve) {
                                  ElementKind::Vertex, static_cast<std::int64_t>(i));
         if (curve.is_rational() && !(std::isfinite(curve.weights[i]) && curve.weights[i] > 0))
             return element_error(ErrorCode::InvalidArgument,
-                                 "weight " + std::to_string(i) + " must be a finite number > 0",
-                                 ElementKind::Vertex, static_cast<std::int64_t>(i));
+                                 "weight " + std::to_string(i) + " must be a finite number > 0", ElementKind::Vertex,
+                                 static_cast<std::int64_t>(i));
     }
     return Ok{};
 }
@@ -136,7 +137,8 @@ Vec3 evaluate_bernstein(const BezierCurve& curve, double t) {
     Vec3 sum;
     double weight = 0;
     for (int i = 0; i <= n; ++i) {
-        const double b = bezier::bernstein(n, i, t) * (curve.is_rational() ? curve.weights[static_cast<std::size_t>(i)] : 1.0);
+        const double b =
+            bezier::bernstein(n, i, t) * (curve.is_rational() ? curve.weights[static_cast<std::size_t>(i)] : 1.0);
         sum += b * curve.points[static_cast<std::size_t>(i)];
         weight += b;
     }
@@ -166,7 +168,8 @@ std::pair<BezierCurve, BezierCurve> split(const BezierCurve& curve, double t) {
     for (std::size_t level = 0; level < n; ++level) {
         left[level] = b[0];
         right[n - 1 - level] = b[n - 1 - level];
-        for (std::size_t i = 0; i + 1 < n - level; ++i) b[i] = {s * b[i].p + t * b[i + 1].p, s * b[i].w + t * b[i + 1].w};
+        for (std::size_t i = 0; i + 1 < n - level; ++i)
+            b[i] = {s * b[i].p + t * b[i + 1].p, s * b[i].w + t * b[i + 1].w};
     }
     return {from_homogeneous(left, curve.is_rational()), from_homogeneous(right, curve.is_rational())};
 }
@@ -300,8 +303,9 @@ Result<CurveTessellation> tessellate(const BezierCurve& curve, double tolerance,
         Piece piece = std::move(stack.back());
         stack.pop_back();
         if (total > max_segments)
-            return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(tolerance) + " needs more than " +
-                                                             std::to_string(max_segments) + " segments");
+            return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(tolerance) +
+                                                             " needs more than " + std::to_string(max_segments) +
+                                                             " segments");
         const double width = piece.t1 - piece.t0;
         if (!curve.is_rational()) {
             const std::size_t whole = wang_segments(piece.curve, tolerance);
@@ -333,9 +337,8 @@ Result<CurveTessellation> tessellate(const BezierCurve& curve, double tolerance,
         }
     }
     if (total > max_segments)
-        return make_error(ErrorCode::BudgetExceeded,
-                          "tolerance " + std::to_string(tolerance) + " needs more than " + std::to_string(max_segments) +
-                              " segments");
+        return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(tolerance) + " needs more than " +
+                                                         std::to_string(max_segments) + " segments");
 
     // 2. the polyline, in parameter order (pieces were pushed so that they pop left to right)
     out.points.push_back(curve.points.front());

@@ -21,7 +21,7 @@
 namespace surfaced {
 
 struct BezierCurve {
-    std::vector<Vec3> points;    //!< degree + 1 control points
+    std::vector<Vec3> points;     //!< degree + 1 control points
     std::vector<double> weights;  //!< empty (polynomial) or one positive weight per point (rational)
 
     int degree() const { return static_cast<int>(points.size()) - 1; }
@@ -71,7 +71,7 @@ struct ClosestPoint {
 ClosestPoint closest_point(const BezierCurve& curve, const Vec3& query);
 
 struct CurveTessellation {
-    std::vector<Vec3> points;   //!< the polyline, from C(0) to C(1)
+    std::vector<Vec3> points;    //!< the polyline, from C(0) to C(1)
     std::vector<double> params;  //!< the curve parameter of each point
     std::size_t segments = 0;
     double max_deviation = 0;  //!< measured: max distance from the curve to the chord of its segment (sampled)

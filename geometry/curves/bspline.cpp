@@ -132,10 +132,10 @@ Status validate(const BSplineCurve& curve) {
                                                           std::to_string(ps + 1) + " control points (got " +
                                                           std::to_string(n) + ")");
     if (curve.knots.size() != n + ps + 1)
-        return make_error(ErrorCode::InvalidArgument,
-                          "knots has " + std::to_string(curve.knots.size()) + " entries; " + std::to_string(n) +
-                              " control points of degree " + std::to_string(p) + " need " +
-                              std::to_string(n + ps + 1) + " (points + degree + 1)");
+        return make_error(ErrorCode::InvalidArgument, "knots has " + std::to_string(curve.knots.size()) + " entries; " +
+                                                          std::to_string(n) + " control points of degree " +
+                                                          std::to_string(p) + " need " + std::to_string(n + ps + 1) +
+                                                          " (points + degree + 1)");
     if (curve.is_rational() && curve.weights.size() != n)
         return make_error(ErrorCode::InvalidArgument, "weights has " + std::to_string(curve.weights.size()) +
                                                           " entries for " + std::to_string(n) + " control points");
@@ -150,7 +150,8 @@ Status validate(const BSplineCurve& curve) {
     }
     const std::vector<double>& U = curve.knots;
     for (std::size_t i = 0; i < U.size(); ++i) {
-        if (!std::isfinite(U[i])) return knot_error(ErrorCode::NonFinite, "knot " + std::to_string(i) + " is not finite", i);
+        if (!std::isfinite(U[i]))
+            return knot_error(ErrorCode::NonFinite, "knot " + std::to_string(i) + " is not finite", i);
         if (i > 0 && U[i] < U[i - 1])
             return knot_error(ErrorCode::InvalidArgument,
                               "knot " + std::to_string(i) + " (" + num(U[i]) + ") is smaller than knot " +
@@ -167,8 +168,7 @@ Status validate(const BSplineCurve& curve) {
                               "knot " + std::to_string(start + allowed) + ": the value " + num(U[start]) +
                                   " is repeated " + std::to_string(end - start) + " times (from knot " +
                                   std::to_string(start) + "); at most degree + 1 = " + std::to_string(ps + 1) +
-                                  " for the first or last value, degree = " + std::to_string(ps) +
-                                  " for any other",
+                                  " for the first or last value, degree = " + std::to_string(ps) + " for any other",
                               start + allowed);
         start = end;
     }
@@ -265,7 +265,8 @@ std::size_t find_span(std::span<const double> knots, int degree, std::size_t poi
         u = hi;
         side = SpanSide::Left;
     }
-    const auto first = knots.begin() + static_cast<std::ptrdiff_t>(p), last = knots.begin() + static_cast<std::ptrdiff_t>(n) + 1;
+    const auto first = knots.begin() + static_cast<std::ptrdiff_t>(p),
+               last = knots.begin() + static_cast<std::ptrdiff_t>(n) + 1;
     // Right: the last k with u_k <= u (u < u_n, so k <= n - 1). Left: the first k + 1 with u <= u_{k+1} (u > u_p).
     const auto it = side == SpanSide::Right ? std::upper_bound(first, last, u) : std::lower_bound(first, last, u);
     const std::size_t k = static_cast<std::size_t>(it - knots.begin()) - 1;
@@ -417,10 +418,12 @@ Result<BezierChain> to_bezier(const BSplineCurve& curve, const Cancel& cancel) {
         for (std::size_t j = 0; j <= p; ++j) P[j] = homogeneous(curve, k - p + j);
         L.assign(U.begin() + static_cast<std::ptrdiff_t>(k - p), U.begin() + static_cast<std::ptrdiff_t>(k + p + 2));
         std::size_t span = p;
-        const std::size_t have_a = static_cast<std::size_t>(std::count(L.begin() + 1, L.begin() + static_cast<std::ptrdiff_t>(p + 1), a));
+        const std::size_t have_a =
+            static_cast<std::size_t>(std::count(L.begin() + 1, L.begin() + static_cast<std::ptrdiff_t>(p + 1), a));
         for (std::size_t t = have_a; t < p; ++t) insert_once(curve.degree, P, L, a, span++);
-        const std::size_t have_b = static_cast<std::size_t>(
-            std::count(L.begin() + static_cast<std::ptrdiff_t>(span + 1), L.begin() + static_cast<std::ptrdiff_t>(span + p + 1), b));
+        const std::size_t have_b =
+            static_cast<std::size_t>(std::count(L.begin() + static_cast<std::ptrdiff_t>(span + 1),
+                                                L.begin() + static_cast<std::ptrdiff_t>(span + p + 1), b));
         for (std::size_t t = have_b; t < p; ++t) insert_once(curve.degree, P, L, b, span);
         BezierCurve piece;
         const std::vector<Hom> local(P.begin() + static_cast<std::ptrdiff_t>(span - p),

@@ -62,7 +62,8 @@ Status validate(const BSplineCurve& curve);
 //! Clamped (open) uniform knots for `point_count` points of `degree`: degree + 1 copies of u0, point_count - degree - 1
 //! equally spaced interior knots, degree + 1 copies of u1. The curve then starts at P_0 and ends at P_{n-1}, tangent
 //! to the control polygon there. Errors (InvalidArgument): degree < 1, point_count < degree + 1, !(u0 < u1), non-finite.
-Result<std::vector<double>> clamped_uniform_knots(std::size_t point_count, int degree, double u0 = 0.0, double u1 = 1.0);
+Result<std::vector<double>> clamped_uniform_knots(std::size_t point_count, int degree, double u0 = 0.0,
+                                                  double u1 = 1.0);
 
 //! Uniform (unclamped, periodic-style) knots: point_count + degree + 1 equally spaced knots, placed so that the domain
 //! [u_p, u_n] is exactly [u0, u1]. Same errors as clamped_uniform_knots.
@@ -87,7 +88,8 @@ std::size_t find_span(std::span<const double> knots, int degree, std::size_t poi
 //! tests and for the basis-sum evaluator). Degree-0 functions are the indicator of [u_i, u_{i+1}) (Right) or
 //! (u_i, u_{i+1}] (Left); 0/0 terms are 0. Unlike the curve evaluators this does not clamp u, and the end-of-domain
 //! rule (Left at u_n) is applied by the caller: evaluate_basis does.
-double basis_function(std::span<const double> knots, int degree, std::size_t i, double u, SpanSide side = SpanSide::Right);
+double basis_function(std::span<const double> knots, int degree, std::size_t i, double u,
+                      SpanSide side = SpanSide::Right);
 
 // ---- evaluation ---------------------------------------------------------------------------------------------------
 
@@ -133,9 +135,9 @@ std::vector<double> bezier_breaks(const BSplineCurve& curve);
 Result<BezierChain> to_bezier(const BSplineCurve& curve, const Cancel& cancel = Cancel{});
 
 struct BSplineTessellationOptions {
-    double tolerance = 1e-3;             //!< the polyline stays within this distance of the curve
+    double tolerance = 1e-3;               //!< the polyline stays within this distance of the curve
     std::size_t max_segments = 1'000'000;  //!< BudgetExceeded when more would be needed
-    Cancel cancel;                       //!< polled between Bézier pieces
+    Cancel cancel;                         //!< polled between Bézier pieces
 };
 //! A polyline within `tolerance` of the curve: to_bezier, then the Bézier tessellate() of every piece (guaranteed
 //! bound, see bezier_curve.h). params are B-spline parameters u (from u_p to u_n); points at piece boundaries are not

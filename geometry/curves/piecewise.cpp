@@ -225,8 +225,9 @@ Result<EnforceResult> enforce_c1(const BezierChain& chain, const EnforceOptions&
         for (std::size_t i = 0; i < joints; ++i) selected.push_back(i);
     for (std::size_t j : selected)
         if (j >= joints)
-            return make_error(ErrorCode::InvalidArgument, "joint " + std::to_string(j) + " does not exist: the chain has " +
-                                                              std::to_string(joints) + " joints");
+            return make_error(
+                ErrorCode::InvalidArgument,
+                "joint " + std::to_string(j) + " does not exist: the chain has " + std::to_string(joints) + " joints");
     std::sort(selected.begin(), selected.end());
     selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
 
@@ -286,8 +287,10 @@ Result<ChainTessellation> tessellate(const BezierChain& chain, const ChainTessel
         const double base = static_cast<double>(i);
         // join: skip the piece's first point when it repeats the previous end bit-exactly (else: a bridge)
         std::size_t first = 0;
-        if (!out.points.empty() && out.points.back() == t.points.front()) first = 1;
-        else if (!out.points.empty()) ++used;  // the bridging segment
+        if (!out.points.empty() && out.points.back() == t.points.front())
+            first = 1;
+        else if (!out.points.empty())
+            ++used;  // the bridging segment
         out.piece_start.push_back(first == 1 ? out.points.size() - 1 : out.points.size());
         for (std::size_t k = first; k < t.points.size(); ++k) {
             out.points.push_back(t.points[k]);
@@ -295,17 +298,17 @@ Result<ChainTessellation> tessellate(const BezierChain& chain, const ChainTessel
         }
         used += t.segments;
         if (used > options.max_segments)
-            return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(options.tolerance) +
-                                                             " needs more than " + std::to_string(options.max_segments) +
-                                                             " segments for the chain");
+            return make_error(ErrorCode::BudgetExceeded,
+                              "tolerance " + std::to_string(options.tolerance) + " needs more than " +
+                                  std::to_string(options.max_segments) + " segments for the chain");
         out.max_deviation = std::max(out.max_deviation, t.max_deviation);
         out.bound = std::max(out.bound, t.bound);
     }
     if (chain.closed && out.points.back() != out.points.front()) {
         if (used + 1 > options.max_segments)
-            return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(options.tolerance) +
-                                                             " needs more than " + std::to_string(options.max_segments) +
-                                                             " segments for the chain");
+            return make_error(ErrorCode::BudgetExceeded,
+                              "tolerance " + std::to_string(options.tolerance) + " needs more than " +
+                                  std::to_string(options.max_segments) + " segments for the chain");
         // the closing joint has a gap: bridge it so that the polyline is closed
         out.points.push_back(out.points.front());
         out.params.push_back(static_cast<double>(chain.pieces.size()));

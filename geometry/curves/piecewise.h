@@ -82,7 +82,7 @@ struct JointContinuity {
 
 struct ContinuityReport {
     std::vector<JointContinuity> joints;  //!< pieces - 1 interior joints in order, then the closing joint if closed
-    Continuity weakest = Continuity::C1;   //!< the lowest class over all joints (C1 when there is no joint)
+    Continuity weakest = Continuity::C1;  //!< the lowest class over all joints (C1 when there is no joint)
     double max_gap = 0;
     double max_derivative_mismatch = 0;
     double max_angle = 0;
@@ -143,9 +143,9 @@ Result<EnforceResult> enforce_c1(const BezierChain& chain, const EnforceOptions&
 // ---- tessellation ----------------------------------------------------------------------------------------------
 
 struct ChainTessellationOptions {
-    double tolerance = 1e-3;             //!< max distance of the curve from the polyline (absolute)
+    double tolerance = 1e-3;               //!< max distance of the curve from the polyline (absolute)
     std::size_t max_segments = 1'000'000;  //!< for the whole chain
-    Cancel cancel;                       //!< polled between pieces
+    Cancel cancel;                         //!< polled between pieces
 };
 
 struct ChainTessellation {
@@ -156,8 +156,8 @@ struct ChainTessellation {
     std::vector<double> params;            //!< the global parameter s = piece + t of each point
     std::vector<std::size_t> piece_start;  //!< index into points where each piece begins
     std::size_t segments = 0;              //!< points.size() - 1
-    double max_deviation = 0;  //!< measured: max over pieces of tessellate()'s sampled deviation
-    double bound = 0;          //!< guaranteed: max over pieces of tessellate()'s bound (<= tolerance)
+    double max_deviation = 0;              //!< measured: max over pieces of tessellate()'s sampled deviation
+    double bound = 0;                      //!< guaranteed: max over pieces of tessellate()'s bound (<= tolerance)
 };
 
 //! tessellate(BezierCurve) on every piece with the chain's remaining segment budget, merged into one polyline.

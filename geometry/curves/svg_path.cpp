@@ -22,12 +22,26 @@ bool starts_number(char c) { return is_digit(c) || c == '+' || c == '-' || c == 
 //! Number of coordinates each command takes per repetition.
 int arity(char command) {
     switch (command) {
-        case 'M': case 'm': case 'L': case 'l': case 'T': case 't': return 2;
-        case 'H': case 'h': case 'V': case 'v': return 1;
-        case 'C': case 'c': return 6;
-        case 'S': case 's': case 'Q': case 'q': return 4;
-        case 'A': case 'a': return 7;
-        case 'Z': case 'z': return 0;
+        case 'M':
+        case 'm':
+        case 'L':
+        case 'l':
+        case 'T':
+        case 't': return 2;
+        case 'H':
+        case 'h':
+        case 'V':
+        case 'v': return 1;
+        case 'C':
+        case 'c': return 6;
+        case 'S':
+        case 's':
+        case 'Q':
+        case 'q': return 4;
+        case 'A':
+        case 'a': return 7;
+        case 'Z':
+        case 'z': return 0;
         default: return -1;
     }
 }
@@ -263,14 +277,20 @@ private:
         const auto point = [&](int i) { return Vec3{origin.x + v[i], origin.y + v[i + 1], 0.0}; };
         Previous next = Previous::Other;
         switch (command) {
-            case 'M': case 'm': {
+            case 'M':
+            case 'm': {
                 const Vec3 p = point(0);
                 if (auto e = check_finite(at, {p})) return e;
                 finish_chain();
                 start_ = current_ = p;
                 break;
             }
-            case 'L': case 'l': case 'H': case 'h': case 'V': case 'v': {
+            case 'L':
+            case 'l':
+            case 'H':
+            case 'h':
+            case 'V':
+            case 'v': {
                 Vec3 p = current_;
                 if (command == 'L' || command == 'l') p = point(0);
                 if (command == 'H') p.x = v[0];
@@ -283,7 +303,10 @@ private:
                 current_ = p;
                 break;
             }
-            case 'C': case 'c': case 'S': case 's': {
+            case 'C':
+            case 'c':
+            case 'S':
+            case 's': {
                 Vec3 c1, c2, p;
                 if (command == 'C' || command == 'c') {
                     c1 = point(0), c2 = point(2), p = point(4);
@@ -301,7 +324,10 @@ private:
                 next = Previous::Cubic;
                 break;
             }
-            case 'Q': case 'q': case 'T': case 't': {
+            case 'Q':
+            case 'q':
+            case 'T':
+            case 't': {
                 Vec3 c1, p;
                 if (command == 'Q' || command == 'q') {
                     c1 = point(0), p = point(2);
@@ -319,7 +345,8 @@ private:
                 next = Previous::Quadratic;
                 break;
             }
-            case 'A': case 'a': {
+            case 'A':
+            case 'a': {
                 const Vec3 p = point(5);
                 if (auto e = check_finite(at, {p})) return e;
                 if (auto e = arc(at, v[0], v[1], v[2], large_arc, sweep, p)) return e;

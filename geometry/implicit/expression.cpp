@@ -36,7 +36,8 @@ public:
         root = expr(0);
         if (root >= 0) {
             skip_space();
-            if (pos_ < text_.size()) fail(pos_, "unexpected '" + std::string(1, text_[pos_]) + "' after the expression");
+            if (pos_ < text_.size())
+                fail(pos_, "unexpected '" + std::string(1, text_[pos_]) + "' after the expression");
         }
         if (error_) return error_;
         nodes = std::move(nodes_);
@@ -46,14 +47,14 @@ public:
 private:
     int fail(std::size_t at, const std::string& what, ErrorCode code = ErrorCode::ParseError) {
         if (!error_)
-            error_ = make_error(code, "at character " + std::to_string(at) + ": " + what, -1,
-                                static_cast<std::int64_t>(at));
+            error_ =
+                make_error(code, "at character " + std::to_string(at) + ": " + what, -1, static_cast<std::int64_t>(at));
         return -1;
     }
 
     void skip_space() {
-        while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\n' ||
-                                       text_[pos_] == '\r'))
+        while (pos_ < text_.size() &&
+               (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\n' || text_[pos_] == '\r'))
             ++pos_;
     }
 

@@ -75,8 +75,8 @@ public:
                 const double u = q[a] + 1.0;
                 local[a] = u - cell * std::floor(u / cell) - 0.5 * cell;
             }
-            const double bars = std::min({square(local.y, local.z, w), square(local.z, local.x, w),
-                                          square(local.x, local.y, w)});
+            const double bars =
+                std::min({square(local.y, local.z, w), square(local.z, local.x, w), square(local.x, local.y, w)});
             v = std::max(v, -bars);
             cell /= 3.0;
         }

@@ -72,8 +72,9 @@ private:
         for (int dz = 0; dz < 2; ++dz)
             for (int dy = 0; dy < 2; ++dy)
                 for (int dx = 0; dx < 2; ++dx)
-                    c[dz][dy][dx] = sample(cell[0] + static_cast<std::size_t>(dx), cell[1] + static_cast<std::size_t>(dy),
-                                           cell[2] + static_cast<std::size_t>(dz));
+                    c[dz][dy][dx] =
+                        sample(cell[0] + static_cast<std::size_t>(dx), cell[1] + static_cast<std::size_t>(dy),
+                               cell[2] + static_cast<std::size_t>(dz));
         const double tx = t[0], ty = t[1], tz = t[2];
         auto lerp = [](double a, double b, double s) { return a + (b - a) * s; };
         // along x, then y, then z
@@ -109,11 +110,10 @@ Result<FieldPtr> level_set(LevelSetGrid grid) {
         count *= n;
     }
     if (grid.values.size() != count)
-        return make_error(ErrorCode::InvalidArgument, "a level-set grid of " + std::to_string(grid.dims[0]) + "x" +
-                                                          std::to_string(grid.dims[1]) + "x" +
-                                                          std::to_string(grid.dims[2]) + " needs " +
-                                                          std::to_string(count) + " values, got " +
-                                                          std::to_string(grid.values.size()));
+        return make_error(ErrorCode::InvalidArgument,
+                          "a level-set grid of " + std::to_string(grid.dims[0]) + "x" + std::to_string(grid.dims[1]) +
+                              "x" + std::to_string(grid.dims[2]) + " needs " + std::to_string(count) + " values, got " +
+                              std::to_string(grid.values.size()));
     for (std::size_t i = 0; i < grid.values.size(); ++i)
         if (!std::isfinite(grid.values[i]))
             return element_error(ErrorCode::NonFinite, "level-set value " + std::to_string(i) + " is not finite",

@@ -78,7 +78,9 @@ private:
 // offset o_b on axis b = (a+1)%3 and o_c on axis c = (a+2)%3 is 4a + o_b + 2 o_c.
 
 int bit(int corner, int axis) { return (corner >> axis) & 1; }
-int local_edge(int axis, int corner) { return 4 * axis + bit(corner, (axis + 1) % 3) + 2 * bit(corner, (axis + 2) % 3); }
+int local_edge(int axis, int corner) {
+    return 4 * axis + bit(corner, (axis + 1) % 3) + 2 * bit(corner, (axis + 2) % 3);
+}
 int edge_start_corner(int e) {
     const int a = e / 4, ob = e & 1, oc = (e >> 1) & 1;
     return (ob << ((a + 1) % 3)) | (oc << ((a + 2) % 3));
@@ -135,7 +137,9 @@ class Mesher {
 public:
     Mesher(const Field& field, const Box3& bounds, const MeshFieldGrid& grid, const MeshFieldOptions& options)
         : g_(field, bounds), bounds_(bounds), options_(options) {
-        n_[0] = grid.nx; n_[1] = grid.ny; n_[2] = grid.nz;
+        n_[0] = grid.nx;
+        n_[1] = grid.ny;
+        n_[2] = grid.nz;
         d_ = grid.spacing;
         stride_[0] = 1;
         stride_[1] = static_cast<std::uint64_t>(n_[0]) + 1;
@@ -263,11 +267,13 @@ private:
             if (t1 - t0 < 1e-9) break;
             const double v = g_.value(p0 + (p1 - p0) * t);
             if ((v < 0) == inside0) {
-                t0 = t; v0 = v;
+                t0 = t;
+                v0 = v;
                 if (side == -1) v1 *= 0.5;
                 side = -1;
             } else {
-                t1 = t; v1 = v;
+                t1 = t;
+                v1 = v;
                 if (side == 1) v0 *= 0.5;
                 side = 1;
             }
@@ -430,7 +436,8 @@ private:
                             Vec3 candidate = p[q] + (foot - p[q]) * t, normal;
                             if (!project_to_surface(candidate, normal, 3)) return false;
                             const double l = norm(normal);
-                            if (!(l > 0) || dot(normal, sheet[q]) <= 0.9 * l || norm(candidate - x) >= reach) return false;
+                            if (!(l > 0) || dot(normal, sheet[q]) <= 0.9 * l || norm(candidate - x) >= reach)
+                                return false;
                             best_p = candidate;
                             best_n = normal * (1.0 / l);
                             return true;
@@ -479,7 +486,8 @@ private:
             if (cell[a] != other[a]) face_axis = a;
         const int side = other[face_axis] > cell[face_axis] ? 1 : 0;
         float v[8];
-        for (int c = 0; c < 8; ++c) v[c] = values_[node_id(cell[0] + bit(c, 0), cell[1] + bit(c, 1), cell[2] + bit(c, 2))];
+        for (int c = 0; c < 8; ++c)
+            v[c] = values_[node_id(cell[0] + bit(c, 0), cell[1] + bit(c, 1), cell[2] + bit(c, 2))];
         int corner = 0;
         for (int a = 0; a < 3; ++a) corner |= (node[a] - cell[a]) << a;
         const int e = local_edge(axis, corner);
@@ -571,8 +579,7 @@ private:
             const Index* v = polygon.vertices.data();
             if (polygon.inserted >= 0) {  // fan from the inserted vertex
                 const int n = polygon.size, m = polygon.inserted;
-                for (int s = 1; s + 1 < n; ++s)
-                    mesh.add_face({v[m], v[(m + s) % n], v[(m + s + 1) % n]});
+                for (int s = 1; s + 1 < n; ++s) mesh.add_face({v[m], v[(m + s) % n], v[(m + s + 1) % n]});
                 continue;
             }
             const Vec3 &p0 = positions_[v[0]], &p1 = positions_[v[1]], &p2 = positions_[v[2]], &p3 = positions_[v[3]];
@@ -673,9 +680,9 @@ Result<MeshFieldGrid> mesh_field_grid(const Box3& bounds, const MeshFieldOptions
     }
     if (!(total <= static_cast<double>(options.max_cells)) || counts[0] > kMaxResolution ||
         counts[1] > kMaxResolution || counts[2] > kMaxResolution)
-        return make_error(ErrorCode::BudgetExceeded,
-                          "the grid would have " + std::to_string(static_cast<unsigned long long>(total)) +
-                              " cells; the limit is " + std::to_string(options.max_cells));
+        return make_error(ErrorCode::BudgetExceeded, "the grid would have " +
+                                                         std::to_string(static_cast<unsigned long long>(total)) +
+                                                         " cells; the limit is " + std::to_string(options.max_cells));
     MeshFieldGrid grid;
     grid.nx = static_cast<int>(counts[0]);
     grid.ny = static_cast<int>(counts[1]);
@@ -727,7 +734,6 @@ Result<PolygonMesh> mesh_field(const Field& field, const Box3& bounds, const Mes
     return mesh;
 }
 
-
 PolygonMesh split_normals_at_creases(const PolygonMesh& mesh, double crease_angle_degrees) {
     const std::size_t faces = mesh.face_count();
     // corners of triangle f are 3f..3f+2; union-find over corners: one output vertex per class
@@ -748,13 +754,15 @@ PolygonMesh split_normals_at_creases(const PolygonMesh& mesh, double crease_angl
         const auto face = mesh.face(f);
         if (face.size() != 3) continue;
         triangle[f] = 1;
-        const Vec3 n = cross(mesh.positions[face[1]] - mesh.positions[face[0]],
-                             mesh.positions[face[2]] - mesh.positions[face[0]]);
+        const Vec3 n =
+            cross(mesh.positions[face[1]] - mesh.positions[face[0]], mesh.positions[face[2]] - mesh.positions[face[0]]);
         const double l = norm(n);
         face_normal[f] = l > 0 ? n * (1.0 / l) : Vec3{};
     }
     const double cos_limit = crease_angle_degrees >= 180 ? -2.0 : std::cos(crease_angle_degrees * kPiOver180);
-    auto edge_key = [](Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); };
+    auto edge_key = [](Index a, Index b) {
+        return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+    };
     std::unordered_map<std::uint64_t, int> uses;  // faces per undirected edge; only edges used twice are joined
     uses.reserve(3 * faces);
     for (std::size_t f = 0; f < faces; ++f) {
@@ -776,7 +784,8 @@ PolygonMesh split_normals_at_creases(const PolygonMesh& mesh, double crease_angl
             const Index a = face[k], b = face[(k + 1) % 3];
             const std::uint64_t key = edge_key(a, b);
             if (uses.at(key) != 2) continue;
-            const std::uint32_t ca = static_cast<std::uint32_t>(3 * f + k), cb = static_cast<std::uint32_t>(3 * f + (k + 1) % 3);
+            const std::uint32_t ca = static_cast<std::uint32_t>(3 * f + k),
+                                cb = static_cast<std::uint32_t>(3 * f + (k + 1) % 3);
             const Use use{a < b ? ca : cb, a < b ? cb : ca, f};
             auto [it, inserted] = first.try_emplace(key, use);
             if (inserted) continue;

@@ -88,8 +88,8 @@ struct MeshFieldOptions {
 //! The grid mesh_field would use.
 struct MeshFieldGrid {
     int nx = 0, ny = 0, nz = 0;
-    Vec3 spacing;              //!< cell size along each axis
-    std::uint64_t cells = 0;   //!< nx * ny * nz
+    Vec3 spacing;             //!< cell size along each axis
+    std::uint64_t cells = 0;  //!< nx * ny * nz
 };
 
 //! What one meshing run did (for headers and the benchmark).
@@ -99,8 +99,8 @@ struct MeshFieldStats {
     std::uint64_t surface_cells = 0;      //!< cells with a sign change
     std::uint64_t vertices_before_simplify = 0;
     std::uint64_t triangles_before_simplify = 0;
-    std::uint64_t non_manifold_fixes = 0; //!< ambiguous faces given inserted vertices (step 3 above)
-    std::uint64_t degenerate_fixes = 0;   //!< triangles repaired in step 4
+    std::uint64_t non_manifold_fixes = 0;  //!< ambiguous faces given inserted vertices (step 3 above)
+    std::uint64_t degenerate_fixes = 0;    //!< triangles repaired in step 4
 };
 
 //! The grid for these bounds and options, without evaluating anything: InvalidArgument (bounds empty or not

@@ -199,7 +199,8 @@ private:
 FieldPtr fold(BinaryOp op, std::vector<FieldPtr> args, double k) {
     assert(!args.empty());
     FieldPtr out = std::move(args.front());
-    for (std::size_t i = 1; i < args.size(); ++i) out = std::make_shared<Binary>(op, std::move(out), std::move(args[i]), k);
+    for (std::size_t i = 1; i < args.size(); ++i)
+        out = std::make_shared<Binary>(op, std::move(out), std::move(args[i]), k);
     return out;
 }
 

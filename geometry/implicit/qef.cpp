@@ -13,8 +13,12 @@ void Qef::add(const Vec3& point, const Vec3& normal) {
     if (!(len > 0) || !std::isfinite(len)) return;
     const Vec3 n = normal * (1.0 / len);
     const double b = dot(n, point);
-    a00_ += n.x * n.x; a01_ += n.x * n.y; a02_ += n.x * n.z;
-    a11_ += n.y * n.y; a12_ += n.y * n.z; a22_ += n.z * n.z;
+    a00_ += n.x * n.x;
+    a01_ += n.x * n.y;
+    a02_ += n.x * n.z;
+    a11_ += n.y * n.y;
+    a12_ += n.y * n.z;
+    a22_ += n.z * n.z;
     atb_ += n * b;
     btb_ += b * b;
     ++planes_;

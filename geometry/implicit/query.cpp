@@ -56,8 +56,8 @@ bool trace(const Field& field, const Vec3& o, const Vec3& d, const RayOptions& o
     }
 
     // General field: fixed steps, sign change, bisection.
-    const double h = options.general_step > 0 ? options.general_step
-                                              : options.max_distance / static_cast<double>(options.max_steps);
+    const double h =
+        options.general_step > 0 ? options.general_step : options.max_distance / static_cast<double>(options.max_steps);
     double t0 = 0, v0 = field.value(o);
     ++steps;
     if (std::isfinite(v0) && std::abs(v0) <= options.hit_tolerance) {

@@ -65,7 +65,7 @@ struct RayOptions {
 
 struct RayHit {
     bool hit = false;
-    double t = 0;   //!< along the normalised direction
+    double t = 0;  //!< along the normalised direction
     Vec3 point;
     Vec3 normal;    //!< unit gradient at the hit (outward); zero if the gradient vanishes there
     int steps = 0;  //!< field evaluations used

@@ -49,7 +49,8 @@ HeaderStatus parse_header(std::string_view token, PatchType& type) {
     type.degree_u = token[0] - '0';
     type.degree_v = token[1] - '0';
     type.dimension = token[2] - '0';
-    if (type.degree_u < 1 || type.degree_u > 6 || type.degree_v < 1 || type.degree_v > 6) return HeaderStatus::BadDegree;
+    if (type.degree_u < 1 || type.degree_u > 6 || type.degree_v < 1 || type.degree_v > 6)
+        return HeaderStatus::BadDegree;
     if (type.dimension != 3 && type.dimension != 4) return HeaderStatus::BadDimension;
     return HeaderStatus::Ok;
 }
@@ -89,8 +90,9 @@ private:
         switch (parse_header(token, type)) {
             case HeaderStatus::Ok: break;
             case HeaderStatus::NotHeader:
-                return error_at_line(ErrorCode::ParseError, line,
-                                     "expected a BEZ header ([ST]BBP or [C]BEZ<Nu><Nv><Nd>[_ST]), found " + quote(token));
+                return error_at_line(
+                    ErrorCode::ParseError, line,
+                    "expected a BEZ header ([ST]BBP or [C]BEZ<Nu><Nv><Nd>[_ST]), found " + quote(token));
             case HeaderStatus::BadDegree:
                 return error_at_line(ErrorCode::ParseError, line, "header " + quote(token) + ": degrees must be 1..6");
             case HeaderStatus::BadDimension:
@@ -106,14 +108,14 @@ private:
         if (first) {
             token = *first;
         } else if (!tokens.next(token)) {
-            return error_at_line(ErrorCode::ParseError, tokens.line(),
-                                 "unexpected end of file in patch " + std::to_string(set_.patches.size()) + ": no " +
-                                     what);
+            return error_at_line(
+                ErrorCode::ParseError, tokens.line(),
+                "unexpected end of file in patch " + std::to_string(set_.patches.size()) + ": no " + what);
         }
         if (io_detail::parse_double(token, out) != NumberStatus::Ok)
-            return error_at_line(ErrorCode::ParseError, tokens.line(),
-                                 "patch " + std::to_string(set_.patches.size()) + ": " + what + " " + quote(token) +
-                                     " is not a number");
+            return error_at_line(
+                ErrorCode::ParseError, tokens.line(),
+                "patch " + std::to_string(set_.patches.size()) + ": " + what + " " + quote(token) + " is not a number");
         if (!std::isfinite(out))
             return error_at_line(ErrorCode::NonFinite, tokens.line(),
                                  "patch " + std::to_string(set_.patches.size()) + ": " + what + " is not finite");

@@ -69,18 +69,19 @@ Result<Encoded> encode_unchecked(const MeshData& data, const EncodeOptions& opti
 Result<std::vector<float>> extract(const draco::Mesh& mesh, int unique_id, int components, const char* name) {
     const draco::PointAttribute* attribute = mesh.GetAttributeByUniqueId(static_cast<std::uint32_t>(unique_id));
     if (attribute == nullptr)
-        return make_error(ErrorCode::ParseError,
-                          std::string("Draco data has no attribute with id ") + std::to_string(unique_id) + " (" + name + ")");
+        return make_error(ErrorCode::ParseError, std::string("Draco data has no attribute with id ") +
+                                                     std::to_string(unique_id) + " (" + name + ")");
     if (attribute->num_components() != components)
         return make_error(ErrorCode::ParseError, std::string("Draco attribute ") + name + " has " +
-                                                     std::to_string(attribute->num_components()) + " components, expected " +
-                                                     std::to_string(components));
+                                                     std::to_string(attribute->num_components()) +
+                                                     " components, expected " + std::to_string(components));
     const std::size_t points = mesh.num_points();
     if (!attribute->is_mapping_identity() && attribute->indices_map_size() < points)
         return make_error(ErrorCode::ParseError, std::string("Draco attribute ") + name + " does not map every point");
     std::vector<float> values(points * static_cast<std::size_t>(components));
     for (std::size_t p = 0; p < points; ++p) {
-        const draco::AttributeValueIndex avi = attribute->mapped_index(draco::PointIndex(static_cast<std::uint32_t>(p)));
+        const draco::AttributeValueIndex avi =
+            attribute->mapped_index(draco::PointIndex(static_cast<std::uint32_t>(p)));
         if (avi.value() >= attribute->size() ||
             !attribute->ConvertValue<float>(avi, static_cast<std::int8_t>(components),
                                             values.data() + p * static_cast<std::size_t>(components)))
@@ -105,7 +106,8 @@ Result<MeshData> decode_unchecked(std::span<const std::uint8_t> bytes, const Att
     const std::size_t faces = mesh->num_faces();
     if (points > limits.max_points)
         return make_error(ErrorCode::BudgetExceeded, "Draco mesh has " + std::to_string(points) +
-                                                         " vertices, more than the limit of " + std::to_string(limits.max_points));
+                                                         " vertices, more than the limit of " +
+                                                         std::to_string(limits.max_points));
     if (faces > limits.max_triangles)
         return make_error(ErrorCode::BudgetExceeded, "Draco mesh has " + std::to_string(faces) +
                                                          " triangles, more than the limit of " +

@@ -14,9 +14,9 @@ namespace surfaced::draco_codec {
 
 //! Per-point attributes plus a triangle list. normals / texcoords are empty when absent.
 struct MeshData {
-    std::vector<float> positions;  //!< 3 per point
-    std::vector<float> normals;    //!< 3 per point, or empty
-    std::vector<float> texcoords;  //!< 2 per point, or empty
+    std::vector<float> positions;        //!< 3 per point
+    std::vector<float> normals;          //!< 3 per point, or empty
+    std::vector<float> texcoords;        //!< 2 per point, or empty
     std::vector<std::uint32_t> indices;  //!< 3 per triangle, each < point count
 
     std::size_t point_count() const { return positions.size() / 3; }

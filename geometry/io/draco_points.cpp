@@ -31,8 +31,8 @@ int add_attribute(draco::PointCloud& cloud, draco::GeometryAttribute::Type type,
 Result<Encoded> encode_unchecked(const PointData& data, const draco_codec::EncodeOptions& options) {
     draco::PointCloud cloud;
     cloud.set_num_points(static_cast<std::uint32_t>(data.point_count()));
-    const int position = add_attribute(cloud, draco::GeometryAttribute::POSITION, draco::DT_FLOAT32, false, 3,
-                                       data.positions);
+    const int position =
+        add_attribute(cloud, draco::GeometryAttribute::POSITION, draco::DT_FLOAT32, false, 3, data.positions);
     const int normal = data.normals.empty() ? -1
                                             : add_attribute(cloud, draco::GeometryAttribute::NORMAL, draco::DT_FLOAT32,
                                                             false, 3, data.normals);
@@ -71,7 +71,8 @@ Result<std::vector<T>> extract(const draco::PointCloud& cloud, int unique_id, in
         return make_error(ErrorCode::ParseError, std::string("Draco attribute ") + name + " does not map every point");
     std::vector<T> values(points * static_cast<std::size_t>(components));
     for (std::size_t p = 0; p < points; ++p) {
-        const draco::AttributeValueIndex avi = attribute->mapped_index(draco::PointIndex(static_cast<std::uint32_t>(p)));
+        const draco::AttributeValueIndex avi =
+            attribute->mapped_index(draco::PointIndex(static_cast<std::uint32_t>(p)));
         if (avi.value() >= attribute->size() ||
             !attribute->ConvertValue<T>(avi, static_cast<std::int8_t>(components),
                                         values.data() + p * static_cast<std::size_t>(components)))
@@ -93,7 +94,8 @@ Result<PointData> decode_unchecked(std::span<const std::uint8_t> bytes, const At
     if (!cloud) return make_error(ErrorCode::ParseError, "Draco data holds no point cloud");
     if (cloud->num_points() > max_points)
         return make_error(ErrorCode::BudgetExceeded, "Draco point cloud has " + std::to_string(cloud->num_points()) +
-                                                         " points, more than the limit of " + std::to_string(max_points));
+                                                         " points, more than the limit of " +
+                                                         std::to_string(max_points));
     if (ids.position < 0) return make_error(ErrorCode::ParseError, "no POSITION attribute");
     PointData out;
     auto positions = extract<float>(*cloud, ids.position, 3, "POSITION");
@@ -108,8 +110,8 @@ Result<PointData> decode_unchecked(std::span<const std::uint8_t> bytes, const At
         const draco::PointAttribute* attribute = cloud->GetAttributeByUniqueId(static_cast<std::uint32_t>(ids.color));
         out.color_components = attribute ? attribute->num_components() : 3;
         if (out.color_components != 3 && out.color_components != 4)
-            return make_error(ErrorCode::ParseError, "Draco COLOR attribute has " +
-                                                         std::to_string(out.color_components) + " components");
+            return make_error(ErrorCode::ParseError,
+                              "Draco COLOR attribute has " + std::to_string(out.color_components) + " components");
         auto colors = extract<std::uint8_t>(*cloud, ids.color, out.color_components, "COLOR_0");
         if (!colors) return colors.error();
         out.colors = std::move(*colors);

@@ -14,10 +14,10 @@
 namespace surfaced::draco_points {
 
 struct PointData {
-    std::vector<float> positions;        //!< 3 per point
-    std::vector<float> normals;          //!< 3 per point, or empty
-    std::vector<std::uint8_t> colors;    //!< color_components per point, or empty
-    int color_components = 3;            //!< 3 (RGB) or 4 (RGBA)
+    std::vector<float> positions;      //!< 3 per point
+    std::vector<float> normals;        //!< 3 per point, or empty
+    std::vector<std::uint8_t> colors;  //!< color_components per point, or empty
+    int color_components = 3;          //!< 3 (RGB) or 4 (RGBA)
 
     std::size_t point_count() const { return positions.size() / 3; }
 };

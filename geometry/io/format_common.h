@@ -35,10 +35,9 @@ inline std::optional<Index> repeated_vertex(std::span<const Index> face, std::ve
 //! "0.1" and round trips stay exact), otherwise %.{precision}g.
 inline void append_double(std::string& out, double value, int precision) {
     char buffer[64];
-    std::to_chars_result r = precision >= 17
-                                 ? std::to_chars(buffer, buffer + sizeof(buffer), value)
-                                 : std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general,
-                                                 std::max(precision, 1));
+    std::to_chars_result r = precision >= 17 ? std::to_chars(buffer, buffer + sizeof(buffer), value)
+                                             : std::to_chars(buffer, buffer + sizeof(buffer), value,
+                                                             std::chars_format::general, std::max(precision, 1));
     out.append(buffer, r.ptr);
 }
 

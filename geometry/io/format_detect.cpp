@@ -26,7 +26,8 @@ std::string_view trim(std::string_view s) {
 bool binary_stl_size_matches(std::string_view bytes) {
     if (bytes.size() < 84) return false;
     std::uint64_t count = 0;
-    for (int i = 83; i >= 80; --i) count = (count << 8) | static_cast<unsigned char>(bytes[static_cast<std::size_t>(i)]);
+    for (int i = 83; i >= 80; --i)
+        count = (count << 8) | static_cast<unsigned char>(bytes[static_cast<std::size_t>(i)]);
     return 84 + count * 50 == bytes.size();
 }
 
@@ -64,8 +65,9 @@ std::optional<MeshFormat> format_from_media_type(std::string_view media_type) {
     if (type == "application/ply" || type == "model/ply" || type == "model/x-ply" || type == "application/x-ply" ||
         type == "text/x-ply")
         return MeshFormat::Ply;
-    if (type == "model/stl" || type == "model/x.stl-ascii" || type == "model/x.stl-binary" || type == "application/sla" ||
-        type == "application/vnd.ms-pki.stl" || type == "application/x-stl" || type == "model/x-stl")
+    if (type == "model/stl" || type == "model/x.stl-ascii" || type == "model/x.stl-binary" ||
+        type == "application/sla" || type == "application/vnd.ms-pki.stl" || type == "application/x-stl" ||
+        type == "model/x-stl")
         return MeshFormat::Stl;
     if (type == "model/gltf-binary") return MeshFormat::Glb;
     return std::nullopt;

@@ -15,10 +15,10 @@ struct GltfOptions {
     int quantize_position = 14;  //!< Draco quantization bits, 1..24 (normals 2..22): time and memory double per bit
     int quantize_normal = 10;
     int quantize_texcoord = 12;
-    int encode_speed = 5;        //!< Draco speed 0 (best compression) .. 10 (fastest)
+    int encode_speed = 5;  //!< Draco speed 0 (best compression) .. 10 (fastest)
     int decode_speed = 5;
-    bool normals = false;        //!< write NORMAL: the mesh's normals, or area-weighted vertex normals if it has none
-    bool texcoords = true;       //!< write TEXCOORD_0 when the mesh has uvs (vertices split at uv seams)
+    bool normals = false;   //!< write NORMAL: the mesh's normals, or area-weighted vertex normals if it has none
+    bool texcoords = true;  //!< write TEXCOORD_0 when the mesh has uvs (vertices split at uv seams)
 };
 
 //! Writes one mesh as one glTF node/primitive (TRIANGLES; polygons fan-triangulated). Output passes the Khronos

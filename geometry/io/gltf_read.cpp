@@ -28,7 +28,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 constexpr std::int64_t kJsonOffset = 20;          // where the JSON text starts in a GLB
@@ -62,17 +62,21 @@ Result<Chunks> split_container(std::string_view bytes) {
         return parse_error("not a GLB: " + std::to_string(bytes.size()) + " bytes, the header alone needs 12", 0);
     if (read_u32(bytes, 0) != kGlbMagic) return parse_error("not a GLB: bad magic (expected \"glTF\")", 0);
     if (const std::uint32_t version = read_u32(bytes, 4); version != 2)
-        return make_error(ErrorCode::Unsupported, "GLB version " + std::to_string(version) + " (only 2 is supported)", -1, 4);
+        return make_error(ErrorCode::Unsupported, "GLB version " + std::to_string(version) + " (only 2 is supported)",
+                          -1, 4);
     const std::size_t length = read_u32(bytes, 8);
     if (length > bytes.size())
         return parse_error("truncated GLB: header declares " + std::to_string(length) + " bytes but only " +
-                               std::to_string(bytes.size()) + " are present", 8);
-    if (length < 20) return parse_error("GLB length " + std::to_string(length) + " leaves no room for the JSON chunk", 8);
+                               std::to_string(bytes.size()) + " are present",
+                           8);
+    if (length < 20)
+        return parse_error("GLB length " + std::to_string(length) + " leaves no room for the JSON chunk", 8);
     const std::size_t json_length = read_u32(bytes, 12);
     if (read_u32(bytes, 16) != kChunkJson) return parse_error("first GLB chunk is not JSON", 16);
     if (json_length == 0 || json_length > length - 20)
         return parse_error("JSON chunk length " + std::to_string(json_length) + " exceeds the GLB (" +
-                               std::to_string(length - 20) + " bytes available)", 12);
+                               std::to_string(length - 20) + " bytes available)",
+                           12);
     Chunks chunks;
     chunks.json = bytes.substr(20, json_length);
     // Chunks start on 4-byte boundaries; the JSON chunk's padding is part of its length.
@@ -206,7 +210,8 @@ Result<const json*> array_of_objects(const json& root, const char* key) {
     if (!it->is_array()) return parse_error(std::string("glTF ") + key + " must be an array", kJsonOffset);
     for (std::size_t i = 0; i < it->size(); ++i)
         if (!(*it)[i].is_object())
-            return parse_error("glTF " + std::string(key) + "[" + std::to_string(i) + "] must be an object", kJsonOffset);
+            return parse_error("glTF " + std::string(key) + "[" + std::to_string(i) + "] must be an object",
+                               kJsonOffset);
     return &*it;
 }
 
@@ -216,7 +221,8 @@ Result<std::vector<std::string>> string_list(const json& root, const char* key) 
     if (it == root.end()) return out;
     if (!it->is_array()) return parse_error(std::string("glTF ") + key + " must be an array of strings", kJsonOffset);
     for (const json& s : *it) {
-        if (!s.is_string()) return parse_error(std::string("glTF ") + key + " must be an array of strings", kJsonOffset);
+        if (!s.is_string())
+            return parse_error(std::string("glTF ") + key + " must be an array of strings", kJsonOffset);
         out.push_back(s.get<std::string>());
     }
     return out;
@@ -251,13 +257,16 @@ Status parse_buffers_and_views(const json& root, std::string_view bin, Document&
         if (const json* uri = f.find("uri")) {
             const std::string text = uri->is_string() ? uri->get<std::string>() : std::string("(not a string)");
             if (text.rfind("data:", 0) == 0)
-                return make_error(ErrorCode::Unsupported, "glTF " + f.path() + " is a base64 data URI: only data in "
-                                                              "the GLB's BIN chunk is supported", -1, kJsonOffset);
+                return make_error(ErrorCode::Unsupported,
+                                  "glTF " + f.path() +
+                                      " is a base64 data URI: only data in "
+                                      "the GLB's BIN chunk is supported",
+                                  -1, kJsonOffset);
             // Never opened: a server must not read files named by its input.
-            return make_error(ErrorCode::Unsupported, "glTF " + f.path() + " refers to an external resource \"" +
-                                                          text.substr(0, 200) +
-                                                          "\": only self-contained GLB files (data in the BIN chunk) "
-                                                          "are supported",
+            return make_error(ErrorCode::Unsupported,
+                              "glTF " + f.path() + " refers to an external resource \"" + text.substr(0, 200) +
+                                  "\": only self-contained GLB files (data in the BIN chunk) "
+                                  "are supported",
                               -1, kJsonOffset);
         }
         if (i != 0) return f.error("uri", "is missing: only buffer 0 can live in the GLB's BIN chunk");
@@ -266,7 +275,8 @@ Status parse_buffers_and_views(const json& root, std::string_view bin, Document&
         if (*length > bin.size())
             return f.error("byteLength", "= " + std::to_string(*length) + " exceeds the BIN chunk (" +
                                              std::to_string(bin.size()) + " bytes)");
-        buffer_bytes.emplace_back(reinterpret_cast<const unsigned char*>(bin.data()), static_cast<std::size_t>(*length));
+        buffer_bytes.emplace_back(reinterpret_cast<const unsigned char*>(bin.data()),
+                                  static_cast<std::size_t>(*length));
     }
 
     auto views = array_of_objects(root, "bufferViews");
@@ -368,7 +378,9 @@ Status parse_meshes(const json& root, Document& doc) {
             if (const json* ext = f.find("extensions"); ext && ext->is_object()) {
                 auto d = ext->find(kDracoExtension);
                 if (d != ext->end()) {
-                    if (!d->is_object()) return parse_error("glTF " + path + ".extensions." + kDracoExtension + " must be an object", kJsonOffset);
+                    if (!d->is_object())
+                        return parse_error("glTF " + path + ".extensions." + kDracoExtension + " must be an object",
+                                           kJsonOffset);
                     const Fields df(*d, path + ".extensions." + kDracoExtension);
                     DracoPrimitive draco;
                     auto view = df.index("bufferView", doc.views.size(), true);
@@ -410,10 +422,22 @@ Result<Mat4> local_matrix(const Fields& f) {
         if (len > 0) x /= len, y /= len, z /= len, w /= len;
     }
     const double sx = s->empty() ? 1 : (*s)[0], sy = s->empty() ? 1 : (*s)[1], sz = s->empty() ? 1 : (*s)[2];
-    return Mat4{(1 - 2 * (y * y + z * z)) * sx, 2 * (x * y + z * w) * sx, 2 * (x * z - y * w) * sx, 0,
-                2 * (x * y - z * w) * sy, (1 - 2 * (x * x + z * z)) * sy, 2 * (y * z + x * w) * sy, 0,
-                2 * (x * z + y * w) * sz, 2 * (y * z - x * w) * sz, (1 - 2 * (x * x + y * y)) * sz, 0,
-                tx, ty, tz, 1};
+    return Mat4{(1 - 2 * (y * y + z * z)) * sx,
+                2 * (x * y + z * w) * sx,
+                2 * (x * z - y * w) * sx,
+                0,
+                2 * (x * y - z * w) * sy,
+                (1 - 2 * (x * x + z * z)) * sy,
+                2 * (y * z + x * w) * sy,
+                0,
+                2 * (x * z + y * w) * sz,
+                2 * (y * z - x * w) * sz,
+                (1 - 2 * (x * x + y * y)) * sz,
+                0,
+                tx,
+                ty,
+                tz,
+                1};
 }
 
 Status parse_nodes_and_scenes(const json& root, Document& doc) {
@@ -477,7 +501,8 @@ Result<Document> parse_document(const Chunks& chunks) {
     if (asset == root.end() || !asset->is_object() || !asset->contains("version") || !(*asset)["version"].is_string())
         return parse_error("glTF asset.version is missing", kJsonOffset);
     const std::string version = (*asset)["version"].get<std::string>();
-    if (version.rfind("2.", 0) != 0) return make_error(ErrorCode::Unsupported, "glTF version " + version + " (need 2.x)");
+    if (version.rfind("2.", 0) != 0)
+        return make_error(ErrorCode::Unsupported, "glTF version " + version + " (need 2.x)");
 
     Document doc;
     auto required = string_list(root, "extensionsRequired");
@@ -540,7 +565,8 @@ struct Reader {
     //! The element range is checked against the view without overflow: everything is compared as remaining room.
     Result<std::pair<const unsigned char*, std::size_t>> element_bytes(int index, std::size_t element_size) const {
         const Accessor& a = doc.accessors[static_cast<std::size_t>(index)];
-        if (a.sparse) return make_error(ErrorCode::Unsupported, "glTF accessors[" + std::to_string(index) + "] is sparse");
+        if (a.sparse)
+            return make_error(ErrorCode::Unsupported, "glTF accessors[" + std::to_string(index) + "] is sparse");
         if (a.count == 0) return accessor_error(index, "has count 0");
         if (a.buffer_view < 0) return std::pair<const unsigned char*, std::size_t>{nullptr, element_size};
         const BufferView& view = doc.views[static_cast<std::size_t>(a.buffer_view)];
@@ -563,15 +589,16 @@ struct Reader {
     Result<std::vector<double>> read_floats(int index, int components, const char* semantic) const {
         const Accessor& a = doc.accessors[static_cast<std::size_t>(index)];
         if (a.components != components)
-            return accessor_error(index, std::string("(") + semantic + ") must have " + std::to_string(components) +
-                                             " components");
+            return accessor_error(
+                index, std::string("(") + semantic + ") must have " + std::to_string(components) + " components");
         const int csize = component_size(a.component_type);
         if (csize == 0 || a.component_type == kUnsignedInt)
             return accessor_error(index, std::string("(") + semantic + ") has unsupported componentType " +
                                              std::to_string(a.component_type));
         if (a.component_type != kFloat && !a.normalized && !quantization_allowed)
-            return make_error(ErrorCode::Unsupported, "glTF accessors[" + std::to_string(index) + "] (" + semantic +
-                                                          ") has integer components but KHR_mesh_quantization is not used");
+            return make_error(ErrorCode::Unsupported,
+                              "glTF accessors[" + std::to_string(index) + "] (" + semantic +
+                                  ") has integer components but KHR_mesh_quantization is not used");
         auto raw = element_bytes(index, static_cast<std::size_t>(csize * components));
         if (!raw) return raw.error();
         const auto [base, stride] = *raw;
@@ -579,9 +606,8 @@ struct Reader {
         if (base != nullptr)
             for (std::size_t i = 0; i < a.count; ++i)
                 for (int k = 0; k < components; ++k)
-                    out[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(k)] =
-                        load_component(base + i * stride + static_cast<std::size_t>(k * csize), a.component_type,
-                                       a.normalized);
+                    out[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(k)] = load_component(
+                        base + i * stride + static_cast<std::size_t>(k * csize), a.component_type, a.normalized);
         return out;
     }
 
@@ -607,14 +633,16 @@ Mat4 multiply(const Mat4& a, const Mat4& b) {
     for (int c = 0; c < 4; ++c)
         for (int row = 0; row < 4; ++row) {
             double s = 0;
-            for (int k = 0; k < 4; ++k) s += a[static_cast<std::size_t>(k * 4 + row)] * b[static_cast<std::size_t>(c * 4 + k)];
+            for (int k = 0; k < 4; ++k)
+                s += a[static_cast<std::size_t>(k * 4 + row)] * b[static_cast<std::size_t>(c * 4 + k)];
             r[static_cast<std::size_t>(c * 4 + row)] = s;
         }
     return r;
 }
 
 double determinant3(const Mat4& m) {
-    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
 }
 
 struct MeshInstance {
@@ -645,7 +673,8 @@ Result<std::vector<MeshInstance>> collect_instances(const Document& doc) {
         roots = doc.scenes[doc.scene >= 0 ? static_cast<std::size_t>(doc.scene) : 0];
         for (int r : roots)
             if (parent[static_cast<std::size_t>(r)] != -1)
-                return parse_error("glTF nodes[" + std::to_string(r) + "] is a scene root but also a child", kJsonOffset);
+                return parse_error("glTF nodes[" + std::to_string(r) + "] is a scene root but also a child",
+                                   kJsonOffset);
     } else {
         for (std::size_t i = 0; i < n; ++i)
             if (parent[i] == -1) roots.push_back(static_cast<int>(i));
@@ -658,7 +687,8 @@ Result<std::vector<MeshInstance>> collect_instances(const Document& doc) {
         auto [index, parent_world] = stack.back();
         stack.pop_back();
         const auto i = static_cast<std::size_t>(index);
-        if (visited[i]) return parse_error("glTF nodes[" + std::to_string(i) + "] is reached twice (a cycle?)", kJsonOffset);
+        if (visited[i])
+            return parse_error("glTF nodes[" + std::to_string(i) + "] is reached twice (a cycle?)", kJsonOffset);
         visited[i] = 1;
         const Node& node = doc.nodes[i];
         const Mat4 world = multiply(parent_world, node.local);
@@ -694,7 +724,7 @@ PositionKey key_of(const Vec3& p) {
 struct Builder {
     PolygonMesh mesh;
     std::unordered_map<PositionKey, Index, PositionKeyHash> welded;
-    std::vector<Vec2> uvs;               //!< one per corner, deduplicated at the end
+    std::vector<Vec2> uvs;  //!< one per corner, deduplicated at the end
     bool all_have_uvs = true;
 };
 
@@ -702,9 +732,9 @@ struct Builder {
 Result<std::vector<std::uint32_t>> triangles_of(int mode, std::vector<std::uint32_t> idx, const std::string& where) {
     if (mode == kModeTriangles) {
         if (idx.size() % 3 != 0)
-            return parse_error("glTF " + where + ": TRIANGLES index count " + std::to_string(idx.size()) +
-                                   " is not a multiple of 3",
-                               kJsonOffset);
+            return parse_error(
+                "glTF " + where + ": TRIANGLES index count " + std::to_string(idx.size()) + " is not a multiple of 3",
+                kJsonOffset);
         return idx;
     }
     std::vector<std::uint32_t> out;
@@ -721,9 +751,10 @@ Result<std::vector<std::uint32_t>> triangles_of(int mode, std::vector<std::uint3
     return out;
 }
 
-Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, const Mat4& world,
-                     std::size_t mesh_index, std::size_t prim_index) {
-    const std::string where = "meshes[" + std::to_string(mesh_index) + "].primitives[" + std::to_string(prim_index) + "]";
+Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, const Mat4& world, std::size_t mesh_index,
+                     std::size_t prim_index) {
+    const std::string where =
+        "meshes[" + std::to_string(mesh_index) + "].primitives[" + std::to_string(prim_index) + "]";
     const auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) return parse_error("glTF " + where + " has no POSITION", kJsonOffset);
     const auto uv_it = prim.attributes.find("TEXCOORD_0");
@@ -799,8 +830,8 @@ Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, co
     if (texcoords.empty()) b.all_have_uvs = false;
     for (std::size_t k = 0; k < texcoords.size(); ++k)
         if (!std::isfinite(texcoords[k]))
-            return make_error(ErrorCode::NonFinite, where + ": TEXCOORD_0 of vertex " + std::to_string(k / 2) +
-                                                        " is not finite");
+            return make_error(ErrorCode::NonFinite,
+                              where + ": TEXCOORD_0 of vertex " + std::to_string(k / 2) + " is not finite");
     const std::size_t count = positions.size() / 3;
 
     // transform and weld
@@ -824,9 +855,9 @@ Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, co
         std::array<std::uint32_t, 3> c{indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]};
         for (std::uint32_t v : c)
             if (v >= count)
-                return make_error(ErrorCode::IndexOutOfRange, where + ": triangle " + std::to_string(t) +
-                                                                  " refers to vertex " + std::to_string(v) + " of " +
-                                                                  std::to_string(count),
+                return make_error(ErrorCode::IndexOutOfRange,
+                                  where + ": triangle " + std::to_string(t) + " refers to vertex " + std::to_string(v) +
+                                      " of " + std::to_string(count),
                                   -1, -1, static_cast<std::int64_t>(t));
         if (flip) std::swap(c[1], c[2]);
         const Index a = remap[c[0]], bb = remap[c[1]], cc = remap[c[2]];

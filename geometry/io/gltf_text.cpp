@@ -51,13 +51,15 @@ Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& optio
     // our own GLB: header, JSON chunk, BIN chunk (checked anyway: a mistake here must not read out of bounds)
     if (bytes.size() < 20) return make_error(ErrorCode::Internal, "GLB too short");
     const std::uint32_t json_length = read_u32(bytes, 12);
-    if (20 + std::size_t{json_length} > bytes.size()) return make_error(ErrorCode::Internal, "GLB JSON chunk truncated");
+    if (20 + std::size_t{json_length} > bytes.size())
+        return make_error(ErrorCode::Internal, "GLB JSON chunk truncated");
     nlohmann::json document = nlohmann::json::parse(bytes.substr(20, json_length), nullptr, false);
     if (document.is_discarded()) return make_error(ErrorCode::Internal, "GLB JSON chunk is not JSON");
     const std::size_t bin_header = 20 + std::size_t{json_length};
     if (bin_header + 8 <= bytes.size()) {
         const std::uint32_t bin_length = read_u32(bytes, bin_header);
-        if (bin_header + 8 + bin_length > bytes.size()) return make_error(ErrorCode::Internal, "GLB BIN chunk truncated");
+        if (bin_header + 8 + bin_length > bytes.size())
+            return make_error(ErrorCode::Internal, "GLB BIN chunk truncated");
         if (!document.contains("buffers") || document["buffers"].empty())
             return make_error(ErrorCode::Internal, "GLB has a BIN chunk but no buffer");
         auto& buffer = document["buffers"][0];

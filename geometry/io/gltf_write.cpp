@@ -175,7 +175,8 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
     limits.max_triangles = std::numeric_limits<std::uint32_t>::max() / 3;
     auto decoded = draco_codec::decode({payload, encoded->bytes.size()}, encoded->ids, limits);
     if (!decoded)
-        return make_error(ErrorCode::Internal, "Draco round trip of the written mesh failed: " + decoded.error().message);
+        return make_error(ErrorCode::Internal,
+                          "Draco round trip of the written mesh failed: " + decoded.error().message);
     const std::size_t points = decoded->point_count();
 
     const int view = add_buffer_view(model, encoded->bytes.data(), encoded->bytes.size(), 0);
@@ -186,7 +187,8 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
         add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points, lo, hi);
     attribute_ids["POSITION"] = tinygltf::Value(encoded->ids.position);
     if (encoded->ids.normal >= 0) {
-        primitive.attributes["NORMAL"] = add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
+        primitive.attributes["NORMAL"] =
+            add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
         attribute_ids["NORMAL"] = tinygltf::Value(encoded->ids.normal);
     }
     if (encoded->ids.texcoord >= 0) {
@@ -194,8 +196,8 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
             add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, points);
         attribute_ids["TEXCOORD_0"] = tinygltf::Value(encoded->ids.texcoord);
     }
-    primitive.indices = add_accessor(model, -1, index_component_type(points), TINYGLTF_TYPE_SCALAR,
-                                     decoded->indices.size());
+    primitive.indices =
+        add_accessor(model, -1, index_component_type(points), TINYGLTF_TYPE_SCALAR, decoded->indices.size());
 
     tinygltf::Value::Object extension;
     extension["bufferView"] = tinygltf::Value(view);
@@ -217,7 +219,8 @@ void add_plain_primitive(tinygltf::Model& model, tinygltf::Primitive& primitive,
     if (!data.normals.empty()) {
         view = add_buffer_view(model, data.normals.data(), data.normals.size() * sizeof(float),
                                TINYGLTF_TARGET_ARRAY_BUFFER);
-        primitive.attributes["NORMAL"] = add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
+        primitive.attributes["NORMAL"] =
+            add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
     }
     if (!data.texcoords.empty()) {
         view = add_buffer_view(model, data.texcoords.data(), data.texcoords.size() * sizeof(float),
@@ -248,8 +251,8 @@ Result<std::string> write_glb_unchecked(const PolygonMesh& mesh, const GltfOptio
     // Index values must stay below the uint32 primitive-restart value and counts must fit glTF's uint32 fields.
     if (tri.face_indices.size() >= std::numeric_limits<std::uint32_t>::max() ||
         tri.positions.size() >= std::numeric_limits<std::uint32_t>::max() - 1)
-        return make_error(ErrorCode::BudgetExceeded, "mesh too large for glTF: " +
-                                                         std::to_string(tri.face_indices.size()) + " triangle corners");
+        return make_error(ErrorCode::BudgetExceeded,
+                          "mesh too large for glTF: " + std::to_string(tri.face_indices.size()) + " triangle corners");
 
     // glTF vertices and attributes
     const bool with_uvs = options.texcoords && tri.has_uvs();

@@ -85,13 +85,15 @@ private:
         // g, o, s, usemtl, mtllib, l, p, vp and the free-form statements carry nothing we keep. A keyword that is
         // not even a word is garbage, and saying so beats reporting "no faces" at the end.
         if (!is_identifier(keyword))
-            return error_at_line(ErrorCode::ParseError, line_, "unexpected " + quote(keyword) + " (not an OBJ statement)");
+            return error_at_line(ErrorCode::ParseError, line_,
+                                 "unexpected " + quote(keyword) + " (not an OBJ statement)");
         return std::nullopt;
     }
 
     std::optional<GeoError> bad_number(std::string_view what, std::string_view token, NumberStatus status) {
         return error_at_line(ErrorCode::ParseError, line_,
-                             std::string(what) + (status == NumberStatus::OutOfRange ? " is out of range: " : " is not a number: ") +
+                             std::string(what) +
+                                 (status == NumberStatus::OutOfRange ? " is out of range: " : " is not a number: ") +
                                  quote(token));
     }
 
@@ -107,8 +109,9 @@ private:
         }
         // An optional w or vertex colours may follow; they are not kept.
         if (!is_finite(p))
-            return error_at_line(ErrorCode::NonFinite, line_,
-                                 "vertex " + std::to_string(mesh_.positions.size() + 1) + " has a non-finite coordinate");
+            return error_at_line(
+                ErrorCode::NonFinite, line_,
+                "vertex " + std::to_string(mesh_.positions.size() + 1) + " has a non-finite coordinate");
         if (mesh_.positions.size() >= options_.max_vertices)
             return error_at_line(ErrorCode::BudgetExceeded, line_,
                                  "more than max_vertices (" + std::to_string(options_.max_vertices) + ") vertices");
@@ -119,8 +122,7 @@ private:
     std::optional<GeoError> parse_uv(Tokens& tokens) {
         Vec2 uv;
         std::string_view token;
-        if (!tokens.next(token))
-            return error_at_line(ErrorCode::ParseError, line_, "texture coordinate has no values");
+        if (!tokens.next(token)) return error_at_line(ErrorCode::ParseError, line_, "texture coordinate has no values");
         if (auto status = io_detail::parse_double(token, uv.x); status != NumberStatus::Ok)
             return bad_number("texture coordinate", token, status);
         if (tokens.next(token)) {  // v is optional in OBJ (1D textures); it defaults to 0
@@ -131,9 +133,9 @@ private:
             return error_at_line(ErrorCode::NonFinite, line_,
                                  "texture coordinate " + std::to_string(mesh_.uvs.size() + 1) + " is not finite");
         if (mesh_.uvs.size() >= options_.max_vertices)
-            return error_at_line(ErrorCode::BudgetExceeded, line_,
-                                 "more than max_vertices (" + std::to_string(options_.max_vertices) +
-                                     ") texture coordinates");
+            return error_at_line(
+                ErrorCode::BudgetExceeded, line_,
+                "more than max_vertices (" + std::to_string(options_.max_vertices) + ") texture coordinates");
         mesh_.uvs.push_back(uv);
         return std::nullopt;
     }
@@ -143,9 +145,10 @@ private:
                                     Index& out) {
         std::int64_t raw = 0;
         if (auto status = io_detail::parse_int(token, raw); status != NumberStatus::Ok)
-            return error_at_line(status == NumberStatus::OutOfRange ? ErrorCode::IndexOutOfRange : ErrorCode::ParseError,
-                                 line_, std::string(what) + " index " + quote(token) +
-                                            (status == NumberStatus::OutOfRange ? " out of range" : " is not an integer"));
+            return error_at_line(
+                status == NumberStatus::OutOfRange ? ErrorCode::IndexOutOfRange : ErrorCode::ParseError, line_,
+                std::string(what) + " index " + quote(token) +
+                    (status == NumberStatus::OutOfRange ? " out of range" : " is not an integer"));
         if (raw == 0)
             return error_at_line(ErrorCode::IndexOutOfRange, line_,
                                  std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
@@ -166,9 +169,9 @@ private:
         std::string_view token;
         while (tokens.next(token)) {
             if (face_.size() >= options_.max_face_size)
-                return error_at_line(ErrorCode::BudgetExceeded, line_,
-                                     "face has more than max_face_size (" + std::to_string(options_.max_face_size) +
-                                         ") vertices");
+                return error_at_line(
+                    ErrorCode::BudgetExceeded, line_,
+                    "face has more than max_face_size (" + std::to_string(options_.max_face_size) + ") vertices");
             // v, v/vt, v//vn or v/vt/vn
             const std::size_t slash1 = token.find('/');
             const std::string_view v_part = token.substr(0, slash1);
@@ -214,7 +217,8 @@ private:
         if (corners_with_uv != 0) {
             ++faces_with_uv_;
             // Once a face without vt has been seen the uvs will be dropped; stop collecting them.
-            if (faces_without_uv_ == 0) mesh_.uv_indices.insert(mesh_.uv_indices.end(), face_uvs_.begin(), face_uvs_.end());
+            if (faces_without_uv_ == 0)
+                mesh_.uv_indices.insert(mesh_.uv_indices.end(), face_uvs_.begin(), face_uvs_.end());
         } else {
             ++faces_without_uv_;
         }
@@ -252,8 +256,8 @@ private:
             std::int64_t present = 0;
             for (Tokens rest = tokens; rest.next(token);) ++present;
             return error_at_line(ErrorCode::ParseError, line_,
-                                 "tag " + quote(name) + " declares " + std::string(counts) + " arguments but has only " +
-                                     std::to_string(present));
+                                 "tag " + quote(name) + " declares " + std::string(counts) +
+                                     " arguments but has only " + std::to_string(present));
         }
         const bool known = name == "crease" || name == "corner" || name == "hole" || name == "interpolateboundary";
         tag_ints_.clear();
@@ -262,14 +266,15 @@ private:
         for (std::int64_t i = 0; i < n[0] + n[1] + n[2]; ++i) {
             if (!tokens.next(token))
                 return error_at_line(ErrorCode::ParseError, line_,
-                                     "tag " + quote(name) + " declares " + std::string(counts) + " arguments but has only " +
-                                         std::to_string(i));
+                                     "tag " + quote(name) + " declares " + std::string(counts) +
+                                         " arguments but has only " + std::to_string(i));
             if (!known || i >= n[0] + n[1]) continue;  // other tags and all strings: counted, not kept
             if (i < n[0]) {
                 std::int64_t value = 0;
                 if (auto status = io_detail::parse_int(token, value); status != NumberStatus::Ok)
-                    return error_at_line(ErrorCode::ParseError, line_,
-                                         "tag " + quote(name) + " integer argument " + quote(token) + " is not an integer");
+                    return error_at_line(
+                        ErrorCode::ParseError, line_,
+                        "tag " + quote(name) + " integer argument " + quote(token) + " is not an integer");
                 tag_ints_.push_back(value);
             } else {
                 double value = 0;
@@ -303,10 +308,11 @@ private:
 
     std::optional<GeoError> apply_crease(std::string_view counts) {
         const std::size_t pairs = tag_ints_.size() / 2;
-        if (tag_ints_.size() < 2 || tag_ints_.size() % 2 != 0 || (tag_floats_.size() != 1 && tag_floats_.size() != pairs))
-            return error_at_line(ErrorCode::ParseError, line_,
-                                 "crease tag needs vertex pairs and one sharpness (or one per pair), got " +
-                                     std::string(counts));
+        if (tag_ints_.size() < 2 || tag_ints_.size() % 2 != 0 ||
+            (tag_floats_.size() != 1 && tag_floats_.size() != pairs))
+            return error_at_line(
+                ErrorCode::ParseError, line_,
+                "crease tag needs vertex pairs and one sharpness (or one per pair), got " + std::string(counts));
         for (std::size_t i = 0; i < pairs; ++i) {
             Crease c;
             if (auto e = tag_index(tag_ints_[2 * i], "crease vertex", c.v0)) return e;
@@ -323,9 +329,9 @@ private:
 
     std::optional<GeoError> apply_corner(std::string_view counts) {
         if (tag_ints_.empty() || (tag_floats_.size() != 1 && tag_floats_.size() != tag_ints_.size()))
-            return error_at_line(ErrorCode::ParseError, line_,
-                                 "corner tag needs vertices and one sharpness (or one per vertex), got " +
-                                     std::string(counts));
+            return error_at_line(
+                ErrorCode::ParseError, line_,
+                "corner tag needs vertices and one sharpness (or one per vertex), got " + std::string(counts));
         for (std::size_t i = 0; i < tag_ints_.size(); ++i) {
             Corner c;
             if (auto e = tag_index(tag_ints_[i], "corner vertex", c.vertex)) return e;
@@ -377,7 +383,8 @@ private:
             if (tags.corners[i].vertex >= nv)
                 return error_at_line(ErrorCode::IndexOutOfRange, corner_lines_[i],
                                      "corner refers to vertex " + std::to_string(tags.corners[i].vertex) +
-                                         " but there are " + std::to_string(nv) + " vertices (tag indices are 0-based)");
+                                         " but there are " + std::to_string(nv) +
+                                         " vertices (tag indices are 0-based)");
         for (std::size_t i = 0; i < tags.holes.size(); ++i)
             if (tags.holes[i] >= nf)
                 return error_at_line(ErrorCode::IndexOutOfRange, hole_lines_[i],

@@ -40,8 +40,7 @@ public:
             line_ = lines.line_number();
             if (auto error = parse_line(line)) return std::move(*error);
         }
-        if (surface_)
-            return error_at_line(ErrorCode::ParseError, surface_->line, "surf has no matching end");
+        if (surface_) return error_at_line(ErrorCode::ParseError, surface_->line, "surf has no matching end");
         if (set_.patches.empty())
             return error_at_line(ErrorCode::ParseError, std::max<std::int64_t>(line_, 1),
                                  "no free-form surfaces (cstype bezier, deg, surf ... end) in the file");
@@ -64,14 +63,17 @@ private:
         if (keyword == "parm") return parse_parm(tokens);
         if (keyword == "end") return parse_end();
         if (keyword == "curv" || keyword == "curv2") {
-            if (surface_ || in_curve_) return error(ErrorCode::ParseError, std::string(keyword) + " inside an open block (missing end)");
+            if (surface_ || in_curve_)
+                return error(ErrorCode::ParseError, std::string(keyword) + " inside an open block (missing end)");
             in_curve_ = true;
             return std::nullopt;
         }
         if (keyword == "trim" || keyword == "hole" || keyword == "scrv" || keyword == "sp")
-            return error(ErrorCode::Unsupported, std::string(keyword) + ": trimming curves and special points are not supported");
+            return error(ErrorCode::Unsupported,
+                         std::string(keyword) + ": trimming curves and special points are not supported");
         if (keyword == "bmat" || keyword == "step")
-            return error(ErrorCode::Unsupported, std::string(keyword) + " applies to cstype bmatrix/cardinal/bspline, which are not supported");
+            return error(ErrorCode::Unsupported,
+                         std::string(keyword) + " applies to cstype bmatrix/cardinal/bspline, which are not supported");
         return std::nullopt;  // polygons, groups, materials, display attributes: not ours
     }
 
@@ -115,9 +117,8 @@ private:
             if (!tokens.next(type)) return error(ErrorCode::ParseError, "cstype rat needs a type (bezier)");
         }
         if (type == "bmatrix" || type == "bspline" || type == "cardinal" || type == "taylor")
-            return error(ErrorCode::Unsupported,
-                         "cstype " + std::string(rational ? "rat " : "") + std::string(type) +
-                             " is not supported (only bezier and rat bezier)");
+            return error(ErrorCode::Unsupported, "cstype " + std::string(rational ? "rat " : "") + std::string(type) +
+                                                     " is not supported (only bezier and rat bezier)");
         if (type != "bezier") return error(ErrorCode::ParseError, "unknown cstype " + quote(type));
         if (!tokens.empty()) return error(ErrorCode::ParseError, "cstype: unexpected text after the type");
         cstype_ = rational ? CsType::RationalBezier : CsType::Bezier;
@@ -197,7 +198,8 @@ private:
                 return error(ErrorCode::ParseError, "parm " + std::string(direction) + " values must increase");
             values.push_back(x);
         }
-        if (values.size() < 2) return error(ErrorCode::ParseError, "parm " + std::string(direction) + " needs at least two values");
+        if (values.size() < 2)
+            return error(ErrorCode::ParseError, "parm " + std::string(direction) + " needs at least two values");
         (direction == "u" ? surface_->parm_u : surface_->parm_v) = std::move(values);
         return std::nullopt;
     }
@@ -214,8 +216,9 @@ private:
         const std::vector<double> parm_v = s.parm_v.value_or(std::vector<double>{s.range[2], s.range[3]});
         if (s.range[0] != parm_u.front() || s.range[1] != parm_u.back() || s.range[2] != parm_v.front() ||
             s.range[3] != parm_v.back()) {
-            GeoError e = error_at_line(ErrorCode::Unsupported, s.line,
-                                       "surf range differs from its parm u/v range (trimmed sub-ranges are not supported)");
+            GeoError e =
+                error_at_line(ErrorCode::Unsupported, s.line,
+                              "surf range differs from its parm u/v range (trimmed sub-ranges are not supported)");
             return e;
         }
         const std::size_t ku = parm_u.size() - 1, kv = parm_v.size() - 1;

@@ -65,7 +65,8 @@ public:
         const char* names[2] = {"vertex count", "face count"};
         for (int i = 0; i < 2; ++i) {
             if (!have_token && !tokens.next(token))
-                return error_at_line(ErrorCode::ParseError, tokens.line(), std::string("unexpected end of file: no ") + names[i]);
+                return error_at_line(ErrorCode::ParseError, tokens.line(),
+                                     std::string("unexpected end of file: no ") + names[i]);
             have_token = false;
             const auto status = io_detail::parse_int(token, counts[i]);
             if (status != NumberStatus::Ok || counts[i] < 0)
@@ -119,9 +120,9 @@ public:
         for (std::uint64_t f = 0; f < nf; ++f) {
             std::int64_t n = 0;
             if (!tokens.next(token))
-                return error_at_line(ErrorCode::ParseError, tokens.line(),
-                                     "unexpected end of file: read " + std::to_string(f) + " of " + std::to_string(nf) +
-                                         " faces");
+                return error_at_line(
+                    ErrorCode::ParseError, tokens.line(),
+                    "unexpected end of file: read " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
             const std::int64_t line = tokens.line();
             if (io_detail::parse_int(token, n) != NumberStatus::Ok || n < 0)
                 return error_at_line(ErrorCode::ParseError, line,
@@ -137,17 +138,18 @@ public:
             for (std::int64_t k = 0; k < n; ++k) {
                 // Indices stay on the face's line: running onto the next line means the count is wrong.
                 if (!tokens.next_on_line(token))
-                    return error_at_line(ErrorCode::ParseError, line,
-                                         "face declares " + std::to_string(n) + " vertices but lists " +
-                                             std::to_string(k));
+                    return error_at_line(
+                        ErrorCode::ParseError, line,
+                        "face declares " + std::to_string(n) + " vertices but lists " + std::to_string(k));
                 std::int64_t index = 0;
                 const auto status = io_detail::parse_int(token, index);
                 if (status == NumberStatus::Invalid)
-                    return error_at_line(ErrorCode::ParseError, line, "face index " + quote(token) + " is not an integer");
+                    return error_at_line(ErrorCode::ParseError, line,
+                                         "face index " + quote(token) + " is not an integer");
                 if (status == NumberStatus::OutOfRange || index < 0 || static_cast<std::uint64_t>(index) >= nv)
-                    return error_at_line(ErrorCode::IndexOutOfRange, line,
-                                         "face index " + std::string(token) + " out of range (" + std::to_string(nv) +
-                                             " vertices)");
+                    return error_at_line(
+                        ErrorCode::IndexOutOfRange, line,
+                        "face index " + std::string(token) + " out of range (" + std::to_string(nv) + " vertices)");
                 face.push_back(static_cast<Index>(index));
             }
             if (!options_.allow_repeated_vertices) {

@@ -43,7 +43,8 @@ public:
             if (e.name == "vertex") vertex = &e;
             if (e.name == "face") face = &e;
         }
-        if (!vertex) return error_at_line(ErrorCode::ParseError, header_.body_line - 1, "no vertex element in the header");
+        if (!vertex)
+            return error_at_line(ErrorCode::ParseError, header_.body_line - 1, "no vertex element in the header");
         if (!face || face->count == 0) return error_at_line(ErrorCode::ParseError, header_.body_line - 1, "no faces");
         layout_.x = vertex->find("x");
         layout_.y = vertex->find("y");
@@ -51,9 +52,11 @@ public:
         for (const char* name : {"x", "y", "z"}) {
             const int i = vertex->find(name);
             if (i < 0)
-                return error_at_line(ErrorCode::ParseError, vertex->line, std::string("vertex element has no '") + name + "' property");
+                return error_at_line(ErrorCode::ParseError, vertex->line,
+                                     std::string("vertex element has no '") + name + "' property");
             if (vertex->properties[static_cast<std::size_t>(i)].is_list)
-                return error_at_line(ErrorCode::ParseError, vertex->line, std::string("vertex property '") + name + "' is a list");
+                return error_at_line(ErrorCode::ParseError, vertex->line,
+                                     std::string("vertex property '") + name + "' is a list");
         }
         layout_.nx = vertex->find("nx");
         layout_.ny = vertex->find("ny");
@@ -118,12 +121,18 @@ private:
                     if (!take(size, bytes)) return truncated(e, item);
                     if (r != Role::Vertex) continue;
                     const double value = bits_to_double(load_bits(bytes, size, big_endian_), prop.type);
-                    if (ki == layout_.x) p.x = value;
-                    else if (ki == layout_.y) p.y = value;
-                    else if (ki == layout_.z) p.z = value;
-                    else if (ki == layout_.nx) n.x = value;
-                    else if (ki == layout_.ny) n.y = value;
-                    else if (ki == layout_.nz) n.z = value;
+                    if (ki == layout_.x)
+                        p.x = value;
+                    else if (ki == layout_.y)
+                        p.y = value;
+                    else if (ki == layout_.z)
+                        p.z = value;
+                    else if (ki == layout_.nx)
+                        n.x = value;
+                    else if (ki == layout_.ny)
+                        n.y = value;
+                    else if (ki == layout_.nz)
+                        n.z = value;
                     continue;
                 }
                 const std::size_t count_size = type_size(prop.count_type);
@@ -143,7 +152,8 @@ private:
                 if (!is_face_list) continue;
                 face.clear();
                 for (std::int64_t i = 0; i < count; ++i) {
-                    const std::int64_t v = bits_to_int(load_bits(bytes + i * item_size, item_size, big_endian_), prop.type);
+                    const std::int64_t v =
+                        bits_to_int(load_bits(bytes + i * item_size, item_size, big_endian_), prop.type);
                     if (v < 0 || static_cast<std::uint64_t>(v) >= vertex_count_)
                         return error_at_offset(ErrorCode::IndexOutOfRange,
                                                static_cast<std::int64_t>(list_offset + count_size + i * item_size),
@@ -155,7 +165,8 @@ private:
             if (r == Role::Vertex) {
                 if (auto error = add_vertex(p, n, item, static_cast<std::int64_t>(item_offset), -1)) return error;
             } else if (r == Role::Face) {
-                if (auto error = add_face(face, scratch, item, static_cast<std::int64_t>(item_offset), -1)) return error;
+                if (auto error = add_face(face, scratch, item, static_cast<std::int64_t>(item_offset), -1))
+                    return error;
             }
         }
         return std::nullopt;
@@ -173,8 +184,8 @@ private:
             auto next = [&](std::string_view& out) -> std::optional<GeoError> {
                 if (!tokens.next(out))
                     return error_at_line(ErrorCode::ParseError, tokens.line(),
-                                         "unexpected end of file in " + quote(e.name) + " element " + std::to_string(item) +
-                                             " of " + std::to_string(e.count));
+                                         "unexpected end of file in " + quote(e.name) + " element " +
+                                             std::to_string(item) + " of " + std::to_string(e.count));
                 if (item_line < 0) item_line = tokens.line();
                 return std::nullopt;
             };
@@ -184,8 +195,13 @@ private:
                 if (auto error = next(token)) return error;
                 if (!prop.is_list) {
                     if (r != Role::Vertex) continue;
-                    double* target = ki == layout_.x ? &p.x : ki == layout_.y ? &p.y : ki == layout_.z ? &p.z
-                                   : ki == layout_.nx ? &n.x : ki == layout_.ny ? &n.y : ki == layout_.nz ? &n.z : nullptr;
+                    double* target = ki == layout_.x    ? &p.x
+                                     : ki == layout_.y  ? &p.y
+                                     : ki == layout_.z  ? &p.z
+                                     : ki == layout_.nx ? &n.x
+                                     : ki == layout_.ny ? &n.y
+                                     : ki == layout_.nz ? &n.z
+                                                        : nullptr;
                     if (target && io_detail::parse_double(token, *target) != NumberStatus::Ok)
                         return error_at_line(ErrorCode::ParseError, tokens.line(),
                                              "vertex value " + quote(token) + " is not a number");
@@ -206,7 +222,8 @@ private:
                     std::int64_t v = 0;
                     const auto status = io_detail::parse_int(token, v);
                     if (status == NumberStatus::Invalid)
-                        return error_at_line(ErrorCode::ParseError, tokens.line(), "face index " + quote(token) + " is not an integer");
+                        return error_at_line(ErrorCode::ParseError, tokens.line(),
+                                             "face index " + quote(token) + " is not an integer");
                     if (status == NumberStatus::OutOfRange || v < 0 || static_cast<std::uint64_t>(v) >= vertex_count_)
                         return error_at_line(ErrorCode::IndexOutOfRange, tokens.line(),
                                              "face index " + std::string(token) + " out of range (" +
@@ -228,15 +245,16 @@ private:
         return line >= 0 ? error_at_line(code, line, what) : error_at_offset(code, offset, what);
     }
 
-    std::optional<GeoError> check_face_size(std::int64_t count, std::uint64_t item, std::int64_t offset, std::int64_t line) {
+    std::optional<GeoError> check_face_size(std::int64_t count, std::uint64_t item, std::int64_t offset,
+                                            std::int64_t line) {
         if (static_cast<std::uint64_t>(count) > options_.max_face_size)
             return located(ErrorCode::BudgetExceeded, offset, line,
                            "face " + std::to_string(item) + " has " + std::to_string(count) +
                                " vertices, more than max_face_size (" + std::to_string(options_.max_face_size) + ")");
         if (count < 3)
-            return located(ErrorCode::DegenerateFace, offset, line,
-                           "face " + std::to_string(item) + " has " + std::to_string(count) +
-                               " vertices (at least 3 needed)");
+            return located(
+                ErrorCode::DegenerateFace, offset, line,
+                "face " + std::to_string(item) + " has " + std::to_string(count) + " vertices (at least 3 needed)");
         return std::nullopt;
     }
 
@@ -257,8 +275,9 @@ private:
                                      std::int64_t offset, std::int64_t line) {
         if (!options_.allow_repeated_vertices) {
             if (auto dup = io_detail::repeated_vertex(face, scratch))
-                return located(ErrorCode::DegenerateFace, offset, line,
-                               "face " + std::to_string(item) + " uses vertex " + std::to_string(*dup) + " more than once");
+                return located(
+                    ErrorCode::DegenerateFace, offset, line,
+                    "face " + std::to_string(item) + " uses vertex " + std::to_string(*dup) + " more than once");
         }
         if (mesh_.face_indices.size() + face.size() > io_detail::kMaxIndexCount)
             return located(ErrorCode::BudgetExceeded, offset, line, "more than 2^32 face corners");

@@ -37,9 +37,13 @@ inline std::optional<PlyType> parse_type(std::string_view name) {
 
 inline std::size_t type_size(PlyType type) {
     switch (type) {
-        case PlyType::Int8: case PlyType::UInt8: return 1;
-        case PlyType::Int16: case PlyType::UInt16: return 2;
-        case PlyType::Int32: case PlyType::UInt32: case PlyType::Float32: return 4;
+        case PlyType::Int8:
+        case PlyType::UInt8: return 1;
+        case PlyType::Int16:
+        case PlyType::UInt16: return 2;
+        case PlyType::Int32:
+        case PlyType::UInt32:
+        case PlyType::Float32: return 4;
         case PlyType::Float64: return 8;
     }
     return 1;
@@ -142,15 +146,18 @@ protected:
 
 inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions& options) {
     if (bytes.empty()) return make_error(ErrorCode::ParseError, "empty file", -1, 0);
-    if (bytes.size() >= 2 && ((static_cast<unsigned char>(bytes[0]) == 0xff && static_cast<unsigned char>(bytes[1]) == 0xfe) ||
-                              (static_cast<unsigned char>(bytes[0]) == 0xfe && static_cast<unsigned char>(bytes[1]) == 0xff)))
+    if (bytes.size() >= 2 &&
+        ((static_cast<unsigned char>(bytes[0]) == 0xff && static_cast<unsigned char>(bytes[1]) == 0xfe) ||
+         (static_cast<unsigned char>(bytes[0]) == 0xfe && static_cast<unsigned char>(bytes[1]) == 0xff)))
         return make_error(ErrorCode::ParseError,
-                          "UTF-16 is not supported (byte order mark at offset 0): save the file as UTF-8 or ASCII", -1, 0);
+                          "UTF-16 is not supported (byte order mark at offset 0): save the file as UTF-8 or ASCII", -1,
+                          0);
     std::size_t start = 0;
     if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xef\xbb\xbf") start = 3;
     if (bytes.size() >= start + 2 && (bytes[start] == 0 || bytes[start + 1] == 0))
-        return make_error(ErrorCode::ParseError, "UTF-16 is not supported (NUL byte in the header): save the file as UTF-8",
-                          1, static_cast<std::int64_t>(start));
+        return make_error(ErrorCode::ParseError,
+                          "UTF-16 is not supported (NUL byte in the header): save the file as UTF-8", 1,
+                          static_cast<std::int64_t>(start));
 
     io_detail::LineReader lines(bytes, start);
     std::string_view line;
@@ -174,10 +181,14 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
             std::string_view name, version;
             if (!tokens.next(name) || !tokens.next(version))
                 return error_at_line(ErrorCode::ParseError, at, "format line needs an encoding and a version");
-            if (name == "ascii") header.encoding = PlyEncodingIn::Ascii;
-            else if (name == "binary_little_endian") header.encoding = PlyEncodingIn::BinaryLittleEndian;
-            else if (name == "binary_big_endian") header.encoding = PlyEncodingIn::BinaryBigEndian;
-            else return error_at_line(ErrorCode::ParseError, at, "unknown PLY format " + quote(name));
+            if (name == "ascii")
+                header.encoding = PlyEncodingIn::Ascii;
+            else if (name == "binary_little_endian")
+                header.encoding = PlyEncodingIn::BinaryLittleEndian;
+            else if (name == "binary_big_endian")
+                header.encoding = PlyEncodingIn::BinaryBigEndian;
+            else
+                return error_at_line(ErrorCode::ParseError, at, "unknown PLY format " + quote(name));
             if (!version.starts_with("1"))
                 return error_at_line(ErrorCode::Unsupported, at, "PLY version " + quote(version) + " is not supported");
             have_format = true;
@@ -194,31 +205,34 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
             element.line = at;
             for (const auto& other : header.elements)
                 if (other.name == element.name)
-                    return error_at_line(ErrorCode::ParseError, at, "element " + quote(element.name) + " declared twice");
+                    return error_at_line(ErrorCode::ParseError, at,
+                                         "element " + quote(element.name) + " declared twice");
             header.elements.push_back(element);
         } else if (keyword == "property") {
-            if (header.elements.empty())
-                return error_at_line(ErrorCode::ParseError, at, "property before any element");
+            if (header.elements.empty()) return error_at_line(ErrorCode::ParseError, at, "property before any element");
             PlyProperty property;
             std::string_view type;
             if (!tokens.next(type)) return error_at_line(ErrorCode::ParseError, at, "property line has no type");
             if (type == "list") {
                 std::string_view count_type, item_type;
                 if (!tokens.next(count_type) || !tokens.next(item_type) || !tokens.next(property.name))
-                    return error_at_line(ErrorCode::ParseError, at, "list property needs a count type, an item type and a name");
+                    return error_at_line(ErrorCode::ParseError, at,
+                                         "list property needs a count type, an item type and a name");
                 auto ct = parse_type(count_type);
                 auto it = parse_type(item_type);
                 if (!ct) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(count_type));
                 if (!it) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(item_type));
                 if (!is_integer(*ct))
-                    return error_at_line(ErrorCode::ParseError, at, "list count type " + quote(count_type) + " is not an integer type");
+                    return error_at_line(ErrorCode::ParseError, at,
+                                         "list count type " + quote(count_type) + " is not an integer type");
                 property.is_list = true;
                 property.count_type = *ct;
                 property.type = *it;
             } else {
                 auto t = parse_type(type);
                 if (!t) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(type));
-                if (!tokens.next(property.name)) return error_at_line(ErrorCode::ParseError, at, "property has no name");
+                if (!tokens.next(property.name))
+                    return error_at_line(ErrorCode::ParseError, at, "property has no name");
                 property.type = *t;
             }
             header.elements.back().properties.push_back(property);
@@ -235,21 +249,23 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
     std::uint64_t needed = 0;
     for (const PlyElement& e : header.elements) {
         // ascii: every value is at least one character and a separator
-        const std::uint64_t item = header.encoding == PlyEncodingIn::Ascii ? 2 * e.properties.size() : e.min_binary_size();
+        const std::uint64_t item =
+            header.encoding == PlyEncodingIn::Ascii ? 2 * e.properties.size() : e.min_binary_size();
         if (e.properties.empty()) {
             // Nothing to read per item, yet the readers would still loop `count` times (a header of 19 bytes could
             // ask for 10^15 iterations): refuse it rather than guess what such an element means.
             if (e.count == 0) continue;
-            return error_at_line(ErrorCode::ParseError, e.line,
-                                 "element " + quote(e.name) + " declares " + std::to_string(e.count) +
-                                     " items but no properties");
+            return error_at_line(
+                ErrorCode::ParseError, e.line,
+                "element " + quote(e.name) + " declares " + std::to_string(e.count) + " items but no properties");
         }
         const std::uint64_t left = remaining + 1 > needed ? remaining + 1 - needed : 0;  // +1: no final newline
         if (e.count > left / item) {
-            GeoError error = error_at_line(ErrorCode::ParseError, e.line,
-                                           "header declares " + std::to_string(e.count) + " " + quote(e.name) +
-                                               " elements (at least " + std::to_string(item) + " bytes each) but only " +
-                                               std::to_string(remaining) + " bytes follow the header");
+            GeoError error =
+                error_at_line(ErrorCode::ParseError, e.line,
+                              "header declares " + std::to_string(e.count) + " " + quote(e.name) +
+                                  " elements (at least " + std::to_string(item) + " bytes each) but only " +
+                                  std::to_string(remaining) + " bytes follow the header");
             error.offset = static_cast<std::int64_t>(header.body_offset);
             return error;
         }

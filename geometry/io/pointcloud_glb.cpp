@@ -22,8 +22,10 @@ Status check_options(const PointGlbOptions& o) {
                                                           std::to_string(hi));
     };
     // same caps as write_glb (gltf_write.cpp explains the cost per bit)
-    if (o.quantize_position < 1 || o.quantize_position > 24) return out_of_range("quantize_position", o.quantize_position, 1, 24);
-    if (o.quantize_normal < 2 || o.quantize_normal > 22) return out_of_range("quantize_normal", o.quantize_normal, 2, 22);
+    if (o.quantize_position < 1 || o.quantize_position > 24)
+        return out_of_range("quantize_position", o.quantize_position, 1, 24);
+    if (o.quantize_normal < 2 || o.quantize_normal > 22)
+        return out_of_range("quantize_normal", o.quantize_normal, 2, 22);
     if (o.encode_speed < 0 || o.encode_speed > 10) return out_of_range("encode_speed", o.encode_speed, 0, 10);
     if (o.decode_speed < 0 || o.decode_speed > 10) return out_of_range("decode_speed", o.decode_speed, 0, 10);
     return Ok{};
@@ -107,7 +109,8 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
     const auto* payload = reinterpret_cast<const std::uint8_t*>(encoded->bytes.data());
     auto decoded = draco_points::decode({payload, encoded->bytes.size()}, encoded->ids, cloud.size());
     if (!decoded)
-        return make_error(ErrorCode::Internal, "Draco round trip of the written points failed: " + decoded.error().message);
+        return make_error(ErrorCode::Internal,
+                          "Draco round trip of the written points failed: " + decoded.error().message);
     const std::size_t points = decoded->point_count();
 
     const int view = add_buffer_view(model, encoded->bytes.data(), encoded->bytes.size(), 0);
@@ -118,7 +121,8 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
         add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points, false, lo, hi);
     ids["POSITION"] = tinygltf::Value(encoded->ids.position);
     if (encoded->ids.normal >= 0) {
-        primitive.attributes["NORMAL"] = add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
+        primitive.attributes["NORMAL"] =
+            add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
         ids["NORMAL"] = tinygltf::Value(encoded->ids.normal);
     }
     if (encoded->ids.color >= 0) {
@@ -155,7 +159,8 @@ void add_plain_primitive(tinygltf::Model& model, tinygltf::Primitive& primitive,
             for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>(u[k]));
         }
         view = add_buffer_view(model, values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-        primitive.attributes["NORMAL"] = add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
+        primitive.attributes["NORMAL"] =
+            add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, points);
     }
     if (with_colors) {
         values.clear();
@@ -164,8 +169,9 @@ void add_plain_primitive(tinygltf::Model& model, tinygltf::Primitive& primitive,
             if (cloud.has_alpha) values.push_back(c.a);
         }
         view = add_buffer_view(model, values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
-        primitive.attributes["COLOR_0"] = add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                       cloud.has_alpha ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, points);
+        primitive.attributes["COLOR_0"] =
+            add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                         cloud.has_alpha ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, points);
     }
 }
 

@@ -38,8 +38,9 @@ GeoError too_many_points(std::size_t limit, std::int64_t line) {
 //! Newline count + 1, capped: a reserve() size the bytes themselves justify.
 std::size_t line_estimate(std::string_view text, std::size_t limit) {
     std::size_t lines = 1;
-    for (const char* p = text.data(); (p = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(
-                                            text.data() + text.size() - p)))) != nullptr;
+    for (const char* p = text.data();
+         (p = static_cast<const char*>(
+              std::memchr(p, '\n', static_cast<std::size_t>(text.data() + text.size() - p)))) != nullptr;
          ++p)
         ++lines;
     return io_detail::bounded_reserve(lines, limit);
@@ -77,8 +78,10 @@ public:
         const PlyElement* vertex = nullptr;
         for (const auto& e : header_.elements)
             if (e.name == "vertex") vertex = &e;
-        if (!vertex) return error_at_line(ErrorCode::ParseError, header_.body_line - 1, "no vertex element in the header");
-        if (vertex->count == 0) return error_at_line(ErrorCode::ParseError, vertex->line, "the vertex element is empty");
+        if (!vertex)
+            return error_at_line(ErrorCode::ParseError, header_.body_line - 1, "no vertex element in the header");
+        if (vertex->count == 0)
+            return error_at_line(ErrorCode::ParseError, vertex->line, "the vertex element is empty");
         if (auto error = assign_roles(*vertex)) return std::move(*error);
 
         cloud_.positions.reserve(vertex->count);  // parse_header bounded it by the bytes present and max_points
@@ -133,7 +136,8 @@ private:
     std::optional<GeoError> add_point(const Values& v, std::uint64_t item, std::int64_t offset, std::int64_t line) {
         const Vec3 p{v[1], v[2], v[3]};
         if (!is_finite(p))
-            return located(ErrorCode::NonFinite, offset, line, "vertex " + std::to_string(item) + " has a non-finite coordinate");
+            return located(ErrorCode::NonFinite, offset, line,
+                           "vertex " + std::to_string(item) + " has a non-finite coordinate");
         cloud_.positions.push_back(p);
         if (normals_) {
             const Vec3 n{v[4], v[5], v[6]};
@@ -147,8 +151,9 @@ private:
             for (float ch : {c.r, c.g, c.b, c.a})
                 if (!(ch >= 0.0f && ch <= 1.0f))
                     return located(ErrorCode::ParseError, offset, line,
-                                   "vertex " + std::to_string(item) + " has a colour channel outside 0..1 (float "
-                                   "colours must be 0..1, integer ones are scaled by their type's maximum)");
+                                   "vertex " + std::to_string(item) +
+                                       " has a colour channel outside 0..1 (float "
+                                       "colours must be 0..1, integer ones are scaled by their type's maximum)");
             cloud_.colors.push_back(c);
         }
         return std::nullopt;
@@ -163,8 +168,8 @@ private:
             auto next = [&]() -> std::optional<GeoError> {
                 if (!tokens.next(token))
                     return error_at_line(ErrorCode::ParseError, tokens.line(),
-                                         "unexpected end of file in " + quote(e.name) + " element " + std::to_string(item) +
-                                             " of " + std::to_string(e.count));
+                                         "unexpected end of file in " + quote(e.name) + " element " +
+                                             std::to_string(item) + " of " + std::to_string(e.count));
                 if (item_line < 0) item_line = tokens.line();
                 return std::nullopt;
             };
@@ -209,7 +214,8 @@ private:
                         return error_at_offset(ErrorCode::ParseError, static_cast<std::int64_t>(pos_ - count_size),
                                                "negative list length " + std::to_string(count));
                     const std::size_t item_size = type_size(prop.type);
-                    if (static_cast<std::uint64_t>(count) > (bytes_.size() - pos_) / item_size) return truncated(e, item);
+                    if (static_cast<std::uint64_t>(count) > (bytes_.size() - pos_) / item_size)
+                        return truncated(e, item);
                     pos_ += static_cast<std::size_t>(count) * item_size;
                     continue;
                 }
@@ -261,9 +267,10 @@ std::string_view strip_comment(std::string_view line) {
 }
 
 GeoError bad_number(std::int64_t line, std::string_view token, NumberStatus status) {
-    return error_at_line(ErrorCode::ParseError, line,
-                         std::string(status == NumberStatus::OutOfRange ? "value is out of range: " : "value is not a number: ") +
-                             quote(token));
+    return error_at_line(
+        ErrorCode::ParseError, line,
+        std::string(status == NumberStatus::OutOfRange ? "value is out of range: " : "value is not a number: ") +
+            quote(token));
 }
 
 Vec3 unit_or_zero(const Vec3& n) {
@@ -302,7 +309,9 @@ Result<PointCloud> read_obj_points(std::string_view text, const PointReadOptions
             ++n;
         }
         if (keyword == "vn") {
-            if (n != 3) return error_at_line(ErrorCode::ParseError, at, "vn line has " + std::to_string(n) + " values (3 needed)");
+            if (n != 3)
+                return error_at_line(ErrorCode::ParseError, at,
+                                     "vn line has " + std::to_string(n) + " values (3 needed)");
             if (normals.size() >= options.max_points) return too_many_points(options.max_points, at);
             normals.push_back({values[0], values[1], values[2]});
             continue;
@@ -319,8 +328,8 @@ Result<PointCloud> read_obj_points(std::string_view text, const PointReadOptions
         if (n >= 6 && all_colored) {
             for (std::size_t i = 3; i < 6; ++i)
                 if (auto error = check_color_value(values[i], at)) return std::move(*error);
-            cloud.colors.push_back({static_cast<float>(values[3]), static_cast<float>(values[4]),
-                                    static_cast<float>(values[5]), 1.0f});
+            cloud.colors.push_back(
+                {static_cast<float>(values[3]), static_cast<float>(values[4]), static_cast<float>(values[5]), 1.0f});
         } else {
             all_colored = false;
         }
@@ -362,7 +371,8 @@ Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions
             const std::string_view token = line.substr(i, j - i);
             i = j;
             if (n == values.size())
-                return error_at_line(ErrorCode::ParseError, at, "more than 9 values on one line (x y z [nx ny nz] [r g b])");
+                return error_at_line(ErrorCode::ParseError, at,
+                                     "more than 9 values on one line (x y z [nx ny nz] [r g b])");
             if (auto status = io_detail::parse_double(token, values[n]); status != NumberStatus::Ok)
                 return bad_number(at, token, status);
             ++n;
@@ -371,8 +381,9 @@ Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions
         if (columns == 0) {
             if (n != 3 && n != 6 && n != 9)
                 return error_at_line(ErrorCode::ParseError, at,
-                                     "line has " + std::to_string(n) + " values; expected 3 (x y z), 6 (+ nx ny nz) or "
-                                     "9 (+ r g b)");
+                                     "line has " + std::to_string(n) +
+                                         " values; expected 3 (x y z), 6 (+ nx ny nz) or "
+                                         "9 (+ r g b)");
             columns = n;
             first_line = at;
             if (columns >= 6) cloud.normals.reserve(estimate);
@@ -384,20 +395,22 @@ Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions
         }
         const Vec3 p{values[0], values[1], values[2]};
         if (!is_finite(p))
-            return error_at_line(ErrorCode::NonFinite, at, "point " + std::to_string(cloud.size()) + " has a non-finite coordinate");
+            return error_at_line(ErrorCode::NonFinite, at,
+                                 "point " + std::to_string(cloud.size()) + " has a non-finite coordinate");
         if (cloud.size() >= options.max_points) return too_many_points(options.max_points, at);
         cloud.positions.push_back(p);
         if (columns >= 6) {
             const Vec3 nrm{values[3], values[4], values[5]};
             if (!is_finite(nrm))
-                return error_at_line(ErrorCode::NonFinite, at, "normal of point " + std::to_string(cloud.size() - 1) + " is not finite");
+                return error_at_line(ErrorCode::NonFinite, at,
+                                     "normal of point " + std::to_string(cloud.size() - 1) + " is not finite");
             cloud.normals.push_back(unit_or_zero(nrm));
         }
         if (columns == 9) {
             for (std::size_t c = 6; c < 9; ++c)
                 if (auto error = check_color_value(values[c], at)) return std::move(*error);
-            cloud.colors.push_back({static_cast<float>(values[6]), static_cast<float>(values[7]),
-                                    static_cast<float>(values[8]), 1.0f});
+            cloud.colors.push_back(
+                {static_cast<float>(values[6]), static_cast<float>(values[7]), static_cast<float>(values[8]), 1.0f});
         }
     }
     if (cloud.empty()) return make_error(ErrorCode::ParseError, "no points (only blank or comment lines)");

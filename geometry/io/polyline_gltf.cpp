@@ -28,8 +28,8 @@ Status check(const std::vector<Polyline>& polylines) {
         for (const Vec3& p : line)
             for (int k = 0; k < 3; ++k)
                 if (!std::isfinite(p[k]) || std::fabs(p[k]) > kFloatMax)
-                    return make_error(ErrorCode::NonFinite, "polyline " + std::to_string(i) +
-                                                                " has a coordinate that is not a finite float");
+                    return make_error(ErrorCode::NonFinite,
+                                      "polyline " + std::to_string(i) + " has a coordinate that is not a finite float");
     }
     return Ok{};
 }
@@ -91,7 +91,8 @@ Result<std::string> write_unchecked(const std::vector<Polyline>& polylines, bool
     for (const Polyline& line : polylines) total += line.size();
     // GLB lengths are uint32; leave 1 MiB for the JSON chunk (one accessor and primitive per polyline).
     if (total > (std::numeric_limits<std::uint32_t>::max() - (std::size_t{1} << 20)) / (3 * sizeof(float)))
-        return make_error(ErrorCode::BudgetExceeded, "polylines too large for glTF: " + std::to_string(total) + " points");
+        return make_error(ErrorCode::BudgetExceeded,
+                          "polylines too large for glTF: " + std::to_string(total) + " points");
     tinygltf::Model model = build_model(polylines);
     // text: the buffer is embedded as a base64 data URI, so the .gltf is self-contained
     return gltf_detail::serialise(model, binary);
@@ -103,7 +104,9 @@ Result<std::string> write_guarded(const std::vector<Polyline>& polylines, bool b
 
 }  // namespace
 
-Result<std::string> write_polylines_glb(const std::vector<Polyline>& polylines) { return write_guarded(polylines, true); }
+Result<std::string> write_polylines_glb(const std::vector<Polyline>& polylines) {
+    return write_guarded(polylines, true);
+}
 
 Result<std::string> write_polylines_gltf(const std::vector<Polyline>& polylines) {
     return write_guarded(polylines, false);

@@ -21,7 +21,7 @@ using io_detail::iequals;
 using io_detail::NumberStatus;
 using io_detail::quote;
 
-constexpr std::size_t kBinaryHeader = 84;  // 80-byte header + uint32 triangle count
+constexpr std::size_t kBinaryHeader = 84;    // 80-byte header + uint32 triangle count
 constexpr std::size_t kBinaryTriangle = 50;  // normal, 3 corners (12 floats) + uint16 attribute
 
 //! Maps exact positions to vertex indices with open addressing over the mesh's own position array, so a
@@ -59,7 +59,8 @@ private:
         return bits;
     }
     static std::size_t hash(const Vec3& p) {
-        return static_cast<std::size_t>(mix(p.x) * 31 + mix(p.y) * 0x9e3779b97f4a7c15ULL + (mix(p.z) ^ (mix(p.z) >> 29)));
+        return static_cast<std::size_t>(mix(p.x) * 31 + mix(p.y) * 0x9e3779b97f4a7c15ULL +
+                                        (mix(p.z) ^ (mix(p.z) >> 29)));
     }
     void rehash(std::size_t capacity) {
         slots_.assign(capacity, kInvalidIndex);
@@ -141,8 +142,8 @@ Result<PolygonMesh> read_binary(std::string_view bytes, const ReadOptions& optio
     if (bytes.size() < expected)
         return error_at_offset(ErrorCode::ParseError, 80,
                                "binary STL declares " + std::to_string(count) + " triangles (" +
-                                   std::to_string(expected) + " bytes) but the file has " + std::to_string(bytes.size()) +
-                                   " bytes");
+                                   std::to_string(expected) + " bytes) but the file has " +
+                                   std::to_string(bytes.size()) + " bytes");
     if (count > options.max_faces)
         return error_at_offset(ErrorCode::BudgetExceeded, 80,
                                "binary STL declares " + std::to_string(count) + " triangles, more than max_faces (" +
@@ -202,12 +203,14 @@ Result<PolygonMesh> read_ascii(std::string_view bytes, const ReadOptions& option
             tokens.skip_line();
             if (!tokens.next(token)) break;
             if (!iequals(token, "solid"))
-                return error_at_line(ErrorCode::ParseError, tokens.line(), "expected 'solid' or end of file, found " + quote(token));
+                return error_at_line(ErrorCode::ParseError, tokens.line(),
+                                     "expected 'solid' or end of file, found " + quote(token));
             tokens.skip_line();
             continue;
         }
         if (!iequals(token, "facet"))
-            return error_at_line(ErrorCode::ParseError, tokens.line(), "expected 'facet' or 'endsolid', found " + quote(token));
+            return error_at_line(ErrorCode::ParseError, tokens.line(),
+                                 "expected 'facet' or 'endsolid', found " + quote(token));
         const std::int64_t facet_line = tokens.line();
         tokens.skip_line();  // "normal nx ny nz": recomputable, not kept
         if (auto error = expect("outer")) return std::move(*error);
@@ -219,9 +222,11 @@ Result<PolygonMesh> read_ascii(std::string_view bytes, const ReadOptions& option
                 return error_at_line(ErrorCode::ParseError, tokens.line(), "unexpected end of file inside a facet");
             if (iequals(token, "endloop")) break;
             if (!iequals(token, "vertex"))
-                return error_at_line(ErrorCode::ParseError, tokens.line(), "expected 'vertex' or 'endloop', found " + quote(token));
+                return error_at_line(ErrorCode::ParseError, tokens.line(),
+                                     "expected 'vertex' or 'endloop', found " + quote(token));
             if (n == 3)
-                return error_at_line(ErrorCode::ParseError, tokens.line(), "facet has more than 3 vertices (STL facets are triangles)");
+                return error_at_line(ErrorCode::ParseError, tokens.line(),
+                                     "facet has more than 3 vertices (STL facets are triangles)");
             if (auto error = numbers(corners[n], "vertex")) return std::move(*error);
             if (!is_finite(corners[n]))
                 return error_at_line(ErrorCode::NonFinite, tokens.line(), "vertex has a non-finite coordinate");

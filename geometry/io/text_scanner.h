@@ -82,11 +82,12 @@ inline Result<std::size_t> check_text_encoding(std::string_view bytes) {
         const auto offset = static_cast<std::size_t>(static_cast<const char*>(nul) - bytes.data());
         const std::int64_t line = line_of_offset(bytes, offset);
         // ASCII text in UTF-16 has a NUL next to nearly every character.
-        const bool looks_utf16 = bytes.size() >= 4 && (bytes[1] == 0 || bytes[0] == 0) && (bytes[3] == 0 || bytes[2] == 0);
-        std::string what = looks_utf16 ? "UTF-16 is not supported (NUL byte at offset " + std::to_string(offset) +
-                                             "): save the file as UTF-8 or ASCII"
-                                       : "NUL byte at offset " + std::to_string(offset) +
-                                             ": binary data in a text file";
+        const bool looks_utf16 =
+            bytes.size() >= 4 && (bytes[1] == 0 || bytes[0] == 0) && (bytes[3] == 0 || bytes[2] == 0);
+        std::string what = looks_utf16
+                               ? "UTF-16 is not supported (NUL byte at offset " + std::to_string(offset) +
+                                     "): save the file as UTF-8 or ASCII"
+                               : "NUL byte at offset " + std::to_string(offset) + ": binary data in a text file";
         GeoError error = error_at_line(ErrorCode::ParseError, line, what);
         error.offset = static_cast<std::int64_t>(offset);
         return error;

@@ -36,7 +36,7 @@ struct Corner {
 struct SubdivisionTags {
     std::vector<Crease> creases;
     std::vector<Corner> corners;
-    std::vector<Index> holes;  //!< face indices
+    std::vector<Index> holes;                       //!< face indices
     std::optional<BoundaryInterpolation> boundary;  //!< from `t interpolateboundary`, if given
 
     bool empty() const { return creases.empty() && corners.empty() && holes.empty() && !boundary; }
@@ -60,15 +60,15 @@ struct PolygonMesh {
     std::size_t vertex_count() const { return positions.size(); }
     std::size_t face_count() const { return face_offsets.size() - 1; }
     std::size_t face_size(std::size_t f) const { return face_offsets[f + 1] - face_offsets[f]; }
-    std::span<const Index> face(std::size_t f) const {
-        return {face_indices.data() + face_offsets[f], face_size(f)};
-    }
+    std::span<const Index> face(std::size_t f) const { return {face_indices.data() + face_offsets[f], face_size(f)}; }
     bool has_uvs() const { return !uv_indices.empty(); }
     bool has_normals() const { return !normals.empty(); }
 
     //! Append a face given by its vertex indices (no validation: call validate()).
     void add_face(std::span<const Index> vertices);
-    void add_face(std::initializer_list<Index> vertices) { add_face(std::span<const Index>(vertices.begin(), vertices.size())); }
+    void add_face(std::initializer_list<Index> vertices) {
+        add_face(std::span<const Index>(vertices.begin(), vertices.size()));
+    }
 
     //! True when every face has exactly three vertices.
     bool is_triangle_mesh() const;

@@ -46,12 +46,12 @@ PolygonMesh icosahedron() {
     const double t = (1.0 + std::sqrt(5.0)) / 2.0;
     const double s = 1.0 / std::sqrt(1.0 + t * t);
     PolygonMesh m;
-    m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     for (Vec3& p : m.positions) p *= s;
-    const Index faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    const Index faces[20][3] = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                                {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                                {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (const auto& f : faces) m.add_face({f[0], f[1], f[2]});
     return m;
 }
@@ -79,7 +79,8 @@ PolygonMesh torus(int n, int m_count, double R, double r) {
         const double u = 2.0 * std::numbers::pi * i / n;
         for (int j = 0; j < m_count; ++j) {
             const double v = 2.0 * std::numbers::pi * j / m_count;
-            m.positions.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
+            m.positions.push_back(
+                {(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
         }
     }
     auto id = [&](int i, int j) { return static_cast<Index>(((i + n) % n) * m_count + (j + m_count) % m_count); };
@@ -104,7 +105,10 @@ void rotate_shared_edge(PolygonMesh& m, std::size_t a, std::size_t b) {
                 const Index qa[4] = {v1, v2, v4, v5}, qb[4] = {v5, v3, v0, v1};
                 Index* pa = &m.face_indices[m.face_offsets[a]];
                 Index* pb = &m.face_indices[m.face_offsets[b]];
-                for (int i = 0; i < 4; ++i) { pa[i] = qa[i]; pb[i] = qb[i]; }
+                for (int i = 0; i < 4; ++i) {
+                    pa[i] = qa[i];
+                    pb[i] = qb[i];
+                }
                 return;
             }
 }
@@ -122,15 +126,15 @@ PolygonMesh irregular_torus() {
 PolygonMesh mixed_polygons() {
     // A gable-roofed house: pentagon gable walls, quad walls/roof/floor, one wall split into two triangles.
     PolygonMesh m;
-    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1},
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},     {0, 0, 1},
                    {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0.5, 0, 1.5}, {0.5, 1, 1.5}};
     m.add_face({0, 1, 5, 8, 4});  // front gable
     m.add_face({2, 3, 7, 9, 6});  // back gable
     m.add_face({0, 3, 2, 1});     // floor
     m.add_face({1, 2, 6});        // right wall, two triangles
     m.add_face({1, 6, 5});
-    m.add_face({0, 4, 7, 3});     // left wall
-    m.add_face({5, 6, 9, 8});     // roof
+    m.add_face({0, 4, 7, 3});  // left wall
+    m.add_face({5, 6, 9, 8});  // roof
     m.add_face({4, 8, 9, 7});
     return m;
 }

@@ -5,10 +5,10 @@
 
 namespace surfaced::shapes {
 
-PolygonMesh cube();            //!< 8 vertices, 6 quads, outward, unit cube centred at origin
-PolygonMesh tetrahedron();     //!< 4 triangles, closed
-PolygonMesh octahedron();      //!< 8 triangles, closed
-PolygonMesh icosahedron();     //!< 12 vertices, 20 triangles, on the unit sphere
+PolygonMesh cube();         //!< 8 vertices, 6 quads, outward, unit cube centred at origin
+PolygonMesh tetrahedron();  //!< 4 triangles, closed
+PolygonMesh octahedron();   //!< 8 triangles, closed
+PolygonMesh icosahedron();  //!< 12 vertices, 20 triangles, on the unit sphere
 //! (nx x ny) quads on [0,1]^2 at z = 0 (open, one boundary loop); `triangles` splits each quad in two.
 PolygonMesh grid(int nx, int ny, bool triangles = false);
 //! Torus-like quad mesh with `n` x `m` quads, radii R, r; all vertices valence 4.

@@ -13,8 +13,8 @@
 namespace surfaced {
 
 struct Neighbor {
-    Index index = 0;        //!< into the points the tree was built from
-    double distance2 = 0;   //!< squared Euclidean distance to the query
+    Index index = 0;       //!< into the points the tree was built from
+    double distance2 = 0;  //!< squared Euclidean distance to the query
 };
 
 class KdTree {
@@ -31,15 +31,15 @@ public:
 private:
     struct Node {
         double split = 0;
-        std::uint32_t begin = 0, end = 0;   //!< range in order_/points_ (leaves)
-        std::int32_t left = -1, right = -1; //!< children, -1 for a leaf
+        std::uint32_t begin = 0, end = 0;    //!< range in order_/points_ (leaves)
+        std::int32_t left = -1, right = -1;  //!< children, -1 for a leaf
         std::uint8_t axis = 0;
     };
     std::int32_t build(std::uint32_t begin, std::uint32_t end, int depth);
     void search(std::int32_t node, const Vec3& q, std::size_t k, std::vector<Neighbor>& heap) const;
 
-    std::vector<Vec3> points_;       //!< in tree order
-    std::vector<Index> order_;       //!< tree position -> original index
+    std::vector<Vec3> points_;  //!< in tree order
+    std::vector<Index> order_;  //!< tree position -> original index
     std::vector<Node> nodes_;
 };
 

@@ -77,7 +77,7 @@ Status estimate_normals(PointCloud& cloud, const NormalEstimationOptions& option
         if (defined[i]) continue;
         if (i % kPollEvery == 0 && options.cancel.requested()) return cancelled("normal estimation");
         normals[i] = {0, 0, 1};
-        for (std::size_t k = options.k * 4; ; k *= 4) {
+        for (std::size_t k = options.k * 4;; k *= 4) {
             tree.knn(cloud.positions[i], std::min(k, n), neighbors);
             auto found = std::find_if(neighbors.begin(), neighbors.end(),
                                       [&](const Neighbor& nb) { return defined[nb.index] != 0; });

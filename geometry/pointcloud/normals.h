@@ -12,9 +12,9 @@
 namespace surfaced {
 
 struct NormalEstimationOptions {
-    std::size_t k = 16;   //!< neighbours per point, the point itself included; 3 .. 256
-    bool orient = true;   //!< make the orientation consistent (orient_normals) after estimating
-    Cancel cancel;        //!< polled every few thousand points
+    std::size_t k = 16;  //!< neighbours per point, the point itself included; 3 .. 256
+    bool orient = true;  //!< make the orientation consistent (orient_normals) after estimating
+    Cancel cancel;       //!< polled every few thousand points
 };
 
 //! Replaces cloud.normals with unit normals: the eigenvector of the smallest eigenvalue of the covariance of each

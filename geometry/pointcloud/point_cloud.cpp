@@ -8,11 +8,11 @@ namespace surfaced {
 Status validate(const PointCloud& cloud) {
     const std::size_t n = cloud.size();
     if (!cloud.normals.empty() && cloud.normals.size() != n)
-        return make_error(ErrorCode::InvalidArgument, std::to_string(cloud.normals.size()) + " normals for " +
-                                                          std::to_string(n) + " points");
+        return make_error(ErrorCode::InvalidArgument,
+                          std::to_string(cloud.normals.size()) + " normals for " + std::to_string(n) + " points");
     if (!cloud.colors.empty() && cloud.colors.size() != n)
-        return make_error(ErrorCode::InvalidArgument, std::to_string(cloud.colors.size()) + " colors for " +
-                                                          std::to_string(n) + " points");
+        return make_error(ErrorCode::InvalidArgument,
+                          std::to_string(cloud.colors.size()) + " colors for " + std::to_string(n) + " points");
     for (std::size_t i = 0; i < n; ++i) {
         const auto id = static_cast<std::int64_t>(i);
         if (!is_finite(cloud.positions[i]))

@@ -17,9 +17,9 @@ struct Color {
 
 struct PointCloud {
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;   //!< size 0 or positions.size(); unit length when present
-    std::vector<Color> colors;   //!< size 0 or positions.size()
-    bool has_alpha = false;      //!< colors carry a meaningful alpha (written as RGBA rather than RGB)
+    std::vector<Vec3> normals;  //!< size 0 or positions.size(); unit length when present
+    std::vector<Color> colors;  //!< size 0 or positions.size()
+    bool has_alpha = false;     //!< colors carry a meaningful alpha (written as RGBA rather than RGB)
 
     std::size_t size() const { return positions.size(); }
     bool empty() const { return positions.empty(); }

@@ -60,8 +60,8 @@ Result<PointCloud> sample_mesh(const PolygonMesh& mesh, const MeshSamplingOption
             return make_error(ErrorCode::Cancelled, "mesh sampling was cancelled");
         // triangle by area: the first whose cumulative area exceeds u * total
         const double u = random.uniform() * total;
-        std::size_t t = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) -
-                                                 cumulative.begin());
+        std::size_t t =
+            static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
         t = std::min(t, triangles.size() - 1);
         const Triangle& tri = triangles[t];
         const Vec3 &a = mesh.positions[tri.a], &b = mesh.positions[tri.b], &c = mesh.positions[tri.c];

@@ -54,9 +54,9 @@ struct RemeshOptions {
 //! Triangle quality of a mesh (polygons are fan-triangulated for the measure).
 struct MeshQuality {
     std::size_t vertices = 0, faces = 0;
-    double min_angle_degrees = 0;      //!< smallest interior angle of any triangle
-    double share_below_30 = 0;         //!< share of triangles whose smallest angle is below 30 degrees
-    double mean_radius_ratio = 0;      //!< Verdict: R / (2 r), 1 for equilateral, >= 1 (capped at 1e30)
+    double min_angle_degrees = 0;  //!< smallest interior angle of any triangle
+    double share_below_30 = 0;     //!< share of triangles whose smallest angle is below 30 degrees
+    double mean_radius_ratio = 0;  //!< Verdict: R / (2 r), 1 for equilateral, >= 1 (capped at 1e30)
     double max_radius_ratio = 0;
     double mean_edge_length = 0;
     double edge_length_stddev = 0;
@@ -71,11 +71,11 @@ MeshQuality measure_quality(const PolygonMesh& mesh);
 struct RemeshResult {
     PolygonMesh mesh;  //!< triangles; no uvs, normals or tags
     double target_edge_length = 0;
-    bool triangulated = false;         //!< the input had polygons with more than 3 vertices, triangulated first
-    std::size_t feature_edges = 0;     //!< sharp feature edges detected on the (triangulated) input
-    std::size_t boundary_edges = 0;    //!< boundary edges of the input
+    bool triangulated = false;       //!< the input had polygons with more than 3 vertices, triangulated first
+    std::size_t feature_edges = 0;   //!< sharp feature edges detected on the (triangulated) input
+    std::size_t boundary_edges = 0;  //!< boundary edges of the input
     MeshQuality before, after;
-    std::optional<double> hausdorff;   //!< symmetric, between input and output (measure_hausdorff)
+    std::optional<double> hausdorff;  //!< symmetric, between input and output (measure_hausdorff)
 };
 
 //! Remeshes a triangle mesh (polygons are triangulated first) towards edges of length L: per iteration, split

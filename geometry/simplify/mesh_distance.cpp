@@ -48,7 +48,10 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
             const double t = len2 > 0 ? std::clamp(dot(p - e[0], d) / len2, 0.0, 1.0) : 0.0;
             const Vec3 q = e[0] + d * t;
             const double dist = dot(p - q, p - q);
-            if (dist < best_d) { best_d = dist; best = q; }
+            if (dist < best_d) {
+                best_d = dist;
+                best = q;
+            }
         }
         return best;
     }
@@ -122,7 +125,9 @@ struct SurfaceDistance::Impl {
         nodes.reserve(2 * tris.size() / 4 + 2);
         nodes.push_back({});
         // Iterative build (a stack of ranges) so that deep trees cannot overflow the call stack.
-        struct Task { std::uint32_t node, begin, end; };
+        struct Task {
+            std::uint32_t node, begin, end;
+        };
         std::vector<Task> stack{{0, 0, static_cast<std::uint32_t>(tris.size())}};
         while (!stack.empty()) {
             const Task task = stack.back();
@@ -173,7 +178,11 @@ struct SurfaceDistance::Impl {
                     const auto& t = tris[order[i]];
                     const Vec3 q = closest_point_on_triangle(p, positions[t[0]], positions[t[1]], positions[t[2]]);
                     const double d2 = dot(p - q, p - q);
-                    if (d2 < best_d2) { best_d2 = d2; best = q; best_t = order[i]; }
+                    if (d2 < best_d2) {
+                        best_d2 = d2;
+                        best = q;
+                        best_t = order[i];
+                    }
                 }
                 continue;
             }
@@ -181,8 +190,13 @@ struct SurfaceDistance::Impl {
             const std::uint32_t l = node.first, r = node.first + 1;
             const double dl = box_distance2(nodes[l].box, p), dr = box_distance2(nodes[r].box, p);
             if (top + 2 > 128) continue;  // unreachable: median splits keep the depth near log2(F / 4)
-            if (dl < dr) { stack[top++] = r; stack[top++] = l; }
-            else { stack[top++] = l; stack[top++] = r; }
+            if (dl < dr) {
+                stack[top++] = r;
+                stack[top++] = l;
+            } else {
+                stack[top++] = l;
+                stack[top++] = r;
+            }
         }
         if (triangle) *triangle = best_t;
         return best;

@@ -46,8 +46,8 @@ struct MeshDistanceOptions {
 };
 
 struct MeshDistance {
-    double hausdorff = 0;        //!< max(forward_max, backward_max)
-    double rms = 0;              //!< sqrt of the mean squared distance over both sample sets together
+    double hausdorff = 0;                       //!< max(forward_max, backward_max)
+    double rms = 0;                             //!< sqrt of the mean squared distance over both sample sets together
     double forward_max = 0, forward_rms = 0;    //!< samples of `a` to the surface of `b`
     double backward_max = 0, backward_rms = 0;  //!< samples of `b` to the surface of `a`
     std::size_t forward_samples = 0, backward_samples = 0;

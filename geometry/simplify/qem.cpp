@@ -78,7 +78,6 @@ enum VertexFlag : std::uint8_t {
     kFrozen = 8,    //!< run_regions(): on a face with corners in both regions; left to the second phase
 };
 
-
 //! Blocks of whole 2 MiB pages, freed, kept for the next allocations of the same size. Every first touch of fresh
 //! memory faults and has the kernel clear it (a 2 MiB huge page at a time), and glibc returns blocks this large to the
 //! system when they are freed, so every simplification paid that again. A service simplifies one request after
@@ -112,7 +111,8 @@ public:
             if (blocks_[i].bytes == bytes) {
                 void* p = blocks_[i].p;
                 std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(i) + 1,
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_), blocks_.begin() + static_cast<std::ptrdiff_t>(i));
+                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_),
+                          blocks_.begin() + static_cast<std::ptrdiff_t>(i));
                 --count_;
                 total_ -= bytes;
                 return p;
@@ -140,7 +140,7 @@ public:
                 total_ += bytes;
             }
         }
-        for (std::size_t i = 0; i < n; ++i) ::operator delete(freed[i].p, std::align_val_t{kAlign});
+        for (std::size_t i = 0; i < n; ++i) ::operator delete (freed[i].p, std::align_val_t{kAlign});
     }
 
 private:
@@ -174,21 +174,25 @@ struct BlockAllocator {
     static std::size_t huge_bytes(std::size_t n) { return (n * sizeof(T) + kHuge - 1) / kHuge * kHuge; }
     T* allocate(std::size_t n) {
         if (n > (std::numeric_limits<std::size_t>::max() >> 2) / sizeof(T)) throw std::bad_array_new_length();
-        if (!huge(n)) return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64}));
+        if (!huge(n)) return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
         const std::size_t size = huge_bytes(n);
         if (void* kept = HugeBlockCache::instance().take(size)) return static_cast<T*>(kept);
-        void* p = ::operator new(size, std::align_val_t{kHuge});
+        void* p = ::operator new (size, std::align_val_t{kHuge});
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
         ::madvise(p, size, MADV_HUGEPAGE);  // advice only: failure changes nothing
 #endif
         return static_cast<T*>(p);
     }
     void deallocate(T* p, std::size_t n) noexcept {
-        if (huge(n)) HugeBlockCache::instance().give(p, huge_bytes(n));
-        else ::operator delete(p, std::align_val_t{64});
+        if (huge(n))
+            HugeBlockCache::instance().give(p, huge_bytes(n));
+        else
+            ::operator delete (p, std::align_val_t{64});
     }
     template <class U>
-    bool operator==(const BlockAllocator<U>&) const noexcept { return true; }
+    bool operator==(const BlockAllocator<U>&) const noexcept {
+        return true;
+    }
 };
 template <class T>
 using BlockVector = std::vector<T, BlockAllocator<T>>;
@@ -305,7 +309,7 @@ struct Collapse {
     Vec3 position;
     //! position's parameter along keep -> remove, for attribute interpolation; < 0: the projection of position
     double s = 0;
-    double cost = 0;   //!< Q(position), the heap key
+    double cost = 0;    //!< Q(position), the heap key
     double weight = 0;  //!< the summed quadric's weight
     double error = 0;   //!< sqrt(cost / weight): a distance (set by the caller, only for collapses popped)
 };
@@ -313,13 +317,13 @@ struct Collapse {
 //! What one collapsing loop owns: its heap, scratch and counters. One for the whole mesh, or with threads >= 2 one per
 //! region of the first phase (Simplifier::run_regions), each touching only its region's vertices and faces.
 struct Worker {
-    int region = -1;         //!< -1: the whole mesh
-    std::size_t live = 0;    //!< live faces of the whole mesh as this worker sees them (its own collapses counted)
+    int region = -1;          //!< -1: the whole mesh
+    std::size_t live = 0;     //!< live faces of the whole mesh as this worker sees them (its own collapses counted)
     std::size_t stop_at = 0;  //!< collapse while live > stop_at
     double max_error = 0;
     std::size_t collapses = 0;
     std::uint64_t polls = 0;
-    std::size_t pushes = 0;  //!< heap pushes since the last compaction
+    std::size_t pushes = 0;     //!< heap pushes since the last compaction
     std::size_t compacted = 0;  //!< heap size after the last compaction
     bool cancelled = false;
     bool done = false;  //!< region workers: nothing left to do (heap empty, or no room for a new fan block)
@@ -575,14 +579,13 @@ public:
             const int j = static_cast<int>(first_bad % 3);
             const std::string edge = "(" + std::to_string(input_index(tris_[f][j])) + ", " +
                                      std::to_string(input_index(tris_[f][(j + 1) % 3])) + ")";
-            return element_error(ErrorCode::NonManifold,
-                                 bad_orientation
-                                     ? "edge " + edge + " is traversed in the same direction by face " +
-                                           std::to_string(f) +
-                                           " and another face (inconsistent orientation or a duplicate face)"
-                                     : "edge " + edge + " is shared by more than two faces (face " +
-                                           std::to_string(f) + " is one)",
-                                 ElementKind::Face, f);
+            return element_error(
+                ErrorCode::NonManifold,
+                bad_orientation
+                    ? "edge " + edge + " is traversed in the same direction by face " + std::to_string(f) +
+                          " and another face (inconsistent orientation or a duplicate face)"
+                    : "edge " + edge + " is shared by more than two faces (face " + std::to_string(f) + " is one)",
+                ElementKind::Face, f);
         }
         for (std::size_t v = 0; v < nv; ++v) {
             // two boundary fans meeting at one vertex: no collapse there could keep the mesh manifold for sure
@@ -597,8 +600,10 @@ public:
             for (std::size_t f = 0; f < nf; ++f)
                 for (int j = 0; j < 3; ++j) {
                     const Index v = tris_[f][j], uv = face_uvs_[f][j];
-                    if (first_uv[v] == kInvalidIndex) first_uv[v] = uv;
-                    else if (first_uv[v] != uv) flags_[v] |= kPinned;
+                    if (first_uv[v] == kInvalidIndex)
+                        first_uv[v] = uv;
+                    else if (first_uv[v] != uv)
+                        flags_[v] |= kPinned;
                 }
         }
         for (std::size_t v = 0; v < nv; ++v)
@@ -739,8 +744,10 @@ private:
                 float lowest = std::numeric_limits<float>::infinity();
                 for (Worker& w : workers) {
                     if (w.done) continue;
-                    if (const Candidate* top = w.heap.top(current)) lowest = std::min(lowest, top->cost);
-                    else w.done = true;
+                    if (const Candidate* top = w.heap.top(current))
+                        lowest = std::min(lowest, top->cost);
+                    else
+                        w.done = true;
                 }
                 if (!(lowest < std::numeric_limits<float>::infinity())) {
                     stop = true;
@@ -1017,7 +1024,10 @@ private:
                 double best = std::numeric_limits<double>::infinity(), best_s = 0;
                 auto consider = [&](double s) {
                     const double e = std::max(qa + s * (2 * gd + s * dad), 0.0);
-                    if (e < best) { best = e; best_s = s; }
+                    if (e < best) {
+                        best = e;
+                        best_s = s;
+                    }
                 };
                 consider(0.0);
                 consider(1.0);
@@ -1273,8 +1283,7 @@ private:
             std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xk.fan + xk.degree);
         } else if (degree <= xr.capacity) {
             // r's block is big enough: k's faces go in front of r's there, and k takes the block
-            std::copy_backward(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved,
-                               fans_.begin() + xr.fan + degree);
+            std::copy_backward(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xr.fan + degree);
             std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + xr.fan);
             std::swap(xk.fan, xr.fan);
             std::swap(xk.capacity, xr.capacity);
@@ -1328,7 +1337,7 @@ private:
     std::vector<Vec2> uvs_;
     std::vector<std::array<Index, 3>> face_uvs_;
     std::vector<Vec3> normals_;
-    Worker serial_;      //!< the whole-mesh worker: run()'s passes, and the counts after them
+    Worker serial_;  //!< the whole-mesh worker: run()'s passes, and the counts after them
 };
 
 }  // namespace
@@ -1338,8 +1347,7 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
     if (!options.target_faces && !options.ratio && !options.max_error)
         return make_error(ErrorCode::InvalidArgument, "simplification needs target_faces, ratio or max_error");
     if (options.ratio && !(*options.ratio > 0 && *options.ratio <= 1))
-        return make_error(ErrorCode::InvalidArgument,
-                          "ratio must be in (0, 1], got " + std::to_string(*options.ratio));
+        return make_error(ErrorCode::InvalidArgument, "ratio must be in (0, 1], got " + std::to_string(*options.ratio));
     if (options.max_error && !(*options.max_error >= 0 && std::isfinite(*options.max_error)))
         return make_error(ErrorCode::InvalidArgument,
                           "max_error must be a finite distance >= 0, got " + std::to_string(*options.max_error));
@@ -1365,12 +1373,12 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
 
     const std::size_t input_faces = input.face_count();
     if (input_faces >= kInvalidIndex / 3)  // corners (3 f + j) are Index values
-        return make_error(ErrorCode::InvalidArgument,
-                          "too many triangles to simplify: " + std::to_string(input_faces));
+        return make_error(ErrorCode::InvalidArgument, "too many triangles to simplify: " + std::to_string(input_faces));
     std::size_t target = input_faces;
     if (options.target_faces) target = std::min(target, *options.target_faces);
     if (options.ratio)
-        target = std::min(target, static_cast<std::size_t>(std::floor(*options.ratio * static_cast<double>(input_faces))));
+        target =
+            std::min(target, static_cast<std::size_t>(std::floor(*options.ratio * static_cast<double>(input_faces))));
     if (!options.target_faces && !options.ratio) target = 0;  // max_error alone: as far as the error allows
     const double diagonal = input.bounds().diagonal();
 
@@ -1380,7 +1388,8 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
     if (!options.max_error) {
         Simplifier& simplifier = prototype;  // one run: no copy needed
         simplifier.run(target, std::numeric_limits<double>::infinity());
-        if (simplifier.cancelled()) return make_error(ErrorCode::Cancelled, "simplification cancelled (deadline or shutdown)");
+        if (simplifier.cancelled())
+            return make_error(ErrorCode::Cancelled, "simplification cancelled (deadline or shutdown)");
         result.mesh = simplifier.extract();
         result.achieved_error = simplifier.max_error();
     } else {
@@ -1415,8 +1424,8 @@ Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptio
             }
             // within 15% of the largest failing threshold: more attempts would gain little for their cost
             if (passed > 0 && failed < 1.15 * passed) break;
-            threshold = passed > 0 ? std::sqrt(passed * failed)
-                                   : failed * std::clamp(0.8 * max_error / measured, 0.05, 0.7);
+            threshold =
+                passed > 0 ? std::sqrt(passed * failed) : failed * std::clamp(0.8 * max_error / measured, 0.05, 0.7);
             if (!(threshold > 0)) break;
         }
     }

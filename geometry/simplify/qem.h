@@ -58,8 +58,8 @@ struct SimplifyOptions {
 };
 
 struct SimplifyResult {
-    PolygonMesh mesh;             //!< triangles; uvs and normals interpolated when the input had them; no tags
-    std::size_t faces = 0;        //!< mesh.face_count()
+    PolygonMesh mesh;       //!< triangles; uvs and normals interpolated when the input had them; no tags
+    std::size_t faces = 0;  //!< mesh.face_count()
     //! With max_error: the measured symmetric Hausdorff distance to the input (<= max_error). Without: the largest
     //! quadric estimate of the collapses performed, sqrt(Q(p) / sum of plane weights) (an area-weighted RMS distance
     //! to the merged planes; 0 when nothing was collapsed). Absolute, in mesh units.

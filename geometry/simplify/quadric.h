@@ -23,17 +23,30 @@ struct Quadric {
     //! The plane n.p + d = 0 (n unit length) with weight w.
     static Quadric from_plane(const Vec3& n, double d, double w) {
         Quadric q;
-        q.a00 = w * n.x * n.x; q.a01 = w * n.x * n.y; q.a02 = w * n.x * n.z;
-        q.a11 = w * n.y * n.y; q.a12 = w * n.y * n.z; q.a22 = w * n.z * n.z;
-        q.b0 = w * d * n.x; q.b1 = w * d * n.y; q.b2 = w * d * n.z;
+        q.a00 = w * n.x * n.x;
+        q.a01 = w * n.x * n.y;
+        q.a02 = w * n.x * n.z;
+        q.a11 = w * n.y * n.y;
+        q.a12 = w * n.y * n.z;
+        q.a22 = w * n.z * n.z;
+        q.b0 = w * d * n.x;
+        q.b1 = w * d * n.y;
+        q.b2 = w * d * n.z;
         q.c = w * d * d;
         q.weight = w;
         return q;
     }
 
     Quadric& operator+=(const Quadric& o) {
-        a00 += o.a00; a01 += o.a01; a02 += o.a02; a11 += o.a11; a12 += o.a12; a22 += o.a22;
-        b0 += o.b0; b1 += o.b1; b2 += o.b2;
+        a00 += o.a00;
+        a01 += o.a01;
+        a02 += o.a02;
+        a11 += o.a11;
+        a12 += o.a12;
+        a22 += o.a22;
+        b0 += o.b0;
+        b1 += o.b1;
+        b2 += o.b2;
         c += o.c;
         weight += o.weight;
         return *this;

@@ -15,9 +15,9 @@ constexpr double kPi = std::numbers::pi;
 
 // One vertex's ordered neighbourhood: edges e[0..] counter-clockwise, face i between edges i and i+1.
 struct Ring {
-    std::vector<Vec3> edge_points;   // the other end of each edge
+    std::vector<Vec3> edge_points;  // the other end of each edge
     std::vector<float> edge_sharpness;
-    std::vector<Vec3> face_points;   // Catmull-Clark: the quad's corner opposite the vertex
+    std::vector<Vec3> face_points;  // Catmull-Clark: the quad's corner opposite the vertex
     bool boundary = false;
 };
 
@@ -154,7 +154,10 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
         for (Index s = level.face_offsets[f]; s < level.face_offsets[f + 1]; ++s) {
             slot_face[s] = f;
             const Index e = level.face_edges[s];
-            if (edge_uses[e] == 0) slot0[e] = s; else slot1[e] = s;
+            if (edge_uses[e] == 0)
+                slot0[e] = s;
+            else
+                slot1[e] = s;
             if (edge_uses[e] < 255) ++edge_uses[e];
         }
     // the slots of each vertex < count, in face order (so the first is in the lowest face)
@@ -257,7 +260,10 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
             const Index f = slot_face[s];
             if (!loop) {
                 // opposite corner of a quad (Catmull-Clark levels >= 1 are all quads)
-                if (level.face_offsets[f + 1] - level.face_offsets[f] != 4) { manifold = false; break; }
+                if (level.face_offsets[f + 1] - level.face_offsets[f] != 4) {
+                    manifold = false;
+                    break;
+                }
                 ring.face_points.push_back(points[level.face_verts[next_slot(next_slot(s))]]);
             } else {
                 ring.face_points.push_back(Vec3{});
@@ -271,7 +277,10 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
             }
             const Index next = slot0[trail] == trail_slot ? slot1[trail] : slot0[trail];
             if (next == start) break;
-            if (next == kInvalidIndex || steps > slot_count || level.face_verts[next] != v) { manifold = false; break; }
+            if (next == kInvalidIndex || steps > slot_count || level.face_verts[next] != v) {
+                manifold = false;
+                break;
+            }
             s = next;
         }
         if (!manifold || steps != slot_count) {
@@ -285,14 +294,17 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
             const float sh = edge_sharpness[e];
             ring.edge_sharpness.push_back(sh);
             if (sh > 0.0f) {
-                if (sharp_count == 0) c0 = static_cast<int>(i);
-                else if (sharp_count == 1) c1 = static_cast<int>(i);
+                if (sharp_count == 0)
+                    c0 = static_cast<int>(i);
+                else if (sharp_count == 1)
+                    c1 = static_cast<int>(i);
                 ++sharp_count;
             }
         }
         const bool corner = vertex_sharpness[v] > 0.0f || sharp_count > 2;
         if (sharp_count != 2) c0 = c1 = -1;
-        const LimitPoint lp = loop ? loop_limit(points[v], ring, corner, c0, c1, warren) : catmark_limit(points[v], ring, corner, c0, c1);
+        const LimitPoint lp =
+            loop ? loop_limit(points[v], ring, corner, c0, c1, warren) : catmark_limit(points[v], ring, corner, c0, c1);
         limit_positions[v] = lp.position;
         const Vec3 n = normalized(cross(lp.tan1, lp.tan2));
         if (n.x == 0 && n.y == 0 && n.z == 0) {

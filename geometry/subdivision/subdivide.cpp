@@ -25,8 +25,8 @@ namespace surfaced {
 
 namespace {
 
-using subdivision::Level;
 using subdivision::for_range;
+using subdivision::Level;
 
 bool is_sharp(float s) { return s > 0.0f; }
 bool is_infinite(float s) { return s >= kInfiniteSharpness; }
@@ -49,8 +49,8 @@ Rule vertex_rule(float vertex_sharpness, int sharp_edges) {
 
 // Sharpness state of one level.
 struct Sharpness {
-    std::vector<float> edge;      // per edge; boundary and non-manifold edges are infinite
-    std::vector<float> vertex;    // per vertex
+    std::vector<float> edge;         // per edge; boundary and non-manifold edges are infinite
+    std::vector<float> vertex;       // per vertex
     std::vector<std::uint8_t> hole;  // per face; empty when there are no holes
 };
 
@@ -59,7 +59,7 @@ struct Neighbourhood {
     std::vector<std::uint32_t> vertex_faces, vertex_edges;
     std::vector<Index> sharp_offsets;  // per vertex, into sharp_edges: incident edges with sharpness > 0
     std::vector<Index> sharp_edges;
-    std::vector<float> semi_sum;       // Chaikin: sum of incident semi-sharp sharpness
+    std::vector<float> semi_sum;  // Chaikin: sum of incident semi-sharp sharpness
     std::vector<std::uint16_t> semi_count;
     bool any_sharp_vertex = false;
 };
@@ -233,7 +233,8 @@ struct LevelInput {
 // face_to_edge(f, corner) over e's faces. Large levels are cut into two fixed parts whose partial sums are added
 // in a fixed order, so the result does not depend on the thread count.
 template <class FacePass>
-void scatter_level(const Level& p, const Vec3* src, Vec3* vertex_acc, Vec3* edge_acc, bool threaded, FacePass&& face_pass) {
+void scatter_level(const Level& p, const Vec3* src, Vec3* vertex_acc, Vec3* edge_acc, bool threaded,
+                   FacePass&& face_pass) {
     const Index nv = p.vertex_count, ne = p.edge_count(), nf = p.face_count();
     auto edges = [&](Index begin, Index end, Vec3* vacc) {
         for (Index e = begin; e < end; ++e) {
@@ -308,7 +309,9 @@ void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec
             dst[v] = w.vertex * src[v] + w.edge * dst[v];
         }
     });
-    struct W { double vertex, face; };
+    struct W {
+        double vertex, face;
+    };
     auto weights = [&](Index e) -> W {
         if (smooth_triangles && edge_triangles[e] > 0) {
             // OpenSubdiv's TRI_SUB_SMOOTH weights (from Hbr): 0.47 for a triangle side, 0.25 for a quad side
@@ -319,10 +322,10 @@ void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec
         }
         return {subdivision::kCatmarkEdgeWeight, subdivision::kCatmarkEdgeWeight};
     };
-    for_range(ne, in.threaded, [&](Index b, Index e) {
-        finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, weights, b, e);
-    });
-    for_range(nv, in.threaded, [&](Index b, Index e) { apply_vertex_rules(p, in.sharp, n, in.method, src, dst, b, e); });
+    for_range(ne, in.threaded,
+              [&](Index b, Index e) { finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, weights, b, e); });
+    for_range(nv, in.threaded,
+              [&](Index b, Index e) { apply_vertex_rules(p, in.sharp, n, in.method, src, dst, b, e); });
 }
 
 // One Loop level: src has p.vertex_count points, dst gets nv + ne.
@@ -346,12 +349,14 @@ void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* 
             dst[v] = w.vertex * src[v] + w.edge * dst[v];
         }
     });
-    struct W { double vertex, face; };
+    struct W {
+        double vertex, face;
+    };
     auto weights = [](Index) -> W { return {subdivision::kLoopEdgeEndWeight, subdivision::kLoopEdgeOppositeWeight}; };
-    for_range(ne, in.threaded, [&](Index b, Index e) {
-        finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, weights, b, e);
-    });
-    for_range(nv, in.threaded, [&](Index b, Index e) { apply_vertex_rules(p, in.sharp, n, in.method, src, dst, b, e); });
+    for_range(ne, in.threaded,
+              [&](Index b, Index e) { finish_edge_points(p, in.sharp, n, in.method, src, edge_pts, weights, b, e); });
+    for_range(nv, in.threaded,
+              [&](Index b, Index e) { apply_vertex_rules(p, in.sharp, n, in.method, src, dst, b, e); });
 }
 
 // Sharpness of the child level (vertices: children of vertices first; edges: face-interior edges first, then two
@@ -395,7 +400,9 @@ std::vector<std::uint32_t> count_fans(const Level& level, const std::vector<std:
         return x;
     };
     // the corner after `slot` in face f (the other end of the edge that starts at `slot`)
-    auto next_corner = [&](Index f, Index slot) { return slot + 1 < level.face_offsets[f + 1] ? slot + 1 : level.face_offsets[f]; };
+    auto next_corner = [&](Index f, Index slot) {
+        return slot + 1 < level.face_offsets[f + 1] ? slot + 1 : level.face_offsets[f];
+    };
     // first face-edge slot (and its face) seen for each manifold interior edge
     std::vector<Index> first_slot(ne, kInvalidIndex), first_face(ne, kInvalidIndex);
     for (Index f = 0; f < level.face_count(); ++f) {
@@ -461,8 +468,8 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
                 if (other_end(level, edges[k], crease.v0) == crease.v1) found = edges[k];
             if (found == kInvalidIndex)
                 return element_error(ErrorCode::InvalidArgument,
-                                     "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) + " and " +
-                                         std::to_string(crease.v1) + " share no edge",
+                                     "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) +
+                                         " and " + std::to_string(crease.v1) + " share no edge",
                                      ElementKind::Crease, static_cast<std::int64_t>(i));
             s.edge[found] = static_cast<float>(crease.sharpness);
         }
@@ -521,7 +528,8 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
         if (topological_corner && boundary == BoundaryInterpolation::EdgeAndCorner) {
             s.vertex[v] = kInfiniteSharpness;
         } else if (non_manifold) {
-            const bool simple_crease = vertex_nm[v] == 2 && vertex_boundary[v] == 0 && vertex_faces[v] > vertex_edges[v];
+            const bool simple_crease =
+                vertex_nm[v] == 2 && vertex_boundary[v] == 0 && vertex_faces[v] > vertex_edges[v];
             if (!simple_crease) s.vertex[v] = kInfiniteSharpness;
         }
     }
@@ -580,9 +588,9 @@ void apply_uv_overrides(Channel& c, const Level& p, const Neighbourhood& n, Crea
             if (still_sharp) {
                 dst[v] = src[v];
             } else {
-                const double corner = fractional_weight(c.sharp.vertex[w], decrement(c.sharp.vertex[w]),
-                                                        parent_sharp.data(), child_sharp.data(),
-                                                        static_cast<Index>(parent_sharp.size()));
+                const double corner =
+                    fractional_weight(c.sharp.vertex[w], decrement(c.sharp.vertex[w]), parent_sharp.data(),
+                                      child_sharp.data(), static_cast<Index>(parent_sharp.size()));
                 const double crease = 1.0 - corner;
                 dst[v] = (crease * subdivision::kCreaseNeighbourWeight) * ends +
                          (crease * subdivision::kCreaseVertexWeight + corner) * src[v];
@@ -603,8 +611,12 @@ void refine_channel(Channel& c, const SubdivisionOptions& options, bool first_le
                        : subdivision::refine_quads(c.level, with_edges, use_threads(options));
     std::vector<Vec3> dst(child.vertex_count);
     const bool threaded = use_threads(options);
-    const LevelInput in{c.level, c.sharp, options.crease_method,
-                        first_level ? options.triangle_rule : TriangleRule::Catmark, options.loop_weights, threaded};
+    const LevelInput in{c.level,
+                        c.sharp,
+                        options.crease_method,
+                        first_level ? options.triangle_rule : TriangleRule::Catmark,
+                        options.loop_weights,
+                        threaded};
     if (loop)
         interpolate_loop(in, n, c.values.data(), dst.data());
     else
@@ -632,7 +644,8 @@ void sharpen_linear_uvs(Channel& c, UvInterpolation mode) {
         const auto faces = edge_face_counts(c.level);
         for (Index e = 0; e < c.level.edge_count(); ++e)
             if (faces[e] < 2)
-                c.sharp.vertex[c.level.edge_verts[2 * e]] = c.sharp.vertex[c.level.edge_verts[2 * e + 1]] = kInfiniteSharpness;
+                c.sharp.vertex[c.level.edge_verts[2 * e]] = c.sharp.vertex[c.level.edge_verts[2 * e + 1]] =
+                    kInfiniteSharpness;
     }
 }
 
@@ -763,7 +776,8 @@ std::vector<Index> duplicate_value_runs(const PolygonMesh& mesh, const Level& ml
             sibling.push_back(sib);
         }
         for (Index i = 0; i < count; ++i) {
-            const Index first = static_cast<Index>(std::find(unique.begin(), unique.end(), unique[sibling[i]]) - unique.begin());
+            const Index first =
+                static_cast<Index>(std::find(unique.begin(), unique.end(), unique[sibling[i]]) - unique.begin());
             if (first != sibling[i]) duplicate[ring[i]] = sibling[i];
         }
     }
@@ -783,7 +797,9 @@ bool span_ends(const Level& vl, const std::vector<std::uint32_t>& edge_faces,
     const auto next = [&](Index f, Index s) { return s + 1 < vl.face_offsets[f + 1] ? s + 1 : vl.face_offsets[f]; };
     const auto prev = [&](Index f, Index s) { return s > vl.face_offsets[f] ? s - 1 : vl.face_offsets[f + 1] - 1; };
     const auto open = [&](Index e) { return edge_faces[e] != 2 || non_manifold_edge[e]; };
-    const auto across = [&](Index e, Index s) { return edge_slots[2 * e] == s ? edge_slots[2 * e + 1] : edge_slots[2 * e]; };
+    const auto across = [&](Index e, Index s) {
+        return edge_slots[2 * e] == s ? edge_slots[2 * e + 1] : edge_slots[2 * e];
+    };
     const Index limit = static_cast<Index>(vl.face_verts.size());
     for (int dir = 0; dir < 2; ++dir) {
         Index s = slot, f = face_of(slot);
@@ -869,7 +885,8 @@ Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const 
         ids.reserve(corners);
         for (std::size_t i = 0; i < corners; ++i) {
             const bool dup = duplicate[i] != kInvalidIndex;
-            const std::uint64_t key = (std::uint64_t{mesh.face_indices[i]} << 32) | (dup ? duplicate[i] : mesh.uv_indices[i]);
+            const std::uint64_t key =
+                (std::uint64_t{mesh.face_indices[i]} << 32) | (dup ? duplicate[i] : mesh.uv_indices[i]);
             auto [it, added] = (dup ? duplicate_ids : ids).emplace(key, static_cast<Index>(vertex_of.size()));
             if (added) {
                 vertex_of.push_back(mesh.face_indices[i]);
@@ -892,7 +909,8 @@ Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const 
 
     // value edges inherit the sharpness of the mesh edge in the same face slot; seams and boundaries are infinite
     c.sharp.edge.assign(ne, 0.0f);
-    for (std::size_t slot = 0; slot < corners; ++slot) c.sharp.edge[vl.face_edges[slot]] = mesh_sharp.edge[mesh_level.face_edges[slot]];
+    for (std::size_t slot = 0; slot < corners; ++slot)
+        c.sharp.edge[vl.face_edges[slot]] = mesh_sharp.edge[mesh_level.face_edges[slot]];
     std::vector<std::uint32_t> edge_faces(ne, 0), edge_forward(ne, 0);
     for (Index f = 0; f < vl.face_count(); ++f)
         for (Index slot = vl.face_offsets[f]; slot < vl.face_offsets[f + 1]; ++slot) {
@@ -930,11 +948,13 @@ Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const 
     {
         const auto mesh_faces = edge_face_counts(mesh_level);
         for (Index e = 0; e < mesh_level.edge_count(); ++e)
-            if (mesh_faces[e] < 2) mesh_boundary[mesh_level.edge_verts[2 * e]] = mesh_boundary[mesh_level.edge_verts[2 * e + 1]] = 1;
+            if (mesh_faces[e] < 2)
+                mesh_boundary[mesh_level.edge_verts[2 * e]] = mesh_boundary[mesh_level.edge_verts[2 * e + 1]] = 1;
     }
     auto split = [&](Index v) {  // the value's region is not one fan at the vertex ("disjoint" span)
-        const bool fan = vnm[v] == 0 && fans[v] == 1 &&
-                         ((vboundary[v] == 0 && vfaces[v] == vedges[v]) || (vboundary[v] == 2 && vfaces[v] + 1 == vedges[v]));
+        const bool fan =
+            vnm[v] == 0 && fans[v] == 1 &&
+            ((vboundary[v] == 0 && vfaces[v] == vedges[v]) || (vboundary[v] == 2 && vfaces[v] + 1 == vedges[v]));
         return !fan;
     };
     const bool plus = mode == UvInterpolation::CornersPlus1 || mode == UvInterpolation::CornersPlus2;
@@ -949,14 +969,15 @@ Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const 
         const Index mv = vertex_of[v];
         bool sharp = split(v) || (mode != UvInterpolation::None && vfaces[v] == 1);
         if (mesh_non_manifold[mv] && values_at[mv] > 1) sharp = true;  // OpenSubdiv sharpens them all
-        if (plus && values_at[mv] > 2) sharp = true;                    // junction
+        if (plus && values_at[mv] > 2) sharp = true;                   // junction
         if (plus && values_at[mv] == 2 && any_split[mv]) sharp = true;
         if (mode == UvInterpolation::CornersPlus2 && values_at[mv] == 2 && any_corner[mv]) sharp = true;
         if (mode == UvInterpolation::CornersPlus2 && values_at[mv] == 1 && !mesh_boundary[mv] && vboundary[v] > 0)
-            sharp = true;                                              // dart: a seam ending inside the region
+            sharp = true;  // dart: a seam ending inside the region
         if (sharp) c.sharp.vertex[v] = kInfiniteSharpness;
     }
-    if (plus) add_uv_overrides(c, vertex_of, edge_faces, non_manifold_edge, mesh_sharp, mode, split, values_at, any_corner);
+    if (plus)
+        add_uv_overrides(c, vertex_of, edge_faces, non_manifold_edge, mesh_sharp, mode, split, values_at, any_corner);
     return c;
 }
 
@@ -988,10 +1009,16 @@ std::uint64_t predicted_vertex_count(const PolygonMesh& mesh, SubdivisionScheme 
         if (v > kMax || e > kMax || f > kMax || corners > kMax) return std::numeric_limits<std::uint64_t>::max();
         if (scheme == SubdivisionScheme::CatmullClark) {
             const std::uint64_t nv = v + f + e, ne = 2 * e + corners, nf = corners;
-            v = nv; e = ne; f = nf; corners = 4 * nf;
+            v = nv;
+            e = ne;
+            f = nf;
+            corners = 4 * nf;
         } else {
             const std::uint64_t nv = v + e, ne = 2 * e + 3 * f, nf = 4 * f;
-            v = nv; e = ne; f = nf; corners = 3 * nf;
+            v = nv;
+            e = ne;
+            f = nf;
+            corners = 3 * nf;
         }
     }
     return v;
@@ -1041,7 +1068,7 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
     const bool threaded = use_threads(options);
     int level_done = 0;
     std::vector<Vec3> src = mesh.positions, dst;
-    Level output_level;            // the requested level, when refinement continues past it for the limit
+    Level output_level;  // the requested level, when refinement continues past it for the limit
     Sharpness output_sharp;
     const auto cancelled = [&] {
         return make_error(ErrorCode::Cancelled, "subdivision cancelled at level " + std::to_string(level_done) +
@@ -1056,8 +1083,12 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
         if (options.cancel.requested()) return cancelled();
         dst.clear();  // every point is written below: growing need not copy the stale ones
         dst.resize(child.vertex_count);
-        const LevelInput in{level, sharp, options.crease_method, l == 0 ? options.triangle_rule : TriangleRule::Catmark,
-                            options.loop_weights, threaded};
+        const LevelInput in{level,
+                            sharp,
+                            options.crease_method,
+                            l == 0 ? options.triangle_rule : TriangleRule::Catmark,
+                            options.loop_weights,
+                            threaded};
         if (loop)
             interpolate_loop(in, n, src.data(), dst.data());
         else
@@ -1106,8 +1137,9 @@ Result<PolygonMesh> subdivide(const PolygonMesh& mesh, const SubdivisionOptions&
             if (sharp.hole[f]) continue;
             const Index begin = level.face_offsets[f], size = level.face_offsets[f + 1] - begin;
             out.add_face({level.face_verts.data() + begin, size});
-            if (uv) out.uv_indices.insert(out.uv_indices.end(), uv->level.face_verts.begin() + begin,
-                                          uv->level.face_verts.begin() + begin + size);
+            if (uv)
+                out.uv_indices.insert(out.uv_indices.end(), uv->level.face_verts.begin() + begin,
+                                      uv->level.face_verts.begin() + begin + size);
         }
     }
     return out;
@@ -1119,17 +1151,19 @@ int limit_extra_levels(const PolygonMesh& mesh, const SubdivisionOptions& option
     float max_semi = 0.0f;
     if (options.use_mesh_tags) {
         for (const Crease& c : mesh.tags.creases)
-            if (is_semi_sharp(static_cast<float>(c.sharpness))) max_semi = std::max(max_semi, static_cast<float>(c.sharpness));
+            if (is_semi_sharp(static_cast<float>(c.sharpness)))
+                max_semi = std::max(max_semi, static_cast<float>(c.sharpness));
         for (const Corner& c : mesh.tags.corners)
-            if (is_semi_sharp(static_cast<float>(c.sharpness))) max_semi = std::max(max_semi, static_cast<float>(c.sharpness));
+            if (is_semi_sharp(static_cast<float>(c.sharpness)))
+                max_semi = std::max(max_semi, static_cast<float>(c.sharpness));
     }
     const int decay = std::max(0, static_cast<int>(std::ceil(max_semi)) - options.levels);
-    const bool needs_quads = options.scheme == SubdivisionScheme::CatmullClark && options.levels == 0 && !mesh.is_triangle_mesh() &&
-                             [&] {
-                                 for (std::size_t f = 0; f < mesh.face_count(); ++f)
-                                     if (mesh.face_size(f) != 4) return true;
-                                 return false;
-                             }();
+    const bool needs_quads =
+        options.scheme == SubdivisionScheme::CatmullClark && options.levels == 0 && !mesh.is_triangle_mesh() && [&] {
+            for (std::size_t f = 0; f < mesh.face_count(); ++f)
+                if (mesh.face_size(f) != 4) return true;
+            return false;
+        }();
     return std::max(decay, needs_quads ? 1 : 0);
 }
 

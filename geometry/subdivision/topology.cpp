@@ -28,9 +28,9 @@ Level build_base_level(const PolygonMesh& mesh) {
     std::vector<Index> bucket_fill(nv, 0);
     std::vector<Index> bucket_edges(bucket_start[nv]);
     level.edge_verts.reserve(mesh.face_indices.size());  // at most one edge per half-edge
-    std::vector<Index> last_face;                          // per edge: the last face found using it
+    std::vector<Index> last_face;                        // per edge: the last face found using it
     last_face.reserve(mesh.face_indices.size());
-    std::vector<Index> tagged;                             // edges OpenSubdiv tags non-manifold as it builds them
+    std::vector<Index> tagged;  // edges OpenSubdiv tags non-manifold as it builds them
 
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const Index begin = mesh.face_offsets[f];
@@ -45,7 +45,10 @@ Level build_base_level(const PolygonMesh& mesh) {
                 for (Index k = 0; k < bucket_fill[lo]; ++k) {
                     const Index e = slots[k];
                     const Index u = level.edge_verts[2 * e], w = level.edge_verts[2 * e + 1];
-                    if (u != w && (u == hi || w == hi)) { found = e; break; }
+                    if (u != w && (u == hi || w == hi)) {
+                        found = e;
+                        break;
+                    }
                 }
                 if (found != kInvalidIndex && last_face[found] == static_cast<Index>(f)) {
                     // this face uses the edge a second time: a new instance, and both are non-manifold
@@ -81,14 +84,14 @@ namespace {
 // after the face-interior edges; the same for both schemes.
 void emit_edge_children(const Level& p, Index first_edge_vert, Index first_edge_edge, Level& c, bool threaded) {
     for_range(p.edge_count(), threaded, [&](Index e_begin, Index e_end) {
-    for (Index e = e_begin; e < e_end; ++e) {
-        const Index ce = first_edge_vert + e;
-        Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
-        ev[0] = ce;
-        ev[1] = p.edge_verts[2 * e];
-        ev[2] = ce;
-        ev[3] = p.edge_verts[2 * e + 1];
-    }
+        for (Index e = e_begin; e < e_end; ++e) {
+            const Index ce = first_edge_vert + e;
+            Index* ev = &c.edge_verts[2 * (static_cast<std::size_t>(first_edge_edge) + 2 * e)];
+            ev[0] = ce;
+            ev[1] = p.edge_verts[2 * e];
+            ev[2] = ce;
+            ev[3] = p.edge_verts[2 * e + 1];
+        }
     });
 }
 
@@ -114,32 +117,32 @@ Level refine_quads(const Level& p, bool with_edges, bool threaded) {
     const Index first_edge_edge = corners;
 
     for_range(nf, threaded, [&](Index f_begin, Index f_end) {
-    for (Index f = f_begin; f < f_end; ++f) {
-        const Index begin = p.face_offsets[f];
-        const Index n = p.face_offsets[f + 1] - begin;
-        const Index cf = first_face_vert + f;
-        for (Index j = 0; j < n; ++j) {
-            const Index jp = j == 0 ? n - 1 : j - 1;
-            const Index v = p.face_verts[begin + j];
-            const Index e_next = p.face_edges[begin + j], e_prev = p.face_edges[begin + jp];
-            // Quads keep the parent's parametric orientation: the corner's child vertex sits at position j.
-            const Index rot = n == 4 ? j : 0;
-            Index* fv = &c.face_verts[4 * (static_cast<std::size_t>(begin) + j)];
-            fv[rot] = v;
-            fv[(rot + 1) & 3] = first_edge_vert + e_next;
-            fv[(rot + 2) & 3] = cf;
-            fv[(rot + 3) & 3] = first_edge_vert + e_prev;
-            if (with_edges) {
-                Index* fe = &c.face_edges[4 * (static_cast<std::size_t>(begin) + j)];
-                fe[rot] = first_edge_edge + 2 * e_next + edge_child_at(p, e_next, v, false);
-                fe[(rot + 1) & 3] = begin + j;
-                fe[(rot + 2) & 3] = begin + jp;
-                fe[(rot + 3) & 3] = first_edge_edge + 2 * e_prev + edge_child_at(p, e_prev, v, true);
-                c.edge_verts[2 * (begin + j)] = cf;
-                c.edge_verts[2 * (begin + j) + 1] = first_edge_vert + e_next;
+        for (Index f = f_begin; f < f_end; ++f) {
+            const Index begin = p.face_offsets[f];
+            const Index n = p.face_offsets[f + 1] - begin;
+            const Index cf = first_face_vert + f;
+            for (Index j = 0; j < n; ++j) {
+                const Index jp = j == 0 ? n - 1 : j - 1;
+                const Index v = p.face_verts[begin + j];
+                const Index e_next = p.face_edges[begin + j], e_prev = p.face_edges[begin + jp];
+                // Quads keep the parent's parametric orientation: the corner's child vertex sits at position j.
+                const Index rot = n == 4 ? j : 0;
+                Index* fv = &c.face_verts[4 * (static_cast<std::size_t>(begin) + j)];
+                fv[rot] = v;
+                fv[(rot + 1) & 3] = first_edge_vert + e_next;
+                fv[(rot + 2) & 3] = cf;
+                fv[(rot + 3) & 3] = first_edge_vert + e_prev;
+                if (with_edges) {
+                    Index* fe = &c.face_edges[4 * (static_cast<std::size_t>(begin) + j)];
+                    fe[rot] = first_edge_edge + 2 * e_next + edge_child_at(p, e_next, v, false);
+                    fe[(rot + 1) & 3] = begin + j;
+                    fe[(rot + 2) & 3] = begin + jp;
+                    fe[(rot + 3) & 3] = first_edge_edge + 2 * e_prev + edge_child_at(p, e_prev, v, true);
+                    c.edge_verts[2 * (begin + j)] = cf;
+                    c.edge_verts[2 * (begin + j) + 1] = first_edge_vert + e_next;
+                }
             }
         }
-    }
     });
     if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c, threaded);
     return c;
@@ -163,40 +166,47 @@ Level refine_triangles(const Level& p, bool with_edges, bool threaded) {
     const Index first_edge_edge = 3 * nf;
 
     for_range(nf, threaded, [&](Index f_begin, Index f_end) {
-    for (Index f = f_begin; f < f_end; ++f) {
-        const Index b = p.face_offsets[f];
-        assert(p.face_offsets[f + 1] - b == 3);
-        const Index v[3] = {p.face_verts[b], p.face_verts[b + 1], p.face_verts[b + 2]};
-        const Index e[3] = {p.face_edges[b], p.face_edges[b + 1], p.face_edges[b + 2]};
-        const Index ce[3] = {first_edge_vert + e[0], first_edge_vert + e[1], first_edge_vert + e[2]};
-        Index* fv = &c.face_verts[12 * static_cast<std::size_t>(f)];
-        const Index tri[4][3] = {{v[0], ce[0], ce[2]}, {ce[0], v[1], ce[1]}, {ce[2], ce[1], v[2]}, {ce[1], ce[2], ce[0]}};
-        for (int t = 0; t < 4; ++t)
-            for (int k = 0; k < 3; ++k) fv[3 * t + k] = tri[t][k];
-        if (with_edges) {
-            // interior edges of face f: j-th joins edge points j and j-1
-            const Index ie = 3 * f;
-            for (Index j = 0; j < 3; ++j) {
-                c.edge_verts[2 * (ie + j)] = ce[j];
-                c.edge_verts[2 * (ie + j) + 1] = ce[(j + 2) % 3];
+        for (Index f = f_begin; f < f_end; ++f) {
+            const Index b = p.face_offsets[f];
+            assert(p.face_offsets[f + 1] - b == 3);
+            const Index v[3] = {p.face_verts[b], p.face_verts[b + 1], p.face_verts[b + 2]};
+            const Index e[3] = {p.face_edges[b], p.face_edges[b + 1], p.face_edges[b + 2]};
+            const Index ce[3] = {first_edge_vert + e[0], first_edge_vert + e[1], first_edge_vert + e[2]};
+            Index* fv = &c.face_verts[12 * static_cast<std::size_t>(f)];
+            const Index tri[4][3] = {
+                {v[0], ce[0], ce[2]}, {ce[0], v[1], ce[1]}, {ce[2], ce[1], v[2]}, {ce[1], ce[2], ce[0]}};
+            for (int t = 0; t < 4; ++t)
+                for (int k = 0; k < 3; ++k) fv[3 * t + k] = tri[t][k];
+            if (with_edges) {
+                // interior edges of face f: j-th joins edge points j and j-1
+                const Index ie = 3 * f;
+                for (Index j = 0; j < 3; ++j) {
+                    c.edge_verts[2 * (ie + j)] = ce[j];
+                    c.edge_verts[2 * (ie + j) + 1] = ce[(j + 2) % 3];
+                }
+                // half of edge e_j at its start v_j (out), or of e_{j-1} at its end v_j (in)
+                auto out = [&](Index j) { return first_edge_edge + 2 * e[j] + edge_child_at(p, e[j], v[j], false); };
+                auto in = [&](Index j) {
+                    const Index jp = (j + 2) % 3;
+                    return first_edge_edge + 2 * e[jp] + edge_child_at(p, e[jp], v[j], true);
+                };
+                Index* fe = &c.face_edges[12 * static_cast<std::size_t>(f)];
+                // corner triangles: (v_j, ce_j) is half of e_j, (ce_j, ce_{j-1}) interior j, (ce_{j-1}, v_j) half of e_{j-1}
+                fe[0] = out(0);
+                fe[1] = ie + 0;
+                fe[2] = in(0);
+                fe[3] = in(1);
+                fe[4] = out(1);
+                fe[5] = ie + 1;
+                fe[6] = ie + 2;
+                fe[7] = in(2);
+                fe[8] = out(2);
+                // middle triangle (ce1, ce2, ce0)
+                fe[9] = ie + 2;
+                fe[10] = ie + 0;
+                fe[11] = ie + 1;
             }
-            // half of edge e_j at its start v_j (out), or of e_{j-1} at its end v_j (in)
-            auto out = [&](Index j) { return first_edge_edge + 2 * e[j] + edge_child_at(p, e[j], v[j], false); };
-            auto in = [&](Index j) {
-                const Index jp = (j + 2) % 3;
-                return first_edge_edge + 2 * e[jp] + edge_child_at(p, e[jp], v[j], true);
-            };
-            Index* fe = &c.face_edges[12 * static_cast<std::size_t>(f)];
-            // corner triangles: (v_j, ce_j) is half of e_j, (ce_j, ce_{j-1}) interior j, (ce_{j-1}, v_j) half of e_{j-1}
-            fe[0] = out(0); fe[1] = ie + 0; fe[2] = in(0);
-            fe[3] = in(1);  fe[4] = out(1); fe[5] = ie + 1;
-            fe[6] = ie + 2; fe[7] = in(2);  fe[8] = out(2);
-            // middle triangle (ce1, ce2, ce0)
-            fe[9] = ie + 2;
-            fe[10] = ie + 0;
-            fe[11] = ie + 1;
         }
-    }
     });
     if (with_edges) emit_edge_children(p, first_edge_vert, first_edge_edge, c, threaded);
     return c;

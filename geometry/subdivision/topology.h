@@ -80,5 +80,4 @@ inline Index edge_child_at(const Level& p, Index e, Index v, bool corner_ends_ed
 Level refine_quads(const Level& parent, bool with_edges, bool threaded = false);
 Level refine_triangles(const Level& parent, bool with_edges, bool threaded = false);
 
-
 }  // namespace surfaced::subdivision

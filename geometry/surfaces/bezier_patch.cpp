@@ -78,7 +78,8 @@ NetBounds second_derivative_bounds(const BezierPatch& patch) {
             d2v = std::max(d2v, norm(patch.at(i, j + 2) - 2.0 * patch.at(i, j + 1) + patch.at(i, j)));
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < m; ++i)
-            duv = std::max(duv, norm(patch.at(i + 1, j + 1) - patch.at(i + 1, j) - patch.at(i, j + 1) + patch.at(i, j)));
+            duv =
+                std::max(duv, norm(patch.at(i + 1, j + 1) - patch.at(i + 1, j) - patch.at(i, j + 1) + patch.at(i, j)));
     return {m * (m - 1) * d2u, m * n * duv, n * (n - 1) * d2v};
 }
 
@@ -176,7 +177,8 @@ NetBounds rational_second_derivative_bounds(const BezierPatch& patch) {
     for (int pj = 0; pj < pieces; ++pj)
         for (int pi = 0; pi < pieces; ++pi) {
             net = whole;
-            for (int j = 0; j <= n; ++j) restrict_curve(net, static_cast<std::size_t>(j) * row, 1, m, pi * h, (pi + 1) * h);
+            for (int j = 0; j <= n; ++j)
+                restrict_curve(net, static_cast<std::size_t>(j) * row, 1, m, pi * h, (pi + 1) * h);
             for (int i = 0; i <= m; ++i) restrict_curve(net, static_cast<std::size_t>(i), row, n, pj * h, (pj + 1) * h);
             for (std::size_t k = 0; k < net.size(); ++k) {
                 piece.weights[k] = net[k][3];
@@ -241,10 +243,10 @@ using EdgePointKey = std::array<std::uint64_t, 4>;
 //! An edge's control points in a direction both patches agree on (the lexicographically smaller of the two).
 struct CanonicalEdge {
     std::vector<EdgePointKey> key;
-    std::vector<Vec3> points;  //!< in canonical order
+    std::vector<Vec3> points;     //!< in canonical order
     std::vector<double> weights;  //!< in canonical order, empty for a polynomial edge
-    bool reversed = false;     //!< the patch runs along the edge opposite to the canonical order
-    bool collapsed = false;    //!< all control points equal: the edge is a single point
+    bool reversed = false;        //!< the patch runs along the edge opposite to the canonical order
+    bool collapsed = false;       //!< all control points equal: the edge is a single point
 };
 
 CanonicalEdge canonical_edge(const BezierPatch& patch, int side) {
@@ -282,10 +284,14 @@ std::vector<Vec3> edge_samples(const CanonicalEdge& edge, int segments) {
     for (int k = 0; k <= segments; ++k) {
         const double t = static_cast<double>(k) / segments;
         Vec3 p;
-        if (edge.collapsed || k == 0) p = edge.points.front();
-        else if (k == segments) p = edge.points.back();
-        else if (edge.weights.empty()) p = bezier::de_casteljau(edge.points, t);
-        else p = bezier::de_casteljau(homogeneous, t) * (1.0 / bezier::de_casteljau(weights, t).x);
+        if (edge.collapsed || k == 0)
+            p = edge.points.front();
+        else if (k == segments)
+            p = edge.points.back();
+        else if (edge.weights.empty())
+            p = bezier::de_casteljau(edge.points, t);
+        else
+            p = bezier::de_casteljau(homogeneous, t) * (1.0 / bezier::de_casteljau(weights, t).x);
         out[static_cast<std::size_t>(edge.reversed ? segments - k : k)] = p;
     }
     return out;
@@ -341,7 +347,8 @@ public:
 
 private:
     std::span<const Vec3> row(int j) const {
-        return {points_.data() + static_cast<std::size_t>(j * (degree_u_ + 1)), static_cast<std::size_t>(degree_u_ + 1)};
+        return {points_.data() + static_cast<std::size_t>(j * (degree_u_ + 1)),
+                static_cast<std::size_t>(degree_u_ + 1)};
     }
 
     const std::vector<Vec3>& points_;
@@ -365,8 +372,7 @@ struct HomogeneousNets {
 class PatchEvaluator {
 public:
     explicit PatchEvaluator(const BezierPatch& patch)
-        : nets_(patch),
-          numerator_(patch.rational() ? nets_.weighted : patch.points, patch.degree_u, patch.degree_v) {
+        : nets_(patch), numerator_(patch.rational() ? nets_.weighted : patch.points, patch.degree_u, patch.degree_v) {
         if (patch.rational()) denominator_.emplace(nets_.weights, patch.degree_u, patch.degree_v);
     }
 
@@ -439,9 +445,9 @@ Status validate(std::span<const BezierPatch> patches) {
         const std::string name = "patch " + std::to_string(p);
         for (int degree : {patch.degree_u, patch.degree_v})
             if (degree < 1 || degree > kMaxPatchDegree) {
-                GeoError error = make_error(ErrorCode::InvalidArgument,
-                                            name + ": degree " + std::to_string(degree) + " is outside 1.." +
-                                                std::to_string(kMaxPatchDegree));
+                GeoError error =
+                    make_error(ErrorCode::InvalidArgument, name + ": degree " + std::to_string(degree) +
+                                                               " is outside 1.." + std::to_string(kMaxPatchDegree));
                 error.element = static_cast<std::int64_t>(p);
                 return error;
             }
@@ -456,8 +462,8 @@ Status validate(std::span<const BezierPatch> patches) {
         }
         for (std::size_t k = 0; k < patch.points.size(); ++k)
             if (!is_finite(patch.points[k])) {
-                GeoError error = make_error(ErrorCode::NonFinite,
-                                            name + ": control point " + std::to_string(k) + " is not finite");
+                GeoError error =
+                    make_error(ErrorCode::NonFinite, name + ": control point " + std::to_string(k) + " is not finite");
                 error.element = static_cast<std::int64_t>(p);
                 return error;
             }
@@ -480,8 +486,7 @@ Status validate(std::span<const BezierPatch> patches) {
             lo = std::min(lo, w);
             hi = std::max(hi, w);
         }
-        if (hi > kMaxWeightRatio * lo)
-            return fail("the largest weight is more than 1e12 times the smallest");
+        if (hi > kMaxWeightRatio * lo) return fail("the largest weight is more than 1e12 times the smallest");
     }
     return Ok{};
 }
@@ -545,8 +550,7 @@ double tessellation_error_bound(const BezierPatch& patch, int nu, int nv) {
 }
 
 Result<TessellationPlan> plan_tessellation(std::span<const BezierPatch> patches, const TessellationOptions& options) {
-    if (options.max_segments < 1)
-        return make_error(ErrorCode::InvalidArgument, "max_segments must be >= 1");
+    if (options.max_segments < 1) return make_error(ErrorCode::InvalidArgument, "max_segments must be >= 1");
     if (auto valid = validate(patches); !valid) return valid.error();
     TessellationPlan plan;
     plan.segments.resize(patches.size());

@@ -54,16 +54,21 @@ void expect_valid_gltf(const std::string& bytes) {
 
 double dist(const json& a, const json& b) {
     double s = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) s += (a[i].get<double>() - b[i].get<double>()) * (a[i].get<double>() - b[i].get<double>());
+    for (std::size_t i = 0; i < a.size(); ++i)
+        s += (a[i].get<double>() - b[i].get<double>()) * (a[i].get<double>() - b[i].get<double>());
     return std::sqrt(s);
 }
 
 // Responses of the single-curve form recorded from the service before chains, SVG paths and B-splines were added
 // (commit 9803d60, `POST /curves` on a running server): the form must answer byte for byte the same.
-const char* kGoldenRequest1 = R"({"points":[[0,0],[1,2],[3,2],[4,0]],"evaluate":[0,0.5,1],"length":{"tolerance":1e-6},"closest":[2,3],"tessellate":{"tolerance":0.01}})";
-const char* kGoldenResponse1 = R"({"closest":{"distance":1.5,"point":[2.0,1.5],"t":0.5},"degree":3,"evaluate":[[0.0,0.0],[2.0,1.5],[4.0,0.0]],"length":{"error_bound":2.530535923635918e-07,"guaranteed":true,"length":5.268365543018511},"rational":false,"tessellate":{"bound":0.00992337859837185,"max_deviation":0.008875739644970349,"params":[0.0,0.07692307692307693,0.15384615384615385,0.23076923076923078,0.3076923076923077,0.38461538461538464,0.46153846153846156,0.5384615384615384,0.6153846153846154,0.6923076923076923,0.7692307692307693,0.8461538461538461,0.9230769230769231,1.0],"points":[[0.0,0.0],[0.24761037778789258,0.42603550295857995],[0.5252617205279928,0.7810650887573964],[0.8274920345926262,1.0650887573964496],[1.1488393263541195,1.2781065088757397],[1.483841602184798,1.4201183431952664],[1.8270368684569869,1.4911242603550297],[2.172963131543013,1.4911242603550297],[2.516158397815203,1.4201183431952662],[2.8511606736458805,1.2781065088757397],[3.172507965407374,1.0650887573964496],[3.474738279472007,0.7810650887573964],[3.752389622212108,0.42603550295857967],[4.0,0.0]],"segments":13}})";
-const char* kGoldenRequest2 = R"({"points":[[1,0,0],[1,1,0],[0,1,0.5]],"weights":[1,0.7071067811865476,1],"evaluate":[0.25,0.75],"derivatives":{"t":[0,0.3,1],"order":2},"curvature":[0,0.5],"split":0.4,"elevate":2,"bounding_box":true,"length":{"tolerance":1e-4},"closest":[0.2,0.3,0.1],"tessellate":{"tolerance":0.001}})";
-const char* kGoldenResponse2 = R"({"bounding_box":{"max":[1.0,1.0,0.5],"min":[0.0,0.0,0.0]},"closest":{"distance":0.6475083549684735,"point":[0.6290219127597764,0.7773875695353202,0.18548904362011182],"t":0.5634941952727408},"curvature":[1.1180339887498947,0.9369711585684087],"degree":2,"derivatives":[[-2.0,0.8284271247461898,1.0],[-2.52368787629422,-0.7608488877219749,1.26184393814711],[0.8284271247461898,-2.0,-0.4142135623730949]],"elevate":{"points":[[1.0,0.0,0.0],[1.0,0.41421356237309515,0.0],[0.7928932188134523,0.7928932188134524,0.10355339059327376],[0.41421356237309503,1.0,0.2928932188134525],[0.0,1.0,0.5]],"weights":[1.0,0.8535533905932737,0.804737854124365,0.8535533905932737,1.0]},"evaluate":[[0.9297883010624304,0.36809470956187285,0.03510584946878485],[0.36809470956187285,0.9297883010624304,0.3159526452190637]],"length":{"error_bound":2.791405352709983e-05,"guaranteed":false,"length":1.664791805695889},"rational":true,"split":[{"points":[[1.0,0.0,0.0],[1.0,0.3203772410170408,0.0],[0.8138260360510752,0.581108581114919,0.0930869819744625]],"weights":[1.0,0.882842712474619,0.8594112549695427]},{"points":[[0.8138260360510752,0.581108581114919,0.0930869819744625],[0.5147186257614298,1.0,0.2426406871192852],[0.0,1.0,0.5]],"weights":[0.8594112549695427,0.8242640687119285,1.0]}],"tessellate":{"bound":0.0007107450003596631,"max_deviation":0.00035531320530968376,"params":[0.0,0.03125,0.0625,0.09375,0.125,0.15625,0.1875,0.21875,0.25,0.28125,0.3125,0.34375,0.375,0.40625,0.4375,0.46875,0.5,0.53125,0.5625,0.59375,0.625,0.65625,0.6875,0.71875,0.75,0.78125,0.8125,0.84375,0.875,0.90625,0.9375,0.96875,1.0],"points":[[1.0,0.0,0.0],[0.9990058067056695,0.044580244148657945,0.0004970966471651102],[0.9959549086128785,0.08985443789770466,0.0020225456935606557],[0.9907506046682437,0.13569539177698584,0.004624697665878197],[0.9833053684165747,0.18196305241214475,0.00834731579171281],[0.9735427010427451,0.22850516240644608,0.013228649478627468],[0.9613989581870315,0.27515821484536934,0.019300520906484247],[0.9468250988416779,0.321748709715279,0.02658745057916106],[0.9297883010624306,0.3680947095618728,0.03510584946878485],[0.9102733877567537,0.41400768053484627,0.04486330612162331],[0.8882840068297528,0.45929459305600345,0.05585799658512362],[0.8638435137474316,0.5037602443191515,0.06807824312628423],[0.836995511218651,0.5472097533851425,0.0815022443906743],[0.8078040101090123,0.5894511695228015,0.09609799494549379],[0.7763531875748432,0.6302981263992306,0.11182340621257846],[0.7427467322257565,0.669572469392194,0.12862663388712178],[0.7071067811865475,0.7071067811865475,0.14644660940672624],[0.669572469392194,0.7427467322257565,0.16521376530390308],[0.6302981263992306,0.7763531875748432,0.18485093680038475],[0.5894511695228015,0.8078040101090123,0.20527441523859918],[0.5472097533851425,0.836995511218651,0.22639512330742864],[0.5037602443191515,0.8638435137474316,0.24811987784042436],[0.45929459305600345,0.8882840068297528,0.27035270347199836],[0.41400768053484627,0.9102733877567537,0.292996159732577],[0.3680947095618728,0.9297883010624306,0.3159526452190638],[0.321748709715279,0.9468250988416779,0.33912564514236054],[0.27515821484536934,0.9613989581870315,0.3624208925773153],[0.22850516240644608,0.9735427010427451,0.385747418796777],[0.18196305241214475,0.9833053684165747,0.40901847379392764],[0.13569539177698584,0.9907506046682437,0.43215230411150707],[0.08985443789770466,0.9959549086128785,0.45507278105114757],[0.044580244148657945,0.9990058067056695,0.477709877925671],[0.0,1.0,0.5]],"segments":32}})";
+const char* kGoldenRequest1 =
+    R"({"points":[[0,0],[1,2],[3,2],[4,0]],"evaluate":[0,0.5,1],"length":{"tolerance":1e-6},"closest":[2,3],"tessellate":{"tolerance":0.01}})";
+const char* kGoldenResponse1 =
+    R"({"closest":{"distance":1.5,"point":[2.0,1.5],"t":0.5},"degree":3,"evaluate":[[0.0,0.0],[2.0,1.5],[4.0,0.0]],"length":{"error_bound":2.530535923635918e-07,"guaranteed":true,"length":5.268365543018511},"rational":false,"tessellate":{"bound":0.00992337859837185,"max_deviation":0.008875739644970349,"params":[0.0,0.07692307692307693,0.15384615384615385,0.23076923076923078,0.3076923076923077,0.38461538461538464,0.46153846153846156,0.5384615384615384,0.6153846153846154,0.6923076923076923,0.7692307692307693,0.8461538461538461,0.9230769230769231,1.0],"points":[[0.0,0.0],[0.24761037778789258,0.42603550295857995],[0.5252617205279928,0.7810650887573964],[0.8274920345926262,1.0650887573964496],[1.1488393263541195,1.2781065088757397],[1.483841602184798,1.4201183431952664],[1.8270368684569869,1.4911242603550297],[2.172963131543013,1.4911242603550297],[2.516158397815203,1.4201183431952662],[2.8511606736458805,1.2781065088757397],[3.172507965407374,1.0650887573964496],[3.474738279472007,0.7810650887573964],[3.752389622212108,0.42603550295857967],[4.0,0.0]],"segments":13}})";
+const char* kGoldenRequest2 =
+    R"({"points":[[1,0,0],[1,1,0],[0,1,0.5]],"weights":[1,0.7071067811865476,1],"evaluate":[0.25,0.75],"derivatives":{"t":[0,0.3,1],"order":2},"curvature":[0,0.5],"split":0.4,"elevate":2,"bounding_box":true,"length":{"tolerance":1e-4},"closest":[0.2,0.3,0.1],"tessellate":{"tolerance":0.001}})";
+const char* kGoldenResponse2 =
+    R"({"bounding_box":{"max":[1.0,1.0,0.5],"min":[0.0,0.0,0.0]},"closest":{"distance":0.6475083549684735,"point":[0.6290219127597764,0.7773875695353202,0.18548904362011182],"t":0.5634941952727408},"curvature":[1.1180339887498947,0.9369711585684087],"degree":2,"derivatives":[[-2.0,0.8284271247461898,1.0],[-2.52368787629422,-0.7608488877219749,1.26184393814711],[0.8284271247461898,-2.0,-0.4142135623730949]],"elevate":{"points":[[1.0,0.0,0.0],[1.0,0.41421356237309515,0.0],[0.7928932188134523,0.7928932188134524,0.10355339059327376],[0.41421356237309503,1.0,0.2928932188134525],[0.0,1.0,0.5]],"weights":[1.0,0.8535533905932737,0.804737854124365,0.8535533905932737,1.0]},"evaluate":[[0.9297883010624304,0.36809470956187285,0.03510584946878485],[0.36809470956187285,0.9297883010624304,0.3159526452190637]],"length":{"error_bound":2.791405352709983e-05,"guaranteed":false,"length":1.664791805695889},"rational":true,"split":[{"points":[[1.0,0.0,0.0],[1.0,0.3203772410170408,0.0],[0.8138260360510752,0.581108581114919,0.0930869819744625]],"weights":[1.0,0.882842712474619,0.8594112549695427]},{"points":[[0.8138260360510752,0.581108581114919,0.0930869819744625],[0.5147186257614298,1.0,0.2426406871192852],[0.0,1.0,0.5]],"weights":[0.8594112549695427,0.8242640687119285,1.0]}],"tessellate":{"bound":0.0007107450003596631,"max_deviation":0.00035531320530968376,"params":[0.0,0.03125,0.0625,0.09375,0.125,0.15625,0.1875,0.21875,0.25,0.28125,0.3125,0.34375,0.375,0.40625,0.4375,0.46875,0.5,0.53125,0.5625,0.59375,0.625,0.65625,0.6875,0.71875,0.75,0.78125,0.8125,0.84375,0.875,0.90625,0.9375,0.96875,1.0],"points":[[1.0,0.0,0.0],[0.9990058067056695,0.044580244148657945,0.0004970966471651102],[0.9959549086128785,0.08985443789770466,0.0020225456935606557],[0.9907506046682437,0.13569539177698584,0.004624697665878197],[0.9833053684165747,0.18196305241214475,0.00834731579171281],[0.9735427010427451,0.22850516240644608,0.013228649478627468],[0.9613989581870315,0.27515821484536934,0.019300520906484247],[0.9468250988416779,0.321748709715279,0.02658745057916106],[0.9297883010624306,0.3680947095618728,0.03510584946878485],[0.9102733877567537,0.41400768053484627,0.04486330612162331],[0.8882840068297528,0.45929459305600345,0.05585799658512362],[0.8638435137474316,0.5037602443191515,0.06807824312628423],[0.836995511218651,0.5472097533851425,0.0815022443906743],[0.8078040101090123,0.5894511695228015,0.09609799494549379],[0.7763531875748432,0.6302981263992306,0.11182340621257846],[0.7427467322257565,0.669572469392194,0.12862663388712178],[0.7071067811865475,0.7071067811865475,0.14644660940672624],[0.669572469392194,0.7427467322257565,0.16521376530390308],[0.6302981263992306,0.7763531875748432,0.18485093680038475],[0.5894511695228015,0.8078040101090123,0.20527441523859918],[0.5472097533851425,0.836995511218651,0.22639512330742864],[0.5037602443191515,0.8638435137474316,0.24811987784042436],[0.45929459305600345,0.8882840068297528,0.27035270347199836],[0.41400768053484627,0.9102733877567537,0.292996159732577],[0.3680947095618728,0.9297883010624306,0.3159526452190638],[0.321748709715279,0.9468250988416779,0.33912564514236054],[0.27515821484536934,0.9613989581870315,0.3624208925773153],[0.22850516240644608,0.9735427010427451,0.385747418796777],[0.18196305241214475,0.9833053684165747,0.40901847379392764],[0.13569539177698584,0.9907506046682437,0.43215230411150707],[0.08985443789770466,0.9959549086128785,0.45507278105114757],[0.044580244148657945,0.9990058067056695,0.477709877925671],[0.0,1.0,0.5]],"segments":32}})";
 
 // ---- one Bézier curve ----------------------------------------------------------------------------------------------
 
@@ -118,20 +123,23 @@ TEST(CurvesOperation, SingleCurveTessellationAsGlbLineStrip) {
 TEST(CurvesOperation, GltfOutputErrorsNameTheirField) {
     const std::string curve = R"("points": [[0,0],[1,2],[3,2]])";
     expect_problem(post("{" + curve + R"(, "output": {"format": "glb"}})"), 400, "invalid_field", "tessellate");
-    expect_problem(post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "evaluate": [0.5], "output": {"format": "glb"}})"),
-                   400, "invalid_field", "evaluate");
-    expect_problem(post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "output": {"format": "glb", "compression": "draco"}})"),
+    expect_problem(
+        post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "evaluate": [0.5], "output": {"format": "glb"}})"),
+        400, "invalid_field", "evaluate");
+    expect_problem(post("{" + curve +
+                        R"(, "tessellate": {"tolerance": 0.1}, "output": {"format": "glb", "compression": "draco"}})"),
                    400, "invalid_field", "output.compression");
     expect_problem(post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "output": {"format": "obj"}})"), 400,
                    "invalid_field", "output.format");
     expect_problem(post("{" + curve + R"(, "output": {"format": "stl"}})"), 400, "invalid_field", "output.format");
-    expect_problem(post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "output": {"format": "glb", "normals": true}})"),
-                   400, "invalid_field", "output.normals");
+    expect_problem(
+        post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "output": {"format": "glb", "normals": true}})"), 400,
+        "invalid_field", "output.normals");
 }
 
 TEST(CurvesOperation, PolylineWriterChecksItsInput) {
     EXPECT_FALSE(write_polylines_glb({}));
-    EXPECT_FALSE(write_polylines_glb({{Vec3{0, 0, 0}}}));  // one point is no line strip
+    EXPECT_FALSE(write_polylines_glb({{Vec3{0, 0, 0}}}));                    // one point is no line strip
     EXPECT_FALSE(write_polylines_glb({{Vec3{0, 0, 0}, Vec3{1e39, 0, 0}}}));  // beyond float range
     auto glb = write_polylines_glb({{Vec3{0, 0, 0}, Vec3{1, 0, 0}}, {Vec3{0, 1, 0}, Vec3{0, 1, 1}, Vec3{2, 2, 2}}});
     ASSERT_TRUE(glb);
@@ -189,7 +197,8 @@ TEST(CurvesOperation, ChainEvaluateAtGlobalParameters) {
     // piece 3 (quadratic) at t = 1/2: (10 + 20 + 11) / 4, (0 + 2 + 1) / 4
     EXPECT_NEAR(dist(p[4], json::array({10.25, 0.75})), 0.0, 1e-15);
     EXPECT_NEAR(dist(p[5], json::array({13.0, 1.0})), 0.0, 1e-15);
-    expect_problem(post(std::string(kChain).insert(1, R"("evaluate": [0, 5.5], )")), 400, "invalid_field", "evaluate[1]");
+    expect_problem(post(std::string(kChain).insert(1, R"("evaluate": [0, 5.5], )")), 400, "invalid_field",
+                   "evaluate[1]");
 }
 
 TEST(CurvesOperation, ChainLengthOfLines) {
@@ -209,8 +218,8 @@ TEST(CurvesOperation, EnforceC1GivesAChainThatReportsC1) {
                                                       {"points": [[6,0],[8,2],[9,2],[10,0]]},
                                                       {"points": [[10,0],[10,1],[11,1]]}]}})";
     for (const char* side : {"left", "right", "both"}) {
-        const json out = ok_json(post(std::string(chain).insert(1, std::string(R"("enforce_c1": {"mode": "C1", "side": ")") +
-                                                                       side + R"("}, "continuity": true, )")));
+        const json out = ok_json(post(std::string(chain).insert(
+            1, std::string(R"("enforce_c1": {"mode": "C1", "side": ")") + side + R"("}, "continuity": true, )")));
         EXPECT_EQ(out["continuity"]["weakest"], "C0") << side;  // the input's report
         const json& result = out["enforce_c1"];
         EXPECT_LE(result["max_derivative_mismatch"].get<double>(), 1e-12) << side;
@@ -226,7 +235,8 @@ TEST(CurvesOperation, EnforceC1GivesAChainThatReportsC1) {
     const json g1 = ok_json(post(std::string(chain).insert(1, R"("enforce_c1": {"mode": "G1", "joints": [2]}, )")));
     EXPECT_LE(g1["enforce_c1"]["max_angle"].get<double>(), 1e-12);
     // tessellation and evaluation describe the modified chain
-    const json t = ok_json(post(std::string(chain).insert(1, R"("enforce_c1": {}, "tessellate": {"tolerance": 0.001}, )")));
+    const json t =
+        ok_json(post(std::string(chain).insert(1, R"("enforce_c1": {}, "tessellate": {"tolerance": 0.001}, )")));
     EXPECT_LE(t["tessellate"]["bound"].get<double>(), 0.001);
     EXPECT_EQ(t["tessellate"]["piece_start"].size(), 4u);
     EXPECT_EQ(t["tessellate"]["points"].size(), t["tessellate"]["segments"].get<std::size_t>() + 1);
@@ -243,7 +253,8 @@ TEST(CurvesOperation, EnforceC1GivesAChainThatReportsC1) {
 }
 
 TEST(CurvesOperation, ClosedChainTessellatesToALoopAsGlb) {
-    const std::string body = R"({"chain": {"closed": true, "pieces": [{"points": [[1,0,0],[1,1,0],[0,1,0]], "weights": [1,0.7071067811865476,1]},
+    const std::string body =
+        R"({"chain": {"closed": true, "pieces": [{"points": [[1,0,0],[1,1,0],[0,1,0]], "weights": [1,0.7071067811865476,1]},
                                                                       {"points": [[0,1,0],[-1,1,0],[-1,0,0]], "weights": [1,0.7071067811865476,1]},
                                                                       {"points": [[-1,0,0],[-1,-1,0],[0,-1,0]], "weights": [1,0.7071067811865476,1]},
                                                                       {"points": [[0,-1,0],[1,-1,0],[1,0,0]], "weights": [1,0.7071067811865476,1]}]},
@@ -361,8 +372,10 @@ TEST(CurvesOperation, NurbsQuarterCirclesStayOnTheCircle) {
 }
 
 TEST(CurvesOperation, KnotInsertionKeepsTheCurve) {
-    const std::string curve = R"("bspline": {"degree": 3, "points": [[0,0,0],[1,2,0],[3,3,1],[5,1,2],[6,0,0],[8,2,1]]})";
-    const json out = ok_json(post("{" + curve + R"(, "insert_knot": {"u": 0.3, "times": 2}, "evaluate": [0, 0.1, 0.3, 0.62, 0.9, 1]})"));
+    const std::string curve =
+        R"("bspline": {"degree": 3, "points": [[0,0,0],[1,2,0],[3,3,1],[5,1,2],[6,0,0],[8,2,1]]})";
+    const json out = ok_json(
+        post("{" + curve + R"(, "insert_knot": {"u": 0.3, "times": 2}, "evaluate": [0, 0.1, 0.3, 0.62, 0.9, 1]})"));
     const json& inserted = out["insert_knot"];
     EXPECT_EQ(inserted["points"].size(), 8u);
     EXPECT_EQ(inserted["knots"].size(), 12u);
@@ -378,32 +391,38 @@ TEST(CurvesOperation, KnotInsertionKeepsTheCurve) {
 }
 
 TEST(CurvesOperation, UniformAndClosedKnotVectors) {
-    const json uniform = ok_json(post(R"({"bspline": {"degree": 2, "points": [[0,0],[1,1],[2,0],[3,1]], "knot_vector": "uniform"},
+    const json uniform =
+        ok_json(post(R"({"bspline": {"degree": 2, "points": [[0,0],[1,1],[2,0],[3,1]], "knot_vector": "uniform"},
                                           "evaluate": [0, 1]})"));
     EXPECT_EQ(uniform["domain"], json::array({0.0, 1.0}));
     // a uniform quadratic starts at the midpoint of its first two control points
     EXPECT_NEAR(dist(uniform["evaluate"][0], json::array({0.5, 0.5})), 0.0, 1e-14);
-    const json closed = ok_json(post(R"({"bspline": {"degree": 3, "points": [[1,0],[0,1],[-1,0],[0,-1]], "knot_vector": "closed"},
+    const json closed =
+        ok_json(post(R"({"bspline": {"degree": 3, "points": [[1,0],[0,1],[-1,0],[0,-1]], "knot_vector": "closed"},
                                          "evaluate": [0, 1]})"));
     EXPECT_NEAR(dist(closed["evaluate"][0], closed["evaluate"][1]), 0.0, 1e-14);
 }
 
 TEST(CurvesOperation, BsplineErrorsNameTheirField) {
-    expect_problem(post(R"({"bspline": {"degree": 0, "points": [[0,0],[1,1]]}})"), 400, "invalid_field", "bspline.degree");
-    expect_problem(post(R"({"bspline": {"degree": 3, "points": [[0,0],[1,1]]}})"), 400, "invalid_field", "bspline.points");
+    expect_problem(post(R"({"bspline": {"degree": 0, "points": [[0,0],[1,1]]}})"), 400, "invalid_field",
+                   "bspline.degree");
+    expect_problem(post(R"({"bspline": {"degree": 3, "points": [[0,0],[1,1]]}})"), 400, "invalid_field",
+                   "bspline.points");
     expect_problem(post(R"({"bspline": {"degree": 1, "points": [[0,0],[1,1]], "knots": [0, 0, 1]}})"), 400,
                    "invalid_field", "bspline.knots");
     expect_problem(post(R"({"bspline": {"degree": 1, "points": [[0,0],[1,1],[2,0]], "knots": [0, 0, 2, 1, 1]}})"), 422,
                    "invalid_argument", "bspline.knots[3]");
-    expect_problem(post(R"({"bspline": {"degree": 1, "points": [[0,0],[1,1]], "knots": [0, 0, 1, 1], "knot_vector": "clamped"}})"),
-                   400, "invalid_field", "bspline.knot_vector");
+    expect_problem(
+        post(R"({"bspline": {"degree": 1, "points": [[0,0],[1,1]], "knots": [0, 0, 1, 1], "knot_vector": "clamped"}})"),
+        400, "invalid_field", "bspline.knot_vector");
     expect_problem(post(R"({"bspline": {"degree": 1, "points": [[0,0],[1,"a"]]}})"), 400, "invalid_field",
                    "bspline.points[1][1]");
     expect_problem(post(R"({"bspline": {"degree": 1, "points": [[0,0],[1,1]], "weights": [1, -1]}})"), 400,
                    "invalid_field", "bspline.weights[1]");
     const std::string line = R"("bspline": {"degree": 1, "points": [[0,0],[1,1]], "knots": [0, 0, 2, 2]})";
     expect_problem(post("{" + line + R"(, "evaluate": [1, 2.5]})"), 400, "invalid_field", "evaluate[1]");
-    expect_problem(post("{" + line + R"(, "insert_knot": {"u": 1, "times": 2}})"), 400, "invalid_field", "insert_knot.times");
+    expect_problem(post("{" + line + R"(, "insert_knot": {"u": 1, "times": 2}})"), 400, "invalid_field",
+                   "insert_knot.times");
     expect_problem(post("{" + line + R"(, "insert_knot": {"u": -1}})"), 400, "invalid_field", "insert_knot.u");
     expect_problem(post("{" + line + R"(, "continuity": true})"), 400, "invalid_field", "continuity");
 }
@@ -418,7 +437,8 @@ TEST(CurvesOperation, ExactlyOneForm) {
     expect_problem(post(R"({"points": [[0,0],[1,1]], "continuity": true})"), 400, "invalid_field", "continuity");
     expect_problem(post(R"({"chain": {"pieces": [{"points": [[0,0],[1,1]]}]}, "closest": [0, 0]})"), 400,
                    "invalid_field", "closest");
-    expect_problem(post(R"({"chain": {"pieces": [{"points": [[0,0],[1,1]]}]}, "frob": 1})"), 400, "unknown_field", "frob");
+    expect_problem(post(R"({"chain": {"pieces": [{"points": [[0,0],[1,1]]}]}, "frob": 1})"), 400, "unknown_field",
+                   "frob");
 }
 
 TEST(CurvesOperation, ChainErrorsNameTheirPath) {
@@ -439,7 +459,8 @@ TEST(CurvesOperation, BudgetsAreCheckedBeforeWork) {
     // a piece of degree 65
     json piece = {{"points", json::array()}};
     for (int i = 0; i < 66; ++i) piece["points"].push_back({i, 0});
-    expect_problem(post(json{{"chain", {{"pieces", {piece}}}}}.dump()), 422, "budget_exceeded", "chain.pieces[0].points");
+    expect_problem(post(json{{"chain", {{"pieces", {piece}}}}}.dump()), 422, "budget_exceeded",
+                   "chain.pieces[0].points");
     // too many parameters: per subpath, times the subpaths
     json evaluate = json::array();
     for (std::size_t i = 0; i < kMaxCurveQueries / 2 + 1; ++i) evaluate.push_back(0.5);
@@ -455,28 +476,32 @@ TEST(CurvesOperation, BudgetsAreCheckedBeforeWork) {
     // tessellation over the output budget
     Limits limits;
     limits.max_output_faces = 10;
-    expect_problem(post(R"({"svg": "M0 0 C 0 10 10 10 10 0", "tessellate": {"tolerance": 1e-6}})", context_with(limits)),
-                   422, "budget_exceeded", "tessellate.tolerance");
-    expect_problem(post(R"({"bspline": {"degree": 2, "points": [[0,0],[5,9],[10,0]]}, "tessellate": {"tolerance": 1e-6}})",
-                        context_with(limits)),
-                   422, "budget_exceeded", "tessellate.tolerance");
+    expect_problem(
+        post(R"({"svg": "M0 0 C 0 10 10 10 10 0", "tessellate": {"tolerance": 1e-6}})", context_with(limits)), 422,
+        "budget_exceeded", "tessellate.tolerance");
+    expect_problem(
+        post(R"({"bspline": {"degree": 2, "points": [[0,0],[5,9],[10,0]]}, "tessellate": {"tolerance": 1e-6}})",
+             context_with(limits)),
+        422, "budget_exceeded", "tessellate.tolerance");
 }
 
 TEST(CurvesOperation, PastDeadlineIsCancelled) {
     Cancel cancel;
     cancel.deadline = Cancel::Clock::now() - std::chrono::seconds(1);
-    const ApiResponse r = post(R"({"chain": {"pieces": [{"points": [[0,0],[1,1],[2,0]]}]}, "tessellate": {"tolerance": 0.001}})",
-                               context_with(Limits{}, cancel));
+    const ApiResponse r =
+        post(R"({"chain": {"pieces": [{"points": [[0,0],[1,1],[2,0]]}]}, "tessellate": {"tolerance": 0.001}})",
+             context_with(Limits{}, cancel));
     expect_problem(r, 503, "cancelled", "tessellate.tolerance");
 }
 
 // ---- the CLI's file form and the OpenAPI examples --------------------------------------------------------------
 
 TEST(CurvesOperation, SvgFileWithPathElements) {
-    const std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\">\n"
-                            "  <path id=\"a\" d=\"M 0 0 L 1 0\"/>\n"
-                            "  <path d='M 5 5 Q 6 6 7 5'/>\n"
-                            "</svg>\n";
+    const std::string svg =
+        "<svg xmlns=\"http://www.w3.org/2000/svg\">\n"
+        "  <path id=\"a\" d=\"M 0 0 L 1 0\"/>\n"
+        "  <path d='M 5 5 Q 6 6 7 5'/>\n"
+        "</svg>\n";
     operations::CurveFileOverrides overrides;
     overrides.svg = true;
     overrides.continuity = true;
@@ -484,7 +509,7 @@ TEST(CurvesOperation, SvgFileWithPathElements) {
     ASSERT_EQ(out["subpaths"].size(), 2u);
     EXPECT_EQ(out["subpaths"][1]["continuity"]["joints"].size(), 0u);
 
-    overrides.continuity = false;  // glTF output holds the tessellation only
+    overrides.continuity = false;          // glTF output holds the tessellation only
     overrides.format = OutputFormat::Glb;  // no tolerance given: the default one
     const ApiResponse glb = operations::curves_from_file(svg, overrides, ApiContext{});
     ASSERT_EQ(glb.status, 200) << glb.body;
@@ -503,7 +528,8 @@ TEST(CurvesOperation, SvgFileWithPathElements) {
 }
 
 TEST(CurvesOperation, JsonFileWithOverrides) {
-    const std::string file = R"({"chain": {"pieces": [{"points": [[0,0],[1,1],[2,0]]}, {"points": [[2,0],[4,-2],[5,0]]}]}})";
+    const std::string file =
+        R"({"chain": {"pieces": [{"points": [[0,0],[1,1],[2,0]]}, {"points": [[2,0],[4,-2],[5,0]]}]}})";
     operations::CurveFileOverrides overrides;
     overrides.enforce_c1 = "C1";
     overrides.tolerance = 0.01;
@@ -514,7 +540,8 @@ TEST(CurvesOperation, JsonFileWithOverrides) {
     EXPECT_LE(out["tessellate"]["bound"].get<double>(), 0.01);
     expect_problem(operations::curves_from_file("[1]", {}, ApiContext{}), 400, "invalid_field", "");
     overrides.enforce_c1 = "C7";
-    expect_problem(operations::curves_from_file(file, overrides, ApiContext{}), 400, "invalid_field", "enforce_c1.mode");
+    expect_problem(operations::curves_from_file(file, overrides, ApiContext{}), 400, "invalid_field",
+                   "enforce_c1.mode");
 }
 
 TEST(CurvesOperation, OpenApiExamplesAreAccepted) {

@@ -11,9 +11,9 @@ namespace {
 
 TEST(Errors, GeoErrorStatusTable) {
     EXPECT_EQ(http_status(ErrorCode::ParseError), 400);
-    for (ErrorCode code : {ErrorCode::IndexOutOfRange, ErrorCode::DegenerateFace, ErrorCode::NonFinite,
-                           ErrorCode::NotTriangleMesh, ErrorCode::NonManifold, ErrorCode::InvalidArgument,
-                           ErrorCode::BudgetExceeded, ErrorCode::Unsupported})
+    for (ErrorCode code :
+         {ErrorCode::IndexOutOfRange, ErrorCode::DegenerateFace, ErrorCode::NonFinite, ErrorCode::NotTriangleMesh,
+          ErrorCode::NonManifold, ErrorCode::InvalidArgument, ErrorCode::BudgetExceeded, ErrorCode::Unsupported})
         EXPECT_EQ(http_status(code), 422) << to_string(code);
     EXPECT_EQ(http_status(ErrorCode::Internal), 500);
 }

@@ -23,7 +23,8 @@ std::string header_of(const ApiResponse& response, std::string_view name) {
     return "";
 }
 
-ApiResponse post(const std::string& body, const ApiContext& context = {}, std::string content_type = "application/json") {
+ApiResponse post(const std::string& body, const ApiContext& context = {},
+                 std::string content_type = "application/json") {
     ApiRequest request;
     request.method = "POST";
     request.path = "/implicit/mesh";
@@ -127,8 +128,7 @@ TEST(ImplicitMeshOperation, BudgetIsCheckedBeforeTheSceneIsEvenParsed) {
     ApiContext context;
     context.limits.max_grid_cells = 32 * 32 * 32;
     // a broken scene: the budget error comes first, so nothing was parsed or evaluated
-    const std::string body =
-        R"({"scene": {"op": "nonsense"}, "bounds": [[-1, -1, -1], [1, 1, 1]], "resolution": 33})";
+    const std::string body = R"({"scene": {"op": "nonsense"}, "bounds": [[-1, -1, -1], [1, 1, 1]], "resolution": 33})";
     expect_problem(post(body, context), 422, "budget_exceeded", "resolution");
     const std::string by_size =
         R"({"scene": {"op": "sphere", "radius": 1}, "bounds": [[-1, -1, -1], [1, 1, 1]], "cell_size": 0.01})";
@@ -157,8 +157,8 @@ TEST(ImplicitMeshOperation, BadRequestsNameTheField) {
     EXPECT_EQ(reversed.error->field.value_or("").rfind("bounds", 0), 0u) << reversed.body;
     expect_problem(post("{" + sphere + ", " + bounds + R"(, "resolution": 1})"), 400, "invalid_field", "resolution");
     expect_problem(post("{" + sphere + ", " + bounds + R"(, "resolution": 2.5})"), 400, "invalid_field", "resolution");
-    expect_problem(post("{" + sphere + ", " + bounds + R"(, "resolution": 8, "cell_size": 0.1})"), 400,
-                   "invalid_field", "cell_size");
+    expect_problem(post("{" + sphere + ", " + bounds + R"(, "resolution": 8, "cell_size": 0.1})"), 400, "invalid_field",
+                   "cell_size");
     expect_problem(post("{" + sphere + ", " + bounds + R"(, "cell_size": -1})"), 400, "invalid_field", "cell_size");
     expect_problem(post("{" + sphere + ", " + bounds + R"(, "mode": "octree"})"), 400, "invalid_field", "mode");
     expect_problem(post("{" + sphere + ", " + bounds + R"(, "simplify_tolerance": 0.01})"), 400, "invalid_field",
@@ -190,8 +190,8 @@ TEST(ImplicitMeshOperation, OutputBudgetAndCancel) {
 }
 
 TEST(ImplicitMeshOperation, SimplifiedAdaptiveMeshIsSmallerAndClosed) {
-    const ApiResponse response = post(
-        request_body(R"("resolution": 24, "mode": "adaptive", "simplify_tolerance": 0.01, "output": {"format": "json"})"));
+    const ApiResponse response = post(request_body(
+        R"("resolution": 24, "mode": "adaptive", "simplify_tolerance": 0.01, "output": {"format": "json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     const ApiResponse full = post(request_body(R"("resolution": 24, "output": {"format": "json"})"));
     const PolygonMesh mesh = mesh_from_json(response.body);

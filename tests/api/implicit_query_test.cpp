@@ -43,7 +43,7 @@ TEST(ImplicitQueryOperation, BoxMinusSphereAnswersPointsAndRays) {
     ASSERT_EQ(points.size(), 4u);
     EXPECT_EQ(points[0]["class"], "inside");
     EXPECT_NEAR(points[0]["value"].get<double>(), -0.5, 1e-12);  // 0.5 below the sphere's bottom
-    EXPECT_EQ(points[1]["class"], "outside");  // inside the removed ball
+    EXPECT_EQ(points[1]["class"], "outside");                    // inside the removed ball
     EXPECT_EQ(points[2]["class"], "outside");
     EXPECT_NEAR(points[2]["value"].get<double>(), 1.0, 1e-12);
     EXPECT_EQ(points[3]["class"], "on");
@@ -133,9 +133,11 @@ TEST(ImplicitQueryOperation, SceneErrorsNameTheFieldPath) {
     };
     const std::string ball = R"({"op": "sphere", "radius": 1})";
     const Case cases[] = {
-        {R"({"op": "difference", "args": [)" + ball + R"(, {"op": "translate", "offset": [0, 0, 1], "arg": {"op": "sphere", "radius": -0.5}}]})",
+        {R"({"op": "difference", "args": [)" + ball +
+             R"(, {"op": "translate", "offset": [0, 0, 1], "arg": {"op": "sphere", "radius": -0.5}}]})",
          422, "invalid_argument", "scene.args[1].arg.radius"},
-        {R"({"op": "union", "args": [)" + ball + R"(, {"op": "spehre", "radius": 1}]})", 400, "invalid_field", "scene.args[1].op"},
+        {R"({"op": "union", "args": [)" + ball + R"(, {"op": "spehre", "radius": 1}]})", 400, "invalid_field",
+         "scene.args[1].op"},
         {R"({"op": "sphere", "radius": 1, "center": [0, 0, 0]})", 400, "unknown_field", "scene.center"},
         {R"({"op": "sphere"})", 400, "invalid_field", "scene.radius"},
         {R"({"op": "sphere", "radius": "1"})", 400, "invalid_field", "scene.radius"},
@@ -145,7 +147,8 @@ TEST(ImplicitQueryOperation, SceneErrorsNameTheFieldPath) {
         {R"({"op": "box", "half_size": [1, 1]})", 400, "invalid_field", "scene.half_size"},
         {R"({"op": "union", "args": [{"ref": "nowhere"}]})", 400, "invalid_field", "scene.args[0].ref"},
         {R"({"op": "union", "args": [{"ref": "a", "op": "sphere"}]})", 400, "unknown_field", "scene.args[0].op"},
-        {R"({"id": "a", "op": "translate", "offset": [1, 0, 0], "arg": {"ref": "a"}})", 400, "invalid_field", "scene.arg.ref"},
+        {R"({"id": "a", "op": "translate", "offset": [1, 0, 0], "arg": {"ref": "a"}})", 400, "invalid_field",
+         "scene.arg.ref"},
         {R"({"op": "union", "args": [{"id": "a", "op": "scale", "factor": 2, "arg": {"ref": "b"}}, {"id": "b", "op": "offset", "distance": 1, "arg": {"ref": "a"}}]})",
          400, "invalid_field", "scene.args[1].arg.ref"},
         {R"({"op": "union", "args": [{"id": "a", "op": "sphere", "radius": 1}, {"id": "a", "op": "sphere", "radius": 2}]})",
@@ -153,7 +156,8 @@ TEST(ImplicitQueryOperation, SceneErrorsNameTheFieldPath) {
         {R"({"op": "union", "args": []})", 400, "invalid_field", "scene.args"},
         {R"({"op": "difference", "args": [)" + ball + "]}", 400, "invalid_field", "scene.args"},
         {R"({"op": "blend", "t": 1.5, "args": [)" + ball + "," + ball + "]}", 422, "invalid_argument", "scene.t"},
-        {R"({"op": "rotate", "axis": [0, 0, 0], "angle": 3, "arg": )" + ball + "}", 422, "invalid_argument", "scene.axis"},
+        {R"({"op": "rotate", "axis": [0, 0, 0], "angle": 3, "arg": )" + ball + "}", 422, "invalid_argument",
+         "scene.axis"},
         {R"({"op": "rotate", "euler": [0, 0, 0], "angle": 3, "arg": )" + ball + "}", 400, "invalid_field", "scene"},
         {R"({"op": "rounded_box", "half_size": [1, 1, 1], "radius": 2})", 422, "invalid_argument", "scene.radius"},
         {R"({"op": "expression", "expr": "x^2 + * y"})", 400, "invalid_field", "scene.expr"},
@@ -163,8 +167,8 @@ TEST(ImplicitQueryOperation, SceneErrorsNameTheFieldPath) {
         {R"({"op": "menger", "iterations": -1})", 422, "invalid_argument", "scene.iterations"},
         {R"({"op": "level_set", "dims": [100000, 100000, 100000], "origin": [0, 0, 0], "spacing": 1, "values": []})",
          422, "budget_exceeded", "scene.dims"},
-        {R"({"op": "level_set", "dims": [2, 2, 2], "origin": [0, 0, 0], "spacing": 1, "values": [1, 2, 3]})",
-         400, "invalid_field", "scene.values"},
+        {R"({"op": "level_set", "dims": [2, 2, 2], "origin": [0, 0, 0], "spacing": 1, "values": [1, 2, 3]})", 400,
+         "invalid_field", "scene.values"},
         {R"({"op": "level_set", "dims": [2, 2, 2], "origin": [0, 0, 0], "spacing": 1, "values": [1, 2, 3, 4, 5, 6, "7", 8]})",
          400, "invalid_field", "scene.values[6]"},
         {R"({"op": "level_set", "dims": [2, 2, 2], "origin": [0, 0, 0], "spacing": -1, "values": [1, 2, 3, 4, 5, 6, 7, 8]})",
@@ -196,13 +200,18 @@ TEST(ImplicitQueryOperation, BudgetsAreCheckedBeforeWork) {
                    "scene.expr");
     expect_problem(post(at_origin(R"J({"op": "expression", "expr": "(((((x)))))"})J"), small), 422, "budget_exceeded",
                    "scene.expr");
-    expect_problem(post(at_origin(R"({"op": "level_set", "dims": [2, 2, 2], "origin": [0, 0, 0], "spacing": 1, "values": []})"), small),
-                   422, "budget_exceeded", "scene.dims");
+    expect_problem(
+        post(at_origin(R"({"op": "level_set", "dims": [2, 2, 2], "origin": [0, 0, 0], "spacing": 1, "values": []})"),
+             small),
+        422, "budget_exceeded", "scene.dims");
     // the scene is never read when the request is over a budget: a broken scene still gets the budget error
     expect_problem(post(R"({"scene": 0, "points": [[0, 0, 0], [1, 1, 1], [2, 2, 2]]})", small), 422, "budget_exceeded",
                    "points");
-    expect_problem(post(R"({"scene": 0, "points": [[0, 0, 0]], "rays": [{"origin": [0, 0, 0], "direction": [1, 0, 0]}], "max_steps": 51})", small),
-                   422, "budget_exceeded", "max_steps");
+    expect_problem(
+        post(
+            R"({"scene": 0, "points": [[0, 0, 0]], "rays": [{"origin": [0, 0, 0], "direction": [1, 0, 0]}], "max_steps": 51})",
+            small),
+        422, "budget_exceeded", "max_steps");
 }
 
 TEST(ImplicitQueryOperation, DeepScenesAreRefusedNotOverflowed) {
@@ -222,7 +231,8 @@ TEST(ImplicitQueryOperation, DeepScenesAreRefusedNotOverflowed) {
 TEST(ImplicitQueryOperation, RequestErrors) {
     const std::string scene = R"({"op": "sphere", "radius": 1})";
     expect_problem(post(R"({"scene": )" + scene + R"(, "points": [[0, 0]]})"), 400, "invalid_field", "points[0]");
-    expect_problem(post(R"({"scene": )" + scene + R"(, "points": [[0, 0, "a"]]})"), 400, "invalid_field", "points[0][2]");
+    expect_problem(post(R"({"scene": )" + scene + R"(, "points": [[0, 0, "a"]]})"), 400, "invalid_field",
+                   "points[0][2]");
     expect_problem(post(R"({"scene": )" + scene + R"(, "rays": [{"origin": [0, 0, 0], "direction": [0, 0, 0]}]})"), 422,
                    "invalid_argument", "rays[0].direction");
     expect_problem(post(R"({"scene": )" + scene + R"(, "rays": [{"origin": [0, 0, 0]}]})"), 400, "invalid_field",

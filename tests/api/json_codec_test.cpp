@@ -9,9 +9,8 @@ namespace surfaced::api {
 namespace {
 
 // A unit cube as the wire form, written out so these tests depend on nothing but the codec.
-constexpr std::string_view kCubePositions =
-    R"([[-0.5,-0.5,-0.5],[0.5,-0.5,-0.5],[0.5,0.5,-0.5],[-0.5,0.5,-0.5],)"
-    R"([-0.5,-0.5,0.5],[0.5,-0.5,0.5],[0.5,0.5,0.5],[-0.5,0.5,0.5]])";
+constexpr std::string_view kCubePositions = R"([[-0.5,-0.5,-0.5],[0.5,-0.5,-0.5],[0.5,0.5,-0.5],[-0.5,0.5,-0.5],)"
+                                            R"([-0.5,-0.5,0.5],[0.5,-0.5,0.5],[0.5,0.5,0.5],[-0.5,0.5,0.5]])";
 constexpr std::string_view kCubeFaces = R"([[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]])";
 
 std::string cube_request(std::string_view extra = "") {
@@ -154,9 +153,10 @@ TEST(JsonCodec, PositionErrorsNameTheCoordinate) {
 
 TEST(JsonCodec, FaceErrorsNameTheIndex) {
     const std::string_view positions = kCubePositions;
-    auto out_of_range = decode_mesh(mesh_json(positions, "[[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],"
-                                                         "[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],"
-                                                         "[0,1,2,99]]"),
+    auto out_of_range = decode_mesh(mesh_json(positions,
+                                              "[[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],"
+                                              "[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],[0,1,2],"
+                                              "[0,1,2,99]]"),
                                     Limits{});
     ASSERT_FALSE(out_of_range.ok());
     expect_error(out_of_range.error(), 422, "index_out_of_range", "mesh.faces[12][3]");

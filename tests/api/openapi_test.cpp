@@ -25,20 +25,21 @@ nlohmann::json document() { return nlohmann::json::parse(openapi_document()); }
 
 std::string lower(std::string_view s) {
     std::string out(s);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return out;
 }
 
 TEST(OpenApi, IsValidOpenApi31) {
     // One file per process: the normal and sanitizer trees (or two developers) may run this test at once.
-    const auto path = std::filesystem::temp_directory_path() /
-                      ("surfaced-openapi-test-" + std::to_string(::getpid()) + ".json");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("surfaced-openapi-test-" + std::to_string(::getpid()) + ".json");
     {
         std::ofstream out(path, std::ios::binary);
         out << openapi_document();
     }
-    const std::string command = std::string("node '") + SURFACED_SOURCE_DIR + "/tests/tools/validate_openapi.mjs' '" +
-                                path.string() + "' 2>&1";
+    const std::string command =
+        std::string("node '") + SURFACED_SOURCE_DIR + "/tests/tools/validate_openapi.mjs' '" + path.string() + "' 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     ASSERT_NE(pipe, nullptr);
     std::string output;
@@ -58,7 +59,8 @@ TEST(OpenApi, DocumentsExactlyTheRoutesTheServiceHas) {
         for (const auto& [method, operation] : item.items()) documented.insert({method, path});
     for (const Route& route : routes()) routed.insert({lower(route.method), std::string(route.path)});
     for (const auto& r : routed) EXPECT_TRUE(documented.count(r)) << r.first << " " << r.second << " is not documented";
-    for (const auto& d : documented) EXPECT_TRUE(routed.count(d)) << d.first << " " << d.second << " is documented but not served";
+    for (const auto& d : documented)
+        EXPECT_TRUE(routed.count(d)) << d.first << " " << d.second << " is documented but not served";
 }
 
 TEST(OpenApi, JsonRequestExamplesAreAccepted) {
@@ -70,7 +72,8 @@ TEST(OpenApi, JsonRequestExamplesAreAccepted) {
             const auto& content = operation["requestBody"]["content"];
             if (!content.contains("application/json")) continue;
             const auto& media = content["application/json"];
-            std::vector<std::pair<std::string, std::string>> bodies;  // (name, body): `example` and every `examples` entry
+            std::vector<std::pair<std::string, std::string>>
+                bodies;  // (name, body): `example` and every `examples` entry
             if (media.contains("example")) bodies.emplace_back("example", media["example"].dump());
             if (media.contains("examples"))
                 for (const auto& [name, entry] : media["examples"].items())

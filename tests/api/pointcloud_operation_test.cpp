@@ -123,49 +123,129 @@ struct BadCase {
     std::multimap<std::string, std::string> query;
     int status;
     std::string code;
-    std::string field;      // "" = not checked
+    std::string field;       // "" = not checked
     std::int64_t line = -1;  // -1 = not checked
 };
 
 TEST(PointcloudOperation, ErrorsNameTheFieldLineOrBudget) {
     const std::vector<BadCase> cases = {
-        {"bad coordinate", R"({"points": [[0,0,0],[1,0,"x"]]})", "application/json", {}, 400, "invalid_field",
+        {"bad coordinate",
+         R"({"points": [[0,0,0],[1,0,"x"]]})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
          "points[1][2]"},
         {"not an array", R"({"points": 3})", "application/json", {}, 400, "invalid_field", "points"},
-        {"colors count", R"({"points": [[0,0,0]], "colors": [[1,0,0],[0,1,0]]})", "application/json", {}, 400,
-         "invalid_field", "colors"},
-        {"colour range", R"({"points": [[0,0,0]], "colors": [[1,2,0]]})", "application/json", {}, 400, "invalid_field",
+        {"colors count",
+         R"({"points": [[0,0,0]], "colors": [[1,0,0],[0,1,0]]})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "colors"},
+        {"colour range",
+         R"({"points": [[0,0,0]], "colors": [[1,2,0]]})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
          "colors[0][1]"},
-        {"zero normal", R"({"points": [[0,0,0]], "normals": [[0,0,0]]})", "application/json", {}, 400, "invalid_field",
+        {"zero normal",
+         R"({"points": [[0,0,0]], "normals": [[0,0,0]]})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
          "normals[0]"},
-        {"both forms", std::string(R"({"points": [[0,0,0]], "sample": {"mesh": )") + kCubeMesh + R"(, "count": 3}})",
-         "application/json", {}, 400, "invalid_field", "points"},
+        {"both forms",
+         std::string(R"({"points": [[0,0,0]], "sample": {"mesh": )") + kCubeMesh + R"(, "count": 3}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "points"},
         {"neither form", R"({"output": {"format": "json"}})", "application/json", {}, 400, "invalid_field", "points"},
         {"unknown member", R"({"points": [[0,0,0]], "radius": 3})", "application/json", {}, 400, "unknown_field", ""},
-        {"obj output", R"({"points": [[0,0,0]], "output": {"format": "obj"}})", "application/json", {}, 400,
-         "invalid_field", "output.format"},
-        {"k too small", R"({"points": [[0,0,0]], "estimate_normals": {"k": 2}})", "application/json", {}, 400,
-         "invalid_field", "estimate_normals.k"},
-        {"too few for normals", R"({"points": [[0,0,0],[1,0,0]], "estimate_normals": true})", "application/json", {},
-         422, "invalid_argument", "estimate_normals"},
-        {"sample count", std::string(R"({"sample": {"mesh": )") + kCubeMesh + R"(, "count": 0}})", "application/json", {},
-         400, "invalid_field", "sample.count"},
-        {"mesh and bounds", std::string(R"({"sample": {"mesh": )") + kCubeMesh +
-                                R"(, "count": 5, "bounds": [[0,0,0],[1,1,1]]}})",
-         "application/json", {}, 400, "invalid_field", "sample.bounds"},
-        {"bad mesh index", R"({"sample": {"mesh": {"positions": [[0,0,0],[1,0,0],[0,1,0]], "faces": [[0,1,7]]}, "count": 5}})",
-         "application/json", {}, 422, "index_out_of_range", "sample.mesh.faces[0][2]"},
-        {"scene without bounds", R"({"sample": {"scene": {"op": "sphere", "radius": 1}, "count": 5}})",
-         "application/json", {}, 400, "invalid_field", "sample.bounds"},
+        {"obj output",
+         R"({"points": [[0,0,0]], "output": {"format": "obj"}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "output.format"},
+        {"k too small",
+         R"({"points": [[0,0,0]], "estimate_normals": {"k": 2}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "estimate_normals.k"},
+        {"too few for normals",
+         R"({"points": [[0,0,0],[1,0,0]], "estimate_normals": true})",
+         "application/json",
+         {},
+         422,
+         "invalid_argument",
+         "estimate_normals"},
+        {"sample count",
+         std::string(R"({"sample": {"mesh": )") + kCubeMesh + R"(, "count": 0}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "sample.count"},
+        {"mesh and bounds",
+         std::string(R"({"sample": {"mesh": )") + kCubeMesh + R"(, "count": 5, "bounds": [[0,0,0],[1,1,1]]}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "sample.bounds"},
+        {"bad mesh index",
+         R"({"sample": {"mesh": {"positions": [[0,0,0],[1,0,0],[0,1,0]], "faces": [[0,1,7]]}, "count": 5}})",
+         "application/json",
+         {},
+         422,
+         "index_out_of_range",
+         "sample.mesh.faces[0][2]"},
+        {"scene without bounds",
+         R"({"sample": {"scene": {"op": "sphere", "radius": 1}, "count": 5}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "sample.bounds"},
         {"no surface in bounds",
          R"({"sample": {"scene": {"op": "sphere", "radius": 1}, "bounds": [[5,5,5],[6,6,6]], "count": 5}})",
-         "application/json", {}, 422, "invalid_argument", "sample.scene"},
-        {"bad scene", R"({"sample": {"scene": {"op": "sphere", "radius": "big"}, "bounds": [[-1,-1,-1],[1,1,1]], "count": 5}})",
-         "application/json", {}, 400, "invalid_field", "sample.scene.radius"},
-        {"query with json", R"({"points": [[0,0,0]]})", "application/json", {{"k", "5"}}, 400, "unknown_parameter", "k"},
-        {"ply line", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
-                     "end_header\n0 0 0\n1 q 0\n",
-         "application/ply", {}, 400, "parse_error", "", 9},
+         "application/json",
+         {},
+         422,
+         "invalid_argument",
+         "sample.scene"},
+        {"bad scene",
+         R"({"sample": {"scene": {"op": "sphere", "radius": "big"}, "bounds": [[-1,-1,-1],[1,1,1]], "count": 5}})",
+         "application/json",
+         {},
+         400,
+         "invalid_field",
+         "sample.scene.radius"},
+        {"query with json",
+         R"({"points": [[0,0,0]]})",
+         "application/json",
+         {{"k", "5"}},
+         400,
+         "unknown_parameter",
+         "k"},
+        {"ply line",
+         "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+         "end_header\n0 0 0\n1 q 0\n",
+         "application/ply",
+         {},
+         400,
+         "parse_error",
+         "",
+         9},
         {"xyz columns", "0 0 0\n1 1 1 1\n", "text/x-xyz", {}, 400, "parse_error", "", 2},
         {"k without estimate", "0 0 0\n", "text/x-xyz", {{"k", "5"}}, 400, "invalid_field", "k"},
         {"unknown parameter", "0 0 0\n", "text/x-xyz", {{"levels", "5"}}, 400, "unknown_parameter", ""},
@@ -190,7 +270,8 @@ TEST(PointcloudOperation, ErrorsNameTheFieldLineOrBudget) {
 TEST(PointcloudOperation, BudgetsAreCheckedBeforeWork) {
     ApiContext context;
     context.limits.max_points = 3;
-    const ApiResponse points = post(R"({"points": [[0,0,0],[1,0,0],[0,1,0],[1,1,1]]})", "application/json", {}, context);
+    const ApiResponse points =
+        post(R"({"points": [[0,0,0],[1,0,0],[0,1,0],[1,1,1]]})", "application/json", {}, context);
     EXPECT_EQ(points.status, 422) << points.body;
     EXPECT_EQ(points.error->code, "budget_exceeded");
     EXPECT_EQ(points.error->field.value_or(""), "points");
@@ -212,12 +293,13 @@ TEST(PointcloudOperation, NormalEstimationBudgetIsPointsTimesK) {
     ApiContext context;
     context.limits.max_points = 3;
     const std::string points = R"("points": [[0,0,0],[1,0,0],[0,1,0]])";
-    const ApiResponse over = post("{" + points + R"(, "estimate_normals": {"k": 17}})", "application/json", {}, context);
+    const ApiResponse over =
+        post("{" + points + R"(, "estimate_normals": {"k": 17}})", "application/json", {}, context);
     EXPECT_EQ(over.status, 422) << over.body;
     EXPECT_EQ(over.error->code, "budget_exceeded");
     EXPECT_EQ(over.error->field.value_or(""), "estimate_normals.k");
-    const ApiResponse file = post("0 0 0\n1 0 0\n0 1 0\n", "text/x-xyz", {{"estimate_normals", "true"}, {"k", "17"}},
-                                  context);
+    const ApiResponse file =
+        post("0 0 0\n1 0 0\n0 1 0\n", "text/x-xyz", {{"estimate_normals", "true"}, {"k", "17"}}, context);
     EXPECT_EQ(file.status, 422) << file.body;
     EXPECT_EQ(file.error->field.value_or(""), "k");
     const ApiResponse within = post("{" + points + R"(, "estimate_normals": {"k": 16}, "output": {"format": "json"}})",

@@ -24,7 +24,8 @@ using namespace fixtures;
 ApiResponse call(const std::string& content_type, const std::string& body,
                  std::multimap<std::string, std::string> query = {}, const Limits& limits = {},
                  const Cancel& cancel = {}) {
-    return dispatch(make_request("POST", "/remesh", content_type, body, std::move(query)), context_with(limits, cancel));
+    return dispatch(make_request("POST", "/remesh", content_type, body, std::move(query)),
+                    context_with(limits, cancel));
 }
 
 std::string field_of(const ApiResponse& response, int status = 400, const std::string& code = "invalid_field") {
@@ -34,8 +35,8 @@ std::string field_of(const ApiResponse& response, int status = 400, const std::s
 // ---- good requests ---------------------------------------------------------------------------------------------
 
 TEST(RemeshOperation, JsonCubeToJsonWithQualityReport) {
-    const auto response = call("application/json",
-                               json_request(shapes::cube(), R"(,"edge_length":0.2,"output":{"format":"json"})"));
+    const auto response =
+        call("application/json", json_request(shapes::cube(), R"(,"edge_length":0.2,"output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "application/json");
     const auto json = nlohmann::json::parse(response.body);
@@ -92,9 +93,9 @@ TEST(RemeshOperation, DefaultEdgeLengthIsTheInputMean) {
 
 TEST(RemeshOperation, RawObjWithQueryToObjKeepsTheBoundary) {
     const std::string grid = write_obj(shapes::grid(8, 4));  // quads over [0,1]^2, one boundary loop
-    const auto response = call("model/obj", grid,
-                               {{"edge_length", "0.05"}, {"iterations", "4"}, {"smoothing", "laplacian"},
-                                {"format", "obj"}});
+    const auto response =
+        call("model/obj", grid,
+             {{"edge_length", "0.05"}, {"iterations", "4"}, {"smoothing", "laplacian"}, {"format", "obj"}});
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "model/obj");
     EXPECT_EQ(header(response, "X-Triangulated"), "true");
@@ -136,8 +137,7 @@ TEST(RemeshOperation, OutOfRangeOptionsAre400WithField) {
     EXPECT_EQ(field_of(call("model/obj", write_obj(m), {{"iterations", "many"}})), "iterations");
     EXPECT_EQ(field_of(call("model/obj", write_obj(m), {{"smoothing", "x"}})), "smoothing");
     const std::string bad_index = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,7]]}})";
-    EXPECT_EQ(field_of(call("application/json", bad_index), 422, "index_out_of_range"),
-              "mesh.faces[0][2]");
+    EXPECT_EQ(field_of(call("application/json", bad_index), 422, "index_out_of_range"), "mesh.faces[0][2]");
     EXPECT_EQ(field_of(call("application/json", R"({"edge_length":1})")), "mesh");
 }
 
@@ -163,9 +163,8 @@ TEST(RemeshOperation, NonManifoldInputIs422) {
 
 TEST(RemeshOperation, BudgetsAreCheckedBeforeWork) {
     // the unit cube's area 6 at L = 0.001 predicts 6 / (0.433e-6) = 13.9M faces: refused at once
-    const auto json =
-        expect_problem(call("application/json", json_request(shapes::cube(), R"(,"edge_length":0.001)")), 422,
-                       "budget_exceeded");
+    const auto json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"edge_length":0.001)")),
+                                     422, "budget_exceeded");
     EXPECT_EQ(json.value("field", ""), "edge_length");
     EXPECT_NE(json.value("detail", "").find("13856406"), std::string::npos) << json.dump();
     Limits small;

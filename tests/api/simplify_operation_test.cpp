@@ -65,8 +65,9 @@ TEST(SimplifyOperation, JsonSphereToJsonWithStats) {
 
 TEST(SimplifyOperation, ReportErrorAndMaxErrorInJson) {
     const PolygonMesh sphere = testing::icosphere(4);
-    const auto response = call("application/json",
-                               json_request(sphere, R"(,"max_error":0.01,"report_error":true,"output":{"format":"json"})"));
+    const auto response =
+        call("application/json",
+             json_request(sphere, R"(,"max_error":0.01,"report_error":true,"output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     const auto json = nlohmann::json::parse(response.body);
     const auto& stats = json["stats"];
@@ -91,8 +92,8 @@ TEST(SimplifyOperation, JsonDefaultIsValidDracoGlb) {
 
 TEST(SimplifyOperation, RawObjWithQueryTriangulatesQuadsToObj) {
     const std::string torus = write_obj(shapes::torus(32, 16));
-    const auto response = call("model/obj", torus,
-                               {{"target_faces", "200"}, {"format", "obj"}, {"report_error", "true"}});
+    const auto response =
+        call("model/obj", torus, {{"target_faces", "200"}, {"format", "obj"}, {"report_error", "true"}});
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "model/obj");
     EXPECT_EQ(header(response, "X-Triangulated"), "true");
@@ -132,7 +133,8 @@ TEST(SimplifyOperation, RestoreVolumeKeepsTheVolumeOfASphere) {
     };
     const double plain = volume_after("0"), restored = volume_after("1");
     EXPECT_LT(plain, before);
-    EXPECT_LT(std::fabs(restored - before), 0.2 * std::fabs(plain - before)) << before << " " << plain << " " << restored;
+    EXPECT_LT(std::fabs(restored - before), 0.2 * std::fabs(plain - before))
+        << before << " " << plain << " " << restored;
 }
 
 // threads=2 reaches the same count through the same operation, as query parameter and as JSON field; on a mesh above
@@ -159,8 +161,8 @@ TEST(SimplifyOperation, TwoThreadsReachTheTargetAndRepeat) {
 
 TEST(SimplifyOperation, LockBorderKeepsTheBoundaryOfAGrid) {
     const PolygonMesh grid = shapes::grid(16, 16, true);
-    const auto response = call("application/ply", write_ply(grid), {{"ratio", "0.2"}, {"lock_border", "true"},
-                                                                    {"format", "ply"}});
+    const auto response =
+        call("application/ply", write_ply(grid), {{"ratio", "0.2"}, {"lock_border", "true"}, {"format", "ply"}});
     ASSERT_EQ(response.status, 200) << response.body;
     auto mesh = read_ply(response.body);
     ASSERT_TRUE(mesh.ok());
@@ -187,12 +189,13 @@ TEST(SimplifyOperation, LockedVerticesKeepTheirPositionsInBothForms) {
     const std::vector<Index> locked = {0, 5, 100, 300, 641};
     const std::string list = R"(,"locked_vertices":[0,5,100,300,641])";
     // without the lock most of them move or go: the test below can fail
-    const auto free = call("application/json", json_request(sphere, R"(,"target_faces":80,"output":{"format":"json"})"));
+    const auto free =
+        call("application/json", json_request(sphere, R"(,"target_faces":80,"output":{"format":"json"})"));
     ASSERT_EQ(free.status, 200) << free.body;
     EXPECT_LT(kept_exactly(free, sphere, locked), locked.size());
 
-    const auto json = call("application/json",
-                           json_request(sphere, R"(,"target_faces":80,"output":{"format":"json"})" + list));
+    const auto json =
+        call("application/json", json_request(sphere, R"(,"target_faces":80,"output":{"format":"json"})" + list));
     ASSERT_EQ(json.status, 200) << json.body;
     EXPECT_EQ(kept_exactly(json, sphere, locked), locked.size());
     EXPECT_LE(std::stoi(header(json, "X-Output-Faces")), 80);
@@ -202,8 +205,8 @@ TEST(SimplifyOperation, LockedVerticesKeepTheirPositionsInBothForms) {
     ASSERT_EQ(query.status, 200) << query.body;
     EXPECT_EQ(kept_exactly(query, sphere, locked), locked.size());
     // an empty list locks nothing
-    const auto empty = call("model/obj", write_obj(sphere),
-                            {{"target_faces", "80"}, {"format", "json"}, {"locked_vertices", ""}});
+    const auto empty =
+        call("model/obj", write_obj(sphere), {{"target_faces", "80"}, {"format", "json"}, {"locked_vertices", ""}});
     ASSERT_EQ(empty.status, 200) << empty.body;
 }
 
@@ -223,13 +226,13 @@ TEST(SimplifyOperation, LockedVerticesOutOfRangeAre422NamingTheItem) {
                    "invalid_field", "locked_vertices[1]");
     expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "1,,2"}}), 400,
                    "invalid_field", "locked_vertices[1]");
-    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "-4"}}), 400,
-                   "invalid_field", "locked_vertices[0]");
+    expect_problem(call("model/obj", write_obj(m), {{"ratio", "0.5"}, {"locked_vertices", "-4"}}), 400, "invalid_field",
+                   "locked_vertices[0]");
 }
 
 TEST(SimplifyOperation, OctetStreamIsSniffed) {
-    const auto response = call("application/octet-stream", write_obj(testing::icosphere(2)),
-                               {{"ratio", "0.5"}, {"format", "ply"}});
+    const auto response =
+        call("application/octet-stream", write_obj(testing::icosphere(2)), {{"ratio", "0.5"}, {"format", "ply"}});
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "application/ply");
 }
@@ -237,7 +240,8 @@ TEST(SimplifyOperation, OctetStreamIsSniffed) {
 // ---- errors, all before any work ---------------------------------------------------------------------------------
 
 TEST(SimplifyOperation, NoStopCriterionIs400) {
-    const auto json = expect_problem(call("application/json", json_request(testing::icosphere(1))), 400, "invalid_field");
+    const auto json =
+        expect_problem(call("application/json", json_request(testing::icosphere(1))), 400, "invalid_field");
     EXPECT_EQ(json.value("field", ""), "target_faces");
     expect_problem(call("model/obj", write_obj(testing::icosphere(1)), {{"format", "obj"}}), 400, "invalid_field");
 }
@@ -309,7 +313,8 @@ TEST(SimplifyOperation, BudgetsAreCheckedBeforeWork) {
 TEST(SimplifyOperation, MediaTypeAndParseErrors) {
     expect_problem(call("text/plain", "hello", {{"ratio", "0.5"}}), 415, "unsupported_media_type");
     expect_problem(call("", "hello"), 415, "unsupported_media_type");
-    const auto json = expect_problem(call("model/obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", {{"ratio", "0.5"}}), 400, "parse_error");
+    const auto json = expect_problem(call("model/obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", {{"ratio", "0.5"}}), 400,
+                                     "parse_error");
     EXPECT_EQ(json.value("line", 0), 4);
     expect_problem(call("application/json", "{not json"), 400, "invalid_json");
 }

@@ -175,7 +175,8 @@ TEST(TessellateOperation, RationalPatchesFromJsonAndBez) {
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_LE(std::stod(header(response, "X-Error-Bound")), 1e-3);
     std::size_t vertices = 0;
-    for (std::size_t at = response.body.find("\nv "); at != std::string::npos; at = response.body.find("\nv ", at + 1)) {
+    for (std::size_t at = response.body.find("\nv "); at != std::string::npos;
+         at = response.body.find("\nv ", at + 1)) {
         double x = 0, y = 0, z = 0;
         ASSERT_EQ(std::sscanf(response.body.c_str() + at + 3, "%lf %lf %lf", &x, &y, &z), 3);
         EXPECT_NEAR(std::hypot(x, y), 2.0, 1e-9);  // the OBJ writer's precision
@@ -185,15 +186,18 @@ TEST(TessellateOperation, RationalPatchesFromJsonAndBez) {
 
     // the same patch as BEZ214 (homogeneous points) gives the same mesh
     char bez[512];
-    std::snprintf(bez, sizeof bez, "BEZ214\n2 0 0 1 %.17g %.17g 0 %.17g 0 2 0 1\n2 0 1 1 %.17g %.17g %.17g %.17g 0 2 1 1\n",
-                  2 * s, 2 * s, s, 2 * s, 2 * s, s, s);
-    const ApiResponse from_bez = post_raw("application/x-geomview-bez", bez, {{"tolerance", "0.001"}, {"format", "obj"}});
+    std::snprintf(bez, sizeof bez,
+                  "BEZ214\n2 0 0 1 %.17g %.17g 0 %.17g 0 2 0 1\n2 0 1 1 %.17g %.17g %.17g %.17g 0 2 1 1\n", 2 * s,
+                  2 * s, s, 2 * s, 2 * s, s, s);
+    const ApiResponse from_bez =
+        post_raw("application/x-geomview-bez", bez, {{"tolerance", "0.001"}, {"format", "obj"}});
     ASSERT_EQ(from_bez.status, 200) << from_bez.body;
     EXPECT_EQ(header(from_bez, "X-Output-Faces"), header(response, "X-Output-Faces"));
 
     // weights: field paths
     patch["weights"] = {1, s, 1, 1, -1, 1};
-    expect_problem(post_json(nlohmann::json{{"patches", {patch}}}.dump()), 400, "invalid_field", "patches[0].weights[4]");
+    expect_problem(post_json(nlohmann::json{{"patches", {patch}}}.dump()), 400, "invalid_field",
+                   "patches[0].weights[4]");
     patch["weights"] = {1, 2};
     expect_problem(post_json(nlohmann::json{{"patches", {patch}}}.dump()), 400, "invalid_field", "patches[0].weights");
     patch["weights"] = {1, 1e13, 1, 1, 1, 1};
@@ -258,10 +262,10 @@ ApiResponse post_curves(const std::string& body) {
 
 TEST(CurvesOperation, AnswersEveryQuery) {
     // the parabola (t, t^2) as a 2D quadratic, and the rational quarter circle
-    const ApiResponse response = post_curves(
-        R"({"points":[[0,0],[0.5,0],[1,1]],"evaluate":[0,0.5,1],"derivatives":{"t":[0.5],"order":1},)"
-        R"("curvature":[0],"split":0.5,"elevate":1,"bounding_box":true,"length":{"tolerance":1e-9},)"
-        R"("closest":[0,1],"tessellate":{"tolerance":0.001}})");
+    const ApiResponse response =
+        post_curves(R"({"points":[[0,0],[0.5,0],[1,1]],"evaluate":[0,0.5,1],"derivatives":{"t":[0.5],"order":1},)"
+                    R"("curvature":[0],"split":0.5,"elevate":1,"bounding_box":true,"length":{"tolerance":1e-9},)"
+                    R"("closest":[0,1],"tessellate":{"tolerance":0.001}})");
     ASSERT_EQ(response.status, 200) << response.body;
     const auto json = nlohmann::json::parse(response.body);
     EXPECT_EQ(json["degree"], 2);

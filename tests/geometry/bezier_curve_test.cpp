@@ -39,8 +39,8 @@ BezierCurve twisted_cubic() {
 }
 
 void expect_near(const Vec3& a, const Vec3& b, double tol, const std::string& what = "") {
-    EXPECT_LE(norm(a - b), tol) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", "
-                                << b.y << ", " << b.z << ")";
+    EXPECT_LE(norm(a - b), tol) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
+                                << ", " << b.z << ")";
 }
 
 TEST(BezierCurve, DeCasteljauEqualsBernstein) {
@@ -158,8 +158,7 @@ TEST(BezierCurve, Curvature) {
     // parabola (t, t^2): kappa = 2 / (1 + 4 t^2)^(3/2)
     BezierCurve parabola;
     parabola.points = {{0, 0, 0}, {0.5, 0, 0}, {1, 1, 0}};
-    for (double t : {0.0, 0.3, 1.0})
-        EXPECT_NEAR(curvature(parabola, t), 2 / std::pow(1 + 4 * t * t, 1.5), 1e-12);
+    for (double t : {0.0, 0.3, 1.0}) EXPECT_NEAR(curvature(parabola, t), 2 / std::pow(1 + 4 * t * t, 1.5), 1e-12);
     for (double t : {0.0, 0.4, 1.0}) EXPECT_NEAR(curvature(quarter_circle(), t), 1.0, 1e-12);
     BezierCurve line;
     line.points = {{0, 0, 0}, {1, 2, 3}, {3, 6, 9}};

@@ -44,8 +44,8 @@ PatchSet teapot() {
 }
 
 void expect_near(const Vec3& a, const Vec3& b, double tol, const char* what = "") {
-    EXPECT_LE(norm(a - b), tol) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", "
-                                << b.y << ", " << b.z << ")";
+    EXPECT_LE(norm(a - b), tol) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
+                                << ", " << b.z << ")";
 }
 
 TEST(BezierPatch, CornersInterpolatedExactly) {
@@ -214,8 +214,8 @@ TEST(BezierPatch, TessellationNormalsAgreeWithWinding) {
     std::size_t disagreeing = 0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const auto face = mesh.face(f);
-        const Vec3 geometric = cross(mesh.positions[face[1]] - mesh.positions[face[0]],
-                                     mesh.positions[face[2]] - mesh.positions[face[0]]);
+        const Vec3 geometric =
+            cross(mesh.positions[face[1]] - mesh.positions[face[0]], mesh.positions[face[2]] - mesh.positions[face[0]]);
         const Vec3 shading = mesh.normals[face[0]] + mesh.normals[face[1]] + mesh.normals[face[2]];
         if (dot(geometric, shading) <= 0) ++disagreeing;
     }
@@ -237,8 +237,10 @@ double measured_max_deviation(const PatchSet& set, const PatchTessellation& t, i
                 const double l0 = 1 - l1 - l2;
                 const Vec2 uv0 = mesh.uvs[mesh.uv_indices[base]], uv1 = mesh.uvs[mesh.uv_indices[base + 1]],
                            uv2 = mesh.uvs[mesh.uv_indices[base + 2]];
-                const Vec3 linear = l0 * mesh.positions[face[0]] + l1 * mesh.positions[face[1]] + l2 * mesh.positions[face[2]];
-                const Vec3 exact = evaluate(patch, l0 * uv0.x + l1 * uv1.x + l2 * uv2.x, l0 * uv0.y + l1 * uv1.y + l2 * uv2.y);
+                const Vec3 linear =
+                    l0 * mesh.positions[face[0]] + l1 * mesh.positions[face[1]] + l2 * mesh.positions[face[2]];
+                const Vec3 exact =
+                    evaluate(patch, l0 * uv0.x + l1 * uv1.x + l2 * uv2.x, l0 * uv0.y + l1 * uv1.y + l2 * uv2.y);
                 worst = std::max(worst, norm(linear - exact));
             }
     }
@@ -326,8 +328,9 @@ TEST(BezierPatch, TeapotIsCrackFree) {
         EXPECT_EQ(stats.inconsistent_edges, 0u);
         // segment counts agree along every shared edge
         for (std::size_t p = 0; p < set.patches.size(); ++p)
-            EXPECT_LE(tessellation_error_bound(set.patches[p], result->plan.segments[p].nu, result->plan.segments[p].nv),
-                      tolerance);
+            EXPECT_LE(
+                tessellation_error_bound(set.patches[p], result->plan.segments[p].nu, result->plan.segments[p].nv),
+                tolerance);
     }
 }
 
@@ -494,7 +497,8 @@ TEST(RationalPatch, SphereOctantIsExact) {
 
 TEST(RationalPatch, DerivativesMatchFiniteDifferences) {
     for (unsigned seed = 1; seed <= 4; ++seed) {
-        const BezierPatch patch = random_rational_patch(static_cast<int>(seed % 3) + 1, static_cast<int>(seed % 2) + 2, seed);
+        const BezierPatch patch =
+            random_rational_patch(static_cast<int>(seed % 3) + 1, static_cast<int>(seed % 2) + 2, seed);
         for (auto [u, v] : {std::pair{0.3, 0.6}, {0.1, 0.9}, {0.5, 0.5}}) {
             const double h = 1e-4;
             const PatchDerivatives d = evaluate_derivatives(patch, u, v);
@@ -548,7 +552,8 @@ TEST(RationalPatch, ToleranceHonouredAndGuaranteed) {
         for (const Vec3& p : result->mesh.positions) EXPECT_NEAR(norm(p), 1.0, 1e-12);
     }
     for (unsigned seed = 1; seed <= 5; ++seed) {
-        const PatchSet set{{random_rational_patch(static_cast<int>(seed % 4) + 1, static_cast<int>(seed % 3) + 2, seed)}};
+        const PatchSet set{
+            {random_rational_patch(static_cast<int>(seed % 4) + 1, static_cast<int>(seed % 3) + 2, seed)}};
         TessellationOptions options;
         options.tolerance = 0.05;
         options.max_segments = 1024;

@@ -16,8 +16,8 @@ namespace surfaced {
 namespace {
 
 void expect_near(const Vec3& a, const Vec3& b, double tol, const std::string& what = "") {
-    EXPECT_LE(norm(a - b), tol) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", "
-                                << b.y << ", " << b.z << ")";
+    EXPECT_LE(norm(a - b), tol) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
+                                << ", " << b.z << ")";
 }
 
 BSplineTessellationOptions options(double tolerance, std::size_t max_segments = 1'000'000) {
@@ -70,7 +70,8 @@ void for_each_curve(F&& f) {
         for (std::size_t extra : {0u, 1u, 4u, 9u})
             for (bool rational : {false, true})
                 for (bool clamped : {true, false}) {
-                    const BSplineCurve c = random_curve(p, static_cast<std::size_t>(p) + 1 + extra, seed++, rational, clamped);
+                    const BSplineCurve c =
+                        random_curve(p, static_cast<std::size_t>(p) + 1 + extra, seed++, rational, clamped);
                     f(c, "degree " + std::to_string(p) + " n " + std::to_string(c.points.size()) +
                              (rational ? " rational" : "") + (clamped ? " clamped" : " unclamped"));
                 }
@@ -153,17 +154,20 @@ TEST(BSpline, EqualsItsBezierConversion) {
 TEST(BSpline, SingleSpanIsTheBezierCurve) {
     for (int p = 1; p <= 8; ++p)
         for (bool rational : {false, true}) {
-            BSplineCurve c = random_curve(p, static_cast<std::size_t>(p) + 1, 50u + static_cast<unsigned>(p), rational, true);
+            BSplineCurve c =
+                random_curve(p, static_cast<std::size_t>(p) + 1, 50u + static_cast<unsigned>(p), rational, true);
             c.knots = clamped_uniform_knots(c.points.size(), p, 2.0, 5.0).value();
             BezierCurve b;
             b.points = c.points;
             b.weights = c.weights;
             for (int k = 0; k <= 50; ++k)
-                expect_near(evaluate(c, 2.0 + 3.0 * k / 50.0), evaluate(b, k / 50.0), 1e-13, "degree " + std::to_string(p));
+                expect_near(evaluate(c, 2.0 + 3.0 * k / 50.0), evaluate(b, k / 50.0), 1e-13,
+                            "degree " + std::to_string(p));
             auto chain = to_bezier(c);
             ASSERT_TRUE(chain);
             ASSERT_EQ(chain->pieces.size(), 1u);
-            for (std::size_t i = 0; i < b.points.size(); ++i) expect_near(chain->pieces[0].points[i], b.points[i], 1e-14);
+            for (std::size_t i = 0; i < b.points.size(); ++i)
+                expect_near(chain->pieces[0].points[i], b.points[i], 1e-14);
         }
 }
 
@@ -174,7 +178,8 @@ TEST(BSpline, KnotInsertionPreservesTheCurve) {
         std::uniform_real_distribution<double> where(lo, hi);
         // a new value, an existing interior knot, and both domain ends
         std::vector<double> candidates = {where(rng), where(rng), lo, hi};
-        for (std::size_t i = static_cast<std::size_t>(c.degree) + 1; i < c.points.size(); ++i) candidates.push_back(c.knots[i]);
+        for (std::size_t i = static_cast<std::size_t>(c.degree) + 1; i < c.points.size(); ++i)
+            candidates.push_back(c.knots[i]);
         for (double u : candidates) {
             const int s = static_cast<int>(std::count(c.knots.begin(), c.knots.end(), u));
             const int room = c.degree - s;
@@ -309,16 +314,18 @@ TEST(BSpline, NurbsCircles) {
     // quarter circle: one rational quadratic span
     BSplineCurve quarter{2, {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {0, 0, 0, 1, 1, 1}, {1, r2, 1}};
     // full circle, 9 points on the square, knots at quarters (The NURBS Book, ex. 7.1)
-    BSplineCurve nine{2,
-                      {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}},
-                      {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1},
-                      {1, r2, 1, r2, 1, r2, 1, r2, 1}};
+    BSplineCurve nine{
+        2,
+        {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}},
+        {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1},
+        {1, r2, 1, r2, 1, r2, 1, r2, 1}};
     // full circle, 7 points on an equilateral triangle circumscribing it, weights 1, 1/2 (ex. 7.2)
     const double s3 = std::sqrt(3.0);
-    BSplineCurve seven{2,
-                       {{s3 / 2, 0.5, 0}, {0, 2, 0}, {-s3 / 2, 0.5, 0}, {-s3, -1, 0}, {0, -1, 0}, {s3, -1, 0}, {s3 / 2, 0.5, 0}},
-                       {0, 0, 0, 1.0 / 3, 1.0 / 3, 2.0 / 3, 2.0 / 3, 1, 1, 1},
-                       {1, 0.5, 1, 0.5, 1, 0.5, 1}};
+    BSplineCurve seven{
+        2,
+        {{s3 / 2, 0.5, 0}, {0, 2, 0}, {-s3 / 2, 0.5, 0}, {-s3, -1, 0}, {0, -1, 0}, {s3, -1, 0}, {s3 / 2, 0.5, 0}},
+        {0, 0, 0, 1.0 / 3, 1.0 / 3, 2.0 / 3, 2.0 / 3, 1, 1, 1},
+        {1, 0.5, 1, 0.5, 1, 0.5, 1}};
     for (const BSplineCurve* c : {&quarter, &nine, &seven}) {
         ASSERT_TRUE(validate(*c));
         for (double u : sample_params(*c, 1000)) {
@@ -356,10 +363,12 @@ TEST(BSpline, UniformCubicIsC2AtKnots) {
         const double u = c.knots[k];
         for (int order = 0; order <= 2; ++order) {
             const Vec3 left = derivative(c, u, order, SpanSide::Left), right = derivative(c, u, order, SpanSide::Right);
-            expect_near(left, right, 1e-10 * (1 + norm(left)), "order " + std::to_string(order) + " at knot " + std::to_string(k));
+            expect_near(left, right, 1e-10 * (1 + norm(left)),
+                        "order " + std::to_string(order) + " at knot " + std::to_string(k));
         }
         // the third derivative is piecewise constant and jumps at the knots (random control points)
-        third_jump = std::max(third_jump, norm(derivative(c, u, 3, SpanSide::Left) - derivative(c, u, 3, SpanSide::Right)));
+        third_jump =
+            std::max(third_jump, norm(derivative(c, u, 3, SpanSide::Left) - derivative(c, u, 3, SpanSide::Right)));
     }
     EXPECT_GT(third_jump, 1e-3);
     // a double interior knot leaves a cubic C1 but not C2
@@ -381,7 +390,8 @@ TEST(BSpline, ClosedUniformIsPeriodic) {
         ASSERT_TRUE(c) << c.error().message;
         EXPECT_EQ(c->points.size(), polygon.size() + static_cast<std::size_t>(p));
         for (int order = 0; order < p; ++order)
-            expect_near(derivative(*c, 0.0, order), derivative(*c, 1.0, order), 1e-10 * (1 + norm(derivative(*c, 0.0, order))),
+            expect_near(derivative(*c, 0.0, order), derivative(*c, 1.0, order),
+                        1e-10 * (1 + norm(derivative(*c, 0.0, order))),
                         "degree " + std::to_string(p) + " order " + std::to_string(order));
     }
     EXPECT_FALSE(closed_uniform(std::vector<Vec3>(2), 3));

@@ -71,9 +71,9 @@ TEST(ImplicitExpression, MalformedInputNamesTheCharacterOffset) {
         std::int64_t offset;
     };
     const Case cases[] = {
-        {"", 0},          {"x +", 3},       {"2x", 1},       {"(x + 1", 6},    {"foo(x)", 0}, {"sqrt x", 5},
-        {"min(x)", 5},    {"1..2", 2},      {"x $ y", 2},    {"x^", 2},        {"1e+", 3},    {"max(x, y", 8},
-        {"x * * y", 4},   {")", 0},         {"1e999", 0},
+        {"", 0},       {"x +", 3},      {"2x", 1},      {"(x + 1", 6}, {"foo(x)", 0},
+        {"sqrt x", 5}, {"min(x)", 5},   {"1..2", 2},    {"x $ y", 2},  {"x^", 2},
+        {"1e+", 3},    {"max(x, y", 8}, {"x * * y", 4}, {")", 0},      {"1e999", 0},
     };
     for (const Case& c : cases) {
         const GeoError e = error_of(c.text);

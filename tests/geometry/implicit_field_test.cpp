@@ -51,13 +51,13 @@ TEST(ImplicitPrimitives, SphereIsExact) {
 
 TEST(ImplicitPrimitives, BoxAtFacesEdgesCornersAndInside) {
     const auto b = box({1, 2, 3});
-    EXPECT_NEAR(b->value({2, 0, 0}), 1.0, 1e-15);                 // face
-    EXPECT_NEAR(b->value({0, -2.5, 0}), 0.5, 1e-15);              // face
-    EXPECT_NEAR(b->value({2, 3, 0}), std::sqrt(2.0), 1e-15);      // edge
-    EXPECT_NEAR(b->value({-2, 3, 4}), std::sqrt(3.0), 1e-15);     // corner
-    EXPECT_NEAR(b->value({0, 0, 0}), -1.0, 1e-15);                // inside: nearest face x
-    EXPECT_NEAR(b->value({0.5, 1.8, 0}), -0.2, 1e-15);            // inside: nearest face y
-    EXPECT_NEAR(b->value({1, 0, 0}), 0.0, 1e-15);                 // on
+    EXPECT_NEAR(b->value({2, 0, 0}), 1.0, 1e-15);              // face
+    EXPECT_NEAR(b->value({0, -2.5, 0}), 0.5, 1e-15);           // face
+    EXPECT_NEAR(b->value({2, 3, 0}), std::sqrt(2.0), 1e-15);   // edge
+    EXPECT_NEAR(b->value({-2, 3, 4}), std::sqrt(3.0), 1e-15);  // corner
+    EXPECT_NEAR(b->value({0, 0, 0}), -1.0, 1e-15);             // inside: nearest face x
+    EXPECT_NEAR(b->value({0.5, 1.8, 0}), -0.2, 1e-15);         // inside: nearest face y
+    EXPECT_NEAR(b->value({1, 0, 0}), 0.0, 1e-15);              // on
     const Vec3 g = b->gradient({-2, 3, 4});
     EXPECT_NEAR(g.x, -1 / std::sqrt(3.0), 1e-12);
     EXPECT_NEAR(g.y, 1 / std::sqrt(3.0), 1e-12);
@@ -119,8 +119,9 @@ TEST(ImplicitPrimitives, ConeMatchesBruteForceDistance) {
 }
 
 TEST(ImplicitPrimitives, GradientOfExactFieldsHasUnitLength) {
-    const FieldPtr fields[] = {sphere(1), box({1, 0.5, 2}), rounded_box({1, 1, 1}, 0.3), torus(1.5, 0.4),
-                               cylinder(0.7, 1.2), cone(1, 1), capsule({1, 0, 0}, {-1, 1, 0}, 0.3), plane({1, 1, 0}, 0.2)};
+    const FieldPtr fields[] = {
+        sphere(1),          box({1, 0.5, 2}), rounded_box({1, 1, 1}, 0.3),         torus(1.5, 0.4),
+        cylinder(0.7, 1.2), cone(1, 1),       capsule({1, 0, 0}, {-1, 1, 0}, 0.3), plane({1, 1, 0}, 0.2)};
     for (const auto& f : fields) {
         EXPECT_EQ(f->kind(), FieldKind::ExactDistance);
         for (const Vec3& p : random_points(100, 3, 3)) EXPECT_NEAR(norm(f->gradient(p)), 1.0, 1e-6);
@@ -231,8 +232,9 @@ TEST(ImplicitCsg, SmoothUnionIsBelowMinAndEqualWhenFarApart) {
 
 TEST(ImplicitCsg, CombinationsRespectTheirLipschitzConstants) {
     const auto a = box({1, 0.5, 0.7}), b = torus(1, 0.3);
-    const FieldPtr fields[] = {smooth_union({a, b}, 0.4), smooth_difference({a, b}, 0.3), blend(a, b, 0.3),
-                               shell(a, 0.2), offset(b, 0.3), scale(b, Vec3{1, 2, 3}), csg_difference({a, b})};
+    const FieldPtr fields[] = {
+        smooth_union({a, b}, 0.4), smooth_difference({a, b}, 0.3), blend(a, b, 0.3), shell(a, 0.2), offset(b, 0.3),
+        scale(b, Vec3{1, 2, 3}),   csg_difference({a, b})};
     std::mt19937 rng(1);
     std::normal_distribution<double> step(0, 0.05);
     for (const auto& f : fields) {
@@ -248,7 +250,8 @@ TEST(ImplicitCsg, CombinationsRespectTheirLipschitzConstants) {
 TEST(ImplicitCsg, BlendOffsetShellAndSharedSubtrees) {
     const auto a = sphere(1), b = box({1, 1, 1});
     const auto mix = blend(a, b, 0.25);
-    for (const Vec3& p : random_points(50, 2)) EXPECT_NEAR(mix->value(p), 0.75 * a->value(p) + 0.25 * b->value(p), 1e-15);
+    for (const Vec3& p : random_points(50, 2))
+        EXPECT_NEAR(mix->value(p), 0.75 * a->value(p) + 0.25 * b->value(p), 1e-15);
     const auto grown = offset(a, 0.5);
     EXPECT_NEAR(grown->value({2, 0, 0}), 0.5, 1e-15);
     const auto wall = shell(a, 0.2);  // |f| - 0.1

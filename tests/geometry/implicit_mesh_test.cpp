@@ -173,7 +173,8 @@ double surface_area(const PolygonMesh& mesh) {
     double area = 0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const auto t = mesh.face(f);
-        area += 0.5 * norm(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
+        area +=
+            0.5 * norm(cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
     }
     return area;
 }
@@ -186,7 +187,10 @@ std::size_t non_manifold_vertices(const PolygonMesh& mesh) {
     std::size_t bad = 0;
     for (Index v = 0; v < mesh.vertex_count(); ++v) {
         const auto& around = faces_of[v];
-        if (around.empty()) { ++bad; continue; }  // unreferenced vertex
+        if (around.empty()) {
+            ++bad;
+            continue;
+        }  // unreferenced vertex
         // next vertex after v in each face -> face; walk the fan
         std::map<Index, std::size_t> by_next;
         for (std::size_t f : around) {
@@ -237,17 +241,17 @@ Invariants check(const PolygonMesh& mesh, const Box3& bounds) {
     return r;
 }
 
-#define EXPECT_VALID_MESH(mesh, bounds)                                   \
-    do {                                                                  \
-        ASSERT_TRUE((mesh).is_triangle_mesh());                           \
-        ASSERT_TRUE(validate(mesh).ok());                                 \
-        const Invariants inv_ = check((mesh), (bounds));                  \
-        EXPECT_EQ(inv_.boundary_edges, 0u);                               \
-        EXPECT_EQ(inv_.non_manifold_edges, 0u);                           \
-        EXPECT_EQ(inv_.inconsistent_edges, 0u);                           \
-        EXPECT_EQ(inv_.non_manifold_vertices, 0u);                        \
-        EXPECT_EQ(inv_.zero_area, 0u);                                    \
-        EXPECT_EQ(inv_.outside_bounds, 0u);                               \
+#define EXPECT_VALID_MESH(mesh, bounds)                  \
+    do {                                                 \
+        ASSERT_TRUE((mesh).is_triangle_mesh());          \
+        ASSERT_TRUE(validate(mesh).ok());                \
+        const Invariants inv_ = check((mesh), (bounds)); \
+        EXPECT_EQ(inv_.boundary_edges, 0u);              \
+        EXPECT_EQ(inv_.non_manifold_edges, 0u);          \
+        EXPECT_EQ(inv_.inconsistent_edges, 0u);          \
+        EXPECT_EQ(inv_.non_manifold_vertices, 0u);       \
+        EXPECT_EQ(inv_.zero_area, 0u);                   \
+        EXPECT_EQ(inv_.outside_bounds, 0u);              \
     } while (0)
 
 Box3 cube_bounds(double h) { return Box3{{-h, -h, -h}, {h, h, h}}; }
@@ -462,9 +466,9 @@ TEST(MeshField, RotatedBoxEdgesStaySharp) {
 // circle z = 1, x^2 + y^2 = 0.25. Vertices near it must lie on the surface and, in cells the circle runs through, on
 // the circle (a jagged rim is vertices pulled off it by tangent planes of the sphere that meet away from it).
 struct CreaseMeasure {
-    double worst_surface = 0;       // largest distance to the surface of a vertex within one cell of the circle
-    double worst_crease = 0;        // largest distance to the circle of a vertex in a cell the circle crosses
-    double worst_on_both = 0;       // largest distance to the circle of a vertex on both surfaces (within 0.02 h)
+    double worst_surface = 0;  // largest distance to the surface of a vertex within one cell of the circle
+    double worst_crease = 0;   // largest distance to the circle of a vertex in a cell the circle crosses
+    double worst_on_both = 0;  // largest distance to the circle of a vertex on both surfaces (within 0.02 h)
     std::size_t near = 0, crease = 0, on_both = 0;
 };
 
@@ -519,11 +523,12 @@ TEST(MeshField, CurvedCreaseOfBoxMinusBallIsSharp) {
         std::printf("resolution %d: %llu field evaluations, %zu vertices\n", resolution,
                     static_cast<unsigned long long>(stats.field_evaluations), mesh.vertex_count());
         const CreaseMeasure m = measure_rim(mesh, bounds, h);
-        std::printf("resolution %d (h %.4f): %zu vertices within a cell of the rim, worst %.2e (%.3f h) off the "
-                    "surface; %zu in crossed cells, worst %.2e (%.3f h) off the circle; %zu on both surfaces, worst "
-                    "%.2e off the circle\n",
-                    resolution, h, m.near, m.worst_surface, m.worst_surface / h, m.crease, m.worst_crease,
-                    m.worst_crease / h, m.on_both, m.worst_on_both);
+        std::printf(
+            "resolution %d (h %.4f): %zu vertices within a cell of the rim, worst %.2e (%.3f h) off the "
+            "surface; %zu in crossed cells, worst %.2e (%.3f h) off the circle; %zu on both surfaces, worst "
+            "%.2e off the circle\n",
+            resolution, h, m.near, m.worst_surface, m.worst_surface / h, m.crease, m.worst_crease, m.worst_crease / h,
+            m.on_both, m.worst_on_both);
         ASSERT_GT(m.crease, static_cast<std::size_t>(2 * kPi * 0.5 / h));  // the rim has vertices all round
         EXPECT_LT(m.worst_surface, 0.02 * h);
         EXPECT_LT(m.worst_crease, 0.03 * h);

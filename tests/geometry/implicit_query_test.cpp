@@ -143,7 +143,7 @@ TEST(ImplicitQuery, RaysHitBoxesPlanesAndTransformedShapes) {
     const RayHit hp = cast(ground, o, d);
     ASSERT_TRUE(hp.hit);
     EXPECT_NEAR(hp.t, (0.5 - dot(n, o)) / dot(n, d), 1e-7);
-    EXPECT_LE(hp.steps, 12);  // oblique: the gap shrinks by 1 - |cos| = 0.135 per step
+    EXPECT_LE(hp.steps, 12);                                   // oblique: the gap shrinks by 1 - |cos| = 0.135 per step
     EXPECT_LE(cast(ground, {0, 2, 2}, {0, -1, -1}).steps, 2);  // head-on: one step lands on it
     EXPECT_FALSE(cast(ground, o, d * -1.0).hit);
 }
@@ -178,8 +178,7 @@ TEST(ImplicitQuery, GeneralFieldsUseTheSafeFallback) {
     // could jump it; fixed steps of 0.005 cannot.
     auto slab_field = parse_expression("1000*(x^2 - 0.0001)");
     ASSERT_TRUE(slab_field.ok());
-    const RayHit thin = cast(slab_field.value(), {-3, 0.1, 0.2}, {1, 0, 0},
-                             rays(6, 2000, 0.005));
+    const RayHit thin = cast(slab_field.value(), {-3, 0.1, 0.2}, {1, 0, 0}, rays(6, 2000, 0.005));
     ASSERT_TRUE(thin.hit);
     EXPECT_NEAR(thin.t, 3 - 0.01, 1e-6);
     // two thin walls: the first one is reported

@@ -12,7 +12,8 @@ namespace {
 // Unit cube centred at the origin, quads wound counter-clockwise seen from outside.
 PolygonMesh make_cube() {
     PolygonMesh m;
-    for (int i = 0; i < 8; ++i) m.positions.push_back({(i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5});
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back({(i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5});
     m.add_face({0, 2, 3, 1});  // -z
     m.add_face({4, 5, 7, 6});  // +z
     m.add_face({0, 1, 5, 4});  // -y
@@ -30,8 +31,8 @@ PolygonMesh make_uv_sphere(int rings, int segments, double radius = 1.0, Vec3 ce
         const double theta = std::numbers::pi * r / rings;
         for (int s = 0; s < segments; ++s) {
             const double phi = 2 * std::numbers::pi * s / segments;
-            m.positions.push_back(centre + radius * Vec3{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                                         std::cos(theta)});
+            m.positions.push_back(centre + radius * Vec3{std::sin(theta) * std::cos(phi),
+                                                         std::sin(theta) * std::sin(phi), std::cos(theta)});
         }
     }
     m.positions.push_back(centre + Vec3{0, 0, -radius});
@@ -72,7 +73,8 @@ TEST(Normals, SphereNormalsAreUnitAndOutward) {
 TEST(Normals, ReversedOrientationFlipsNormals) {
     PolygonMesh cube = make_cube();
     for (std::size_t f = 0; f < cube.face_count(); ++f)
-        std::reverse(cube.face_indices.begin() + cube.face_offsets[f], cube.face_indices.begin() + cube.face_offsets[f + 1]);
+        std::reverse(cube.face_indices.begin() + cube.face_offsets[f],
+                     cube.face_indices.begin() + cube.face_offsets[f + 1]);
     const auto normals = compute_vertex_normals(cube);
     for (std::size_t v = 0; v < normals.size(); ++v) EXPECT_LT(dot(normals[v], cube.positions[v]), 0) << "vertex " << v;
 }
@@ -112,9 +114,7 @@ TEST(Normals, IsolatedAndDegenerateVerticesGetUp) {
     for (const Vec3& n : normals) EXPECT_EQ(n, (Vec3{0, 0, 1}));
 }
 
-TEST(Normals, EmptyMesh) {
-    EXPECT_TRUE(compute_vertex_normals(PolygonMesh{}).empty());
-}
+TEST(Normals, EmptyMesh) { EXPECT_TRUE(compute_vertex_normals(PolygonMesh{}).empty()); }
 
 }  // namespace
 }  // namespace surfaced

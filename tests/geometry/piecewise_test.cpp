@@ -229,8 +229,8 @@ TEST(Piecewise, EnforceC1MakesEveryJointC1) {
             ASSERT_TRUE(report.ok());
             for (const JointContinuity& j : report->joints) {
                 EXPECT_EQ(j.gap, 0.0);
-                EXPECT_LT(j.derivative_mismatch, 1e-12) << "set " << set << " side " << static_cast<int>(side)
-                                                        << " joint " << j.left;
+                EXPECT_LT(j.derivative_mismatch, 1e-12)
+                    << "set " << set << " side " << static_cast<int>(side) << " joint " << j.left;
                 EXPECT_EQ(j.continuity, Continuity::C1);
             }
             EXPECT_LT(r->max_derivative_mismatch, 1e-12);

@@ -58,9 +58,7 @@ FieldSamplingOptions field_options(std::size_t count, std::uint64_t seed, double
     return o;
 }
 
-double angle(const Vec3& a, const Vec3& b) {
-    return std::acos(std::clamp(dot(a, b) / (norm(a) * norm(b)), -1.0, 1.0));
-}
+double angle(const Vec3& a, const Vec3& b) { return std::acos(std::clamp(dot(a, b) / (norm(a) * norm(b)), -1.0, 1.0)); }
 
 // ---- kd-tree -----------------------------------------------------------------------------------------------------
 
@@ -118,9 +116,9 @@ TEST(SymmetricEigen3, DecomposesRandomAndRepeatedSpectra) {
             for (int c = r; c < 3; ++c) a[r][c] = a[c][r] = u(rng);
         matrices.push_back(a);
     }
-    matrices.push_back({{{1, 0, 0}, {0, 1, 0}, {0, 0, 2}}});     // repeated eigenvalue
-    matrices.push_back({{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}});     // zero
-    matrices.push_back({{{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}});     // rank 1: eigenvalues 0, 0, 3
+    matrices.push_back({{{1, 0, 0}, {0, 1, 0}, {0, 0, 2}}});  // repeated eigenvalue
+    matrices.push_back({{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}});  // zero
+    matrices.push_back({{{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}});  // rank 1: eigenvalues 0, 0, 3
     for (const auto& a : matrices) {
         const SymmetricEigen3 e = symmetric_eigen3(a);
         EXPECT_LE(e.values[0], e.values[1]);
@@ -251,7 +249,7 @@ TEST(PointNormals, RejectsBadInputAndHonoursCancel) {
 TEST(PointNormals, CollinearAndCoincidentNeighbourhoodsGetAUnitNormal) {
     PointCloud cloud;
     for (int i = 0; i < 40; ++i) cloud.positions.push_back({i * 0.1, 0, 0});  // a line: no plane anywhere
-    for (int i = 0; i < 20; ++i) cloud.positions.push_back({5, 5, 5});       // one repeated point
+    for (int i = 0; i < 20; ++i) cloud.positions.push_back({5, 5, 5});        // one repeated point
     ASSERT_TRUE(estimate_normals(cloud).ok());
     for (const Vec3& n : cloud.normals) EXPECT_NEAR(norm(n), 1.0, 1e-12);
 }
@@ -321,7 +319,8 @@ TEST(MeshSampling, SamplesLieOnTheSurfaceAndAreReproducible) {
         for (std::size_t f = 0; f < mesh.face_count(); ++f) {
             const auto face = mesh.face(f);
             for (std::size_t k = 1; k + 1 < face.size(); ++k) {
-                const Vec3 &p0 = mesh.positions[face[0]], &p1 = mesh.positions[face[k]], &p2 = mesh.positions[face[k + 1]];
+                const Vec3 &p0 = mesh.positions[face[0]], &p1 = mesh.positions[face[k]],
+                           &p2 = mesh.positions[face[k + 1]];
                 const Vec3 nrm = cross(p1 - p0, p2 - p0);
                 // barycentric inside test with the plane distance
                 const double area2 = dot(nrm, nrm);
@@ -407,7 +406,13 @@ TEST(FieldSampling, SurfaceOutsideTheBoundsAndBadOptions) {
     flat.add({0, 0, 0});
     flat.add({1, 1, 0});
     EXPECT_FALSE(sample_field(unit, flat, {}).ok());
-    EXPECT_FALSE(sample_field(unit, bounds, [] { auto o = field_options(10, 1); o.newton_steps = 0; return o; }()).ok());
+    EXPECT_FALSE(sample_field(unit, bounds,
+                              [] {
+                                  auto o = field_options(10, 1);
+                                  o.newton_steps = 0;
+                                  return o;
+                              }())
+                     .ok());
     FieldSamplingOptions cancelled;
     cancelled.cancel.deadline = Cancel::Clock::now() - std::chrono::seconds(1);
     EXPECT_EQ(sample_field(unit, bounds, cancelled).error().code, ErrorCode::Cancelled);

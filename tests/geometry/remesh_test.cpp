@@ -119,14 +119,15 @@ void expect_clean(const RemeshResult& r, const PolygonMesh& input, const std::st
 }
 
 void print(const RemeshResult& r, const char* what) {
-    std::printf("%s: L %.4g, faces %zu -> %zu, mean edge %.4g -> %.4g (sd %.3g), min angle %.2f -> %.2f deg, "
-                "<30deg %.1f%% -> %.1f%%, radius ratio mean %.3f -> %.3f, regular valence %.1f%% -> %.1f%%, "
-                "Hausdorff %.3g (%.3g L)\n",
-                what, r.target_edge_length, r.before.faces, r.after.faces, r.before.mean_edge_length,
-                r.after.mean_edge_length, r.after.edge_length_stddev, r.before.min_angle_degrees,
-                r.after.min_angle_degrees, 100 * r.before.share_below_30, 100 * r.after.share_below_30,
-                r.before.mean_radius_ratio, r.after.mean_radius_ratio, 100 * r.before.share_regular,
-                100 * r.after.share_regular, r.hausdorff.value_or(-1), r.hausdorff.value_or(-1) / r.target_edge_length);
+    std::printf(
+        "%s: L %.4g, faces %zu -> %zu, mean edge %.4g -> %.4g (sd %.3g), min angle %.2f -> %.2f deg, "
+        "<30deg %.1f%% -> %.1f%%, radius ratio mean %.3f -> %.3f, regular valence %.1f%% -> %.1f%%, "
+        "Hausdorff %.3g (%.3g L)\n",
+        what, r.target_edge_length, r.before.faces, r.after.faces, r.before.mean_edge_length, r.after.mean_edge_length,
+        r.after.edge_length_stddev, r.before.min_angle_degrees, r.after.min_angle_degrees,
+        100 * r.before.share_below_30, 100 * r.after.share_below_30, r.before.mean_radius_ratio,
+        r.after.mean_radius_ratio, 100 * r.before.share_regular, 100 * r.after.share_regular, r.hausdorff.value_or(-1),
+        r.hausdorff.value_or(-1) / r.target_edge_length);
 }
 
 // The working target steers the mean edge length to L (measured 0.984 to 1.016 L on every mesh here).
@@ -249,7 +250,7 @@ TEST(Remesh, OpenHeightFieldKeepsItsBoundary) {
         EXPECT_TRUE(on_x || on_y) << p[0] << " " << p[1];
         if (on_x && on_y) ++corners;
         const double h = on_x ? 1.0 / 6 : 1.0 / 12;  // input spacing along the side
-        const double s = on_x ? p[1] : p[0];        // parameter along the side
+        const double s = on_x ? p[1] : p[0];         // parameter along the side
         const double k = std::min(std::floor(s / h), 1 / h - 1);
         const double x0 = on_x ? p[0] : k * h, y0 = on_x ? k * h : p[1];
         const double x1 = on_x ? p[0] : (k + 1) * h, y1 = on_x ? (k + 1) * h : p[1];

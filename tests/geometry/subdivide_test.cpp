@@ -62,7 +62,8 @@ void expect_same_as_opensubdiv(const PolygonMesh& input, const SubdivisionOption
     ASSERT_EQ(ours->face_indices, ref.face_indices);
     const double tolerance = 1e-9 * input.bounds().diagonal();
     double worst = 0;
-    for (std::size_t v = 0; v < ref.vertex_count(); ++v) worst = std::max(worst, norm(ours->positions[v] - ref.positions[v]));
+    for (std::size_t v = 0; v < ref.vertex_count(); ++v)
+        worst = std::max(worst, norm(ours->positions[v] - ref.positions[v]));
     EXPECT_LE(worst, tolerance);
 }
 
@@ -84,7 +85,7 @@ std::string param_name(const ::testing::TestParamInfo<SubdivisionVsOpenSubdiv::P
     const auto [shape_index, scheme, boundary, levels] = info.param;
     const char* b = boundary == BoundaryInterpolation::None       ? "none"
                     : boundary == BoundaryInterpolation::EdgeOnly ? "edgeonly"
-                                                                   : "edgeandcorner";
+                                                                  : "edgeandcorner";
     return all_shapes()[shape_index].name + (scheme == SubdivisionScheme::Loop ? "_loop_" : "_catmark_") + b + "_l" +
            std::to_string(levels);
 }
@@ -96,8 +97,8 @@ std::vector<SubdivisionVsOpenSubdiv::ParamType> comparison_cases() {
     for (std::size_t s = 0; s < shapes.size(); ++s)
         for (auto scheme : {SubdivisionScheme::CatmullClark, SubdivisionScheme::Loop}) {
             if (scheme == SubdivisionScheme::Loop && !shapes[s].triangles) continue;
-            for (auto boundary : {BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner,
-                                  BoundaryInterpolation::None})
+            for (auto boundary :
+                 {BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner, BoundaryInterpolation::None})
                 for (int levels = 1; levels <= 4; ++levels) cases.emplace_back(s, scheme, boundary, levels);
         }
     return cases;
@@ -214,8 +215,8 @@ TEST(Subdivision, FacesThatRepeatAVertexMatchOpenSubdiv) {
         ASSERT_FALSE(validate(mesh).ok()) << name << ": the case must really repeat a vertex";
         ASSERT_TRUE(validate_for_subdivision(mesh).ok()) << name;
         for (auto method : {CreaseMethod::Uniform, CreaseMethod::Chaikin})
-            for (auto boundary : {BoundaryInterpolation::None, BoundaryInterpolation::EdgeOnly,
-                                  BoundaryInterpolation::EdgeAndCorner})
+            for (auto boundary :
+                 {BoundaryInterpolation::None, BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner})
                 for (int levels = 1; levels <= 3; ++levels) {
                     SCOPED_TRACE(std::string(name) + ", level " + std::to_string(levels));
                     SubdivisionOptions options;
@@ -240,7 +241,8 @@ TEST(Subdivision, RandomFacesWithRepeatedVerticesMatchOpenSubdiv) {
     for (int iteration = 0; iteration < 400; ++iteration) {
         PolygonMesh m;
         const std::uint32_t nv = 3 + next(8);
-        for (std::uint32_t v = 0; v < nv; ++v) m.positions.push_back({next(1000) / 100.0, next(1000) / 100.0, next(1000) / 100.0});
+        for (std::uint32_t v = 0; v < nv; ++v)
+            m.positions.push_back({next(1000) / 100.0, next(1000) / 100.0, next(1000) / 100.0});
         const bool loop = next(2) == 1;
         const std::uint32_t nf = 1 + next(6);
         for (std::uint32_t f = 0; f < nf; ++f) {
@@ -265,7 +267,8 @@ TEST(Subdivision, RandomFacesWithRepeatedVerticesMatchOpenSubdiv) {
         ASSERT_EQ(ours->vertex_count(), ref.vertex_count()) << iteration;
         ASSERT_EQ(ours->face_indices, ref.face_indices) << iteration;
         double worst = 0;
-        for (std::size_t v = 0; v < ref.vertex_count(); ++v) worst = std::max(worst, norm(ours->positions[v] - ref.positions[v]));
+        for (std::size_t v = 0; v < ref.vertex_count(); ++v)
+            worst = std::max(worst, norm(ours->positions[v] - ref.positions[v]));
         EXPECT_LE(worst, 1e-9 * m.bounds().diagonal()) << iteration;
     }
     EXPECT_GE(compared, 300);
@@ -400,7 +403,8 @@ TEST(LimitSurface, LimitMasksAreTheFixedPointOfRefinement) {
         double worst = 0;
         for (std::size_t v = 0; v < limit->vertex_count(); ++v)
             worst = std::max(worst, norm(limit->positions[v] - fine->positions[v]));
-        std::printf("[limit fixed point] %s: %.3g of the diagonal\n", scheme == SubdivisionScheme::Loop ? "loop" : "catmark", worst / mesh.bounds().diagonal());
+        std::printf("[limit fixed point] %s: %.3g of the diagonal\n",
+                    scheme == SubdivisionScheme::Loop ? "loop" : "catmark", worst / mesh.bounds().diagonal());
         EXPECT_LE(worst, 1e-4 * mesh.bounds().diagonal()) << (scheme == SubdivisionScheme::Loop ? "loop" : "catmark");
     }
 }

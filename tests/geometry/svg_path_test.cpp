@@ -60,9 +60,9 @@ TEST(SvgPath, AbsoluteAndRelativeGiveTheSameGeometry) {
         {"M1 1 Q2 3 4 1 T7 1 T9 2", "M1 1 q1 2 3 0 t3 0 t2 1"},
         {"M0 0 A5 5 0 0 1 10 0", "M0 0 a5 5 0 0 1 10 0"},
         {"M2 3 A4 2 30 1 0 6 5", "m2 3 a4 2 30 1 0 4 2"},
-        {"M1 1 L5 1 L5 5 Z L0 9", "m1 1 l4 0 l0 4 z l-1 8"},      // after z: relative to the subpath start
-        {"M1 1 L5 1 Z M7 7 L8 8", "m1 1 l4 0 z m6 6 l1 1"},         // m after z: from the start (1, 1)
-        {"M1 1 L2 2 M5 5 L6 7", "m1 1 1 1 m3 3 1 2"},              // implicit l after m
+        {"M1 1 L5 1 L5 5 Z L0 9", "m1 1 l4 0 l0 4 z l-1 8"},  // after z: relative to the subpath start
+        {"M1 1 L5 1 Z M7 7 L8 8", "m1 1 l4 0 z m6 6 l1 1"},   // m after z: from the start (1, 1)
+        {"M1 1 L2 2 M5 5 L6 7", "m1 1 1 1 m3 3 1 2"},         // implicit l after m
     };
     for (const auto& [absolute, relative] : cases) {
         const auto a = parse_ok(absolute), r = parse_ok(relative);
@@ -94,8 +94,7 @@ TEST(SvgPath, SmoothReflections) {
     c = parse_ok("M0 0 C1 2 3 2 4 0 S7 -2 8 0 S10 1 12 0");
     EXPECT_EQ(c[0].pieces[2].points, pts({{8, 0}, {9, 2}, {10, 1}, {12, 0}}));
     // implicit repeated S reflects too
-    EXPECT_EQ(parse_ok("M0 0 C1 2 3 2 4 0 S7 -2 8 0 10 1 12 0")[0].pieces[2].points,
-              c[0].pieces[2].points);
+    EXPECT_EQ(parse_ok("M0 0 C1 2 3 2 4 0 S7 -2 8 0 10 1 12 0")[0].pieces[2].points, c[0].pieces[2].points);
     // S after L, after Q, first in the path: no reflection, c1 = current point
     c = parse_ok("M0 0 L1 1 S2 3 4 4");
     EXPECT_EQ(c[0].pieces[1].points, pts({{1, 1}, {1, 1}, {2, 3}, {4, 4}}));
@@ -198,7 +197,8 @@ TEST(SvgPath, CircleArcIsExact) {
         ASSERT_EQ(c.size(), 1u) << arc.d;
         const auto& pieces = c[0].pieces;
         EXPECT_EQ(pieces.front().points.front(), (Vec3{10, 0, 0})) << arc.d;  // bit-exact end points
-        for (std::size_t i = 1; i < pieces.size(); ++i) EXPECT_EQ(pieces[i].points.front(), pieces[i - 1].points.back());
+        for (std::size_t i = 1; i < pieces.size(); ++i)
+            EXPECT_EQ(pieces[i].points.front(), pieces[i - 1].points.back());
         double worst = 0, swept = 0;
         for (const auto& piece : pieces) {
             ASSERT_TRUE(piece.is_rational());
@@ -254,7 +254,8 @@ TEST(SvgPath, RotatedEllipseArc) {
             const auto& pieces = c[0].pieces;
             EXPECT_EQ(pieces.front().points.front(), a);
             EXPECT_EQ(pieces.back().points.back(), b);
-            const std::size_t expected_min = static_cast<std::size_t>(std::ceil(std::abs(delta) / (std::numbers::pi / 2)));
+            const std::size_t expected_min =
+                static_cast<std::size_t>(std::ceil(std::abs(delta) / (std::numbers::pi / 2)));
             if (mode == SvgArcConversion::RationalQuadratic) {
                 EXPECT_EQ(pieces.size(), expected_min) << d;
             } else {
@@ -272,7 +273,8 @@ TEST(SvgPath, RotatedEllipseArc) {
             const double mid_t0 = 0.5 * (arc.t0 + arc.t1);
             double nearest = 1e300;
             for (const auto& piece : pieces)
-                for (int k = 0; k <= 400; ++k) nearest = std::min(nearest, norm(evaluate(piece, k / 400.0) - at(mid_t0)));
+                for (int k = 0; k <= 400; ++k)
+                    nearest = std::min(nearest, norm(evaluate(piece, k / 400.0) - at(mid_t0)));
             EXPECT_LT(nearest, 0.05) << d;
         }
     }

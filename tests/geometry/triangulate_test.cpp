@@ -42,7 +42,8 @@ void expect_valid_triangulation(const PolygonMesh& polygon, const PolygonMesh& t
     double sum = 0;
     for (std::size_t f = 0; f < tris.face_count(); ++f) {
         auto t = tris.face(f);
-        const Vec3 a = cross(tris.positions[t[1]] - tris.positions[t[0]], tris.positions[t[2]] - tris.positions[t[0]]) * 0.5;
+        const Vec3 a =
+            cross(tris.positions[t[1]] - tris.positions[t[0]], tris.positions[t[2]] - tris.positions[t[0]]) * 0.5;
         const double signed_area = dot(a, normal);
         EXPECT_GT(signed_area, -tolerance * total) << "triangle " << f << " is flipped";
         sum += signed_area;
@@ -116,7 +117,8 @@ TEST(Triangulate, ConcaveLShape) {
 
 TEST(Triangulate, ConcaveArrowInATiltedPlane) {
     // An arrow head (two reflex corners), rotated out of the xy plane and moved far from the origin.
-    const std::vector<Vec3> flat = {{0, 0, 0}, {4, 0, 0}, {4, -1, 0}, {6, 1, 0}, {4, 3, 0}, {4, 2, 0}, {0, 2, 0}, {1, 1, 0}};
+    const std::vector<Vec3> flat = {{0, 0, 0}, {4, 0, 0}, {4, -1, 0}, {6, 1, 0},
+                                    {4, 3, 0}, {4, 2, 0}, {0, 2, 0},  {1, 1, 0}};
     std::vector<Vec3> tilted;
     const double a = 0.7, b = -1.1;
     for (const Vec3& p : flat) {

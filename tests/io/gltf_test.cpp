@@ -32,7 +32,8 @@ constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 // Unit cube centred at the origin, outward quads.
 PolygonMesh make_cube() {
     PolygonMesh m;
-    for (int i = 0; i < 8; ++i) m.positions.push_back({(i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5});
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back({(i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5});
     m.add_face({0, 2, 3, 1});
     m.add_face({4, 5, 7, 6});
     m.add_face({0, 1, 5, 4});
@@ -58,8 +59,8 @@ PolygonMesh make_uv_cube() {
 PolygonMesh make_icosphere(int levels, double radius = 1.0) {
     const double t = (1 + std::sqrt(5.0)) / 2;
     PolygonMesh m;
-    m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     std::vector<std::array<Index, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                                {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                                {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -88,7 +89,8 @@ PolygonMesh make_icosphere(int levels, double radius = 1.0) {
 PolygonMesh make_grid(int nx, int ny) {
     PolygonMesh m;
     for (int j = 0; j <= ny; ++j)
-        for (int i = 0; i <= nx; ++i) m.positions.push_back({double(i), double(j), std::sin(i * 0.1) * std::cos(j * 0.1)});
+        for (int i = 0; i <= nx; ++i)
+            m.positions.push_back({double(i), double(j), std::sin(i * 0.1) * std::cos(j * 0.1)});
     auto at = [&](int i, int j) { return static_cast<Index>(j * (nx + 1) + i); };
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) m.add_face({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
@@ -250,7 +252,8 @@ std::array<Index, 3> canonical(std::array<Index, 3> t) {
 
 std::multiset<std::array<Index, 3>> triangle_set(const PolygonMesh& tri) {
     std::multiset<std::array<Index, 3>> set;
-    for (std::size_t f = 0; f < tri.face_count(); ++f) set.insert(canonical({tri.face(f)[0], tri.face(f)[1], tri.face(f)[2]}));
+    for (std::size_t f = 0; f < tri.face_count(); ++f)
+        set.insert(canonical({tri.face(f)[0], tri.face(f)[1], tri.face(f)[2]}));
     return set;
 }
 
@@ -596,7 +599,8 @@ TEST(GltfRead, AppliesNodeTransforms) {
     const PolygonMesh cube = make_cube();
     GlbParts parts = split_glb(write_ok(cube, plain()));
     // parent: translate (10, 0, 0); child: scale 2 and the mesh.
-    parts.gltf["nodes"] = json::array({{{"children", {1}}, {"translation", {10, 0, 0}}}, {{"mesh", 0}, {"scale", {2, 2, 2}}}});
+    parts.gltf["nodes"] =
+        json::array({{{"children", {1}}, {"translation", {10, 0, 0}}}, {{"mesh", 0}, {"scale", {2, 2, 2}}}});
     parts.gltf["scenes"][0]["nodes"] = {0};
     auto back = read_glb(make_glb(parts.gltf, parts.bin));
     ASSERT_TRUE(back.ok()) << back.error().message;
@@ -649,8 +653,13 @@ TEST(GltfRead, NonIndexedTriangleSoupIsWelded) {
               {"scenes", {{{"nodes", {0}}}}},
               {"nodes", {{{"mesh", 0}}}},
               {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
-              {"accessors", {{{"bufferView", 0}, {"componentType", kFloat}, {"count", 12}, {"type", "VEC3"},
-                              {"min", {0, 0, 0}}, {"max", {1, 1, 1}}}}},
+              {"accessors",
+               {{{"bufferView", 0},
+                 {"componentType", kFloat},
+                 {"count", 12},
+                 {"type", "VEC3"},
+                 {"min", {0, 0, 0}},
+                 {"max", {1, 1, 1}}}}},
               {"bufferViews", {{{"buffer", 0}, {"byteLength", 144}}}},
               {"buffers", {{{"byteLength", 144}}}}};
     const std::string glb = make_glb(g, bin);
@@ -694,26 +703,35 @@ TEST(GltfRead, StripsAndFansBecomeTriangles) {
                   {"scenes", {{{"nodes", {0}}}}},
                   {"nodes", {{{"mesh", 0}}}},
                   {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", mode}}}}}}},
-                  {"accessors", {{{"bufferView", 0}, {"componentType", kFloat}, {"count", pts.size()}, {"type", "VEC3"},
-                                  {"min", {0, 0, 0}}, {"max", {1, 1, 0}}}}},
+                  {"accessors",
+                   {{{"bufferView", 0},
+                     {"componentType", kFloat},
+                     {"count", pts.size()},
+                     {"type", "VEC3"},
+                     {"min", {0, 0, 0}},
+                     {"max", {1, 1, 0}}}}},
                   {"bufferViews", {{{"buffer", 0}, {"byteLength", bin.size()}}}},
                   {"buffers", {{{"byteLength", bin.size()}}}}};
         return make_glb(g, bin);
     };
-    for (auto [mode, pts] : {std::pair{5, std::vector<std::array<float, 3>>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}},
-                             std::pair{6, std::vector<std::array<float, 3>>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}}}) {
+    for (auto [mode, pts] :
+         {std::pair{5, std::vector<std::array<float, 3>>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}},
+          std::pair{6, std::vector<std::array<float, 3>>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}}}) {
         SCOPED_TRACE("mode " + std::to_string(mode));
         auto back = read_glb(square(mode, pts));
         ASSERT_TRUE(back.ok()) << back.error().message;
         ASSERT_EQ(back->face_count(), 2u);
         for (std::size_t f = 0; f < 2; ++f) {
             auto t = back->face(f);
-            EXPECT_GT(cross(back->positions[t[1]] - back->positions[t[0]], back->positions[t[2]] - back->positions[t[0]]).z, 0);
+            EXPECT_GT(
+                cross(back->positions[t[1]] - back->positions[t[0]], back->positions[t[2]] - back->positions[t[0]]).z,
+                0);
         }
         EXPECT_EQ(testing::edge_stats(*back).inconsistent_edges, 0u);
     }
     // Lines only: nothing to read.
-    expect_error(read_glb(square(1, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}})), ErrorCode::Unsupported, "lines only");
+    expect_error(read_glb(square(1, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}})), ErrorCode::Unsupported,
+                 "lines only");
 }
 
 TEST(GltfRead, MeshQuantizationIntegerPositions) {
@@ -733,11 +751,17 @@ TEST(GltfRead, MeshQuantizationIntegerPositions) {
               {"scenes", {{{"nodes", {0}}}}},
               {"nodes", {{{"mesh", 0}, {"scale", {0.25, 0.25, 0.25}}}}},
               {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
-              {"accessors", {{{"bufferView", 0}, {"componentType", 5122}, {"count", 4}, {"type", "VEC3"},
-                              {"min", {0, 0, 0}}, {"max", {2, 2, 2}}},
-                             {{"bufferView", 1}, {"componentType", kUnsignedShort}, {"count", 12}, {"type", "SCALAR"}}}},
-              {"bufferViews", {{{"buffer", 0}, {"byteLength", 32}, {"byteStride", 8}, {"target", kArrayBuffer}},
-                               {{"buffer", 0}, {"byteOffset", 32}, {"byteLength", 24}, {"target", kElementArrayBuffer}}}},
+              {"accessors",
+               {{{"bufferView", 0},
+                 {"componentType", 5122},
+                 {"count", 4},
+                 {"type", "VEC3"},
+                 {"min", {0, 0, 0}},
+                 {"max", {2, 2, 2}}},
+                {{"bufferView", 1}, {"componentType", kUnsignedShort}, {"count", 12}, {"type", "SCALAR"}}}},
+              {"bufferViews",
+               {{{"buffer", 0}, {"byteLength", 32}, {"byteStride", 8}, {"target", kArrayBuffer}},
+                {{"buffer", 0}, {"byteOffset", 32}, {"byteLength", 24}, {"target", kElementArrayBuffer}}}},
               {"buffers", {{{"byteLength", 56}}}}};
     const std::string glb = make_glb(g, bin);
     expect_valid_gltf(glb);
@@ -902,9 +926,12 @@ TEST(GltfMalformed, AccessorAndViewOutOfRange) {
                  "buffer longer than BIN");
     expect_error(with([&](json& g) { g["extensionsRequired"] = {"EXT_unknown"}; }), ErrorCode::Unsupported,
                  "required extension");
-    expect_error(with([&](json& g) { g["nodes"] = json::array({{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}}); }),
+    expect_error(with([&](json& g) {
+                     g["nodes"] = json::array({{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}});
+                 }),
                  ErrorCode::ParseError, "node cycle");
-    expect_error(with([&](json& g) { g["nodes"][0]["children"] = {0}; }), ErrorCode::ParseError, "node is its own child");
+    expect_error(with([&](json& g) { g["nodes"][0]["children"] = {0}; }), ErrorCode::ParseError,
+                 "node is its own child");
     expect_error(with([&](json& g) { g["nodes"][0]["matrix"] = {1, 2, 3}; }), ErrorCode::ParseError, "short matrix");
     expect_error(with([&](json& g) { g["accessors"][pos]["count"] = -1; }), ErrorCode::ParseError, "negative count");
     expect_error(with([&](json& g) { g["accessors"][pos]["count"] = "8"; }), ErrorCode::ParseError, "string count");
@@ -978,8 +1005,8 @@ TEST(GltfMalformed, RandomMutationsNeverCrash) {
             for (int k = 0; k < flips; ++k) bad[rng() % bad.size()] = static_cast<char>(rng());
             auto r = read_glb(bad);
             if (r.ok()) {
-            EXPECT_TRUE(validate(*r).ok()) << "trial " << trial;
-        }
+                EXPECT_TRUE(validate(*r).ok()) << "trial " << trial;
+            }
         }
     }
 }

@@ -42,11 +42,13 @@ const Case kCases[] = {
     {"obj_truncated_face.obj", ErrorCode::DegenerateFace, "line 4: face has 2 vertices"},
     {"obj_uv_out_of_range.obj", ErrorCode::IndexOutOfRange,
      "line 6: texture coordinate index 3 out of range (2 texture coordinates)"},
-    {"obj_mixed_uv_corners.obj", ErrorCode::ParseError, "line 5: face mixes corners with and without texture coordinates"},
+    {"obj_mixed_uv_corners.obj", ErrorCode::ParseError,
+     "line 5: face mixes corners with and without texture coordinates"},
     {"obj_normal_out_of_range.obj", ErrorCode::IndexOutOfRange, "line 5: normal index 2 out of range (1 normals)"},
     {"obj_index_not_integer.obj", ErrorCode::ParseError, "line 4: face index '3.5' is not an integer"},
     {"obj_huge_index.obj", ErrorCode::IndexOutOfRange, "line 4: face index '99999999999999999999999' out of range"},
-    {"obj_crease_out_of_range.obj", ErrorCode::IndexOutOfRange, "line 5: crease refers to vertex 7 but there are 3 vertices"},
+    {"obj_crease_out_of_range.obj", ErrorCode::IndexOutOfRange,
+     "line 5: crease refers to vertex 7 but there are 3 vertices"},
     {"obj_hole_out_of_range.obj", ErrorCode::IndexOutOfRange, "line 5: hole refers to face 3 but there are 1 faces"},
     {"obj_corner_negative.obj", ErrorCode::IndexOutOfRange, "line 5: corner vertex index -1 out of range"},
     {"obj_tag_too_few_args.obj", ErrorCode::ParseError, "line 5: tag 'crease' declares 2/1/0 arguments but has only 2"},
@@ -109,11 +111,13 @@ const Case kCases[] = {
     {"ply_binary_truncated.ply", ErrorCode::ParseError, "offset 207: unexpected end of file in 'face' element 0 of 1"},
     {"ply_binary_absurd_faces.ply", ErrorCode::ParseError, "line 7: header declares 4000000000 'face' elements"},
     {"ply_binary_nan.ply", ErrorCode::NonFinite, "offset 182: vertex 1 has a non-finite coordinate"},
-    {"ply_binary_index_out_of_range.ply", ErrorCode::IndexOutOfRange, "offset 211: face 0 index 7 out of range (3 vertices)"},
+    {"ply_binary_index_out_of_range.ply", ErrorCode::IndexOutOfRange,
+     "offset 211: face 0 index 7 out of range (3 vertices)"},
     {"ply_binary_negative_count.ply", ErrorCode::ParseError, "offset 204: negative list length -1"},
     {"ply_binary_huge_list.ply", ErrorCode::BudgetExceeded,
      "offset 205: face 0 has 1000000 vertices, more than max_face_size (65536)"},
-    {"ply_binary_list_past_end.ply", ErrorCode::ParseError, "offset 209: unexpected end of file in 'face' element 0 of 1"},
+    {"ply_binary_list_past_end.ply", ErrorCode::ParseError,
+     "offset 209: unexpected end of file in 'face' element 0 of 1"},
     {"ply_be_inf.ply", ErrorCode::NonFinite, "offset 218: vertex 2 has a non-finite coordinate"},
     {"ply_binary_repeated.ply", ErrorCode::DegenerateFace, "offset 206: face 0 uses vertex 0 more than once"},
     {"ply_utf16le_bom.ply", ErrorCode::ParseError, "UTF-16 is not supported"},
@@ -204,10 +208,13 @@ TEST(MalformedCorpus, AbsurdCountsAreRejectedQuickly) {
     stl += std::string("\xff\xff\xff\xff", 4);
     stl += std::string(116, '\x01');
     EXPECT_TRUE(fails_with(read_stl(stl), ErrorCode::ParseError, "declares 4294967295 triangles"));
-    const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 4294967295\nproperty float x\n"
-                            "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                            "end_header\n" + std::string(100, '\0');
-    EXPECT_TRUE(fails_with(read_ply(ply), ErrorCode::ParseError, "line 3: header declares 4294967295 'vertex' elements"));
+    const std::string ply =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4294967295\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "end_header\n" +
+        std::string(100, '\0');
+    EXPECT_TRUE(
+        fails_with(read_ply(ply), ErrorCode::ParseError, "line 3: header declares 4294967295 'vertex' elements"));
     // Within the bytes but over the configured limit: BudgetExceeded naming the limit.
     ReadOptions small;
     small.max_vertices = 2;
@@ -249,7 +256,8 @@ TEST(MalformedCorpus, MutatedFilesFailCleanlyOrValidate) {
     mesh.tags.corners = {{3, 1.5}};
     mesh.tags.holes = {5};
     std::string off = "OFF\n8 6 0\n";
-    for (const Vec3& p : mesh.positions) off += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    for (const Vec3& p : mesh.positions)
+        off += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         off += "4";
         for (Index v : mesh.face(f)) off += " " + std::to_string(v);
@@ -266,7 +274,8 @@ TEST(MalformedCorpus, MutatedFilesFailCleanlyOrValidate) {
             stl_binary += std::string(12, '\0');
             for (Index v : tri) {
                 const Vec3& p = mesh.positions[v];
-                stl_ascii += "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+                stl_ascii +=
+                    "vertex " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
                 for (int k = 0; k < 3; ++k) {
                     const float value = static_cast<float>(p[k]);
                     stl_binary.append(reinterpret_cast<const char*>(&value), 4);  // little-endian host assumed here

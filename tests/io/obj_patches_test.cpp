@@ -139,7 +139,8 @@ TEST(ObjPatches, ErrorsNameTheLine) {
         {header + "cstype bezier\ndeg 2 1\n" + quad + "end\n", ErrorCode::ParseError, 7, "needs (1*2+1) x (1*1+1) = 6"},
         {header + "cstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 9\nend\n", ErrorCode::ParseError, 7,
          "refers to vertex 9, but 4 vertices"},
-        {header + "cstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 x\nend\n", ErrorCode::ParseError, 7, "not a vertex index"},
+        {header + "cstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 x\nend\n", ErrorCode::ParseError, 7,
+         "not a vertex index"},
         {header + "cstype bezier\ndeg 1 1\n" + quad, ErrorCode::ParseError, 7, "surf has no matching end"},
         {header + "deg 1 1\n" + quad + "end\n", ErrorCode::ParseError, 6, "surf before any cstype"},
         {header + "cstype bezier\ndeg 1\n" + quad + "end\n", ErrorCode::ParseError, 7, "two degrees"},
@@ -167,8 +168,9 @@ TEST(ObjPatches, ErrorsNameTheLine) {
 }
 
 TEST(ObjPatches, BudgetsBeforeAllocation) {
-    const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\nv 2 1 0\ncstype bezier\ndeg 1 1\n"
-                             "surf 0 2 0 1 1 2 5 3 4 6\nparm u 0 1 2\nend\n";
+    const std::string text =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\nv 2 1 0\ncstype bezier\ndeg 1 1\n"
+        "surf 0 2 0 1 1 2 5 3 4 6\nparm u 0 1 2\nend\n";
     ASSERT_TRUE(read_obj_patches(text).ok());
     ObjPatchReadOptions options;
     options.max_patches = 1;

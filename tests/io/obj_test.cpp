@@ -98,13 +98,13 @@ TEST(ObjRead, Tags) {
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
         "f 1 2 3 4\nf 2 5 6 3\n"
         "t crease 2/1/0 0 1 2.5\n"
-        "t crease 4/1/0 1 2 2 3 7\n"       // several pairs, one sharpness for all
-        "t crease 4/2/0 3 0 4 5 1 10\n"    // one sharpness per pair
+        "t crease 4/1/0 1 2 2 3 7\n"     // several pairs, one sharpness for all
+        "t crease 4/2/0 3 0 4 5 1 10\n"  // one sharpness per pair
         "t corner 1/1/0 5 3\n"
-        "t corner 2/2/0 0 4 0.5 -2\n"      // negative sharpness clamps to 0 (OpenSubdiv)
+        "t corner 2/2/0 0 4 0.5 -2\n"  // negative sharpness clamps to 0 (OpenSubdiv)
         "t hole 1/0/0 1\n"
         "t interpolateboundary 1/0/0 1\n"
-        "t creasemethod 0/0/1 chaikin\n"   // known to OpenSubdiv, ignored here
+        "t creasemethod 0/0/1 chaikin\n"  // known to OpenSubdiv, ignored here
         "t vertexedit 4/2/3 1 2 3 4 0.5 0.25 add P value\n"
         "t facevaryinginterpolateboundary 1/0/0 1\n";
     auto mesh = read_obj(text);
@@ -158,13 +158,15 @@ TEST(ObjRead, LimitsGiveBudgetExceeded) {
     const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\nf 1 2 3\n";
     ReadOptions few_vertices;
     few_vertices.max_vertices = 3;
-    EXPECT_TRUE(fails_with(read_obj(text, few_vertices), ErrorCode::BudgetExceeded, "line 4: more than max_vertices (3)"));
+    EXPECT_TRUE(
+        fails_with(read_obj(text, few_vertices), ErrorCode::BudgetExceeded, "line 4: more than max_vertices (3)"));
     ReadOptions few_faces;
     few_faces.max_faces = 1;
     EXPECT_TRUE(fails_with(read_obj(text, few_faces), ErrorCode::BudgetExceeded, "line 6: more than max_faces (1)"));
     ReadOptions small_faces;
     small_faces.max_face_size = 3;
-    EXPECT_TRUE(fails_with(read_obj(text, small_faces), ErrorCode::BudgetExceeded, "line 5: face has more than max_face_size (3)"));
+    EXPECT_TRUE(fails_with(read_obj(text, small_faces), ErrorCode::BudgetExceeded,
+                           "line 5: face has more than max_face_size (3)"));
 }
 
 PolygonMesh tagged_mesh_with_uvs() {
@@ -228,7 +230,8 @@ TEST(ObjWrite, NormalsAndOptions) {
 
     ObjWriteOptions short_numbers;
     short_numbers.precision = 3;
-    EXPECT_NE(write_obj(m, short_numbers).find("v 0.1 0.333 -0.286\n"), std::string::npos) << write_obj(m, short_numbers);
+    EXPECT_NE(write_obj(m, short_numbers).find("v 0.1 0.333 -0.286\n"), std::string::npos)
+        << write_obj(m, short_numbers);
 }
 
 TEST(ObjLarge, QuarterMillionFacesRoundTrip) {
@@ -318,7 +321,7 @@ TEST(ObjCorpus, EveryOpenSubdivShapeParses) {
 TEST(ObjCorpus, RepeatedVerticesRejectedByDefaultWithLine) {
     // The README lists these as the shapes with faces that repeat a vertex; everything else validates.
     const std::map<std::string, int> expected_line = {
-        {"catmark_nonman_edges.obj", 161},     {"catmark_nonman_quadpole360.obj", 723},
+        {"catmark_nonman_edges.obj", 161},      {"catmark_nonman_quadpole360.obj", 723},
         {"catmark_nonman_quadpole64.obj", 131}, {"catmark_nonman_quadpole8.obj", 19},
         {"loop_nonman_edges.obj", 192},
     };

@@ -86,18 +86,21 @@ TEST(OffRead, Limits) {
     const std::string text = std::string("OFF\n8 6 0\n") + kCubeBody;
     ReadOptions options;
     options.max_vertices = 7;
-    EXPECT_TRUE(fails_with(read_off(text, options), ErrorCode::BudgetExceeded, "line 2: header declares 8 vertices, more than max_vertices (7)"));
+    EXPECT_TRUE(fails_with(read_off(text, options), ErrorCode::BudgetExceeded,
+                           "line 2: header declares 8 vertices, more than max_vertices (7)"));
     options = {};
     options.max_faces = 5;
     EXPECT_TRUE(fails_with(read_off(text, options), ErrorCode::BudgetExceeded, "max_faces (5)"));
     options = {};
     options.max_face_size = 3;
-    EXPECT_TRUE(fails_with(read_off(text, options), ErrorCode::BudgetExceeded, "line 11: face has 4 vertices, more than max_face_size (3)"));
+    EXPECT_TRUE(fails_with(read_off(text, options), ErrorCode::BudgetExceeded,
+                           "line 11: face has 4 vertices, more than max_face_size (3)"));
 }
 
 TEST(OffRead, SameMeshAsObj) {
-    const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-                            "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    const std::string obj =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+        "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
     auto a = read_obj(obj);
     auto b = read_off(std::string("OFF\n8 6 12\n") + kCubeBody);
     ASSERT_TRUE(a.ok() && b.ok());

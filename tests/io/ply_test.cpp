@@ -94,7 +94,7 @@ std::string binary_quad(bool big_endian) {
     const double xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.1}, {0, 1, -1e-300}};
     for (int v = 0; v < 4; ++v) {
         w.put(xyz[v][0]).put(std::int16_t{-3}).put(xyz[v][1]);
-        w.put(std::uint16_t(v)); // list of v ints
+        w.put(std::uint16_t(v));  // list of v ints
         for (int k = 0; k < v; ++k) w.put(std::int32_t{k * 1000});
         w.put(xyz[v][2]).put(std::uint8_t{200});
     }
@@ -119,9 +119,10 @@ TEST(PlyRead, BinaryBothByteOrders) {
 }
 
 TEST(PlyRead, FloatAndIntegerCoordinatesUcharCountsUintIndices) {
-    Writer w{false, "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty int y\n"
-                    "property uchar z\nproperty float nx\nproperty float ny\nproperty float nz\n"
-                    "element face 1\nproperty list uchar uint vertex_indices\nend_header\n"};
+    Writer w{false,
+             "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty int y\n"
+             "property uchar z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+             "element face 1\nproperty list uchar uint vertex_indices\nend_header\n"};
     w.put(1.5f).put(std::int32_t{-2}).put(std::uint8_t{250}).put(0.f).put(0.f).put(1.f);
     w.put(0.f).put(std::int32_t{0}).put(std::uint8_t{0}).put(0.f).put(0.f).put(1.f);
     w.put(2.f).put(std::int32_t{7}).put(std::uint8_t{1}).put(0.f).put(1.f).put(0.f);
@@ -136,9 +137,10 @@ TEST(PlyRead, FloatAndIntegerCoordinatesUcharCountsUintIndices) {
 }
 
 TEST(PlyRead, CrlfHeaderAndUtf8Bom) {
-    auto mesh = read_ply("\xef\xbb\xbfply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\n"
-                         "property float z\r\nelement face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
-                         "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n");
+    auto mesh = read_ply(
+        "\xef\xbb\xbfply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\n"
+        "property float z\r\nelement face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
+        "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n");
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     EXPECT_EQ(mesh->face_count(), 1u);
 }

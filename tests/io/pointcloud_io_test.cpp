@@ -34,8 +34,8 @@ PointCloud colored_cloud(std::size_t n, bool alpha, std::uint64_t seed = 1) {
         cloud.positions.push_back({u(rng), u(rng), u(rng) * 0.1});
         Vec3 nrm{u(rng), u(rng), u(rng) + 0.01};
         cloud.normals.push_back(nrm * (1.0 / norm(nrm)));
-        cloud.colors.push_back({byte(rng) / 255.0f, byte(rng) / 255.0f, byte(rng) / 255.0f,
-                                alpha ? byte(rng) / 255.0f : 1.0f});
+        cloud.colors.push_back(
+            {byte(rng) / 255.0f, byte(rng) / 255.0f, byte(rng) / 255.0f, alpha ? byte(rng) / 255.0f : 1.0f});
     }
     return cloud;
 }
@@ -90,12 +90,18 @@ TEST(PointPly, ReadsBigEndianFloatColoursAndSkipsOtherElements) {
     f32(2.5f);
     const float vertices[2][6] = {{1, 2, 3, 0.25f, 0.5f, 1}, {-1, -2, -3, 0, 0.125f, 0.75f}};
     for (const auto& v : vertices) {
-        f32(v[0]); f32(v[1]); f32(v[2]);
+        f32(v[0]);
+        f32(v[1]);
+        f32(v[2]);
         ply += std::string("\x00\x07", 2);  // quality
-        f32(v[3]); f32(v[4]); f32(v[5]);
+        f32(v[3]);
+        f32(v[4]);
+        f32(v[5]);
     }
     ply += static_cast<char>(3);
-    be32(0); be32(1); be32(1);
+    be32(0);
+    be32(1);
+    be32(1);
     auto read = read_ply_points(ply);
     ASSERT_TRUE(read.ok()) << read.error().message;
     ASSERT_EQ(read->size(), 2u);
@@ -132,9 +138,11 @@ struct Malformed {
 };
 
 TEST(PointPly, MalformedInputNamesTheLineOrOffset) {
-    const std::string head = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+    const std::string head =
+        "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
     const std::string bin_head =
-        "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+        "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float "
+        "z\nend_header\n";
     const std::string list_head =
         "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
         "property list uchar float extra\nend_header\n";
@@ -147,19 +155,24 @@ TEST(PointPly, MalformedInputNamesTheLineOrOffset) {
         {"no z", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
          ErrorCode::ParseError, 3, -1},
         {"no vertex element", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", ErrorCode::ParseError, -1, -1},
-        {"empty vertex element", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+        {"empty vertex element",
+         "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
          ErrorCode::ParseError, 3, -1},
         // a header count the bytes cannot hold fails before anything is reserved
-        {"absurd count", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
-                         "property float y\nproperty float z\nend_header\n" + std::string(24, '\0'),
+        {"absurd count",
+         "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+         "property float y\nproperty float z\nend_header\n" +
+             std::string(24, '\0'),
          ErrorCode::ParseError, 3, -1},
         {"short binary", bin_head + std::string(20, '\0'), ErrorCode::ParseError, 3, -1},
         // enough bytes for the minimum, but the second vertex's list claims 200 floats
         {"truncated binary", list_head + std::string(12, '\0') + '\0' + std::string(12, '\0') + '\xc8' + "abc",
          ErrorCode::ParseError, -1, static_cast<std::int64_t>(list_head.size() + 26)},
-        {"colour out of range", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                                "property float z\nproperty float red\nproperty float green\nproperty float blue\n"
-                                "end_header\n0 0 0 0.5 2 0\n", ErrorCode::ParseError, 11, -1},
+        {"colour out of range",
+         "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+         "property float z\nproperty float red\nproperty float green\nproperty float blue\n"
+         "end_header\n0 0 0 0.5 2 0\n",
+         ErrorCode::ParseError, 11, -1},
         {"not ply", "hello\n", ErrorCode::ParseError, 1, -1},
     };
     for (const Malformed& c : cases) {
@@ -397,7 +410,8 @@ TEST(PointGlb, DracoPointsAreValidAndDecodeBack) {
             std::uint8_t rgba[4] = {0, 0, 0, 255};
             ASSERT_TRUE(pos->ConvertValue<float>(pos->mapped_index(p), 3, xyz));
             ASSERT_TRUE(nrm->ConvertValue<float>(nrm->mapped_index(p), 3, n));
-            ASSERT_TRUE(col->ConvertValue<std::uint8_t>(col->mapped_index(p), static_cast<std::int8_t>(alpha ? 4 : 3), rgba));
+            ASSERT_TRUE(
+                col->ConvertValue<std::uint8_t>(col->mapped_index(p), static_cast<std::int8_t>(alpha ? 4 : 3), rgba));
             const Vec3 q{xyz[0], xyz[1], xyz[2]};
             tree.knn(q, 1, nearest);
             const std::size_t i = nearest[0].index;

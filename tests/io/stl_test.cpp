@@ -114,7 +114,8 @@ TEST(StlRead, UppercaseKeywordsCrlfAndSeveralSolids) {
 }
 
 TEST(StlRead, NegativeZeroWeldsWithZero) {
-    std::vector<Triangle> t = {{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}}, {Vec3{-0.0, 0, -0.0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}};
+    std::vector<Triangle> t = {{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}},
+                               {Vec3{-0.0, 0, -0.0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}};
     auto mesh = read_stl(binary_stl(t, "zeros"));
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     EXPECT_EQ(mesh->vertex_count(), 4u);
@@ -123,7 +124,7 @@ TEST(StlRead, NegativeZeroWeldsWithZero) {
 TEST(StlRead, DegenerateTrianglesAreDropped) {
     auto tris = cube_triangles();
     tris.insert(tris.begin() + 3, Triangle{Vec3{0, 0, 0}, Vec3{0, 0, 0}, Vec3{1, 1, 1}});  // two equal corners
-    tris.push_back(Triangle{Vec3{5, 5, 5}, Vec3{5, 5, 5}, Vec3{5, 5, 5}});            // a point
+    tris.push_back(Triangle{Vec3{5, 5, 5}, Vec3{5, 5, 5}, Vec3{5, 5, 5}});                 // a point
     expect_welded_cube(read_stl(binary_stl(tris, "")));  // and no stray vertex at (5,5,5)
     expect_welded_cube(read_stl(ascii_stl(tris)));
 }
@@ -137,7 +138,8 @@ TEST(StlRead, PaddedBinaryIsRead) {
 TEST(StlRead, Limits) {
     ReadOptions options;
     options.max_faces = 11;
-    EXPECT_TRUE(fails_with(read_stl(binary_stl(cube_triangles(), "x"), options), ErrorCode::BudgetExceeded, "offset 80: "));
+    EXPECT_TRUE(
+        fails_with(read_stl(binary_stl(cube_triangles(), "x"), options), ErrorCode::BudgetExceeded, "offset 80: "));
     EXPECT_TRUE(fails_with(read_stl(ascii_stl(cube_triangles()), options), ErrorCode::BudgetExceeded,
                            "line 79: more than max_faces (11) triangles"));
     options = {};

@@ -83,9 +83,9 @@ TEST_F(GeometryHttp, ImplicitMeshSphereToClosedGlb) {
     for (const Vec3& p : mesh->positions) EXPECT_NEAR(length(p), 1.0, 0.01);  // on the sphere (cell 0.125)
     EXPECT_NEAR(testing::signed_volume(mesh.value()) / (4.0 / 3.0 * std::numbers::pi), 1.0, 0.02);
 
-    expect_http_problem(client().Post("/implicit/mesh", std::string(R"({"scene": )") + kUnitSphere + "}",
-                                      "application/json"),
-                        400, "invalid_field", "bounds");
+    expect_http_problem(
+        client().Post("/implicit/mesh", std::string(R"({"scene": )") + kUnitSphere + "}", "application/json"), 400,
+        "invalid_field", "bounds");
 }
 
 TEST_F(GeometryHttp, ImplicitQueryUnitSphere) {
@@ -117,8 +117,8 @@ TEST_F(GeometryHttp, ImplicitQueryUnitSphere) {
     EXPECT_FALSE(rays[1]["hit"].get<bool>());  // pointing away
 
     const std::string bad = std::string(R"({"scene": )") + kUnitSphere + R"(, "points": [[0,0,0],[1,0,"x"]]})";
-    const Json problem = expect_http_problem(client().Post("/implicit/query", bad, "application/json"), 400,
-                                             "invalid_field");
+    const Json problem =
+        expect_http_problem(client().Post("/implicit/query", bad, "application/json"), 400, "invalid_field");
     EXPECT_EQ(problem.value("field", "").rfind("points[1]", 0), 0u) << problem.dump();
 }
 

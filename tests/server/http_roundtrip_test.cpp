@@ -34,10 +34,9 @@ constexpr const char* kCubeObj =
     "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
     "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
 
-constexpr const char* kCubeJson =
-    R"({"positions":[[-0.5,-0.5,-0.5],[0.5,-0.5,-0.5],[0.5,0.5,-0.5],[-0.5,0.5,-0.5],)"
-    R"([-0.5,-0.5,0.5],[0.5,-0.5,0.5],[0.5,0.5,0.5],[-0.5,0.5,0.5]],)"
-    R"("faces":[[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]})";
+constexpr const char* kCubeJson = R"({"positions":[[-0.5,-0.5,-0.5],[0.5,-0.5,-0.5],[0.5,0.5,-0.5],[-0.5,0.5,-0.5],)"
+                                  R"([-0.5,-0.5,0.5],[0.5,-0.5,0.5],[0.5,0.5,0.5],[-0.5,0.5,0.5]],)"
+                                  R"("faces":[[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]})";
 
 constexpr std::size_t kTestBodyLimit = 64 * 1024;
 
@@ -48,9 +47,7 @@ fs::path make_temp_dir(const std::string& tag) {
     return dir;
 }
 
-void write_text(const fs::path& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
-}
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 std::string read_bytes(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -177,9 +174,9 @@ TEST_F(HttpRoundTrip, LoopOnQuadsIs422) {
 }
 
 TEST_F(HttpRoundTrip, ObjParseErrorCarriesLine) {
-    const auto json = expect_problem(
-        client().Post("/subdivide?format=obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 zz\n", "model/obj"), 400,
-        "parse_error");
+    const auto json =
+        expect_problem(client().Post("/subdivide?format=obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 zz\n", "model/obj"),
+                       400, "parse_error");
     EXPECT_EQ(json.value("line", 0), 4);
     expect_healthy();
 }
@@ -371,7 +368,8 @@ TEST_F(Cli, ServeAnswersAndStopsOnSigterm) {
         dup2(out_pipe[1], STDOUT_FILENO);
         close(out_pipe[0]);
         close(out_pipe[1]);
-        execl(SURFACED_CLI_PATH, SURFACED_CLI_PATH, "serve", "--port", "0", "--threads", "2", static_cast<char*>(nullptr));
+        execl(SURFACED_CLI_PATH, SURFACED_CLI_PATH, "serve", "--port", "0", "--threads", "2",
+              static_cast<char*>(nullptr));
         _exit(127);
     }
     close(out_pipe[1]);

@@ -88,8 +88,8 @@ TEST_F(PatchesHttp, UnknownSampleAndBadRequestAreProblems) {
 }
 
 TEST_F(PatchesHttp, RawBezUpload) {
-    auto res = client().Post("/tessellate?segments=3&compression=none",
-                             std::string(patch_sample_text("teapot")), "application/x-geomview-bez");
+    auto res = client().Post("/tessellate?segments=3&compression=none", std::string(patch_sample_text("teapot")),
+                             "application/x-geomview-bez");
     ASSERT_TRUE(res) << httplib::to_string(res.error());
     ASSERT_EQ(res->status, 200) << res->body;
     EXPECT_EQ(res->get_header_value("X-Patches"), "32");
@@ -165,9 +165,9 @@ TEST(TessellateCli, SampleAndFile) {
     EXPECT_EQ(run(cli + " tessellate " + bez.string() + " -o " + obj.string() + " --segments 4 > /dev/null"), 0);
     EXPECT_GT(fs::file_size(obj), 1000u);
     // usage errors exit 2, failures 1
-    EXPECT_EQ(run(cli + " tessellate " + bez.string() + " -o " + obj.string() +
-                  " --segments 4 --tolerance 0.1 2> /dev/null"),
-              2);
+    EXPECT_EQ(
+        run(cli + " tessellate " + bez.string() + " -o " + obj.string() + " --segments 4 --tolerance 0.1 2> /dev/null"),
+        2);
     EXPECT_EQ(run(cli + " tessellate sample:kettle -o " + glb.string() + " 2> /dev/null"), 1);
     std::error_code ec;
     fs::remove_all(dir, ec);

@@ -99,7 +99,8 @@ std::string read_response(int fd) {
 
 //! Parses the text exposition; every sample line must be `name{labels} value`. Key: the line's name and labels.
 std::map<std::string, double> parse_prometheus(const std::string& text) {
-    static const std::regex sample(R"(^([a-zA-Z_:][a-zA-Z0-9_:]*(\{([a-zA-Z_][a-zA-Z0-9_]*="([^"\\]|\\.)*",?)*\})?) (\S+)$)");
+    static const std::regex sample(
+        R"(^([a-zA-Z_:][a-zA-Z0-9_:]*(\{([a-zA-Z_][a-zA-Z0-9_]*="([^"\\]|\\.)*",?)*\})?) (\S+)$)");
     static const std::regex comment(R"(^# (HELP|TYPE) [a-zA-Z_:][a-zA-Z0-9_:]* .+$)");
     std::map<std::string, double> out;
     std::istringstream in(text);
@@ -144,7 +145,8 @@ struct Running {
     }
     //! The metrics once `ready` holds for them: a request is counted after its last byte is written, so a client
     //! can see its answer a moment before the counters do.
-    std::map<std::string, double> metrics_when(const std::function<bool(const std::map<std::string, double>&)>& ready) const {
+    std::map<std::string, double> metrics_when(
+        const std::function<bool(const std::map<std::string, double>&)>& ready) const {
         std::map<std::string, double> out;
         EXPECT_TRUE(eventually([&] {
             out = metrics();
@@ -231,9 +233,12 @@ TEST(Production, MetricsCountRequestsBytesAndFaces) {
 
     const auto after = s.metrics_when([&](const auto& m) {
         return value_or_zero(m, key) == 3.0 &&
-               value_or_zero(m, R"(surfaced_http_requests_total{route="unmatched",method="other",status="400"})") == 1.0 &&
-               value_or_zero(m, R"(surfaced_http_requests_total{route="unmatched",method="GET",status="404"})") == 1.0 &&
-               value_or_zero(m, R"(surfaced_http_requests_total{route="/subdivide",method="POST",status="400"})") == 1.0;
+               value_or_zero(m, R"(surfaced_http_requests_total{route="unmatched",method="other",status="400"})") ==
+                   1.0 &&
+               value_or_zero(m, R"(surfaced_http_requests_total{route="unmatched",method="GET",status="404"})") ==
+                   1.0 &&
+               value_or_zero(m, R"(surfaced_http_requests_total{route="/subdivide",method="POST",status="400"})") ==
+                   1.0;
     });
     EXPECT_EQ(after.at(key), 3.0);
     EXPECT_EQ(after.at(R"(surfaced_http_requests_total{route="/subdivide",method="POST",status="400"})"), 1.0);
@@ -266,8 +271,10 @@ TEST(Production, FullQueueIsShedWith503AndRetryAfter) {
     // A: a request whose body has not arrived yet holds the only worker.
     const int a = connect_to(s.server.port());
     ASSERT_GE(a, 0);
-    send_text(a, "POST /subdivide?format=obj HTTP/1.1\r\nHost: x\r\nContent-Type: model/obj\r\nConnection: close\r\n"
-                 "Content-Length: " + std::to_string(std::string(kCubeObj).size()) + "\r\n\r\n");
+    send_text(a,
+              "POST /subdivide?format=obj HTTP/1.1\r\nHost: x\r\nContent-Type: model/obj\r\nConnection: close\r\n"
+              "Content-Length: " +
+                  std::to_string(std::string(kCubeObj).size()) + "\r\n\r\n");
     ASSERT_TRUE(eventually([&] { return s.server.stats().busy_workers == 1 && s.server.stats().in_flight == 1; }));
     // B waits in the queue.
     const int b = connect_to(s.server.port());
@@ -388,7 +395,8 @@ TEST(Production, BearerTokenAuth) {
     EXPECT_EQ(problem_of(none)["code"], "unauthorized");
     EXPECT_EQ(none->get_header_value("WWW-Authenticate"), R"(Bearer realm="surfaced")");
 
-    auto wrong = s.client().Post("/subdivide?format=obj", {{"Authorization", "Bearer s3cret-tokeN"}}, kCubeObj, "model/obj");
+    auto wrong =
+        s.client().Post("/subdivide?format=obj", {{"Authorization", "Bearer s3cret-tokeN"}}, kCubeObj, "model/obj");
     ASSERT_TRUE(wrong);
     EXPECT_EQ(wrong->status, 401);
     EXPECT_NE(wrong->get_header_value("WWW-Authenticate").find("invalid_token"), std::string::npos);
@@ -396,7 +404,8 @@ TEST(Production, BearerTokenAuth) {
     ASSERT_TRUE(prefix);
     EXPECT_EQ(prefix->status, 401);
 
-    auto right = s.client().Post("/subdivide?format=obj", {{"Authorization", "bearer s3cret-token"}}, kCubeObj, "model/obj");
+    auto right =
+        s.client().Post("/subdivide?format=obj", {{"Authorization", "bearer s3cret-token"}}, kCubeObj, "model/obj");
     ASSERT_TRUE(right);
     EXPECT_EQ(right->status, 200);
 
@@ -435,7 +444,8 @@ TEST(Production, CorsAllowListAndPreflight) {
     EXPECT_NE(ok->get_header_value("Access-Control-Allow-Headers").find("Authorization"), std::string::npos);
     EXPECT_EQ(ok->get_header_value("Vary"), "Origin");
 
-    auto other = s.client().Options("/subdivide", {{"Origin", "https://evil.example"}, {"Access-Control-Request-Method", "POST"}});
+    auto other = s.client().Options("/subdivide",
+                                    {{"Origin", "https://evil.example"}, {"Access-Control-Request-Method", "POST"}});
     ASSERT_TRUE(other);
     EXPECT_EQ(other->status, 403);
     EXPECT_FALSE(other->has_header("Access-Control-Allow-Origin"));
@@ -450,7 +460,8 @@ TEST(Production, CorsAllowListAndPreflight) {
     EXPECT_EQ(post->get_header_value("Access-Control-Allow-Origin"), "https://app.example");
     EXPECT_NE(post->get_header_value("Access-Control-Expose-Headers").find("X-Output-Faces"), std::string::npos);
     EXPECT_EQ(post->get_header_value("Vary"), "Origin");
-    auto foreign = s.client().Post("/subdivide?format=obj", {{"Origin", "https://evil.example"}}, kCubeObj, "model/obj");
+    auto foreign =
+        s.client().Post("/subdivide?format=obj", {{"Origin", "https://evil.example"}}, kCubeObj, "model/obj");
     ASSERT_TRUE(foreign);
     EXPECT_FALSE(foreign->has_header("Access-Control-Allow-Origin"));
 }
@@ -460,7 +471,8 @@ TEST(Production, PreflightNeedsNoTokenButTheRequestDoes) {
     config.cors_origins = {"*"};
     config.auth_token = "t";
     Running s(config);
-    auto preflight = s.client().Options("/simplify", {{"Origin", "http://localhost:5173"}, {"Access-Control-Request-Method", "POST"}});
+    auto preflight = s.client().Options(
+        "/simplify", {{"Origin", "http://localhost:5173"}, {"Access-Control-Request-Method", "POST"}});
     ASSERT_TRUE(preflight);
     EXPECT_EQ(preflight->status, 204);
     EXPECT_EQ(preflight->get_header_value("Access-Control-Allow-Origin"), "http://localhost:5173");
@@ -498,8 +510,8 @@ TEST(Production, StaticFilesStayInsideTheWebRoot) {
     EXPECT_NE(ok.find("inside"), std::string::npos);
     EXPECT_EQ(status_of(get_raw("/alias.txt")), 200);
     for (const char* attack : {"/../secret.txt", "/sub/../../secret.txt", "/%2e%2e/secret.txt", "/%2E%2E/secret.txt",
-                                     "/sub/%2e%2e/%2e%2e/secret.txt", "/..%2fsecret.txt", "/link.txt", "/up/secret.txt",
-                                     "/sub/..%5c..%5csecret.txt", "/%00/../secret.txt"}) {
+                               "/sub/%2e%2e/%2e%2e/secret.txt", "/..%2fsecret.txt", "/link.txt", "/up/secret.txt",
+                               "/sub/..%5c..%5csecret.txt", "/%00/../secret.txt"}) {
         const std::string answer = get_raw(attack);
         const int status = status_of(answer);
         EXPECT_TRUE(status == 404 || status == 400) << attack << " -> " << status;
@@ -525,7 +537,7 @@ TEST(Production, HealthcheckCommand) {
     EXPECT_EQ(run_cli("healthcheck --port " + port + " --path /no/such"), 1);  // 404
     s.server.begin_drain();
     EXPECT_EQ(run_cli("healthcheck --port " + port + " --path /readyz"), 1);  // 503 while draining
-    EXPECT_EQ(run_cli("healthcheck --port " + port), 0);                     // still alive
+    EXPECT_EQ(run_cli("healthcheck --port " + port), 0);                      // still alive
     s.server.stop();
     EXPECT_EQ(run_cli("healthcheck --port " + port + " --timeout 1"), 1);  // nobody listening
     EXPECT_EQ(run_cli("healthcheck --port 0"), 2);
@@ -550,7 +562,8 @@ TEST(Production, SigtermFinishesTheRequestInFlightAndExitsZero) {
     std::string line;
     char c = 0;
     pollfd pfd{out_pipe[0], POLLIN, 0};
-    while (line.find('\n') == std::string::npos && poll(&pfd, 1, 10'000) > 0 && read(out_pipe[0], &c, 1) == 1) line += c;
+    while (line.find('\n') == std::string::npos && poll(&pfd, 1, 10'000) > 0 && read(out_pipe[0], &c, 1) == 1)
+        line += c;
     const auto at = line.find("http://127.0.0.1:");
     const int port = at == std::string::npos ? 0 : std::atoi(line.c_str() + at + 17);
     ASSERT_GT(port, 0) << line;

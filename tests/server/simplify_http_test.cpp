@@ -80,9 +80,8 @@ TEST_F(SimplifyHttp, JsonWithMaxErrorToJson) {
         auto t = sphere.face(f);
         faces.push_back({t[0], t[1], t[2]});
     }
-    const nlohmann::json body = {{"mesh", {{"positions", positions}, {"faces", faces}}},
-                                 {"max_error", 0.02},
-                                 {"output", {{"format", "json"}}}};
+    const nlohmann::json body = {
+        {"mesh", {{"positions", positions}, {"faces", faces}}}, {"max_error", 0.02}, {"output", {{"format", "json"}}}};
     auto res = client().Post("/simplify", body.dump(), "application/json");
     ASSERT_TRUE(res) << httplib::to_string(res.error());
     ASSERT_EQ(res->status, 200) << res->body;
@@ -133,8 +132,8 @@ protected:
     std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
     CliResult run_cli(const std::string& args) const {
         const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-        const std::string command = std::string("'") + SURFACED_CLI_PATH + "' " + args + " >'" + out.string() +
-                                    "' 2>'" + err.string() + "'";
+        const std::string command =
+            std::string("'") + SURFACED_CLI_PATH + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
         const int status = std::system(command.c_str());
         CliResult r;
         r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -146,7 +145,8 @@ protected:
 };
 
 TEST_F(SimplifyCli, TargetFacesToObjWithReport) {
-    const auto r = run_cli("simplify " + path("torus.obj") + " -o " + path("out.obj") + " --target-faces 300 --report-error");
+    const auto r =
+        run_cli("simplify " + path("torus.obj") + " -o " + path("out.obj") + " --target-faces 300 --report-error");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("triangulated first"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("Hausdorff"), std::string::npos) << r.out;

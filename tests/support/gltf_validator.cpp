@@ -76,8 +76,8 @@ GltfValidation run_gltf_validator(std::string_view glb_bytes) {
     const int status = pclose(pipe);
     result.report = output;
     if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        result.report = "validator did not run (" + command + "; is node installed and `npm install --prefix tests` done?):\n" +
-                        output;
+        result.report = "validator did not run (" + command +
+                        "; is node installed and `npm install --prefix tests` done?):\n" + output;
         return result;
     }
     int hints = 0;

@@ -84,7 +84,8 @@ std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh, cons
                                                                          : Sdc::Options::CREASE_UNIFORM);
     sdc.SetTriangleSubdivision(options.triangle_rule == TriangleRule::Smooth ? Sdc::Options::TRI_SUB_SMOOTH
                                                                              : Sdc::Options::TRI_SUB_CATMARK);
-    BoundaryInterpolation boundary = options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
+    BoundaryInterpolation boundary =
+        options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
     sdc.SetVtxBoundaryInterpolation(to_osd(boundary));
     const Sdc::SchemeType scheme = options.scheme == SubdivisionScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
     return std::unique_ptr<Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(scheme, sdc)));

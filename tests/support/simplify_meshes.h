@@ -98,7 +98,8 @@ inline std::size_t flipped_faces(const PolygonMesh& output, const PolygonMesh& i
     for (std::size_t f = 0; f < input.face_count(); ++f) {
         auto t = input.face(f);
         for (std::size_t j = 1; j + 1 < t.size(); ++j) {
-            Vec3 n = cross(input.positions[t[j]] - input.positions[t[0]], input.positions[t[j + 1]] - input.positions[t[0]]);
+            Vec3 n =
+                cross(input.positions[t[j]] - input.positions[t[0]], input.positions[t[j + 1]] - input.positions[t[0]]);
             const double len = norm(n);
             normals.push_back(len > 0 ? n * (1.0 / len) : n);
         }
