@@ -4,7 +4,7 @@
 #   scripts/fuzz.sh                    every target, 60 s each
 #   scripts/fuzz.sh 600 fuzz_obj       one target, 10 minutes (long runs: the corpus grows in build-fuzz/corpus/)
 # Each target starts from its working corpus (build-fuzz/corpus/NAME, kept between runs) plus seeds assembled from
-# fuzz/seeds/NAME, tests/data (the malformed corpus) and ../shared/data (small files of the target's format).
+# fuzz/seeds/NAME, tests/data (the malformed corpus, the OpenSubdiv shapes, the teapot: small files of the target's format).
 # Crashes, leaks, timeouts (> 10 s per input) and out-of-memory (> 2 GiB) are saved as build-fuzz/artifacts/NAME-*;
 # reproduce one with `build-fuzz/fuzz/NAME FILE`, then add it to tests/data/malformed (tests/io/malformed_test.cpp).
 set -euo pipefail
@@ -57,7 +57,7 @@ for t in "${targets[@]}"; do
   rm -rf "$seeds"; mkdir -p "$seeds"
   [ -d "fuzz/seeds/$t" ] && cp fuzz/seeds/"$t"/* "$seeds"/ 2>/dev/null || true
   for pattern in $(seed_patterns "$t"); do
-    for dir in tests/data ../shared/data; do
+    for dir in tests/data; do
       [ -d "$dir" ] || continue
       find "$dir" -type f -name "$pattern" -size -16k -print0 |
         while IFS= read -r -d '' f; do cp "$f" "$seeds/$(echo "$f" | tr '/' '_')"; done

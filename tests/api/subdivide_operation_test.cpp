@@ -36,7 +36,8 @@ constexpr const char* kCubeObj =
 // ---- good requests ---------------------------------------------------------------------------------------------
 
 TEST(SubdivideOperation, JsonCubeToJson) {
-    const auto response = call("application/json", json_request(shapes::cube(), R"(,"levels":1,"output":{"format":"json"})"));
+    const auto response =
+        call("application/json", json_request(shapes::cube(), R"(,"levels":1,"output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "application/json");
     const auto json = nlohmann::json::parse(response.body);
@@ -84,7 +85,8 @@ TEST(SubdivideOperation, LoopOnTrianglesUncompressedGlb) {
 }
 
 TEST(SubdivideOperation, RawObjWithQueryToObj) {
-    const auto response = call("model/obj", kCubeObj, {{"scheme", "catmull-clark"}, {"levels", "2"}, {"format", "obj"}});
+    const auto response =
+        call("model/obj", kCubeObj, {{"scheme", "catmull-clark"}, {"levels", "2"}, {"format", "obj"}});
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_EQ(response.content_type, "model/obj");
     auto mesh = read_obj(response.body);
@@ -185,9 +187,8 @@ TEST(SubdivideOperation, MalformedJsonIs400) {
 }
 
 TEST(SubdivideOperation, UnknownQueryParametersAreNamed) {
-    const auto json =
-        expect_problem(call("model/obj", kCubeObj, {{"levels", "1"}, {"colour", "red"}, {"lvl", "2"}}), 400,
-                       "unknown_parameter");
+    const auto json = expect_problem(call("model/obj", kCubeObj, {{"levels", "1"}, {"colour", "red"}, {"lvl", "2"}}),
+                                     400, "unknown_parameter");
     const std::string detail = json["detail"];
     EXPECT_NE(detail.find("\"colour\""), std::string::npos) << detail;
     EXPECT_NE(detail.find("\"lvl\""), std::string::npos) << detail;
@@ -212,9 +213,9 @@ TEST(SubdivideOperation, OptionsThatDoNotApplyAre400) {
         call("application/json", json_request(shapes::cube(), R"(,"output":{"format":"obj","compression":"draco"})")),
         400, "invalid_field");
     EXPECT_EQ(compression.value("field", ""), "output.compression");
-    const auto bits = expect_problem(
-        call("application/json", json_request(shapes::cube(), R"(,"output":{"quantize_position":31})")), 400,
-        "invalid_field");
+    const auto bits =
+        expect_problem(call("application/json", json_request(shapes::cube(), R"(,"output":{"quantize_position":31})")),
+                       400, "invalid_field");
     EXPECT_EQ(bits.value("field", ""), "output.quantize_position");
     expect_problem(call("model/obj", kCubeObj, {{"format", "json"}, {"normals", "true"}}), 400, "invalid_field");
 }
@@ -266,8 +267,8 @@ TEST(SubdivideOperation, FaceWithTwoVerticesIsDegenerateWithFieldPath) {
 // Faces that repeat a vertex are refined as OpenSubdiv refines them (tests/geometry/opensubdiv_shapes_test.cpp checks
 // the geometry against Far): the service takes them for /subdivide, and only there.
 TEST(SubdivideOperation, FacesRepeatingAVertexAreSubdividedLikeOpenSubdiv) {
-    const std::string obj = testing::read_file(std::string(SURFACED_SHARED_DIR) +
-                                               "/data/opensubdiv-shapes/catmark_nonman_edges.obj");
+    const std::string obj =
+        testing::read_file(std::string(SURFACED_TEST_DATA_DIR) + "/opensubdiv-shapes/catmark_nonman_edges.obj");
     ReadOptions lenient;
     lenient.allow_repeated_vertices = true;
     auto input = read_obj(obj, lenient);
@@ -308,16 +309,15 @@ TEST(SubdivideOperation, OverflowingNumberIs422NotInternalError) {
 }
 
 TEST(SubdivideOperation, LoopOnQuadsNamesTheFace) {
-    const auto json =
-        expect_problem(call("application/json", json_request(shapes::cube(), R"(,"scheme":"loop")")), 422,
-                       "not_triangle_mesh");
+    const auto json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"scheme":"loop")")), 422,
+                                     "not_triangle_mesh");
     EXPECT_EQ(json.value("field", ""), "mesh.faces[0]");
     EXPECT_NE(json.value("detail", "").find("face 0"), std::string::npos) << json.dump();
 }
 
 TEST(SubdivideOperation, LevelsOverLimitIs422) {
-    const auto json =
-        expect_problem(call("application/json", json_request(shapes::cube(), R"(,"levels":9)")), 422, "budget_exceeded");
+    const auto json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"levels":9)")), 422,
+                                     "budget_exceeded");
     EXPECT_EQ(json.value("field", ""), "levels");
 }
 
@@ -353,7 +353,8 @@ namespace {
 
 std::vector<Vec3> positions_of(const nlohmann::json& response) {
     std::vector<Vec3> out;
-    for (const auto& p : response["mesh"]["positions"]) out.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
+    for (const auto& p : response["mesh"]["positions"])
+        out.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
     return out;
 }
 
@@ -368,8 +369,8 @@ TEST(SubdivideSharpFeatures, JsonCreasesCornersAndHolesReachTheGeometry) {
     const auto expected = surfaced::subdivide(tagged, options);
     ASSERT_TRUE(expected.ok());
 
-    const auto response = call("application/json",
-                               json_request(shapes::cube(), R"(,"levels":2,"crease_method":"chaikin",
+    const auto response =
+        call("application/json", json_request(shapes::cube(), R"(,"levels":2,"crease_method":"chaikin",
         "creases":[{"edge":[4,5],"sharpness":2.5},{"edge":[5,6],"sharpness":10}],
         "corners":[{"vertex":0,"sharpness":1.5}],"holes":[2],"output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
@@ -386,13 +387,16 @@ TEST(SubdivideSharpFeatures, TagErrorsNameTheField) {
         call("application/json", json_request(shapes::cube(), R"(,"creases":[{"edge":[4,99],"sharpness":1}])")), 422,
         "index_out_of_range");
     EXPECT_EQ(json.value("field", ""), "creases[0].edge[1]");
-    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"creases":[{"edge":[0,6],"sharpness":1}])")),
-                          422, "invalid_argument");
+    json = expect_problem(
+        call("application/json", json_request(shapes::cube(), R"(,"creases":[{"edge":[0,6],"sharpness":1}])")), 422,
+        "invalid_argument");
     EXPECT_EQ(json.value("field", ""), "creases[0]");  // 0 and 6 are opposite corners: no edge
-    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"holes":[6])")), 422, "index_out_of_range");
+    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"holes":[6])")), 422,
+                          "index_out_of_range");
     EXPECT_EQ(json.value("field", ""), "holes[0]");
-    json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"corners":[{"vertex":1,"sharpness":-1}])")),
-                          400, "invalid_field");
+    json = expect_problem(
+        call("application/json", json_request(shapes::cube(), R"(,"corners":[{"vertex":1,"sharpness":-1}])")), 400,
+        "invalid_field");
     EXPECT_EQ(json.value("field", ""), "corners[0].sharpness");
     json = expect_problem(call("application/json", json_request(shapes::cube(), R"(,"crease_method":"fast")")), 400,
                           "invalid_field");
@@ -416,8 +420,8 @@ TEST(SubdivideSharpFeatures, ObjTagsAndQueryOptionsOnRawBodies) {
 }
 
 TEST(SubdivideSharpFeatures, LimitSurfaceGivesLimitNormalsInObj) {
-    const auto response = call("model/obj", kCubeObj, {{"levels", "2"}, {"limit_surface", "true"}, {"normals", "true"},
-                                                       {"format", "obj"}});
+    const auto response = call("model/obj", kCubeObj,
+                               {{"levels", "2"}, {"limit_surface", "true"}, {"normals", "true"}, {"format", "obj"}});
     ASSERT_EQ(response.status, 200) << response.body;
     auto back = read_obj(response.body);
     ASSERT_TRUE(back.ok()) << back.error().message;
@@ -433,13 +437,15 @@ TEST(SubdivideSharpFeatures, LimitSurfaceGivesLimitNormalsInObj) {
 
 TEST(SubdivideSharpFeatures, MaxFacesChoosesTheLargestLevelWithinBudget) {
     // cube: 24, 96, 384, 1536 faces at levels 1..4
-    auto response = call("application/json", json_request(shapes::cube(), R"(,"max_faces":400,"output":{"format":"json"})"));
+    auto response =
+        call("application/json", json_request(shapes::cube(), R"(,"max_faces":400,"output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     auto json = nlohmann::json::parse(response.body);
     EXPECT_EQ(json["stats"]["levels"], 3);
     EXPECT_EQ(json["stats"]["output_faces"], 384);
     // "levels" bounds the choice
-    response = call("application/json", json_request(shapes::cube(), R"(,"levels":2,"max_faces":100000,"output":{"format":"json"})"));
+    response = call("application/json",
+                    json_request(shapes::cube(), R"(,"levels":2,"max_faces":100000,"output":{"format":"json"})"));
     json = nlohmann::json::parse(response.body);
     EXPECT_EQ(json["stats"]["levels"], 2);
     // a budget below the input
@@ -451,8 +457,9 @@ TEST(SubdivideSharpFeatures, LimitBudgetCountsTheInternalLevels) {
     Limits limits;
     limits.max_output_faces = 100000;
     auto json = expect_problem(
-        call("application/json", json_request(shapes::cube(), R"(,"limit_surface":true,"creases":[{"edge":[0,1],"sharpness":9}])"),
-             {}, limits),
+        call("application/json",
+             json_request(shapes::cube(), R"(,"limit_surface":true,"creases":[{"edge":[0,1],"sharpness":9}])"), {},
+             limits),
         422, "budget_exceeded");
     EXPECT_NE(json.value("detail", "").find("internal levels"), std::string::npos) << json.dump();
 }
@@ -475,7 +482,8 @@ TEST(SubdivideUvs, JsonUvsAreRefinedWithTheRequestedRule) {
             const Index id = static_cast<Index>(mesh.uvs.size());
             mesh.uvs.push_back({p.x + (f == 3 ? 0.5 : 0.0), p.y});  // face 3 is its own chart: seams
             mesh.uv_indices.push_back(id);
-            uvs += (id ? ",[" : "[") + std::to_string(mesh.uvs.back().x) + "," + std::to_string(mesh.uvs.back().y) + "]";
+            uvs +=
+                (id ? ",[" : "[") + std::to_string(mesh.uvs.back().x) + "," + std::to_string(mesh.uvs.back().y) + "]";
             uv_faces += (k ? "," : "") + std::to_string(id);
         }
         uv_faces += "]";
@@ -483,8 +491,9 @@ TEST(SubdivideUvs, JsonUvsAreRefinedWithTheRequestedRule) {
     uvs += "]";
     uv_faces += "]";
     const std::string body = R"({"mesh":{"positions":)" + nlohmann::json::parse(mesh_json(mesh))["positions"].dump() +
-                             R"(,"faces":)" + nlohmann::json::parse(mesh_json(mesh))["faces"].dump() + R"(,"uvs":)" + uvs +
-                             R"(,"uv_faces":)" + uv_faces + R"(},"levels":2,"uv_interpolation":"boundaries","output":{"format":"json"}})";
+                             R"(,"faces":)" + nlohmann::json::parse(mesh_json(mesh))["faces"].dump() + R"(,"uvs":)" +
+                             uvs + R"(,"uv_faces":)" + uv_faces +
+                             R"(},"levels":2,"uv_interpolation":"boundaries","output":{"format":"json"}})";
     const auto response = call("application/json", body);
     ASSERT_EQ(response.status, 200) << response.body;
     const auto json = nlohmann::json::parse(response.body);
@@ -517,14 +526,15 @@ TEST(SubdivideUvs, UvErrorsNameTheField) {
     json = expect_problem(call("application/json", base + R"("uvs":[[0,0],[1,0],[0,1]],"uv_faces":[[0,1]]}})"), 400,
                           "invalid_field");
     EXPECT_EQ(json.value("field", ""), "mesh.uv_faces[0]");
-    json = expect_problem(call("application/json", base + R"("uvs":[[0,0],[1,0],[0,1]],"uv_faces":[[0,1,2]]},"uv_interpolation":"smooth"})"),
-                          400, "invalid_field");
+    json =
+        expect_problem(call("application/json",
+                            base + R"("uvs":[[0,0],[1,0],[0,1]],"uv_faces":[[0,1,2]]},"uv_interpolation":"smooth"})"),
+                       400, "invalid_field");
     EXPECT_NE(json.value("detail", "").find("corners-plus1"), std::string::npos);
 }
 
 TEST(SubdivideUvs, ObjTexcoordsReachTheGlbAsTexcoord0) {
-    const std::string obj =
-        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
     const auto response = call("model/obj", obj, {{"levels", "2"}, {"compression", "none"}});
     ASSERT_EQ(response.status, 200) << response.body;
     const auto validation = testing::run_gltf_validator(response.body);
@@ -551,7 +561,8 @@ namespace {
 
 TEST(SubdivideGltf, TextGltfIsValidAndSelfContained) {
     for (const char* compression : {"draco", "none"}) {
-        const auto response = call("model/obj", kCubeObj, {{"levels", "2"}, {"format", "gltf"}, {"compression", compression}});
+        const auto response =
+            call("model/obj", kCubeObj, {{"levels", "2"}, {"format", "gltf"}, {"compression", compression}});
         ASSERT_EQ(response.status, 200) << response.body;
         EXPECT_EQ(response.content_type, "model/gltf+json");
         const auto json = nlohmann::json::parse(response.body);
@@ -565,8 +576,9 @@ TEST(SubdivideGltf, TextGltfIsValidAndSelfContained) {
         const auto glb = call("model/obj", kCubeObj, {{"levels", "2"}, {"compression", compression}});
         auto mesh = read_glb(glb.body);
         ASSERT_TRUE(mesh.ok());
-        EXPECT_EQ(json["accessors"][json["meshes"][0]["primitives"][0]["indices"].get<int>()]["count"].get<std::size_t>(),
-                  3 * mesh->face_count());
+        EXPECT_EQ(
+            json["accessors"][json["meshes"][0]["primitives"][0]["indices"].get<int>()]["count"].get<std::size_t>(),
+            3 * mesh->face_count());
     }
 }
 
@@ -583,8 +595,10 @@ TEST(SubdivideLoopWeights, WarrenIsSelectableAndReachesTheGeometry) {
     options.loop_weights = LoopWeights::Warren;
     const auto expected = surfaced::subdivide(shapes::icosahedron(), options);
     ASSERT_TRUE(expected.ok());
-    const auto response = call("application/json", json_request(shapes::icosahedron(),
-                                                                R"(,"scheme":"loop","levels":2,"loop_weights":"warren","output":{"format":"json"})"));
+    const auto response =
+        call("application/json",
+             json_request(shapes::icosahedron(),
+                          R"(,"scheme":"loop","levels":2,"loop_weights":"warren","output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     const auto got = positions_of(nlohmann::json::parse(response.body));
     ASSERT_EQ(got.size(), expected->vertex_count());

@@ -41,9 +41,15 @@ Deviation compare_limit(const PolygonMesh& mesh, const SubdivisionOptions& optio
 
 TEST(LimitSurface, MatchesOpenSubdivOnBuiltInShapes) {
     const std::pair<const char*, PolygonMesh> meshes[] = {
-        {"cube", shapes::cube()},          {"torus", shapes::torus(8, 6)},      {"irregular_torus", shapes::irregular_torus()},
-        {"grid", shapes::grid(4, 3)},      {"mixed", shapes::mixed_polygons()}, {"grid_with_holes", shapes::grid_with_holes()},
-        {"icosahedron", shapes::icosahedron()}, {"tetrahedron", shapes::tetrahedron()}, {"tri_grid", shapes::grid(4, 3, true)},
+        {"cube", shapes::cube()},
+        {"torus", shapes::torus(8, 6)},
+        {"irregular_torus", shapes::irregular_torus()},
+        {"grid", shapes::grid(4, 3)},
+        {"mixed", shapes::mixed_polygons()},
+        {"grid_with_holes", shapes::grid_with_holes()},
+        {"icosahedron", shapes::icosahedron()},
+        {"tetrahedron", shapes::tetrahedron()},
+        {"tri_grid", shapes::grid(4, 3, true)},
     };
     for (const auto& [name, mesh] : meshes)
         for (auto scheme : {SubdivisionScheme::CatmullClark, SubdivisionScheme::Loop})
@@ -65,11 +71,11 @@ TEST(LimitSurface, MatchesOpenSubdivOnBuiltInShapes) {
 // order of its vertex-face lists, which we do not reproduce; positions are still compared there. The two
 // *_nonman_edges shapes also join faces of opposite winding at their non-manifold (repeated-vertex) corners.
 bool normals_one_sided(const std::string& shape) {
-    for (const char* name : {"catmark_cube_creases2", "catmark_cubes_infsharp", "catmark_fan", "catmark_fvar_project0",
-                             "catmark_gregory_test4", "catmark_inf_crease0", "catmark_nonman_edges", "catmark_nonman_verts",
-                             "catmark_single_crease", "catmark_val2_back2back", "catmark_val2_interior", "catmark_val2_nonman",
-                             "loop_cubes_infsharp", "loop_icos_infsharp", "loop_nonman_edges", "loop_nonman_verts",
-                             "loop_val2_interior"})
+    for (const char* name :
+         {"catmark_cube_creases2", "catmark_cubes_infsharp", "catmark_fan", "catmark_fvar_project0",
+          "catmark_gregory_test4", "catmark_inf_crease0", "catmark_nonman_edges", "catmark_nonman_verts",
+          "catmark_single_crease", "catmark_val2_back2back", "catmark_val2_interior", "catmark_val2_nonman",
+          "loop_cubes_infsharp", "loop_icos_infsharp", "loop_nonman_edges", "loop_nonman_verts", "loop_val2_interior"})
         if (shape == name) return true;
     return false;
 }
@@ -81,7 +87,7 @@ std::size_t max_valence(const PolygonMesh& mesh) {
 }
 
 TEST(LimitSurface, MatchesOpenSubdivOnRegressionShapesAfterSharpnessDecays) {
-    const fs::path dir = fs::path(SURFACED_SHARED_DIR) / "data" / "opensubdiv-shapes";
+    const fs::path dir = fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes";
     int shapes_checked = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
         const std::string name = entry.path().stem().string();
@@ -127,7 +133,8 @@ TEST(LimitSurface, MatchesOpenSubdivOnRegressionShapesAfterSharpnessDecays) {
 // decay), ours refines past it.
 TEST(LimitSurface, ExactNearUndecayedSemiSharpCreasesWhereOpenSubdivIsNot) {
     PolygonMesh mesh = shapes::cube();
-    for (auto [a, b] : {std::pair<Index, Index>{4, 5}, {5, 6}, {6, 7}, {7, 4}}) mesh.tags.creases.push_back({a, b, 2.5});
+    for (auto [a, b] : {std::pair<Index, Index>{4, 5}, {5, 6}, {6, 7}, {7, 4}})
+        mesh.tags.creases.push_back({a, b, 2.5});
     SubdivisionOptions options;
     options.levels = 1;
     options.limit_surface = true;
@@ -145,9 +152,10 @@ TEST(LimitSurface, ExactNearUndecayedSemiSharpCreasesWhereOpenSubdivIsNot) {
         return d;
     }();
     const double diag = mesh.bounds().diagonal();
-    std::printf("[limit] semi-sharp cube, level 1: ours vs exact %.3g (pos, rel. diag) %.3g (normal); "
-                "OpenSubdiv Limit at level 1 vs exact %.3g (pos) %.3g (normal)\n",
-                exact.position / diag, exact.normal, osd_at_level.position / diag, osd_at_level.normal);
+    std::printf(
+        "[limit] semi-sharp cube, level 1: ours vs exact %.3g (pos, rel. diag) %.3g (normal); "
+        "OpenSubdiv Limit at level 1 vs exact %.3g (pos) %.3g (normal)\n",
+        exact.position / diag, exact.normal, osd_at_level.position / diag, osd_at_level.normal);
     EXPECT_LE(exact.position, 1e-9 * diag);
     EXPECT_LE(exact.normal, 1e-9);
     EXPECT_GT(osd_at_level.position, 1e-3 * diag);  // OpenSubdiv's error is real, not rounding

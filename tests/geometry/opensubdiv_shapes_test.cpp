@@ -1,4 +1,4 @@
-// OpenSubdiv's own regression shapes (../shared/data/opensubdiv-shapes, OBJ with `t` tags): creases, corners, holes,
+// OpenSubdiv's own regression shapes (tests/data/opensubdiv-shapes, OBJ with `t` tags): creases, corners, holes,
 // boundary modes, non-manifold topology, faces that repeat a vertex. Each shape is refined by us and by OpenSubdiv Far in this binary with the
 // same options; counts, faces and positions (1e-9 of the bounding-box diagonal) must agree.
 #include <gtest/gtest.h>
@@ -19,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path shapes_dir() { return fs::path(SURFACED_SHARED_DIR) / "data" / "opensubdiv-shapes"; }
+fs::path shapes_dir() { return fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes"; }
 
 std::vector<std::string> shape_names() {
     std::vector<std::string> names;
@@ -68,7 +68,8 @@ TEST_P(OpenSubdivShapes, MatchFarAtLevels1To3) {
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     // the shape's own `t interpolateboundary` (or edge-only), then every boundary mode explicitly
     const std::optional<BoundaryInterpolation> modes[] = {std::nullopt, BoundaryInterpolation::None,
-                                                          BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner};
+                                                          BoundaryInterpolation::EdgeOnly,
+                                                          BoundaryInterpolation::EdgeAndCorner};
     for (const auto& mode : modes)
         for (int levels = 1; levels <= 3; ++levels) {
             SubdivisionOptions options;
@@ -93,7 +94,10 @@ TEST_P(OpenSubdivShapes, MatchFarAtLevels1To3) {
             std::size_t worst_vertex = 0;
             for (std::size_t v = 0; v < ref.vertex_count(); ++v) {
                 const double d = norm(ours->positions[v] - ref.positions[v]);
-                if (d > worst) { worst = d; worst_vertex = v; }
+                if (d > worst) {
+                    worst = d;
+                    worst_vertex = v;
+                }
             }
             EXPECT_LE(worst, tolerance) << where << ", vertex " << worst_vertex;
         }

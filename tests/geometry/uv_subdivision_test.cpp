@@ -72,7 +72,8 @@ PolygonMesh seamed_grid() {
 }
 
 TEST(UvSubdivision, BuiltInSeamedShapesMatchOpenSubdiv) {
-    const std::pair<const char*, PolygonMesh> meshes[] = {{"seamed_cube", seamed_cube()}, {"seamed_grid", seamed_grid()}};
+    const std::pair<const char*, PolygonMesh> meshes[] = {{"seamed_cube", seamed_cube()},
+                                                          {"seamed_grid", seamed_grid()}};
     for (const auto& [name, mesh] : meshes)
         for (UvInterpolation mode : kModes)
             for (int levels = 1; levels <= 3; ++levels) {
@@ -155,7 +156,7 @@ TEST(UvSubdivision, DependentSharpValueDecaysWithItsSibling) {
 }
 
 TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
-    const fs::path dir = fs::path(SURFACED_SHARED_DIR) / "data" / "opensubdiv-shapes";
+    const fs::path dir = fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes";
     int checked = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
         const std::string name = entry.path().stem().string();
@@ -168,7 +169,8 @@ TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
         for (UvInterpolation mode : kModes)
             for (int levels = 1; levels <= 2; ++levels) {
                 SubdivisionOptions options;
-                options.scheme = name.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
+                options.scheme =
+                    name.rfind("loop_", 0) == 0 ? SubdivisionScheme::Loop : SubdivisionScheme::CatmullClark;
                 options.levels = levels;
                 options.uv_interpolation = mode;
                 auto ours = subdivide(*mesh, options);
@@ -180,7 +182,6 @@ TEST(UvSubdivision, RegressionShapesWithUvsMatchOpenSubdiv) {
     }
     EXPECT_GE(checked, 100);
 }
-
 
 }  // namespace
 }  // namespace surfaced

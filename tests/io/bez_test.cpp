@@ -16,7 +16,7 @@ namespace surfaced {
 namespace {
 
 TEST(Bez, EmbeddedTeapotMatchesSharedFile) {
-    const std::string file = testing::read_file(std::string(SURFACED_SHARED_DIR) + "/data/teapot/teapot32.bez");
+    const std::string file = testing::read_file(std::string(SURFACED_TEST_DATA_DIR) + "/teapot/teapot32.bez");
     ASSERT_FALSE(file.empty());
     EXPECT_EQ(patch_sample_text("teapot"), file);
     EXPECT_TRUE(patch_sample_text("kettle").empty());
@@ -55,9 +55,10 @@ TEST(Bez, HeaderVariants) {
     EXPECT_EQ(a->patches[0].at(1, 1), (Vec3{1, 1, 1}));
 
     // C prefix: 4 RGBA corner colours after the points; _ST suffix: 4 (s, t) pairs before the colours
-    auto b = read_bez("CBEZ113_ST\n0 0 0 1 0 0 0 1 0 1 1 0\n0 0 0 1 1 0 1 1\n"
-                      "1 0 0 1  0 1 0 1  0 0 1 1  1 1 1 1\n"
-                      "0 0 1 1 0 1 0 1 1 1 1 1\n0 0 0 1 1 0 1 1\n1 0 0 1 0 1 0 1 0 0 1 1 1 1 1 1\n");
+    auto b = read_bez(
+        "CBEZ113_ST\n0 0 0 1 0 0 0 1 0 1 1 0\n0 0 0 1 1 0 1 1\n"
+        "1 0 0 1  0 1 0 1  0 0 1 1  1 1 1 1\n"
+        "0 0 1 1 0 1 0 1 1 1 1 1\n0 0 0 1 1 0 1 1\n1 0 0 1 0 1 0 1 0 0 1 1 1 1 1 1\n");
     ASSERT_TRUE(b.ok()) << b.error().message;
     ASSERT_EQ(b->patches.size(), 2u);
     EXPECT_EQ(b->patches[1].at(1, 1), (Vec3{1, 1, 1}));
@@ -91,7 +92,8 @@ TEST(Bez, ErrorsNameTheLine) {
         {"OFF\n", ErrorCode::ParseError, 1, "expected a BEZ header"},
         {"BEZ733\n", ErrorCode::ParseError, 1, "degrees must be 1..6"},
         {"BEZ335\n", ErrorCode::ParseError, 1, "dimension must be 3 or 4"},
-        {"# rational\nBEZ114\n0 0 0 1\n1 0 0 0\n", ErrorCode::InvalidArgument, 4, "weight (4th coordinate) must be > 0"},
+        {"# rational\nBEZ114\n0 0 0 1\n1 0 0 0\n", ErrorCode::InvalidArgument, 4,
+         "weight (4th coordinate) must be > 0"},
         {"BEZ114\n0 0 0 1  1 0 0 1e13\n0 1 0 1  1 1 0 1\n", ErrorCode::InvalidArgument, 2, "largest weight"},
         {"BEZ113\n0 0 0\n1 0 zero\n", ErrorCode::ParseError, 3, "'zero' is not a number"},
         {"BEZ113\n0 0 0\n1 0 0\n0 1 0\n", ErrorCode::ParseError, 4, "unexpected end of file in patch 0"},
@@ -190,8 +192,9 @@ TEST(Bez, RationalPatchesAreHomogeneous) {
     // the quarter circle (1,0) (1,1) (0,1) with weights 1, sqrt(2)/2, 1, extruded along z -- a quarter cylinder.
     const double s = std::sqrt(0.5);
     char buf[512];
-    std::snprintf(buf, sizeof buf, "BEZ214\n1 0 0 1  %.17g %.17g 0 %.17g  0 1 0 1\n1 0 2 1  %.17g %.17g %.17g %.17g  0 1 2 1\n",
-                  s, s, s, s, s, 2 * s, s);
+    std::snprintf(buf, sizeof buf,
+                  "BEZ214\n1 0 0 1  %.17g %.17g 0 %.17g  0 1 0 1\n1 0 2 1  %.17g %.17g %.17g %.17g  0 1 2 1\n", s, s, s,
+                  s, s, 2 * s, s);
     auto set = read_bez(buf);
     ASSERT_TRUE(set.ok()) << set.error().message;
     ASSERT_EQ(set->patches.size(), 1u);

@@ -24,7 +24,7 @@ inline std::string slurp(const std::string& path) {
 }
 
 inline std::string malformed_dir() { return std::string(SURFACED_SOURCE_DIR) + "/tests/data/malformed"; }
-inline std::string shapes_dir() { return std::string(SURFACED_SHARED_DIR) + "/data/opensubdiv-shapes"; }
+inline std::string shapes_dir() { return std::string(SURFACED_TEST_DATA_DIR) + "/opensubdiv-shapes"; }
 
 //! V - E + F, edges counted as unordered vertex pairs.
 inline std::int64_t euler(const PolygonMesh& mesh) {
@@ -106,8 +106,8 @@ template <class T>
     if (result.ok()) return ::testing::AssertionFailure() << "expected " << to_string(code) << ", but it succeeded";
     const GeoError& e = result.error();
     if (e.code != code)
-        return ::testing::AssertionFailure() << "expected " << to_string(code) << ", got " << to_string(e.code) << ": "
-                                             << e.message;
+        return ::testing::AssertionFailure()
+               << "expected " << to_string(code) << ", got " << to_string(e.code) << ": " << e.message;
     if (e.message.find(needle) == std::string::npos)
         return ::testing::AssertionFailure() << "message '" << e.message << "' does not contain '" << needle << "'";
     return ::testing::AssertionSuccess() << e.message;
