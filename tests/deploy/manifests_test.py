@@ -244,23 +244,24 @@ def install_deps_packages():
 
 
 def dockerfile_build_packages():
-    """The packages the Dockerfile's first stage installs with apt-get install."""
+    """The packages the Dockerfile's build and test stages (every stage but the runtime one) install with apt-get."""
     text = re.sub(r"\\\n", " ", read(os.path.join(ROOT, "Dockerfile")))
-    first_stage = text.split("\nFROM ")[1]
+    stages = text.split("\nFROM ")[1:-1]
     packages = set()
-    for command in re.findall(r"apt-get install ([^&]*)", first_stage):
-        packages |= {w for w in command.split() if not w.startswith("-")}
+    for stage in stages:
+        for command in re.findall(r"apt-get install ([^&]*)", stage):
+            packages |= {w for w in command.split() if not w.startswith("-")}
     return packages
 
 
 class Container(unittest.TestCase):
-    # Not in the image's build stage, on purpose: the benchmark peer (benchmarks are not built there) and the
-    # browser (the Chromium test runs on the host).
-    NOT_IN_IMAGE = {"libmeshoptimizer-dev", "chromium"}
+    # Not in the image's build or test stage, on purpose: the benchmark peer (benchmarks are not built there), the
+    # browser (the Chromium test runs on the host) and the formatter (checked on the host).
+    NOT_IN_IMAGE = {"libmeshoptimizer-dev", "chromium", "clang-format"}
 
     def test_build_stage_installs_what_install_deps_does(self):
         missing = install_deps_packages() - self.NOT_IN_IMAGE - dockerfile_build_packages()
-        self.assertFalse(missing, f"scripts/install-deps.sh installs {sorted(missing)} but the Dockerfile's build stage does not")
+        self.assertFalse(missing, f"scripts/install-deps.sh installs {sorted(missing)} but no build or test stage of the Dockerfile does")
 
     def test_healthcheck_and_signals(self):
         runtime = dockerfile_runtime_stage()
