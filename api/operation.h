@@ -1,5 +1,5 @@
-// The shape every endpoint has: a plain request struct in, a plain response struct out (llama.cpp's handler_t,
-// STYLE b.7). No HTTP-library types, so operations run without a socket: from the server, the CLI and tests alike.
+// The shape every endpoint has: a plain request struct in, a plain response struct out (as llama.cpp's handler_t).
+// No HTTP-library types, so operations run without a socket: from the server, the CLI and tests alike.
 #pragma once
 
 #include <map>

@@ -7,6 +7,7 @@ cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config git
+  clang-format          # tests: scripts/check-format.sh (the code follows .clang-format)
   libosd-dev            # OpenSubdiv: the reference in tests and benchmarks (never linked into the service)
   libcpp-httplib-dev    # HTTP server
   nlohmann-json3-dev    # JSON

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Load and fault test of `surfaced serve` on loopback (issue 8 item 7). Not part of CI: it saturates the machine.
+# Load and fault test of `surfaced serve` on loopback. Not part of CI: it saturates the machine.
 # Usage: scripts/load-test.sh [BINARY]   (default build/server/surfaced; DURATION=60 CONNECTIONS=64 override)
 #
 #  1. mixed workload at saturation with wrk for DURATION s (livez, subdivide, simplify, teapot tessellation):

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds, and runs every test: the normal build, then the whole suite again under
-# AddressSanitizer + UndefinedBehaviorSanitizer (LeakSanitizer included), and the two-thread geometry tests under
-# ThreadSanitizer. Exit status 0 only when all pass.
+# Installs what is needed, checks the formatting, builds, and runs every test: the normal build, then the whole suite
+# again under AddressSanitizer + UndefinedBehaviorSanitizer (LeakSanitizer included), the two-thread geometry tests
+# under ThreadSanitizer, bounded fuzz runs, and the container image built and probed. Exit status 0 only when all pass.
 #   SURFACED_SKIP_SANITIZE=1 scripts/test.sh   skip the sanitizer pass (quicker local runs; CI runs it)
 #   SURFACED_SKIP_TSAN=1                       skip the ThreadSanitizer pass over the two-thread geometry tests
 #   SURFACED_SKIP_FUZZ=1                       skip the bounded libFuzzer runs (scripts/fuzz.sh, 12 s per target)
@@ -12,6 +12,7 @@ cd "$(dirname "$0")/.."
 export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
 start=$(date +%s)
 scripts/install-deps.sh
+scripts/check-format.sh
 scripts/build.sh
 echo "== build done in $(( $(date +%s) - start )) s"
 (cd build && ctest --output-on-failure -j"$(nproc)" --timeout 600)

@@ -1,4 +1,4 @@
-// `surfaced`: everything lives in cli.cpp so that main stays a one-liner (STYLE b.8).
+// `surfaced`: everything lives in cli.cpp so that main stays a one-liner.
 #include "server/cli.h"
 
 int main(int argc, char** argv) { return surfaced::cli::run(argc, argv); }

@@ -1,4 +1,4 @@
-// The one de Casteljau core shared by Bézier curves and tensor-product patches (STYLE b.4): evaluation of a
+// The one de Casteljau core shared by Bézier curves and tensor-product patches: evaluation of a
 // polynomial Bézier control polygon and of its derivatives (through the hodograph, i.e. forward differences of the
 // control points). Header-only and allocation-free for degrees up to kMaxInlineDegree.
 //

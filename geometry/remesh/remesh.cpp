@@ -26,7 +26,8 @@ namespace surfaced {
 namespace {
 
 constexpr Index kNone = kInvalidIndex;
-// An operation may turn a face's normal by at most acos(0.2) ~ 78 degrees (as in qem.cpp), which keeps folds out.
+// An operation (split, collapse, flip, smoothing step) may turn a face's normal by at most acos(0.2) ~ 78 degrees,
+// which keeps folds out. The simplifier is stricter (60 degrees): its collapses move vertices much farther.
 constexpr double kMinNormalCos = 0.2;
 // Thinness = 2 area / longest edge^2. No operation creates a face thinner than this unless the faces it replaces were
 // already thinner (slivers of the input may improve, never get worse).
@@ -113,10 +114,10 @@ public:
             if (v_out_[from] == kNone) v_out_[from] = h;
             if (h_face_[h] != kNone) continue;
             if (boundary_out[from] != kNone)
-                return element_error(ErrorCode::NonManifold,
-                                     "vertex " + std::to_string(from) +
-                                         " joins several fans of faces (a non-manifold vertex)",
-                                     ElementKind::Vertex, from);
+                return element_error(
+                    ErrorCode::NonManifold,
+                    "vertex " + std::to_string(from) + " joins several fans of faces (a non-manifold vertex)",
+                    ElementKind::Vertex, from);
             boundary_out[from] = h;
         }
         for (Index h = 0; h < h_to_.size(); ++h)
@@ -136,10 +137,10 @@ public:
                 h = h_next_[h ^ 1];
             } while (h != h0 && ++guard <= faces_at[v] + 1);
             if (count != faces_at[v])
-                return element_error(ErrorCode::NonManifold,
-                                     "vertex " + std::to_string(v) +
-                                         " joins several fans of faces (a non-manifold vertex)",
-                                     ElementKind::Vertex, v);
+                return element_error(
+                    ErrorCode::NonManifold,
+                    "vertex " + std::to_string(v) + " joins several fans of faces (a non-manifold vertex)",
+                    ElementKind::Vertex, v);
         }
         live_faces_ = nf;
         return Ok{};
@@ -539,9 +540,9 @@ private:
             }
             const Index v = split(e, (pos_[h_to_[2 * e]] + pos_[h_to_[2 * e + 1]]) * 0.5);
             if (options.max_faces != 0 && live_faces_ > options.max_faces)
-                return make_error(ErrorCode::BudgetExceeded,
-                                  "remeshing needs more than " + std::to_string(options.max_faces) +
-                                      " faces at this edge length");
+                return make_error(
+                    ErrorCode::BudgetExceeded,
+                    "remeshing needs more than " + std::to_string(options.max_faces) + " faces at this edge length");
             for_out(v, [&](Index h) {
                 const Index f = h >> 1;
                 if (length2(f) > high2) {
@@ -670,8 +671,10 @@ private:
             };
             const bool a_first = key(va) <= key(vb);
             const Index first = a_first ? h : o, second = a_first ? o : h;
-            if (collapse_ok(first, high2)) collapse_keeping_corners(first);
-            else if (collapse_ok(second, high2)) collapse_keeping_corners(second);
+            if (collapse_ok(first, high2))
+                collapse_keeping_corners(first);
+            else if (collapse_ok(second, high2))
+                collapse_keeping_corners(second);
         }
         return Ok{};
     }
@@ -964,9 +967,12 @@ Result<RemeshResult> remesh(const PolygonMesh& mesh, const RemeshOptions& option
     input.tags = {};
 
     double length = 0;
-    if (options.target_edge_length) length = *options.target_edge_length;
-    else if (options.relative_edge_length) length = *options.relative_edge_length * input.bounds().diagonal();
-    else length = mean_edge_length(input);
+    if (options.target_edge_length)
+        length = *options.target_edge_length;
+    else if (options.relative_edge_length)
+        length = *options.relative_edge_length * input.bounds().diagonal();
+    else
+        length = mean_edge_length(input);
     if (!(std::isfinite(length) && length > 0))
         return make_error(ErrorCode::InvalidArgument, "the target edge length must be finite and > 0");
     result.target_edge_length = length;

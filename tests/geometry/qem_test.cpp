@@ -249,7 +249,8 @@ void expect_cylinder_uvs(const PolygonMesh& m) {
             EXPECT_NEAR(uv.y, 0.5 * p.z + 0.5, 1e-6) << "face " << f;
             double angle = std::atan2(p.y, p.x) / (2 * std::numbers::pi);
             if (angle < 0) angle += 1;
-            const double du = std::min({std::fabs(uv.x - angle), std::fabs(uv.x - angle - 1), std::fabs(uv.x - angle + 1)});
+            const double du =
+                std::min({std::fabs(uv.x - angle), std::fabs(uv.x - angle - 1), std::fabs(uv.x - angle + 1)});
             EXPECT_LT(du, 0.02) << "face " << f;
         }
         EXPECT_LT(umax - umin, 0.5) << "face " << f << " spans the seam";
@@ -323,7 +324,8 @@ TEST(Qem, SliversAndNearDegenerateTrianglesAreCleanedNotWorsened) {
     std::size_t thin_before = 0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         auto t = mesh.face(f);
-        thin_before += testing::triangle_thinness(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) < 1e-3;
+        thin_before +=
+            testing::triangle_thinness(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) < 1e-3;
     }
     ASSERT_GT(thin_before, 40u);
     auto out = simplify_qem(mesh, target(200));
@@ -445,9 +447,8 @@ TEST(Qem, LargeSphereToOnePercentStaysClean) {
     EXPECT_EQ(testing::duplicate_faces(out->mesh), 0u);
 }
 
-// Quality floor on a 1%-of-the-faces run, measured before the speed work of issue #4 (Hausdorff 2.7e-3, RMS 7.5e-4
-// of the diagonal; after it 2.1e-3 and 7.5e-4: ties between equal costs are broken differently). Guards the
-// speed-ups (polynomial fallback placement, heap, adjacency lists) against trading quality.
+// Quality floor on a 1%-of-the-faces run (Hausdorff 2.1e-3, RMS 7.5e-4 of the diagonal, with some margin): guards
+// the simplifier's speed-oriented parts (polynomial fallback placement, heap, adjacency lists) against trading quality.
 TEST(Qem, SphereQualityAtOnePercentStaysAtItsMeasuredLevel) {
     const PolygonMesh sphere = testing::icosphere(6);  // 81920 faces
     SimplifyOptions options;

@@ -1,4 +1,4 @@
-// Fault behaviour of the server over real loopback sockets (issue #8 items 2 and 7): stopping under a burst of
+// Fault behaviour of the server over real loopback sockets: stopping under a burst of
 // connections answers every connection the kernel completed, a client trickling its request body cannot hold the
 // only worker, clients that disconnect mid-request leave no in-flight or busy worker behind. Statuses, counts and
 // bytes are asserted, never durations; every wait is bounded (seconds) so a regression fails instead of hanging.
@@ -47,8 +47,10 @@ const std::string kLivez = "GET /livez HTTP/1.1\r\nHost: x\r\nConnection: close\
 
 //! A POST /subdivide head for the cube, without its body.
 std::string cube_head(const std::string& query = "format=obj") {
-    return "POST /subdivide?" + query + " HTTP/1.1\r\nHost: x\r\nContent-Type: model/obj\r\nConnection: close\r\n"
-           "Content-Length: " + std::to_string(std::string(kCubeObj).size()) + "\r\n\r\n";
+    return "POST /subdivide?" + query +
+           " HTTP/1.1\r\nHost: x\r\nContent-Type: model/obj\r\nConnection: close\r\n"
+           "Content-Length: " +
+           std::to_string(std::string(kCubeObj).size()) + "\r\n\r\n";
 }
 
 //! A non-blocking loopback connect that waits at most `bound_ms` for the handshake: the socket (blocking again)
@@ -143,7 +145,8 @@ TEST(Faults, StopAnswersEveryConnectionTheKernelCompleted) {
     const auto resolve_by = std::chrono::steady_clock::now() + 10s;
     for (const int fd : pending) {
         pollfd pfd{fd, POLLOUT, 0};
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(resolve_by - std::chrono::steady_clock::now());
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(resolve_by - std::chrono::steady_clock::now());
         int error = 0;
         socklen_t length = sizeof error;
         if (poll(&pfd, 1, static_cast<int>(std::max<long long>(0, left.count()))) <= 0 ||
@@ -263,7 +266,7 @@ TEST(Faults, ClientsThatDisconnectMidRequestDoNotLeak) {
         const int fd = connect_to(s.port());
         ASSERT_GE(fd, 0);
         switch (i % 3) {
-            case 0: send_all_text(fd, cube_head() + half); break;                      // half a body
+            case 0: send_all_text(fd, cube_head() + half); break;                           // half a body
             case 1: send_all_text(fd, cube_head("levels=5&format=obj") + kCubeObj); break;  // a whole request
             default: send_all_text(fd, "POST /subdivide HTTP/1.1\r\nHost: x\r\n"); break;   // half a head
         }
