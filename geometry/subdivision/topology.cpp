@@ -78,6 +78,45 @@ Level build_base_level(const PolygonMesh& mesh) {
     return level;
 }
 
+// Union-find over face corners (a corner is one slot of face_verts).
+std::vector<std::uint32_t> count_fans(const Level& level, const std::vector<std::uint32_t>& edge_faces,
+                                      const std::vector<std::uint8_t>& non_manifold_edge) {
+    const Index corners = static_cast<Index>(level.face_verts.size()), ne = level.edge_count();
+    std::vector<Index> parent(corners);
+    for (Index i = 0; i < corners; ++i) parent[i] = i;
+    auto find = [&](Index x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    // the corner after `slot` in face f (the other end of the edge that starts at `slot`)
+    auto next_corner = [&](Index f, Index slot) {
+        return slot + 1 < level.face_offsets[f + 1] ? slot + 1 : level.face_offsets[f];
+    };
+    // first face-edge slot (and its face) seen for each manifold interior edge
+    std::vector<Index> first_slot(ne, kInvalidIndex), first_face(ne, kInvalidIndex);
+    for (Index f = 0; f < level.face_count(); ++f) {
+        for (Index slot = level.face_offsets[f]; slot < level.face_offsets[f + 1]; ++slot) {
+            const Index e = level.face_edges[slot];
+            if (edge_faces[e] != 2 || non_manifold_edge[e]) continue;
+            if (first_slot[e] == kInvalidIndex) {
+                first_slot[e] = slot;
+                first_face[e] = f;
+                continue;
+            }
+            // the two faces meet along e: join their corners at each end vertex of e
+            const Index ours[2] = {slot, next_corner(f, slot)};
+            const Index theirs[2] = {first_slot[e], next_corner(first_face[e], first_slot[e])};
+            for (Index x : ours)
+                for (Index y : theirs)
+                    if (level.face_verts[x] == level.face_verts[y]) parent[find(x)] = find(y);
+        }
+    }
+    std::vector<std::uint32_t> fans(level.vertex_count, 0);
+    for (Index i = 0; i < corners; ++i)
+        if (find(i) == i) ++fans[level.face_verts[i]];
+    return fans;
+}
+
 namespace {
 
 // The two children of every parent edge, (edge point, child of end 0) and (edge point, child of end 1), numbered

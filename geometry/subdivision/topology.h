@@ -1,5 +1,6 @@
 // Refinement topology: OpenSubdiv Vtr-style relation tables (face-vertices, face-edges, edge-vertices), built once for
-// the base mesh and then level by level. Internal to geometry/subdivision.
+// the base mesh and then level by level, and the queries on them that the rules share. Internal to
+// geometry/subdivision.
 //
 // Numbering follows OpenSubdiv Far with default options so that our output can be compared index for index:
 //  * base level: edges in order of first appearance walking faces and their corners, oriented as first walked;
@@ -73,6 +74,16 @@ inline Index edge_child_at(const Level& p, Index e, Index v, bool corner_ends_ed
     if (a == b) return corner_ends_edge ? 1 : 0;
     return a == v ? 0 : 1;
 }
+
+//! The end of edge `e` that is not `v`.
+inline Index other_end(const Level& level, Index e, Index v) {
+    return level.edge_verts[2 * e] == v ? level.edge_verts[2 * e + 1] : level.edge_verts[2 * e];
+}
+
+//! Number of face fans at each vertex: faces around a vertex are in one fan when a chain of manifold edges at the
+//! vertex joins them. `edge_faces`: faces per edge; `non_manifold_edge`: edges that join no fans (per edge).
+std::vector<std::uint32_t> count_fans(const Level& level, const std::vector<std::uint32_t>& edge_faces,
+                                      const std::vector<std::uint8_t>& non_manifold_edge);
 
 //! Child topology of one uniform Catmull-Clark (quad split) or Loop (triangle split) step.
 //! `with_edges` = false leaves face_edges/edge_verts empty (enough for the last level).
