@@ -91,6 +91,47 @@ Sharpness refine_sharpness(const Level& p, const Level& child, const Sharpness& 
     return c;
 }
 
+namespace {
+
+// The mesh tags: crease sharpness on the edges they name, corner sharpness, holes. Fails on a crease between
+// vertices that share no edge.
+Status apply_tags(const PolygonMesh& mesh, const Level& level, Sharpness& s) {
+    const Index nv = level.vertex_count, ne = level.edge_count();
+    // vertex -> incident edges, to find the edge a crease names
+    std::vector<Index> offsets(nv + 1, 0), edges(2 * static_cast<std::size_t>(ne));
+    for (Index e = 0; e < ne; ++e) {
+        ++offsets[level.edge_verts[2 * e] + 1];
+        ++offsets[level.edge_verts[2 * e + 1] + 1];
+    }
+    for (Index v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+    std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
+    for (Index e = 0; e < ne; ++e) {
+        edges[fill[level.edge_verts[2 * e]]++] = e;
+        edges[fill[level.edge_verts[2 * e + 1]]++] = e;
+    }
+    for (std::size_t i = 0; i < mesh.tags.creases.size(); ++i) {
+        const Crease& crease = mesh.tags.creases[i];
+        // the first instance, as OpenSubdiv's FindEdge (an edge a face uses twice has two)
+        Index found = kInvalidIndex;
+        for (Index k = offsets[crease.v0]; k < offsets[crease.v0 + 1] && found == kInvalidIndex; ++k)
+            if (other_end(level, edges[k], crease.v0) == crease.v1) found = edges[k];
+        if (found == kInvalidIndex)
+            return element_error(ErrorCode::InvalidArgument,
+                                 "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) + " and " +
+                                     std::to_string(crease.v1) + " share no edge",
+                                 ElementKind::Crease, static_cast<std::int64_t>(i));
+        s.edge[found] = static_cast<float>(crease.sharpness);
+    }
+    for (const Corner& corner : mesh.tags.corners) s.vertex[corner.vertex] = static_cast<float>(corner.sharpness);
+    if (!mesh.tags.holes.empty()) {
+        s.hole.assign(level.face_count(), 0);
+        for (Index h : mesh.tags.holes) s.hole[h] = 1;
+    }
+    return Ok{};
+}
+
+}  // namespace
+
 Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, BoundaryInterpolation boundary,
                                  bool use_tags) {
     const Index nv = level.vertex_count, ne = level.edge_count();
@@ -108,36 +149,7 @@ Result<Sharpness> base_sharpness(const PolygonMesh& mesh, const Level& level, Bo
         }
     }
     if (use_tags) {
-        // vertex -> incident edges, to find the edge a crease names
-        std::vector<Index> offsets(nv + 1, 0), edges(2 * static_cast<std::size_t>(ne));
-        for (Index e = 0; e < ne; ++e) {
-            ++offsets[level.edge_verts[2 * e] + 1];
-            ++offsets[level.edge_verts[2 * e + 1] + 1];
-        }
-        for (Index v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
-        std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
-        for (Index e = 0; e < ne; ++e) {
-            edges[fill[level.edge_verts[2 * e]]++] = e;
-            edges[fill[level.edge_verts[2 * e + 1]]++] = e;
-        }
-        for (std::size_t i = 0; i < mesh.tags.creases.size(); ++i) {
-            const Crease& crease = mesh.tags.creases[i];
-            // the first instance, as OpenSubdiv's FindEdge (an edge a face uses twice has two)
-            Index found = kInvalidIndex;
-            for (Index k = offsets[crease.v0]; k < offsets[crease.v0 + 1] && found == kInvalidIndex; ++k)
-                if (other_end(level, edges[k], crease.v0) == crease.v1) found = edges[k];
-            if (found == kInvalidIndex)
-                return element_error(ErrorCode::InvalidArgument,
-                                     "crease " + std::to_string(i) + ": vertices " + std::to_string(crease.v0) +
-                                         " and " + std::to_string(crease.v1) + " share no edge",
-                                     ElementKind::Crease, static_cast<std::int64_t>(i));
-            s.edge[found] = static_cast<float>(crease.sharpness);
-        }
-        for (const Corner& corner : mesh.tags.corners) s.vertex[corner.vertex] = static_cast<float>(corner.sharpness);
-        if (!mesh.tags.holes.empty()) {
-            s.hole.assign(level.face_count(), 0);
-            for (Index h : mesh.tags.holes) s.hole[h] = 1;
-        }
+        if (Status tagged = apply_tags(mesh, level, s); !tagged) return tagged.error();
     }
     std::vector<std::uint8_t> non_manifold_edge(ne, 0);
     // for "boundary none": boundary vertices with a boundary edge that the tags did not make infinitely sharp

@@ -321,15 +321,11 @@ void add_uv_overrides(Channel& c, const std::vector<Index>& vertex_of, const std
     }
 }
 
-// The base UV channel, sharpened as OpenSubdiv's face-varying channel is (Vtr::FVarLevel): a value on a seam keeps
-// the mesh's sharpness and is smoothed as a boundary of its UV region, except where the mode makes it a corner:
-// regions with one face at the vertex (all modes but "none"), junctions of three or more regions (corners-plus1/2),
-// darts (corners-plus2), values whose region is split at the vertex (always).
-Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const Sharpness& mesh_sharp,
-                        UvInterpolation mode) {
+// The channel's value mesh and values, not yet sharpened: a value per distinct (mesh vertex, UV index) pair, and a
+// separate one per corner that duplicate_value_runs gives a sibling of its own. `vertex_of`: each value's mesh vertex.
+Channel value_channel(const PolygonMesh& mesh, const Level& mesh_level, std::vector<Index>& vertex_of) {
     const std::size_t corners = mesh.face_indices.size();
     std::vector<Index> corner_value(corners);
-    std::vector<Index> vertex_of;
     std::vector<Vec3> values;
     {
         const std::vector<Index> duplicate = duplicate_value_runs(mesh, mesh_level);
@@ -356,6 +352,18 @@ Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const 
     Channel c;
     c.level = build_base_level(value_mesh);
     c.values = std::move(values);
+    return c;
+}
+
+// The base UV channel, sharpened as OpenSubdiv's face-varying channel is (Vtr::FVarLevel): a value on a seam keeps
+// the mesh's sharpness and is smoothed as a boundary of its UV region, except where the mode makes it a corner:
+// regions with one face at the vertex (all modes but "none"), junctions of three or more regions (corners-plus1/2),
+// darts (corners-plus2), values whose region is split at the vertex (always).
+Channel base_uv_channel(const PolygonMesh& mesh, const Level& mesh_level, const Sharpness& mesh_sharp,
+                        UvInterpolation mode) {
+    const std::size_t corners = mesh.face_indices.size();
+    std::vector<Index> vertex_of;
+    Channel c = value_channel(mesh, mesh_level, vertex_of);
     const Level& vl = c.level;
     const Index nvals = vl.vertex_count, ne = vl.edge_count();
 
