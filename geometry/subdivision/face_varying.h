@@ -1,8 +1,8 @@
 // Face-varying data (texture coordinates): OpenSubdiv's face-varying channel (Vtr::FVarLevel) and its
 // FVarLinearInterpolation rules. The UVs are refined on a "value mesh" of their own, with the same topology steps,
-// point rules and crease rules as positions; what makes them face-varying is the sharpness it starts from (seams are
-// its boundaries; the linear modes and OpenSubdiv's value tags make some values corners) and a few values whose
-// rule the value mesh cannot express (UvOverride). Internal to geometry/subdivision.
+// point rules and crease rules as positions; what makes them face-varying is the value mesh's starting sharpness
+// (seams are its boundaries; the linear modes and OpenSubdiv's value tags make some values corners) and a few values
+// whose rule the value mesh cannot express (UvOverride). Internal to geometry/subdivision.
 #pragma once
 
 #include <vector>

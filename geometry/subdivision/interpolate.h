@@ -20,11 +20,11 @@ struct LevelInput {
     bool threaded;
 };
 
-//! One Catmull-Clark level: `src` has p.vertex_count points, `dst` gets nv + nf + ne (children of vertices, faces,
-//! edges). `n`: the parent level's neighbourhood.
+//! One Catmull-Clark level: `src` has a point per vertex of in.topology, `dst` gets one per child vertex (children of
+//! vertices, faces, edges) and must be all zero on entry. `n`: the parent level's neighbourhood.
 void interpolate_catmark(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst);
 
-//! One Loop level: `src` has p.vertex_count points, `dst` gets nv + ne (children of vertices, edges).
+//! One Loop level: as interpolate_catmark, with children of vertices, then of edges.
 void interpolate_loop(const LevelInput& in, const Neighbourhood& n, const Vec3* src, Vec3* dst);
 
 }  // namespace surfaced::subdivision
