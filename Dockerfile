@@ -4,11 +4,11 @@
 #   docker build -t surfaced .            (or: podman build --format docker -t surfaced .)
 #   docker run --rm -p 8080:8080 surfaced
 #
-# Stages: `build` compiles the service only (no tests, no benchmarks); `web` vendors three.js for the web client from
-# npm; the last stage is the runtime image. `docker build --target test .` builds and runs the test suite instead
-# (CI runs it on the host, through scripts/test.sh). The compiler cache and apt's downloads live in cache mounts, so a
-# rebuild after a source change recompiles only what changed. podman: `--format docker` keeps the HEALTHCHECK (the
-# OCI image format has no field for it).
+# Stages: `build` compiles the service only (no tests, no benchmarks); the last stage is the runtime image, with the
+# web client (its three.js is vendored in the repository: the build reaches nothing but Debian's archive).
+# `docker build --target test .` builds and runs the test suite instead (CI runs it on the host, through
+# scripts/test.sh). The compiler cache lives in a cache mount, so a rebuild after a source change recompiles only what
+# changed. podman: `--format docker` keeps the HEALTHCHECK (the OCI image format has no field for it).
 
 FROM debian:bookworm AS deps
 ENV DEBIAN_FRONTEND=noninteractive LANG=C.UTF-8
@@ -35,15 +35,6 @@ RUN mkdir -p /out && strip -o /out/surfaced /build/server/surfaced \
     done | cut -d: -f1 | sort -u > /out/runtime-packages.txt \
  && echo "runtime packages: $(tr '\n' ' ' < /out/runtime-packages.txt)"
 
-FROM debian:bookworm AS web
-ENV DEBIAN_FRONTEND=noninteractive LANG=C.UTF-8
-RUN apt-get update -qq && apt-get install -y -qq --no-install-recommends nodejs npm ca-certificates \
- && rm -rf /var/lib/apt/lists/*
-COPY clients/web /src/clients/web
-COPY scripts/vendor-web.sh /src/scripts/vendor-web.sh
-RUN --mount=type=cache,target=/root/.npm bash /src/scripts/vendor-web.sh \
- && rm -rf /src/clients/web/node_modules
-
 # optional: the whole test suite (not part of the default build; `docker build --target test .`)
 FROM deps AS test
 RUN apt-get update -qq \
@@ -51,7 +42,6 @@ RUN apt-get update -qq \
       python3-yaml nodejs npm \
  && rm -rf /var/lib/apt/lists/*
 COPY . /src
-COPY --from=web /src/clients/web/vendor /src/clients/web/vendor
 WORKDIR /src
 ENV CCACHE_DIR=/ccache CCACHE_BASEDIR=/src CCACHE_NOHASHDIR=1
 RUN --mount=type=cache,target=/ccache --mount=type=cache,target=/root/.npm \
@@ -69,7 +59,9 @@ RUN apt-get update -qq \
  && rm -rf /var/lib/apt/lists/* /var/cache/apt/archives/*.deb /tmp/runtime-packages.txt \
  && useradd --system --uid 10001 --user-group --no-create-home --home-dir /nonexistent --shell /usr/sbin/nologin surfaced
 COPY --from=build /out/surfaced /usr/bin/surfaced
-COPY --from=web /src/clients/web /usr/share/surfaced/web
+COPY clients/web/index.html clients/web/style.css clients/web/favicon.svg /usr/share/surfaced/web/
+COPY clients/web/js /usr/share/surfaced/web/js
+COPY clients/web/vendor /usr/share/surfaced/web/vendor
 COPY LICENSE THIRD_PARTY_NOTICES.md /usr/share/doc/surfaced/
 USER 10001:10001
 EXPOSE 8080

@@ -31,19 +31,16 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# Node.js is on the machine (do not apt-get install nodejs/npm: the machine's own Node 20 / npm are what work).
+# Node.js, for the tests' tools (the Khronos glTF validator, the OpenAPI validator, Playwright for the browser test).
+# A machine that has its own Node (20 and npm 10+ here) keeps it; a bare Debian 12 gets Debian's nodejs and npm.
+# The web client needs none of it: its three.js is vendored in clients/web/vendor (scripts/vendor-web.sh updates it).
 if [ "${SURFACED_SKIP_NPM:-0}" != 1 ] && [ -f tests/package.json ]; then
   if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
-    echo "node and npm are needed for the tests (Khronos glTF validator)" >&2; exit 1
+    echo "installing: nodejs npm (Debian's)"
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends nodejs npm
   fi
   if [ ! -d tests/node_modules ] || [ tests/package-lock.json -nt tests/node_modules/.package-lock.json ]; then
     npm ci --prefix tests --no-audit --no-fund --loglevel=error
   fi
 fi
-
-# The web client's three.js (clients/web/package.json, pinned) vendored into clients/web/vendor/: served by surfaced
-# itself, so the client works offline. Needed to run the service with its web client, so not skipped with the tests'.
-if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
-  echo "node and npm are needed to vendor three.js for the web client (scripts/vendor-web.sh)" >&2; exit 1
-fi
-scripts/vendor-web.sh

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Vendors the parts of three.js the web client uses from npm into clients/web/vendor/ (served by `surfaced serve`,
-# so the client works offline, no CDN). Idempotent; run by install-deps.sh and run.sh, and before copying clients/web
-# into a container image. clients/web/vendor/ and clients/web/node_modules/ are generated (not in git).
+# Updates the vendored copy of three.js in clients/web/vendor/ (committed; served by `surfaced serve`, so the client
+# works offline, with no CDN and no npm at build or run time) from npm, at the version clients/web/package.json pins.
+# Run it after changing that pin, and commit the result. clients/web/node_modules/ is not in git.
 set -euo pipefail
 cd "$(dirname "$0")/../clients/web"
 if [ ! -f node_modules/three/package.json ] || [ package-lock.json -nt node_modules/.package-lock.json ]; then

@@ -19,7 +19,7 @@ if (!existsSync(chromiumPath)) {
   process.exit(77);
 }
 if (!existsSync(path.join(webRoot, 'vendor/three/three.module.js'))) {
-  console.error(`${webRoot}/vendor is missing: run scripts/vendor-web.sh`);
+  console.error(`${webRoot}/vendor is missing (it is committed; scripts/vendor-web.sh restores it from npm)`);
   process.exit(1);
 }
 const require = createRequire(import.meta.url);

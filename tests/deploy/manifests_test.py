@@ -297,6 +297,17 @@ class Parsers(unittest.TestCase):
         self.assertTrue({"cmake", "libdraco-dev", "nodejs"} <= dockerfile_build_packages())
         self.assertNotIn("libdraco7", dockerfile_build_packages(), "the runtime stage's packages are not the build's")
 
+    def test_vendored_three_matches_the_pin(self):
+        web = os.path.join(ROOT, "clients", "web")
+        pinned = json.loads(read(os.path.join(web, "package.json")))["dependencies"]["three"]
+        vendored = read(os.path.join(web, "vendor", "three", "VERSION")).strip()
+        self.assertEqual(vendored, pinned, "clients/web/vendor is not the pinned three.js: run scripts/vendor-web.sh")
+        # every module the client imports from vendor/ is there
+        sources = read(os.path.join(web, "index.html")) + "".join(
+            read(os.path.join(web, "js", name)) for name in sorted(os.listdir(os.path.join(web, "js"))))
+        for path in set(re.findall(r"""["'](?:\.\.?/)*(vendor/[^"']+)["']""", sources)):
+            self.assertTrue(os.path.exists(os.path.join(web, path)), f"clients/web/{path} is missing")
+
     def test_serve_flags_are_found(self):
         self.assertTrue({"--host", "--port", "--threads", "--max-body-mb"} <= serve_flags())
 
