@@ -448,96 +448,119 @@ void print_triangulated_result(const Parsed& parsed, const api::ApiResponse& res
 
 // ---- serve ---------------------------------------------------------------------------------------------------
 
-int serve(Args& args) {
+//! The `serve` command line: the configuration it builds and what still has to be checked or read once all
+//! options are known.
+struct ServeOptions {
     server::ServerConfig config;
-    config.web_root = SURFACED_DEFAULT_WEB_ROOT;
-    config.access_log = server::ServerConfig::AccessLog::Stderr;
     bool web_root_given = false;
     std::optional<std::string> auth_token_file;
-    const bool complete = for_each_argument(args, [&](const std::string& arg,
-                                                      std::optional<std::string>& inline_value) {
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kServeHelp;
-            for (const api::Route& route : api::routes())
-                std::cout << "  " << route.method << " " << route.path << "  " << route.description << "\n";
-            return false;
-        } else if (arg == "--host") {
-            config.host = args.value(arg, inline_value);
-        } else if (arg == "--port") {
-            config.port = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 65535));
-        } else if (arg == "--threads") {
-            config.threads = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1024));
-        } else if (arg == "--web-root") {
-            config.web_root = args.value(arg, inline_value);
-            web_root_given = true;
-        } else if (arg == "--max-body-mb") {
-            config.limits.max_body_bytes =
-                static_cast<std::size_t>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20)) << 20;
-        } else if (arg == "--max-levels") {
-            config.limits.max_levels = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 16));
-        } else if (arg == "--max-output-faces") {
-            config.limits.max_output_faces =
-                static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
-        } else if (arg == "--queue") {
-            config.queue_capacity = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
-        } else if (arg == "--deadline-ms") {
-            config.limits.compute_deadline_ms =
-                static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 0, 86'400'000LL));
-        } else if (arg == "--keep-alive-max") {
-            config.keep_alive_max_requests =
-                static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
-        } else if (arg == "--keep-alive-timeout") {
-            config.keep_alive_timeout_seconds =
-                static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
-        } else if (arg == "--header-timeout") {
-            config.header_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
-        } else if (arg == "--body-timeout") {
-            config.body_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
-        } else if (arg == "--body-min-rate") {
-            config.body_min_rate_bytes =
-                static_cast<std::size_t>(parse_number(arg, args.value(arg, inline_value), 0, 1LL << 40));
-        } else if (arg == "--drain-timeout") {
-            config.drain_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
-        } else if (arg == "--drain-delay-ms") {
-            config.drain_delay_ms = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 600'000));
-        } else if (arg == "--access-log") {
-            const std::string where = args.value(arg, inline_value);
-            if (where == "off")
-                config.access_log = server::ServerConfig::AccessLog::Off;
-            else if (where == "stdout")
-                config.access_log = server::ServerConfig::AccessLog::Stdout;
-            else if (where == "stderr")
-                config.access_log = server::ServerConfig::AccessLog::Stderr;
-            else
-                throw UsageError{"--access-log: unknown value \"" + where + "\" (allowed: off, stdout, stderr)"};
-        } else if (arg == "--auth-token-file") {
-            auth_token_file = args.value(arg, inline_value);
-        } else if (arg == "--cors-origin") {
-            const std::string origin = args.value(arg, inline_value);
-            if (origin.empty() || origin.find_first_of("\r\n ,") != std::string::npos)
-                throw UsageError{"--cors-origin: \"" + origin + "\" is not an origin (scheme://host[:port], or *)"};
-            config.cors_origins.push_back(origin);
-        } else {
-            throw UsageError{"serve: unknown argument \"" + arg + "\""};
-        }
-        return true;
-    });
-    if (!complete) return kExitOk;
-    std::error_code ec;
-    if (web_root_given && !std::filesystem::is_directory(config.web_root, ec))
-        throw UsageError{"--web-root " + config.web_root + " is not a directory"};
-    if (auth_token_file) {
-        std::string text, error;
-        if (!read_file(*auth_token_file, text, error)) throw UsageError{"--auth-token-file: " + error};
-        config.auth_token = text.substr(0, text.find_first_of("\r\n"));
-        if (config.auth_token.empty())
-            throw UsageError{"--auth-token-file " + *auth_token_file + ": the first line is empty"};
-    } else if (const char* token = std::getenv("SURFACED_AUTH_TOKEN"); token && *token) {
-        config.auth_token = token;
-    }
-    while (!config.auth_token.empty() && (config.auth_token.back() == ' ' || config.auth_token.back() == '\t'))
-        config.auth_token.pop_back();
+};
 
+//! Applies one `serve` option (taking its value from `args`); false when it was --help (the help is printed).
+bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::string>& inline_value,
+                        ServeOptions& options) {
+    server::ServerConfig& config = options.config;
+    if (arg == "-h" || arg == "--help") {
+        std::cout << kServeHelp;
+        for (const api::Route& route : api::routes())
+            std::cout << "  " << route.method << " " << route.path << "  " << route.description << "\n";
+        return false;
+    } else if (arg == "--host") {
+        config.host = args.value(arg, inline_value);
+    } else if (arg == "--port") {
+        config.port = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 65535));
+    } else if (arg == "--threads") {
+        config.threads = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1024));
+    } else if (arg == "--web-root") {
+        config.web_root = args.value(arg, inline_value);
+        options.web_root_given = true;
+    } else if (arg == "--max-body-mb") {
+        config.limits.max_body_bytes =
+            static_cast<std::size_t>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20)) << 20;
+    } else if (arg == "--max-levels") {
+        config.limits.max_levels = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 16));
+    } else if (arg == "--max-output-faces") {
+        config.limits.max_output_faces =
+            static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
+    } else if (arg == "--queue") {
+        config.queue_capacity = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
+    } else if (arg == "--deadline-ms") {
+        config.limits.compute_deadline_ms =
+            static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 0, 86'400'000LL));
+    } else if (arg == "--keep-alive-max") {
+        config.keep_alive_max_requests = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
+    } else if (arg == "--keep-alive-timeout") {
+        config.keep_alive_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
+    } else if (arg == "--header-timeout") {
+        config.header_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
+    } else if (arg == "--body-timeout") {
+        config.body_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 3600));
+    } else if (arg == "--body-min-rate") {
+        config.body_min_rate_bytes =
+            static_cast<std::size_t>(parse_number(arg, args.value(arg, inline_value), 0, 1LL << 40));
+    } else if (arg == "--drain-timeout") {
+        config.drain_timeout_seconds = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 3600));
+    } else if (arg == "--drain-delay-ms") {
+        config.drain_delay_ms = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 600'000));
+    } else if (arg == "--access-log") {
+        const std::string where = args.value(arg, inline_value);
+        if (where == "off")
+            config.access_log = server::ServerConfig::AccessLog::Off;
+        else if (where == "stdout")
+            config.access_log = server::ServerConfig::AccessLog::Stdout;
+        else if (where == "stderr")
+            config.access_log = server::ServerConfig::AccessLog::Stderr;
+        else
+            throw UsageError{"--access-log: unknown value \"" + where + "\" (allowed: off, stdout, stderr)"};
+    } else if (arg == "--auth-token-file") {
+        options.auth_token_file = args.value(arg, inline_value);
+    } else if (arg == "--cors-origin") {
+        const std::string origin = args.value(arg, inline_value);
+        if (origin.empty() || origin.find_first_of("\r\n ,") != std::string::npos)
+            throw UsageError{"--cors-origin: \"" + origin + "\" is not an origin (scheme://host[:port], or *)"};
+        config.cors_origins.push_back(origin);
+    } else {
+        throw UsageError{"serve: unknown argument \"" + arg + "\""};
+    }
+    return true;
+}
+
+//! The bearer token: the first line of `file` when given (which must not be empty), else the environment variable
+//! SURFACED_AUTH_TOKEN, else none; trailing blanks dropped.
+std::string read_auth_token(const std::optional<std::string>& file) {
+    std::string token;
+    if (file) {
+        std::string text, error;
+        if (!read_file(*file, text, error)) throw UsageError{"--auth-token-file: " + error};
+        token = text.substr(0, text.find_first_of("\r\n"));
+        if (token.empty()) throw UsageError{"--auth-token-file " + *file + ": the first line is empty"};
+    } else if (const char* env = std::getenv("SURFACED_AUTH_TOKEN"); env && *env) {
+        token = env;
+    }
+    while (!token.empty() && (token.back() == ' ' || token.back() == '\t')) token.pop_back();
+    return token;
+}
+
+//! The server configuration the `serve` arguments give; nullopt when --help was printed.
+std::optional<server::ServerConfig> serve_config(Args& args) {
+    ServeOptions options;
+    options.config.web_root = SURFACED_DEFAULT_WEB_ROOT;
+    options.config.access_log = server::ServerConfig::AccessLog::Stderr;
+    const bool complete =
+        for_each_argument(args, [&](const std::string& arg, std::optional<std::string>& inline_value) {
+            return apply_serve_option(args, arg, inline_value, options);
+        });
+    if (!complete) return std::nullopt;
+    server::ServerConfig& config = options.config;
+    std::error_code ec;
+    if (options.web_root_given && !std::filesystem::is_directory(config.web_root, ec))
+        throw UsageError{"--web-root " + config.web_root + " is not a directory"};
+    config.auth_token = read_auth_token(options.auth_token_file);
+    return std::move(config);
+}
+
+//! Runs the service until SIGINT or SIGTERM, then stops it gracefully.
+int serve_until_signalled(const server::ServerConfig& config) {
     // Block the stop signals before any thread exists, so every thread inherits the mask and the main thread
     // receives them synchronously with sigwait (no async-signal-safety concerns in a handler).
     sigset_t stop_signals;
@@ -563,6 +586,12 @@ int serve(Args& args) {
     http.stop();
     std::cout << "surfaced: stopped" << std::endl;
     return kExitOk;
+}
+
+int serve(Args& args) {
+    const std::optional<server::ServerConfig> config = serve_config(args);
+    if (!config) return kExitOk;
+    return serve_until_signalled(*config);
 }
 
 // ---- healthcheck ---------------------------------------------------------------------------------------------

@@ -1,5 +1,5 @@
 // HttpServer: the HTTP transport for the api/ route table. A pimpl facade (llama.cpp server-http.h): no HTTP-library
-// type appears here, so only http_server.cpp compiles httplib.h.
+// type appears here; httplib_adapter.cpp is the only code that compiles httplib.h.
 //
 // What it adds on top of api/:
 //  * bounded resources: a fixed pool of workers and a bounded queue of accepted connections; past it, connections
@@ -105,7 +105,8 @@ private:
 };
 
 //! GET http://host:port/path with the given timeout (seconds, for connecting and for the answer): true when the
-//! answer is 200. `detail` gets the status or the connection error. For `surfaced healthcheck`.
+//! answer is 200. `detail` gets the status or the connection error. For `surfaced healthcheck`; defined in
+//! httplib_adapter.cpp with the rest of the code that uses the HTTP library.
 bool probe_http(const std::string& host, int port, const std::string& path, double timeout_seconds,
                 std::string* detail = nullptr);
 
