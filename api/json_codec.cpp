@@ -14,6 +14,119 @@ namespace {
 
 using namespace json;  // the shared readers (api/json_util.h)
 
+//! "positions": [[x, y, z], ...] into mesh.positions.
+std::optional<ApiError> decode_positions(const Json& positions, const std::string& positions_path, PolygonMesh& mesh) {
+    mesh.positions.reserve(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const Json& p = positions[v];
+        if (!p.is_array() || p.size() != 3) {
+            const std::string field = index_path(positions_path, v);
+            return invalid(field, field + " must be an array of 3 numbers [x, y, z]");
+        }
+        Vec3 point;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Json& c = p[k];
+            if (!c.is_number()) {
+                const std::string field = index_path(index_path(positions_path, v), k);
+                return invalid(field, field + " must be a finite number");
+            }
+            point[static_cast<int>(k)] = c.get<double>();
+            // JSON has no NaN/Inf literals, but 1e999 parses to infinity.
+            if (!std::isfinite(point[static_cast<int>(k)])) {
+                const std::string field = index_path(index_path(positions_path, v), k);
+                return geometry_error(ErrorCode::NonFinite, field, field + " must be a finite number");
+            }
+        }
+        mesh.positions.push_back(point);
+    }
+    return std::nullopt;
+}
+
+//! "faces": [[i, j, k, ...], ...] into mesh.face_offsets / face_indices; indices checked against the positions.
+std::optional<ApiError> decode_faces(const Json& faces, const std::string& faces_path, PolygonMesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    mesh.face_offsets.reserve(faces.size() + 1);
+    mesh.face_indices.reserve(faces.size() * 4);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+        const Json& face = faces[f];
+        const std::string face_field = index_path(faces_path, f);
+        if (!face.is_array()) return invalid(face_field, face_field + " must be an array of vertex indices");
+        if (face.size() < 3)
+            return geometry_error(ErrorCode::DegenerateFace, face_field,
+                                  face_field + " has " + std::to_string(face.size()) + " vertices (at least 3 needed)");
+        for (std::size_t k = 0; k < face.size(); ++k) {
+            const Json& index = face[k];
+            if (!index.is_number_unsigned()) {
+                // Negative integers are number_integer, fractions are number_float: both are wrong here.
+                const std::string field = index_path(face_field, k);
+                return invalid(field, field + " must be a non-negative integer vertex index");
+            }
+            const auto value = index.get<std::uint64_t>();
+            if (value >= nv) {
+                const std::string field = index_path(face_field, k);
+                return geometry_error(ErrorCode::IndexOutOfRange, field,
+                                      field + ": vertex " + std::to_string(value) + " out of range (" +
+                                          std::to_string(nv) + " vertices)");
+            }
+            mesh.face_indices.push_back(static_cast<Index>(value));
+        }
+        mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
+    }
+    return std::nullopt;
+}
+
+//! Optional face-varying texture coordinates: "uvs": [[u, v], ...] and "uv_faces" parallel to "faces" (one uv index
+//! per face corner); both or neither. Decoded after the faces, whose sizes the uv faces must match.
+std::optional<ApiError> decode_uvs(const Json& root, std::string_view path, const Limits& limits, PolygonMesh& mesh) {
+    const auto uvs_it = root.find("uvs");
+    const auto uv_faces_it = root.find("uv_faces");
+    const std::string uvs_path = member_path(path, "uvs"), uv_faces_path = member_path(path, "uv_faces");
+    if ((uvs_it == root.end()) != (uv_faces_it == root.end()))
+        return invalid(uvs_it == root.end() ? uvs_path : uv_faces_path,
+                       uvs_path + " and " + uv_faces_path +
+                           " go together (texture coordinates and, per face corner, their indices)");
+    if (uvs_it == root.end()) return std::nullopt;
+    const Json& uvs = *uvs_it;
+    const Json& uv_faces = *uv_faces_it;
+    const std::size_t face_count = mesh.face_count();
+    if (!uvs.is_array()) return invalid(uvs_path, uvs_path + " must be an array of [u, v]");
+    if (!uv_faces.is_array() || uv_faces.size() != face_count)
+        return invalid(uv_faces_path, uv_faces_path + " must be an array with one index array per face (" +
+                                          std::to_string(face_count) + ")");
+    if (uvs.size() > limits.max_input_vertices * 4)
+        return make_problem(Problem::BudgetExceeded, uvs_path + " has too many entries", uvs_path);
+    for (std::size_t i = 0; i < uvs.size(); ++i) {
+        const Json& uv = uvs[i];
+        const std::string field = index_path(uvs_path, i);
+        if (!uv.is_array() || uv.size() != 2 || !uv[0].is_number() || !uv[1].is_number())
+            return invalid(field, field + " must be an array of 2 numbers [u, v]");
+        const Vec2 value{uv[0].get<double>(), uv[1].get<double>()};
+        if (!is_finite(value)) return geometry_error(ErrorCode::NonFinite, field, field + " must be finite");
+        mesh.uvs.push_back(value);
+    }
+    for (std::size_t f = 0; f < uv_faces.size(); ++f) {
+        const Json& face = uv_faces[f];
+        const std::string field = index_path(uv_faces_path, f);
+        const std::size_t n = mesh.face_size(f);
+        if (!face.is_array() || face.size() != n)
+            return invalid(field, field + " must have one uv index per corner of face " + std::to_string(f) + " (" +
+                                      std::to_string(n) + ")");
+        for (std::size_t k = 0; k < n; ++k) {
+            const Json& index = face[k];
+            const std::string corner = index_path(field, k);
+            if (!index.is_number_unsigned())
+                return invalid(corner, corner + " must be a non-negative integer uv index");
+            const auto value = index.get<std::uint64_t>();
+            if (value >= mesh.uvs.size())
+                return geometry_error(ErrorCode::IndexOutOfRange, corner,
+                                      corner + ": uv " + std::to_string(value) + " out of range (" +
+                                          std::to_string(mesh.uvs.size()) + " uvs)");
+            mesh.uv_indices.push_back(static_cast<Index>(value));
+        }
+    }
+    return std::nullopt;
+}
+
 ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path, const Limits& limits) {
     const std::string mesh_path(path);
     if (!root.is_object())
@@ -47,106 +160,9 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
                             faces_path);
 
     PolygonMesh mesh;
-    mesh.positions.reserve(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        const Json& p = positions[v];
-        if (!p.is_array() || p.size() != 3) {
-            const std::string field = index_path(positions_path, v);
-            return invalid(field, field + " must be an array of 3 numbers [x, y, z]");
-        }
-        Vec3 point;
-        for (std::size_t k = 0; k < 3; ++k) {
-            const Json& c = p[k];
-            if (!c.is_number()) {
-                const std::string field = index_path(index_path(positions_path, v), k);
-                return invalid(field, field + " must be a finite number");
-            }
-            point[static_cast<int>(k)] = c.get<double>();
-            // JSON has no NaN/Inf literals, but 1e999 parses to infinity.
-            if (!std::isfinite(point[static_cast<int>(k)])) {
-                const std::string field = index_path(index_path(positions_path, v), k);
-                return geometry_error(ErrorCode::NonFinite, field, field + " must be a finite number");
-            }
-        }
-        mesh.positions.push_back(point);
-    }
-
-    const std::size_t nv = mesh.positions.size();
-    mesh.face_offsets.reserve(faces.size() + 1);
-    mesh.face_indices.reserve(faces.size() * 4);
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-        const Json& face = faces[f];
-        const std::string face_field = index_path(faces_path, f);
-        if (!face.is_array()) return invalid(face_field, face_field + " must be an array of vertex indices");
-        if (face.size() < 3)
-            return geometry_error(ErrorCode::DegenerateFace, face_field,
-                                  face_field + " has " + std::to_string(face.size()) + " vertices (at least 3 needed)");
-        for (std::size_t k = 0; k < face.size(); ++k) {
-            const Json& index = face[k];
-            if (!index.is_number_unsigned()) {
-                // Negative integers are number_integer, fractions are number_float: both are wrong here.
-                const std::string field = index_path(face_field, k);
-                return invalid(field, field + " must be a non-negative integer vertex index");
-            }
-            const auto value = index.get<std::uint64_t>();
-            if (value >= nv) {
-                const std::string field = index_path(face_field, k);
-                return geometry_error(ErrorCode::IndexOutOfRange, field,
-                                      field + ": vertex " + std::to_string(value) + " out of range (" +
-                                          std::to_string(nv) + " vertices)");
-            }
-            mesh.face_indices.push_back(static_cast<Index>(value));
-        }
-        mesh.face_offsets.push_back(static_cast<Index>(mesh.face_indices.size()));
-    }
-
-    // optional face-varying texture coordinates: "uvs": [[u, v], ...], "uv_faces" parallel to "faces"
-    const auto uvs_it = root.find("uvs");
-    const auto uv_faces_it = root.find("uv_faces");
-    const std::string uvs_path = member_path(path, "uvs"), uv_faces_path = member_path(path, "uv_faces");
-    if ((uvs_it == root.end()) != (uv_faces_it == root.end()))
-        return invalid(uvs_it == root.end() ? uvs_path : uv_faces_path,
-                       uvs_path + " and " + uv_faces_path +
-                           " go together (texture coordinates and, per face corner, their indices)");
-    if (uvs_it != root.end()) {
-        const Json& uvs = *uvs_it;
-        const Json& uv_faces = *uv_faces_it;
-        if (!uvs.is_array()) return invalid(uvs_path, uvs_path + " must be an array of [u, v]");
-        if (!uv_faces.is_array() || uv_faces.size() != faces.size())
-            return invalid(uv_faces_path, uv_faces_path + " must be an array with one index array per face (" +
-                                              std::to_string(faces.size()) + ")");
-        if (uvs.size() > limits.max_input_vertices * 4)
-            return make_problem(Problem::BudgetExceeded, uvs_path + " has too many entries", uvs_path);
-        for (std::size_t i = 0; i < uvs.size(); ++i) {
-            const Json& uv = uvs[i];
-            const std::string field = index_path(uvs_path, i);
-            if (!uv.is_array() || uv.size() != 2 || !uv[0].is_number() || !uv[1].is_number())
-                return invalid(field, field + " must be an array of 2 numbers [u, v]");
-            const Vec2 value{uv[0].get<double>(), uv[1].get<double>()};
-            if (!is_finite(value)) return geometry_error(ErrorCode::NonFinite, field, field + " must be finite");
-            mesh.uvs.push_back(value);
-        }
-        for (std::size_t f = 0; f < uv_faces.size(); ++f) {
-            const Json& face = uv_faces[f];
-            const std::string field = index_path(uv_faces_path, f);
-            const std::size_t n = mesh.face_size(f);
-            if (!face.is_array() || face.size() != n)
-                return invalid(field, field + " must have one uv index per corner of face " + std::to_string(f) + " (" +
-                                          std::to_string(n) + ")");
-            for (std::size_t k = 0; k < n; ++k) {
-                const Json& index = face[k];
-                const std::string corner = index_path(field, k);
-                if (!index.is_number_unsigned())
-                    return invalid(corner, corner + " must be a non-negative integer uv index");
-                const auto value = index.get<std::uint64_t>();
-                if (value >= mesh.uvs.size())
-                    return geometry_error(ErrorCode::IndexOutOfRange, corner,
-                                          corner + ": uv " + std::to_string(value) + " out of range (" +
-                                              std::to_string(mesh.uvs.size()) + " uvs)");
-                mesh.uv_indices.push_back(static_cast<Index>(value));
-            }
-        }
-    }
+    if (auto error = decode_positions(positions, positions_path, mesh)) return std::move(*error);
+    if (auto error = decode_faces(faces, faces_path, mesh)) return std::move(*error);
+    if (auto error = decode_uvs(root, path, limits, mesh)) return std::move(*error);
     return mesh;
 }
 

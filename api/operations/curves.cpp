@@ -248,33 +248,25 @@ std::optional<ApiError> check_form_members(const Json& root, std::string_view fo
 
 // ---- one Bézier curve ----------------------------------------------------------------------------------------------
 
-ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat format) {
-    if (auto error = check_form_members(root, "points", "one Bézier curve",
-                                        {"points", "weights", "evaluate", "derivatives", "curvature", "split",
-                                         "elevate", "bounding_box", "length", "closest", "tessellate", "output"}))
-        return error_response(std::move(*error));
-    if (auto error = check_gltf_request(root, format, {})) return error_response(std::move(*error));
-
-    // curve
+//! "points" (2D or 3D, at most kMaxCurveDegree + 1) and optional "weights"; sets the encoder's dimension.
+std::optional<ApiError> read_single_curve(const Json& root, Encoder& encoder, BezierCurve& curve) {
     const auto points = root.find("points");
     if (points == root.end() || !points->is_array() || points->empty() || !(*points)[0].is_array())
-        return error_response(invalid("points", "points is required: an array of [x, y] or [x, y, z]"));
+        return invalid("points", "points is required: an array of [x, y] or [x, y, z]");
     if (points->size() > static_cast<std::size_t>(kMaxCurveDegree) + 1)
-        return error_response(make_problem(Problem::BudgetExceeded,
-                                           "points has " + std::to_string(points->size()) +
-                                               " control points; the largest degree accepted is " +
-                                               std::to_string(kMaxCurveDegree),
-                                           "points"));
-    Encoder encoder;
+        return make_problem(Problem::BudgetExceeded,
+                            "points has " + std::to_string(points->size()) +
+                                " control points; the largest degree accepted is " + std::to_string(kMaxCurveDegree),
+                            "points");
     encoder.dimension = (*points)[0].size() == 2 ? 2 : 3;
-    BezierCurve curve;
-    if (auto error = read_control_points(*points, "points", encoder.dimension, curve.points))
-        return error_response(std::move(*error));
+    if (auto error = read_control_points(*points, "points", encoder.dimension, curve.points)) return error;
     if (auto it = root.find("weights"); it != root.end())
-        if (auto error = read_weights(*it, "weights", curve.points.size(), curve.weights))
-            return error_response(std::move(*error));
+        if (auto error = read_weights(*it, "weights", curve.points.size(), curve.weights)) return error;
+    return std::nullopt;
+}
 
-    // budgets on the number of evaluations, before any of them
+//! The budget on the number of evaluations (evaluate, curvature, derivatives.t), before any of them.
+std::optional<ApiError> check_query_budget(const Json& root) {
     std::size_t queries = 0;
     for (const char* name : {"evaluate", "curvature"})
         if (auto it = root.find(name); it != root.end() && it->is_array()) queries += it->size();
@@ -282,25 +274,28 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
         it != root.end() && it->is_object() && it->contains("t") && (*it)["t"].is_array())
         queries += (*it)["t"].size();
     if (queries > kMaxCurveQueries)
-        return error_response(make_problem(
-            Problem::BudgetExceeded,
-            std::to_string(queries) + " parameters requested; the limit is " + std::to_string(kMaxCurveQueries)));
+        return make_problem(Problem::BudgetExceeded, std::to_string(queries) + " parameters requested; the limit is " +
+                                                         std::to_string(kMaxCurveQueries));
+    return std::nullopt;
+}
 
-    Json out = {{"degree", curve.degree()}, {"rational", curve.is_rational()}};
+//! Queries at given parameters: "evaluate", "derivatives" {"t", "order"}, "curvature".
+std::optional<ApiError> answer_parameter_queries(const Json& root, const BezierCurve& curve, const Encoder& encoder,
+                                                 Json& out) {
     if (auto it = root.find("evaluate"); it != root.end()) {
         auto ts = read_parameters(*it, "evaluate");
-        if (!ts) return error_response(std::move(ts.error()));
+        if (!ts) return std::move(ts.error());
         out["evaluate"] = Json::array();
         for (double t : ts.value()) out["evaluate"].push_back(encoder.point(evaluate(curve, t)));
     }
     if (auto it = root.find("derivatives"); it != root.end()) {
         if (!it->is_object() || !it->contains("t") || !it->contains("order"))
-            return error_response(invalid("derivatives", R"(derivatives must be {"t": [t, ...], "order": k})"));
+            return invalid("derivatives", R"(derivatives must be {"t": [t, ...], "order": k})");
         auto ts = read_parameters((*it)["t"], "derivatives.t");
-        if (!ts) return error_response(std::move(ts.error()));
+        if (!ts) return std::move(ts.error());
         const Json& order = (*it)["order"];
         if (!order.is_number_integer() || order.get<std::int64_t>() < 1 || order.get<std::int64_t>() > 64)
-            return error_response(invalid("derivatives.order", "derivatives.order must be an integer in 1..64"));
+            return invalid("derivatives.order", "derivatives.order must be an integer in 1..64");
         out["derivatives"] = Json::array();
         for (double t : ts.value())
             out["derivatives"].push_back(
@@ -308,21 +303,27 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
     }
     if (auto it = root.find("curvature"); it != root.end()) {
         auto ts = read_parameters(*it, "curvature");
-        if (!ts) return error_response(std::move(ts.error()));
+        if (!ts) return std::move(ts.error());
         out["curvature"] = Json::array();
         for (double t : ts.value()) out["curvature"].push_back(curvature(curve, t));
     }
+    return std::nullopt;
+}
+
+//! Queries on the whole curve: "split", "elevate", "bounding_box", "length", "closest".
+std::optional<ApiError> answer_curve_queries(const Json& root, const BezierCurve& curve, const Encoder& encoder,
+                                             Json& out) {
     if (auto it = root.find("split"); it != root.end()) {
         auto t = read_parameter(*it, "split");
-        if (!t) return error_response(std::move(t.error()));
+        if (!t) return std::move(t.error());
         const auto [left, right] = split(curve, t.value());
         out["split"] = Json::array({encoder.curve(left), encoder.curve(right)});
     }
     if (auto it = root.find("elevate"); it != root.end()) {
         if (!it->is_number_integer() || it->get<std::int64_t>() < 0 ||
             curve.degree() + it->get<std::int64_t>() > kMaxCurveDegree)
-            return error_response(invalid(
-                "elevate", "elevate must be an integer >= 0 keeping the degree <= " + std::to_string(kMaxCurveDegree)));
+            return invalid("elevate",
+                           "elevate must be an integer >= 0 keeping the degree <= " + std::to_string(kMaxCurveDegree));
         out["elevate"] = encoder.curve(elevate_degree(curve, static_cast<int>(it->get<std::int64_t>())));
     }
     if (auto it = root.find("bounding_box"); it != root.end() && it->is_boolean() && it->get<bool>()) {
@@ -331,17 +332,34 @@ ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat form
     }
     if (auto it = root.find("length"); it != root.end()) {
         auto tolerance = read_tolerance(*it, "length");
-        if (!tolerance) return error_response(std::move(tolerance.error()));
+        if (!tolerance) return std::move(tolerance.error());
         const ArcLength length = arc_length(curve, std::max(tolerance.value(), 1e-12));
         out["length"] = {
             {"length", length.length}, {"error_bound", length.error_bound}, {"guaranteed", !curve.is_rational()}};
     }
     if (auto it = root.find("closest"); it != root.end()) {
         auto q = read_point(*it, "closest", encoder.dimension);
-        if (!q) return error_response(std::move(q.error()));
+        if (!q) return std::move(q.error());
         const ClosestPoint c = closest_point(curve, q.value());
         out["closest"] = {{"t", c.t}, {"point", encoder.point(c.point)}, {"distance", c.distance}};
     }
+    return std::nullopt;
+}
+
+ApiResponse run_single(const Json& root, const Limits& limits, OutputFormat format) {
+    if (auto error = check_form_members(root, "points", "one Bézier curve",
+                                        {"points", "weights", "evaluate", "derivatives", "curvature", "split",
+                                         "elevate", "bounding_box", "length", "closest", "tessellate", "output"}))
+        return error_response(std::move(*error));
+    if (auto error = check_gltf_request(root, format, {})) return error_response(std::move(*error));
+    Encoder encoder;
+    BezierCurve curve;
+    if (auto error = read_single_curve(root, encoder, curve)) return error_response(std::move(*error));
+    if (auto error = check_query_budget(root)) return error_response(std::move(*error));
+
+    Json out = {{"degree", curve.degree()}, {"rational", curve.is_rational()}};
+    if (auto error = answer_parameter_queries(root, curve, encoder, out)) return error_response(std::move(*error));
+    if (auto error = answer_curve_queries(root, curve, encoder, out)) return error_response(std::move(*error));
     if (auto it = root.find("tessellate"); it != root.end()) {
         auto tolerance = read_tolerance(*it, "tessellate");
         if (!tolerance) return error_response(std::move(tolerance.error()));
@@ -775,6 +793,82 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
     return curve;
 }
 
+//! What a B-spline request asks, read and checked in full before any work.
+struct BSplineQueries {
+    std::optional<std::vector<double>> evaluate_at, derivatives_at;
+    int order = 1;
+    std::optional<std::pair<double, int>> insert;  //!< (u, times)
+    bool to_bezier = false;
+    bool bounding_box = false;
+    std::optional<double> tessellate_tolerance;
+};
+
+//! "insert_knot": {"u": u in the domain, "times"?: 1..degree}.
+std::optional<ApiError> read_insert_knot(const Json& value, const BSplineCurve& curve, double u0, double u1,
+                                         BSplineQueries& q) {
+    if (!value.is_object() || !value.contains("u"))
+        return invalid("insert_knot", R"(insert_knot must be {"u": u, "times"?: k})");
+    if (auto error = check_members(value, "insert_knot", {"u", "times"})) return error;
+    auto u = read_number(value["u"], "insert_knot.u");
+    if (!u) return std::move(u.error());
+    if (u.value() < u0 || u.value() > u1)
+        return invalid("insert_knot.u", "insert_knot.u = " + format_double(u.value()) + " is outside the domain [" +
+                                            format_double(u0) + ", " + format_double(u1) + "]");
+    std::int64_t times = 1;
+    if (auto t = value.find("times"); t != value.end()) {
+        auto k = read_integer(*t, "insert_knot.times");
+        if (!k) return std::move(k.error());
+        if (k.value() < 1 || k.value() > curve.degree)
+            return invalid("insert_knot.times",
+                           "insert_knot.times must be in 1.." + std::to_string(curve.degree) + " (the degree)");
+        times = k.value();
+    }
+    q.insert = std::pair{u.value(), static_cast<int>(times)};
+    return std::nullopt;
+}
+
+std::optional<ApiError> read_bspline_queries(const Json& root, const BSplineCurve& curve, double u0, double u1,
+                                             BSplineQueries& q) {
+    if (auto it = root.find("evaluate"); it != root.end()) {
+        auto us = read_parameters_in(*it, "evaluate", u0, u1, "the domain");
+        if (!us) return std::move(us.error());
+        q.evaluate_at = std::move(us.value());
+    }
+    if (auto it = root.find("derivatives"); it != root.end()) {
+        if (!it->is_object() || !it->contains("t") || !it->contains("order"))
+            return invalid("derivatives", R"(derivatives must be {"t": [u, ...], "order": k})");
+        if (auto error = check_members(*it, "derivatives", {"t", "order"})) return error;
+        auto us = read_parameters_in((*it)["t"], "derivatives.t", u0, u1, "the domain");
+        if (!us) return std::move(us.error());
+        auto k = read_integer((*it)["order"], "derivatives.order");
+        if (!k) return std::move(k.error());
+        if (k.value() < 1 || k.value() > 64)
+            return invalid("derivatives.order", "derivatives.order must be an integer in 1..64");
+        q.derivatives_at = std::move(us.value());
+        q.order = static_cast<int>(k.value());
+    }
+    const std::size_t queries =
+        (q.evaluate_at ? q.evaluate_at->size() : 0) + (q.derivatives_at ? q.derivatives_at->size() : 0);
+    if (queries > kMaxCurveQueries)
+        return budget(
+            std::to_string(queries) + " parameters requested; the limit is " + std::to_string(kMaxCurveQueries),
+            q.evaluate_at ? "evaluate" : "derivatives.t");
+    if (auto it = root.find("insert_knot"); it != root.end())
+        if (auto error = read_insert_knot(*it, curve, u0, u1, q)) return error;
+    auto to_bezier_asked = read_switch(root, "to_bezier");
+    if (!to_bezier_asked) return std::move(to_bezier_asked.error());
+    q.to_bezier = to_bezier_asked.value();
+    auto box_asked = read_switch(root, "bounding_box");
+    if (!box_asked) return std::move(box_asked.error());
+    q.bounding_box = box_asked.value();
+    if (auto it = root.find("tessellate"); it != root.end()) {
+        auto tolerance = read_tolerance(*it, "tessellate");
+        if (!tolerance) return std::move(tolerance.error());
+        q.tessellate_tolerance = tolerance.value();
+    }
+    return std::nullopt;
+}
+
 ApiResponse run_bspline(const Json& root, const ApiContext& context, OutputFormat format) {
     if (auto error = check_form_members(
             root, "bspline", "a B-spline",
@@ -786,96 +880,39 @@ ApiResponse run_bspline(const Json& root, const ApiContext& context, OutputForma
     if (!decoded) return error_response(std::move(decoded.error()));
     const BSplineCurve& curve = decoded.value();
     const auto [u0, u1] = domain(curve);
-
-    // every query's options, then the work
-    std::optional<std::vector<double>> evaluate_at, derivatives_at;
-    int order = 1;
-    std::optional<std::pair<double, int>> insert;
-    std::optional<double> tessellate_tolerance;
-    if (auto it = root.find("evaluate"); it != root.end()) {
-        auto us = read_parameters_in(*it, "evaluate", u0, u1, "the domain");
-        if (!us) return error_response(std::move(us.error()));
-        evaluate_at = std::move(us.value());
-    }
-    if (auto it = root.find("derivatives"); it != root.end()) {
-        if (!it->is_object() || !it->contains("t") || !it->contains("order"))
-            return error_response(invalid("derivatives", R"(derivatives must be {"t": [u, ...], "order": k})"));
-        if (auto error = check_members(*it, "derivatives", {"t", "order"})) return error_response(std::move(*error));
-        auto us = read_parameters_in((*it)["t"], "derivatives.t", u0, u1, "the domain");
-        if (!us) return error_response(std::move(us.error()));
-        auto k = read_integer((*it)["order"], "derivatives.order");
-        if (!k) return error_response(std::move(k.error()));
-        if (k.value() < 1 || k.value() > 64)
-            return error_response(invalid("derivatives.order", "derivatives.order must be an integer in 1..64"));
-        derivatives_at = std::move(us.value());
-        order = static_cast<int>(k.value());
-    }
-    const std::size_t queries = (evaluate_at ? evaluate_at->size() : 0) + (derivatives_at ? derivatives_at->size() : 0);
-    if (queries > kMaxCurveQueries)
-        return error_response(
-            budget(std::to_string(queries) + " parameters requested; the limit is " + std::to_string(kMaxCurveQueries),
-                   evaluate_at ? "evaluate" : "derivatives.t"));
-    if (auto it = root.find("insert_knot"); it != root.end()) {
-        if (!it->is_object() || !it->contains("u"))
-            return error_response(invalid("insert_knot", R"(insert_knot must be {"u": u, "times"?: k})"));
-        if (auto error = check_members(*it, "insert_knot", {"u", "times"})) return error_response(std::move(*error));
-        auto u = read_number((*it)["u"], "insert_knot.u");
-        if (!u) return error_response(std::move(u.error()));
-        if (u.value() < u0 || u.value() > u1)
-            return error_response(invalid("insert_knot.u", "insert_knot.u = " + format_double(u.value()) +
-                                                               " is outside the domain [" + format_double(u0) + ", " +
-                                                               format_double(u1) + "]"));
-        std::int64_t times = 1;
-        if (auto t = it->find("times"); t != it->end()) {
-            auto k = read_integer(*t, "insert_knot.times");
-            if (!k) return error_response(std::move(k.error()));
-            if (k.value() < 1 || k.value() > curve.degree)
-                return error_response(invalid("insert_knot.times", "insert_knot.times must be in 1.." +
-                                                                       std::to_string(curve.degree) + " (the degree)"));
-            times = k.value();
-        }
-        insert = std::pair{u.value(), static_cast<int>(times)};
-    }
-    auto to_bezier_asked = read_switch(root, "to_bezier");
-    if (!to_bezier_asked) return error_response(std::move(to_bezier_asked.error()));
-    auto box_asked = read_switch(root, "bounding_box");
-    if (!box_asked) return error_response(std::move(box_asked.error()));
-    if (auto it = root.find("tessellate"); it != root.end()) {
-        auto tolerance = read_tolerance(*it, "tessellate");
-        if (!tolerance) return error_response(std::move(tolerance.error()));
-        tessellate_tolerance = tolerance.value();
-    }
+    BSplineQueries q;
+    if (auto error = read_bspline_queries(root, curve, u0, u1, q)) return error_response(std::move(*error));
 
     Json out = {{"degree", curve.degree}, {"rational", curve.is_rational()}, {"domain", Json::array({u0, u1})}};
-    if (evaluate_at) {
+    if (q.evaluate_at) {
         Json points = Json::array();
-        for (double u : *evaluate_at) points.push_back(encoder.point(evaluate(curve, u)));
+        for (double u : *q.evaluate_at) points.push_back(encoder.point(evaluate(curve, u)));
         out["evaluate"] = std::move(points);
     }
-    if (derivatives_at) {
+    if (q.derivatives_at) {
         Json values = Json::array();
-        for (double u : *derivatives_at) values.push_back(encoder.point(derivative(curve, u, order)));
+        for (double u : *q.derivatives_at) values.push_back(encoder.point(derivative(curve, u, q.order)));
         out["derivatives"] = std::move(values);
     }
-    if (insert) {
-        auto inserted = insert_knot(curve, insert->first, insert->second);
+    if (q.insert) {
+        auto inserted = insert_knot(curve, q.insert->first, q.insert->second);
         if (!inserted) return error_response(error_at(inserted.error(), "insert_knot"));
         out["insert_knot"] = encoder.bspline(*inserted);
     }
-    if (to_bezier_asked.value()) {
+    if (q.to_bezier) {
         auto chain = to_bezier(curve, context.cancel);
         if (!chain) return error_response(error_at(chain.error(), "to_bezier"));
         Json encoded = encoder.chain(*chain);
         encoded["breaks"] = bezier_breaks(curve);
         out["to_bezier"] = std::move(encoded);
     }
-    if (box_asked.value()) {
+    if (q.bounding_box) {
         const Box3 box = bounding_box(curve);
         out["bounding_box"] = {{"min", encoder.point(box.min)}, {"max", encoder.point(box.max)}};
     }
-    if (tessellate_tolerance) {
+    if (q.tessellate_tolerance) {
         BSplineTessellationOptions options;
-        options.tolerance = *tessellate_tolerance;
+        options.tolerance = *q.tessellate_tolerance;
         options.max_segments = static_cast<std::size_t>(context.limits.max_output_faces);
         options.cancel = context.cancel;
         auto polyline = tessellate(curve, options);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <exception>
 #include <new>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,78 @@ const char* kind_name(implicit::FieldKind kind) {
     return "general";
 }
 
+//! max_steps and max_distance for the rays (budgets: Limits::max_ray_steps).
+std::optional<ApiError> read_ray_options(const Json& root, const Limits& limits, implicit::RayOptions& options) {
+    options.max_steps = std::min(1000, limits.max_ray_steps);
+    if (auto it = root.find("max_steps"); it != root.end()) {
+        auto n = read_integer(*it, "max_steps");
+        if (!n) return std::move(n.error());
+        if (n.value() < 1) return invalid("max_steps", "max_steps must be >= 1");
+        if (n.value() > limits.max_ray_steps)
+            return make_problem(
+                Problem::BudgetExceeded,
+                "max_steps is " + std::to_string(n.value()) + "; the limit is " + std::to_string(limits.max_ray_steps),
+                "max_steps");
+        options.max_steps = static_cast<int>(n.value());
+    }
+    if (auto it = root.find("max_distance"); it != root.end()) {
+        auto d = read_number(*it, "max_distance");
+        if (!d) return std::move(d.error());
+        if (!(d.value() > 0)) return invalid("max_distance", "max_distance must be > 0");
+        options.max_distance = d.value();
+    }
+    return std::nullopt;
+}
+
+//! "rays": [{"origin": [x, y, z], "direction": [x, y, z]}, ...] (directions non-zero).
+std::optional<ApiError> read_rays(const Json& list, std::vector<implicit::Ray>& rays) {
+    rays.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string path = index_path("rays", i);
+        const Json& r = list[i];
+        if (!r.is_object()) return invalid(path, path + R"( must be {"origin": [x, y, z], "direction": [x, y, z]})");
+        if (auto error = check_members(r, path, {"origin", "direction"})) return error;
+        if (!r.contains("origin")) return invalid(path + ".origin", path + ".origin is required");
+        if (!r.contains("direction")) return invalid(path + ".direction", path + ".direction is required");
+        auto o = read_point(r["origin"], path + ".origin");
+        if (!o) return std::move(o.error());
+        auto d = read_point(r["direction"], path + ".direction");
+        if (!d) return std::move(d.error());
+        const double n = norm(d.value());
+        if (!(n > 0) || !std::isfinite(n))
+            return json::geometry_error(ErrorCode::InvalidArgument, path + ".direction",
+                                        path + ".direction must be a non-zero vector");
+        rays.push_back({o.value(), d.value()});
+    }
+    return std::nullopt;
+}
+
+Json encode_samples(const std::vector<implicit::PointSample>& samples) {
+    Json list = Json::array();
+    for (const auto& s : samples) {
+        Json item = {{"class", implicit::to_string(s.cls)}};
+        item["value"] = std::isfinite(s.value) ? Json(s.value) : Json(nullptr);
+        item["gradient"] = is_finite(s.gradient) ? vec(s.gradient) : Json(nullptr);
+        list.push_back(std::move(item));
+    }
+    return list;
+}
+
+Json encode_hits(const std::vector<implicit::RayHit>& hits) {
+    Json list = Json::array();
+    for (const auto& h : hits) {
+        Json item = {{"hit", h.hit}};
+        if (h.hit) {
+            item["t"] = h.t;
+            item["point"] = vec(h.point);
+            item["normal"] = vec(h.normal);
+        }
+        item["steps"] = h.steps;
+        list.push_back(std::move(item));
+    }
+    return list;
+}
+
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     if (auto error = check_json_only_body(request, limits, "POST /implicit/query"))
@@ -69,25 +142,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                                                " in one request",
                                            point_count > ray_count ? "points" : "rays"));
     implicit::RayOptions ray_options;
-    ray_options.max_steps = std::min(1000, limits.max_ray_steps);
     ray_options.cancel = context.cancel;
-    if (auto it = root.find("max_steps"); it != root.end()) {
-        auto n = read_integer(*it, "max_steps");
-        if (!n) return error_response(std::move(n.error()));
-        if (n.value() < 1) return error_response(invalid("max_steps", "max_steps must be >= 1"));
-        if (n.value() > limits.max_ray_steps)
-            return error_response(make_problem(
-                Problem::BudgetExceeded,
-                "max_steps is " + std::to_string(n.value()) + "; the limit is " + std::to_string(limits.max_ray_steps),
-                "max_steps"));
-        ray_options.max_steps = static_cast<int>(n.value());
-    }
-    if (auto it = root.find("max_distance"); it != root.end()) {
-        auto d = read_number(*it, "max_distance");
-        if (!d) return error_response(std::move(d.error()));
-        if (!(d.value() > 0)) return error_response(invalid("max_distance", "max_distance must be > 0"));
-        ray_options.max_distance = d.value();
-    }
+    if (auto error = read_ray_options(root, limits, ray_options)) return error_response(std::move(*error));
     implicit::PointQueryOptions point_options;
     point_options.cancel = context.cancel;
     if (auto it = root.find("tolerance"); it != root.end()) {
@@ -105,26 +161,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         points.push_back(p.value());
     }
     std::vector<implicit::Ray> rays;
-    rays.reserve(ray_count);
-    for (std::size_t i = 0; i < ray_count; ++i) {
-        const std::string path = index_path("rays", i);
-        const Json& r = (*rays_it)[i];
-        if (!r.is_object())
-            return error_response(invalid(path, path + R"( must be {"origin": [x, y, z], "direction": [x, y, z]})"));
-        if (auto error = check_members(r, path, {"origin", "direction"})) return error_response(std::move(*error));
-        if (!r.contains("origin")) return error_response(invalid(path + ".origin", path + ".origin is required"));
-        if (!r.contains("direction"))
-            return error_response(invalid(path + ".direction", path + ".direction is required"));
-        auto o = read_point(r["origin"], path + ".origin");
-        if (!o) return error_response(std::move(o.error()));
-        auto d = read_point(r["direction"], path + ".direction");
-        if (!d) return error_response(std::move(d.error()));
-        const double n = norm(d.value());
-        if (!(n > 0) || !std::isfinite(n))
-            return error_response(json::geometry_error(ErrorCode::InvalidArgument, path + ".direction",
-                                                       path + ".direction must be a non-zero vector"));
-        rays.push_back({o.value(), d.value()});
-    }
+    if (ray_count > 0)
+        if (auto error = read_rays(*rays_it, rays)) return error_response(std::move(*error));
 
     const auto scene_it = root.find("scene");
     if (scene_it == root.end()) return error_response(invalid("scene", "scene is required (a scene node)"));
@@ -138,14 +176,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     if (points_it != root.end()) {
         auto samples = implicit::query_points(field, points, point_options);
         if (!samples) return error_response(from_geo_error(samples.error()));
-        Json list = Json::array();
-        for (const auto& s : samples.value()) {
-            Json item = {{"class", implicit::to_string(s.cls)}};
-            item["value"] = std::isfinite(s.value) ? Json(s.value) : Json(nullptr);
-            item["gradient"] = is_finite(s.gradient) ? vec(s.gradient) : Json(nullptr);
-            list.push_back(std::move(item));
-        }
-        out["points"] = std::move(list);
+        out["points"] = encode_samples(samples.value());
     }
     if (rays_it != root.end()) {
         auto hits = implicit::cast_rays(field, rays, ray_options);
@@ -155,18 +186,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                 error.field = index_path("rays", static_cast<std::size_t>(hits.error().element));
             return error_response(std::move(error));
         }
-        Json list = Json::array();
-        for (const auto& h : hits.value()) {
-            Json item = {{"hit", h.hit}};
-            if (h.hit) {
-                item["t"] = h.t;
-                item["point"] = vec(h.point);
-                item["normal"] = vec(h.normal);
-            }
-            item["steps"] = h.steps;
-            list.push_back(std::move(item));
-        }
-        out["rays"] = std::move(list);
+        out["rays"] = encode_hits(hits.value());
     }
     ApiResponse response;
     response.content_type = "application/json";

@@ -265,107 +265,126 @@ std::string encode_json(const PointCloud& cloud, double elapsed_ms) {
     return out.dump();
 }
 
-ApiResponse run(const ApiRequest& request, const ApiContext& context) {
-    const Limits& limits = context.limits;
-    const auto t_start = Clock::now();
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error_response(std::move(*error));
-
+//! A decoded request: where the options came from, the options, the cloud, and how many points the request sent.
+struct Decoded {
     Source source = Source::File;
     Params params;
     PointCloud cloud;
     std::size_t input_points = 0;
-    if (media_type == "application/json") {
-        source = Source::Json;
-        if (auto error = reject_query_with_json(request)) return error_response(std::move(*error));
-        Json root;
-        if (auto error = parse(request.body, root)) return error_response(std::move(*error));
-        if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
-        if (auto error =
-                check_members(root, "", {"points", "normals", "colors", "sample", "estimate_normals", "output"}))
-            return error_response(std::move(*error));
-        auto decoded_params = params_from_json(root);
-        if (!decoded_params) return error_response(std::move(decoded_params.error()));
-        params = std::move(decoded_params.value());
-        if (auto error = check_output(params.output, source)) return error_response(std::move(*error));
-        const bool has_points = root.contains("points"), has_sample = root.contains("sample");
-        if (has_points == has_sample)
-            return error_response(invalid("points", "give exactly one of \"points\" and \"sample\""));
-        if (has_sample && (root.contains("normals") || root.contains("colors")))
-            return error_response(invalid(root.contains("normals") ? "normals" : "colors",
-                                          "normals and colors go with \"points\", not with \"sample\""));
-        auto points = has_points ? decode_points(root, limits) : run_sampling(root["sample"], context);
-        if (!points) return error_response(std::move(points.error()));
-        cloud = std::move(points.value());
-        input_points = has_points ? cloud.size() : 0;
-    } else {
-        std::optional<PointFormat> format = point_format_from_media_type(media_type);
-        if (!format && (media_type == "application/octet-stream" || media_type == "text/plain"))
-            format = sniff_point_format(request.body);
-        if (!format)
-            return error_response(make_problem(
-                Problem::UnsupportedMediaType,
-                media_type == "application/octet-stream" || media_type == "text/plain"
-                    ? "could not recognise the point format from the content; send Content-Type application/json, "
-                      "application/ply, model/obj or text/x-xyz"
-                    : "Content-Type \"" + media_type +
-                          "\" is not accepted; accepted: application/json, application/ply, model/obj, text/x-xyz, "
-                          "application/octet-stream or text/plain (sniffed)"));
-        auto query_params = params_from_query(request.query);
-        if (!query_params) return error_response(std::move(query_params.error()));
-        params = std::move(query_params.value());
-        if (auto error = check_output(params.output, source)) return error_response(std::move(*error));
-        PointReadOptions read_options;
-        read_options.max_points = static_cast<std::size_t>(limits.max_points);
-        auto read = read_points(request.body, *format, read_options);
-        if (!read) return error_response(point_error(read.error(), source));
-        cloud = std::move(read.value());
-        input_points = cloud.size();
+};
+
+//! A JSON body: {"points": ..., "normals", "colors"} or {"sample": ...} (sampled here), plus the options.
+std::optional<ApiError> decode_json_request(const ApiRequest& request, const ApiContext& context, Decoded& d) {
+    d.source = Source::Json;
+    if (auto error = reject_query_with_json(request)) return error;
+    Json root;
+    if (auto error = parse(request.body, root)) return error;
+    if (!root.is_object()) return invalid("", "the body must be a JSON object");
+    if (auto error = check_members(root, "", {"points", "normals", "colors", "sample", "estimate_normals", "output"}))
+        return error;
+    auto decoded_params = params_from_json(root);
+    if (!decoded_params) return std::move(decoded_params.error());
+    d.params = std::move(decoded_params.value());
+    if (auto error = check_output(d.params.output, d.source)) return error;
+    const bool has_points = root.contains("points"), has_sample = root.contains("sample");
+    if (has_points == has_sample) return invalid("points", "give exactly one of \"points\" and \"sample\"");
+    if (has_sample && (root.contains("normals") || root.contains("colors")))
+        return invalid(root.contains("normals") ? "normals" : "colors",
+                       "normals and colors go with \"points\", not with \"sample\"");
+    auto points = has_points ? decode_points(root, context.limits) : run_sampling(root["sample"], context);
+    if (!points) return std::move(points.error());
+    d.cloud = std::move(points.value());
+    d.input_points = has_points ? d.cloud.size() : 0;
+    return std::nullopt;
+}
+
+//! A point file as the body (PLY, OBJ, XYZ, or sniffed), options in the query.
+std::optional<ApiError> decode_file_request(const ApiRequest& request, const ApiContext& context,
+                                            const std::string& media_type, Decoded& d) {
+    std::optional<PointFormat> format = point_format_from_media_type(media_type);
+    if (!format && (media_type == "application/octet-stream" || media_type == "text/plain"))
+        format = sniff_point_format(request.body);
+    if (!format)
+        return make_problem(Problem::UnsupportedMediaType,
+                            media_type == "application/octet-stream" || media_type == "text/plain"
+                                ? "could not recognise the point format from the content; send Content-Type "
+                                  "application/json, application/ply, model/obj or text/x-xyz"
+                                : "Content-Type \"" + media_type +
+                                      "\" is not accepted; accepted: application/json, application/ply, model/obj, "
+                                      "text/x-xyz, application/octet-stream or text/plain (sniffed)");
+    auto query_params = params_from_query(request.query);
+    if (!query_params) return std::move(query_params.error());
+    d.params = std::move(query_params.value());
+    if (auto error = check_output(d.params.output, d.source)) return error;
+    PointReadOptions read_options;
+    read_options.max_points = static_cast<std::size_t>(context.limits.max_points);
+    auto read = read_points(request.body, *format, read_options);
+    if (!read) return point_error(read.error(), d.source);
+    d.cloud = std::move(read.value());
+    d.input_points = d.cloud.size();
+    return std::nullopt;
+}
+
+//! Normal estimation and orientation with k neighbours, after the budget on points x k.
+std::optional<ApiError> run_normal_estimation(Decoded& d, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    // Orientation keeps the kNN graph (~12 bytes an edge): bound points x k like max_points x the default k.
+    const std::uint64_t edges = static_cast<std::uint64_t>(d.cloud.size()) * static_cast<std::uint64_t>(*d.params.k);
+    if (edges > limits.max_points * static_cast<std::uint64_t>(kDefaultK))
+        return make_problem(
+            Problem::BudgetExceeded,
+            "normal estimation for " + std::to_string(d.cloud.size()) + " points with k = " +
+                std::to_string(*d.params.k) + " needs " + std::to_string(edges) + " neighbour links; the limit is " +
+                std::to_string(limits.max_points * static_cast<std::uint64_t>(kDefaultK)) + " (points x k)",
+            d.source == Source::Json ? "estimate_normals.k" : "k");
+    NormalEstimationOptions options;
+    options.k = static_cast<std::size_t>(*d.params.k);
+    options.cancel = context.cancel;
+    if (Status s = estimate_normals(d.cloud, options); !s) {
+        ApiError error = point_error(s.error(), d.source);
+        if (s.error().code == ErrorCode::InvalidArgument && !error.field && d.source == Source::Json)
+            error.field = "estimate_normals";
+        return error;
     }
+    return std::nullopt;
+}
+
+ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+    const auto t_start = Clock::now();
+    std::string media_type;
+    if (auto error = check_body(request, context.limits, media_type)) return error_response(std::move(*error));
+
+    Decoded d;
+    auto decode_error = media_type == "application/json" ? decode_json_request(request, context, d)
+                                                         : decode_file_request(request, context, media_type, d);
+    if (decode_error) return error_response(std::move(*decode_error));
     const auto t_decoded = Clock::now();
 
-    if (params.k) {
-        // Orientation keeps the kNN graph (~12 bytes an edge): bound points x k like max_points x the default k.
-        const std::uint64_t edges = static_cast<std::uint64_t>(cloud.size()) * static_cast<std::uint64_t>(*params.k);
-        if (edges > limits.max_points * static_cast<std::uint64_t>(kDefaultK))
-            return error_response(make_problem(
-                Problem::BudgetExceeded,
-                "normal estimation for " + std::to_string(cloud.size()) + " points with k = " +
-                    std::to_string(*params.k) + " needs " + std::to_string(edges) + " neighbour links; the limit is " +
-                    std::to_string(limits.max_points * static_cast<std::uint64_t>(kDefaultK)) + " (points x k)",
-                source == Source::Json ? "estimate_normals.k" : "k"));
-        NormalEstimationOptions options;
-        options.k = static_cast<std::size_t>(*params.k);
-        options.cancel = context.cancel;
-        if (Status s = estimate_normals(cloud, options); !s) {
-            ApiError error = point_error(s.error(), source);
-            if (s.error().code == ErrorCode::InvalidArgument && !error.field && source == Source::Json)
-                error.field = "estimate_normals";
-            return error_response(std::move(error));
-        }
-    }
-    if (Status s = validate(cloud); !s) return error_response(point_error(s.error(), source));
+    if (d.params.k)
+        if (auto error = run_normal_estimation(d, context)) return error_response(std::move(*error));
+    if (Status s = validate(d.cloud); !s) return error_response(point_error(s.error(), d.source));
     const auto t_computed = Clock::now();
 
-    if (!params.output.normals.value_or(true)) cloud.normals.clear();  // "normals": false leaves them out
+    PointCloud& cloud = d.cloud;
+    const OutputOptions& output = d.params.output;
+    if (!output.normals.value_or(true)) cloud.normals.clear();  // "normals": false leaves them out
     ApiResponse response;
-    response.content_type = std::string(output_media_type(params.output.format));
-    if (params.output.format == OutputFormat::Json) {
+    response.content_type = std::string(output_media_type(output.format));
+    if (output.format == OutputFormat::Json) {
         response.body = encode_json(cloud, ms_between(t_start, t_computed));
-    } else if (params.output.format == OutputFormat::Ply) {
+    } else if (output.format == OutputFormat::Ply) {
         response.body = write_ply_points(cloud);
     } else {
         PointGlbOptions options;
-        options.draco = params.output.draco.value_or(true);
-        if (params.output.quantize_position)
-            options.quantize_position = static_cast<int>(*params.output.quantize_position);
+        options.draco = output.draco.value_or(true);
+        if (output.quantize_position) options.quantize_position = static_cast<int>(*output.quantize_position);
         auto glb = write_points_glb(cloud, options);
-        if (!glb) return error_response(point_error(glb.error(), source));
+        if (!glb) return error_response(point_error(glb.error(), d.source));
         response.body = std::move(glb.value());
     }
     const auto t_encoded = Clock::now();
     response.headers = {
-        {"X-Input-Points", std::to_string(input_points)},
+        {"X-Input-Points", std::to_string(d.input_points)},
         {"X-Output-Points", std::to_string(cloud.size())},
         {"X-Normals", cloud.has_normals() ? "true" : "false"},
         {"X-Colors", cloud.has_colors() ? "true" : "false"},

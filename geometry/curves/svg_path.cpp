@@ -254,6 +254,8 @@ private:
         previous_ = Previous::Other;
     }
 
+    // One case per SVG path command (M L H V C S Q T A Z, absolute and relative): kept whole so that the grammar
+    // reads as the specification's table does.
     std::optional<GeoError> one_command(char command, bool first) {
         const std::size_t at = pos_;
         const bool relative = command >= 'a' && command <= 'z';

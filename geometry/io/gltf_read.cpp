@@ -751,18 +751,18 @@ Result<std::vector<std::uint32_t>> triangles_of(int mode, std::vector<std::uint3
     return out;
 }
 
-Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, const Mat4& world, std::size_t mesh_index,
-                     std::size_t prim_index) {
-    const std::string where =
-        "meshes[" + std::to_string(mesh_index) + "].primitives[" + std::to_string(prim_index) + "]";
-    const auto pos_it = prim.attributes.find("POSITION");
-    if (pos_it == prim.attributes.end()) return parse_error("glTF " + where + " has no POSITION", kJsonOffset);
-    const auto uv_it = prim.attributes.find("TEXCOORD_0");
-    const bool has_uv = uv_it != prim.attributes.end();
-    const ReadOptions& limits = reader.options;
+//! One primitive's vertex data as decoded, before transforming and welding: xyz, uv (empty when absent) and
+//! triangle corners.
+struct PrimitiveData {
+    std::vector<double> positions, texcoords;
+    std::vector<std::uint32_t> indices;
+};
 
-    // Limits on what the accessors announce, before anything is decoded or allocated.
-    const std::uint64_t announced = reader.doc.accessors[static_cast<std::size_t>(pos_it->second)].count;
+//! Limits on what the accessors announce, before anything is decoded or allocated.
+Status check_announced_counts(const Reader& reader, const Builder& b, const Primitive& prim, int position_accessor,
+                              const std::string& where) {
+    const ReadOptions& limits = reader.options;
+    const std::uint64_t announced = reader.doc.accessors[static_cast<std::size_t>(position_accessor)].count;
     if (announced > limits.max_vertices || b.mesh.positions.size() > limits.max_vertices - announced)
         return make_error(ErrorCode::BudgetExceeded, where + ": " + std::to_string(announced) +
                                                          " more vertices exceed the limit of " +
@@ -773,71 +773,71 @@ Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, co
         return make_error(ErrorCode::BudgetExceeded, where + ": " + std::to_string(announced_corners / 3) +
                                                          " more triangles exceed the limit of " +
                                                          std::to_string(limits.max_faces));
+    return Ok{};
+}
 
-    std::vector<double> positions, texcoords;
-    std::vector<std::uint32_t> indices;
-    if (prim.draco) {
-        const DracoPrimitive& draco = *prim.draco;
-        draco_codec::AttributeIds ids;
-        const auto pos_id = draco.attributes.find("POSITION");
-        if (pos_id == draco.attributes.end())
-            return parse_error("glTF " + where + ": " + kDracoExtension + " has no POSITION attribute", kJsonOffset);
-        ids.position = pos_id->second;
-        if (const auto uv_id = draco.attributes.find("TEXCOORD_0"); has_uv && uv_id != draco.attributes.end())
-            ids.texcoord = uv_id->second;
-        const auto bytes = reader.doc.views[static_cast<std::size_t>(draco.buffer_view)].bytes;
-        const draco_codec::DecodeLimits decode_limits{limits.max_vertices - b.mesh.positions.size(),
-                                                      limits.max_faces - b.mesh.face_count()};
-        auto decoded = draco_codec::decode({bytes.data(), bytes.size()}, ids, decode_limits);
-        if (!decoded) {
-            GeoError e = decoded.error();
-            e.message = where + ": " + e.message;
-            return e;
-        }
-        positions.assign(decoded->positions.begin(), decoded->positions.end());
-        texcoords.assign(decoded->texcoords.begin(), decoded->texcoords.end());
-        indices = std::move(decoded->indices);
-    } else {
-        auto p = reader.read_floats(pos_it->second, 3, "POSITION");
-        if (!p) return p.error();
-        positions = std::move(*p);
-        if (has_uv) {
-            auto t = reader.read_floats(uv_it->second, 2, "TEXCOORD_0");
-            if (!t) return t.error();
-            texcoords = std::move(*t);
-            if (texcoords.size() / 2 != positions.size() / 3)
-                return parse_error("glTF " + where + ": TEXCOORD_0 and POSITION counts differ", kJsonOffset);
-        }
-        std::vector<std::uint32_t> corners;
-        if (prim.indices >= 0) {
-            auto i = reader.read_indices(prim.indices);
-            if (!i) return i.error();
-            corners = std::move(*i);
-        } else {
-            // No indices: vertices are used in order.
-            corners.resize(positions.size() / 3);
-            for (std::size_t k = 0; k < corners.size(); ++k) corners[k] = static_cast<std::uint32_t>(k);
-        }
-        auto tris = triangles_of(prim.mode, std::move(corners), where);
-        if (!tris) return tris.error();
-        indices = std::move(*tris);
+//! A KHR_draco_mesh_compression primitive: its buffer view decoded by Draco (within the limits left).
+Status decode_draco_primitive(const Reader& reader, const Builder& b, const DracoPrimitive& draco, bool has_uv,
+                              const std::string& where, PrimitiveData& out) {
+    const ReadOptions& limits = reader.options;
+    draco_codec::AttributeIds ids;
+    const auto pos_id = draco.attributes.find("POSITION");
+    if (pos_id == draco.attributes.end())
+        return parse_error("glTF " + where + ": " + kDracoExtension + " has no POSITION attribute", kJsonOffset);
+    ids.position = pos_id->second;
+    if (const auto uv_id = draco.attributes.find("TEXCOORD_0"); has_uv && uv_id != draco.attributes.end())
+        ids.texcoord = uv_id->second;
+    const auto bytes = reader.doc.views[static_cast<std::size_t>(draco.buffer_view)].bytes;
+    const draco_codec::DecodeLimits decode_limits{limits.max_vertices - b.mesh.positions.size(),
+                                                  limits.max_faces - b.mesh.face_count()};
+    auto decoded = draco_codec::decode({bytes.data(), bytes.size()}, ids, decode_limits);
+    if (!decoded) {
+        GeoError e = decoded.error();
+        e.message = where + ": " + e.message;
+        return e;
     }
-    // Strips and fans make up to one triangle per index: check the real count too.
-    if (indices.size() / 3 > limits.max_faces - b.mesh.face_count())
-        return make_error(ErrorCode::BudgetExceeded, where + ": " + std::to_string(indices.size() / 3) +
-                                                         " more triangles exceed the limit of " +
-                                                         std::to_string(limits.max_faces));
-    if (texcoords.empty()) b.all_have_uvs = false;
-    for (std::size_t k = 0; k < texcoords.size(); ++k)
-        if (!std::isfinite(texcoords[k]))
-            return make_error(ErrorCode::NonFinite,
-                              where + ": TEXCOORD_0 of vertex " + std::to_string(k / 2) + " is not finite");
-    const std::size_t count = positions.size() / 3;
+    out.positions.assign(decoded->positions.begin(), decoded->positions.end());
+    out.texcoords.assign(decoded->texcoords.begin(), decoded->texcoords.end());
+    out.indices = std::move(decoded->indices);
+    return Ok{};
+}
 
-    // transform and weld
+//! A plain primitive: POSITION, TEXCOORD_0 and indices read from their accessors, strips and fans made triangles.
+Status read_accessor_primitive(const Reader& reader, const Primitive& prim, int position_accessor,
+                               std::optional<int> uv_accessor, const std::string& where, PrimitiveData& out) {
+    auto p = reader.read_floats(position_accessor, 3, "POSITION");
+    if (!p) return p.error();
+    out.positions = std::move(*p);
+    if (uv_accessor) {
+        auto t = reader.read_floats(*uv_accessor, 2, "TEXCOORD_0");
+        if (!t) return t.error();
+        out.texcoords = std::move(*t);
+        if (out.texcoords.size() / 2 != out.positions.size() / 3)
+            return parse_error("glTF " + where + ": TEXCOORD_0 and POSITION counts differ", kJsonOffset);
+    }
+    std::vector<std::uint32_t> corners;
+    if (prim.indices >= 0) {
+        auto i = reader.read_indices(prim.indices);
+        if (!i) return i.error();
+        corners = std::move(*i);
+    } else {
+        // No indices: vertices are used in order.
+        corners.resize(out.positions.size() / 3);
+        for (std::size_t k = 0; k < corners.size(); ++k) corners[k] = static_cast<std::uint32_t>(k);
+    }
+    auto tris = triangles_of(prim.mode, std::move(corners), where);
+    if (!tris) return tris.error();
+    out.indices = std::move(*tris);
+    return Ok{};
+}
+
+//! The primitive's vertices transformed by `world` and welded into the mesh being built, its triangles added (with
+//! the winding flipped under a mirroring transform) and their corner uvs kept for finish_uvs().
+Status append_primitive(Builder& b, const PrimitiveData& data, const Mat4& world, const std::string& where) {
+    const std::size_t count = data.positions.size() / 3;
     std::vector<Index> remap(count);
     for (std::size_t v = 0; v < count; ++v) {
-        const double x = positions[3 * v], y = positions[3 * v + 1], z = positions[3 * v + 2];
+        const double x = data.positions[3 * v], y = data.positions[3 * v + 1], z = data.positions[3 * v + 2];
         const Vec3 p{world[0] * x + world[4] * y + world[8] * z + world[12],
                      world[1] * x + world[5] * y + world[9] * z + world[13],
                      world[2] * x + world[6] * y + world[10] * z + world[14]};
@@ -851,8 +851,9 @@ Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, co
 
     // A mirroring transform turns the triangles inside out; glTF says to flip the winding then.
     const bool flip = determinant3(world) < 0;
-    for (std::size_t t = 0; t < indices.size() / 3; ++t) {
-        std::array<std::uint32_t, 3> c{indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]};
+    const std::vector<double>& uv = data.texcoords;
+    for (std::size_t t = 0; t < data.indices.size() / 3; ++t) {
+        std::array<std::uint32_t, 3> c{data.indices[3 * t], data.indices[3 * t + 1], data.indices[3 * t + 2]};
         for (std::uint32_t v : c)
             if (v >= count)
                 return make_error(ErrorCode::IndexOutOfRange,
@@ -863,10 +864,39 @@ Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, co
         const Index a = remap[c[0]], bb = remap[c[1]], cc = remap[c[2]];
         if (a == bb || bb == cc || a == cc) continue;  // collapsed by welding: no longer a polygon
         b.mesh.add_face({a, bb, cc});
-        for (std::uint32_t v : c)
-            b.uvs.push_back(texcoords.empty() ? Vec2{} : Vec2{texcoords[2 * v], 1.0 - texcoords[2 * v + 1]});
+        for (std::uint32_t v : c) b.uvs.push_back(uv.empty() ? Vec2{} : Vec2{uv[2 * v], 1.0 - uv[2 * v + 1]});
     }
     return Ok{};
+}
+
+Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, const Mat4& world, std::size_t mesh_index,
+                     std::size_t prim_index) {
+    const std::string where =
+        "meshes[" + std::to_string(mesh_index) + "].primitives[" + std::to_string(prim_index) + "]";
+    const auto pos_it = prim.attributes.find("POSITION");
+    if (pos_it == prim.attributes.end()) return parse_error("glTF " + where + " has no POSITION", kJsonOffset);
+    const auto uv_it = prim.attributes.find("TEXCOORD_0");
+    const bool has_uv = uv_it != prim.attributes.end();
+    const ReadOptions& limits = reader.options;
+    if (auto status = check_announced_counts(reader, b, prim, pos_it->second, where); !status) return status;
+
+    PrimitiveData data;
+    Status decoded =
+        prim.draco ? decode_draco_primitive(reader, b, *prim.draco, has_uv, where, data)
+                   : read_accessor_primitive(reader, prim, pos_it->second,
+                                             has_uv ? std::optional<int>(uv_it->second) : std::nullopt, where, data);
+    if (!decoded) return decoded;
+    // Strips and fans make up to one triangle per index: check the real count too.
+    if (data.indices.size() / 3 > limits.max_faces - b.mesh.face_count())
+        return make_error(ErrorCode::BudgetExceeded, where + ": " + std::to_string(data.indices.size() / 3) +
+                                                         " more triangles exceed the limit of " +
+                                                         std::to_string(limits.max_faces));
+    if (data.texcoords.empty()) b.all_have_uvs = false;
+    for (std::size_t k = 0; k < data.texcoords.size(); ++k)
+        if (!std::isfinite(data.texcoords[k]))
+            return make_error(ErrorCode::NonFinite,
+                              where + ": TEXCOORD_0 of vertex " + std::to_string(k / 2) + " is not finite");
+    return append_primitive(b, data, world, where);
 }
 
 //! Face-varying uvs with exact duplicates shared (the per-corner list would repeat every seam-free vertex).

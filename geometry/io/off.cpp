@@ -39,8 +39,17 @@ public:
         auto start = io_detail::check_text_encoding(text_);
         if (!start) return start.error();
         io_detail::TokenReader tokens(text_, *start, '#');
+        std::uint64_t nv = 0, nf = 0;
+        if (auto error = read_counts(tokens, nv, nf)) return std::move(*error);
+        if (auto error = read_vertices(tokens, nv)) return std::move(*error);
+        if (auto error = read_faces(tokens, nf)) return std::move(*error);
+        return std::move(mesh_);
+    }
 
-        // header keyword (optional in the format: a file may start with the counts)
+private:
+    //! The header keyword (optional in the format: a file may start with the counts) and "vertices faces [edges]",
+    //! checked against the bytes that follow and the budgets before anything is reserved.
+    std::optional<GeoError> read_counts(io_detail::TokenReader& tokens, std::uint64_t& nv, std::uint64_t& nf) {
         std::string_view token;
         if (!tokens.next(token)) return make_error(ErrorCode::ParseError, "empty file (only comments or whitespace)");
         const HeaderKind kind = classify_header(token);
@@ -60,7 +69,6 @@ public:
             have_token = true;  // counts on the header line
         }
 
-        // counts: vertices faces [edges]
         std::int64_t counts[2] = {0, 0};
         const char* names[2] = {"vertex count", "face count"};
         for (int i = 0; i < 2; ++i) {
@@ -75,8 +83,8 @@ public:
         }
         const std::int64_t header_line = tokens.line();
         tokens.skip_line();  // the edge count, which nothing uses
-        const auto nv = static_cast<std::uint64_t>(counts[0]);
-        const auto nf = static_cast<std::uint64_t>(counts[1]);
+        nv = static_cast<std::uint64_t>(counts[0]);
+        nf = static_cast<std::uint64_t>(counts[1]);
         if (nf == 0) return error_at_line(ErrorCode::ParseError, header_line, "no faces (header declares 0)");
         // Every vertex needs at least "x y z" plus a separator (6 bytes) and every face "3 a b c" (8); a header
         // that promises more than the bytes can hold is rejected before anything is reserved (and before the
@@ -97,7 +105,12 @@ public:
         mesh_.positions.reserve(nv);
         mesh_.face_offsets.reserve(nf + 1);
         mesh_.face_indices.reserve(io_detail::bounded_reserve(nf * 4, remaining / 2));
+        return std::nullopt;
+    }
 
+    //! nv lines "x y z [colour, normal, texture coordinate]".
+    std::optional<GeoError> read_vertices(io_detail::TokenReader& tokens, std::uint64_t nv) {
+        std::string_view token;
         for (std::uint64_t v = 0; v < nv; ++v) {
             Vec3 p;
             for (int i = 0; i < 3; ++i) {
@@ -115,7 +128,13 @@ public:
             tokens.skip_line();  // colour, normal, texture coordinate
             mesh_.positions.push_back(p);
         }
+        return std::nullopt;
+    }
 
+    //! nf lines "n i_1 ... i_n [colour]", each face's indices on its own line.
+    std::optional<GeoError> read_faces(io_detail::TokenReader& tokens, std::uint64_t nf) {
+        const std::uint64_t nv = mesh_.positions.size();
+        std::string_view token;
         std::vector<Index> face, scratch;
         for (std::uint64_t f = 0; f < nf; ++f) {
             std::int64_t n = 0;
@@ -162,10 +181,9 @@ public:
             tokens.skip_line();  // optional face colour
             mesh_.add_face(face);
         }
-        return std::move(mesh_);
+        return std::nullopt;
     }
 
-private:
     std::string_view text_;
     const ReadOptions& options_;
     PolygonMesh mesh_;

@@ -144,7 +144,8 @@ protected:
     std::size_t pos_ = 0;
 };
 
-inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions& options) {
+//! Where the header starts (after a UTF-8 byte order mark), or the error for a file that is empty or UTF-16.
+inline Result<std::size_t> header_start(std::string_view bytes) {
     if (bytes.empty()) return make_error(ErrorCode::ParseError, "empty file", -1, 0);
     if (bytes.size() >= 2 &&
         ((static_cast<unsigned char>(bytes[0]) == 0xff && static_cast<unsigned char>(bytes[1]) == 0xfe) ||
@@ -158,93 +159,82 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
         return make_error(ErrorCode::ParseError,
                           "UTF-16 is not supported (NUL byte in the header): save the file as UTF-8", 1,
                           static_cast<std::int64_t>(start));
+    return start;
+}
 
-    io_detail::LineReader lines(bytes, start);
-    std::string_view line;
-    if (!lines.next(line) || line != "ply")
-        return error_at_line(ErrorCode::ParseError, 1, "not a PLY file (the first line must be 'ply')");
+//! `format ENCODING VERSION` (the keyword already read).
+inline std::optional<GeoError> parse_format_line(io_detail::Tokens& tokens, std::int64_t at, PlyHeader& header) {
+    std::string_view name, version;
+    if (!tokens.next(name) || !tokens.next(version))
+        return error_at_line(ErrorCode::ParseError, at, "format line needs an encoding and a version");
+    if (name == "ascii")
+        header.encoding = PlyEncodingIn::Ascii;
+    else if (name == "binary_little_endian")
+        header.encoding = PlyEncodingIn::BinaryLittleEndian;
+    else if (name == "binary_big_endian")
+        header.encoding = PlyEncodingIn::BinaryBigEndian;
+    else
+        return error_at_line(ErrorCode::ParseError, at, "unknown PLY format " + quote(name));
+    if (!version.starts_with("1"))
+        return error_at_line(ErrorCode::Unsupported, at, "PLY version " + quote(version) + " is not supported");
+    return std::nullopt;
+}
 
-    PlyHeader header;
-    bool have_format = false;
-    while (true) {
-        if (!lines.next(line))
-            return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no end_header line");
-        const std::int64_t at = lines.line_number();
-        if (line.find('\0') != std::string_view::npos)
-            return error_at_line(ErrorCode::ParseError, at, "NUL byte in the header");
-        io_detail::Tokens tokens(line);
-        std::string_view keyword;
-        if (!tokens.next(keyword)) continue;
-        if (keyword == "comment" || keyword == "obj_info") continue;
-        if (keyword == "end_header") break;
-        if (keyword == "format") {
-            std::string_view name, version;
-            if (!tokens.next(name) || !tokens.next(version))
-                return error_at_line(ErrorCode::ParseError, at, "format line needs an encoding and a version");
-            if (name == "ascii")
-                header.encoding = PlyEncodingIn::Ascii;
-            else if (name == "binary_little_endian")
-                header.encoding = PlyEncodingIn::BinaryLittleEndian;
-            else if (name == "binary_big_endian")
-                header.encoding = PlyEncodingIn::BinaryBigEndian;
-            else
-                return error_at_line(ErrorCode::ParseError, at, "unknown PLY format " + quote(name));
-            if (!version.starts_with("1"))
-                return error_at_line(ErrorCode::Unsupported, at, "PLY version " + quote(version) + " is not supported");
-            have_format = true;
-        } else if (keyword == "element") {
-            PlyElement element;
-            std::string_view count;
-            std::int64_t n = 0;
-            if (!tokens.next(element.name) || !tokens.next(count))
-                return error_at_line(ErrorCode::ParseError, at, "element line needs a name and a count");
-            if (io_detail::parse_int(count, n) != NumberStatus::Ok || n < 0)
-                return error_at_line(ErrorCode::ParseError, at,
-                                     "element count " + quote(count) + " is not a non-negative integer");
-            element.count = static_cast<std::uint64_t>(n);
-            element.line = at;
-            for (const auto& other : header.elements)
-                if (other.name == element.name)
-                    return error_at_line(ErrorCode::ParseError, at,
-                                         "element " + quote(element.name) + " declared twice");
-            header.elements.push_back(element);
-        } else if (keyword == "property") {
-            if (header.elements.empty()) return error_at_line(ErrorCode::ParseError, at, "property before any element");
-            PlyProperty property;
-            std::string_view type;
-            if (!tokens.next(type)) return error_at_line(ErrorCode::ParseError, at, "property line has no type");
-            if (type == "list") {
-                std::string_view count_type, item_type;
-                if (!tokens.next(count_type) || !tokens.next(item_type) || !tokens.next(property.name))
-                    return error_at_line(ErrorCode::ParseError, at,
-                                         "list property needs a count type, an item type and a name");
-                auto ct = parse_type(count_type);
-                auto it = parse_type(item_type);
-                if (!ct) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(count_type));
-                if (!it) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(item_type));
-                if (!is_integer(*ct))
-                    return error_at_line(ErrorCode::ParseError, at,
-                                         "list count type " + quote(count_type) + " is not an integer type");
-                property.is_list = true;
-                property.count_type = *ct;
-                property.type = *it;
-            } else {
-                auto t = parse_type(type);
-                if (!t) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(type));
-                if (!tokens.next(property.name))
-                    return error_at_line(ErrorCode::ParseError, at, "property has no name");
-                property.type = *t;
-            }
-            header.elements.back().properties.push_back(property);
-        } else {
-            return error_at_line(ErrorCode::ParseError, at, "unexpected " + quote(keyword) + " in the PLY header");
-        }
+//! `element NAME COUNT` (the keyword already read).
+inline std::optional<GeoError> parse_element_line(io_detail::Tokens& tokens, std::int64_t at, PlyHeader& header) {
+    PlyElement element;
+    std::string_view count;
+    std::int64_t n = 0;
+    if (!tokens.next(element.name) || !tokens.next(count))
+        return error_at_line(ErrorCode::ParseError, at, "element line needs a name and a count");
+    if (io_detail::parse_int(count, n) != NumberStatus::Ok || n < 0)
+        return error_at_line(ErrorCode::ParseError, at,
+                             "element count " + quote(count) + " is not a non-negative integer");
+    element.count = static_cast<std::uint64_t>(n);
+    element.line = at;
+    for (const auto& other : header.elements)
+        if (other.name == element.name)
+            return error_at_line(ErrorCode::ParseError, at, "element " + quote(element.name) + " declared twice");
+    header.elements.push_back(element);
+    return std::nullopt;
+}
+
+//! `property TYPE NAME` or `property list COUNT_TYPE ITEM_TYPE NAME` (the keyword already read), added to the last
+//! element.
+inline std::optional<GeoError> parse_property_line(io_detail::Tokens& tokens, std::int64_t at, PlyHeader& header) {
+    if (header.elements.empty()) return error_at_line(ErrorCode::ParseError, at, "property before any element");
+    PlyProperty property;
+    std::string_view type;
+    if (!tokens.next(type)) return error_at_line(ErrorCode::ParseError, at, "property line has no type");
+    if (type == "list") {
+        std::string_view count_type, item_type;
+        if (!tokens.next(count_type) || !tokens.next(item_type) || !tokens.next(property.name))
+            return error_at_line(ErrorCode::ParseError, at,
+                                 "list property needs a count type, an item type and a name");
+        auto ct = parse_type(count_type);
+        auto it = parse_type(item_type);
+        if (!ct) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(count_type));
+        if (!it) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(item_type));
+        if (!is_integer(*ct))
+            return error_at_line(ErrorCode::ParseError, at,
+                                 "list count type " + quote(count_type) + " is not an integer type");
+        property.is_list = true;
+        property.count_type = *ct;
+        property.type = *it;
+    } else {
+        auto t = parse_type(type);
+        if (!t) return error_at_line(ErrorCode::ParseError, at, "unknown property type " + quote(type));
+        if (!tokens.next(property.name)) return error_at_line(ErrorCode::ParseError, at, "property has no name");
+        property.type = *t;
     }
-    if (!have_format) return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no format line");
-    header.body_offset = lines.position();
-    header.body_line = lines.line_number() + 1;
+    header.elements.back().properties.push_back(property);
+    return std::nullopt;
+}
 
-    // Check each element against the limits and the bytes that follow the header, before anything is reserved.
+//! Checks each element against the bytes that follow the header and against the limits, before anything is
+//! reserved: a header cannot promise more items than the body can hold.
+inline std::optional<GeoError> check_element_sizes(const PlyHeader& header, std::string_view bytes,
+                                                   const ReadOptions& options) {
     const std::uint64_t remaining = bytes.size() - header.body_offset;
     std::uint64_t needed = 0;
     for (const PlyElement& e : header.elements) {
@@ -281,6 +271,48 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
                                  "header declares " + std::to_string(e.count) + " faces, more than max_faces (" +
                                      std::to_string(options.max_faces) + ")");
     }
+    return std::nullopt;
+}
+
+inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions& options) {
+    auto start = header_start(bytes);
+    if (!start.ok()) return start.error();
+
+    io_detail::LineReader lines(bytes, *start);
+    std::string_view line;
+    if (!lines.next(line) || line != "ply")
+        return error_at_line(ErrorCode::ParseError, 1, "not a PLY file (the first line must be 'ply')");
+
+    PlyHeader header;
+    bool have_format = false;
+    while (true) {
+        if (!lines.next(line))
+            return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no end_header line");
+        const std::int64_t at = lines.line_number();
+        if (line.find('\0') != std::string_view::npos)
+            return error_at_line(ErrorCode::ParseError, at, "NUL byte in the header");
+        io_detail::Tokens tokens(line);
+        std::string_view keyword;
+        if (!tokens.next(keyword)) continue;
+        if (keyword == "comment" || keyword == "obj_info") continue;
+        if (keyword == "end_header") break;
+        std::optional<GeoError> error;
+        if (keyword == "format") {
+            error = parse_format_line(tokens, at, header);
+            have_format = true;
+        } else if (keyword == "element") {
+            error = parse_element_line(tokens, at, header);
+        } else if (keyword == "property") {
+            error = parse_property_line(tokens, at, header);
+        } else {
+            error = error_at_line(ErrorCode::ParseError, at, "unexpected " + quote(keyword) + " in the PLY header");
+        }
+        if (error) return std::move(*error);
+    }
+    if (!have_format) return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no format line");
+    header.body_offset = lines.position();
+    header.body_line = lines.line_number() + 1;
+    if (auto error = check_element_sizes(header, bytes, options)) return std::move(*error);
     return header;
 }
 

@@ -140,159 +140,45 @@ Vec3 normalized(const Vec3& v) {
     return len > 0 ? v * (1.0 / len) : Vec3{0, 0, 0};
 }
 
-}  // namespace
-
-void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness,
-                    const std::vector<float>& vertex_sharpness, bool loop, bool warren, const Vec3* points, Index count,
-                    Vec3* limit_positions, Vec3* limit_normals) {
-    const Index ne = level.edge_count(), nf = level.face_count();
-    // the (up to two) face slots of each edge; a slot is the corner where the edge starts in its face
-    std::vector<Index> slot0(ne, kInvalidIndex), slot1(ne, kInvalidIndex);
-    std::vector<std::uint8_t> edge_uses(ne, 0);
-    std::vector<Index> slot_face(level.face_verts.size());
-    for (Index f = 0; f < nf; ++f)
-        for (Index s = level.face_offsets[f]; s < level.face_offsets[f + 1]; ++s) {
-            slot_face[s] = f;
-            const Index e = level.face_edges[s];
-            if (edge_uses[e] == 0)
-                slot0[e] = s;
-            else
-                slot1[e] = s;
-            if (edge_uses[e] < 255) ++edge_uses[e];
-        }
-    // the slots of each vertex < count, in face order (so the first is in the lowest face)
-    std::vector<Index> vs_offsets(static_cast<std::size_t>(count) + 1, 0);
-    for (Index v : level.face_verts)
-        if (v < count) ++vs_offsets[v + 1];
-    for (Index v = 0; v < count; ++v) vs_offsets[v + 1] += vs_offsets[v];
-    std::vector<Index> vs_slots(vs_offsets[count]);
-    {
-        std::vector<Index> fill(vs_offsets.begin(), vs_offsets.end() - 1);
-        for (Index s = 0; s < level.face_verts.size(); ++s)
-            if (level.face_verts[s] < count) vs_slots[fill[level.face_verts[s]]++] = s;
+//! Limit positions and normals of one level's vertices: the vertex-to-face-slot adjacency built once, then each
+//! vertex's ring walked in order and handed to the scheme's limit masks (non-manifold or unordered rings fall back to
+//! the sharp-neighbour rule).
+class LimitEvaluator {
+public:
+    LimitEvaluator(const Level& level, const std::vector<float>& edge_sharpness,
+                   const std::vector<float>& vertex_sharpness, bool loop, bool warren, const Vec3* points, Index count,
+                   Vec3* limit_positions, Vec3* limit_normals)
+        : level_(level),
+          edge_sharpness_(edge_sharpness),
+          vertex_sharpness_(vertex_sharpness),
+          loop_(loop),
+          warren_(warren),
+          points_(points),
+          count_(count),
+          limit_positions_(limit_positions),
+          limit_normals_(limit_normals) {
+        build_edge_slots();
+        build_vertex_slots();
+        build_vertex_edges();
     }
-    auto prev_slot = [&](Index s) {
-        const Index f = slot_face[s];
-        return s == level.face_offsets[f] ? level.face_offsets[f + 1] - 1 : s - 1;
-    };
-    auto next_slot = [&](Index s) {
-        const Index f = slot_face[s];
-        return s + 1 == level.face_offsets[f + 1] ? level.face_offsets[f] : s + 1;
-    };
-    auto other_end = [&](Index e, Index v) {
-        return level.edge_verts[2 * e] == v ? level.edge_verts[2 * e + 1] : level.edge_verts[2 * e];
-    };
-    // vertex -> incident edges (unordered), for positions where no ordered ring exists
-    std::vector<Index> ve_offsets(static_cast<std::size_t>(count) + 1, 0);
-    for (Index e = 0; e < ne; ++e)
-        for (int k = 0; k < 2; ++k)
-            if (level.edge_verts[2 * e + k] < count) ++ve_offsets[level.edge_verts[2 * e + k] + 1];
-    for (Index v = 0; v < count; ++v) ve_offsets[v + 1] += ve_offsets[v];
-    std::vector<Index> ve_edges(ve_offsets[count]);
-    {
-        std::vector<Index> fill(ve_offsets.begin(), ve_offsets.end() - 1);
-        for (Index e = 0; e < ne; ++e)
-            for (int k = 0; k < 2; ++k)
-                if (level.edge_verts[2 * e + k] < count) ve_edges[fill[level.edge_verts[2 * e + k]]++] = e;
-    }
-    // Non-manifold vertices are corners or creases (OpenSubdiv sharpens them), whose limit positions need only the
-    // sharp neighbours; their normal is the area-weighted one of the incident faces.
-    auto fallback = [&](Index v) {
-        int sharp = 0;
-        Vec3 ends{};
-        for (Index k = ve_offsets[v]; k < ve_offsets[v + 1]; ++k) {
-            const Index e = ve_edges[k];
-            if (edge_sharpness[e] > 0.0f) {
-                if (sharp < 2) ends += points[other_end(e, v)];
-                ++sharp;
-            }
-        }
-        const bool crease = vertex_sharpness[v] <= 0.0f && sharp == 2;
-        limit_positions[v] = crease ? (2.0 / 3.0) * points[v] + (1.0 / 6.0) * ends : points[v];
-        Vec3 n{};
-        for (Index k = vs_offsets[v]; k < vs_offsets[v + 1]; ++k) {
-            const Index s = vs_slots[k];
-            // the nearest corners before and after that are somewhere else: a face that repeats a vertex, or a
-            // degenerate edge's descendants (which stay on top of their vertex), would give no area
-            Index before = prev_slot(s), after = next_slot(s);
-            while (before != s && points[level.face_verts[before]] == points[v]) before = prev_slot(before);
-            while (after != s && points[level.face_verts[after]] == points[v]) after = next_slot(after);
-            n += cross(points[v] - points[level.face_verts[before]], points[level.face_verts[after]] - points[v]);
-        }
-        limit_normals[v] = normalized(n);
-    };
 
-    Ring ring;
-    std::vector<Index> ring_edges;
-    for (Index v = 0; v < count; ++v) {
-        const Index slot_count = vs_offsets[v + 1] - vs_offsets[v];
+    void evaluate(Index v) {
+        const Index slot_count = vs_offsets_[v + 1] - vs_offsets_[v];
         if (slot_count == 0) {  // isolated vertex
-            limit_positions[v] = points[v];
-            limit_normals[v] = Vec3{};
-            continue;
+            limit_positions_[v] = points_[v];
+            limit_normals_[v] = Vec3{};
+            return;
         }
-        // find the start: a slot whose leading edge is a boundary edge, else the lowest face
-        Index start = vs_slots[vs_offsets[v]];
-        bool manifold = true;
-        ring.boundary = false;
-        {
-            Index boundary_starts = 0;
-            for (Index k = vs_offsets[v]; k < vs_offsets[v + 1]; ++k) {
-                const Index s = vs_slots[k];
-                const Index lead = level.face_edges[s];
-                if (edge_uses[lead] > 2 || edge_uses[level.face_edges[prev_slot(s)]] > 2) manifold = false;
-                if (edge_uses[lead] == 1) {
-                    if (boundary_starts++ == 0) start = s;
-                    ring.boundary = true;
-                }
-            }
-            if (boundary_starts > 1) manifold = false;
-        }
-        // walk counter-clockwise: face of slot s lies between its leading edge and its trailing edge
-        ring.edge_points.clear();
-        ring.edge_sharpness.clear();
-        ring.face_points.clear();
-        ring_edges.clear();
-        Index s = start, steps = 0;
-        while (manifold) {
-            const Index lead = level.face_edges[s];
-            ring_edges.push_back(lead);
-            const Index f = slot_face[s];
-            if (!loop) {
-                // opposite corner of a quad (Catmull-Clark levels >= 1 are all quads)
-                if (level.face_offsets[f + 1] - level.face_offsets[f] != 4) {
-                    manifold = false;
-                    break;
-                }
-                ring.face_points.push_back(points[level.face_verts[next_slot(next_slot(s))]]);
-            } else {
-                ring.face_points.push_back(Vec3{});
-            }
-            const Index trail_slot = prev_slot(s);
-            const Index trail = level.face_edges[trail_slot];
-            ++steps;
-            if (edge_uses[trail] == 1) {
-                ring_edges.push_back(trail);
-                break;
-            }
-            const Index next = slot0[trail] == trail_slot ? slot1[trail] : slot0[trail];
-            if (next == start) break;
-            if (next == kInvalidIndex || steps > slot_count || level.face_verts[next] != v) {
-                manifold = false;
-                break;
-            }
-            s = next;
-        }
-        if (!manifold || steps != slot_count) {
+        if (!walk_ring(v, slot_count)) {
             fallback(v);
-            continue;
+            return;
         }
         int sharp_count = 0, c0 = -1, c1 = -1;
-        for (std::size_t i = 0; i < ring_edges.size(); ++i) {
-            const Index e = ring_edges[i];
-            ring.edge_points.push_back(points[other_end(e, v)]);
-            const float sh = edge_sharpness[e];
-            ring.edge_sharpness.push_back(sh);
+        for (std::size_t i = 0; i < ring_edges_.size(); ++i) {
+            const Index e = ring_edges_[i];
+            ring_.edge_points.push_back(points_[other_end(e, v)]);
+            const float sh = edge_sharpness_[e];
+            ring_.edge_sharpness.push_back(sh);
             if (sh > 0.0f) {
                 if (sharp_count == 0)
                     c0 = static_cast<int>(i);
@@ -301,19 +187,177 @@ void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness
                 ++sharp_count;
             }
         }
-        const bool corner = vertex_sharpness[v] > 0.0f || sharp_count > 2;
+        const bool corner = vertex_sharpness_[v] > 0.0f || sharp_count > 2;
         if (sharp_count != 2) c0 = c1 = -1;
-        const LimitPoint lp =
-            loop ? loop_limit(points[v], ring, corner, c0, c1, warren) : catmark_limit(points[v], ring, corner, c0, c1);
-        limit_positions[v] = lp.position;
+        const LimitPoint lp = loop_ ? loop_limit(points_[v], ring_, corner, c0, c1, warren_)
+                                    : catmark_limit(points_[v], ring_, corner, c0, c1);
+        limit_positions_[v] = lp.position;
         const Vec3 n = normalized(cross(lp.tan1, lp.tan2));
         if (n.x == 0 && n.y == 0 && n.z == 0) {
             fallback(v);
-            limit_positions[v] = lp.position;
+            limit_positions_[v] = lp.position;
         } else {
-            limit_normals[v] = n;
+            limit_normals_[v] = n;
         }
     }
+
+private:
+    //! The (up to two) face slots of each edge; a slot is the corner where the edge starts in its face.
+    void build_edge_slots() {
+        const Index ne = level_.edge_count(), nf = level_.face_count();
+        slot0_.assign(ne, kInvalidIndex);
+        slot1_.assign(ne, kInvalidIndex);
+        edge_uses_.assign(ne, 0);
+        slot_face_.resize(level_.face_verts.size());
+        for (Index f = 0; f < nf; ++f)
+            for (Index s = level_.face_offsets[f]; s < level_.face_offsets[f + 1]; ++s) {
+                slot_face_[s] = f;
+                const Index e = level_.face_edges[s];
+                if (edge_uses_[e] == 0)
+                    slot0_[e] = s;
+                else
+                    slot1_[e] = s;
+                if (edge_uses_[e] < 255) ++edge_uses_[e];
+            }
+    }
+
+    //! The slots of each vertex < count, in face order (so the first is in the lowest face).
+    void build_vertex_slots() {
+        vs_offsets_.assign(static_cast<std::size_t>(count_) + 1, 0);
+        for (Index v : level_.face_verts)
+            if (v < count_) ++vs_offsets_[v + 1];
+        for (Index v = 0; v < count_; ++v) vs_offsets_[v + 1] += vs_offsets_[v];
+        vs_slots_.resize(vs_offsets_[count_]);
+        std::vector<Index> fill(vs_offsets_.begin(), vs_offsets_.end() - 1);
+        for (Index s = 0; s < level_.face_verts.size(); ++s)
+            if (level_.face_verts[s] < count_) vs_slots_[fill[level_.face_verts[s]]++] = s;
+    }
+
+    //! Vertex -> incident edges (unordered), for vertices where no ordered ring exists.
+    void build_vertex_edges() {
+        const Index ne = level_.edge_count();
+        ve_offsets_.assign(static_cast<std::size_t>(count_) + 1, 0);
+        for (Index e = 0; e < ne; ++e)
+            for (int k = 0; k < 2; ++k)
+                if (level_.edge_verts[2 * e + k] < count_) ++ve_offsets_[level_.edge_verts[2 * e + k] + 1];
+        for (Index v = 0; v < count_; ++v) ve_offsets_[v + 1] += ve_offsets_[v];
+        ve_edges_.resize(ve_offsets_[count_]);
+        std::vector<Index> fill(ve_offsets_.begin(), ve_offsets_.end() - 1);
+        for (Index e = 0; e < ne; ++e)
+            for (int k = 0; k < 2; ++k)
+                if (level_.edge_verts[2 * e + k] < count_) ve_edges_[fill[level_.edge_verts[2 * e + k]]++] = e;
+    }
+
+    Index prev_slot(Index s) const {
+        const Index f = slot_face_[s];
+        return s == level_.face_offsets[f] ? level_.face_offsets[f + 1] - 1 : s - 1;
+    }
+    Index next_slot(Index s) const {
+        const Index f = slot_face_[s];
+        return s + 1 == level_.face_offsets[f + 1] ? level_.face_offsets[f] : s + 1;
+    }
+    Index other_end(Index e, Index v) const {
+        return level_.edge_verts[2 * e] == v ? level_.edge_verts[2 * e + 1] : level_.edge_verts[2 * e];
+    }
+
+    //! Walks v's faces counter-clockwise (the face of slot s lies between its leading and its trailing edge) from a
+    //! slot whose leading edge is a boundary edge, else from the lowest face, filling ring_.face_points and
+    //! ring_edges_. False when the ring is not one manifold fan (or, for Catmull-Clark, holds a non-quad).
+    bool walk_ring(Index v, Index slot_count) {
+        Index start = vs_slots_[vs_offsets_[v]];
+        bool manifold = true;
+        ring_.boundary = false;
+        Index boundary_starts = 0;
+        for (Index k = vs_offsets_[v]; k < vs_offsets_[v + 1]; ++k) {
+            const Index s = vs_slots_[k];
+            const Index lead = level_.face_edges[s];
+            if (edge_uses_[lead] > 2 || edge_uses_[level_.face_edges[prev_slot(s)]] > 2) manifold = false;
+            if (edge_uses_[lead] == 1) {
+                if (boundary_starts++ == 0) start = s;
+                ring_.boundary = true;
+            }
+        }
+        if (boundary_starts > 1) manifold = false;
+        ring_.edge_points.clear();
+        ring_.edge_sharpness.clear();
+        ring_.face_points.clear();
+        ring_edges_.clear();
+        Index s = start, steps = 0;
+        while (manifold) {
+            const Index lead = level_.face_edges[s];
+            ring_edges_.push_back(lead);
+            const Index f = slot_face_[s];
+            if (!loop_) {
+                // opposite corner of a quad (Catmull-Clark levels >= 1 are all quads)
+                if (level_.face_offsets[f + 1] - level_.face_offsets[f] != 4) return false;
+                ring_.face_points.push_back(points_[level_.face_verts[next_slot(next_slot(s))]]);
+            } else {
+                ring_.face_points.push_back(Vec3{});
+            }
+            const Index trail_slot = prev_slot(s);
+            const Index trail = level_.face_edges[trail_slot];
+            ++steps;
+            if (edge_uses_[trail] == 1) {
+                ring_edges_.push_back(trail);
+                break;
+            }
+            const Index next = slot0_[trail] == trail_slot ? slot1_[trail] : slot0_[trail];
+            if (next == start) break;
+            if (next == kInvalidIndex || steps > slot_count || level_.face_verts[next] != v) return false;
+            s = next;
+        }
+        return manifold && steps == slot_count;
+    }
+
+    //! Non-manifold vertices are corners or creases (OpenSubdiv sharpens them), whose limit positions need only the
+    //! sharp neighbours; their normal is the area-weighted one of the incident faces.
+    void fallback(Index v) {
+        int sharp = 0;
+        Vec3 ends{};
+        for (Index k = ve_offsets_[v]; k < ve_offsets_[v + 1]; ++k) {
+            const Index e = ve_edges_[k];
+            if (edge_sharpness_[e] > 0.0f) {
+                if (sharp < 2) ends += points_[other_end(e, v)];
+                ++sharp;
+            }
+        }
+        const bool crease = vertex_sharpness_[v] <= 0.0f && sharp == 2;
+        limit_positions_[v] = crease ? (2.0 / 3.0) * points_[v] + (1.0 / 6.0) * ends : points_[v];
+        Vec3 n{};
+        for (Index k = vs_offsets_[v]; k < vs_offsets_[v + 1]; ++k) {
+            const Index s = vs_slots_[k];
+            // the nearest corners before and after that are somewhere else: a face that repeats a vertex, or a
+            // degenerate edge's descendants (which stay on top of their vertex), would give no area
+            Index before = prev_slot(s), after = next_slot(s);
+            while (before != s && points_[level_.face_verts[before]] == points_[v]) before = prev_slot(before);
+            while (after != s && points_[level_.face_verts[after]] == points_[v]) after = next_slot(after);
+            n += cross(points_[v] - points_[level_.face_verts[before]], points_[level_.face_verts[after]] - points_[v]);
+        }
+        limit_normals_[v] = normalized(n);
+    }
+
+    const Level& level_;
+    const std::vector<float>& edge_sharpness_;
+    const std::vector<float>& vertex_sharpness_;
+    const bool loop_, warren_;
+    const Vec3* points_;
+    const Index count_;
+    Vec3* limit_positions_;
+    Vec3* limit_normals_;
+    std::vector<Index> slot0_, slot1_, slot_face_, vs_offsets_, vs_slots_, ve_offsets_, ve_edges_;
+    std::vector<std::uint8_t> edge_uses_;
+    Ring ring_;
+    std::vector<Index> ring_edges_;
+};
+
+}  // namespace
+
+void evaluate_limit(const Level& level, const std::vector<float>& edge_sharpness,
+                    const std::vector<float>& vertex_sharpness, bool loop, bool warren, const Vec3* points, Index count,
+                    Vec3* limit_positions, Vec3* limit_normals) {
+    LimitEvaluator evaluator(level, edge_sharpness, vertex_sharpness, loop, warren, points, count, limit_positions,
+                             limit_normals);
+    for (Index v = 0; v < count; ++v) evaluator.evaluate(v);
 }
 
 }  // namespace surfaced::subdivision
