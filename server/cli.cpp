@@ -528,17 +528,24 @@ bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::s
 //! The bearer token: the first line of `file` when given (which must not be empty), else the environment variable
 //! SURFACED_AUTH_TOKEN, else none; trailing blanks dropped.
 std::string read_auth_token(const std::optional<std::string>& file) {
-    std::string token;
+    auto trimmed = [](std::string token) {
+        while (!token.empty() && (token.back() == ' ' || token.back() == '\t')) token.pop_back();
+        return token;
+    };
     if (file) {
         std::string text, error;
         if (!read_file(*file, text, error)) throw UsageError{"--auth-token-file: " + error};
-        token = text.substr(0, text.find_first_of("\r\n"));
+        // a first line of blanks is as empty as no line: the service must not start open when a token was meant
+        const std::string token = trimmed(text.substr(0, text.find_first_of("\r\n")));
         if (token.empty()) throw UsageError{"--auth-token-file " + *file + ": the first line is empty"};
-    } else if (const char* env = std::getenv("SURFACED_AUTH_TOKEN"); env && *env) {
-        token = env;
+        return token;
     }
-    while (!token.empty() && (token.back() == ' ' || token.back() == '\t')) token.pop_back();
-    return token;
+    if (const char* env = std::getenv("SURFACED_AUTH_TOKEN"); env && *env) {
+        const std::string token = trimmed(env);
+        if (token.empty()) throw UsageError{"SURFACED_AUTH_TOKEN holds only blanks"};
+        return token;
+    }
+    return {};
 }
 
 //! The server configuration the `serve` arguments give; nullopt when --help was printed.

@@ -523,10 +523,30 @@ TEST(Production, StaticFilesStayInsideTheWebRoot) {
 
 // ---- the binary: healthcheck and SIGTERM ---------------------------------------------------------------------
 
-int run_cli(const std::string& args) {
-    const std::string command = std::string("'") + SURFACED_CLI_PATH + "' " + args + " >/dev/null 2>&1";
+//! Runs `surfaced ARGS` (or, with binary false, the command line ARGS as it is) and returns its exit status.
+int run_cli(const std::string& args, bool binary = true) {
+    const std::string command =
+        (binary ? std::string("'") + SURFACED_CLI_PATH + "' " + args : args) + " >/dev/null 2>&1";
     const int status = std::system(command.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A token file whose first line is blank, or a token variable of blanks, is a usage error (exit 2 before anything
+// listens): the service must never start without authentication when a token was meant.
+TEST(Production, ServeRefusesABlankAuthToken) {
+    const fs::path dir = fs::temp_directory_path() / ("surfaced-token-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    // `timeout`: a server that wrongly starts is stopped (status 124) instead of hanging the test
+    const std::string serve = "timeout 20 '" + std::string(SURFACED_CLI_PATH) + "' serve --port 0";
+    for (const std::string text : {"", "\n", "   \t\nsecond-line-token\n", "  "}) {
+        std::ofstream(dir / "token") << text;
+        EXPECT_EQ(run_cli(serve + " --auth-token-file '" + (dir / "token").string() + "'", false), 2)
+            << "token file " << ::testing::PrintToString(text);
+    }
+    EXPECT_EQ(run_cli(serve + " --auth-token-file '" + (dir / "missing").string() + "'", false), 2);
+    EXPECT_EQ(run_cli("SURFACED_AUTH_TOKEN='   ' " + serve, false), 2);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
 }
 
 TEST(Production, HealthcheckCommand) {
