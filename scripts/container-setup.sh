@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One-time, idempotent setup for building and running the container image without a Docker engine or a registry
 # (the machines this project runs on have no Docker engine and reach no container registry, only Debian's archive):
-# podman + buildah + runc, a containers.conf that works here (runc, explicit ulimits, Docker image format), and a debian:bookworm base image made locally by debootstrap from the same archive apt uses on this machine.
+# podman + buildah + runc, a containers.conf that works here (runc, explicit ulimits), and a debian:bookworm base image made locally by debootstrap from the same archive apt uses on this machine.
 # The debootstrapped root is cached outside the repository (SURFACED_CONTAINER_CACHE, default
 # /var/cache/surfaced-container) so a fresh clone does not redo it; the image is re-imported from it when podman's
 # storage has lost it. Run as root.
@@ -22,20 +22,16 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # crun fails on this kind of host (cgroups hybrid mode), and podman run fails on rlimits without default_ulimits.
-# Images are written in Docker's format (v2s2) by default, so that a plain `podman build` keeps the HEALTHCHECK (the
-# OCI format has no field for it).
 conf=/etc/containers/containers.conf
-if ! grep -qs 'surfaced: container-setup v2' "$conf"; then
+if ! grep -qs 'surfaced: container-setup v3' "$conf"; then
   mkdir -p /etc/containers
   [ -f "$conf" ] && ! grep -qs 'surfaced: container-setup' "$conf" && cp "$conf" "$conf.before-surfaced"
   cat > "$conf" <<'CONF'
-# surfaced: container-setup v2 (runc: crun fails under cgroups hybrid mode; explicit ulimits or podman run fails;
-# Docker image format so that images keep their HEALTHCHECK)
+# surfaced: container-setup v3 (runc: crun fails under cgroups hybrid mode; explicit ulimits or podman run fails)
 [containers]
 default_ulimits = ["nofile=20000:20000", "nproc=4096:4096"]
 [engine]
 runtime = "runc"
-image_default_format = "v2s2"
 CONF
 fi
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Builds the container image from this checkout as a user would (`podman build -t IMAGE .`: the Dockerfile compiles the
-# service only; its compiler cache lives in a cache mount, so a rebuild recompiles what changed), from a locally
-# debootstrapped Debian 12 base, runs it on loopback, and checks it as an operator would:
+# Builds the container image from this checkout as a user would (`podman build --format docker -t IMAGE .`: the
+# Dockerfile compiles the service only; its compiler cache lives in a cache mount, so a rebuild recompiles what
+# changed), from a locally debootstrapped Debian 12 base, runs it on loopback, and checks it as an operator would:
 #   health (podman healthcheck run -> `surfaced healthcheck` inside), the web client is served, POST /subdivide -> a
 #   GLB the Khronos validator accepts, the server process is not root, SIGTERM -> exit status 0 within a few seconds.
 # The container is removed whatever happens. Run as root (podman rootful). Idempotent.
@@ -22,10 +22,11 @@ fail() { echo "container test FAILED: $*" >&2; podman logs --tail 30 "$name" >&2
 
 scripts/container-setup.sh
 
-# ---- build: the plain command (container-setup.sh makes podman write Docker-format images, which keep HEALTHCHECK)
+# ---- build: as a user builds it (podman's --format docker keeps the HEALTHCHECK, which the OCI format has no field
+# for; docker build keeps it without a flag)
 t0=$(date +%s)
 # niced: on a shared development machine the interactive builds go first
-nice -n 10 podman build --pull=never --layers -t "$image" . >"$work/build.log" 2>&1 ||
+nice -n 10 podman build --format docker --pull=never --layers -t "$image" . >"$work/build.log" 2>&1 ||
   { tail -60 "$work/build.log" >&2; fail "image build (log above)"; }
 grep -E '^(runtime packages|[[:space:]]*(Hits|Misses))' "$work/build.log" | sed 's/^/   /' || true
 podman image prune -f >/dev/null 2>&1 || true  # earlier builds' layers, untagged now (GBs per build otherwise)
