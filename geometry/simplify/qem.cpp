@@ -34,15 +34,10 @@
 #include <cstring>
 #include <exception>
 #include <limits>
-#include <mutex>
-#include <new>
 #include <string>
 #include <thread>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
+#include "geometry/core/block_pool.h"
 #include "geometry/core/two_parts.h"
 #include "geometry/mesh/triangulate.h"
 #include "geometry/simplify/mesh_distance.h"
@@ -78,125 +73,6 @@ enum VertexFlag : std::uint8_t {
     kFrozen = 8,    //!< run_regions(): on a face with corners in both regions; left to the second phase
 };
 
-//! Blocks of whole 2 MiB pages, freed, kept for the next allocations of the same size. Every first touch of fresh
-//! memory faults and has the kernel clear it (a 2 MiB huge page at a time), and glibc returns blocks this large to the
-//! system when they are freed, so every simplification paid that again. A service simplifies one request after
-//! another, so the blocks of the last ones are kept, up to kKeep bytes in the process (the oldest freed first beyond
-//! that), and reused when the same size is asked for again (sizes are whole pages and vectors grow by doubling, so
-//! sizes repeat). One pool for all threads, behind a mutex (a few dozen blocks per simplification), so that what is
-//! kept does not grow with the number of worker threads.
-#if defined(__SANITIZE_ADDRESS__)
-#define SURFACED_QEM_KEEP_BLOCKS 0  // AddressSanitizer must see every block freed, to catch a use after free
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SURFACED_QEM_KEEP_BLOCKS 0
-#endif
-#endif
-#ifndef SURFACED_QEM_KEEP_BLOCKS
-#define SURFACED_QEM_KEEP_BLOCKS 1
-#endif
-class HugeBlockCache {
-public:
-    static constexpr std::size_t kKeep = SURFACED_QEM_KEEP_BLOCKS ? std::size_t{64} << 20 : 0;
-    static constexpr std::size_t kAlign = std::size_t{2} << 20;
-    //! The process's pool; never destroyed (blocks may be freed by static destructors or late threads).
-    static HugeBlockCache& instance() {
-        static HugeBlockCache& cache = *new HugeBlockCache;
-        return cache;
-    }
-    //! A kept block of exactly `bytes`, or nullptr.
-    void* take(std::size_t bytes) noexcept {
-        const std::lock_guard lock(mutex_);
-        for (std::size_t i = count_; i-- > 0;)
-            if (blocks_[i].bytes == bytes) {
-                void* p = blocks_[i].p;
-                std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(i) + 1,
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_),
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(i));
-                --count_;
-                total_ -= bytes;
-                return p;
-            }
-        return nullptr;
-    }
-    //! Keeps the block, freeing the oldest kept ones to stay within kKeep (or this one, when it is larger).
-    void give(void* p, std::size_t bytes) noexcept {
-        Block freed[kSlots + 1];
-        std::size_t n = 0;
-        {
-            const std::lock_guard lock(mutex_);
-            if (bytes > kKeep) {
-                freed[n++] = {p, bytes};
-            } else {
-                std::size_t drop = 0;
-                while (total_ + bytes > kKeep || count_ - drop == kSlots) {
-                    total_ -= blocks_[drop].bytes;
-                    freed[n++] = blocks_[drop++];
-                }
-                std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(drop),
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_), blocks_.begin());
-                count_ -= drop;
-                blocks_[count_++] = {p, bytes};
-                total_ += bytes;
-            }
-        }
-        for (std::size_t i = 0; i < n; ++i) ::operator delete (freed[i].p, std::align_val_t{kAlign});
-    }
-
-private:
-    HugeBlockCache() = default;
-    struct Block {
-        void* p = nullptr;
-        std::size_t bytes = 0;
-    };
-    static constexpr std::size_t kSlots = kKeep / kAlign + 1;  //!< more blocks than kKeep holds are never kept
-    std::mutex mutex_;
-    std::array<Block, kSlots> blocks_{};  //!< [0, count_): oldest first
-    std::size_t count_ = 0;
-    std::size_t total_ = 0;
-};
-
-//! Allocates on 64-byte boundaries (so that each VertexData fills whole cache lines), and arrays of 1 MiB or more on
-//! 2 MiB boundaries, rounded up to whole 2 MiB pages, with transparent huge pages requested where the kernel leaves
-//! that to the program (Linux THP "madvise"): the simplifier reads its arrays of up to hundreds of MB at random, and
-//! with 4 KiB pages nearly every access also misses the TLB and every first touch faults. Faults are what costs most
-//! on a virtual machine: here a 4 KiB fault costs ~15 us, so the ~1,500 of a 70k-triangle run took 20 ms of its 60.
-//! Those blocks are kept for the next simplification (HugeBlockCache).
-template <class T>
-struct BlockAllocator {
-    using value_type = T;
-    BlockAllocator() = default;
-    template <class U>
-    BlockAllocator(const BlockAllocator<U>&) noexcept {}
-    static constexpr std::size_t kHuge = HugeBlockCache::kAlign;
-    static bool huge(std::size_t n) { return n * sizeof(T) >= kHuge / 2; }
-    //! A huge block's size: whole 2 MiB pages
-    static std::size_t huge_bytes(std::size_t n) { return (n * sizeof(T) + kHuge - 1) / kHuge * kHuge; }
-    T* allocate(std::size_t n) {
-        if (n > (std::numeric_limits<std::size_t>::max() >> 2) / sizeof(T)) throw std::bad_array_new_length();
-        if (!huge(n)) return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
-        const std::size_t size = huge_bytes(n);
-        if (void* kept = HugeBlockCache::instance().take(size)) return static_cast<T*>(kept);
-        void* p = ::operator new (size, std::align_val_t{kHuge});
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        ::madvise(p, size, MADV_HUGEPAGE);  // advice only: failure changes nothing
-#endif
-        return static_cast<T*>(p);
-    }
-    void deallocate(T* p, std::size_t n) noexcept {
-        if (huge(n))
-            HugeBlockCache::instance().give(p, huge_bytes(n));
-        else
-            ::operator delete (p, std::align_val_t{64});
-    }
-    template <class U>
-    bool operator==(const BlockAllocator<U>&) const noexcept {
-        return true;
-    }
-};
-template <class T>
-using BlockVector = std::vector<T, BlockAllocator<T>>;
-
 // 16 bytes: the heap holds a few million of these for a 1M-triangle mesh, and popping is cache-bound.
 struct Candidate {
     float cost;  //!< ordering only; the collapse itself is re-evaluated in double when popped
@@ -216,6 +92,10 @@ static_assert(sizeof(Candidate) == 16);
 //! root-to-leaf walk of cache misses per pop.
 class CandidateHeap {
 public:
+    //! `pool`: where the buckets' large arrays come from (BlockAllocator); nullptr: allocated per use.
+    explicit CandidateHeap(BlockPool* pool = nullptr) {
+        for (auto& bucket : buckets_) bucket = BlockVector<Candidate>(BlockAllocator<Candidate>(pool));
+    }
     bool empty() const { return size_ == 0; }
     std::size_t size() const { return size_; }
     void clear() {
@@ -317,6 +197,7 @@ struct Collapse {
 //! What one collapsing loop owns: its heap, scratch and counters. One for the whole mesh, or with threads >= 2 one per
 //! region of the first phase (Simplifier::run_regions), each touching only its region's vertices and faces.
 struct Worker {
+    explicit Worker(BlockPool* pool) : heap(pool) {}
     int region = -1;          //!< -1: the whole mesh
     std::size_t live = 0;     //!< live faces of the whole mesh as this worker sees them (its own collapses counted)
     std::size_t stop_at = 0;  //!< collapse while live > stop_at
@@ -482,7 +363,8 @@ public:
         if (total >= kInvalidIndex) return make_error(ErrorCode::InvalidArgument, "mesh too large to simplify");
         fans_.reserve(total + total / 4);
         fans_.resize(total);
-        BlockVector<std::array<Index, 2>> ends(total);  //!< per fan slot: the corner's next and previous vertex
+        //! per fan slot: the corner's next and previous vertex
+        BlockVector<std::array<Index, 2>> ends(total, BlockAllocator<std::array<Index, 2>>(options_.block_pool));
         for (Index f = 0; f < nf; ++f) {
             const auto& t = tris_[f];
             for (int j = 0; j < 3; ++j) {
@@ -526,7 +408,7 @@ public:
         // Every half-edge u -> w must have at most one twin, running the other way; boundary edges get constraint
         // planes. Checked per vertex u on its fan: the faces' vertices after u (outgoing edges) and before u
         // (incoming). The error names the first offending half-edge in face order, whatever the vertex order.
-        BlockVector<Index> boundary_edges(nv, 0);
+        BlockVector<Index> boundary_edges(nv, 0, BlockAllocator<Index>(options_.block_pool));
         boundary_halfedges_.assign(nf, 0);
         std::size_t first_bad = std::numeric_limits<std::size_t>::max();
         bool bad_orientation = false;
@@ -712,7 +594,7 @@ private:
         }
         fans_.resize(pool + 2 * room);
         uvs_.resize(uv_pool + 2 * uv_room);
-        std::array<Worker, 2> workers;
+        std::array<Worker, 2> workers{Worker(options_.block_pool), Worker(options_.block_pool)};
         std::array<std::exception_ptr, 2> failures;
         for (int i = 0; i < 2; ++i) {
             Worker& w = workers[static_cast<std::size_t>(i)];
@@ -1319,25 +1201,32 @@ private:
             if (w != k && !is_apex(wk, w)) push(wk, k, w);
     }
 
+    //! An empty array whose large blocks come from options_.block_pool.
+    template <class T>
+    BlockVector<T> pooled() const {
+        return BlockVector<T>(BlockAllocator<T>(options_.block_pool));
+    }
+
     const SimplifyOptions& options_;
     const bool volume_ = options_.restore_volume > 0;  //!< volume restoration on (restore_volume)
     //! threads >= 2 on a mesh of kRegionsMinimum faces or more: vertices below split_ are the first half (numbered
     //! so by spatial_order), for init's two parts and run_regions(); else the vertex count (one part)
     const Index split_;
     std::vector<Index> rank_;  //!< rank_[input vertex] = its number here (spatial_order)
-    BlockVector<VertexData> vx_;
-    BlockVector<std::uint8_t> flags_;  //!< VertexFlag bits per vertex
+    BlockVector<VertexData> vx_ = pooled<VertexData>();
+    BlockVector<std::uint8_t> flags_ = pooled<std::uint8_t>();  //!< VertexFlag bits per vertex
     //! Bumped whenever the vertex moves, changes quadric or dies. Apart from the records: every candidate popped is
     //! checked against it, most of them stale, and 4 bytes per vertex stay in cache where 128 would not.
-    BlockVector<std::uint32_t> version_;
-    BlockVector<Tri> tris_;
-    BlockVector<Index> fans_;  //!< every vertex's faces (VertexData::fan, degree, capacity)
-    BlockVector<std::uint8_t> face_alive_;
-    BlockVector<std::uint8_t> boundary_halfedges_;  //!< per input face, bit j: edge j (v[j] -> v[j+1]) is a boundary
+    BlockVector<std::uint32_t> version_ = pooled<std::uint32_t>();
+    BlockVector<Tri> tris_ = pooled<Tri>();
+    BlockVector<Index> fans_ = pooled<Index>();  //!< every vertex's faces (VertexData::fan, degree, capacity)
+    BlockVector<std::uint8_t> face_alive_ = pooled<std::uint8_t>();
+    BlockVector<std::uint8_t> boundary_halfedges_ =
+        pooled<std::uint8_t>();  //!< per input face, bit j: edge j (v[j] -> v[j+1]) is a boundary
     std::vector<Vec2> uvs_;
     std::vector<std::array<Index, 3>> face_uvs_;
     std::vector<Vec3> normals_;
-    Worker serial_;  //!< the whole-mesh worker: run()'s passes, and the counts after them
+    Worker serial_{options_.block_pool};  //!< the whole-mesh worker: run()'s passes, and the counts after them
 };
 
 }  // namespace
