@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <system_error>
@@ -10,11 +11,24 @@
 #include "api/dto.h"
 #include "api/json_codec.h"
 #include "api/operations/request_forms.h"
+#include "geometry/core/block_pool.h"
 #include "geometry/simplify/mesh_distance.h"
 #include "geometry/simplify/qem.h"
 
 namespace surfaced::api::operations {
 namespace {
+
+//! The most memory the simplification pool keeps between requests; beyond it the oldest blocks returned are freed.
+constexpr std::size_t kSimplifyPoolBytes = std::size_t{64} << 20;
+
+//! The process's pool for simplify_qem's large arrays (SimplifyOptions::block_pool): the service simplifies one
+//! request after another, so each one reuses the blocks of the last ones, whose pages are already faulted in, shared
+//! by all worker threads so that what is kept does not grow with their number. Never destroyed: a block may still be
+//! returned by a thread that outlives static destruction.
+BlockPool& simplify_block_pool() {
+    static BlockPool& pool = *new BlockPool(kSimplifyPoolBytes);
+    return pool;
+}
 
 //! "0,5,100": vertex indices, comma-separated (empty: none). Each must be a non-negative integer; whether it names a
 //! vertex is checked once the mesh is read (check_locked_vertices).
@@ -135,6 +149,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.locked_vertices.reserve(params.locked_vertices.size());
     for (std::int64_t v : params.locked_vertices) options.locked_vertices.push_back(static_cast<Index>(v));  // checked
     options.cancel = context.cancel;
+    options.block_pool = &simplify_block_pool();
     auto simplified = simplify_qem(mesh, options);
     if (!simplified) return error_response(geometry_error(simplified.error(), source));
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));

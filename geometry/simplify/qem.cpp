@@ -1,62 +1,35 @@
-// Quadric-error edge collapse (Garland-Heckbert 1997), with the safety checks a service needs: every collapse keeps
-// the mesh a manifold with consistently oriented, non-degenerate, non-duplicate faces.
+// simplify_qem(): quadric-error edge collapse (Garland-Heckbert 1997) with the checks a service needs: every collapse
+// keeps the mesh a manifold of consistently oriented, non-degenerate, non-duplicate faces. This file: the Simplifier's
+// set-up (adjacency, manifold check, quadrics), its collapse loop, the checks and update of one collapse, and the
+// max_error search; the two-thread first phase is in qem_regions.cpp.
 //
-// Data: triangles as index triples with the normal of the input face each started as; each vertex's faces as one
-// contiguous fan in a shared pool (enough for one-rings: pmp and meshoptimizer use the same adjacency for
-// decimation); per vertex one 128-byte record of quadric, position and fan, and apart from it a version stamp and
-// flags. Candidates sit in a radix heap keyed on quadric cost; an entry remembers the sum of its endpoints' version
-// stamps, and an entry whose endpoint changed since it was pushed is stale and skipped (lazy invalidation). After a
-// collapse only the edges at the surviving vertex change cost, and those are pushed again with its new version.
-// Vertices are renumbered in Morton order of their positions (spatial_order), so that one-rings lie close in memory;
-// messages and the output use the input's numbers. With restore_volume, each collapse about to be made moves its
-// placement towards the volume-preserving point, from its two fans (restore_volume()); heap keys stay the plain costs.
-// With threads >= 2 a first phase collapses the mesh's two spatial halves at once, one thread each (run_regions()).
-//
-// Speed (issue #4): a 1.3M-triangle icosphere to 1% is bound by cache misses, since vertices are visited in heap and
-// one-ring order; the 70k-triangle bunny, whose data fits in cache, by instructions. What was done, measured with perf
-// and with callgrind's cache simulation: vertex records are cache-line aligned and large arrays ask for transparent
-// huge pages (first touch of fresh memory costs ~2 ms per MB on this VM with 4 KiB pages); the singular-quadric
-// fallback evaluates the quadric along the edge as a polynomial; fans are contiguous, so a one-ring's triangles are
-// fetched together (a list threaded through the triangles, as before, was a chain of dependent misses); the stale
-// check reads a 4-byte stamp array that stays in cache rather than the records; the radix heap moves entries by
-// sequential copies where the 4-ary heap it replaced walked a path of misses per pop, and drops stale entries while
-// it copies them; the manifold check runs per vertex on its fan. Together, under callgrind: -18% instructions and -15%
-// read misses to memory on the icosphere (write misses doubled: the heap's sequential copies), -17% instructions on
-// the bunny. Later: compact degree counting and the manifold check on fan edge ends read in order (init), and the
-// Morton numbering (-11% simulated misses on the icosphere).
+// Data layout: collapses pop candidates in cost order and read one-rings, so on large meshes they touch vertices all
+// over the mesh and are bound by cache misses. Hence what a collapse reads of a vertex is one cache-line-aligned
+// record; the version stamps that mark stale heap entries are a separate 4-byte array that stays in cache; each
+// vertex's faces are one contiguous fan, fetched together; vertices are renumbered in Morton order so that a one-ring
+// lies close in memory (messages and the output use the input's numbers); large arrays are on huge pages.
 #include "geometry/simplify/qem.h"
 
 #include <algorithm>
 #include <array>
-#include <barrier>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <exception>
 #include <limits>
-#include <mutex>
-#include <new>
 #include <string>
-#include <thread>
-
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
+#include <vector>
 
 #include "geometry/core/two_parts.h"
 #include "geometry/mesh/triangulate.h"
 #include "geometry/simplify/mesh_distance.h"
-#include "geometry/simplify/quadric.h"
+#include "geometry/simplify/qem_simplifier.h"
+#include "geometry/simplify/spatial_order.h"
 
 namespace surfaced {
+namespace simplify_detail {
 namespace {
 
-using simplify_detail::Quadric;
-
 // A collapse may turn a face's normal by at most acos(0.5) = 60 degrees. Garland-Heckbert only forbid flips (0);
-// a margin keeps folds out of the output, whose normals are later compared to the input's. It was 78 degrees
-// (0.2) until the two-thread order made a thin face on the bunny's base rim, 68 degrees from the bottom face it
-// started as, face away from the side it lay nearest to (112 degrees); at 60 the bench errors barely move.
+// a margin keeps folds out of the output, whose normals are later compared to the input's.
 constexpr double kMinNormalCos = 0.5;
 // Thinness = 2 area / longest edge^2 (the height over the longest edge, relative to it). A collapse may not create
 // a face thinner than kThin unless the face was already thinner (slivers in the input may improve, not worsen), and
@@ -67,1280 +40,758 @@ constexpr double kDegenerate = 1e-6;
 // quadric even when the determinant test passed; the fallback placement is safer.
 constexpr double kMaxPlacementReach = 4.0;
 constexpr int kMaxPasses = 8;
-constexpr int kMaxErrorAttempts = 7;
-//! threads >= 2: meshes with fewer live faces than this run on one thread (starting one would cost more than it saves).
-constexpr std::size_t kRegionsMinimum = 20000;
-
-enum VertexFlag : std::uint8_t {
-    kAlive = 1,
-    kBoundary = 2,  //!< on a boundary edge
-    kPinned = 4,    //!< never moves or disappears: locked, lock_border boundary, UV seam, non-manifold boundary
-    kFrozen = 8,    //!< run_regions(): on a face with corners in both regions; left to the second phase
-};
-
-//! Blocks of whole 2 MiB pages, freed, kept for the next allocations of the same size. Every first touch of fresh
-//! memory faults and has the kernel clear it (a 2 MiB huge page at a time), and glibc returns blocks this large to the
-//! system when they are freed, so every simplification paid that again. A service simplifies one request after
-//! another, so the blocks of the last ones are kept, up to kKeep bytes in the process (the oldest freed first beyond
-//! that), and reused when the same size is asked for again (sizes are whole pages and vectors grow by doubling, so
-//! sizes repeat). One pool for all threads, behind a mutex (a few dozen blocks per simplification), so that what is
-//! kept does not grow with the number of worker threads.
-#if defined(__SANITIZE_ADDRESS__)
-#define SURFACED_QEM_KEEP_BLOCKS 0  // AddressSanitizer must see every block freed, to catch a use after free
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SURFACED_QEM_KEEP_BLOCKS 0
-#endif
-#endif
-#ifndef SURFACED_QEM_KEEP_BLOCKS
-#define SURFACED_QEM_KEEP_BLOCKS 1
-#endif
-class HugeBlockCache {
-public:
-    static constexpr std::size_t kKeep = SURFACED_QEM_KEEP_BLOCKS ? std::size_t{64} << 20 : 0;
-    static constexpr std::size_t kAlign = std::size_t{2} << 20;
-    //! The process's pool; never destroyed (blocks may be freed by static destructors or late threads).
-    static HugeBlockCache& instance() {
-        static HugeBlockCache& cache = *new HugeBlockCache;
-        return cache;
-    }
-    //! A kept block of exactly `bytes`, or nullptr.
-    void* take(std::size_t bytes) noexcept {
-        const std::lock_guard lock(mutex_);
-        for (std::size_t i = count_; i-- > 0;)
-            if (blocks_[i].bytes == bytes) {
-                void* p = blocks_[i].p;
-                std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(i) + 1,
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_),
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(i));
-                --count_;
-                total_ -= bytes;
-                return p;
-            }
-        return nullptr;
-    }
-    //! Keeps the block, freeing the oldest kept ones to stay within kKeep (or this one, when it is larger).
-    void give(void* p, std::size_t bytes) noexcept {
-        Block freed[kSlots + 1];
-        std::size_t n = 0;
-        {
-            const std::lock_guard lock(mutex_);
-            if (bytes > kKeep) {
-                freed[n++] = {p, bytes};
-            } else {
-                std::size_t drop = 0;
-                while (total_ + bytes > kKeep || count_ - drop == kSlots) {
-                    total_ -= blocks_[drop].bytes;
-                    freed[n++] = blocks_[drop++];
-                }
-                std::copy(blocks_.begin() + static_cast<std::ptrdiff_t>(drop),
-                          blocks_.begin() + static_cast<std::ptrdiff_t>(count_), blocks_.begin());
-                count_ -= drop;
-                blocks_[count_++] = {p, bytes};
-                total_ += bytes;
-            }
-        }
-        for (std::size_t i = 0; i < n; ++i) ::operator delete (freed[i].p, std::align_val_t{kAlign});
-    }
-
-private:
-    HugeBlockCache() = default;
-    struct Block {
-        void* p = nullptr;
-        std::size_t bytes = 0;
-    };
-    static constexpr std::size_t kSlots = kKeep / kAlign + 1;  //!< more blocks than kKeep holds are never kept
-    std::mutex mutex_;
-    std::array<Block, kSlots> blocks_{};  //!< [0, count_): oldest first
-    std::size_t count_ = 0;
-    std::size_t total_ = 0;
-};
-
-//! Allocates on 64-byte boundaries (so that each VertexData fills whole cache lines), and arrays of 1 MiB or more on
-//! 2 MiB boundaries, rounded up to whole 2 MiB pages, with transparent huge pages requested where the kernel leaves
-//! that to the program (Linux THP "madvise"): the simplifier reads its arrays of up to hundreds of MB at random, and
-//! with 4 KiB pages nearly every access also misses the TLB and every first touch faults. Faults are what costs most
-//! on a virtual machine: here a 4 KiB fault costs ~15 us, so the ~1,500 of a 70k-triangle run took 20 ms of its 60.
-//! Those blocks are kept for the next simplification (HugeBlockCache).
-template <class T>
-struct BlockAllocator {
-    using value_type = T;
-    BlockAllocator() = default;
-    template <class U>
-    BlockAllocator(const BlockAllocator<U>&) noexcept {}
-    static constexpr std::size_t kHuge = HugeBlockCache::kAlign;
-    static bool huge(std::size_t n) { return n * sizeof(T) >= kHuge / 2; }
-    //! A huge block's size: whole 2 MiB pages
-    static std::size_t huge_bytes(std::size_t n) { return (n * sizeof(T) + kHuge - 1) / kHuge * kHuge; }
-    T* allocate(std::size_t n) {
-        if (n > (std::numeric_limits<std::size_t>::max() >> 2) / sizeof(T)) throw std::bad_array_new_length();
-        if (!huge(n)) return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
-        const std::size_t size = huge_bytes(n);
-        if (void* kept = HugeBlockCache::instance().take(size)) return static_cast<T*>(kept);
-        void* p = ::operator new (size, std::align_val_t{kHuge});
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        ::madvise(p, size, MADV_HUGEPAGE);  // advice only: failure changes nothing
-#endif
-        return static_cast<T*>(p);
-    }
-    void deallocate(T* p, std::size_t n) noexcept {
-        if (huge(n))
-            HugeBlockCache::instance().give(p, huge_bytes(n));
-        else
-            ::operator delete (p, std::align_val_t{64});
-    }
-    template <class U>
-    bool operator==(const BlockAllocator<U>&) const noexcept {
-        return true;
-    }
-};
-template <class T>
-using BlockVector = std::vector<T, BlockAllocator<T>>;
-
-// 16 bytes: the heap holds a few million of these for a 1M-triangle mesh, and popping is cache-bound.
-struct Candidate {
-    float cost;  //!< ordering only; the collapse itself is re-evaluated in double when popped
-    Index a, b;
-    //! version_[a] + version_[b] when pushed. Versions only grow (a vertex's also when it dies), so the entry is
-    //! current exactly while the sum is unchanged.
-    std::uint32_t stamp;
-};
-static_assert(sizeof(Candidate) == 16);
-
-//! A radix heap (Ahuja, Mehlhorn, Orlin, Tarjan 1990) on the cost's float bits, which order like the costs for
-//! costs >= 0. Keys popped never decrease, and an edge's cost only grows when quadrics are merged, so a pushed key is
-//! nearly always >= the last one popped; one that is not is clamped to it and comes out next, which is where a
-//! comparison heap would put it too. Bucket i > 0 holds the keys whose highest bit differing from the last key popped
-//! is bit i - 1; popping refills bucket 0 from the lowest non-empty bucket. Every entry moves to a lower bucket a few
-//! times in all, by sequential copies: on meshes of millions of triangles that is cheaper than a comparison heap's
-//! root-to-leaf walk of cache misses per pop.
-class CandidateHeap {
-public:
-    bool empty() const { return size_ == 0; }
-    std::size_t size() const { return size_; }
-    void clear() {
-        for (auto& bucket : buckets_) bucket.clear();
-        size_ = 0;
-        last_ = 0;
-    }
-    void push(Candidate c) {
-        std::uint32_t key = bits(c.cost);
-        if (key < last_) {
-            key = last_;
-            std::memcpy(&c.cost, &key, sizeof key);
-        }
-        buckets_[bucket_of(key)].push_back(c);
-        ++size_;
-    }
-    //! The entry with the lowest key, or nullptr when none is left. Entries for which current(entry) is false are
-    //! dropped on the way (stale ones: checked while they are copied anyway).
-    template <class Current>
-    const Candidate* top(Current current) {
-        settle(current);
-        return buckets_[0].empty() ? nullptr : &buckets_[0].back();
-    }
-    //! \pre top() returned an entry
-    Candidate pop() {
-        const Candidate c = buckets_[0].back();
-        buckets_[0].pop_back();
-        --size_;
-        return c;
-    }
-    //! Moves the entries of `other` for which current(entry) holds into this heap (other is left empty).
-    template <class Current>
-    void absorb(CandidateHeap& other, Current current) {
-        for (auto& bucket : other.buckets_) {
-            for (const Candidate& c : bucket)
-                if (current(c)) push(c);
-            bucket.clear();
-        }
-        other.size_ = 0;
-    }
-    template <class Pred>
-    void erase_if(Pred pred) {
-        size_ = 0;
-        for (auto& bucket : buckets_) {
-            bucket.erase(std::remove_if(bucket.begin(), bucket.end(), pred), bucket.end());
-            size_ += bucket.size();
-        }
-    }
-
-private:
-    //! Costs are >= 0 (Quadric::error clamps); a negative or NaN bit pattern would only sort last.
-    static std::uint32_t bits(float cost) {
-        std::uint32_t key;
-        std::memcpy(&key, &cost, sizeof key);
-        return key;
-    }
-    std::size_t bucket_of(std::uint32_t key) const {
-        return key == last_ ? 0 : 32 - static_cast<std::size_t>(__builtin_clz(key ^ last_));
-    }
-    template <class Current>
-    void settle(Current current) {
-        std::size_t i = 0;
-        while (buckets_[0].empty()) {
-            do {
-                if (++i == buckets_.size()) return;  // empty
-            } while (buckets_[i].empty());
-            auto& from = buckets_[i];
-            // drop stale entries, then move the rest below the lowest
-            std::size_t kept = 0;
-            std::uint32_t lowest = std::numeric_limits<std::uint32_t>::max();
-            for (const Candidate& c : from)
-                if (current(c)) {
-                    from[kept++] = c;
-                    lowest = std::min(lowest, bits(c.cost));
-                }
-            size_ -= from.size() - kept;
-            from.resize(kept);
-            if (kept == 0) continue;
-            last_ = lowest;
-            for (const Candidate& c : from) buckets_[bucket_of(bits(c.cost))].push_back(c);
-            from.clear();
-        }
-    }
-    std::array<BlockVector<Candidate>, 33> buckets_;
-    std::size_t size_ = 0;
-    std::uint32_t last_ = 0;
-};
-
-struct Collapse {
-    Index keep = kInvalidIndex, remove = kInvalidIndex;
-    Vec3 position;
-    //! position's parameter along keep -> remove, for attribute interpolation; < 0: the projection of position
-    double s = 0;
-    double cost = 0;    //!< Q(position), the heap key
-    double weight = 0;  //!< the summed quadric's weight
-    double error = 0;   //!< sqrt(cost / weight): a distance (set by the caller, only for collapses popped)
-};
-
-//! What one collapsing loop owns: its heap, scratch and counters. One for the whole mesh, or with threads >= 2 one per
-//! region of the first phase (Simplifier::run_regions), each touching only its region's vertices and faces.
-struct Worker {
-    int region = -1;          //!< -1: the whole mesh
-    std::size_t live = 0;     //!< live faces of the whole mesh as this worker sees them (its own collapses counted)
-    std::size_t stop_at = 0;  //!< collapse while live > stop_at
-    double max_error = 0;
-    std::size_t collapses = 0;
-    std::uint64_t polls = 0;
-    std::size_t pushes = 0;     //!< heap pushes since the last compaction
-    std::size_t compacted = 0;  //!< heap size after the last compaction
-    bool cancelled = false;
-    bool done = false;  //!< region workers: nothing left to do (heap empty, or no room for a new fan block)
-    //! Region workers place grown fans in [fan_next, fan_end) of the pool and interpolated texture coordinates in
-    //! [uv_next, uv_end) of the uv list, neither of which may reallocate meanwhile.
-    std::size_t fan_next = 0, fan_end = 0, uv_next = 0, uv_end = 0;
-    CandidateHeap heap;
-    // scratch for is_valid/apply (one collapse at a time)
-    std::vector<Index> shared, apexes, ring_k, ring_r;
-};
-
-//! What a collapse reads of a vertex, in one 128-byte block (two cache lines) instead of several arrays: vertices
-//! are visited in heap and one-ring order, nearly always a cache miss each.
-struct alignas(64) VertexData {
-    Quadric q;
-    Vec3 p;
-    //! The vertex's live faces are fans_[fan, fan + degree), in the order they joined; `capacity` entries from `fan`
-    //! belong to it. A fan is read in one piece, so all its triangles can be fetched at once (a list threaded through
-    //! the triangles is a chain of dependent cache misses).
-    Index fan = 0, degree = 0, capacity = 0;
-};
-static_assert(sizeof(VertexData) == 128);
-
-//! A triangle and the unit normal of the input face it started as (0 when that had no area), which every
-//! collapse that changes the face compares against: one fetch gives both. Float is ample for a cosine bound.
-struct Tri {
-    std::array<Index, 3> v;
-    std::array<float, 3> normal;
-    Index& operator[](int j) { return v[static_cast<std::size_t>(j)]; }
-    Index operator[](int j) const { return v[static_cast<std::size_t>(j)]; }
-    const Index* begin() const { return v.data(); }
-    const Index* end() const { return v.data() + 3; }
-};
-static_assert(sizeof(Tri) == 24);
-
 //! Room left in each fan at the start, so that most collapses append the removed vertex's faces in place.
 constexpr Index kFanSlack = 2;
 
-//! Spreads the low 10 bits of x to every third bit (bits 0, 3, ..., 27).
-std::uint32_t spread_bits(std::uint32_t x) {
-    x &= 0x3ffu;
-    x = (x | (x << 16)) & 0x030000ffu;
-    x = (x | (x << 8)) & 0x0300f00fu;
-    x = (x | (x << 4)) & 0x030c30c3u;
-    x = (x | (x << 2)) & 0x09249249u;
-    return x;
-}
+}  // namespace
 
-//! A vertex numbering in Morton (Z-curve) order of the positions on a 1024^3 grid over their bounds: rank[v] is the
-//! new number of vertex v. Collapses visit vertices in heap order, all over the mesh, but each one reads a one-ring,
-//! and in this order a one-ring's records lie close together (about 10% fewer cache misses on the bunny and the
-//! icosphere, whose subdivision numbering puts neighbours far apart). Radix sort: linear time.
-//! `halves`: the first n / 2 numbers go to the vertices below the median plane across the longest side of the bounds
-//! (to 1/1024 of it; within that slab by input number), each half in Morton order: Simplifier::run_regions() cuts
-//! there, and a plane crosses fewer faces than the Morton order's own midpoint does (564 against 1,273 on the bunny).
-std::vector<Index> spatial_order(const std::vector<Vec3>& positions, bool halves) {
-    const std::size_t n = positions.size();
-    Box3 box;
-    for (const Vec3& p : positions) box.add(p);
-    const Vec3 size = box.max - box.min;
-    const double extent = std::max({size.x, size.y, size.z});
-    const double scale = extent > 0 ? 1023.0 / extent : 0.0;
-    std::vector<std::uint64_t> keys(n), sorted(n);
-    const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
-    std::vector<std::uint16_t> slab(halves ? n : 0);  //!< the cell along the longest side
-    for (std::size_t v = 0; v < n; ++v) {
-        const Vec3 q = (positions[v] - box.min) * scale;
-        const auto cell = [](double c) { return static_cast<std::uint32_t>(std::clamp(c, 0.0, 1023.0)); };
-        const std::uint64_t code = spread_bits(cell(q.x)) | spread_bits(cell(q.y)) << 1 | spread_bits(cell(q.z)) << 2;
-        keys[v] = code << 32 | v;
-        if (halves) slab[v] = static_cast<std::uint16_t>(cell(axis == 0 ? q.x : (axis == 1 ? q.y : q.z)));
+Simplifier::Simplifier(const PolygonMesh& mesh, const SimplifyOptions& options)
+    : options_(options),
+      split_(static_cast<Index>(options.threads >= 2 && mesh.face_count() >= kRegionsMinimum ? mesh.vertex_count() / 2
+                                                                                             : mesh.vertex_count())),
+      rank_(spatial_order(mesh.positions, split_ < mesh.vertex_count())) {
+    const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
+    vx_.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) vx_[rank_[v]].p = mesh.positions[v];
+    flags_.assign(nv, kAlive);
+    version_.assign(nv, 0);
+    tris_.resize(nf);
+    face_alive_.assign(nf, 1);
+    for (std::size_t f = 0; f < nf; ++f) {
+        const Index* face = mesh.face_indices.data() + mesh.face_offsets[f];
+        tris_[f].v = {rank_[face[0]], rank_[face[1]], rank_[face[2]]};
     }
-    for (int shift = 32; shift < 62; shift += 10) {  // three 10-bit digits of the 30-bit code, least significant first
-        std::array<std::size_t, 1025> start{};
-        for (std::uint64_t k : keys) ++start[(k >> shift & 1023) + 1];
-        for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
-        for (std::uint64_t k : keys) sorted[start[k >> shift & 1023]++] = k;
-        keys.swap(sorted);
-    }
-    if (halves) {
-        // the slab holding the median, and how many of its vertices (the lowest numbered) join the lower half
-        std::array<std::size_t, 1024> count{};
-        for (std::uint16_t c : slab) ++count[c];
-        std::size_t below = 0, median = 0;
-        while (below + count[median] < n / 2) below += count[median++];
-        std::size_t take = n / 2 - below;
-        std::vector<std::uint8_t> lower(n, 0);
-        for (std::size_t v = 0; v < n; ++v)
-            if (slab[v] < median || (slab[v] == median && take > 0 && take--)) lower[v] = 1;
-        // stable partition of the Morton order: the lower half first
-        std::size_t front = 0;
-        for (std::uint64_t k : keys)
-            if (lower[k & 0xffffffffu]) sorted[front++] = k;
-        for (std::uint64_t k : keys)
-            if (!lower[k & 0xffffffffu]) sorted[front++] = k;
-        keys.swap(sorted);
-    }
-    std::vector<Index> rank(n);
-    for (std::size_t i = 0; i < n; ++i) rank[keys[i] & 0xffffffffu] = static_cast<Index>(i);
-    return rank;
-}
-
-class Simplifier {
-public:
-    Simplifier(const PolygonMesh& mesh, const SimplifyOptions& options)
-        : options_(options),
-          split_(static_cast<Index>(options.threads >= 2 && mesh.face_count() >= kRegionsMinimum
-                                        ? mesh.vertex_count() / 2
-                                        : mesh.vertex_count())),
-          rank_(spatial_order(mesh.positions, split_ < mesh.vertex_count())) {
-        const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
-        vx_.resize(nv);
-        for (std::size_t v = 0; v < nv; ++v) vx_[rank_[v]].p = mesh.positions[v];
-        flags_.assign(nv, kAlive);
-        version_.assign(nv, 0);
-        tris_.resize(nf);
-        face_alive_.assign(nf, 1);
+    if (mesh.has_uvs()) {
+        uvs_ = mesh.uvs;
+        face_uvs_.resize(nf);
         for (std::size_t f = 0; f < nf; ++f) {
-            const Index* face = mesh.face_indices.data() + mesh.face_offsets[f];
-            tris_[f].v = {rank_[face[0]], rank_[face[1]], rank_[face[2]]};
+            const Index o = mesh.face_offsets[f];
+            face_uvs_[f] = {mesh.uv_indices[o], mesh.uv_indices[o + 1], mesh.uv_indices[o + 2]};
         }
-        if (mesh.has_uvs()) {
-            uvs_ = mesh.uvs;
-            face_uvs_.resize(nf);
-            for (std::size_t f = 0; f < nf; ++f) {
-                const Index o = mesh.face_offsets[f];
-                face_uvs_[f] = {mesh.uv_indices[o], mesh.uv_indices[o + 1], mesh.uv_indices[o + 2]};
-            }
-        }
-        if (!mesh.normals.empty()) {
-            normals_.resize(nv);
-            for (std::size_t v = 0; v < nv; ++v) normals_[rank_[v]] = mesh.normals[v];
-        }
-        serial_.live = nf;
     }
+    if (!mesh.normals.empty()) {
+        normals_.resize(nv);
+        for (std::size_t v = 0; v < nv; ++v) normals_[rank_[v]] = mesh.normals[v];
+    }
+    serial_.live = nf;
+}
 
-    //! Adjacency, the manifold check, quadrics and pinned vertices.
-    Status init() {
-        const std::size_t nv = vx_.size(), nf = tris_.size();
-        // fans: every vertex lists its faces in increasing order, with kFanSlack spare entries. Degrees and fill
-        // cursors are counted in a compact array (4 bytes a vertex stay in cache where the 128-byte records do
-        // not), and beside each fan slot go the corner's next and previous vertex, the ends of the vertex's outgoing
-        // and incoming edges, so that the manifold check below reads them in order instead of every triangle again.
-        std::vector<Index> cursor(nv, 0);
-        for (const auto& t : tris_)
-            for (Index v : t) ++cursor[v];
-        std::size_t total = 0;
-        for (std::size_t v = 0; v < nv; ++v) {
-            VertexData& x = vx_[v];
-            x.fan = static_cast<Index>(total);
-            x.degree = cursor[v];
-            x.capacity = x.degree + kFanSlack;
-            cursor[v] = static_cast<Index>(total);
-            total += x.capacity;
+// With threads >= 2 the face planes and the manifold check run on two threads, one per half of the vertex numbers
+// (part_range, as run_regions() cuts them): each adds planes only to its own vertices, in face order as on one thread,
+// so the quadrics come out bit for bit the same; the half-edges needing more than the common interior test are
+// collected per half and handled afterwards in vertex order, as on one thread.
+Status Simplifier::init() {
+    FanEnds ends = pooled<std::array<Index, 2>>();
+    if (auto status = build_fans(ends); !status) return status;
+    add_face_planes();
+    BlockVector<Index> boundary_edges = pooled<Index>();  //!< per vertex
+    boundary_edges.assign(vx_.size(), 0);
+    if (auto status = classify_odd_halfedges(find_odd_halfedges(ends), ends, boundary_edges); !status) return status;
+    pin_vertices(boundary_edges);
+    return Ok{};
+}
+
+//! Fans: every vertex lists its faces in increasing order, with kFanSlack spare entries. Degrees and fill cursors are
+//! counted in a compact array (4 bytes a vertex stay in cache where the 128-byte records do not), and beside each fan
+//! slot go (`ends`) the corner's next and previous vertex, the ends of the vertex's outgoing and incoming edges, so
+//! that the manifold check reads them in order instead of every triangle again.
+Status Simplifier::build_fans(FanEnds& ends) {
+    const std::size_t nv = vx_.size(), nf = tris_.size();
+    std::vector<Index> cursor(nv, 0);
+    for (const auto& t : tris_)
+        for (Index v : t) ++cursor[v];
+    std::size_t total = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+        VertexData& x = vx_[v];
+        x.fan = static_cast<Index>(total);
+        x.degree = cursor[v];
+        x.capacity = x.degree + kFanSlack;
+        cursor[v] = static_cast<Index>(total);
+        total += x.capacity;
+    }
+    if (total >= kInvalidIndex) return make_error(ErrorCode::InvalidArgument, "mesh too large to simplify");
+    fans_.reserve(total + total / 4);
+    fans_.resize(total);
+    ends.resize(total);
+    for (Index f = 0; f < nf; ++f) {
+        const auto& t = tris_[f];
+        for (int j = 0; j < 3; ++j) {
+            const Index slot = cursor[t[j]]++;
+            fans_[slot] = f;
+            ends[slot] = {t[(j + 1) % 3], t[(j + 2) % 3]};
         }
-        if (total >= kInvalidIndex) return make_error(ErrorCode::InvalidArgument, "mesh too large to simplify");
-        fans_.reserve(total + total / 4);
-        fans_.resize(total);
-        BlockVector<std::array<Index, 2>> ends(total);  //!< per fan slot: the corner's next and previous vertex
-        for (Index f = 0; f < nf; ++f) {
+    }
+    return Ok{};
+}
+
+//! Face planes, weighted by area so that the metric does not depend on the tessellation density.
+void Simplifier::add_face_planes() {
+    const std::size_t nf = tris_.size();
+    run_two_parts(split_ < vx_.size(), [&](int part) {
+        const auto [lo, hi] = part_range(part);
+        if (lo == hi) return;
+        const auto mine = [lo = lo, hi = hi](Index v) { return v >= lo && v < hi; };
+        for (std::size_t f = 0; f < nf; ++f) {
             const auto& t = tris_[f];
-            for (int j = 0; j < 3; ++j) {
-                const Index slot = cursor[t[j]]++;
-                fans_[slot] = f;
-                ends[slot] = {t[(j + 1) % 3], t[(j + 2) % 3]};
-            }
+            if (!mine(t[0]) && !mine(t[1]) && !mine(t[2])) continue;
+            const Vec3& p0 = vx_[t[0]].p;
+            Vec3 n = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
+            const double len = norm(n);
+            if (mine(t[0])) tris_[f].normal = {0.0f, 0.0f, 0.0f};
+            if (!(len > 0)) continue;  // no plane; its edges still get the quadrics of their other faces
+            n *= 1.0 / len;
+            if (mine(t[0]))
+                tris_[f].normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
+            const Quadric q = Quadric::from_plane(n, -dot(n, p0), 0.5 * len);
+            for (Index v : t)
+                if (mine(v)) vx_[v].q += q;
         }
+    });
+}
 
-        // With threads >= 2 the face planes and the manifold check run on two threads, one per half of the vertex
-        // numbers (as run_regions() cuts them): each adds planes only to its own vertices, in face order as on one
-        // thread, so the quadrics come out bit for bit the same; the half-edges needing more than the common
-        // interior test are collected per half and handled afterwards in vertex order, as on one thread.
-        const bool two = split_ < nv;
-        const auto part_range = [&](int part) {
-            return part == 0 ? std::array<Index, 2>{0, split_} : std::array<Index, 2>{split_, static_cast<Index>(nv)};
-        };
+//! Every half-edge u -> w must have at most one twin, running the other way. Checked per vertex u on its fan: the
+//! faces' vertices after u (outgoing edges) and before u (incoming). Returns, per part, the half-edges that are not
+//! simply interior, in vertex order.
+std::array<std::vector<Simplifier::OddHalfedge>, 2> Simplifier::find_odd_halfedges(const FanEnds& ends) const {
+    std::array<std::vector<OddHalfedge>, 2> odd;
+    run_two_parts(split_ < vx_.size(), [&](int part) {
+        const auto [lo, hi] = part_range(part);
+        for (Index u = lo; u < hi; ++u) {
+            const std::array<Index, 2>* edge = ends.data() + vx_[u].fan;
+            const Index degree = vx_[u].degree;
+            for (Index i = 0; i < degree; ++i) {
+                const Index w = edge[i][0];
+                // other faces with u -> w (same direction) and with w -> u (opposite); a face's own incoming
+                // edge never ends at w (validated: no face repeats a vertex)
+                int same = -1, opposite = 0;
+                for (Index x = 0; x < degree; ++x) {
+                    same += edge[x][0] == w;
+                    opposite += edge[x][1] == w;
+                }
+                if (same == 0 && opposite == 1) continue;  // an interior edge, as nearly all are
+                odd[static_cast<std::size_t>(part)].push_back({u, i, same, opposite});
+            }
+        }
+    });
+    return odd;
+}
 
-        // face planes, weighted by area so that the metric does not depend on the tessellation density
-        run_two_parts(two, [&](int part) {
-            const auto [lo, hi] = part_range(part);
-            if (lo == hi) return;
-            const auto mine = [lo = lo, hi = hi](Index v) { return v >= lo && v < hi; };
-            for (std::size_t f = 0; f < nf; ++f) {
-                const auto& t = tris_[f];
-                if (!mine(t[0]) && !mine(t[1]) && !mine(t[2])) continue;
-                const Vec3& p0 = vx_[t[0]].p;
-                Vec3 n = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
-                const double len = norm(n);
-                if (mine(t[0])) tris_[f].normal = {0.0f, 0.0f, 0.0f};
-                if (!(len > 0)) continue;  // no plane; its edges still get the quadrics of their other faces
-                n *= 1.0 / len;
-                if (mine(t[0]))
-                    tris_[f].normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
-                const Quadric q = Quadric::from_plane(n, -dot(n, p0), 0.5 * len);
-                for (Index v : t)
-                    if (mine(v)) vx_[v].q += q;
+//! Boundary edges (no twin) get their flags and, without lock_border, constraint planes; an edge with more than one
+//! twin or a twin in the same direction is an error, which names the first offending half-edge in face order,
+//! whatever the vertex order.
+Status Simplifier::classify_odd_halfedges(const std::array<std::vector<OddHalfedge>, 2>& odd, const FanEnds& ends,
+                                          BlockVector<Index>& boundary_edges) {
+    boundary_halfedges_.assign(tris_.size(), 0);
+    std::size_t first_bad = std::numeric_limits<std::size_t>::max();
+    bool bad_orientation = false;
+    for (const auto& list : odd)
+        for (const auto& [u, i, same, opposite] : list) {
+            const Index f = fan_of(u)[i];
+            const Index w = ends[vx_[u].fan + i][0];
+            const int j = corner_of(f, u);
+            if (same > 0 || opposite > 1) {
+                const std::size_t halfedge = 3 * std::size_t{f} + static_cast<std::size_t>(j);
+                if (halfedge < first_bad) {
+                    first_bad = halfedge;
+                    bad_orientation = same > 0 && opposite == 0;
+                }
+                continue;
             }
-        });
+            boundary_halfedges_[f] |= static_cast<std::uint8_t>(1u << j);
+            flags_[u] |= kBoundary;
+            flags_[w] |= kBoundary;
+            ++boundary_edges[u];
+            ++boundary_edges[w];
+            if (!options_.lock_border) add_boundary_plane(f, j);
+        }
+    if (first_bad == std::numeric_limits<std::size_t>::max()) return Ok{};
+    const Index f = static_cast<Index>(first_bad / 3);
+    const int j = static_cast<int>(first_bad % 3);
+    const std::string edge = "(" + std::to_string(input_index(tris_[f][j])) + ", " +
+                             std::to_string(input_index(tris_[f][(j + 1) % 3])) + ")";
+    return element_error(
+        ErrorCode::NonManifold,
+        bad_orientation ? "edge " + edge + " is traversed in the same direction by face " + std::to_string(f) +
+                              " and another face (inconsistent orientation or a duplicate face)"
+                        : "edge " + edge + " is shared by more than two faces (face " + std::to_string(f) + " is one)",
+        ElementKind::Face, f);
+}
 
-        // Every half-edge u -> w must have at most one twin, running the other way; boundary edges get constraint
-        // planes. Checked per vertex u on its fan: the faces' vertices after u (outgoing edges) and before u
-        // (incoming). The error names the first offending half-edge in face order, whatever the vertex order.
-        BlockVector<Index> boundary_edges(nv, 0);
-        boundary_halfedges_.assign(nf, 0);
-        std::size_t first_bad = std::numeric_limits<std::size_t>::max();
-        bool bad_orientation = false;
-        struct Odd {  // a half-edge u -> (fan slot i's next vertex) that is not simply interior
-            Index u, i;
-            int same, opposite;
-        };
-        std::array<std::vector<Odd>, 2> odd;
-        run_two_parts(two, [&](int part) {
-            const auto [lo, hi] = part_range(part);
-            for (Index u = lo; u < hi; ++u) {
-                const std::array<Index, 2>* edge = ends.data() + vx_[u].fan;
-                const Index degree = vx_[u].degree;
-                for (Index i = 0; i < degree; ++i) {
-                    const Index w = edge[i][0];
-                    // other faces with u -> w (same direction) and with w -> u (opposite); a face's own incoming
-                    // edge never ends at w (validated: no face repeats a vertex)
-                    int same = -1, opposite = 0;
-                    for (Index x = 0; x < degree; ++x) {
-                        same += edge[x][0] == w;
-                        opposite += edge[x][1] == w;
-                    }
-                    if (same == 0 && opposite == 1) continue;  // an interior edge, as nearly all are
-                    odd[static_cast<std::size_t>(part)].push_back({u, i, same, opposite});
-                }
-            }
-        });
-        for (const auto& list : odd)
-            for (const auto& [u, i, same, opposite] : list) {
-                const Index f = fan_of(u)[i];
-                const Index w = ends[vx_[u].fan + i][0];
-                const int j = corner_of(f, u);
-                if (same > 0 || opposite > 1) {
-                    const std::size_t halfedge = 3 * std::size_t{f} + static_cast<std::size_t>(j);
-                    if (halfedge < first_bad) {
-                        first_bad = halfedge;
-                        bad_orientation = same > 0 && opposite == 0;
-                    }
-                    continue;
-                }
-                boundary_halfedges_[f] |= static_cast<std::uint8_t>(1u << j);
-                flags_[u] |= kBoundary;
-                flags_[w] |= kBoundary;
-                ++boundary_edges[u];
-                ++boundary_edges[w];
-                if (!options_.lock_border) add_boundary_plane(f, j);
-            }
-        if (first_bad != std::numeric_limits<std::size_t>::max()) {
-            const Index f = static_cast<Index>(first_bad / 3);
-            const int j = static_cast<int>(first_bad % 3);
-            const std::string edge = "(" + std::to_string(input_index(tris_[f][j])) + ", " +
-                                     std::to_string(input_index(tris_[f][(j + 1) % 3])) + ")";
-            return element_error(
-                ErrorCode::NonManifold,
-                bad_orientation
-                    ? "edge " + edge + " is traversed in the same direction by face " + std::to_string(f) +
-                          " and another face (inconsistent orientation or a duplicate face)"
-                    : "edge " + edge + " is shared by more than two faces (face " + std::to_string(f) + " is one)",
-                ElementKind::Face, f);
-        }
-        for (std::size_t v = 0; v < nv; ++v) {
-            // two boundary fans meeting at one vertex: no collapse there could keep the mesh manifold for sure
-            if (boundary_edges[v] > 2) flags_[v] |= kPinned;
-            if (options_.lock_border && (flags_[v] & kBoundary)) flags_[v] |= kPinned;
-        }
-        for (Index v : options_.locked_vertices) flags_[rank_[v]] |= kPinned;
-        // UV seams: a vertex whose corners use different uv indices. Pinning it keeps every seam exactly, and a
-        // collapse onto it takes the uv of the chart the collapsing edge lies in.
-        if (!face_uvs_.empty()) {
-            std::vector<Index> first_uv(nv, kInvalidIndex);
-            for (std::size_t f = 0; f < nf; ++f)
-                for (int j = 0; j < 3; ++j) {
-                    const Index v = tris_[f][j], uv = face_uvs_[f][j];
-                    if (first_uv[v] == kInvalidIndex)
-                        first_uv[v] = uv;
-                    else if (first_uv[v] != uv)
-                        flags_[v] |= kPinned;
-                }
-        }
-        for (std::size_t v = 0; v < nv; ++v)
-            if (vx_[v].degree == 0) flags_[v] &= static_cast<std::uint8_t>(~kAlive);
-        return Ok{};
+//! Pinned vertices (kPinned), and dead ones: vertices without faces.
+void Simplifier::pin_vertices(const BlockVector<Index>& boundary_edges) {
+    const std::size_t nv = vx_.size(), nf = tris_.size();
+    for (std::size_t v = 0; v < nv; ++v) {
+        // two boundary fans meeting at one vertex: no collapse there could keep the mesh manifold for sure
+        if (boundary_edges[v] > 2) flags_[v] |= kPinned;
+        if (options_.lock_border && (flags_[v] & kBoundary)) flags_[v] |= kPinned;
     }
-
-    //! Collapses edges until at most `target` faces remain or no valid collapse with error <= threshold is left.
-    //! With threads >= 2, a first phase runs on two regions at once (run_regions).
-    void run(std::size_t target, double threshold) {
-        Worker& w = serial_;
-        int first_pass = 0;
-        // after the regions, w.heap holds every live edge already (run_regions)
-        bool filled = options_.threads >= 2 && run_regions(target, threshold);
-        if (filled) first_pass = 1;
-        if (w.cancelled) return;
-        for (int pass = first_pass; pass < first_pass + kMaxPasses && w.live > target; ++pass) {
-            // Later passes retry collapses that were invalid when popped but may have become valid since.
-            if (!filled) {
-                w.heap.clear();
-                push_edges_by_face(w, pass);
+    for (Index v : options_.locked_vertices) flags_[rank_[v]] |= kPinned;
+    // UV seams: a vertex whose corners use different uv indices. Pinning it keeps every seam exactly, and a
+    // collapse onto it takes the uv of the chart the collapsing edge lies in.
+    if (!face_uvs_.empty()) {
+        std::vector<Index> first_uv(nv, kInvalidIndex);
+        for (std::size_t f = 0; f < nf; ++f)
+            for (int j = 0; j < 3; ++j) {
+                const Index v = tris_[f][j], uv = face_uvs_[f][j];
+                if (first_uv[v] == kInvalidIndex)
+                    first_uv[v] = uv;
+                else if (first_uv[v] != uv)
+                    flags_[v] |= kPinned;
             }
-            filled = false;
-            w.stop_at = target;
+    }
+    for (std::size_t v = 0; v < nv; ++v)
+        if (vx_[v].degree == 0) flags_[v] &= static_cast<std::uint8_t>(~kAlive);
+}
+
+void Simplifier::run(std::size_t target, double threshold) {
+    Worker& w = serial_;
+    int first_pass = 0;
+    // after the regions, w.heap holds every live edge already (run_regions)
+    bool filled = options_.threads >= 2 && run_regions(target, threshold);
+    if (filled) first_pass = 1;
+    if (w.cancelled) return;
+    for (int pass = first_pass; pass < first_pass + kMaxPasses && w.live > target; ++pass) {
+        // Later passes retry collapses that were invalid when popped but may have become valid since.
+        if (!filled) {
+            w.heap.clear();
+            push_edges_by_face(w, pass);
+        }
+        filled = false;
+        w.stop_at = target;
+        w.compacted = w.heap.size();
+        w.pushes = 0;
+        const std::size_t before = w.collapses;
+        collapse_in_order(w, threshold, std::numeric_limits<float>::infinity());
+        if (w.cancelled || w.collapses == before) break;
+    }
+}
+
+PolygonMesh Simplifier::extract() const {
+    PolygonMesh out;
+    std::vector<Index> remap(vx_.size(), kInvalidIndex);
+    std::vector<Index> uv_remap(uvs_.size(), kInvalidIndex);
+    out.face_offsets.reserve(serial_.live + 1);
+    out.face_indices.reserve(3 * serial_.live);
+    for (std::size_t f = 0; f < tris_.size(); ++f) {
+        if (!face_alive_[f]) continue;
+        for (int j = 0; j < 3; ++j) {
+            const Index v = tris_[f][j];
+            if (remap[v] == kInvalidIndex) {
+                remap[v] = static_cast<Index>(out.positions.size());
+                out.positions.push_back(vx_[v].p);
+                if (!normals_.empty()) out.normals.push_back(normals_[v]);
+            }
+            out.face_indices.push_back(remap[v]);
+            if (!face_uvs_.empty()) {
+                const Index uv = face_uvs_[f][j];
+                if (uv_remap[uv] == kInvalidIndex) {
+                    uv_remap[uv] = static_cast<Index>(out.uvs.size());
+                    out.uvs.push_back(uvs_[uv]);
+                }
+                out.uv_indices.push_back(uv_remap[uv]);
+            }
+        }
+        out.face_offsets.push_back(static_cast<Index>(out.face_indices.size()));
+    }
+    return out;
+}
+
+//! Collapses w's candidates in cost order while w.live > w.stop_at, up to heap keys of `level`, skipping those
+//! whose error exceeds `threshold`; stops early when w.cancelled or (region workers) w.done is set.
+void Simplifier::collapse_in_order(Worker& w, double threshold, float level) {
+    const auto current = [this](const Candidate& c) { return is_current(c); };
+    const std::size_t parts = w.region < 0 ? 1 : 2;
+    while (w.live > w.stop_at) {
+        // Stale entries pile up (each collapse outdates the entries at two vertices and adds new ones).
+        // Dropping them once they outnumber the live edges keeps the heap small and cache-friendly. Only
+        // after pushes of a quarter of what the last compaction kept, so that a compaction costs at most a
+        // few times the pushes since, whatever the mesh (a triangle soup has 3 current entries per face and
+        // no stale ones: without that condition every pop would compact it).
+        // Compaction keeps the heap under 2 live faces + 1024 entries, plus one collapse's pushes.
+        if (w.heap.size() > 2 * (w.live / parts) + 1024 && w.pushes >= w.compacted / 4) {
+            compact_heap(w);
             w.compacted = w.heap.size();
             w.pushes = 0;
-            const std::size_t before = w.collapses;
-            collapse_in_order(w, threshold, std::numeric_limits<float>::infinity());
-            if (w.cancelled || w.collapses == before) break;
         }
-    }
-
-    PolygonMesh extract() const {
-        PolygonMesh out;
-        std::vector<Index> remap(vx_.size(), kInvalidIndex);
-        std::vector<Index> uv_remap(uvs_.size(), kInvalidIndex);
-        out.face_offsets.reserve(serial_.live + 1);
-        out.face_indices.reserve(3 * serial_.live);
-        for (std::size_t f = 0; f < tris_.size(); ++f) {
-            if (!face_alive_[f]) continue;
-            for (int j = 0; j < 3; ++j) {
-                const Index v = tris_[f][j];
-                if (remap[v] == kInvalidIndex) {
-                    remap[v] = static_cast<Index>(out.positions.size());
-                    out.positions.push_back(vx_[v].p);
-                    if (!normals_.empty()) out.normals.push_back(normals_[v]);
-                }
-                out.face_indices.push_back(remap[v]);
-                if (!face_uvs_.empty()) {
-                    const Index uv = face_uvs_[f][j];
-                    if (uv_remap[uv] == kInvalidIndex) {
-                        uv_remap[uv] = static_cast<Index>(out.uvs.size());
-                        out.uvs.push_back(uvs_[uv]);
-                    }
-                    out.uv_indices.push_back(uv_remap[uv]);
-                }
-            }
-            out.face_offsets.push_back(static_cast<Index>(out.face_indices.size()));
+        if ((++w.polls & 4095) == 0 && options_.cancel.requested()) {
+            w.cancelled = true;
+            return;
         }
-        return out;
-    }
-
-    std::size_t live_faces() const { return serial_.live; }
-    double max_error() const { return serial_.max_error; }
-    bool cancelled() const { return serial_.cancelled; }
-
-private:
-    int region_of(Index v) const { return v < split_ ? 0 : 1; }
-
-    //! The first phase with threads >= 2: the vertices are cut in two regions by their numbers, which put the
-    //! vertices on either side of a median plane first and second (spatial_order), so each region is one half of the
-    //! mesh in space. Vertices on a face with corners in both regions
-    //! are frozen, and each region's other edges collapse on their own thread with their own heap; a collapse there
-    //! only reads and writes its region's vertices and faces (a vertex that is not frozen has all its neighbours in
-    //! its region, and collapses between such vertices keep it so). The two halves advance in epochs: in each, both
-    //! collapse up to a common cost level (at least twice the last one, and at least the lowest key on top of either
-    //! heap), so the order across the halves follows the costs to within that factor, and each may remove at most
-    //! half of the faces still above the floor. Phase one ends at the floor: the target plus the faces on the cut plus
-    //! 5% of the way, which run() then collapses in global order, from one heap: the workers' current entries and
-    //! the edges at frozen vertices, evaluated then (serial_.heap, filled here when it returns true). Which
-    //! collapses are made depends only on the mesh and the options, not on the threads' timing (the epochs' levels
-    //! and shares are decided while both wait), and is the same when a second thread cannot be had and the halves
-    //! take turns. Returns whether it ran.
-    bool run_regions(std::size_t target, double threshold) {
-        Worker& s = serial_;
-        if (split_ == vx_.size() || s.live < kRegionsMinimum || s.live <= target) return false;
-        const std::size_t pool = fans_.size(), room = pool / 4 + 1024;
-        const std::size_t uv_pool = uvs_.size(), uv_room = face_uvs_.empty() ? 0 : s.live / 4 + 1024;
-        if (pool + 2 * room >= kInvalidIndex || uv_pool + 2 * uv_room >= kInvalidIndex) return false;
-        std::size_t seam = 0;
-        for (std::size_t f = 0; f < tris_.size(); ++f) {
-            if (!face_alive_[f]) continue;
-            const auto& t = tris_[f];
-            const int region = region_of(t[0]);
-            if (region_of(t[1]) == region && region_of(t[2]) == region) continue;
-            ++seam;
-            for (Index v : t) flags_[v] |= kFrozen;
+        const Candidate* top = w.heap.top(current);
+        if (!top) {
+            w.done = true;
+            return;
         }
-        const auto thaw = [this] {
-            for (auto& flag : flags_) flag &= static_cast<std::uint8_t>(~kFrozen);
-        };
-        const std::size_t floor = target + seam + (s.live - target) / 20 + 64;
-        if (s.live <= floor) {
-            thaw();
-            return false;
-        }
-        fans_.resize(pool + 2 * room);
-        uvs_.resize(uv_pool + 2 * uv_room);
-        std::array<Worker, 2> workers;
-        std::array<std::exception_ptr, 2> failures;
-        for (int i = 0; i < 2; ++i) {
-            Worker& w = workers[static_cast<std::size_t>(i)];
-            w.region = i;
-            w.live = w.stop_at = s.live;
-            w.fan_next = pool + static_cast<std::size_t>(i) * room;
-            w.fan_end = w.fan_next + room;
-            w.uv_next = uv_pool + static_cast<std::size_t>(i) * uv_room;
-            w.uv_end = w.uv_next + uv_room;
-        }
-        const auto current = [this](const Candidate& c) { return stamp(c.a, c.b) == c.stamp; };
-        float level = 0;
-        bool stop = false, first = true;
-        // Between epochs, while both workers wait: the next level and shares, or the end of the phase.
-        const auto control = [&]() noexcept {
-            try {
-                std::size_t live = s.live;
-                bool done = true;
-                for (const Worker& w : workers) {
-                    live -= s.live - w.live;
-                    if (w.cancelled) stop = true;
-                    done = done && w.done;
-                }
-                if (failures[0] || failures[1]) stop = true;
-                if (stop || done || live <= floor + 1) {
-                    stop = true;
-                    return;
-                }
-                float lowest = std::numeric_limits<float>::infinity();
-                for (Worker& w : workers) {
-                    if (w.done) continue;
-                    if (const Candidate* top = w.heap.top(current))
-                        lowest = std::min(lowest, top->cost);
-                    else
-                        w.done = true;
-                }
-                if (!(lowest < std::numeric_limits<float>::infinity())) {
-                    stop = true;
-                    return;
-                }
-                level = std::max(first ? 0.0f : 2 * level, lowest);
-                first = false;
-                const std::size_t share = (live - floor) / 2;
-                for (Worker& w : workers) w.stop_at = w.live - std::min(w.live, share);
-            } catch (...) {
-                stop = true;
-                if (!failures[0]) failures[0] = std::current_exception();
-            }
-        };
-        const auto fill = [&](int i) noexcept {
-            Worker& w = workers[static_cast<std::size_t>(i)];
-            try {
-                push_edges_by_face(w, 0);
-                w.compacted = w.heap.size();
-            } catch (...) {
-                failures[static_cast<std::size_t>(i)] = std::current_exception();
-            }
-        };
-        const auto epoch = [&](int i) noexcept {
-            Worker& w = workers[static_cast<std::size_t>(i)];
-            if (w.done || failures[static_cast<std::size_t>(i)]) return;
-            try {
-                collapse_in_order(w, threshold, level);
-            } catch (...) {
-                failures[static_cast<std::size_t>(i)] = std::current_exception();
-            }
-        };
-        std::barrier<decltype(control)> sync(2, control);
-        const auto loop = [&](int i) noexcept {
-            fill(i);
-            sync.arrive_and_wait();
-            while (!stop) {
-                epoch(i);
-                sync.arrive_and_wait();
-            }
-        };
-        std::thread other;
-        if (options_.threads >= 2 && std::thread::hardware_concurrency() >= 2) {
-            try {
-                other = std::thread(loop, 1);
-            } catch (...) {  // no thread to be had: the halves take turns below
-            }
-        }
-        if (other.joinable()) {
-            loop(0);
-            other.join();
-        } else {
-            fill(0);
-            fill(1);
-            control();
-            while (!stop) {
-                epoch(0);
-                epoch(1);
-                control();
-            }
-        }
-        for (const auto& failure : failures)
-            if (failure) {
-                thaw();
-                std::rethrow_exception(failure);
-            }
-        // The second phase's heap: the workers' current entries (every edge between vertices that are not frozen)
-        // and the edges at frozen vertices, evaluated now (as pass 1 of run() would find them).
-        s.heap.clear();
-        for (Worker& w : workers) s.heap.absorb(w.heap, current);
-        for (Index f = 0; f < tris_.size(); ++f) {
-            if (!face_alive_[f]) continue;
-            const auto& t = tris_[f];
-            for (int j = 0; j < 3; ++j) {
-                const Index u = t[j], x = t[(j + 1) % 3];
-                if (((flags_[u] | flags_[x]) & kFrozen) && is_candidate_halfedge(f, j, 1)) add_candidate(s, u, x);
-            }
-        }
-        thaw();
-        std::size_t live = s.live;
-        for (const Worker& w : workers) {
-            live -= s.live - w.live;
-            s.max_error = std::max(s.max_error, w.max_error);
-            s.collapses += w.collapses;
-            s.cancelled = s.cancelled || w.cancelled;
-        }
-        s.live = live;
-        return true;
-    }
-
-    //! Collapses w's candidates in cost order while w.live > w.stop_at, up to heap keys of `level`, skipping those
-    //! whose error exceeds `threshold`; stops early when w.cancelled or (region workers) w.done is set.
-    void collapse_in_order(Worker& w, double threshold, float level) {
-        const auto current = [this](const Candidate& c) { return stamp(c.a, c.b) == c.stamp; };
-        const std::size_t parts = w.region < 0 ? 1 : 2;
-        while (w.live > w.stop_at) {
-            // Stale entries pile up (each collapse outdates the entries at two vertices and adds new ones).
-            // Dropping them once they outnumber the live edges keeps the heap small and cache-friendly. Only
-            // after pushes of a quarter of what the last compaction kept, so that a compaction costs at most a
-            // few times the pushes since, whatever the mesh (a triangle soup has 3 current entries per face and
-            // no stale ones; without that condition every pop compacted: 40,000 triangles took 6.5 s).
-            // Compaction keeps the heap under 2 live faces + 1024 entries, plus one collapse's pushes.
-            if (w.heap.size() > 2 * (w.live / parts) + 1024 && w.pushes >= w.compacted / 4) {
-                compact_heap(w);
-                w.compacted = w.heap.size();
-                w.pushes = 0;
-            }
-            if ((++w.polls & 4095) == 0 && options_.cancel.requested()) {
-                w.cancelled = true;
-                return;
-            }
-            const Candidate* top = w.heap.top(current);
-            if (!top) {
+        if (top->cost > level) return;
+        const Candidate c = w.heap.pop();
+        if (const Candidate* next = w.heap.top(current)) prefetch_vertex(next->a), prefetch_vertex(next->b);
+        if (!current(c)) continue;  // stale: an endpoint moved, changed or died
+        if (volume_) prefetch_fan(c.a), prefetch_fan(c.b);
+        Collapse collapse;
+        if (!evaluate(c.a, c.b, collapse, volume_)) continue;
+        collapse.error = collapse.weight > 0 ? std::sqrt(collapse.cost / collapse.weight) : 0.0;
+        if (collapse.error > threshold) continue;
+        if (w.region >= 0) {
+            // a region worker's room must hold the largest fan block this collapse could need, and a uv
+            const std::size_t degree = std::size_t{vx_[collapse.keep].degree} + vx_[collapse.remove].degree;
+            if (w.fan_end - w.fan_next < degree + std::max<std::size_t>(4, degree / 2) ||
+                (!face_uvs_.empty() && w.uv_next == w.uv_end)) {
+                w.heap.push(c);  // for the second phase
                 w.done = true;
                 return;
             }
-            if (top->cost > level) return;
-            const Candidate c = w.heap.pop();
-            if (const Candidate* next = w.heap.top(current)) prefetch_vertex(next->a), prefetch_vertex(next->b);
-            if (!current(c)) continue;  // stale: an endpoint moved, changed or died
-            if (volume_) prefetch_fan(c.a), prefetch_fan(c.b);
-            Collapse collapse;
-            if (!evaluate(c.a, c.b, collapse, volume_)) continue;
-            collapse.error = collapse.weight > 0 ? std::sqrt(collapse.cost / collapse.weight) : 0.0;
-            if (collapse.error > threshold) continue;
-            if (w.region >= 0) {
-                // a region worker's room must hold the largest fan block this collapse could need, and a uv
-                const std::size_t degree = std::size_t{vx_[collapse.keep].degree} + vx_[collapse.remove].degree;
-                if (w.fan_end - w.fan_next < degree + std::max<std::size_t>(4, degree / 2) ||
-                    (!face_uvs_.empty() && w.uv_next == w.uv_end)) {
-                    w.heap.push(c);  // for the second phase
-                    w.done = true;
-                    return;
-                }
-            }
-            if (!is_valid(w, collapse)) continue;
-            apply(w, collapse);
-            w.max_error = std::max(w.max_error, collapse.error);
-            ++w.collapses;
+        }
+        if (!is_valid(w, collapse)) continue;
+        apply(w, collapse);
+        w.max_error = std::max(w.max_error, collapse.error);
+        ++w.collapses;
+    }
+}
+
+//! The input's number of vertex v (for messages only: a linear search).
+Index Simplifier::input_index(Index v) const {
+    return static_cast<Index>(std::find(rank_.begin(), rank_.end(), v) - rank_.begin());
+}
+
+//! What evaluate() reads of v. Vertices come from the heap and from one-rings in no useful order, so nearly
+//! every access misses the cache; prefetching a batch lets the misses overlap instead of queueing one by one.
+void Simplifier::prefetch_vertex(Index v) const {
+    const char* data = reinterpret_cast<const char*>(&vx_[v]);
+    __builtin_prefetch(data);
+    __builtin_prefetch(data + 64);
+}
+
+//! The triangles of v's fan (v's record must be at hand).
+void Simplifier::prefetch_fan(Index v) const {
+    const Index* fan = fan_of(v);
+    for (Index i = 0, n = vx_[v].degree; i < n; ++i) __builtin_prefetch(&tris_[fan[i]]);
+}
+
+bool Simplifier::is_boundary_halfedge(Index f, int j) const {
+    const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
+    const Index* fan = fan_of(w);
+    for (Index i = 0, n = vx_[w].degree; i < n; ++i) {
+        const Index g = fan[i];
+        if (g != f && tris_[g][(corner_of(g, w) + 1) % 3] == u) return false;
+    }
+    return true;
+}
+
+//! Constraint plane through boundary edge j of face f, perpendicular to the face (Garland-Heckbert 1998 sec. 4):
+//! it lets boundary vertices slide along the boundary but resists pulling the boundary inwards.
+void Simplifier::add_boundary_plane(Index f, int j) {
+    const auto& t = tris_[f];
+    const Vec3& p0 = vx_[t[0]].p;
+    const Vec3 face_normal = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
+    const Vec3& u = vx_[t[j]].p;
+    const Vec3 edge = vx_[t[(j + 1) % 3]].p - u;
+    Vec3 n = cross(edge, face_normal);
+    const double len = norm(n);
+    if (!(len > 0)) return;
+    n *= 1.0 / len;
+    const Quadric q = Quadric::from_plane(n, -dot(n, u), options_.boundary_weight * dot(edge, edge));
+    vx_[t[j]].q += q;
+    vx_[t[(j + 1) % 3]].q += q;
+}
+
+//! Whether half-edge j of face f stands for its edge in the heap: interior edges appear twice (once per
+//! direction) and are pushed once, boundary edges always (the first pass knows the boundary from init).
+bool Simplifier::is_candidate_halfedge(Index f, int j, int pass) const {
+    const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
+    return u < w || (pass == 0 ? (boundary_halfedges_[f] >> j & 1) != 0 : is_boundary_halfedge(f, j));
+}
+
+//! Whether edge (u, w) is for worker `worker`: every edge for the whole-mesh worker; for a region worker the
+//! edges between its region's vertices that are not frozen (run_regions).
+bool Simplifier::owns(const Worker& worker, Index u, Index w) const {
+    return worker.region < 0 || (region_of(u) == worker.region && !((flags_[u] | flags_[w]) & kFrozen));
+}
+
+//! Fills w's heap with every live edge it owns, in face order.
+void Simplifier::push_edges_by_face(Worker& w, int pass) {
+    for (Index f = 0; f < tris_.size(); ++f) {
+        if (!face_alive_[f]) continue;
+        const auto& t = tris_[f];
+        for (int j = 0; j < 3; ++j) {
+            const Index u = t[j], x = t[(j + 1) % 3];
+            if (owns(w, u, x) && is_candidate_halfedge(f, j, pass)) add_candidate(w, u, x);
         }
     }
+}
 
-    //! The input's number of vertex v (for messages only: a linear search).
-    Index input_index(Index v) const {
-        return static_cast<Index>(std::find(rank_.begin(), rank_.end(), v) - rank_.begin());
-    }
-    const Index* fan_of(Index v) const { return fans_.data() + vx_[v].fan; }
-    Index* fan_of(Index v) { return fans_.data() + vx_[v].fan; }
-    int corner_of(Index f, Index v) const {
-        const auto& t = tris_[f];
-        return t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-    }
-    bool contains(Index f, Index v) const {
-        const auto& t = tris_[f];
-        return t[0] == v || t[1] == v || t[2] == v;
-    }
-    bool pinned(Index v) const { return (flags_[v] & kPinned) != 0; }
-    std::uint32_t stamp(Index a, Index b) const { return version_[a] + version_[b]; }
-    //! What evaluate() reads of v. Vertices come from the heap and from one-rings in no useful order, so nearly
-    //! every access misses the cache; prefetching a batch lets the misses overlap instead of queueing one by one.
-    void prefetch_vertex(Index v) const {
-        const char* data = reinterpret_cast<const char*>(&vx_[v]);
-        __builtin_prefetch(data);
-        __builtin_prefetch(data + 64);
-    }
-    //! The triangles of v's fan (v's record must be at hand).
-    void prefetch_fan(Index v) const {
-        const Index* fan = fan_of(v);
-        for (Index i = 0, n = vx_[v].degree; i < n; ++i) __builtin_prefetch(&tris_[fan[i]]);
-    }
+//! Appends edge (a, b) to w's heap without restoring the heap order; false when it cannot collapse at all.
+bool Simplifier::add_candidate(Worker& w, Index a, Index b) {
+    Collapse collapse;
+    if (!evaluate(a, b, collapse)) return false;
+    w.heap.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
+    return true;
+}
 
-    bool is_boundary_halfedge(Index f, int j) const {
-        const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
-        const Index* fan = fan_of(w);
-        for (Index i = 0, n = vx_[w].degree; i < n; ++i) {
-            const Index g = fan[i];
-            if (g != f && tris_[g][(corner_of(g, w) + 1) % 3] == u) return false;
-        }
-        return true;
-    }
+void Simplifier::compact_heap(Worker& w) {
+    w.heap.erase_if([&](const Candidate& c) { return !is_current(c); });
+}
 
-    //! Constraint plane through boundary edge j of face f, perpendicular to the face (Garland-Heckbert 1998 sec. 4):
-    //! it lets boundary vertices slide along the boundary but resists pulling the boundary inwards.
-    void add_boundary_plane(Index f, int j) {
-        const auto& t = tris_[f];
-        const Vec3& p0 = vx_[t[0]].p;
-        const Vec3 face_normal = cross(vx_[t[1]].p - p0, vx_[t[2]].p - p0);
-        const Vec3& u = vx_[t[j]].p;
-        const Vec3 edge = vx_[t[(j + 1) % 3]].p - u;
-        Vec3 n = cross(edge, face_normal);
-        const double len = norm(n);
-        if (!(len > 0)) return;
-        n *= 1.0 / len;
-        const Quadric q = Quadric::from_plane(n, -dot(n, u), options_.boundary_weight * dot(edge, edge));
-        vx_[t[j]].q += q;
-        vx_[t[(j + 1) % 3]].q += q;
-    }
+void Simplifier::push(Worker& w, Index a, Index b) {
+    if (!owns(w, a, b)) return;
+    Collapse collapse;
+    if (!evaluate(a, b, collapse)) return;
+    w.heap.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
+    ++w.pushes;
+}
 
-    //! Whether half-edge j of face f stands for its edge in the heap: interior edges appear twice (once per
-    //! direction) and are pushed once, boundary edges always (the first pass knows the boundary from init).
-    bool is_candidate_halfedge(Index f, int j, int pass) const {
-        const Index u = tris_[f][j], w = tris_[f][(j + 1) % 3];
-        return u < w || (pass == 0 ? (boundary_halfedges_[f] >> j & 1) != 0 : is_boundary_halfedge(f, j));
-    }
-    //! Whether edge (u, w) is for worker `worker`: every edge for the whole-mesh worker; for a region worker the
-    //! edges between its region's vertices that are not frozen (run_regions).
-    bool owns(const Worker& worker, Index u, Index w) const {
-        return worker.region < 0 || (region_of(u) == worker.region && !((flags_[u] | flags_[w]) & kFrozen));
-    }
-    //! Fills w's heap with every live edge it owns, in face order.
-    void push_edges_by_face(Worker& w, int pass) {
-        for (Index f = 0; f < tris_.size(); ++f) {
-            if (!face_alive_[f]) continue;
-            const auto& t = tris_[f];
-            for (int j = 0; j < 3; ++j) {
-                const Index u = t[j], x = t[(j + 1) % 3];
-                if (owns(w, u, x) && is_candidate_halfedge(f, j, pass)) add_candidate(w, u, x);
-            }
-        }
-    }
-    //! Appends edge (a, b) to w's heap without restoring the heap order; false when it cannot collapse at all.
-    bool add_candidate(Worker& w, Index a, Index b) {
-        Collapse collapse;
-        if (!evaluate(a, b, collapse)) return false;
-        w.heap.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
-        return true;
-    }
-    void compact_heap(Worker& w) {
-        w.heap.erase_if([&](const Candidate& c) { return stamp(c.a, c.b) != c.stamp; });
-    }
-    void push(Worker& w, Index a, Index b) {
-        if (!owns(w, a, b)) return;
-        Collapse collapse;
-        if (!evaluate(a, b, collapse)) return;
-        w.heap.push({static_cast<float>(collapse.cost), a, b, stamp(a, b)});
-        ++w.pushes;
-    }
-
-    //! Placement and cost of collapsing edge (a, b); false when both ends are pinned. `restore`: with volume
-    //! restoration (restore_volume()), for the collapse about to be made; heap keys are the costs without it.
-    bool evaluate(Index a, Index b, Collapse& out, bool restore = false) const {
-        const bool pa = pinned(a), pb = pinned(b);
-        if (pa && pb) return false;
-        Quadric q = vx_[a].q;
-        q += vx_[b].q;
-        const Vec3& xa = vx_[a].p;
-        const Vec3& xb = vx_[b].p;
-        if (pa || pb) {
-            // a pinned vertex stays where it is and absorbs the other end
-            out.keep = pa ? a : b;
-            out.remove = pa ? b : a;
-            out.position = vx_[out.keep].p;
-            out.s = 0;
+//! Placement and cost of collapsing edge (a, b); false when both ends are pinned. `restore`: with volume
+//! restoration (restore_volume()), for the collapse about to be made; heap keys are the costs without it.
+bool Simplifier::evaluate(Index a, Index b, Collapse& out, bool restore) const {
+    const bool pa = pinned(a), pb = pinned(b);
+    if (pa && pb) return false;
+    Quadric q = vx_[a].q;
+    q += vx_[b].q;
+    const Vec3& xa = vx_[a].p;
+    const Vec3& xb = vx_[b].p;
+    if (pa || pb) {
+        // a pinned vertex stays where it is and absorbs the other end
+        out.keep = pa ? a : b;
+        out.remove = pa ? b : a;
+        out.position = vx_[out.keep].p;
+        out.s = 0;
+    } else {
+        out.keep = a;
+        out.remove = b;
+        const Vec3 d = xb - xa;
+        const double len2 = dot(d, d);
+        const Vec3 mid = (xa + xb) * 0.5;
+        Vec3 x;
+        if (q.minimizer(x) && dot(x - mid, x - mid) <= kMaxPlacementReach * kMaxPlacementReach * len2) {
+            out.position = x;
+            out.s = -1;  // found by apply() when attributes need it: most evaluations only want the cost
         } else {
-            out.keep = a;
-            out.remove = b;
-            const Vec3 d = xb - xa;
-            const double len2 = dot(d, d);
-            const Vec3 mid = (xa + xb) * 0.5;
-            Vec3 x;
-            if (q.minimizer(x) && dot(x - mid, x - mid) <= kMaxPlacementReach * kMaxPlacementReach * len2) {
-                out.position = x;
-                out.s = -1;  // found by apply() when attributes need it: most evaluations only want the cost
-            } else {
-                // Singular system: the minimum is a line or plane. Best of the endpoints, the midpoint and the
-                // minimum of Q along the edge, f(s) = Q(a) + 2 s (A a + b).d + s^2 d^T A d (the polynomial, not Q
-                // at each point: two products with A instead of six; clamped at 0 as Quadric::error is, so that
-                // rounding noise in flat regions does not decide, and the first candidate wins ties).
-                const Vec3 ad = q.apply_a(d);
-                const Vec3 grad = q.apply_a(xa) + Vec3{q.b0, q.b1, q.b2};
-                const double dad = dot(d, ad);
-                const double gd = dot(grad, d);
-                const double qa = dot(xa, grad) + q.b0 * xa.x + q.b1 * xa.y + q.b2 * xa.z + q.c;
-                double best = std::numeric_limits<double>::infinity(), best_s = 0;
-                auto consider = [&](double s) {
-                    const double e = std::max(qa + s * (2 * gd + s * dad), 0.0);
-                    if (e < best) {
-                        best = e;
-                        best_s = s;
-                    }
-                };
-                consider(0.0);
-                consider(1.0);
-                consider(0.5);
-                if (dad > 0) consider(std::clamp(-gd / dad, 0.0, 1.0));
-                out.position = xa + d * best_s;
-                out.s = best_s;
-            }
-            if (restore && !((flags_[a] | flags_[b]) & kBoundary)) restore_volume(a, b, q, out);
-        }
-        out.cost = q.error(out.position);
-        out.weight = q.weight;
-        return true;
-    }
-
-    //! Moves out.position towards the point on the line out.position + t A^-1 g (where Q is least for each volume)
-    //! at which collapsing (a, b) leaves the volume under the two fans unchanged, restore_volume of the way. Volume
-    //! change x 6 = g.(p - xa) - (xb - xa).G_b, with g = G_a + G_b - the edge's two faces' cross products (twice the
-    //! vector area of the two fans, whose boundary the collapse keeps) and G the sums of the fans' cross products.
-    //! Closed fans only: an interior edge between interior vertices (the caller checks the boundary flags). Only for
-    //! the collapse about to be made, its fans computed here: ordering the heap by the plain cost instead gives the
-    //! same errors on the bench meshes (RMS within 2%), and keeping fan areas per vertex for every evaluation cost
-    //! 25-70% more time.
-    void restore_volume(Index a, Index b, const Quadric& q, Collapse& out) const {
-        const Vec3& xa = vx_[a].p;
-        const Vec3 d = vx_[b].p - xa;
-        Vec3 ga{0, 0, 0}, gb{0, 0, 0}, edge_faces{0, 0, 0};
-        int shared = 0;
-        for (const Index v : {a, b}) {
-            const Index* fan = fan_of(v);
-            Vec3& sum = v == a ? ga : gb;
-            for (Index i = 0, n = vx_[v].degree; i < n; ++i) {
-                const Tri& t = tris_[fan[i]];
-                const Vec3 cr = cross(vx_[t[1]].p - vx_[t[0]].p, vx_[t[2]].p - vx_[t[0]].p);
-                sum += cr;
-                if (v == a && (t[0] == b || t[1] == b || t[2] == b)) edge_faces += cr, ++shared;
-            }
-        }
-        if (shared != 2) return;
-        const Vec3 g = ga + gb - edge_faces;
-        const double change = dot(out.position - xa, g) - dot(d, gb);
-        Vec3 dir = g;
-        if (Vec3 u; q.solve(g, u) && dot(u, g) > 0) dir = u;
-        const double dg = dot(dir, g);
-        if (!(dg > 0)) return;
-        const Vec3 p = out.position - dir * (options_.restore_volume * change / dg);
-        const Vec3 mid = xa + d * 0.5;
-        if (!is_finite(p) || dot(p - mid, p - mid) > kMaxPlacementReach * kMaxPlacementReach * dot(d, d)) return;
-        out.position = p;
-        out.s = -1;
-    }
-
-    //! Appends the distinct neighbours of v (over its live faces) to `out`.
-    void neighbours(Index v, std::vector<Index>& out) const {
-        out.clear();
-        const Index* fan = fan_of(v);
-        for (Index i = 0, n = vx_[v].degree; i < n; ++i)
-            for (Index w : tris_[fan[i]]) {
-                if (w == v) continue;
-                bool seen = false;
-                for (std::size_t k = 0; k < out.size() && !seen; ++k) seen = out[k] == w;
-                if (!seen) out.push_back(w);
-            }
-    }
-    //! The same set in another order, cheaper: away from boundaries every neighbour follows v in exactly one face
-    //! (the edge manifold check of init() and the link condition keep it so).
-    void neighbour_set(Index v, std::vector<Index>& out) const {
-        if (flags_[v] & kBoundary) return neighbours(v, out);
-        out.clear();
-        const Index* fan = fan_of(v);
-        for (Index i = 0, n = vx_[v].degree; i < n; ++i) out.push_back(tris_[fan[i]][(corner_of(fan[i], v) + 1) % 3]);
-    }
-    static bool is_apex(const Worker& worker, Index w) {
-        for (Index a : worker.apexes)
-            if (a == w) return true;
-        return false;
-    }
-
-    //! Link condition, geometry (flips, thin faces) and duplicate faces, for the collapse as evaluated.
-    bool is_valid(Worker& wk, const Collapse& c) {
-        const Index k = c.keep, r = c.remove;
-        prefetch_fan(r);
-        prefetch_fan(k);
-        const Index* fan_r = fan_of(r);
-        const Index* fan_k = fan_of(k);
-        const Index degree_r = vx_[r].degree, degree_k = vx_[k].degree;
-        // faces on the edge and their apexes
-        wk.shared.clear();
-        wk.apexes.clear();
-        for (Index i = 0; i < degree_r; ++i) {
-            const Index f = fan_r[i];
-            if (contains(f, k)) {
-                wk.shared.push_back(f);
-                for (Index w : tris_[f])
-                    if (w != k && w != r) wk.apexes.push_back(w);
-            }
-        }
-        if (wk.shared.empty() || wk.shared.size() > 2) return false;
-        const bool edge_on_boundary = wk.shared.size() == 1;
-        // An interior edge between two boundary vertices: collapsing it would pinch the surface into a non-manifold
-        // vertex (the link condition with the boundary's virtual vertex).
-        if (!edge_on_boundary && (flags_[k] & kBoundary) && (flags_[r] & kBoundary)) return false;
-        // Nothing may be left without faces (a lone triangle, or an apex whose only faces are the edge's).
-        if (degree_k + degree_r <= 2 * wk.shared.size()) return false;
-        for (Index w : wk.apexes) {
-            std::size_t on_edge = 0;
-            for (Index f : wk.shared) on_edge += contains(f, w) ? 1 : 0;
-            if (vx_[w].degree <= on_edge) return false;
-        }
-        // Link condition (Dey et al.): the common neighbours of k and r are exactly the apexes of the edge's faces.
-        neighbour_set(k, wk.ring_k);
-        neighbour_set(r, wk.ring_r);
-        // the whole records: the checks below read positions (second line), and apply() evaluates the edges to
-        // every one of these vertices (quadric, both lines)
-        for (Index w : wk.ring_k) prefetch_vertex(w);
-        for (Index w : wk.ring_r) prefetch_vertex(w);
-        for (Index w : wk.ring_r) {
-            if (w == k || is_apex(wk, w)) continue;
-            for (Index x : wk.ring_k)
-                if (x == w) return false;
-        }
-        // geometry of every face that survives with a moved or renamed corner
-        // Geometry of a face that survives with corner `moved` at c.position: (moved, o1, o2) in the face's order.
-        // Compared squared, without square roots where the sides are >= 0.
-        const double cos2 = kMinNormalCos * kMinNormalCos;
-        auto face_ok = [&](Index f, Index moved) {
-            const Tri& t = tris_[f];
-            const int j = corner_of(f, moved);
-            const Vec3& o1 = vx_[t[(j + 1) % 3]].p;
-            const Vec3& o2 = vx_[t[(j + 2) % 3]].p;
-            const Vec3& m0 = vx_[moved].p;
-            const Vec3 e = o2 - o1, a1 = o1 - c.position, b1 = o2 - c.position;
-            const Vec3 n1 = cross(a1, b1);
-            const double l1sq = dot(n1, n1);
-            const double ee = dot(e, e);
-            const double longest = std::max({dot(a1, a1), dot(b1, b1), ee});
-            // thinness after = |n1| / longest (see kThin): never below kDegenerate, below kThin only if the face
-            // was already thinner
-            if (!(longest > 0) || l1sq < kDegenerate * kDegenerate * longest * longest) return false;
-            const Vec3 a0 = o1 - m0, b0 = o2 - m0;
-            const Vec3 n0 = cross(a0, b0);
-            const double l0sq = dot(n0, n0);
-            if (l1sq < kThin * kThin * longest * longest) {
-                const double longest0 = std::max({dot(a0, a0), dot(b0, b0), ee});
-                const double thin0 = longest0 > 0 ? std::sqrt(l0sq) / longest0 : 0.0;
-                if (std::sqrt(l1sq) / longest < thin0) return false;
-            }
-            // Small turns add up over many collapses: a face may also never face away from the input face it
-            // started as (cos < kMinNormalCos).
-            if (t.normal[0] != 0 || t.normal[1] != 0 || t.normal[2] != 0) {
-                const double d = dot(Vec3{t.normal[0], t.normal[1], t.normal[2]}, n1);
-                if (d < 0 || d * d < cos2 * l1sq) return false;
-            }
-            // a face that had no normal before cannot flip; compare the ones that had
-            if (l0sq > 0) {
-                const double d = dot(n0, n1);
-                if (d < 0 || d * d < cos2 * l0sq * l1sq) return false;
-            }
-            return true;
-        };
-        for (Index i = 0; i < degree_r; ++i) {
-            const Index f = fan_r[i];
-            if (contains(f, k)) continue;
-            if (!face_ok(f, r)) return false;
-            // The face becomes (k, x, y): a face already on x, y and k would duplicate it. x and y would then both
-            // be common neighbours of k and r, which the link condition allows only for the apexes.
-            const int j = corner_of(f, r);
-            const Index x = tris_[f][(j + 1) % 3], y = tris_[f][(j + 2) % 3];
-            if (!is_apex(wk, x) || !is_apex(wk, y)) continue;
-            const Index* fan_x = fan_of(x);
-            for (Index m = 0, n = vx_[x].degree; m < n; ++m) {
-                const Index g = fan_x[m];
-                if (g != f && contains(g, y) && contains(g, k)) return false;
-            }
-        }
-        if (!pinned(k) || c.position != vx_[k].p)
-            for (Index i = 0; i < degree_k; ++i) {
-                const Index f = fan_k[i];
-                if (!contains(f, r) && !face_ok(f, k)) return false;
-            }
-        return true;
-    }
-
-    //! Removes face f from v's fan, keeping the order of the others.
-    void unlink(Index v, Index f) {
-        Index* fan = fan_of(v);
-        const Index n = vx_[v].degree;
-        for (Index i = 0; i < n; ++i)
-            if (fan[i] == f) {
-                std::copy(fan + i + 1, fan + n, fan + i);
-                --vx_[v].degree;
-                return;
-            }
-    }
-
-    void apply(Worker& wk, const Collapse& c) {
-        const Index k = c.keep, r = c.remove;
-        // attributes first, while the edge's faces still exist
-        double s = c.s;
-        if (s < 0 && (!face_uvs_.empty() || !normals_.empty())) {
-            const Vec3 d = vx_[r].p - vx_[k].p;
-            const double len2 = dot(d, d);
-            s = len2 > 0 ? std::clamp(dot(c.position - vx_[k].p, d) / len2, 0.0, 1.0) : 0.5;
-        }
-        if (!face_uvs_.empty()) {
-            const Index f0 = wk.shared.front();
-            const Index uv_k = face_uvs_[f0][corner_of(f0, k)];
-            const Index uv_r = face_uvs_[f0][corner_of(f0, r)];
-            Index target = uv_k;
-            if (!pinned(k)) {
-                // neither end is on a seam: one uv each; interpolate along the edge as the position moved
-                const Vec2 a = uvs_[uv_k], b = uvs_[uv_r];
-                const Vec2 uv{a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s};
-                if (wk.region < 0) {
-                    uvs_.push_back(uv);
-                    target = static_cast<Index>(uvs_.size() - 1);
-                } else {
-                    uvs_[wk.uv_next] = uv;  // room checked before the collapse (collapse_in_order)
-                    target = static_cast<Index>(wk.uv_next++);
+            // Singular system: the minimum is a line or plane. Best of the endpoints, the midpoint and the
+            // minimum of Q along the edge, f(s) = Q(a) + 2 s (A a + b).d + s^2 d^T A d (the polynomial, not Q
+            // at each point: two products with A instead of six; clamped at 0 as Quadric::error is, so that
+            // rounding noise in flat regions does not decide, and the first candidate wins ties).
+            const Vec3 ad = q.apply_a(d);
+            const Vec3 grad = q.apply_a(xa) + Vec3{q.b0, q.b1, q.b2};
+            const double dad = dot(d, ad);
+            const double gd = dot(grad, d);
+            const double qa = dot(xa, grad) + q.b0 * xa.x + q.b1 * xa.y + q.b2 * xa.z + q.c;
+            double best = std::numeric_limits<double>::infinity(), best_s = 0;
+            auto consider = [&](double s) {
+                const double e = std::max(qa + s * (2 * gd + s * dad), 0.0);
+                if (e < best) {
+                    best = e;
+                    best_s = s;
                 }
-                const Index* fan = fan_of(k);
-                for (Index i = 0, n = vx_[k].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], k)] = target;
-            }
-            const Index* fan = fan_of(r);
-            for (Index i = 0, n = vx_[r].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], r)] = target;
+            };
+            consider(0.0);
+            consider(1.0);
+            consider(0.5);
+            if (dad > 0) consider(std::clamp(-gd / dad, 0.0, 1.0));
+            out.position = xa + d * best_s;
+            out.s = best_s;
         }
-        if (!normals_.empty()) {
-            Vec3 n = normals_[k] + (normals_[r] - normals_[k]) * s;
-            const double len = norm(n);
-            if (len > 0) normals_[k] = n * (1.0 / len);
+        if (restore && !((flags_[a] | flags_[b]) & kBoundary)) restore_volume(a, b, q, out);
+    }
+    out.cost = q.error(out.position);
+    out.weight = q.weight;
+    return true;
+}
+
+//! Moves out.position towards the point on the line out.position + t A^-1 g (where Q is least for each volume)
+//! at which collapsing (a, b) leaves the volume under the two fans unchanged, restore_volume of the way. Volume
+//! change x 6 = g.(p - xa) - (xb - xa).G_b, with g = G_a + G_b - the edge's two faces' cross products (twice the
+//! vector area of the two fans, whose boundary the collapse keeps) and G the sums of the fans' cross products.
+//! Closed fans only: an interior edge between interior vertices (the caller checks the boundary flags). Only for
+//! the collapse about to be made, its fans computed here: ordering the heap by the plain cost instead gives the
+//! same errors on the bench meshes (RMS within 2%), and keeping fan areas per vertex for every evaluation cost
+//! 25-70% more time.
+void Simplifier::restore_volume(Index a, Index b, const Quadric& q, Collapse& out) const {
+    const Vec3& xa = vx_[a].p;
+    const Vec3 d = vx_[b].p - xa;
+    Vec3 ga{0, 0, 0}, gb{0, 0, 0}, edge_faces{0, 0, 0};
+    int shared = 0;
+    for (const Index v : {a, b}) {
+        const Index* fan = fan_of(v);
+        Vec3& sum = v == a ? ga : gb;
+        for (Index i = 0, n = vx_[v].degree; i < n; ++i) {
+            const Tri& t = tris_[fan[i]];
+            const Vec3 cr = cross(vx_[t[1]].p - vx_[t[0]].p, vx_[t[2]].p - vx_[t[0]].p);
+            sum += cr;
+            if (v == a && (t[0] == b || t[1] == b || t[2] == b)) edge_faces += cr, ++shared;
         }
-        // topology: the edge's faces die, r's other faces move to k (appended to k's fan, in r's order)
-        for (Index f : wk.shared) {
-            face_alive_[f] = 0;
-            --wk.live;
+    }
+    if (shared != 2) return;
+    const Vec3 g = ga + gb - edge_faces;
+    const double change = dot(out.position - xa, g) - dot(d, gb);
+    Vec3 dir = g;
+    if (Vec3 u; q.solve(g, u) && dot(u, g) > 0) dir = u;
+    const double dg = dot(dir, g);
+    if (!(dg > 0)) return;
+    const Vec3 p = out.position - dir * (options_.restore_volume * change / dg);
+    const Vec3 mid = xa + d * 0.5;
+    if (!is_finite(p) || dot(p - mid, p - mid) > kMaxPlacementReach * kMaxPlacementReach * dot(d, d)) return;
+    out.position = p;
+    out.s = -1;
+}
+
+//! Appends the distinct neighbours of v (over its live faces) to `out`.
+void Simplifier::neighbours(Index v, std::vector<Index>& out) const {
+    out.clear();
+    const Index* fan = fan_of(v);
+    for (Index i = 0, n = vx_[v].degree; i < n; ++i)
+        for (Index w : tris_[fan[i]]) {
+            if (w == v) continue;
+            bool seen = false;
+            for (std::size_t k = 0; k < out.size() && !seen; ++k) seen = out[k] == w;
+            if (!seen) out.push_back(w);
+        }
+}
+
+//! The same set in another order, cheaper: away from boundaries every neighbour follows v in exactly one face
+//! (the edge manifold check of init() and the link condition keep it so).
+void Simplifier::neighbour_set(Index v, std::vector<Index>& out) const {
+    if (flags_[v] & kBoundary) return neighbours(v, out);
+    out.clear();
+    const Index* fan = fan_of(v);
+    for (Index i = 0, n = vx_[v].degree; i < n; ++i) out.push_back(tris_[fan[i]][(corner_of(fan[i], v) + 1) % 3]);
+}
+
+bool Simplifier::is_apex(const Worker& worker, Index w) {
+    for (Index a : worker.apexes)
+        if (a == w) return true;
+    return false;
+}
+
+//! Link condition, geometry (flips, thin faces) and duplicate faces, for the collapse as evaluated.
+bool Simplifier::is_valid(Worker& wk, const Collapse& c) {
+    const Index k = c.keep, r = c.remove;
+    if (!keeps_manifold(wk, k, r)) return false;
+    // geometry of every face that survives with a moved or renamed corner
+    const Index* fan_r = fan_of(r);
+    const Index* fan_k = fan_of(k);
+    const Index degree_r = vx_[r].degree, degree_k = vx_[k].degree;
+    for (Index i = 0; i < degree_r; ++i) {
+        const Index f = fan_r[i];
+        if (contains(f, k)) continue;
+        if (!face_ok(f, r, c.position)) return false;
+        // The face becomes (k, x, y): a face already on x, y and k would duplicate it. x and y would then both
+        // be common neighbours of k and r, which the link condition allows only for the apexes.
+        const int j = corner_of(f, r);
+        const Index x = tris_[f][(j + 1) % 3], y = tris_[f][(j + 2) % 3];
+        if (!is_apex(wk, x) || !is_apex(wk, y)) continue;
+        const Index* fan_x = fan_of(x);
+        for (Index m = 0, n = vx_[x].degree; m < n; ++m) {
+            const Index g = fan_x[m];
+            if (g != f && contains(g, y) && contains(g, k)) return false;
+        }
+    }
+    if (!pinned(k) || c.position != vx_[k].p)
+        for (Index i = 0; i < degree_k; ++i) {
+            const Index f = fan_k[i];
+            if (!contains(f, r) && !face_ok(f, k, c.position)) return false;
+        }
+    return true;
+}
+
+//! Whether collapsing r into k keeps the mesh a manifold with every vertex on a face: the edge has one or two faces,
+//! and the link condition holds. Fills wk's scratch for the checks after it and for apply(): shared (the edge's
+//! faces), apexes (their third corners), ring_k and ring_r (the neighbours of k and of r).
+bool Simplifier::keeps_manifold(Worker& wk, Index k, Index r) const {
+    prefetch_fan(r);
+    prefetch_fan(k);
+    const Index* fan_r = fan_of(r);
+    const Index degree_r = vx_[r].degree, degree_k = vx_[k].degree;
+    // faces on the edge and their apexes
+    wk.shared.clear();
+    wk.apexes.clear();
+    for (Index i = 0; i < degree_r; ++i) {
+        const Index f = fan_r[i];
+        if (contains(f, k)) {
+            wk.shared.push_back(f);
             for (Index w : tris_[f])
-                if (w != r) unlink(w, f);
+                if (w != k && w != r) wk.apexes.push_back(w);
         }
-        VertexData& xk = vx_[k];
-        VertexData& xr = vx_[r];
-        Index moved = 0;  // r's faces that stay, compacted to the front of r's fan
-        {
-            Index* fan = fan_of(r);
-            for (Index i = 0; i < xr.degree; ++i) {
-                const Index f = fan[i];
-                if (!face_alive_[f]) continue;
-                tris_[f][corner_of(f, r)] = k;
-                fan[moved++] = f;
-            }
-        }
-        const Index degree = xk.degree + moved;
-        if (degree <= xk.capacity) {
-            std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xk.fan + xk.degree);
-        } else if (degree <= xr.capacity) {
-            // r's block is big enough: k's faces go in front of r's there, and k takes the block
-            std::copy_backward(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xr.fan + degree);
-            std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + xr.fan);
-            std::swap(xk.fan, xr.fan);
-            std::swap(xk.capacity, xr.capacity);
-        } else {
-            // a new block at the end, with room to grow
-            const Index capacity = degree + std::max<Index>(4, degree / 2);
-            std::size_t start = wk.fan_next;
-            if (wk.region < 0) {
-                start = fans_.size();
-                fans_.resize(start + capacity);
-            } else {
-                wk.fan_next += capacity;  // room checked before the collapse (collapse_in_order)
-            }
-            std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + start);
-            std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + start + xk.degree);
-            xk.fan = static_cast<Index>(start);
-            xk.capacity = capacity;
-        }
-        xk.degree = degree;
-        xr.degree = 0;
-        flags_[k] |= flags_[r] & kBoundary;
-        flags_[r] = 0;
-        xk.q += xr.q;
-        xk.p = c.position;
-        ++version_[k];
-        ++version_[r];
-        // Only edges at k changed cost (their quadric or endpoint moved): push them with k's new stamp. k's ring is
-        // now its ring and r's before the collapse (is_valid), less k and r; the two shared only the apexes (link
-        // condition). Their records were fetched for the checks.
-        for (Index w : wk.ring_k)
-            if (w != r) push(wk, k, w);
-        for (Index w : wk.ring_r)
-            if (w != k && !is_apex(wk, w)) push(wk, k, w);
     }
+    if (wk.shared.empty() || wk.shared.size() > 2) return false;
+    const bool edge_on_boundary = wk.shared.size() == 1;
+    // An interior edge between two boundary vertices: collapsing it would pinch the surface into a non-manifold
+    // vertex (the link condition with the boundary's virtual vertex).
+    if (!edge_on_boundary && (flags_[k] & kBoundary) && (flags_[r] & kBoundary)) return false;
+    // Nothing may be left without faces (a lone triangle, or an apex whose only faces are the edge's).
+    if (degree_k + degree_r <= 2 * wk.shared.size()) return false;
+    for (Index w : wk.apexes) {
+        std::size_t on_edge = 0;
+        for (Index f : wk.shared) on_edge += contains(f, w) ? 1 : 0;
+        if (vx_[w].degree <= on_edge) return false;
+    }
+    // Link condition (Dey et al.): the common neighbours of k and r are exactly the apexes of the edge's faces.
+    neighbour_set(k, wk.ring_k);
+    neighbour_set(r, wk.ring_r);
+    // the whole records: is_valid's face checks read positions (second line), and apply() evaluates the edges to
+    // every one of these vertices (quadric, both lines)
+    for (Index w : wk.ring_k) prefetch_vertex(w);
+    for (Index w : wk.ring_r) prefetch_vertex(w);
+    for (Index w : wk.ring_r) {
+        if (w == k || is_apex(wk, w)) continue;
+        for (Index x : wk.ring_k)
+            if (x == w) return false;
+    }
+    return true;
+}
 
-    const SimplifyOptions& options_;
-    const bool volume_ = options_.restore_volume > 0;  //!< volume restoration on (restore_volume)
-    //! threads >= 2 on a mesh of kRegionsMinimum faces or more: vertices below split_ are the first half (numbered
-    //! so by spatial_order), for init's two parts and run_regions(); else the vertex count (one part)
-    const Index split_;
-    std::vector<Index> rank_;  //!< rank_[input vertex] = its number here (spatial_order)
-    BlockVector<VertexData> vx_;
-    BlockVector<std::uint8_t> flags_;  //!< VertexFlag bits per vertex
-    //! Bumped whenever the vertex moves, changes quadric or dies. Apart from the records: every candidate popped is
-    //! checked against it, most of them stale, and 4 bytes per vertex stay in cache where 128 would not.
-    BlockVector<std::uint32_t> version_;
-    BlockVector<Tri> tris_;
-    BlockVector<Index> fans_;  //!< every vertex's faces (VertexData::fan, degree, capacity)
-    BlockVector<std::uint8_t> face_alive_;
-    BlockVector<std::uint8_t> boundary_halfedges_;  //!< per input face, bit j: edge j (v[j] -> v[j+1]) is a boundary
-    std::vector<Vec2> uvs_;
-    std::vector<std::array<Index, 3>> face_uvs_;
-    std::vector<Vec3> normals_;
-    Worker serial_;  //!< the whole-mesh worker: run()'s passes, and the counts after them
-};
+//! Geometry of face f once its corner `moved` is at `position`: (moved, o1, o2) in the face's order. Compared
+//! squared, without square roots where the sides are >= 0.
+bool Simplifier::face_ok(Index f, Index moved, const Vec3& position) const {
+    constexpr double cos2 = kMinNormalCos * kMinNormalCos;
+    const Tri& t = tris_[f];
+    const int j = corner_of(f, moved);
+    const Vec3& o1 = vx_[t[(j + 1) % 3]].p;
+    const Vec3& o2 = vx_[t[(j + 2) % 3]].p;
+    const Vec3& m0 = vx_[moved].p;
+    const Vec3 e = o2 - o1, a1 = o1 - position, b1 = o2 - position;
+    const Vec3 n1 = cross(a1, b1);
+    const double l1sq = dot(n1, n1);
+    const double ee = dot(e, e);
+    const double longest = std::max({dot(a1, a1), dot(b1, b1), ee});
+    // thinness after = |n1| / longest (see kThin): never below kDegenerate, below kThin only if the face
+    // was already thinner
+    if (!(longest > 0) || l1sq < kDegenerate * kDegenerate * longest * longest) return false;
+    const Vec3 a0 = o1 - m0, b0 = o2 - m0;
+    const Vec3 n0 = cross(a0, b0);
+    const double l0sq = dot(n0, n0);
+    if (l1sq < kThin * kThin * longest * longest) {
+        const double longest0 = std::max({dot(a0, a0), dot(b0, b0), ee});
+        const double thin0 = longest0 > 0 ? std::sqrt(l0sq) / longest0 : 0.0;
+        if (std::sqrt(l1sq) / longest < thin0) return false;
+    }
+    // Small turns add up over many collapses: a face may also never face away from the input face it
+    // started as (cos < kMinNormalCos).
+    if (t.normal[0] != 0 || t.normal[1] != 0 || t.normal[2] != 0) {
+        const double d = dot(Vec3{t.normal[0], t.normal[1], t.normal[2]}, n1);
+        if (d < 0 || d * d < cos2 * l1sq) return false;
+    }
+    // a face that had no normal before cannot flip; compare the ones that had
+    if (l0sq > 0) {
+        const double d = dot(n0, n1);
+        if (d < 0 || d * d < cos2 * l0sq * l1sq) return false;
+    }
+    return true;
+}
 
+//! Removes face f from v's fan, keeping the order of the others.
+void Simplifier::unlink(Index v, Index f) {
+    Index* fan = fan_of(v);
+    const Index n = vx_[v].degree;
+    for (Index i = 0; i < n; ++i)
+        if (fan[i] == f) {
+            std::copy(fan + i + 1, fan + n, fan + i);
+            --vx_[v].degree;
+            return;
+        }
+}
+
+void Simplifier::apply(Worker& wk, const Collapse& c) {
+    const Index k = c.keep, r = c.remove;
+    // attributes first, while the edge's faces still exist
+    double s = c.s;
+    if (s < 0 && (!face_uvs_.empty() || !normals_.empty())) {
+        const Vec3 d = vx_[r].p - vx_[k].p;
+        const double len2 = dot(d, d);
+        s = len2 > 0 ? std::clamp(dot(c.position - vx_[k].p, d) / len2, 0.0, 1.0) : 0.5;
+    }
+    if (!face_uvs_.empty()) {
+        const Index f0 = wk.shared.front();
+        const Index uv_k = face_uvs_[f0][corner_of(f0, k)];
+        const Index uv_r = face_uvs_[f0][corner_of(f0, r)];
+        Index target = uv_k;
+        if (!pinned(k)) {
+            // neither end is on a seam: one uv each; interpolate along the edge as the position moved
+            const Vec2 a = uvs_[uv_k], b = uvs_[uv_r];
+            const Vec2 uv{a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s};
+            if (wk.region < 0) {
+                uvs_.push_back(uv);
+                target = static_cast<Index>(uvs_.size() - 1);
+            } else {
+                uvs_[wk.uv_next] = uv;  // room checked before the collapse (collapse_in_order)
+                target = static_cast<Index>(wk.uv_next++);
+            }
+            const Index* fan = fan_of(k);
+            for (Index i = 0, n = vx_[k].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], k)] = target;
+        }
+        const Index* fan = fan_of(r);
+        for (Index i = 0, n = vx_[r].degree; i < n; ++i) face_uvs_[fan[i]][corner_of(fan[i], r)] = target;
+    }
+    if (!normals_.empty()) {
+        Vec3 n = normals_[k] + (normals_[r] - normals_[k]) * s;
+        const double len = norm(n);
+        if (len > 0) normals_[k] = n * (1.0 / len);
+    }
+    // topology: the edge's faces die, r's other faces move to k (appended to k's fan, in r's order)
+    for (Index f : wk.shared) {
+        face_alive_[f] = 0;
+        --wk.live;
+        for (Index w : tris_[f])
+            if (w != r) unlink(w, f);
+    }
+    VertexData& xk = vx_[k];
+    VertexData& xr = vx_[r];
+    Index moved = 0;  // r's faces that stay, compacted to the front of r's fan
+    {
+        Index* fan = fan_of(r);
+        for (Index i = 0; i < xr.degree; ++i) {
+            const Index f = fan[i];
+            if (!face_alive_[f]) continue;
+            tris_[f][corner_of(f, r)] = k;
+            fan[moved++] = f;
+        }
+    }
+    const Index degree = xk.degree + moved;
+    if (degree <= xk.capacity) {
+        std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xk.fan + xk.degree);
+    } else if (degree <= xr.capacity) {
+        // r's block is big enough: k's faces go in front of r's there, and k takes the block
+        std::copy_backward(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + xr.fan + degree);
+        std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + xr.fan);
+        std::swap(xk.fan, xr.fan);
+        std::swap(xk.capacity, xr.capacity);
+    } else {
+        // a new block at the end, with room to grow
+        const Index capacity = degree + std::max<Index>(4, degree / 2);
+        std::size_t start = wk.fan_next;
+        if (wk.region < 0) {
+            start = fans_.size();
+            fans_.resize(start + capacity);
+        } else {
+            wk.fan_next += capacity;  // room checked before the collapse (collapse_in_order)
+        }
+        std::copy(fans_.begin() + xk.fan, fans_.begin() + xk.fan + xk.degree, fans_.begin() + start);
+        std::copy(fans_.begin() + xr.fan, fans_.begin() + xr.fan + moved, fans_.begin() + start + xk.degree);
+        xk.fan = static_cast<Index>(start);
+        xk.capacity = capacity;
+    }
+    xk.degree = degree;
+    xr.degree = 0;
+    flags_[k] |= flags_[r] & kBoundary;
+    flags_[r] = 0;
+    xk.q += xr.q;
+    xk.p = c.position;
+    ++version_[k];
+    ++version_[r];
+    // Only edges at k changed cost (their quadric or endpoint moved): push them with k's new stamp. k's ring is
+    // now its ring and r's before the collapse (is_valid), less k and r; the two shared only the apexes (link
+    // condition). Their records were fetched for the checks.
+    for (Index w : wk.ring_k)
+        if (w != r) push(wk, k, w);
+    for (Index w : wk.ring_r)
+        if (w != k && !is_apex(wk, w)) push(wk, k, w);
+}
+
+}  // namespace simplify_detail
+
+namespace {
+constexpr int kMaxErrorAttempts = 7;  //!< max_error: simplifications tried at most, each measured
 }  // namespace
+
+using simplify_detail::Simplifier;
 
 Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptions& options) {
     if (auto valid = validate(mesh); !valid) return valid.error();

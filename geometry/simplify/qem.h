@@ -21,6 +21,8 @@
 
 namespace surfaced {
 
+class BlockPool;  // geometry/core/block_pool.h
+
 struct SimplifyOptions {
     //! Stop criteria; simplification stops at whichever is reached first. At least one must be set.
     std::optional<std::size_t> target_faces;  //!< stop at <= this many triangles
@@ -55,6 +57,10 @@ struct SimplifyOptions {
     //! Polled every few thousand collapse candidates and between max_error attempts; when it fires the result is
     //! Cancelled.
     Cancel cancel;
+    //! Not owned; may be shared by concurrent calls. Large arrays (1 MiB or more) are taken from and returned to this
+    //! pool, so that repeated simplifications reuse memory whose pages are already faulted in instead of paying the
+    //! page faults again. nullptr: every array is allocated and freed per call.
+    BlockPool* block_pool = nullptr;
 };
 
 struct SimplifyResult {
@@ -87,11 +93,10 @@ struct SimplifyResult {
 //! \return the simplified mesh, or InvalidArgument (no stop criterion, ratio outside (0, 1], negative max_error,
 //!         restore_volume outside [0, 1], threads < 1, locked vertex out of range), NonManifold (an edge shared by more than two faces, or two faces traversing
 //!         an edge in the same direction; the message names the edge and the error the face).
-//! Work: O(F log F) per pass (0.7-3.4 s for 1.3M triangles to 1% on one core here, depending on the machine's load;
-//! 0.5-0.65 of that with threads 2; restore_volume adds 0-14%); with max_error, up to 7 passes each followed by
-//! mesh_distance(). Memory about 180 bytes per input triangle at the peak (init); threads 2 adds 6 (fan room), 8 more
-//! with texture coordinates (uv room). Arrays of 1 MiB or more are kept after the call, up to 64 MiB in the
-//! process, and reused by later calls (their pages are then faulted in and cleared already).
+//! Work: O(F log F) per pass (threads 2 takes 0.5-0.65 of one thread's time; restore_volume adds 0-14%); with
+//! max_error, up to 7 passes each followed by mesh_distance(). Memory about 180 bytes per input triangle at the peak
+//! (init); threads 2 adds 6 (fan room), 8 more with texture coordinates (uv room). With options.block_pool, arrays of
+//! 1 MiB or more come from the pool and go back to it after the call.
 Result<SimplifyResult> simplify_qem(const PolygonMesh& mesh, const SimplifyOptions& options);
 
 }  // namespace surfaced

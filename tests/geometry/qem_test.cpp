@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 
+#include "geometry/core/block_pool.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/mesh/triangulate.h"
@@ -579,9 +580,8 @@ TEST(Qem, IsDeterministic) {
     for (std::size_t i = 0; i < a->mesh.positions.size(); ++i) EXPECT_EQ(a->mesh.positions[i], b->mesh.positions[i]);
 }
 
-// Arrays of 1 MiB and more are kept for the next simplification (qem.cpp, HugeBlockCache): a run on reused blocks,
-// which still hold another mesh's data, gives the result of a run on fresh memory (ctest runs each test in a process
-// of its own, so the first run here is on fresh memory).
+// With a BlockPool, arrays of 1 MiB and more are kept for the next simplification: a run on reused blocks, which still
+// hold another mesh's data, gives the result of a run on fresh memory (the first run, without a pool).
 TEST(Qem, IsDeterministicOnReusedMemory) {
     const PolygonMesh sphere = testing::icosphere(6);  // 81,920 triangles: several arrays of megabytes
     const PolygonMesh torus = triangulate(shapes::torus(256, 128));
@@ -589,11 +589,17 @@ TEST(Qem, IsDeterministicOnReusedMemory) {
     options.ratio = 0.02;
     const auto first = simplify_qem(sphere, options);
     ASSERT_TRUE(first.ok());
+    BlockPool pool(std::size_t{64} << 20);
+    options.block_pool = &pool;
     for (int round = 0; round < 2; ++round) {
         SCOPED_TRACE(round);
         ASSERT_TRUE(simplify_qem(torus, options).ok());  // the blocks now hold the torus's data
+        const std::size_t reused = pool.reused_blocks();
         auto again = simplify_qem(sphere, options);
         ASSERT_TRUE(again.ok());
+        if (pool.max_bytes() > 0) {  // (AddressSanitizer: the pool keeps nothing)
+            EXPECT_GT(pool.reused_blocks(), reused);
+        }
         EXPECT_EQ(again->mesh.face_indices, first->mesh.face_indices);
         EXPECT_EQ(again->mesh.positions, first->mesh.positions);
         EXPECT_EQ(again->achieved_error, first->achieved_error);
