@@ -2,8 +2,8 @@
 // (Debian libmeshoptimizer-dev) and, in bench_simplify_cgal, CGAL's edge_collapse with GarlandHeckbert_plane_policies
 // (Debian libcgal-dev, compiled in cgal_peer.cpp only). Bench only, never linked into the service. Prints a Markdown
 // table: time, faces reached, symmetric Hausdorff and two-sided RMS distance to the input (mesh_distance, the same
-// sampling for all three), the invariants we promise (non-manifold edges, duplicate faces), and the ratios the issue
-// sets targets for (time ours/meshopt <= 2, ours/CGAL <= 0.1; Hausdorff ours/meshopt <= 1; RMS ours/CGAL <= 1).
+// sampling for all three), the invariants we promise (non-manifold edges, duplicate faces), and the ratios we hold
+// ourselves to (time ours/meshopt <= 2, ours/CGAL <= 0.1; Hausdorff ours/meshopt <= 1; RMS ours/CGAL <= 1).
 // Four rows per mesh and target: ours as by default, and with volume restoration (SimplifyOptions::restore_volume),
 // each on one thread and with SimplifyOptions::threads = 2 (meshoptimizer and CGAL: one thread).
 //
@@ -38,8 +38,8 @@ namespace {
 using namespace surfaced;
 using Clock = std::chrono::steady_clock;
 
-//! The machine this runs on is a shared VM whose speed moves by up to 40% between seconds: the peers run in turn,
-//! and each one's fastest run is the measurement. Meshes with fewer triangles than kRepeatBelow: kSmallRounds rounds
+//! Shared machines change speed between seconds, so the peers run in turn, and each one's fastest run is the
+//! measurement. Meshes with fewer triangles than kRepeatBelow: kSmallRounds rounds
 //! (CGAL, at about a second a run, kCgalSmallRounds); larger ones kLargeRounds (CGAL once, 15-20 s a run).
 constexpr std::size_t kRepeatBelow = 500'000;
 constexpr int kSmallRounds = 15;
