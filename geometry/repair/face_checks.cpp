@@ -30,9 +30,16 @@ bool has_zero_area(std::span<const Vec3> positions, std::span<const Index> face)
 
 bool FaceSets::insert(std::span<const Index> face) {
     scratch_.assign(face.begin(), face.end());
-    std::sort(scratch_.begin(), scratch_.end());
+    if (scratch_.size() <= 8) {  // insertion sort: triangles and quads, nearly every face there is
+        for (std::size_t i = 1; i < scratch_.size(); ++i)
+            for (std::size_t j = i; j > 0 && scratch_[j] < scratch_[j - 1]; --j)
+                std::swap(scratch_[j], scratch_[j - 1]);
+    } else {
+        std::sort(scratch_.begin(), scratch_.end());
+    }
     std::uint64_t hash = scratch_.size();
-    for (Index v : scratch_) hash = mix64(hash ^ v);
+    for (Index v : scratch_) hash = (hash ^ v) * 0x9E3779B97F4A7C15ULL;
+    hash = mix64(hash);
     const auto slot = static_cast<Index>(start_.size());
     const Index found = table_.find_or_insert(hash, slot, [&](Index other) {
         const std::size_t b = start_[other];

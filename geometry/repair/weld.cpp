@@ -47,11 +47,14 @@ std::uint64_t hash_cell(const Cell& c) {
                  static_cast<std::uint64_t>(c[2]) * 0x165667B19E3779F9ULL);
 }
 
+// Cells are twice the tolerance wide, so that the vertices within the tolerance of a point lie in the 2 x 2 x 2
+// cells nearest to it (the half of each neighbouring cell the point is closer to).
 std::vector<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
     const std::size_t n = positions.size();
-    const double inverse_width = 1.0 / tolerance;
+    const double inverse_width = 0.5 / tolerance;
     const double tolerance2 = tolerance * tolerance;
-    std::vector<Index> target(n);
+    // identical positions merge alike (into the target of the first of them): only first occurrences search
+    std::vector<Index> target = weld_exact(positions);
     // cell -> its first kept vertex; the rest of the cell's kept vertices follow through next_in_cell
     IndexTable cells(n);
     std::vector<Index> next_in_cell(n, kInvalidIndex);
@@ -59,24 +62,29 @@ std::vector<Index> weld_within(std::span<const Vec3> positions, double tolerance
         return [&, c](Index kept) { return cell_of(positions[kept], inverse_width) == c; };
     };
     for (std::size_t v = 0; v < n; ++v) {
+        if (target[v] != v) {
+            target[v] = target[target[v]];
+            continue;
+        }
         const Vec3& p = positions[v];
         const Cell home = cell_of(p, inverse_width);
+        Cell first{};  // the lower of the two cells to search along each axis
+        for (int i = 0; i < 3; ++i) {
+            const double x = p[i] * inverse_width;
+            first[i] = home[i] - (x - std::floor(x) < 0.5 ? 1 : 0);
+        }
         Index best = kInvalidIndex;
-        for (int dx = -1; dx <= 1; ++dx)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dz = -1; dz <= 1; ++dz) {
-                    const Cell c{home[0] + dx, home[1] + dy, home[2] + dz};
-                    Index k = cells.find(hash_cell(c), in_cell(c));
-                    for (; k != kInvalidIndex; k = next_in_cell[k]) {
-                        const Vec3 d = positions[k] - p;
-                        if (k < best && dot(d, d) <= tolerance2) best = k;
-                    }
-                }
+        for (int corner = 0; corner < 8; ++corner) {
+            const Cell c{first[0] + (corner & 1), first[1] + ((corner >> 1) & 1), first[2] + ((corner >> 2) & 1)};
+            for (Index k = cells.find(hash_cell(c), in_cell(c)); k != kInvalidIndex; k = next_in_cell[k]) {
+                const Vec3 d = positions[k] - p;
+                if (k < best && dot(d, d) <= tolerance2) best = k;
+            }
+        }
         if (best != kInvalidIndex) {
             target[v] = best;
             continue;
         }
-        target[v] = static_cast<Index>(v);
         const Index head = cells.find_or_insert(hash_cell(home), static_cast<Index>(v), in_cell(home));
         if (head != v) {  // the cell has kept vertices already: v goes second in its list
             next_in_cell[v] = next_in_cell[head];
