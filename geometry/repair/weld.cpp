@@ -1,0 +1,103 @@
+// Vertex welding: exact (a hash of coordinates) or within a distance (a hash of grid cells as wide as the distance,
+// searching the 27 cells around each vertex).
+#include "geometry/repair/weld.h"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "geometry/repair/index_table.h"
+
+namespace surfaced::repair_detail {
+
+namespace {
+
+std::uint64_t hash_position(const Vec3& p) {
+    return mix64(hash_double(p.x) ^ (hash_double(p.y) * 3) ^ (hash_double(p.z) * 7));
+}
+
+std::vector<Index> weld_exact(std::span<const Vec3> positions) {
+    std::vector<Index> target(positions.size());
+    IndexTable table(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const Vec3& p = positions[v];
+        target[v] = table.find_or_insert(hash_position(p), static_cast<Index>(v),
+                                         [&](Index other) { return positions[other] == p; });
+    }
+    return target;
+}
+
+using Cell = std::array<std::int64_t, 3>;
+
+// Cell coordinates are clamped (and a NaN from 0 * inf taken as 0) so that a tolerance tiny against the coordinates
+// cannot overflow; clamped cells only share more vertices (slower), the distance test stays exact.
+Cell cell_of(const Vec3& p, double inverse_width) {
+    Cell c{};
+    for (int i = 0; i < 3; ++i) {
+        const double x = std::floor(p[i] * inverse_width);
+        constexpr double kLimit = 4.0e18;
+        c[i] = std::isnan(x) ? 0 : static_cast<std::int64_t>(x < -kLimit ? -kLimit : (x > kLimit ? kLimit : x));
+    }
+    return c;
+}
+
+std::uint64_t hash_cell(const Cell& c) {
+    return mix64(static_cast<std::uint64_t>(c[0]) * 0x9E3779B97F4A7C15ULL ^
+                 static_cast<std::uint64_t>(c[1]) * 0xC2B2AE3D27D4EB4FULL ^
+                 static_cast<std::uint64_t>(c[2]) * 0x165667B19E3779F9ULL);
+}
+
+// Cells are twice the tolerance wide, so that the vertices within the tolerance of a point lie in the 2 x 2 x 2
+// cells nearest to it (the half of each neighbouring cell the point is closer to).
+std::vector<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
+    const std::size_t n = positions.size();
+    const double inverse_width = 0.5 / tolerance;
+    const double tolerance2 = tolerance * tolerance;
+    // identical positions merge alike (into the target of the first of them): only first occurrences search
+    std::vector<Index> target = weld_exact(positions);
+    // cell -> its first kept vertex; the rest of the cell's kept vertices follow through next_in_cell
+    IndexTable cells(n);
+    std::vector<Index> next_in_cell(n, kInvalidIndex);
+    auto in_cell = [&](const Cell& c) {
+        return [&, c](Index kept) { return cell_of(positions[kept], inverse_width) == c; };
+    };
+    for (std::size_t v = 0; v < n; ++v) {
+        if (target[v] != v) {
+            target[v] = target[target[v]];
+            continue;
+        }
+        const Vec3& p = positions[v];
+        const Cell home = cell_of(p, inverse_width);
+        Cell first{};  // the lower of the two cells to search along each axis
+        for (int i = 0; i < 3; ++i) {
+            const double x = p[i] * inverse_width;
+            first[i] = home[i] - (x - std::floor(x) < 0.5 ? 1 : 0);
+        }
+        Index best = kInvalidIndex;
+        for (int corner = 0; corner < 8; ++corner) {
+            const Cell c{first[0] + (corner & 1), first[1] + ((corner >> 1) & 1), first[2] + ((corner >> 2) & 1)};
+            for (Index k = cells.find(hash_cell(c), in_cell(c)); k != kInvalidIndex; k = next_in_cell[k]) {
+                const Vec3 d = positions[k] - p;
+                if (k < best && dot(d, d) <= tolerance2) best = k;
+            }
+        }
+        if (best != kInvalidIndex) {
+            target[v] = best;
+            continue;
+        }
+        const Index head = cells.find_or_insert(hash_cell(home), static_cast<Index>(v), in_cell(home));
+        if (head != v) {  // the cell has kept vertices already: v goes second in its list
+            next_in_cell[v] = next_in_cell[head];
+            next_in_cell[head] = static_cast<Index>(v);
+        }
+    }
+    return target;
+}
+
+}  // namespace
+
+std::vector<Index> weld_targets(std::span<const Vec3> positions, double tolerance) {
+    return tolerance > 0 ? weld_within(positions, tolerance) : weld_exact(positions);
+}
+
+}  // namespace surfaced::repair_detail
