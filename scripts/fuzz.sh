@@ -40,7 +40,7 @@ echo "== fuzz build done in $(( $(date +%s) - start )) s"
 # file extensions whose files seed each target
 seed_patterns() {
   case "$1" in
-    fuzz_obj) echo "*.obj" ;;
+    fuzz_obj|fuzz_repair) echo "*.obj" ;;
     fuzz_off) echo "*.off" ;;
     fuzz_ply) echo "*.ply" ;;
     fuzz_stl) echo "*.stl" ;;

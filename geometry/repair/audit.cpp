@@ -1,11 +1,13 @@
 // audit_mesh and needs_repair: the defects repair_mesh removes, counted without changing anything.
+#include "geometry/repair/repair.h"
+
+#include <cmath>
 #include <vector>
 
 #include "geometry/repair/components.h"
 #include "geometry/repair/face_checks.h"
 #include "geometry/repair/fans.h"
 #include "geometry/repair/mesh_edges.h"
-#include "geometry/repair/repair.h"
 
 namespace surfaced {
 
@@ -13,7 +15,8 @@ using namespace repair_detail;
 
 namespace {
 
-//! Closed components (every half-edge joined) whose signed volume is negative.
+//! Closed components (every half-edge joined) whose signed volume is negative beyond rounding: below -1e-9 times the
+//! sum of the faces' absolute volumes (a flat closed component is neither inverted nor not).
 std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> positions,
                            const std::vector<Index>& partner) {
     const Components components = find_components(table, partner);
@@ -21,7 +24,7 @@ std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> posit
     std::vector<std::uint8_t> open(faces, 0);
     for (Index c = 0; c < table.corner_count(); ++c)
         if (partner[c] == kInvalidIndex) open[components.of_face[table.face[c]]] = 1;
-    std::vector<double> volume(faces, 0.0);
+    std::vector<double> volume(faces, 0.0), magnitude(faces, 0.0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];
         if (open[root]) continue;
@@ -31,7 +34,7 @@ std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> posit
     }
     std::size_t inverted = 0;
     for (Index f = 0; f < faces; ++f)
-        if (components.of_face[f] == f && !open[f] && volume[f] < 0) ++inverted;
+        if (components.of_face[f] == f && !open[f] && volume[f] < -1e-9 * magnitude[f]) ++inverted;
     return inverted;
 }
 

@@ -22,11 +22,12 @@ Components find_components(const CornerTable& table, const std::vector<Index>& p
     return result;
 }
 
-double face_volume(std::span<const Vec3> positions, std::span<const Index> face, const Vec3& origin) {
+double face_volume(std::span<const Vec3> positions, std::span<const Index> face, const Vec3& origin, bool reversed) {
+    const std::size_t n = face.size();
+    auto corner = [&](std::size_t j) { return positions[face[reversed && j > 0 ? n - j : j]] - origin; };
     double v = 0;
-    const Vec3 a = positions[face[0]] - origin;
-    for (std::size_t j = 1; j + 1 < face.size(); ++j)
-        v += dot(a, cross(positions[face[j]] - origin, positions[face[j + 1]] - origin));
+    const Vec3 a = corner(0);
+    for (std::size_t j = 1; j + 1 < n; ++j) v += dot(a, cross(corner(j), corner(j + 1)));
     return v / 6.0;
 }
 
@@ -43,9 +44,9 @@ void orient_outward(const CornerTable& table, std::span<const Vec3> positions, c
         const Index root = components.of_face[f];
         if (open[root]) continue;
         const Vec3& origin = positions[table.indices[table.offsets[root]]];
-        const double v = face_volume(
-            positions, table.indices.subspan(table.offsets[f], table.offsets[f + 1] - table.offsets[f]), origin);
-        volume[root] += flip[f] ? -v : v;
+        volume[root] +=
+            face_volume(positions, table.indices.subspan(table.offsets[f], table.offsets[f + 1] - table.offsets[f]),
+                        origin, flip[f] != 0);
     }
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];

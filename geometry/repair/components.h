@@ -24,7 +24,10 @@ void orient_outward(const CornerTable& table, std::span<const Vec3> positions, c
                     const Components& components, std::vector<std::uint8_t>& flip);
 
 //! Signed volume of a face as seen from `origin` (divergence theorem, fan triangles): the sum over a closed surface
-//! is its enclosed volume, positive when the faces wind counter-clockwise seen from outside.
-double face_volume(std::span<const Vec3> positions, std::span<const Index> face, const Vec3& origin);
+//! is its enclosed volume, positive when the faces wind counter-clockwise seen from outside. `reversed`: of the face
+//! reversed as repair_mesh reverses it (first corner kept), summed exactly as for the reversed face itself, so that a
+//! volume measured before the output is built has the same rounding (and sign) as one measured on the output.
+double face_volume(std::span<const Vec3> positions, std::span<const Index> face, const Vec3& origin,
+                   bool reversed = false);
 
 }  // namespace surfaced::repair_detail

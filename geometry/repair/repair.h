@@ -109,7 +109,9 @@ struct MeshDefects {
     std::size_t nonmanifold_edges = 0;     //!< used by more than two faces
     std::size_t inconsistent_edges = 0;    //!< used by two faces in the same direction
     std::size_t nonmanifold_vertices = 0;  //!< whose faces form more than one fan
-    std::size_t inverted_components = 0;   //!< closed, consistently oriented, with a negative signed volume
+    //! Closed, consistently oriented, with a negative signed volume (beyond rounding: below -1e-9 times the sum of
+    //! the faces' absolute volumes).
+    std::size_t inverted_components = 0;
 
     //! Anything that breaks algorithms which need a manifold, consistently oriented mesh (inverted components do not).
     bool breaks_manifold() const {
