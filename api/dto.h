@@ -11,6 +11,7 @@
 
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/polygon_mesh.h"
+#include "geometry/repair/repair.h"
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::api {
@@ -52,6 +53,10 @@ struct SubdivideStats {
 };
 
 //! POST /simplify. At least one of target_faces, ratio, max_error (the operation checks it and the ranges).
+//! What an operation that needs a manifold mesh does with one that is not: repair it first (auto, the default) or
+//! refuse it (none: 422 naming the edge or face).
+enum class RepairMode { Auto, None };
+
 struct SimplifyParams {
     std::optional<std::int64_t> target_faces;
     std::optional<double> ratio;      //!< (0, 1]
@@ -61,6 +66,7 @@ struct SimplifyParams {
     std::int64_t threads = 1;                   //!< 1 or 2 (SimplifyOptions::threads)
     bool report_error = false;                  //!< measure Hausdorff/RMS to the input and return them
     std::vector<std::int64_t> locked_vertices;  //!< vertices that never move or disappear (checked against the mesh)
+    RepairMode repair = RepairMode::Auto;
     OutputOptions output;
 };
 
@@ -70,6 +76,7 @@ struct SimplifyStats {
     bool triangulated = false;
     double achieved_error = 0, relative_error = 0;  //!< see SimplifyResult
     std::optional<double> hausdorff, rms;           //!< when report_error
+    std::optional<RepairReport> repairs;            //!< repair "auto": what was repaired before simplifying
     double elapsed_ms = 0;
 };
 
@@ -77,6 +84,11 @@ template <class E>
 struct EnumName {
     std::string_view name;
     E value;
+};
+
+inline constexpr EnumName<RepairMode> kRepairModeNames[] = {
+    {"auto", RepairMode::Auto},
+    {"none", RepairMode::None},
 };
 
 inline constexpr EnumName<SubdivisionScheme> kSchemeNames[] = {

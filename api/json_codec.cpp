@@ -384,7 +384,7 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
             R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
     if (auto error = check_members(root, "",
                                    {"mesh", "target_faces", "ratio", "max_error", "lock_border", "restore_volume",
-                                    "threads", "report_error", "locked_vertices", "output"}))
+                                    "threads", "report_error", "locked_vertices", "repair", "output"}))
         return std::move(*error);
     SimplifyJsonRequest request;
     SimplifyParams& params = request.params;
@@ -392,7 +392,8 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
          {read_member(root, "target_faces", params.target_faces), read_member(root, "ratio", params.ratio),
           read_member(root, "max_error", params.max_error), read_member(root, "lock_border", params.lock_border),
           read_member(root, "restore_volume", params.restore_volume), read_member(root, "threads", params.threads),
-          read_member(root, "report_error", params.report_error)})
+          read_member(root, "report_error", params.report_error),
+          read_member(root, "repair", kRepairModeNames, params.repair)})
         if (error) return std::move(*error);
     if (auto error = read_output(root, request.params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");
@@ -411,6 +412,44 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
         }
     }
     return request;
+}
+
+std::vector<std::pair<std::string_view, std::size_t>> repair_counts(const RepairReport& r) {
+    return {{"welded", r.welded},
+            {"degenerate", r.degenerate},
+            {"duplicate", r.duplicate},
+            {"flipped", r.flipped},
+            {"nonmanifold_split", r.nonmanifold_split},
+            {"small_components", r.small_components},
+            {"removed_faces", r.removed_faces},
+            {"holes_filled", r.holes_filled},
+            {"fill_faces", r.fill_faces},
+            {"unreferenced", r.unreferenced},
+            {"components", r.components}};
+}
+
+std::string encode_repairs(const RepairReport& report) {
+    std::string out = "{";
+    for (const auto& [name, count] : repair_counts(report)) {
+        if (out.size() > 1) out += ',';
+        out += '"';
+        out += name;
+        out += "\":";
+        out += std::to_string(count);
+    }
+    out += '}';
+    return out;
+}
+
+std::string encode_mesh_with_stats(const PolygonMesh& mesh, std::string_view stats_json) {
+    std::string out;
+    out.reserve(32 + stats_json.size() + mesh.positions.size() * 60 + mesh.face_indices.size() * 8);
+    out += '{';
+    append_mesh(out, mesh);
+    out += ",\"stats\":";
+    out += stats_json;
+    out += '}';
+    return out;
 }
 
 std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStats& stats) {
@@ -434,6 +473,10 @@ std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStat
     member("relative_error", stats.relative_error);
     if (stats.hausdorff) member("hausdorff", *stats.hausdorff);
     if (stats.rms) member("rms", *stats.rms);
+    if (stats.repairs) {
+        out += ",\"repairs\":";
+        out += encode_repairs(*stats.repairs);
+    }
     member("elapsed_ms", stats.elapsed_ms);
     out += "}}";
     return out;

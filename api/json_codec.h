@@ -16,6 +16,8 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "api/dto.h"
 #include "api/errors.h"
@@ -54,5 +56,13 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
 //! {"mesh": {...}, "stats": {"input_vertices", ..., "triangulated", "achieved_error", "relative_error",
 //! "hausdorff", "rms" (when measured), "elapsed_ms"}}.
 std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStats& stats);
+
+//! A repair report's counts by name ("welded", "degenerate", "duplicate", "flipped", "nonmanifold_split",
+//! "small_components", "removed_faces", "holes_filled", "fill_faces", "unreferenced", "components"), in that order.
+std::vector<std::pair<std::string_view, std::size_t>> repair_counts(const RepairReport& report);
+//! {"welded":12,"degenerate":3,...}: repair_counts() as the text of a JSON object.
+std::string encode_repairs(const RepairReport& report);
+//! {"mesh": {...}, "stats": STATS}: the mesh as every endpoint writes it, with `stats_json` (a JSON object's text).
+std::string encode_mesh_with_stats(const PolygonMesh& mesh, std::string_view stats_json);
 
 }  // namespace surfaced::api

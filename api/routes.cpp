@@ -4,6 +4,7 @@
 #include "api/operations/subdivide.h"
 #include "api/operations/simplify.h"
 #include "api/operations/remesh.h"
+#include "api/operations/repair.h"
 #include "api/operations/curves.h"
 #include "api/operations/tessellate.h"
 #include "api/operations/implicit_query.h"
@@ -22,11 +23,14 @@ constexpr Route kRoutes[] = {
     {"POST", "/subdivide", &operations::subdivide,
      "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> GLB/OBJ/PLY/JSON"},
     {"POST", "/simplify", &operations::simplify,
-     "QEM edge-collapse simplification to target_faces / ratio / max_error, optional Hausdorff/RMS report -> "
-     "GLB/OBJ/PLY/JSON"},
+     "QEM edge-collapse simplification to target_faces / ratio / max_error (repairs the input first), optional "
+     "Hausdorff/RMS report -> GLB/OBJ/PLY/JSON"},
     {"POST", "/remesh", &operations::remesh,
      "Isotropic remeshing to edge_length (split, collapse, flip, relax, project), features and boundary kept, quality "
-     "report -> GLB/OBJ/PLY/JSON"},
+     "report (repairs the input first) -> GLB/OBJ/PLY/JSON"},
+    {"POST", "/repair", &operations::repair,
+     "Mesh repair: weld, drop degenerate and duplicate faces, orient, cut non-manifold edges and vertices, fill small "
+     "holes, with a report -> GLB/OBJ/PLY/JSON"},
     {"POST", "/tessellate", &operations::tessellate,
      "Bezier patches (JSON or geomview BEZ/BBP) tessellated by tolerance or segments, crack-free -> GLB/OBJ/PLY"},
     {"GET", "/patches/{name}", &operations::patch_sample,

@@ -11,7 +11,7 @@ namespace {
 constexpr std::string_view kCorsAllowHeaders = "Authorization, Content-Type, If-None-Match, X-Request-Id";
 constexpr std::string_view kCorsExposeHeaders =
     "X-Request-Id, X-Output-Faces, X-Output-Vertices, X-Levels, X-Error-Bound, X-Hausdorff, X-RMS, X-Triangulated, "
-    "X-Elapsed-Ms, ETag, Retry-After";
+    "X-Repairs, X-Elapsed-Ms, ETag, Retry-After";
 
 bool is_open_route(std::string_view route) {
     return route == "/livez" || route == "/readyz" || route == "/healthz" || route == "/openapi.json";

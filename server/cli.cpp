@@ -43,7 +43,8 @@ constexpr int kExitFailed = 1;
 constexpr int kExitUsage = 2;
 
 constexpr std::string_view kMainHelp =
-    R"(surfaced - geometry service: subdivision, Bezier patch tessellation and simplification over HTTP/JSON and on the command line
+    R"(surfaced - surface modeling over HTTP/JSON and on the command line: subdivision, simplification, remeshing,
+repair, Bezier patches and curves, implicit surfaces, point clouds
 
 Usage:
   surfaced serve [options]                    run the HTTP service
@@ -52,6 +53,7 @@ Usage:
   surfaced tessellate IN -o OUT [options]     tessellate Bezier patches (.bez/.bbp, sample:teapot)
   surfaced simplify IN -o OUT [options]       simplify a mesh file (QEM edge collapse)
   surfaced remesh IN -o OUT [options]         isotropic remeshing to one edge length, quality report
+  surfaced repair IN -o OUT [options]         repair a mesh (weld, orient, non-manifold cut apart), with a report
   surfaced implicit SCENE.json -o OUT [opts]  mesh an implicit scene (dual marching cubes, closed)
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
@@ -439,6 +441,19 @@ int upload_mesh(std::string path, const Parsed& parsed, const std::vector<Option
     return finish(api::dispatch(request, context), parsed, std::forward<Summary>(summary));
 }
 
+//! What repair did, on stderr ("repaired IN: welded=12; degenerate=3; ..."), when X-Repairs reports anything; the
+//! output on stdout stays the operation's summary.
+void print_repairs(const Parsed& parsed, const api::ApiResponse& response) {
+    const std::string repairs = header(response, "X-Repairs");
+    if (repairs == "?") return;
+    bool any = false;
+    for (std::size_t at = repairs.find('='); at != std::string::npos; at = repairs.find('=', at + 1)) {
+        const std::size_t name = repairs.rfind(' ', at) == std::string::npos ? 0 : repairs.rfind(' ', at) + 1;
+        if (repairs.compare(name, at - name, "components") != 0 && repairs[at + 1] != '0') any = true;
+    }
+    if (any) std::cerr << "repaired " << parsed.input << ": " << repairs << "\n";
+}
+
 //! "wrote OUT: T triangles, V vertices (from F faces[, triangulated first])" of simplify and remesh.
 void print_triangulated_result(const Parsed& parsed, const api::ApiResponse& response) {
     std::cout << "wrote " << parsed.output << ": " << header(response, "X-Output-Faces") << " triangles, "
@@ -789,6 +804,8 @@ Options:
   --threads N               1 (default) or 2: meshes of 20,000 triangles or more first collapse on two
                             threads, one half of the mesh each; 1.3-2x faster, a slightly different result
   --report-error            measure and print the Hausdorff and RMS distance to the input
+  --repair MODE             auto (default): repair the mesh first when it needs it (printed on stderr);
+                            none: refuse a non-manifold mesh
   --no-draco                write an uncompressed .glb
   --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)
   --normals                 also write vertex normals (.glb .gltf .obj .ply)
@@ -806,6 +823,7 @@ int simplify(Args& args) {
         {"--threads", "threads", integer(1, 2)},
         {"--locked-vertices", "locked_vertices", any_text()},
         flag("--report-error", "report_error"),
+        {"--repair", "repair", any_text()},
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),
@@ -820,6 +838,7 @@ int simplify(Args& args) {
 
     return upload_mesh(
         "/simplify", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            print_repairs(*parsed, response);
             print_triangulated_result(*parsed, response);
             std::cout << ", error " << header(response, "X-Achieved-Error") << " ("
                       << header(response, "X-Relative-Error") << " of the bounding-box diagonal)";
@@ -846,6 +865,8 @@ Options:
   --feature-angle DEG       dihedral angle above which an edge is sharp, 0..180 (default 60; 180: none)
   --free-boundary           relax boundary vertices like interior ones (default: keep the boundary)
   --smoothing S             tangential (default), laplacian or none
+  --repair MODE             auto (default): repair the mesh first when it needs it (printed on stderr);
+                            none: refuse a non-manifold mesh
   --no-draco                write an uncompressed .glb
   --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)
   --normals                 also write vertex normals (.glb .gltf .obj .ply)
@@ -860,6 +881,7 @@ int remesh(Args& args) {
         {"--feature-angle", "feature_angle", real()},
         {"--smoothing", "smoothing", any_text()},
         flag("--free-boundary", "keep_boundary", "false"),
+        {"--repair", "repair", any_text()},
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),
@@ -872,6 +894,7 @@ int remesh(Args& args) {
 
     return upload_mesh(
         "/remesh", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            print_repairs(*parsed, response);
             print_triangulated_result(*parsed, response);
             std::cout << ", edge length " << header(response, "X-Edge-Length") << " (mean "
                       << header(response, "X-Mean-Edge-Length-After") << "), min angle "
@@ -881,6 +904,56 @@ int remesh(Args& args) {
                       << header(response, "X-Radius-Ratio-Before") << " -> " << header(response, "X-Radius-Ratio-After")
                       << ", Hausdorff " << header(response, "X-Hausdorff") << ", in "
                       << header(response, "X-Elapsed-Ms") << " ms\n";
+        });
+}
+
+// ---- repair --------------------------------------------------------------------------------------------------
+
+constexpr std::string_view kRepairHelp =
+    R"(Usage: surfaced repair IN -o OUT [options]
+
+Repairs the mesh in IN and writes it to OUT, through the same operation as POST /repair: welds vertices at the same
+position, drops degenerate and duplicate faces, orients faces consistently (outward for closed parts), cuts
+non-manifold edges and vertices apart, drops unreferenced vertices; optionally drops small components and fills small
+holes. Prints what it did.
+  IN:  .obj .off .ply .stl .glb        OUT: .obj .ply .glb .gltf .json
+
+Options:
+  -o, --output OUT          output file (required)
+  --weld-tolerance D        also weld vertices closer than D (model units; default 0: identical positions only)
+  --no-orient               leave the faces' orientation as it is
+  --min-component-faces N   drop connected components with fewer than N faces (default 0: keep all)
+  --max-hole-edges N        fill holes with at most N boundary edges, 0..10000 (default 0: none)
+  --no-draco                write an uncompressed .glb
+  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb/.gltf only)
+  --normals                 also write vertex normals (.glb .gltf .obj .ply)
+  -h, --help                this text
+)";
+
+int repair(Args& args) {
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--weld-tolerance", "weld_tolerance", real()},
+        flag("--no-orient", "orient", "false"),
+        {"--min-component-faces", "min_component_faces", integer(0, 4'000'000'000LL)},
+        {"--max-hole-edges", "max_hole_edges", integer(0, 10'000)},
+        {"--quantize-position", "quantize_position", integer(1, 24)},
+        flag("--no-draco"),
+        flag("--normals", "normals"),
+    };
+    const auto parsed = parse_file_command(args, "repair", kRepairHelp, options);
+    if (!parsed) return kExitOk;
+    const MeshFormat in_format = mesh_input_format(parsed->input);
+    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    check_mesh_output_options(*parsed, out_format);
+
+    return upload_mesh(
+        "/repair", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Faces") << " faces, "
+                      << header(response, "X-Output-Vertices") << " vertices (from "
+                      << header(response, "X-Input-Faces") << " faces, " << header(response, "X-Input-Vertices")
+                      << " vertices): " << header(response, "X-Repairs") << ", in " << header(response, "X-Elapsed-Ms")
+                      << " ms\n";
         });
 }
 
@@ -1103,11 +1176,12 @@ int run(int argc, char** argv) {
         if (command == "tessellate") return tessellate(args);
         if (command == "simplify") return simplify(args);
         if (command == "remesh") return remesh(args);
+        if (command == "repair") return repair(args);
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
         if (command == "curve") return curve(args);
         throw UsageError{"unknown command \"" + command +
-                         "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, implicit, "
+                         "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, "
                          "pointcloud, curve; see surfaced --help)"};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

@@ -7,6 +7,7 @@
 #include "api/dto.h"
 #include "api/json_codec.h"
 #include "api/json_util.h"
+#include "api/operations/mesh_repair.h"
 #include "api/operations/request_forms.h"
 #include "geometry/remesh/remesh.h"
 
@@ -29,12 +30,14 @@ struct RemeshParams {
     double feature_angle = 60;
     bool keep_boundary = true;
     RemeshSmoothing smoothing = RemeshSmoothing::Tangential;
+    RepairMode repair = RepairMode::Auto;
     OutputOptions output;
 };
 
 ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(query, {"edge_length", "iterations", "feature_angle", "keep_boundary",
-                                               "smoothing", "format", "compression", "quantize_position", "normals"}))
+    if (auto error =
+            check_query_names(query, {"edge_length", "iterations", "feature_angle", "keep_boundary", "smoothing",
+                                      "repair", "format", "compression", "quantize_position", "normals"}))
         return std::move(*error);
     RemeshParams params;
     for (const auto& [name, text] : query) {
@@ -49,6 +52,8 @@ ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::
             error = read_parameter(name, text, params.keep_boundary);
         else if (name == "smoothing")
             error = read_parameter(name, text, kSmoothingNames, params.smoothing);
+        else if (name == "repair")
+            error = read_parameter(name, text, kRepairModeNames, params.repair);
         else if (auto output = parse_output_parameter(name, text, params.output); !output)
             error = std::move(output.error());
         if (error) return std::move(*error);
@@ -68,7 +73,8 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "edge_length": L, ...})");
     if (auto error = json::check_members(
-            root, "", {"mesh", "edge_length", "iterations", "feature_angle", "keep_boundary", "smoothing", "output"}))
+            root, "",
+            {"mesh", "edge_length", "iterations", "feature_angle", "keep_boundary", "smoothing", "repair", "output"}))
         return std::move(*error);
     JsonRequest request;
     RemeshParams& params = request.params;
@@ -76,7 +82,8 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
                        json::read_member(root, "iterations", params.iterations),
                        json::read_member(root, "feature_angle", params.feature_angle),
                        json::read_member(root, "keep_boundary", params.keep_boundary),
-                       json::read_member(root, "smoothing", kSmoothingNames, params.smoothing)})
+                       json::read_member(root, "smoothing", kSmoothingNames, params.smoothing),
+                       json::read_member(root, "repair", kRepairModeNames, params.repair)})
         if (error) return std::move(*error);
     if (auto error = json::read_output(root, params.output)) return std::move(*error);
     const auto mesh_it = root.find("mesh");
@@ -142,9 +149,16 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 
     // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
     // budgets and validity, before any work
-    auto decoded = decode_mesh_request<RemeshParams>(request, limits, decode_request, params_from_query, check_params);
+    // (read as leniently as /subdivide reads: what repair "none" refuses is refused by prepare_manifold_input)
+    auto decoded = decode_mesh_request<RemeshParams>(request, limits, decode_request, params_from_query, check_params,
+                                                     MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, mesh, t_decoded] = decoded.value();
+    auto& [source, params, input, t_decoded] = decoded.value();
+    std::optional<PolygonMesh> repaired;
+    std::optional<RepairReport> repairs;
+    if (auto error = prepare_manifold_input(input, params.repair, source, context.cancel, repaired, repairs))
+        return error_response(std::move(*error));
+    const PolygonMesh& mesh = repaired ? *repaired : input;
     if (mesh.face_count() == 0)
         return error_response(make_problem(Problem::InvalidField, "the mesh has no faces to remesh", "mesh"));
     if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
@@ -190,14 +204,16 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_remeshed = Clock::now();
 
     // 5. encode
-    Json stats = {{"input_vertices", mesh.vertex_count()},         {"input_faces", mesh.face_count()},
+    Json stats = {{"input_vertices", input.vertex_count()},        {"input_faces", input.face_count()},
                   {"output_vertices", result.mesh.vertex_count()}, {"output_faces", result.mesh.face_count()},
                   {"triangulated", result.triangulated},           {"edge_length", result.target_edge_length},
                   {"feature_edges", result.feature_edges},         {"boundary_edges", result.boundary_edges},
                   {"hausdorff", result.hausdorff.value_or(0.0)},   {"before", quality_json(result.before)},
                   {"after", quality_json(result.after)},           {"elapsed_ms", ms_between(t_start, t_remeshed)}};
-    Headers headers = mesh_count_headers(mesh.vertex_count(), mesh.face_count(), result.mesh.vertex_count(),
+    if (repairs) stats["repairs"] = Json::parse(encode_repairs(*repairs));
+    Headers headers = mesh_count_headers(input.vertex_count(), input.face_count(), result.mesh.vertex_count(),
                                          result.mesh.face_count());
+    if (repairs) headers.emplace_back("X-Repairs", repairs_header(*repairs));
     headers.insert(headers.end(), {
                                       {"X-Triangulated", result.triangulated ? "true" : "false"},
                                       {"X-Edge-Length", format_double(result.target_edge_length)},

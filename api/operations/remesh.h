@@ -4,7 +4,7 @@
 //  * Content-Type application/json:
 //      {"mesh": {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]},
 //       "edge_length": L, "iterations": 10, "feature_angle": 60, "keep_boundary": true,
-//       "smoothing": "tangential"|"laplacian"|"none",
+//       "smoothing": "tangential"|"laplacian"|"none", "repair": "auto"|"none",
 //       "output": {"format": "glb"|"gltf"|"obj"|"ply"|"json", "compression": "draco"|"none", "quantize_position": 14,
 //                  "normals": false}}
 //    Only "mesh" is required; without edge_length the input's mean edge length is used (same density, better
@@ -13,7 +13,10 @@
 //    application/octet-stream): the same options as query parameters, output options unnested:
 //    ?edge_length=0.01&iterations=5&feature_angle=45&keep_boundary=false&smoothing=laplacian&format=obj
 // Polygons are triangulated first (X-Triangulated: true). UVs and normals of the input are not carried over.
-// Non-manifold input is refused with 422 non_manifold naming the edge or vertex.
+// "repair": "auto" (default; query repair=auto) repairs a mesh that needs it first (api/operations/mesh_repair.h: weld,
+// degenerate and duplicate faces, orientation, non-manifold edges and vertices cut apart), reported in X-Repairs and
+// in the JSON stats' "repairs"; "none" refuses such input as before: 422 non_manifold naming the edge or vertex, 422
+// degenerate_face for a face that repeats a vertex.
 //
 // Order of checks, all before remeshing: body size (413), media type (415), options (400: unknown, malformed, out of
 // range: edge_length finite > 0, iterations 0..100, feature_angle 0..180), decode (400 with line/offset or field path),
@@ -25,7 +28,8 @@
 // "after": quality}}), with headers X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces,
 // X-Triangulated, X-Edge-Length (the target used), X-Feature-Edges, X-Hausdorff (between input and output),
 // X-Min-Angle-Before/-After (degrees), X-Below-30-Before/-After (share of triangles), X-Radius-Ratio-Before/-After
-// (mean, Verdict R/2r), X-Mean-Edge-Length-After, X-Elapsed-Ms and Server-Timing (decode, remesh, encode, total).
+// (mean, Verdict R/2r), X-Mean-Edge-Length-After, X-Repairs (repair "auto"), X-Elapsed-Ms and Server-Timing
+// (decode, remesh, encode, total).
 #pragma once
 
 #include "api/operation.h"

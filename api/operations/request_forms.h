@@ -144,6 +144,8 @@ std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel);
 //!    `mesh`), `check_params(params, Source::Json)`; or an uploaded file: a known format (415), then
 //!    `params_from_query(query)` and `check_params(params, Source::File)`, both before the file is read;
 //! 3. the input budget and the mesh's validity.
+//! `rules` are the reader's and validity rules; for a Params with a `repair` member (operations that repair their input
+//! and so pass the lenient rules), repair "none" means the strict ones.
 //! The operation states only what differs: its options, their decoders and their checks.
 template <class Params, class DecodeJson, class ParamsFromQuery, class CheckParams>
 ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, const Limits& limits,
@@ -152,6 +154,13 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
     std::string media_type;
     if (auto error = check_body(request, limits, media_type)) return std::move(*error);
     MeshRequest<Params> out;
+    // An operation that repairs its input reads it leniently (`rules`), unless the request says repair "none": then
+    // the strict rules, with their errors at the file's line.
+    const auto effective_rules = [&] {
+        if constexpr (requires { out.params.repair; })
+            if (out.params.repair == RepairMode::None) return MeshRules::Strict;
+        return rules;
+    };
     if (media_type == "application/json") {
         out.source = Source::Json;
         if (auto error = reject_query_with_json(request)) return std::move(*error);
@@ -166,12 +175,12 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
         if (!query_params) return std::move(query_params.error());
         out.params = std::move(query_params.value());
         if (auto error = check_params(out.params, out.source)) return std::move(*error);
-        auto read = read_uploaded_mesh(request, media_type, limits, rules);
+        auto read = read_uploaded_mesh(request, media_type, limits, effective_rules());
         if (!read) return std::move(read.error());
         out.mesh = std::move(read.value());
     }
     out.decoded = Clock::now();
-    if (auto error = check_mesh_input(out.mesh, limits, out.source, rules)) return std::move(*error);
+    if (auto error = check_mesh_input(out.mesh, limits, out.source, effective_rules())) return std::move(*error);
     return out;
 }
 

@@ -10,6 +10,7 @@
 
 #include "api/dto.h"
 #include "api/json_codec.h"
+#include "api/operations/mesh_repair.h"
 #include "api/operations/request_forms.h"
 #include "geometry/core/block_pool.h"
 #include "geometry/simplify/mesh_distance.h"
@@ -71,7 +72,7 @@ std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& l
 ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std::string>& query) {
     if (auto error = check_query_names(
             query, {"target_faces", "ratio", "max_error", "lock_border", "restore_volume", "threads", "report_error",
-                    "locked_vertices", "format", "compression", "quantize_position", "normals"}))
+                    "locked_vertices", "repair", "format", "compression", "quantize_position", "normals"}))
         return std::move(*error);
 
     SimplifyParams params;
@@ -91,6 +92,8 @@ ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std
             error = read_parameter(name, text, params.threads);
         else if (name == "report_error")
             error = read_parameter(name, text, params.report_error);
+        else if (name == "repair")
+            error = read_parameter(name, text, kRepairModeNames, params.repair);
         else if (name == "locked_vertices")
             error = read_locked_vertices(text, params.locked_vertices);
         else if (auto output = parse_output_parameter(name, text, params.output); !output)
@@ -131,14 +134,24 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 
     // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
     // budgets and validity, before any work
-    auto decoded =
-        decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query, check_params);
+    // (read as leniently as /subdivide reads: what repair "none" refuses is refused by prepare_manifold_input)
+    auto decoded = decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query,
+                                                       check_params, MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, mesh, t_decoded] = decoded.value();
-    if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
-    if (auto error = check_locked_vertices(params.locked_vertices, mesh)) return error_response(std::move(*error));
+    auto& [source, params, input, t_decoded] = decoded.value();
+    if (auto error = check_triangulated_budget(input, limits)) return error_response(std::move(*error));
+    if (auto error = check_locked_vertices(params.locked_vertices, input)) return error_response(std::move(*error));
 
-    // 4. simplify
+    // 4. repair (repair "auto"), then simplify
+    std::optional<PolygonMesh> repaired;
+    std::optional<RepairReport> repairs;
+    if (auto error = prepare_manifold_input(input, params.repair, source, context.cancel, repaired, repairs))
+        return error_response(std::move(*error));
+    const PolygonMesh& mesh = repaired ? *repaired : input;  // the input stays for report_error's distance
+    const std::vector<Index> locked =
+        repaired ? vertices_by_position(input, mesh, params.locked_vertices)
+                 : std::vector<Index>(params.locked_vertices.begin(), params.locked_vertices.end());
+
     SimplifyOptions options;
     if (params.target_faces) options.target_faces = static_cast<std::size_t>(*params.target_faces);
     options.ratio = params.ratio;
@@ -146,8 +159,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.lock_border = params.lock_border;
     options.restore_volume = params.restore_volume;
     options.threads = static_cast<int>(params.threads);
-    options.locked_vertices.reserve(params.locked_vertices.size());
-    for (std::int64_t v : params.locked_vertices) options.locked_vertices.push_back(static_cast<Index>(v));  // checked
+    for (Index v : locked)
+        if (v != kInvalidIndex) options.locked_vertices.push_back(v);  // a vertex repair dropped has nothing to keep
     options.cancel = context.cancel;
     options.block_pool = &simplify_block_pool();
     auto simplified = simplify_qem(mesh, options);
@@ -157,15 +170,16 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_simplified = Clock::now();
 
     SimplifyStats stats;
-    stats.input_vertices = mesh.vertex_count();
-    stats.input_faces = mesh.face_count();
+    stats.input_vertices = input.vertex_count();
+    stats.input_faces = input.face_count();
+    stats.repairs = repairs;
     stats.output_vertices = result.mesh.vertex_count();
     stats.output_faces = result.faces;
     stats.triangulated = result.triangulated;
     stats.achieved_error = result.achieved_error;
     stats.relative_error = result.relative_error;
     if (params.report_error) {
-        const MeshDistance distance = mesh_distance(mesh, result.mesh);
+        const MeshDistance distance = mesh_distance(input, result.mesh);
         stats.hausdorff = distance.hausdorff;
         stats.rms = distance.rms;
     }
@@ -180,6 +194,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     headers.emplace_back("X-Relative-Error", format_double(stats.relative_error));
     if (stats.hausdorff) headers.emplace_back("X-Hausdorff", format_double(*stats.hausdorff));
     if (stats.rms) headers.emplace_back("X-RMS", format_double(*stats.rms));
+    if (stats.repairs) headers.emplace_back("X-Repairs", repairs_header(*stats.repairs));
     return mesh_response(
         result.mesh, params.output, source, [&](const PolygonMesh& m) { return encode_simplify_response(m, stats); },
         std::move(headers),

@@ -4,7 +4,7 @@
 //  * Content-Type application/json:
 //      {"mesh": {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]},
 //       "target_faces": N, "ratio": r, "max_error": e, "lock_border": false, "restore_volume": 0, "threads": 1,
-//       "report_error": false, "locked_vertices": [i, ...],
+//       "report_error": false, "locked_vertices": [i, ...], "repair": "auto"|"none",
 //       "output": {"format": "glb"|"gltf"|"obj"|"ply"|"json", "compression": "draco"|"none", "quantize_position": 14,
 //                  "normals": false}}
 //    "mesh" and at least one of target_faces (>= 0), ratio (in (0, 1]) and max_error (absolute distance, >= 0) are
@@ -12,15 +12,18 @@
 //  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary,
 //    application/octet-stream): the same options as query parameters, output options unnested:
 //    ?target_faces=1000&ratio=0.1&max_error=0.01&lock_border=true&report_error=true&format=obj&compression=none
-//    &locked_vertices=0,5,100&restore_volume=0.5&threads=2
+//    &locked_vertices=0,5,100&restore_volume=0.5&threads=2&repair=none
 //    restore_volume in [0, 1] (default 0): volume restoration, see SimplifyOptions::restore_volume; threads 1 or 2
 //    (default 1), see SimplifyOptions::threads; outside: 400 naming the field.
 //    Locked vertices keep their positions bit for bit and are never removed (indices into the input's vertices, which
 //    triangulation keeps); an index that is not a vertex is 422 index_out_of_range naming locked_vertices[k], one
 //    that is not a non-negative integer 400 naming the same.
 //    UVs of OBJ/GLB uploads are kept (seams preserved, uvs interpolated) and written to OBJ/GLB outputs.
-// Polygons are triangulated first (X-Triangulated: true). Non-manifold input (an edge shared by more than two faces,
-// or inconsistently oriented faces) is refused with 422 non_manifold naming the edge.
+// Polygons are triangulated first (X-Triangulated: true). "repair": "auto" (default; query repair=auto) repairs a mesh
+// that needs it first (api/operations/mesh_repair.h), reported in X-Repairs and the JSON stats' "repairs"; locked
+// vertices follow their positions into the repaired mesh. "none": non-manifold input (an edge shared by more than two
+// faces, or inconsistently oriented faces) is refused with 422 non_manifold naming the edge, a face that repeats a
+// vertex with 422 degenerate_face.
 //
 // Order of checks, all before simplifying: body size (413), media type (415), options (400: unknown, malformed, out
 // of range, no stop criterion), decode (400 with line/offset or field path), input size against Limits::max_input_*
@@ -29,7 +32,8 @@
 // Response: the mesh as GLB (default), glTF, OBJ, PLY or JSON ({"mesh": ..., "stats": ...}), with headers
 // X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces, X-Triangulated (true|false),
 // X-Achieved-Error, X-Relative-Error (SimplifyResult's, relative to the input's bounding-box diagonal),
-// X-Hausdorff and X-RMS (report_error: measured between input and output by mesh_distance()), X-Elapsed-Ms and
+// X-Hausdorff and X-RMS (report_error: measured between input and output by mesh_distance()), X-Repairs (repair
+// "auto": "welded=0; degenerate=0; ..."), X-Elapsed-Ms and
 // Server-Timing (decode, simplify, measure, encode, total).
 #pragma once
 

@@ -86,8 +86,12 @@ export class Client {
   subdivide(args) { return this.meshOperation('/subdivide', args); }
 
   /** POST /simplify: {mesh | data + contentType, target_faces | ratio | max_error, lock_border, restore_volume,
-   *  threads, locked_vertices, report_error, output} */
+   *  threads, locked_vertices, report_error, repair ('auto' | 'none'), output}; what repair did: X-Repairs */
   simplify(args) { return this.meshOperation('/simplify', args); }
+
+  /** POST /repair: {mesh | data + contentType, weld_tolerance, orient, min_component_faces, max_hole_edges, output};
+   *  the report in X-Repairs and, in JSON output, stats.repairs */
+  repair(args) { return this.meshOperation('/repair', args); }
 
   /** POST /tessellate: {patches, tolerance | segments, output} or {bez: text, tolerance | segments, format, ...} */
   tessellate({ patches, bez, ...options }) {
@@ -103,7 +107,8 @@ export class Client {
     return this.request('GET', `/patches/${encodeURIComponent(name)}`, { query, headers: etag ? { 'If-None-Match': etag } : {} });
   }
 
-  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, keep_boundary, smoothing, output} */
+  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, keep_boundary, smoothing,
+   *  repair ('auto' | 'none'), output} */
   remesh(args) { return this.meshOperation('/remesh', args); }
 
   /** POST /implicit/query: {scene, points, rays, tolerance, max_distance, max_steps} */

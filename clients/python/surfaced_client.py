@@ -134,7 +134,7 @@ class Client:
     def simplify(self, mesh: Any = None, *, data: Optional[bytes] = None, content_type: Optional[str] = None,
                  **options: Any) -> Result:
         """POST /simplify. Options: target_faces, ratio, max_error, lock_border, restore_volume, threads,
-        locked_vertices, report_error, output."""
+        locked_vertices, report_error, repair ("auto" | "none"), output. What repair did: header X-Repairs."""
         return self._mesh_operation("/simplify", mesh, data, content_type, options)
 
     def tessellate(self, patches: Any = None, *, bez: Optional[str] = None, **options: Any) -> Result:
@@ -162,8 +162,16 @@ class Client:
     def remesh(self, mesh: Any = None, *, data: Optional[bytes] = None, content_type: Optional[str] = None,
                **options: Any) -> Result:
         """POST /remesh: isotropic remeshing. Options: edge_length, iterations, feature_angle, keep_boundary,
-        smoothing, output. Quality before/after comes in the X-Min-Angle-*, X-Below-30-* headers."""
+        smoothing, repair ("auto" | "none"), output. Quality before/after comes in the X-Min-Angle-*, X-Below-30-*
+        headers, what repair did in X-Repairs."""
         return self._mesh_operation("/remesh", mesh, data, content_type, options)
+
+    def repair(self, mesh: Any = None, *, data: Optional[bytes] = None, content_type: Optional[str] = None,
+               **options: Any) -> Result:
+        """POST /repair: weld, drop degenerate and duplicate faces, orient, cut non-manifold edges and vertices apart.
+        Options: weld_tolerance, orient, min_component_faces, max_hole_edges, output. The report: header X-Repairs,
+        and stats["repairs"] of the JSON form."""
+        return self._mesh_operation("/repair", mesh, data, content_type, options)
 
     def implicit_query(self, scene: Any, **queries: Any) -> dict:
         """POST /implicit/query: points (classified and evaluated), rays (first hit), tolerance, max_distance,

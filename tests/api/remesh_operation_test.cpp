@@ -150,13 +150,14 @@ TEST(RemeshOperation, UnknownFieldsAndParametersAre400) {
                    "invalid_field");
 }
 
-TEST(RemeshOperation, NonManifoldInputIs422) {
+TEST(RemeshOperation, NonManifoldInputWithRepairNoneIs422) {
     PolygonMesh fin;
     fin.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
     fin.add_face({0, 1, 2});
     fin.add_face({1, 0, 3});
     fin.add_face({0, 1, 4});
-    const auto json = expect_problem(call("application/json", json_request(fin)), 422, "non_manifold");
+    const auto json =
+        expect_problem(call("application/json", json_request(fin, R"(,"repair":"none")")), 422, "non_manifold");
     EXPECT_NE(json.value("detail", "").find("(0, 1)"), std::string::npos) << json.dump();
     EXPECT_EQ(json.value("field", ""), "mesh.faces[2]");  // the face that made the edge non-manifold
 }

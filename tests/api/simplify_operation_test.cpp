@@ -282,14 +282,14 @@ TEST(SimplifyOperation, UnknownFieldsAndParametersAre400) {
                    400, "invalid_field");
 }
 
-TEST(SimplifyOperation, NonManifoldInputIs422NamingTheEdge) {
+TEST(SimplifyOperation, NonManifoldInputWithRepairNoneIs422NamingTheEdge) {
     PolygonMesh fin;
     fin.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
     fin.add_face({0, 1, 2});
     fin.add_face({1, 0, 3});
     fin.add_face({0, 1, 4});
-    const auto json =
-        expect_problem(call("application/json", json_request(fin, R"(,"target_faces":1)")), 422, "non_manifold");
+    const auto json = expect_problem(
+        call("application/json", json_request(fin, R"(,"target_faces":1,"repair":"none")")), 422, "non_manifold");
     EXPECT_NE(json.value("detail", "").find("(0, 1)"), std::string::npos) << json.dump();
     EXPECT_EQ(json.value("field", ""), "mesh.faces[0]");  // the first face on the edge
 }

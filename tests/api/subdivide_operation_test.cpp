@@ -292,13 +292,14 @@ TEST(SubdivideOperation, FacesRepeatingAVertexAreSubdividedLikeOpenSubdiv) {
     ASSERT_TRUE(validation.ran) << validation.report;
     EXPECT_EQ(validation.errors, 0) << validation.report;
 
-    // the same faces in JSON, and still refused by the operations that need proper faces
+    // the same faces in JSON; the operations that need proper faces refuse them with repair "none" (and with the
+    // default repair "auto" drop them as degenerate: tests/api/repair_operation_test.cpp)
     const std::string body = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[1,1,0],[0,1,0]],"faces":[[0,1,2,2],[0,2,3]]},)"
                              R"("output":{"format":"json"}})";
     EXPECT_EQ(call("application/json", body).status, 200);
     const auto simplify = dispatch(make_request("POST", "/simplify", "application/json",
                                                 R"({"mesh":{"positions":[[0,0,0],[1,0,0],[1,1,0],[0,1,0]],)"
-                                                R"("faces":[[0,1,2,2],[0,2,3]]},"ratio":0.5})"),
+                                                R"("faces":[[0,1,2,2],[0,2,3]]},"ratio":0.5,"repair":"none"})"),
                                    ApiContext{});
     EXPECT_EQ(simplify.status, 422) << simplify.body;
 }

@@ -98,6 +98,17 @@ export function meshMediaType(fileName) {
     ?? 'application/octet-stream';
 }
 
+/** The repair report of X-Repairs (simplify and remesh repair uploads first) as one summary line: the counts that are
+ *  not zero ("repaired: welded 12, flipped 3"), "repair: none needed", or nothing when the header is absent. */
+export function repairStats(headers) {
+  const value = headers.get('X-Repairs');
+  if (value === null) return [];
+  const done = value.split(';').map((item) => item.trim().split('='))
+    .filter(([name, count]) => name !== 'components' && Number(count) > 0)
+    .map(([name, count]) => `${name.replace('_', ' ')} ${count}`);
+  return [done.length ? `repaired: ${done.join(', ')}` : 'repair: none needed'];
+}
+
 /** "X-Output-Faces: 1234"-style summary lines for the headers that are present. */
 export function headerStats(headers, names) {
   const lines = [];

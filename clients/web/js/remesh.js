@@ -1,6 +1,6 @@
 // Remesh view: isotropic remeshing (POST /remesh) of a built-in or uploaded mesh towards one edge length, with the
 // triangle quality the service reports before and after. The tab appears when /openapi.json lists /remesh.
-import { call, meshMediaType, headerStats } from './api.js';
+import { call, meshMediaType, headerStats, repairStats } from './api.js';
 import { builtins } from './meshes.js';
 
 const $ = (id) => document.getElementById(id);
@@ -68,6 +68,7 @@ export class RemeshView {
                                         ['X-Below-30-Before', 'angles < 30° before'], ['X-Below-30-After', 'angles < 30° after'],
                                         ['X-Feature-Edges', 'feature edges'], ['X-Hausdorff', 'Hausdorff'],
                                         ['X-Elapsed-Ms', 'server ms']]),
+        ...repairStats(result.headers),
         `round trip: ${result.roundTripMs.toFixed(1)} ms`,
       ], { outputFaces: Number(result.headers.get('X-Output-Faces')) });
       this.app.setDownloads({ glb: result.bytes, obj: async () => (await this.send('obj')).bytes, name: `${this.name}-remeshed` });

@@ -1,6 +1,6 @@
 // Simplify view: a target slider; each position is simplified on the server (POST /simplify) and shown with the
 // measured error (report_error: Hausdorff and RMS distances to the input). "Keep volume" sends restore_volume 0.5.
-import { call, meshMediaType, headerStats } from './api.js';
+import { call, meshMediaType, headerStats, repairStats } from './api.js';
 import { builtins } from './meshes.js';
 
 const $ = (id) => document.getElementById(id);
@@ -80,6 +80,7 @@ export class SimplifyView {
                                           ['X-RMS', 'RMS (measured)'], ['X-Achieved-Error', 'quadric error estimate'],
                                           ['X-Relative-Error', 'relative to diagonal'],
                                           ['X-Elapsed-Ms', 'server ms']]),
+          ...repairStats(result.headers),
           `round trip: ${result.roundTripMs.toFixed(1)} ms`,
         ], { outputFaces: Number(result.headers.get('X-Output-Faces')) });
         this.app.setDownloads({ glb: result.bytes, obj: async () => (await this.send('obj', false)).bytes, name: `${this.name}-simplified` });
