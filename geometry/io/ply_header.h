@@ -304,9 +304,8 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
             error = parse_element_line(tokens, at, header);
         } else if (keyword == "property") {
             error = parse_property_line(tokens, at, header);
-        } else {
-            error = error_at_line(ErrorCode::ParseError, at, "unexpected " + quote(keyword) + " in the PLY header");
         }
+        // Any other first word is a stray line some exporters write ("Created by Blender 2.49"): not ours to judge.
         if (error) return std::move(*error);
     }
     if (!have_format) return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no format line");
