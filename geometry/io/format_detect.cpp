@@ -1,10 +1,12 @@
 // Choosing a mesh format from a file name, a media type or the bytes themselves.
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -80,6 +82,12 @@ std::optional<MeshFormat> sniff_format(std::string_view bytes) {
     if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return MeshFormat::Ply;
     // Before looking at words: binary STL headers often start with "solid" too.
     if (binary_stl_size_matches(bytes)) return MeshFormat::Stl;
+    // UTF-16 text (the readers convert it): sniff its first characters as ASCII.
+    if (bool big_endian = false; io_detail::utf16_bom(bytes, big_endian)) {
+        const std::size_t units = std::min<std::size_t>(bytes.size() - 2, 8192) & ~std::size_t{1};
+        const std::string head = io_detail::utf16_to_ascii(bytes.substr(2, units), big_endian);
+        return sniff_format(head);
+    }
 
     // Text formats: look at the first few meaningful lines only.
     io_detail::LineReader lines(text, 0);
