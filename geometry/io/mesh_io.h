@@ -14,7 +14,7 @@
 
 namespace surfaced {
 
-enum class MeshFormat { Obj, Off, Ply, Stl, Glb };
+enum class MeshFormat { Obj, Off, Ply, Stl, Glb, Gltf };
 
 //! Limits applied while reading, before allocation.
 struct ReadOptions {
@@ -48,14 +48,16 @@ Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options 
 //! DegenerateFace only when nothing is left.
 Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options = {});
 
-//! Dispatch on format (Glb goes to read_glb in gltf.h).
+//! Dispatch on format (Glb and Gltf go to read_glb and read_gltf in gltf.h).
 Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options = {});
 
-//! Format from a file name's extension (.obj .off .ply .stl .glb, case-insensitive).
+//! Format from a file name's extension (.obj .off .ply .stl .glb .gltf, case-insensitive).
 std::optional<MeshFormat> format_from_extension(std::string_view path);
-//! Format from a media type (model/obj, model/stl, application/sla, model/gltf-binary, application/ply, ...).
+//! Format from a media type (model/obj, model/stl, application/sla, model/gltf-binary, model/gltf+json,
+//! application/ply, ...).
 std::optional<MeshFormat> format_from_media_type(std::string_view media_type);
-//! Best guess from the first bytes (glTF magic, "ply", "OFF", binary STL size rule, OBJ statements).
+//! Best guess from the first bytes (glTF magic, a JSON object with "asset", "ply", "OFF", binary STL size rule, OBJ
+//! statements).
 std::optional<MeshFormat> sniff_format(std::string_view bytes);
 
 struct ObjWriteOptions {

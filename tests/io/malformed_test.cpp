@@ -156,7 +156,8 @@ Result<PolygonMesh> read_any(const std::string& name, std::string_view bytes) {
         case MeshFormat::Off: return read_off(bytes);
         case MeshFormat::Ply: return read_ply(bytes);
         case MeshFormat::Stl: return read_stl(bytes);
-        case MeshFormat::Glb: break;
+        case MeshFormat::Glb:
+        case MeshFormat::Gltf: break;
     }
     return make_error(ErrorCode::Internal, "not a format of this test");
 }
@@ -359,7 +360,7 @@ TEST(ObjOffPlyStlFormatDetect, FromExtension) {
     EXPECT_EQ(format_from_extension("C:\\dir.d\\bunny.Ply"), MeshFormat::Ply);
     EXPECT_EQ(format_from_extension("part.stl"), MeshFormat::Stl);
     EXPECT_EQ(format_from_extension("scene.glb"), MeshFormat::Glb);
-    EXPECT_EQ(format_from_extension("scene.gltf"), std::nullopt);
+    EXPECT_EQ(format_from_extension("scene.gltf"), MeshFormat::Gltf);
     EXPECT_EQ(format_from_extension("dir.obj/noext"), std::nullopt);
     EXPECT_EQ(format_from_extension("trailingdot."), std::nullopt);
     EXPECT_EQ(format_from_extension(""), std::nullopt);
@@ -371,6 +372,7 @@ TEST(ObjOffPlyStlFormatDetect, FromMediaType) {
     EXPECT_EQ(format_from_media_type("application/sla"), MeshFormat::Stl);
     EXPECT_EQ(format_from_media_type("application/ply"), MeshFormat::Ply);
     EXPECT_EQ(format_from_media_type(" model/gltf-binary "), MeshFormat::Glb);
+    EXPECT_EQ(format_from_media_type("model/gltf+json"), MeshFormat::Gltf);
     EXPECT_EQ(format_from_media_type("application/json"), std::nullopt);
 }
 
