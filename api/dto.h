@@ -139,7 +139,7 @@ inline constexpr EnumName<bool> kCompressionNames[] = {
 //! in geometry/io may accept more aliases). OFF and PLY have no registered media type; these are the common ones.
 inline constexpr EnumName<MeshFormat> kMeshMediaTypes[] = {
     {"model/obj", MeshFormat::Obj}, {"model/off", MeshFormat::Off},         {"application/ply", MeshFormat::Ply},
-    {"model/stl", MeshFormat::Stl}, {"model/gltf-binary", MeshFormat::Glb},
+    {"model/stl", MeshFormat::Stl}, {"model/gltf-binary", MeshFormat::Glb}, {"model/gltf+json", MeshFormat::Gltf},
 };
 
 template <class E, std::size_t N>

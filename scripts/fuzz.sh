@@ -46,6 +46,7 @@ seed_patterns() {
     fuzz_stl) echo "*.stl" ;;
     fuzz_bez) echo "*.bez *.bbp" ;;
     fuzz_glb) echo "*.glb" ;;
+    fuzz_gltf_json) echo "*.gltf" ;;
     *) echo "" ;;
   esac
 }

@@ -102,7 +102,7 @@ constexpr std::string_view kSubdivideHelp = R"(Usage: surfaced subdivide IN -o O
 
 Subdivides the mesh in IN and writes it to OUT, through the same operation as POST /subdivide.
 Formats come from the file extensions:
-  IN:  .obj .off .ply .stl .glb
+  IN:  .obj .off .ply .stl .glb .gltf
   OUT: .obj .ply .glb .gltf (glTF, Draco-compressed unless --no-draco; .gltf is one JSON file with the
        data embedded) .json ({"mesh": ..., "stats": ...})
 
@@ -318,10 +318,10 @@ std::optional<Parsed> parse_file_command(Args& args, const std::string& command,
 
 //! The mesh format of IN, from its extension.
 MeshFormat mesh_input_format(const std::string& input) {
-    if (lower_extension(input) == ".gltf") throw UsageError{".gltf input is not supported yet; use .glb"};
     const auto format = format_from_extension(input);
     if (!format)
-        throw UsageError{"cannot tell the format of " + input + " from its extension (use .obj .off .ply .stl .glb)"};
+        throw UsageError{"cannot tell the format of " + input +
+                         " from its extension (use .obj .off .ply .stl .glb .gltf)"};
     return *format;
 }
 
@@ -790,7 +790,7 @@ constexpr std::string_view kSimplifyHelp =
 
 Simplifies the mesh in IN by quadric-error edge collapse and writes it to OUT, through the same operation as
 POST /simplify. Polygons are triangulated first. Stops at whichever of the given criteria is reached first.
-  IN:  .obj .off .ply .stl .glb        OUT: .obj .ply .glb .gltf .json
+  IN:  .obj .off .ply .stl .glb .gltf  OUT: .obj .ply .glb .gltf .json
 
 Options:
   -o, --output OUT          output file (required)
@@ -856,7 +856,7 @@ constexpr std::string_view kRemeshHelp =
 Remeshes the mesh in IN isotropically (split, collapse, flip, relax, project; Botsch-Kobbelt) towards edges of
 length L and writes it to OUT, through the same operation as POST /remesh. Polygons are triangulated first. Sharp
 edges and the boundary are kept. Prints the triangle quality before and after and the Hausdorff distance.
-  IN:  .obj .off .ply .stl .glb        OUT: .obj .ply .glb .gltf .json
+  IN:  .obj .off .ply .stl .glb .gltf  OUT: .obj .ply .glb .gltf .json
 
 Options:
   -o, --output OUT          output file (required)

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -191,7 +192,8 @@ constexpr std::string_view kSampleNames[] = {"teapot"};
 }  // namespace
 
 Result<PatchSet> read_bez(std::string_view text, const BezReadOptions& options) {
-    return BezReader(text, options).read();
+    return io_detail::with_text(
+        text, [&](std::string_view decoded, io_detail::TextEncoding) { return BezReader(decoded, options).read(); });
 }
 
 std::span<const std::string_view> patch_sample_names() { return kSampleNames; }

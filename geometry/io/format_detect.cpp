@@ -1,10 +1,12 @@
 // Choosing a mesh format from a file name, a media type or the bytes themselves.
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -38,6 +40,12 @@ std::string_view first_word(std::string_view line) {
     return tokens.next(word) ? word : std::string_view{};
 }
 
+//! A JSON object (after whitespace) that mentions "asset", which every glTF document has.
+bool looks_like_gltf_json(std::string_view text) {
+    while (!text.empty() && (io_detail::is_space(text.front()) || text.front() == '\n')) text.remove_prefix(1);
+    return !text.empty() && text.front() == '{' && text.find("\"asset\"") != std::string_view::npos;
+}
+
 }  // namespace
 
 std::optional<MeshFormat> format_from_extension(std::string_view path) {
@@ -51,6 +59,7 @@ std::optional<MeshFormat> format_from_extension(std::string_view path) {
     if (ext == "ply") return MeshFormat::Ply;
     if (ext == "stl") return MeshFormat::Stl;
     if (ext == "glb") return MeshFormat::Glb;
+    if (ext == "gltf") return MeshFormat::Gltf;
     return std::nullopt;
 }
 
@@ -70,6 +79,7 @@ std::optional<MeshFormat> format_from_media_type(std::string_view media_type) {
         type == "model/x-stl")
         return MeshFormat::Stl;
     if (type == "model/gltf-binary") return MeshFormat::Glb;
+    if (type == "model/gltf+json") return MeshFormat::Gltf;
     return std::nullopt;
 }
 
@@ -80,6 +90,14 @@ std::optional<MeshFormat> sniff_format(std::string_view bytes) {
     if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return MeshFormat::Ply;
     // Before looking at words: binary STL headers often start with "solid" too.
     if (binary_stl_size_matches(bytes)) return MeshFormat::Stl;
+    if (looks_like_gltf_json(text)) return MeshFormat::Gltf;
+    // UTF-16 text (the readers convert it): sniff its first characters as ASCII.
+    if (bool big_endian = false; io_detail::utf16_bom(bytes, big_endian)) {
+        const std::size_t units = std::min<std::size_t>(bytes.size() - 2, 8192) & ~std::size_t{1};
+        const std::string head = io_detail::utf16_to_ascii(bytes.substr(2, units), big_endian);
+        const auto format = sniff_format(head);
+        return format == MeshFormat::Gltf ? std::nullopt : format;  // JSON is UTF-8: read_gltf would refuse it
+    }
 
     // Text formats: look at the first few meaningful lines only.
     io_detail::LineReader lines(text, 0);

@@ -1,6 +1,7 @@
-// glTF 2.0 binary (GLB) output and input, with KHR_draco_mesh_compression.
+// glTF 2.0 output and input, binary (GLB) and JSON (.gltf, data embedded), with KHR_draco_mesh_compression.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -29,9 +30,20 @@ Result<std::string> write_glb(const PolygonMesh& mesh, const GltfOptions& option
 //! The same scene as glTF JSON (.gltf): one self-contained text file, the binary data embedded as a base64 data URI.
 Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& options = {});
 
-//! Reads every TRIANGLES primitive of every mesh in a GLB (node transforms applied; Draco-compressed primitives
-//! decoded), POSITION and TEXCOORD_0 when present, welding vertices split only by attributes. Errors name what is
-//! wrong (ParseError with byte offset where known, Unsupported for external buffers / other primitive modes).
-Result<PolygonMesh> read_glb(std::string_view bytes, const ReadOptions& options = {});
+//! What a glTF read passed over, for the caller to report.
+struct GltfReadReport {
+    std::size_t skipped_primitives = 0;  //!< POINTS and LINES primitives: no surface, not read
+};
+
+//! Reads every triangle primitive (TRIANGLES, strips, fans) of every mesh instance of a GLB's default scene (node
+//! transforms applied; Draco-compressed primitives decoded), POSITION and TEXCOORD_0 when present, welding vertices
+//! split only by attributes. Point and line primitives are skipped and counted in `report`. Errors name what is
+//! wrong (ParseError with byte offset where known, Unsupported for external buffers / only points or lines).
+Result<PolygonMesh> read_glb(std::string_view bytes, const ReadOptions& options = {}, GltfReadReport* report = nullptr);
+
+//! The same for glTF JSON (.gltf, model/gltf+json) whose buffers are embedded as base64 data: URIs (media type
+//! application/octet-stream or application/gltf-buffer). A buffer or image named by a file path or URL is
+//! Unsupported, naming it: nothing is ever opened or fetched. Bad base64 is a ParseError naming the buffer.
+Result<PolygonMesh> read_gltf(std::string_view text, const ReadOptions& options = {}, GltfReadReport* report = nullptr);
 
 }  // namespace surfaced

@@ -1,14 +1,16 @@
-// GLB reader. Input is untrusted (it arrives over HTTP), so every step checks before it trusts:
-//  - the GLB container is checked first, with byte offsets in the errors;
+// glTF readers: GLB, and glTF JSON (.gltf) with its buffers embedded as base64 data: URIs, both through the same
+// scene path. Input is untrusted (it arrives over HTTP), so every step checks before it trusts:
+//  - the GLB container is checked first, with byte offsets in the errors (a .gltf is the JSON alone);
 //  - the JSON chunk is parsed with nlohmann::json into a small document model here, every field type-checked and
 //    every cross-reference range-checked, with the JSON path in the error ("accessors[3].count"). tinygltf is not
 //    used for reading: 2.7.0 rejects Draco primitives (index accessors without bufferView) unless its own Draco
 //    decoding is compiled in, and that code indexes buffer views and attribute arrays without bounds checks;
-//  - buffers must come from the BIN chunk: a URI (external file) is Unsupported, nothing is ever opened;
+//  - GLB buffers must come from the BIN chunk, .gltf buffers from data: URIs (strict base64, data_uri.h); any other
+//    URI (a file name, a URL) is Unsupported and nothing is ever opened or fetched;
 //  - every accessor is checked against its buffer view and the view against the buffer, every index against its
 //    vertex count, and the ReadOptions limits are applied to announced counts before anything is allocated.
-// Steps: container -> document -> extensionsRequired -> node world transforms -> primitives (plain or Draco) ->
-// weld by position -> PolygonMesh.
+// Steps: container (GLB) -> document -> extensionsRequired -> node world transforms -> primitives (plain or Draco;
+// points and lines skipped and counted) -> weld by position -> PolygonMesh.
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -19,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geometry/io/data_uri.h"
 #include "geometry/io/draco_codec.h"
 #include "geometry/io/gltf.h"
 
@@ -95,6 +98,15 @@ Result<Chunks> split_container(std::string_view bytes) {
     return chunks;
 }
 
+//! What the scene reader reads: the glTF JSON, and where its buffers' bytes are.
+struct SceneInput {
+    std::string_view json;
+    std::int64_t json_offset = 0;  //!< where `json` starts in the input, for error offsets
+    std::string_view bin;          //!< GLB: the BIN chunk (buffer 0)
+    bool embedded = false;         //!< .gltf: every buffer is a base64 data: URI
+    const char* kind = "GLB";      //!< names the input in messages
+};
+
 // ---- document model --------------------------------------------------------------------------------------------
 // Only what geometry needs, every index already range-checked against its array.
 
@@ -145,20 +157,23 @@ struct Document {
     int scene = -1;
     std::vector<std::string> extensions_required;
     std::vector<std::string> extensions_used;
+    std::int64_t json_offset = 0;  //!< where the JSON text starts in the input: the offset of document errors
 };
 
 //! Typed field access with the JSON path in every error.
 class Fields {
 public:
-    Fields(const json& object, std::string path) : object_(object), path_(std::move(path)) {}
+    Fields(const json& object, std::string path, std::int64_t json_offset)
+        : object_(object), path_(std::move(path)), json_offset_(json_offset) {}
 
     const std::string& path() const { return path_; }
+    std::int64_t json_offset() const { return json_offset_; }
     const json* find(const char* key) const {
         auto it = object_.find(key);
         return it == object_.end() ? nullptr : &*it;
     }
     GeoError error(const char* key, const std::string& what) const {
-        return parse_error("glTF " + path_ + "." + key + " " + what, kJsonOffset);
+        return parse_error("glTF " + path_ + "." + key + " " + what, json_offset_);
     }
 
     //! Non-negative integer; `fallback` when absent, error when absent and `fallback` is empty.
@@ -200,29 +215,30 @@ public:
 private:
     const json& object_;
     std::string path_;
+    std::int64_t json_offset_;
 };
 
 //! The named top-level array (absent = empty); each element must be an object.
-Result<const json*> array_of_objects(const json& root, const char* key) {
+Result<const json*> array_of_objects(const json& root, const char* key, std::int64_t json_offset) {
     static const json kEmpty = json::array();
     auto it = root.find(key);
     if (it == root.end()) return &kEmpty;
-    if (!it->is_array()) return parse_error(std::string("glTF ") + key + " must be an array", kJsonOffset);
+    if (!it->is_array()) return parse_error(std::string("glTF ") + key + " must be an array", json_offset);
     for (std::size_t i = 0; i < it->size(); ++i)
         if (!(*it)[i].is_object())
             return parse_error("glTF " + std::string(key) + "[" + std::to_string(i) + "] must be an object",
-                               kJsonOffset);
+                               json_offset);
     return &*it;
 }
 
-Result<std::vector<std::string>> string_list(const json& root, const char* key) {
+Result<std::vector<std::string>> string_list(const json& root, const char* key, std::int64_t json_offset) {
     std::vector<std::string> out;
     auto it = root.find(key);
     if (it == root.end()) return out;
-    if (!it->is_array()) return parse_error(std::string("glTF ") + key + " must be an array of strings", kJsonOffset);
+    if (!it->is_array()) return parse_error(std::string("glTF ") + key + " must be an array of strings", json_offset);
     for (const json& s : *it) {
         if (!s.is_string())
-            return parse_error(std::string("glTF ") + key + " must be an array of strings", kJsonOffset);
+            return parse_error(std::string("glTF ") + key + " must be an array of strings", json_offset);
         out.push_back(s.get<std::string>());
     }
     return out;
@@ -248,41 +264,99 @@ int component_count(const std::string& type) {
     return 0;  // matrices: never a geometry attribute we read
 }
 
-Status parse_buffers_and_views(const json& root, std::string_view bin, Document& doc) {
-    auto buffers = array_of_objects(root, "buffers");
+//! A GLB buffer: buffer 0 without a uri is the BIN chunk; a uri is refused, never opened (nor decoded: a GLB keeps
+//! its data in the BIN chunk).
+Result<std::span<const unsigned char>> glb_buffer(const Fields& f, std::size_t index, std::string_view bin) {
+    if (const json* uri = f.find("uri")) {
+        const std::string text = uri->is_string() ? uri->get<std::string>() : std::string("(not a string)");
+        if (text.rfind("data:", 0) == 0)
+            return make_error(ErrorCode::Unsupported,
+                              "glTF " + f.path() +
+                                  " is a base64 data URI: only data in "
+                                  "the GLB's BIN chunk is supported",
+                              -1, f.json_offset());
+        // Never opened: a server must not read files named by its input.
+        return make_error(ErrorCode::Unsupported,
+                          "glTF " + f.path() + " refers to an external resource \"" + text.substr(0, 200) +
+                              "\": only self-contained GLB files (data in the BIN chunk) "
+                              "are supported",
+                          -1, f.json_offset());
+    }
+    if (index != 0) return f.error("uri", "is missing: only buffer 0 can live in the GLB's BIN chunk");
+    auto length = f.uint("byteLength");
+    if (!length) return length.error();
+    if (*length > bin.size())
+        return f.error("byteLength", "= " + std::to_string(*length) + " exceeds the BIN chunk (" +
+                                         std::to_string(bin.size()) + " bytes)");
+    return std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(bin.data()),
+                                          static_cast<std::size_t>(*length));
+}
+
+//! What a uri that is not a data: URI names, for the refusal: nothing it names is ever opened or fetched.
+std::string external_uri_error(const Fields& f, const std::string& uri, const char* what) {
+    const bool url = uri.find("://") != std::string::npos;
+    return "glTF " + f.path() + ".uri \"" + uri.substr(0, 200) + "\" is " + (url ? "a URL" : "an external file") +
+           ": embed the " + what + " (data: URI) or send a GLB";
+}
+
+//! A .gltf buffer: its base64 data: URI decoded into `storage` (3/4 of the URI's length, so bounded by the input).
+Result<std::span<const unsigned char>> embedded_buffer(const Fields& f,
+                                                       std::vector<std::vector<unsigned char>>& storage) {
+    const json* uri = f.find("uri");
+    if (!uri) return f.error("uri", "is missing: a .gltf's buffers must be embedded as data: URIs (or send a GLB)");
+    if (!uri->is_string()) return f.error("uri", "must be a string");
+    const std::string& text = uri->get_ref<const std::string&>();
+    if (!io_detail::is_data_uri(text))
+        return make_error(ErrorCode::Unsupported, external_uri_error(f, text, "buffer"), -1, f.json_offset());
+    auto bytes = io_detail::decode_data_uri(text, {"application/octet-stream", "application/gltf-buffer"});
+    if (!bytes) {
+        GeoError error = bytes.error();
+        error.message = "glTF " + f.path() + ".uri: " + error.message;
+        error.offset = f.json_offset();
+        return error;
+    }
+    auto length = f.uint("byteLength");
+    if (!length) return length.error();
+    if (*length > bytes->size())
+        return f.error("byteLength", "= " + std::to_string(*length) + " exceeds its data: URI (" +
+                                         std::to_string(bytes->size()) + " bytes)");
+    // The outer vector may move its elements; their heap blocks, which the span points into, stay where they are.
+    storage.push_back(std::move(*bytes));
+    return std::span<const unsigned char>(storage.back().data(), static_cast<std::size_t>(*length));
+}
+
+//! A .gltf's images may be embedded (and are ignored, as in a GLB); one named by a path or URL is refused.
+Status check_images_embedded(const json& root, std::int64_t json_offset) {
+    auto images = array_of_objects(root, "images", json_offset);
+    if (!images) return images.error();
+    for (std::size_t i = 0; i < (*images)->size(); ++i) {
+        const Fields f((**images)[i], "images[" + std::to_string(i) + "]", json_offset);
+        const json* uri = f.find("uri");
+        if (!uri) continue;  // in a buffer view
+        if (!uri->is_string()) return f.error("uri", "must be a string");
+        const std::string& text = uri->get_ref<const std::string&>();
+        if (!io_detail::is_data_uri(text))
+            return make_error(ErrorCode::Unsupported, external_uri_error(f, text, "image"), -1, json_offset);
+    }
+    return Ok{};
+}
+
+Status parse_buffers_and_views(const json& root, const SceneInput& input,
+                               std::vector<std::vector<unsigned char>>& storage, Document& doc) {
+    auto buffers = array_of_objects(root, "buffers", doc.json_offset);
     if (!buffers) return buffers.error();
     std::vector<std::span<const unsigned char>> buffer_bytes;
     for (std::size_t i = 0; i < (*buffers)->size(); ++i) {
-        const Fields f((**buffers)[i], "buffers[" + std::to_string(i) + "]");
-        if (const json* uri = f.find("uri")) {
-            const std::string text = uri->is_string() ? uri->get<std::string>() : std::string("(not a string)");
-            if (text.rfind("data:", 0) == 0)
-                return make_error(ErrorCode::Unsupported,
-                                  "glTF " + f.path() +
-                                      " is a base64 data URI: only data in "
-                                      "the GLB's BIN chunk is supported",
-                                  -1, kJsonOffset);
-            // Never opened: a server must not read files named by its input.
-            return make_error(ErrorCode::Unsupported,
-                              "glTF " + f.path() + " refers to an external resource \"" + text.substr(0, 200) +
-                                  "\": only self-contained GLB files (data in the BIN chunk) "
-                                  "are supported",
-                              -1, kJsonOffset);
-        }
-        if (i != 0) return f.error("uri", "is missing: only buffer 0 can live in the GLB's BIN chunk");
-        auto length = f.uint("byteLength");
-        if (!length) return length.error();
-        if (*length > bin.size())
-            return f.error("byteLength", "= " + std::to_string(*length) + " exceeds the BIN chunk (" +
-                                             std::to_string(bin.size()) + " bytes)");
-        buffer_bytes.emplace_back(reinterpret_cast<const unsigned char*>(bin.data()),
-                                  static_cast<std::size_t>(*length));
+        const Fields f((**buffers)[i], "buffers[" + std::to_string(i) + "]", doc.json_offset);
+        auto bytes = input.embedded ? embedded_buffer(f, storage) : glb_buffer(f, i, input.bin);
+        if (!bytes) return bytes.error();
+        buffer_bytes.push_back(*bytes);
     }
 
-    auto views = array_of_objects(root, "bufferViews");
+    auto views = array_of_objects(root, "bufferViews", doc.json_offset);
     if (!views) return views.error();
     for (std::size_t i = 0; i < (*views)->size(); ++i) {
-        const Fields f((**views)[i], "bufferViews[" + std::to_string(i) + "]");
+        const Fields f((**views)[i], "bufferViews[" + std::to_string(i) + "]", doc.json_offset);
         BufferView view;
         auto buffer = f.index("buffer", buffer_bytes.size(), true);
         auto offset = f.uint("byteOffset", 0);
@@ -297,7 +371,7 @@ Status parse_buffers_and_views(const json& root, std::string_view bin, Document&
             return parse_error("glTF " + f.path() + " (byteOffset " + std::to_string(*offset) + ", byteLength " +
                                    std::to_string(*length) + ") exceeds buffer " + std::to_string(*buffer) + " (" +
                                    std::to_string(data.size()) + " bytes)",
-                               kJsonOffset);
+                               doc.json_offset);
         view.byte_offset = *offset;
         view.byte_length = *length;
         view.byte_stride = *stride;
@@ -308,11 +382,11 @@ Status parse_buffers_and_views(const json& root, std::string_view bin, Document&
 }
 
 Status parse_accessors(const json& root, Document& doc) {
-    auto accessors = array_of_objects(root, "accessors");
+    auto accessors = array_of_objects(root, "accessors", doc.json_offset);
     if (!accessors) return accessors.error();
     for (std::size_t i = 0; i < (*accessors)->size(); ++i) {
         const json& a = (**accessors)[i];
-        const Fields f(a, "accessors[" + std::to_string(i) + "]");
+        const Fields f(a, "accessors[" + std::to_string(i) + "]", doc.json_offset);
         Accessor acc;
         auto view = f.index("bufferView", doc.views.size());
         auto offset = f.uint("byteOffset", 0);
@@ -352,19 +426,19 @@ Result<std::map<std::string, int>> index_map(const Fields& f, const char* key, s
 }
 
 Status parse_meshes(const json& root, Document& doc) {
-    auto meshes = array_of_objects(root, "meshes");
+    auto meshes = array_of_objects(root, "meshes", doc.json_offset);
     if (!meshes) return meshes.error();
     for (std::size_t m = 0; m < (*meshes)->size(); ++m) {
         const json& mesh = (**meshes)[m];
         auto prims = mesh.find("primitives");
         if (prims == mesh.end() || !prims->is_array())
-            return parse_error("glTF meshes[" + std::to_string(m) + "].primitives must be an array", kJsonOffset);
+            return parse_error("glTF meshes[" + std::to_string(m) + "].primitives must be an array", doc.json_offset);
         std::vector<Primitive> out;
         for (std::size_t p = 0; p < prims->size(); ++p) {
             const json& pj = (*prims)[p];
             const std::string path = "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]";
-            if (!pj.is_object()) return parse_error("glTF " + path + " must be an object", kJsonOffset);
-            const Fields f(pj, path);
+            if (!pj.is_object()) return parse_error("glTF " + path + " must be an object", doc.json_offset);
+            const Fields f(pj, path, doc.json_offset);
             Primitive prim;
             auto attributes = index_map(f, "attributes", doc.accessors.size());
             auto indices = f.index("indices", doc.accessors.size());
@@ -380,8 +454,8 @@ Status parse_meshes(const json& root, Document& doc) {
                 if (d != ext->end()) {
                     if (!d->is_object())
                         return parse_error("glTF " + path + ".extensions." + kDracoExtension + " must be an object",
-                                           kJsonOffset);
-                    const Fields df(*d, path + ".extensions." + kDracoExtension);
+                                           doc.json_offset);
+                    const Fields df(*d, path + ".extensions." + kDracoExtension, doc.json_offset);
                     DracoPrimitive draco;
                     auto view = df.index("bufferView", doc.views.size(), true);
                     auto ids = index_map(df, "attributes", std::numeric_limits<std::uint32_t>::max());
@@ -441,11 +515,11 @@ Result<Mat4> local_matrix(const Fields& f) {
 }
 
 Status parse_nodes_and_scenes(const json& root, Document& doc) {
-    auto nodes = array_of_objects(root, "nodes");
+    auto nodes = array_of_objects(root, "nodes", doc.json_offset);
     if (!nodes) return nodes.error();
     const std::size_t n = (*nodes)->size();
     for (std::size_t i = 0; i < n; ++i) {
-        const Fields f((**nodes)[i], "nodes[" + std::to_string(i) + "]");
+        const Fields f((**nodes)[i], "nodes[" + std::to_string(i) + "]", doc.json_offset);
         Node node;
         auto mesh = f.index("mesh", doc.meshes.size());
         if (!mesh) return mesh.error();
@@ -463,10 +537,10 @@ Status parse_nodes_and_scenes(const json& root, Document& doc) {
         }
         doc.nodes.push_back(std::move(node));
     }
-    auto scenes = array_of_objects(root, "scenes");
+    auto scenes = array_of_objects(root, "scenes", doc.json_offset);
     if (!scenes) return scenes.error();
     for (std::size_t s = 0; s < (*scenes)->size(); ++s) {
-        const Fields f((**scenes)[s], "scenes[" + std::to_string(s) + "]");
+        const Fields f((**scenes)[s], "scenes[" + std::to_string(s) + "]", doc.json_offset);
         std::vector<int> roots;
         if (const json* list = f.find("nodes")) {
             if (!list->is_array()) return f.error("nodes", "must be an array");
@@ -478,40 +552,46 @@ Status parse_nodes_and_scenes(const json& root, Document& doc) {
         }
         doc.scenes.push_back(std::move(roots));
     }
-    auto scene = Fields(root, "").index("scene", doc.scenes.size());
+    auto scene = Fields(root, "", doc.json_offset).index("scene", doc.scenes.size());
     if (!scene) return scene.error();
     doc.scene = *scene;
     return Ok{};
 }
 
-Result<Document> parse_document(const Chunks& chunks) {
+//! The document, its buffers resolved: GLB buffers point into the input, .gltf ones into `storage`.
+Result<Document> parse_document(const SceneInput& input, std::vector<std::vector<unsigned char>>& storage) {
     // The spec pads with spaces; some exporters pad with NUL bytes, which are not JSON whitespace.
-    std::string_view text = chunks.json;
+    std::string_view text = input.json;
     while (!text.empty() && text.back() == '\0') text.remove_suffix(1);
     json root;
     try {
         root = json::parse(text.begin(), text.end());
     } catch (const json::parse_error& e) {
         // e.byte is 1-based within the JSON text.
-        const auto at = kJsonOffset + static_cast<std::int64_t>(e.byte > 0 ? e.byte - 1 : 0);
-        return parse_error("invalid JSON chunk at byte " + std::to_string(at) + ": " + e.what(), at);
+        const auto at = input.json_offset + static_cast<std::int64_t>(e.byte > 0 ? e.byte - 1 : 0);
+        return parse_error(std::string(input.embedded ? "invalid glTF JSON" : "invalid JSON chunk") + " at byte " +
+                               std::to_string(at) + ": " + e.what(),
+                           at);
     }
-    if (!root.is_object()) return parse_error("glTF JSON must be an object", kJsonOffset);
+    if (!root.is_object()) return parse_error("glTF JSON must be an object", input.json_offset);
     const auto asset = root.find("asset");
     if (asset == root.end() || !asset->is_object() || !asset->contains("version") || !(*asset)["version"].is_string())
-        return parse_error("glTF asset.version is missing", kJsonOffset);
+        return parse_error("glTF asset.version is missing", input.json_offset);
     const std::string version = (*asset)["version"].get<std::string>();
     if (version.rfind("2.", 0) != 0)
         return make_error(ErrorCode::Unsupported, "glTF version " + version + " (need 2.x)");
 
     Document doc;
-    auto required = string_list(root, "extensionsRequired");
-    auto used = string_list(root, "extensionsUsed");
+    doc.json_offset = input.json_offset;
+    auto required = string_list(root, "extensionsRequired", doc.json_offset);
+    auto used = string_list(root, "extensionsUsed", doc.json_offset);
     if (!required) return required.error();
     if (!used) return used.error();
     doc.extensions_required = std::move(*required);
     doc.extensions_used = std::move(*used);
-    if (Status s = parse_buffers_and_views(root, chunks.bin, doc); !s) return s.error();
+    if (Status s = parse_buffers_and_views(root, input, storage, doc); !s) return s.error();
+    if (input.embedded)
+        if (Status s = check_images_embedded(root, doc.json_offset); !s) return s.error();
     if (Status s = parse_accessors(root, doc); !s) return s.error();
     if (Status s = parse_meshes(root, doc); !s) return s.error();
     if (Status s = parse_nodes_and_scenes(root, doc); !s) return s.error();
@@ -558,7 +638,7 @@ struct Reader {
     bool quantization_allowed = false;
 
     GeoError accessor_error(int index, const std::string& what) const {
-        return parse_error("glTF accessors[" + std::to_string(index) + "] " + what, kJsonOffset);
+        return parse_error("glTF accessors[" + std::to_string(index) + "] " + what, doc.json_offset);
     }
 
     //! First element's address and the stride; nullptr base for an accessor without buffer view (all zeros).
@@ -665,7 +745,8 @@ Result<std::vector<MeshInstance>> collect_instances(const Document& doc) {
     for (std::size_t i = 0; i < n; ++i)
         for (int child : doc.nodes[i].children) {
             if (parent[static_cast<std::size_t>(child)] != -1 || static_cast<std::size_t>(child) == i)
-                return parse_error("glTF nodes[" + std::to_string(child) + "] has more than one parent", kJsonOffset);
+                return parse_error("glTF nodes[" + std::to_string(child) + "] has more than one parent",
+                                   doc.json_offset);
             parent[static_cast<std::size_t>(child)] = static_cast<int>(i);
         }
     std::vector<int> roots;
@@ -674,7 +755,7 @@ Result<std::vector<MeshInstance>> collect_instances(const Document& doc) {
         for (int r : roots)
             if (parent[static_cast<std::size_t>(r)] != -1)
                 return parse_error("glTF nodes[" + std::to_string(r) + "] is a scene root but also a child",
-                                   kJsonOffset);
+                                   doc.json_offset);
     } else {
         for (std::size_t i = 0; i < n; ++i)
             if (parent[i] == -1) roots.push_back(static_cast<int>(i));
@@ -688,7 +769,7 @@ Result<std::vector<MeshInstance>> collect_instances(const Document& doc) {
         stack.pop_back();
         const auto i = static_cast<std::size_t>(index);
         if (visited[i])
-            return parse_error("glTF nodes[" + std::to_string(i) + "] is reached twice (a cycle?)", kJsonOffset);
+            return parse_error("glTF nodes[" + std::to_string(i) + "] is reached twice (a cycle?)", doc.json_offset);
         visited[i] = 1;
         const Node& node = doc.nodes[i];
         const Mat4 world = multiply(parent_world, node.local);
@@ -729,12 +810,13 @@ struct Builder {
 };
 
 //! Triangle corner lists for the three triangle modes (strips and fans keep a consistent winding).
-Result<std::vector<std::uint32_t>> triangles_of(int mode, std::vector<std::uint32_t> idx, const std::string& where) {
+Result<std::vector<std::uint32_t>> triangles_of(int mode, std::vector<std::uint32_t> idx, const std::string& where,
+                                                std::int64_t json_offset) {
     if (mode == kModeTriangles) {
         if (idx.size() % 3 != 0)
             return parse_error(
                 "glTF " + where + ": TRIANGLES index count " + std::to_string(idx.size()) + " is not a multiple of 3",
-                kJsonOffset);
+                json_offset);
         return idx;
     }
     std::vector<std::uint32_t> out;
@@ -783,7 +865,8 @@ Status decode_draco_primitive(const Reader& reader, const Builder& b, const Drac
     draco_codec::AttributeIds ids;
     const auto pos_id = draco.attributes.find("POSITION");
     if (pos_id == draco.attributes.end())
-        return parse_error("glTF " + where + ": " + kDracoExtension + " has no POSITION attribute", kJsonOffset);
+        return parse_error("glTF " + where + ": " + kDracoExtension + " has no POSITION attribute",
+                           reader.doc.json_offset);
     ids.position = pos_id->second;
     if (const auto uv_id = draco.attributes.find("TEXCOORD_0"); has_uv && uv_id != draco.attributes.end())
         ids.texcoord = uv_id->second;
@@ -813,7 +896,7 @@ Status read_accessor_primitive(const Reader& reader, const Primitive& prim, int 
         if (!t) return t.error();
         out.texcoords = std::move(*t);
         if (out.texcoords.size() / 2 != out.positions.size() / 3)
-            return parse_error("glTF " + where + ": TEXCOORD_0 and POSITION counts differ", kJsonOffset);
+            return parse_error("glTF " + where + ": TEXCOORD_0 and POSITION counts differ", reader.doc.json_offset);
     }
     std::vector<std::uint32_t> corners;
     if (prim.indices >= 0) {
@@ -825,7 +908,7 @@ Status read_accessor_primitive(const Reader& reader, const Primitive& prim, int 
         corners.resize(out.positions.size() / 3);
         for (std::size_t k = 0; k < corners.size(); ++k) corners[k] = static_cast<std::uint32_t>(k);
     }
-    auto tris = triangles_of(prim.mode, std::move(corners), where);
+    auto tris = triangles_of(prim.mode, std::move(corners), where, reader.doc.json_offset);
     if (!tris) return tris.error();
     out.indices = std::move(*tris);
     return Ok{};
@@ -874,7 +957,8 @@ Status add_primitive(const Reader& reader, Builder& b, const Primitive& prim, co
     const std::string where =
         "meshes[" + std::to_string(mesh_index) + "].primitives[" + std::to_string(prim_index) + "]";
     const auto pos_it = prim.attributes.find("POSITION");
-    if (pos_it == prim.attributes.end()) return parse_error("glTF " + where + " has no POSITION", kJsonOffset);
+    if (pos_it == prim.attributes.end())
+        return parse_error("glTF " + where + " has no POSITION", reader.doc.json_offset);
     const auto uv_it = prim.attributes.find("TEXCOORD_0");
     const bool has_uv = uv_it != prim.attributes.end();
     const ReadOptions& limits = reader.options;
@@ -911,11 +995,10 @@ void finish_uvs(Builder& b) {
     }
 }
 
-Result<PolygonMesh> read_glb_unchecked(std::string_view bytes, const ReadOptions& options) {
-    // container and document
-    auto chunks = split_container(bytes);
-    if (!chunks) return chunks.error();
-    auto doc = parse_document(*chunks);
+//! Every triangle primitive of every mesh instance of the default scene, as one mesh.
+Result<PolygonMesh> read_scene(const SceneInput& input, const ReadOptions& options, GltfReadReport& report) {
+    std::vector<std::vector<unsigned char>> embedded;  // .gltf buffers, decoded; the document's views point here
+    auto doc = parse_document(input, embedded);
     if (!doc) return doc.error();
 
     Reader reader{*doc, options};
@@ -923,7 +1006,8 @@ Result<PolygonMesh> read_glb_unchecked(std::string_view bytes, const ReadOptions
         if (ext == kQuantizationExtension)
             reader.quantization_allowed = true;
         else if (ext != kDracoExtension)
-            return make_error(ErrorCode::Unsupported, "GLB requires unsupported extension " + ext);
+            return make_error(ErrorCode::Unsupported,
+                              std::string(input.kind) + " requires unsupported extension " + ext);
     }
     for (const std::string& ext : doc->extensions_used)
         if (ext == kQuantizationExtension) reader.quantization_allowed = true;
@@ -933,13 +1017,12 @@ Result<PolygonMesh> read_glb_unchecked(std::string_view bytes, const ReadOptions
 
     // primitives
     Builder builder;
-    std::size_t skipped_primitives = 0;
     for (const MeshInstance& inst : *instances) {
         const auto& primitives = doc->meshes[static_cast<std::size_t>(inst.mesh)];
         for (std::size_t p = 0; p < primitives.size(); ++p) {
             const Primitive& prim = primitives[p];
             if (prim.mode != kModeTriangles && prim.mode != kModeTriangleStrip && prim.mode != kModeTriangleFan) {
-                ++skipped_primitives;  // points and lines carry no surface
+                ++report.skipped_primitives;  // points and lines carry no surface
                 continue;
             }
             if (Status s = add_primitive(reader, builder, prim, inst.world, static_cast<std::size_t>(inst.mesh), p); !s)
@@ -947,24 +1030,44 @@ Result<PolygonMesh> read_glb_unchecked(std::string_view bytes, const ReadOptions
         }
     }
     if (builder.mesh.face_count() == 0)
-        return make_error(ErrorCode::Unsupported, skipped_primitives > 0
-                                                      ? "GLB has only point or line primitives, no triangles"
-                                                      : "GLB contains no triangles");
+        return make_error(ErrorCode::Unsupported,
+                          std::string(input.kind) + (report.skipped_primitives > 0
+                                                         ? " has only point or line primitives, no triangles"
+                                                         : " contains no triangles"));
     finish_uvs(builder);
     return std::move(builder.mesh);
 }
 
+//! Runs a reader: nlohmann::json and Draco may throw (bad_alloc, type errors we did not foresee); none of it may
+//! escape. The report is reset first and keeps what the read counted.
+template <class Read>
+Result<PolygonMesh> guarded(const char* kind, GltfReadReport* report, Read&& read) {
+    GltfReadReport local;
+    GltfReadReport& counts = report ? *report : local;
+    counts = GltfReadReport{};
+    try {
+        return read(counts);
+    } catch (const std::bad_alloc&) {
+        return make_error(ErrorCode::BudgetExceeded, std::string("out of memory while reading the ") + kind);
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::ParseError, std::string("malformed ") + kind + ": " + e.what());
+    }
+}
+
 }  // namespace
 
-Result<PolygonMesh> read_glb(std::string_view bytes, const ReadOptions& options) {
-    // nlohmann::json and Draco may throw (bad_alloc, type errors we did not foresee); none of it may escape.
-    try {
-        return read_glb_unchecked(bytes, options);
-    } catch (const std::bad_alloc&) {
-        return make_error(ErrorCode::BudgetExceeded, "out of memory while reading the GLB");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::ParseError, std::string("malformed GLB: ") + e.what());
-    }
+Result<PolygonMesh> read_glb(std::string_view bytes, const ReadOptions& options, GltfReadReport* report) {
+    return guarded("GLB", report, [&](GltfReadReport& counts) -> Result<PolygonMesh> {
+        auto chunks = split_container(bytes);
+        if (!chunks) return chunks.error();
+        return read_scene({chunks->json, kJsonOffset, chunks->bin, false, "GLB"}, options, counts);
+    });
+}
+
+Result<PolygonMesh> read_gltf(std::string_view text, const ReadOptions& options, GltfReadReport* report) {
+    return guarded("glTF", report, [&](GltfReadReport& counts) {
+        return read_scene({text, 0, {}, true, "glTF"}, options, counts);
+    });
 }
 
 }  // namespace surfaced

@@ -1,6 +1,7 @@
 // Reading and writing polygon mesh files. Every reader returns a ParseError naming the 1-based line (text formats)
 // or byte offset (binary formats) and what is wrong; none allocates more than the input can justify (a header
-// count is checked against the bytes that remain before anything is reserved).
+// count is checked against the bytes that remain before anything is reserved). Text formats (OBJ, OFF, ascii PLY and
+// STL) are read from UTF-8/ASCII or from UTF-16 with a byte order mark (converted first; line numbers unchanged).
 #pragma once
 
 #include <cstddef>
@@ -13,7 +14,7 @@
 
 namespace surfaced {
 
-enum class MeshFormat { Obj, Off, Ply, Stl, Glb };
+enum class MeshFormat { Obj, Off, Ply, Stl, Glb, Gltf };
 
 //! Limits applied while reading, before allocation.
 struct ReadOptions {
@@ -38,7 +39,8 @@ Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options =
 Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options = {});
 //! PLY ascii, binary_little_endian and binary_big_endian 1.0; vertex x/y/z (float or double, any other properties
 //! skipped), face vertex_indices / vertex_index list of any integer types; other elements skipped.
-//! nx/ny/nz, when all three are present and finite, are read into normals (so write_ply round-trips).
+//! nx/ny/nz, when all three are present and finite, are read into normals (so write_ply round-trips). Header lines
+//! whose first word is not a PLY keyword ("Created by Blender 2.49") are ignored.
 Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options = {});
 //! STL ascii or binary (detected by content, not by the word "solid"); coincident corners welded exactly.
 //! Binary when the size is 84 + 50 * count; bytes after the last triangle of a non-"solid" file are ignored.
@@ -46,14 +48,16 @@ Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options 
 //! DegenerateFace only when nothing is left.
 Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options = {});
 
-//! Dispatch on format (Glb goes to read_glb in gltf.h).
+//! Dispatch on format (Glb and Gltf go to read_glb and read_gltf in gltf.h).
 Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options = {});
 
-//! Format from a file name's extension (.obj .off .ply .stl .glb, case-insensitive).
+//! Format from a file name's extension (.obj .off .ply .stl .glb .gltf, case-insensitive).
 std::optional<MeshFormat> format_from_extension(std::string_view path);
-//! Format from a media type (model/obj, model/stl, application/sla, model/gltf-binary, application/ply, ...).
+//! Format from a media type (model/obj, model/stl, application/sla, model/gltf-binary, model/gltf+json,
+//! application/ply, ...).
 std::optional<MeshFormat> format_from_media_type(std::string_view media_type);
-//! Best guess from the first bytes (glTF magic, "ply", "OFF", binary STL size rule, OBJ statements).
+//! Best guess from the first bytes (glTF magic, a JSON object with "asset", "ply", "OFF", binary STL size rule, OBJ
+//! statements).
 std::optional<MeshFormat> sniff_format(std::string_view bytes);
 
 struct ObjWriteOptions {

@@ -9,6 +9,7 @@
 
 #include "geometry/io/format_common.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -422,7 +423,8 @@ void write_vec(std::string& out, const char* keyword, std::initializer_list<doub
 }  // namespace
 
 Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options) {
-    return ObjReader(text, options).read();
+    return io_detail::with_text(
+        text, [&](std::string_view decoded, io_detail::TextEncoding) { return ObjReader(decoded, options).read(); });
 }
 
 std::string write_obj(const PolygonMesh& mesh, const ObjWriteOptions& options) {

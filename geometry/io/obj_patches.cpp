@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -274,7 +275,9 @@ private:
 }  // namespace
 
 Result<PatchSet> read_obj_patches(std::string_view text, const ObjPatchReadOptions& options) {
-    return ObjPatchReader(text, options).read();
+    return io_detail::with_text(text, [&](std::string_view decoded, io_detail::TextEncoding) {
+        return ObjPatchReader(decoded, options).read();
+    });
 }
 
 }  // namespace surfaced

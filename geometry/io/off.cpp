@@ -7,6 +7,7 @@
 
 #include "geometry/io/format_common.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -192,7 +193,8 @@ private:
 }  // namespace
 
 Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options) {
-    return OffReader(text, options).read();
+    return io_detail::with_text(
+        text, [&](std::string_view decoded, io_detail::TextEncoding) { return OffReader(decoded, options).read(); });
 }
 
 }  // namespace surfaced

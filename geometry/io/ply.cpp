@@ -30,10 +30,11 @@ struct Layout {
 
 class PlyReader : io_detail::ply::BinaryCursor {
 public:
-    PlyReader(std::string_view bytes, const ReadOptions& options) : BinaryCursor(bytes), options_(options) {}
+    PlyReader(std::string_view bytes, io_detail::TextEncoding encoding, const ReadOptions& options)
+        : BinaryCursor(bytes), encoding_(encoding), options_(options) {}
 
     Result<PolygonMesh> read() {
-        auto parsed = parse_header(bytes_, options_);
+        auto parsed = parse_header(bytes_, options_, encoding_);
         if (!parsed) return parsed.error();
         header_ = std::move(*parsed);
 
@@ -285,6 +286,7 @@ private:
         return std::nullopt;
     }
 
+    io_detail::TextEncoding encoding_;
     const ReadOptions& options_;
     PlyHeader header_;
     Layout layout_;
@@ -302,7 +304,9 @@ void store_le(std::string& out, std::uint64_t bits, std::size_t size) {
 }  // namespace
 
 Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options) {
-    return PlyReader(bytes, options).read();
+    return io_detail::with_text(bytes, [&](std::string_view text, io_detail::TextEncoding encoding) {
+        return PlyReader(text, encoding, options).read();
+    });
 }
 
 std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced::io_detail::ply {
@@ -144,15 +145,10 @@ protected:
     std::size_t pos_ = 0;
 };
 
-//! Where the header starts (after a UTF-8 byte order mark), or the error for a file that is empty or UTF-16.
+//! Where the header starts (after a UTF-8 byte order mark), or the error for a file that is empty or UTF-16 without
+//! a byte order mark (UTF-16 with one has been converted by io_detail::with_text).
 inline Result<std::size_t> header_start(std::string_view bytes) {
     if (bytes.empty()) return make_error(ErrorCode::ParseError, "empty file", -1, 0);
-    if (bytes.size() >= 2 &&
-        ((static_cast<unsigned char>(bytes[0]) == 0xff && static_cast<unsigned char>(bytes[1]) == 0xfe) ||
-         (static_cast<unsigned char>(bytes[0]) == 0xfe && static_cast<unsigned char>(bytes[1]) == 0xff)))
-        return make_error(ErrorCode::ParseError,
-                          "UTF-16 is not supported (byte order mark at offset 0): save the file as UTF-8 or ASCII", -1,
-                          0);
     std::size_t start = 0;
     if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xef\xbb\xbf") start = 3;
     if (bytes.size() >= start + 2 && (bytes[start] == 0 || bytes[start + 1] == 0))
@@ -274,7 +270,10 @@ inline std::optional<GeoError> check_element_sizes(const PlyHeader& header, std:
     return std::nullopt;
 }
 
-inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions& options) {
+//! `encoding` is how the input was written: the header of a UTF-16 file read, its body must be ascii too (a binary
+//! body was converted along with the header, so its bytes are lost).
+inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions& options,
+                                      io_detail::TextEncoding encoding = io_detail::TextEncoding::Utf8) {
     auto start = header_start(bytes);
     if (!start.ok()) return start.error();
 
@@ -285,6 +284,7 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
 
     PlyHeader header;
     bool have_format = false;
+    std::int64_t format_line = 0;
     while (true) {
         if (!lines.next(line))
             return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no end_header line");
@@ -300,16 +300,20 @@ inline Result<PlyHeader> parse_header(std::string_view bytes, const ReadOptions&
         if (keyword == "format") {
             error = parse_format_line(tokens, at, header);
             have_format = true;
+            format_line = at;
         } else if (keyword == "element") {
             error = parse_element_line(tokens, at, header);
         } else if (keyword == "property") {
             error = parse_property_line(tokens, at, header);
-        } else {
-            error = error_at_line(ErrorCode::ParseError, at, "unexpected " + quote(keyword) + " in the PLY header");
         }
+        // Any other first word is a stray line some exporters write ("Created by Blender 2.49"): not ours to judge.
         if (error) return std::move(*error);
     }
     if (!have_format) return error_at_line(ErrorCode::ParseError, lines.line_number(), "header has no format line");
+    if (encoding == io_detail::TextEncoding::Utf16 && header.encoding != PlyEncodingIn::Ascii)
+        return error_at_line(ErrorCode::ParseError, format_line,
+                             "binary PLY with a UTF-16 header: a binary PLY's header is ASCII (save it as UTF-8 or "
+                             "ASCII), only an ascii PLY can be UTF-16 as a whole");
     header.body_offset = lines.position();
     header.body_line = lines.line_number() + 1;
     if (auto error = check_element_sizes(header, bytes, options)) return std::move(*error);

@@ -15,6 +15,7 @@
 
 #include "geometry/io/format_common.h"
 #include "geometry/io/ply_header.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -65,13 +66,14 @@ double color_scale(PlyType type) {
 
 class PlyPointReader : io_detail::ply::BinaryCursor {
 public:
-    PlyPointReader(std::string_view bytes, const PointReadOptions& options) : BinaryCursor(bytes), options_(options) {}
+    PlyPointReader(std::string_view bytes, io_detail::TextEncoding encoding, const PointReadOptions& options)
+        : BinaryCursor(bytes), encoding_(encoding), options_(options) {}
 
     Result<PointCloud> read() {
         ReadOptions limits;
         limits.max_vertices = options_.max_points;
         limits.max_faces = std::numeric_limits<std::size_t>::max();  // faces are skipped, bounded by the bytes
-        auto parsed = parse_header(bytes_, limits);
+        auto parsed = parse_header(bytes_, limits, encoding_);
         if (!parsed) return parsed.error();
         header_ = std::move(*parsed);
 
@@ -231,6 +233,7 @@ private:
         return std::nullopt;
     }
 
+    io_detail::TextEncoding encoding_;
     const PointReadOptions& options_;
     PlyHeader header_;
     std::vector<Role> roles_;
@@ -278,13 +281,8 @@ Vec3 unit_or_zero(const Vec3& n) {
     return len > 0 && std::isfinite(len) ? n * (1.0 / len) : Vec3{};
 }
 
-}  // namespace
-
-Result<PointCloud> read_ply_points(std::string_view bytes, const PointReadOptions& options) {
-    return PlyPointReader(bytes, options).read();
-}
-
-Result<PointCloud> read_obj_points(std::string_view text, const PointReadOptions& options) {
+//! read_obj_points on text that with_text has decoded.
+Result<PointCloud> obj_points(std::string_view text, const PointReadOptions& options) {
     auto start = io_detail::check_text_encoding(text);
     if (!start) return start.error();
     PointCloud cloud;
@@ -346,7 +344,8 @@ Result<PointCloud> read_obj_points(std::string_view text, const PointReadOptions
     return cloud;
 }
 
-Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions& options) {
+//! read_xyz_points on text that with_text has decoded.
+Result<PointCloud> xyz_points(std::string_view text, const PointReadOptions& options) {
     auto start = io_detail::check_text_encoding(text);
     if (!start) return start.error();
     PointCloud cloud;
@@ -416,6 +415,24 @@ Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions
     if (cloud.empty()) return make_error(ErrorCode::ParseError, "no points (only blank or comment lines)");
     normalise_colors(cloud.colors);
     return cloud;
+}
+
+}  // namespace
+
+Result<PointCloud> read_ply_points(std::string_view bytes, const PointReadOptions& options) {
+    return io_detail::with_text(bytes, [&](std::string_view text, io_detail::TextEncoding encoding) {
+        return PlyPointReader(text, encoding, options).read();
+    });
+}
+
+Result<PointCloud> read_obj_points(std::string_view text, const PointReadOptions& options) {
+    return io_detail::with_text(
+        text, [&](std::string_view decoded, io_detail::TextEncoding) { return obj_points(decoded, options); });
+}
+
+Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions& options) {
+    return io_detail::with_text(
+        text, [&](std::string_view decoded, io_detail::TextEncoding) { return xyz_points(decoded, options); });
 }
 
 Result<PointCloud> read_points(std::string_view bytes, PointFormat format, const PointReadOptions& options) {

@@ -10,6 +10,7 @@ Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const R
         case MeshFormat::Ply: return read_ply(bytes, options);
         case MeshFormat::Stl: return read_stl(bytes, options);
         case MeshFormat::Glb: return read_glb(bytes, options);
+        case MeshFormat::Gltf: return read_gltf(bytes, options);
     }
     return make_error(ErrorCode::Internal, "unknown mesh format");
 }

@@ -10,6 +10,7 @@
 
 #include "geometry/io/format_common.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
 
 namespace surfaced {
@@ -265,7 +266,10 @@ Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options)
     if (bytes.size() >= kBinaryHeader &&
         kBinaryHeader + std::uint64_t{load_u32_le(bytes.data() + 80)} * kBinaryTriangle == bytes.size())
         return read_binary(bytes, options);
-    if (looks_like_utf16(bytes)) return read_ascii(bytes, options);  // which explains the encoding error
+    // UTF-16 with a byte order mark is read as the ascii STL it spells; without one, check_text_encoding says why not.
+    if (looks_like_utf16(bytes))
+        return io_detail::with_text(
+            bytes, [&](std::string_view text, io_detail::TextEncoding) { return read_ascii(text, options); });
     // "solid" with NUL bytes after it is a binary file with a misleading header (and a wrong size).
     if (starts_with_solid(bytes) && (bytes.size() < kBinaryHeader || !std::memchr(bytes.data(), 0, bytes.size())))
         return read_ascii(bytes, options);

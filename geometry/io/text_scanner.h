@@ -61,40 +61,6 @@ inline std::int64_t line_of_offset(std::string_view text, std::size_t offset) {
     return line;
 }
 
-//! Rejects what a text reader cannot read (empty input, UTF-16, NUL bytes) and returns where the text starts
-//! (after a UTF-8 byte order mark, if any). NUL bytes never occur in text formats: they mean UTF-16 without a
-//! BOM or binary data, and rejecting them up front keeps the parsers from wandering through garbage.
-inline Result<std::size_t> check_text_encoding(std::string_view bytes) {
-    if (bytes.empty()) return make_error(ErrorCode::ParseError, "empty file", -1, 0);
-    if (bytes.size() >= 2) {
-        const auto b0 = static_cast<unsigned char>(bytes[0]), b1 = static_cast<unsigned char>(bytes[1]);
-        if ((b0 == 0xff && b1 == 0xfe) || (b0 == 0xfe && b1 == 0xff))
-            return make_error(ErrorCode::ParseError,
-                              "UTF-16 is not supported (byte order mark at offset 0): save the file as UTF-8 or ASCII",
-                              -1, 0);
-    }
-    std::size_t start = 0;
-    if (bytes.size() >= 3 && static_cast<unsigned char>(bytes[0]) == 0xef &&
-        static_cast<unsigned char>(bytes[1]) == 0xbb && static_cast<unsigned char>(bytes[2]) == 0xbf)
-        start = 3;
-    if (start == bytes.size()) return make_error(ErrorCode::ParseError, "empty file", -1, 0);
-    if (const void* nul = std::memchr(bytes.data(), 0, bytes.size())) {
-        const auto offset = static_cast<std::size_t>(static_cast<const char*>(nul) - bytes.data());
-        const std::int64_t line = line_of_offset(bytes, offset);
-        // ASCII text in UTF-16 has a NUL next to nearly every character.
-        const bool looks_utf16 =
-            bytes.size() >= 4 && (bytes[1] == 0 || bytes[0] == 0) && (bytes[3] == 0 || bytes[2] == 0);
-        std::string what = looks_utf16
-                               ? "UTF-16 is not supported (NUL byte at offset " + std::to_string(offset) +
-                                     "): save the file as UTF-8 or ASCII"
-                               : "NUL byte at offset " + std::to_string(offset) + ": binary data in a text file";
-        GeoError error = error_at_line(ErrorCode::ParseError, line, what);
-        error.offset = static_cast<std::int64_t>(offset);
-        return error;
-    }
-    return start;
-}
-
 enum class NumberStatus { Ok, Invalid, OutOfRange };
 
 //! Parses a whole token as a double ("+1", "1e5", "nan", "inf" accepted; the caller checks finiteness).

@@ -237,6 +237,18 @@ TEST(SimplifyOperation, OctetStreamIsSniffed) {
     EXPECT_EQ(response.content_type, "application/ply");
 }
 
+TEST(SimplifyOperation, GltfJsonBodyByMediaTypeOrSniffed) {
+    auto gltf = write_gltf(testing::icosphere(2), GltfOptions{.draco = false});
+    ASSERT_TRUE(gltf.ok());
+    for (const char* content_type : {"model/gltf+json", "application/octet-stream"}) {
+        const auto response = call(content_type, *gltf, {{"ratio", "0.5"}, {"format", "obj"}});
+        ASSERT_EQ(response.status, 200) << content_type << ": " << response.body;
+        auto mesh = read_obj(response.body);
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        EXPECT_LE(mesh->face_count(), testing::icosphere(2).face_count() / 2);
+    }
+}
+
 // ---- errors, all before any work ---------------------------------------------------------------------------------
 
 TEST(SimplifyOperation, NoStopCriterionIs400) {

@@ -60,9 +60,8 @@ const Case kCases[] = {
     {"obj_boundary_bad.obj", ErrorCode::ParseError, "line 5: interpolateboundary value 7 is not 0, 1 or 2"},
     {"obj_crlf_error.obj", ErrorCode::IndexOutOfRange, "line 4: face index 4 out of range (3 vertices)"},
     {"obj_continuation_error.obj", ErrorCode::IndexOutOfRange, "line 7: face index 0 is invalid"},
-    {"obj_utf16le_bom.obj", ErrorCode::ParseError, "UTF-16 is not supported"},
-    {"obj_utf16be_bom.obj", ErrorCode::ParseError, "UTF-16 is not supported"},
     {"obj_utf16le_nobom.obj", ErrorCode::ParseError, "line 1: UTF-16 is not supported (NUL byte at offset 1)"},
+    {"obj_utf16le_odd.obj", ErrorCode::ParseError, "offset 64: UTF-16 text (it starts with a byte order mark) ends in"},
     {"obj_binary_garbage.obj", ErrorCode::ParseError, "binary data in a text file"},
     {"obj_high_bytes.obj", ErrorCode::ParseError, "line 1: unexpected '\\x8f\\xe3\\x01\\x7f' (not an OBJ statement)"},
 
@@ -84,7 +83,6 @@ const Case kCases[] = {
     {"off_face_short.off", ErrorCode::ParseError, "line 7: face declares 4 vertices but lists 3"},
     {"off_no_faces.off", ErrorCode::ParseError, "line 2: no faces"},
     {"off_bad_coordinate.off", ErrorCode::ParseError, "line 4: vertex coordinate 'x' is not a number"},
-    {"off_utf16le_bom.off", ErrorCode::ParseError, "UTF-16 is not supported"},
     {"off_garbage.off", ErrorCode::ParseError, "binary data in a text file"},
 
     // ---- PLY
@@ -120,7 +118,9 @@ const Case kCases[] = {
      "offset 209: unexpected end of file in 'face' element 0 of 1"},
     {"ply_be_inf.ply", ErrorCode::NonFinite, "offset 218: vertex 2 has a non-finite coordinate"},
     {"ply_binary_repeated.ply", ErrorCode::DegenerateFace, "offset 206: face 0 uses vertex 0 more than once"},
-    {"ply_utf16le_bom.ply", ErrorCode::ParseError, "UTF-16 is not supported"},
+    // UTF-16 is read as the text it spells (here a header without elements), with its own line numbers
+    {"ply_utf16le_bom.ply", ErrorCode::ParseError, "line 3: no vertex element in the header"},
+    {"ply_utf16le_binary.ply", ErrorCode::ParseError, "line 2: binary PLY with a UTF-16 header"},
     {"ply_garbage.ply", ErrorCode::ParseError, "line 1: not a PLY file"},
 
     // ---- STL
@@ -142,10 +142,13 @@ const Case kCases[] = {
     {"stl_binary_all_degenerate.stl", ErrorCode::DegenerateFace, "all 2 triangles are degenerate"},
     {"stl_binary_zero_triangles.stl", ErrorCode::ParseError, "no faces"},
     {"stl_binary_solid_truncated.stl", ErrorCode::ParseError, "offset 80: binary STL declares 3 triangles"},
-    {"stl_utf16le_bom.stl", ErrorCode::ParseError, "UTF-16 is not supported"},
+    {"stl_utf16le_bom.stl", ErrorCode::ParseError, "no faces"},
     {"stl_short_garbage.stl", ErrorCode::ParseError,
      "offset 0: not an ascii STL (no 'solid') and too short for a binary STL (30 bytes"},
 };
+
+//! Files of the corpus that were refused until UTF-16 with a byte order mark was read: each holds one triangle.
+const char* const kAccepted[] = {"obj_utf16le_bom.obj", "obj_utf16be_bom.obj", "off_utf16le_bom.off"};
 
 Result<PolygonMesh> read_any(const std::string& name, std::string_view bytes) {
     switch (*format_from_extension(name)) {
@@ -153,7 +156,8 @@ Result<PolygonMesh> read_any(const std::string& name, std::string_view bytes) {
         case MeshFormat::Off: return read_off(bytes);
         case MeshFormat::Ply: return read_ply(bytes);
         case MeshFormat::Stl: return read_stl(bytes);
-        case MeshFormat::Glb: break;
+        case MeshFormat::Glb:
+        case MeshFormat::Gltf: break;
     }
     return make_error(ErrorCode::Internal, "not a format of this test");
 }
@@ -192,6 +196,7 @@ INSTANTIATE_TEST_SUITE_P(Malformed, MalformedFile, ::testing::ValuesIn(kCases), 
 TEST(MalformedCorpus, EveryFileHasACase) {
     std::set<std::string> listed;
     for (const Case& c : kCases) EXPECT_TRUE(listed.insert(c.file).second) << "listed twice: " << c.file;
+    for (const char* file : kAccepted) EXPECT_TRUE(listed.insert(file).second) << "listed twice: " << file;
     std::size_t files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(format_test::malformed_dir())) {
         const std::string name = entry.path().filename().string();
@@ -200,6 +205,15 @@ TEST(MalformedCorpus, EveryFileHasACase) {
         EXPECT_TRUE(listed.count(name)) << "no expectation for " << name;
     }
     EXPECT_EQ(files, listed.size());
+}
+
+TEST(MalformedCorpus, Utf16WithByteOrderMarkIsRead) {
+    for (const char* file : kAccepted) {
+        auto mesh = read_any(file, format_test::slurp(format_test::malformed_dir() + "/" + file));
+        ASSERT_TRUE(mesh.ok()) << file << ": " << mesh.error().message;
+        EXPECT_EQ(mesh->vertex_count(), 3u) << file;
+        EXPECT_EQ(mesh->face_count(), 1u) << file;
+    }
 }
 
 TEST(MalformedCorpus, AbsurdCountsAreRejectedQuickly) {
@@ -346,7 +360,7 @@ TEST(ObjOffPlyStlFormatDetect, FromExtension) {
     EXPECT_EQ(format_from_extension("C:\\dir.d\\bunny.Ply"), MeshFormat::Ply);
     EXPECT_EQ(format_from_extension("part.stl"), MeshFormat::Stl);
     EXPECT_EQ(format_from_extension("scene.glb"), MeshFormat::Glb);
-    EXPECT_EQ(format_from_extension("scene.gltf"), std::nullopt);
+    EXPECT_EQ(format_from_extension("scene.gltf"), MeshFormat::Gltf);
     EXPECT_EQ(format_from_extension("dir.obj/noext"), std::nullopt);
     EXPECT_EQ(format_from_extension("trailingdot."), std::nullopt);
     EXPECT_EQ(format_from_extension(""), std::nullopt);
@@ -358,6 +372,7 @@ TEST(ObjOffPlyStlFormatDetect, FromMediaType) {
     EXPECT_EQ(format_from_media_type("application/sla"), MeshFormat::Stl);
     EXPECT_EQ(format_from_media_type("application/ply"), MeshFormat::Ply);
     EXPECT_EQ(format_from_media_type(" model/gltf-binary "), MeshFormat::Glb);
+    EXPECT_EQ(format_from_media_type("model/gltf+json"), MeshFormat::Gltf);
     EXPECT_EQ(format_from_media_type("application/json"), std::nullopt);
 }
 

@@ -145,6 +145,35 @@ TEST(PlyRead, CrlfHeaderAndUtf8Bom) {
     EXPECT_EQ(mesh->face_count(), 1u);
 }
 
+TEST(PlyRead, StrayHeaderLinesAreIgnored) {
+    // Blender 2.4x writes a "Created by" line into the header; other unknown first words are skipped the same way.
+    const std::string body =
+        "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    auto plain = read_ply("ply\nformat ascii 1.0\n" + body);
+    auto blender = read_ply(
+        "ply\nformat ascii 1.0\nCreated by Blender 2.49 - www.blender.org, source file: ''\n"
+        "x_made_up_keyword 1 2 3\n" +
+        body);
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    ASSERT_TRUE(blender.ok()) << blender.error().message;
+    expect_same_mesh(*plain, *blender);
+
+    // Known keywords keep their checks, and lines after a stray one keep their numbers.
+    EXPECT_TRUE(fails_with(read_ply("ply\nformat ascii 1.0\nCreated by Blender 2.49\nelement vertex\n" + body),
+                           ErrorCode::ParseError, "line 4: element line needs a name and a count"));
+    EXPECT_TRUE(fails_with(read_ply("ply\nformat ascii 1.0\nCreated by Blender\nelement vertex -3\n" + body),
+                           ErrorCode::ParseError, "line 4: element count '-3' is not a non-negative integer"));
+    EXPECT_TRUE(fails_with(read_ply("ply\nCreated by Blender\nformat ascii 2.0\n" + body), ErrorCode::Unsupported,
+                           "line 3: PLY version '2.0'"));
+    auto bad_body =
+        read_ply("ply\nformat ascii 1.0\nCreated by Blender\n" + body.substr(0, body.size() - 8) + "3 0 1 9\n");
+    EXPECT_TRUE(fails_with(bad_body, ErrorCode::IndexOutOfRange, "line 14: face index 9 out of range"));
+    if (!bad_body.ok()) {
+        EXPECT_EQ(bad_body.error().line, 14);
+    }
+}
+
 TEST(PlyRead, LimitsAndRepeatedVertices) {
     const std::string text =
         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"

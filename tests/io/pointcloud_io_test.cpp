@@ -235,7 +235,8 @@ TEST(PointObj, MalformedInputNamesTheLine) {
         {"negative colour", "v 0 0 0 -1 0 0\n", ErrorCode::ParseError, 1, -1},
         {"bad normal", "v 0 0 0\nvn 0 1\n", ErrorCode::ParseError, 2, -1},
         {"no points", "f 1 2 3\n", ErrorCode::ParseError, -1, -1},
-        {"utf16", std::string("\xff\xfev\x00 \x00", 6), ErrorCode::ParseError, -1, 0},
+        {"utf16 without a byte order mark", std::string("v\x00 \x00", 4), ErrorCode::ParseError, 1, 1},
+        {"utf16 cut short", std::string("\xff\xfev\x00 ", 5), ErrorCode::ParseError, -1, 4},
     };
     for (const Malformed& c : cases) {
         auto read = read_obj_points(c.bytes);
@@ -252,6 +253,26 @@ TEST(PointObj, MalformedInputNamesTheLine) {
     ASSERT_FALSE(budget.ok());
     EXPECT_EQ(budget.error().code, ErrorCode::BudgetExceeded);
     EXPECT_EQ(budget.error().line, 3);
+}
+
+TEST(PointObj, Utf16WithByteOrderMarkReadsLikeUtf8) {
+    const std::string text = "# scan\nv 1 2 3\nv 4 5 6\n";
+    std::string le = "\xff\xfe", be = "\xfe\xff";
+    for (char c : text) {
+        le += {c, '\0'};
+        be += {'\0', c};
+    }
+    auto utf8 = read_obj_points(text);
+    ASSERT_TRUE(utf8.ok()) << utf8.error().message;
+    for (const std::string& bytes : {le, be}) {
+        auto utf16 = read_obj_points(bytes);
+        ASSERT_TRUE(utf16.ok()) << utf16.error().message;
+        EXPECT_EQ(utf16->positions, utf8->positions);
+    }
+    auto xyz = read_xyz_points(le.substr(0, 2 + 2 * 7) + std::string("1\0 \0002\0 \0003\0\n\0", 12));
+    ASSERT_TRUE(xyz.ok()) << xyz.error().message;
+    ASSERT_EQ(xyz->size(), 1u);
+    EXPECT_EQ(xyz->positions[0], (Vec3{1, 2, 3}));
 }
 
 // ---- XYZ ---------------------------------------------------------------------------------------------------------

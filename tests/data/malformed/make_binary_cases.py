@@ -27,6 +27,7 @@ for ext in ("obj", "off", "ply", "stl"):
     write(f"{ext}_utf16le_bom.{ext}", b"\xff\xfe" + text.encode("utf-16-le"))
 write("obj_utf16be_bom.obj", b"\xfe\xff" + TRIANGLE_OBJ.encode("utf-16-be"))
 write("obj_utf16le_nobom.obj", TRIANGLE_OBJ.encode("utf-16-le"))
+write("obj_utf16le_odd.obj", (b"\xff\xfe" + TRIANGLE_OBJ.encode("utf-16-le"))[:-1])
 
 rng = random.Random(1234)  # fixed seed: the files must not change between runs
 garbage = bytes(rng.randrange(256) for _ in range(300))
@@ -59,6 +60,10 @@ head = ply()
 data = head + verts() + struct.pack("<B", 3) + struct.pack("<I", 0)
 write("ply_binary_truncated.ply", data)
 print("ply_binary_truncated: truncated at", len(head) + 36 + 1)
+
+# a UTF-16 header on a binary body (padded to whole UTF-16 units so that only the binary format is refused)
+data = b"\xff\xfe" + ply().decode().encode("utf-16-le") + verts() + struct.pack("<BIII", 3, 0, 1, 2)
+write("ply_utf16le_binary.ply", data + b"\0" * (len(data) % 2))
 
 # 4e9 faces in a ~200 byte file
 data = ply(nf=4000000000) + verts() + struct.pack("<BIII", 3, 0, 1, 2)
