@@ -153,7 +153,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     auto decoded = decode_mesh_request<RemeshParams>(request, limits, decode_request, params_from_query, check_params,
                                                      MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, input, t_decoded] = decoded.value();
+    auto& [source, params, input, t_decoded, read_report] = decoded.value();
     std::optional<PolygonMesh> repaired;
     std::optional<RepairReport> repairs;
     if (auto error = prepare_manifold_input(input, params.repair, source, context.cancel, repaired, repairs))
@@ -214,6 +214,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     Headers headers = mesh_count_headers(input.vertex_count(), input.face_count(), result.mesh.vertex_count(),
                                          result.mesh.face_count());
     if (repairs) headers.emplace_back("X-Repairs", repairs_header(*repairs));
+    append_read_headers(headers, read_report);
     headers.insert(headers.end(), {
                                       {"X-Triangulated", result.triangulated ? "true" : "false"},
                                       {"X-Edge-Length", format_double(result.target_edge_length)},

@@ -9,7 +9,7 @@
 //                  "normals": false}}
 //    Only "mesh" is required; without edge_length the input's mean edge length is used (same density, better
 //    triangles). Query parameters are rejected.
-//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary,
+//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary, model/gltf+json,
 //    application/octet-stream): the same options as query parameters, output options unnested:
 //    ?edge_length=0.01&iterations=5&feature_angle=45&keep_boundary=false&smoothing=laplacian&format=obj
 // Polygons are triangulated first (X-Triangulated: true). UVs and normals of the input are not carried over.

@@ -107,7 +107,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     auto decoded = decode_mesh_request<RepairParams>(request, limits, decode_request, params_from_query, check_params,
                                                      MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, input, t_decoded] = decoded.value();
+    auto& [source, params, input, t_decoded, read_report] = decoded.value();
 
     // 4. repair
     RepairOptions options;
@@ -132,6 +132,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     Headers headers = mesh_count_headers(input.vertex_count(), input.face_count(), result.mesh.vertex_count(),
                                          result.mesh.face_count());
     headers.emplace_back("X-Repairs", repairs_header(result.report));
+    append_read_headers(headers, read_report);
     return mesh_response(
         result.mesh, params.output, source,
         [&](const PolygonMesh& m) -> ApiResult<std::string> { return encode_mesh_with_stats(m, stats); },

@@ -7,7 +7,7 @@
 //       "output": {"format": "glb"|"gltf"|"obj"|"ply"|"json", "compression": "draco"|"none", "quantize_position": 14,
 //                  "normals": false}}
 //    Only "mesh" is required. Query parameters are rejected.
-//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary,
+//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary, model/gltf+json,
 //    application/octet-stream): the same options as query parameters, output options unnested:
 //    ?weld_tolerance=1e-6&orient=false&min_component_faces=10&max_hole_edges=32&format=obj
 // Options: weld_tolerance, a distance >= 0 (0: only identical positions are welded); orient (faces oriented

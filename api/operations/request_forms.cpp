@@ -171,7 +171,7 @@ std::optional<ApiError> check_query_names(const std::multimap<std::string, std::
 }
 
 ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type,
-                                          const Limits& limits, MeshRules rules) {
+                                          const Limits& limits, MeshRules rules, ReadReport* report) {
     const auto format = mesh_format_for(media_type, request.body);
     if (!format) {
         const std::string detail =
@@ -185,7 +185,7 @@ ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::
     read_options.max_vertices = static_cast<std::size_t>(limits.max_input_vertices);
     read_options.max_faces = static_cast<std::size_t>(limits.max_input_faces);
     read_options.allow_repeated_vertices = rules == MeshRules::Subdivision;
-    auto read = read_mesh(request.body, *format, read_options);
+    auto read = read_mesh(request.body, *format, read_options, report);
     if (!read) return geometry_error(read.error(), Source::File);
     return std::move(read).value();
 }
@@ -237,6 +237,11 @@ Headers mesh_count_headers(std::size_t input_vertices, std::size_t input_faces, 
         {"X-Output-Vertices", std::to_string(output_vertices)},
         {"X-Output-Faces", std::to_string(output_faces)},
     };
+}
+
+void append_read_headers(Headers& headers, const ReadReport& read) {
+    if (read.skipped_primitives > 0)
+        headers.emplace_back("X-Skipped-Primitives", std::to_string(read.skipped_primitives));
 }
 
 void append_timing_headers(Headers& headers, const Timing& timing) {

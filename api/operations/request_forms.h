@@ -107,13 +107,14 @@ std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Li
 //! Parameters must be known and given once; errors name them (and list the allowed ones).
 std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
                                           std::initializer_list<std::string_view> allowed);
-//! What the input mesh must satisfy: `validate()` (every operation), or `validate_for_subdivision()` (faces may repeat a
-//! vertex, as OpenSubdiv allows: /subdivide).
+//! What the input mesh must satisfy: `validate()` (Strict), or `validate_for_subdivision()` (faces may repeat a vertex,
+//! as OpenSubdiv allows: /subdivide; and the operations that repair their input, which drops such faces).
 enum class MeshRules { Strict, Subdivision };
 //! A raw mesh upload: format from the media type (sniffed for application/octet-stream; 415 when unknown), read with
 //! the input budgets as reader limits (errors carry the file line or byte offset).
 ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type,
-                                          const Limits& limits, MeshRules rules = MeshRules::Strict);
+                                          const Limits& limits, MeshRules rules = MeshRules::Strict,
+                                          ReadReport* report = nullptr);
 //! The input budgets (vertices, faces) for a mesh from any source.
 std::optional<ApiError> check_input_budget(const PolygonMesh& mesh, const Limits& limits);
 
@@ -124,6 +125,7 @@ struct MeshRequest {
     Params params;
     PolygonMesh mesh;
     Clock::time_point decoded;  //!< when decoding ended (before the budget and validity checks), for Server-Timing
+    ReadReport read;            //!< what the file reader passed over (glTF point and line primitives)
 };
 
 //! 415 for an upload whose mesh format is unknown (checked before the query, so that a wrong file type is named
@@ -175,7 +177,7 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
         if (!query_params) return std::move(query_params.error());
         out.params = std::move(query_params.value());
         if (auto error = check_params(out.params, out.source)) return std::move(*error);
-        auto read = read_uploaded_mesh(request, media_type, limits, effective_rules());
+        auto read = read_uploaded_mesh(request, media_type, limits, effective_rules(), &out.read);
         if (!read) return std::move(read.error());
         out.mesh = std::move(read.value());
     }
@@ -196,6 +198,8 @@ struct Timing {
 //! X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces.
 Headers mesh_count_headers(std::size_t input_vertices, std::size_t input_faces, std::size_t output_vertices,
                            std::size_t output_faces);
+//! X-Skipped-Primitives when the reader passed over any (glTF point and line primitives have no surface).
+void append_read_headers(Headers& headers, const ReadReport& read);
 //! Appends X-Elapsed-Ms (start to the end of the last stage) and Server-Timing ("decode;dur=1.234, ...,
 //! total;dur=...").
 void append_timing_headers(Headers& headers, const Timing& timing);

@@ -138,7 +138,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     auto decoded = decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query,
                                                        check_params, MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, input, t_decoded] = decoded.value();
+    auto& [source, params, input, t_decoded, read_report] = decoded.value();
     if (auto error = check_triangulated_budget(input, limits)) return error_response(std::move(*error));
     if (auto error = check_locked_vertices(params.locked_vertices, input)) return error_response(std::move(*error));
 
@@ -189,6 +189,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     // 5. encode
     Headers headers =
         mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces);
+    append_read_headers(headers, read_report);
     headers.emplace_back("X-Triangulated", stats.triangulated ? "true" : "false");
     headers.emplace_back("X-Achieved-Error", format_double(stats.achieved_error));
     headers.emplace_back("X-Relative-Error", format_double(stats.relative_error));

@@ -9,7 +9,7 @@
 //                  "normals": false}}
 //    "mesh" and at least one of target_faces (>= 0), ratio (in (0, 1]) and max_error (absolute distance, >= 0) are
 //    required; simplification stops at whichever is reached first. Query parameters are rejected.
-//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary,
+//  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary, model/gltf+json,
 //    application/octet-stream): the same options as query parameters, output options unnested:
 //    ?target_faces=1000&ratio=0.1&max_error=0.01&lock_border=true&report_error=true&format=obj&compression=none
 //    &locked_vertices=0,5,100&restore_volume=0.5&threads=2&repair=none

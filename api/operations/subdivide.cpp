@@ -74,7 +74,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         [&](const SubdivideParams& params, Source source) { return check_params(params, limits, source); },
         MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, mesh, t_decoded] = decoded.value();
+    auto& [source, params, mesh, t_decoded, read_report] = decoded.value();
 
     // 4. options, and the predicted output against the budget, before refining anything
     SubdivisionOptions options;
@@ -145,10 +145,12 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.elapsed_ms = ms_between(t_start, t_refined);
 
     // 6. encode
+    Headers headers =
+        mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces);
+    append_read_headers(headers, read_report);
     return mesh_response(
         result, params.output, source, [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); },
-        mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces),
-        Timing{t_start, {{"decode", t_decoded}, {"subdivide", t_refined}}});
+        std::move(headers), Timing{t_start, {{"decode", t_decoded}, {"subdivide", t_refined}}});
 }
 
 }  // namespace

@@ -8,8 +8,8 @@
 //                  "normals": false}}
 //    Only "mesh" is required; query parameters are rejected (options belong in the body).
 //  * A mesh file as the body: model/obj, model/off, application/ply | model/ply, model/stl | application/sla,
-//    model/gltf-binary, or application/octet-stream (format sniffed from the bytes). Options come as query
-//    parameters with the same names: ?scheme=loop&levels=2&boundary=none&format=obj&compression=none
+//    model/gltf-binary, model/gltf+json, or application/octet-stream (format sniffed from the bytes). Options come as
+//    query parameters with the same names: ?scheme=loop&levels=2&boundary=none&format=obj&compression=none
 //    &quantize_position=12&normals=true. Unknown parameters are rejected, naming them.
 // Defaults: catmull-clark, 1 level, the mesh's boundary tag or edge-only, GLB with Draco (quantize_position 14).
 //

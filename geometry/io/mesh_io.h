@@ -49,7 +49,12 @@ Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options 
 Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options = {});
 
 //! Dispatch on format (Glb and Gltf go to read_glb and read_gltf in gltf.h).
-Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options = {});
+//! What a read passed over, for the caller to report (glTF: point and line primitives, which have no surface).
+struct ReadReport {
+    std::size_t skipped_primitives = 0;
+};
+Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options = {},
+                              ReadReport* report = nullptr);
 
 //! Format from a file name's extension (.obj .off .ply .stl .glb .gltf, case-insensitive).
 std::optional<MeshFormat> format_from_extension(std::string_view path);

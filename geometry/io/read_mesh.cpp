@@ -3,7 +3,15 @@
 
 namespace surfaced {
 
-Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options) {
+Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options,
+                              ReadReport* report) {
+    if (report) *report = ReadReport{};
+    if (format == MeshFormat::Glb || format == MeshFormat::Gltf) {
+        GltfReadReport gltf;
+        auto mesh = format == MeshFormat::Glb ? read_glb(bytes, options, &gltf) : read_gltf(bytes, options, &gltf);
+        if (report) report->skipped_primitives = gltf.skipped_primitives;
+        return mesh;
+    }
     switch (format) {
         case MeshFormat::Obj: return read_obj(bytes, options);
         case MeshFormat::Off: return read_off(bytes, options);

@@ -123,6 +123,27 @@ TEST(RepairOperation, OptionErrorsName400Fields) {
     expect_problem(call("/repair", "model/obj", "v 0 0 0\nf 1 2 3\n"), 422, "index_out_of_range");
 }
 
+TEST(RepairOperation, GltfJsonUploadCountsSkippedPointPrimitives) {
+    // one triangle and the same three vertices as a POINTS primitive, the buffer embedded as a data URI
+    const std::string gltf =
+        R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)"
+        R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],"bufferViews":[{"buffer":0,"byteLength":36}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],)"
+        R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":4},{"attributes":{"POSITION":0},"mode":0}]}],)"
+        R"("nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+    for (const std::string type : {"model/gltf+json", "application/octet-stream"}) {
+        const auto r = call("/repair", type, gltf, {{"format", "obj"}});
+        ASSERT_EQ(r.status, 200) << type << ": " << r.body;
+        EXPECT_EQ(header(r, "X-Skipped-Primitives"), "1") << type;
+        EXPECT_EQ(header(r, "X-Output-Faces"), "1") << type;
+    }
+    // an external buffer is refused, naming it
+    const auto external = call("/repair", "model/gltf+json",
+                               R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"mesh.bin"}]})");
+    EXPECT_EQ(external.status / 100, 4) << external.body;
+    EXPECT_NE(external.body.find("mesh.bin"), std::string::npos) << external.body;
+}
+
 // ---- the repair option of the operations that need a manifold mesh -------------------------------------------------
 
 TEST(RepairOption, SimplifyRepairsANonManifoldMeshByDefaultAndSaysSo) {
