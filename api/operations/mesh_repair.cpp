@@ -26,26 +26,6 @@ struct PositionHash {
 
 }  // namespace
 
-std::optional<ApiError> prepare_manifold_input(const PolygonMesh& input, RepairMode mode, Source source,
-                                               const Cancel& cancel, std::optional<PolygonMesh>& repaired,
-                                               std::optional<RepairReport>& report) {
-    repaired.reset();
-    report.reset();
-    if (mode == RepairMode::None) {
-        if (Status valid = validate(input); !valid) return geometry_error(valid.error(), source);
-        return std::nullopt;
-    }
-    report = RepairReport{};
-    if (!needs_repair(input)) return std::nullopt;
-    RepairOptions options;
-    options.cancel = cancel;
-    auto result = repair_mesh(input, options);
-    if (!result) return geometry_error(result.error(), source);
-    report = result->report;
-    repaired = std::move(result->mesh);
-    return std::nullopt;
-}
-
 std::vector<Index> vertices_by_position(const PolygonMesh& before, const PolygonMesh& after,
                                         const std::vector<std::int64_t>& vertices) {
     std::unordered_map<Vec3, Index, PositionHash> at;

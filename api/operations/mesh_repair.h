@@ -8,6 +8,7 @@
 #pragma once
 
 #include <optional>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -19,13 +20,44 @@
 
 namespace surfaced::api::operations {
 
-//! The input made ready for a manifold-only operation. With RepairMode::Auto the report is set (all zero when
-//! nothing needed repair) and `repaired` holds the repaired mesh when there was anything to repair; with None the
-//! input is only validated (and `report` and `repaired` stay empty). The operation then runs on
-//! `repaired ? *repaired : input`.
-std::optional<ApiError> prepare_manifold_input(const PolygonMesh& input, RepairMode mode, Source source,
-                                               const Cancel& cancel, std::optional<PolygonMesh>& repaired,
-                                               std::optional<RepairReport>& report);
+//! Runs a manifold-only operation, `run(mesh)` -> Result<T>, under the repair mode:
+//! * None: the input must be valid as it is (validate(): a face that repeats a vertex is 422 degenerate_face), and
+//!   the operation's own refusal (422 non_manifold naming the edge) stands.
+//! * Auto: the input is tried as it is first, so a clean mesh costs nothing extra; when it is invalid, or the operation
+//!   refuses it as non-manifold or degenerate, it is repaired with the default RepairOptions and the operation runs on
+//!   the repair. `report` is set (all zero when nothing needed repair) and `repaired` holds the repaired mesh when
+//!   there was one.
+template <class Run>
+auto run_with_repair(const PolygonMesh& input, RepairMode mode, Source source, const Cancel& cancel,
+                     std::optional<PolygonMesh>& repaired, std::optional<RepairReport>& report, Run&& run)
+    -> ApiResult<typename std::invoke_result_t<Run&, const PolygonMesh&>::value_type> {
+    repaired.reset();
+    report.reset();
+    const Status valid = validate(input);
+    if (mode == RepairMode::None) {
+        if (!valid) return geometry_error(valid.error(), source);
+        auto result = run(input);
+        if (!result) return geometry_error(result.error(), source);
+        return std::move(result.value());
+    }
+    report = RepairReport{};
+    if (valid) {
+        auto result = run(input);
+        if (result) return std::move(result.value());
+        const ErrorCode code = result.error().code;
+        if (code != ErrorCode::NonManifold && code != ErrorCode::DegenerateFace)
+            return geometry_error(result.error(), source);
+    }
+    RepairOptions options;
+    options.cancel = cancel;
+    auto fixed = repair_mesh(input, options);
+    if (!fixed) return geometry_error(fixed.error(), source);
+    report = fixed->report;
+    repaired = std::move(fixed->mesh);
+    auto result = run(*repaired);
+    if (!result) return geometry_error(result.error(), source);
+    return std::move(result.value());
+}
 
 //! Vertex indices of `before` (a mesh's input numbering) in its repair `after`: the vertex of `after` at the same
 //! position (welding and cutting keep positions; a vertex whose every face was dropped has none: kInvalidIndex).

@@ -149,16 +149,12 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 
     // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
     // budgets and validity, before any work
-    // (read as leniently as /subdivide reads: what repair "none" refuses is refused by prepare_manifold_input)
+    // (read as leniently as /subdivide reads: what repair "none" refuses is refused by run_with_repair)
     auto decoded = decode_mesh_request<RemeshParams>(request, limits, decode_request, params_from_query, check_params,
                                                      MeshRules::Subdivision);
     if (!decoded) return error_response(std::move(decoded.error()));
     auto& [source, params, input, t_decoded, read_report] = decoded.value();
-    std::optional<PolygonMesh> repaired;
-    std::optional<RepairReport> repairs;
-    if (auto error = prepare_manifold_input(input, params.repair, source, context.cancel, repaired, repairs))
-        return error_response(std::move(*error));
-    const PolygonMesh& mesh = repaired ? *repaired : input;
+    const PolygonMesh& mesh = input;
     if (mesh.face_count() == 0)
         return error_response(make_problem(Problem::InvalidField, "the mesh has no faces to remesh", "mesh"));
     if (auto error = check_triangulated_budget(mesh, limits)) return error_response(std::move(*error));
@@ -188,7 +184,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                              " faces (area / (0.433 L^2)); the limit is " + std::to_string(limits.max_output_faces),
                          "edge_length"));
 
-    // 4. remesh
+    // 4. remesh, repaired first when it must be (repair "auto")
     RemeshOptions options;
     options.target_edge_length = length;
     options.iterations = static_cast<int>(params.iterations);
@@ -198,8 +194,11 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     // intermediate meshes may briefly exceed the prediction (splits before collapses); never past twice the limit
     options.max_faces = static_cast<std::size_t>(2 * limits.max_output_faces);
     options.cancel = context.cancel;
-    auto remeshed = surfaced::remesh(mesh, options);
-    if (!remeshed) return error_response(geometry_error(remeshed.error(), source));
+    std::optional<PolygonMesh> repaired;
+    std::optional<RepairReport> repairs;
+    auto remeshed = run_with_repair(input, params.repair, source, context.cancel, repaired, repairs,
+                                    [&](const PolygonMesh& m) { return surfaced::remesh(m, options); });
+    if (!remeshed) return error_response(std::move(remeshed.error()));
     RemeshResult& result = remeshed.value();
     const auto t_remeshed = Clock::now();
 

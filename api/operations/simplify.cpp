@@ -128,30 +128,10 @@ std::optional<ApiError> check_params(const SimplifyParams& params, Source source
     return check_output_options(params.output, source);
 }
 
-ApiResponse run(const ApiRequest& request, const ApiContext& context) {
-    const Limits& limits = context.limits;
-    const auto t_start = Clock::now();
-
-    // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
-    // budgets and validity, before any work
-    // (read as leniently as /subdivide reads: what repair "none" refuses is refused by prepare_manifold_input)
-    auto decoded = decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query,
-                                                       check_params, MeshRules::Subdivision);
-    if (!decoded) return error_response(std::move(decoded.error()));
-    auto& [source, params, input, t_decoded, read_report] = decoded.value();
-    if (auto error = check_triangulated_budget(input, limits)) return error_response(std::move(*error));
-    if (auto error = check_locked_vertices(params.locked_vertices, input)) return error_response(std::move(*error));
-
-    // 4. repair (repair "auto"), then simplify
-    std::optional<PolygonMesh> repaired;
-    std::optional<RepairReport> repairs;
-    if (auto error = prepare_manifold_input(input, params.repair, source, context.cancel, repaired, repairs))
-        return error_response(std::move(*error));
-    const PolygonMesh& mesh = repaired ? *repaired : input;  // the input stays for report_error's distance
-    const std::vector<Index> locked =
-        repaired ? vertices_by_position(input, mesh, params.locked_vertices)
-                 : std::vector<Index>(params.locked_vertices.begin(), params.locked_vertices.end());
-
+//! The options for simplifying `mesh`: `input` itself, or its repair, into which the locked vertices follow their
+//! positions (one whose every face repair dropped has nothing left to keep).
+SimplifyOptions simplify_options(const SimplifyParams& params, const PolygonMesh& input, const PolygonMesh& mesh,
+                                 const Cancel& cancel) {
     SimplifyOptions options;
     if (params.target_faces) options.target_faces = static_cast<std::size_t>(*params.target_faces);
     options.ratio = params.ratio;
@@ -159,12 +139,38 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.lock_border = params.lock_border;
     options.restore_volume = params.restore_volume;
     options.threads = static_cast<int>(params.threads);
+    const std::vector<Index> locked =
+        &mesh == &input ? std::vector<Index>(params.locked_vertices.begin(), params.locked_vertices.end())
+                        : vertices_by_position(input, mesh, params.locked_vertices);  // indices checked against input
     for (Index v : locked)
-        if (v != kInvalidIndex) options.locked_vertices.push_back(v);  // a vertex repair dropped has nothing to keep
-    options.cancel = context.cancel;
+        if (v != kInvalidIndex) options.locked_vertices.push_back(v);
+    options.cancel = cancel;
     options.block_pool = &simplify_block_pool();
-    auto simplified = simplify_qem(mesh, options);
-    if (!simplified) return error_response(geometry_error(simplified.error(), source));
+    return options;
+}
+
+ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+    const Limits& limits = context.limits;
+    const auto t_start = Clock::now();
+
+    // 1-3. size and media type, options and mesh (for uploads the options are checked before the file is parsed),
+    // budgets and validity, before any work
+    // (read as leniently as /subdivide reads: what repair "none" refuses is refused by run_with_repair)
+    auto decoded = decode_mesh_request<SimplifyParams>(request, limits, decode_simplify_request, params_from_query,
+                                                       check_params, MeshRules::Subdivision);
+    if (!decoded) return error_response(std::move(decoded.error()));
+    auto& [source, params, input, t_decoded, read_report] = decoded.value();
+    if (auto error = check_triangulated_budget(input, limits)) return error_response(std::move(*error));
+    if (auto error = check_locked_vertices(params.locked_vertices, input)) return error_response(std::move(*error));
+
+    // 4. simplify, repaired first when it must be (repair "auto")
+    std::optional<PolygonMesh> repaired;
+    std::optional<RepairReport> repairs;
+    auto simplified =
+        run_with_repair(input, params.repair, source, context.cancel, repaired, repairs, [&](const PolygonMesh& mesh) {
+            return simplify_qem(mesh, simplify_options(params, input, mesh, context.cancel));
+        });
+    if (!simplified) return error_response(std::move(simplified.error()));
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
     SimplifyResult& result = simplified.value();
     const auto t_simplified = Clock::now();

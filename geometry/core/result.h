@@ -43,6 +43,7 @@ struct GeoError {
 template <class T>
 class [[nodiscard]] Result {
 public:
+    using value_type = T;
     Result(T value) : data_(std::move(value)) {}
     Result(GeoError error) : data_(std::move(error)) {}
 
