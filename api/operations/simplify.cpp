@@ -166,9 +166,12 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     // 4. simplify, repaired first when it must be (repair "auto")
     std::optional<PolygonMesh> repaired;
     std::optional<RepairReport> repairs;
+    // named references: clang 14 does not let a lambda capture structured bindings
+    const SimplifyParams& wanted = params;
+    const PolygonMesh& sent = input;
     auto simplified =
         run_with_repair(input, params.repair, source, context.cancel, repaired, repairs, [&](const PolygonMesh& mesh) {
-            return simplify_qem(mesh, simplify_options(params, input, mesh, context.cancel));
+            return simplify_qem(mesh, simplify_options(wanted, sent, mesh, context.cancel));
         });
     if (!simplified) return error_response(std::move(simplified.error()));
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
