@@ -68,7 +68,9 @@ for t in "${targets[@]}"; do
   [ -f "fuzz/dict/$t.dict" ] && dict=(-dict="fuzz/dict/$t.dict")
   t0=$(date +%s)
   log="$build/$t.log"
-  if "$build/fuzz/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  # -timeout: one input may run 30 s. Instrumented (ASan + UBSan + coverage) code runs 10-20x slower than a release
+  # build: a /curves arc length to its 1e-12 tolerance floor takes 0.7 s in release and about 12 s here.
+  if "$build/fuzz/$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 -max_len=65536 \
        -artifact_prefix="$artifacts/$t-" -print_final_stats=1 "${dict[@]}" "$corpus" "$seeds" >"$log" 2>&1; then
     runs=$(awk '/stat::number_of_executed_units/{print $2}' "$log")
     cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1)
