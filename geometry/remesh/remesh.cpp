@@ -32,6 +32,15 @@ constexpr double kMinNormalCos = 0.2;
 // Thinness = 2 area / longest edge^2. No operation creates a face thinner than this unless the faces it replaces were
 // already thinner (slivers of the input may improve, never get worse).
 constexpr double kThin = 1e-3;
+// Faces thinner than this are degenerate (zero area up to rounding): remove_degenerate_faces removes them, and no
+// operation makes one, whatever the faces it replaces.
+constexpr double kDegenerate = 1e-6;
+// A degenerate face whose corner opposite the longest edge lies within this share of that edge from one of its ends
+// is a needle (collapsed), otherwise a cap (flipped, or split and collapsed).
+constexpr double kNeedleShare = 0.01;
+// remove_degenerate_faces passes over the faces at most this often (one removal can leave a degenerate face behind,
+// such as the next cap of a T-junction with several corners on one edge).
+constexpr int kDegenerateRounds = 8;
 constexpr std::size_t kPollEvery = 4096;
 // A boundary or feature polyline turning by more than 60 degrees at a vertex has a corner there, whatever the feature
 // angle (cos 60 degrees).
@@ -196,6 +205,12 @@ public:
             input_normals_[f] = unit(n);
             for (Index v : t) v_ref_[v] += n;
         }
+        // vertices made by remove_degenerate_faces: the normal of the faces around them
+        for (Index v = static_cast<Index>(input.vertex_count()); v < pos_.size(); ++v)
+            if (!v_dead_[v])
+                for_out(v, [&](Index h) {
+                    if (!boundary_h(h)) v_ref_[v] += face_normal(h_face_[h]);
+                });
         for (Vec3& n : v_ref_) n = unit(n);
         // constrained polylines as degenerate triangles (a, b, b): SurfaceDistance's closest point handles them
         PolygonMesh curves;
@@ -305,6 +320,27 @@ public:
     std::size_t feature_edges() const { return feature_edges_; }
     std::size_t boundary_edges() const { return boundary_edges_; }
 
+    //! Removes faces of (almost) zero area, as CAD exports have them: caps (a corner on the opposite edge, such as the
+    //! face that closes a T-junction) and needles (two corners together). A cap's longest edge is flipped, which keeps
+    //! the surface (the union of the two faces is the same when the corner lies on the edge); where it cannot be
+    //! flipped (a boundary or constrained edge, or a flip that would duplicate an edge), the edge is split at the foot
+    //! of the corner and the corner collapsed into the new vertex. A needle's short edge is collapsed. Each change
+    //! moves the surface by at most the face's height or its short edge, and respects the constraints. Runs before
+    //! the constraints are set (so that feature edges are found across the faces that closed T-junctions) and after
+    //! the last iteration. \return the degenerate faces that could not be removed.
+    std::size_t remove_degenerate_faces() {
+        if (v_ref_.size() < pos_.size()) v_ref_.resize(pos_.size(), Vec3{});
+        for (int round = 0; round < kDegenerateRounds; ++round) {
+            bool changed = false;
+            for (Index f = 0; f < f_h_.size(); ++f)
+                if (!f_dead_[f] && face_thinness(f) < kDegenerate) changed = remove_degenerate(f) || changed;
+            if (!changed) break;
+        }
+        std::size_t left = 0;
+        for (Index f = 0; f < f_h_.size(); ++f) left += !f_dead_[f] && face_thinness(f) < kDegenerate;
+        return left;
+    }
+
     // ---- the remeshing loop -----------------------------------------------------------------------------------------
 
     //! The (4/5, 4/3) band leaves a mesh stable whose edges average anywhere in it (longest-edge bisection of a coarse
@@ -338,6 +374,7 @@ public:
             if (auto s = relax(options); !s) return s;
         }
         if (options.iterations > 0) remove_caps();
+        remove_degenerate_faces();
         return Ok{};
     }
 
@@ -451,7 +488,7 @@ private:
                                const Vec3& reference) {
         const Vec3 n_old = cross(b - old_a, c - old_a), n_new = cross(b - new_a, c - new_a);
         const double t_new = thinness(new_a, b, c);
-        if (t_new < kThin && t_new < thinness(old_a, b, c)) return false;
+        if (t_new < kThin && (t_new < kDegenerate || t_new < thinness(old_a, b, c))) return false;
         return dot(unit(n_old), unit(n_new)) > kMinNormalCos && dot(n_new, reference) > 0;
     }
     //! Moving v to p (where the input's normal is `ref`) keeps every face around v (except those containing `skip`)
@@ -702,7 +739,7 @@ private:
             return false;
         const double t_old = std::min(thinness(pa, pb, pc), thinness(pb, pa, pd));
         const double t_new = std::min(thinness(pa, pd, pc), thinness(pb, pc, pd));
-        return t_new >= kThin || t_new >= t_old;
+        return t_new >= kThin || (t_new >= kDegenerate && t_new >= t_old);
     }
 
     void flip(Index e) {
@@ -767,6 +804,99 @@ private:
             const double cos_d = dot(unit(pos_[a] - pos_[d]), unit(pos_[b] - pos_[d]));
             if (std::min(cos_c, cos_d) < kCapCos && flip_ok(e)) flip(e);
         }
+    }
+
+    // ---- degenerate faces -------------------------------------------------------------------------------------------
+
+    //! One step of remove_degenerate_faces on face f; false when nothing could be done.
+    bool remove_degenerate(Index f) {
+        Index g = f_h_[f];  // the longest edge a -> b, c opposite
+        for (Index k = h_next_[g]; k != f_h_[f]; k = h_next_[k])
+            if (length2(k >> 1) > length2(g >> 1)) g = k;
+        const Index a = from(g), b = h_to_[g], c = h_to_[h_next_[g]];
+        const Vec3 ab = pos_[b] - pos_[a];
+        const double l2 = dot(ab, ab);
+        const double t = l2 > 0 ? dot(pos_[c] - pos_[a], ab) / l2 : 0.0;
+        if (t < kNeedleShare || t > 1 - kNeedleShare) {
+            // a needle: c next to a (edge c -> a) or to b (edge b -> c); either end may be the one removed
+            const Index h = t < 0.5 ? h_prev_[g] : h_next_[g];
+            return collapse_degenerate(h) || collapse_degenerate(h ^ 1);
+        }
+        if (degenerate_flip_ok(g >> 1)) {
+            flip(g >> 1);
+            return true;
+        }
+        // a cap on an edge that cannot flip: split it at the foot of c, then move c there (c is free, so the edges
+        // around it are not constrained, and the split edge's other face, if any, has no edge to c)
+        if (v_kind_[c] != kFree || boundary_v(c)) return false;
+        if (!boundary_h(g ^ 1)) {
+            const Index d = h_to_[h_next_[g ^ 1]];
+            bool connected = false;
+            for_out(c, [&](Index k) { connected = connected || h_to_[k] == d; });
+            if (connected) return false;
+        }
+        for (Index v : {a, b})
+            if (!boundary_v(v) && valence(v) < 4) return false;
+        const Vec3 foot = pos_[a] + ab * t;
+        if (!degenerate_move_ok(c, foot, kNone)) return false;
+        const Index m = split(g >> 1, foot);
+        Index h = kNone;  // c -> m
+        for_out(c, [&](Index k) {
+            if (h_to_[k] == m) h = k;
+        });
+        if (h == kNone || !collapse_topology_ok(h)) return true;  // split only; the needles left are tried next round
+        collapse(h);
+        return true;
+    }
+
+    //! Removes from(h) into to(h) to get rid of a needle: the removed vertex is free, or on a constrained curve
+    //! along it; it stays on the boundary when it was on it.
+    bool collapse_degenerate(Index h) {
+        const Index v0 = from(h), v1 = h_to_[h];
+        if (v_kind_[v0] == kCorner || (v_kind_[v0] == kCurve && !e_constrained_[h >> 1])) return false;
+        if (boundary_v(v0) && !(boundary_h(h) || boundary_h(h ^ 1))) return false;
+        if (!collapse_topology_ok(h) || !degenerate_move_ok(v0, pos_[v1], v1)) return false;
+        collapse(h);
+        return true;
+    }
+
+    //! Moving v to p, do the faces around v (except those with `skip`) keep their orientation and stay off
+    //! degenerate (or no thinner than they were)? Unlike move_ok, a degenerate face's normal is not compared.
+    bool degenerate_move_ok(Index v, const Vec3& p, Index skip) const {
+        bool ok = true;
+        for_out(v, [&](Index h) {
+            if (!ok || boundary_h(h)) return;
+            const Index b = h_to_[h], c = h_to_[h_next_[h]];
+            if (b == skip || c == skip) return;
+            const Vec3 &pb = pos_[b], &pc = pos_[c];
+            const double t_old = thinness(pos_[v], pb, pc), t_new = thinness(p, pb, pc);
+            if (t_new < kDegenerate && t_new < t_old) ok = false;
+            if (t_old >= kDegenerate &&
+                dot(unit(cross(pb - pos_[v], pc - pos_[v])), unit(cross(pb - p, pc - p))) <= kMinNormalCos)
+                ok = false;
+        });
+        return ok;
+    }
+
+    //! flip_ok for an edge with a degenerate face on one side: the new faces must be thicker than the thinner old one
+    //! and face like the thicker one (a degenerate face has no normal to compare with).
+    bool degenerate_flip_ok(Index e) {
+        const Index h = 2 * e, o = 2 * e + 1;
+        if (e_constrained_[e] || boundary_h(h) || boundary_h(o)) return false;
+        const Index a = h_to_[o], b = h_to_[h], c = h_to_[h_next_[h]], d = h_to_[h_next_[o]];
+        if (c == d) return false;
+        bool connected = false;
+        for_out(c, [&](Index g) { connected = connected || h_to_[g] == d; });
+        if (connected) return false;
+        if (valence(a) <= (boundary_v(a) ? 2u : 3u) || valence(b) <= (boundary_v(b) ? 2u : 3u)) return false;
+        const Vec3 &pa = pos_[a], &pb = pos_[b], &pc = pos_[c], &pd = pos_[d];
+        const double t1 = thinness(pa, pb, pc), t2 = thinness(pb, pa, pd);
+        const Vec3 reference = t1 >= t2 ? cross(pb - pa, pc - pa) : cross(pa - pb, pd - pb);
+        const double t_new = std::min(thinness(pa, pd, pc), thinness(pb, pc, pd));
+        if (!(t_new > std::min(t1, t2))) return false;
+        for (const Vec3& n : {cross(pd - pa, pc - pa), cross(pc - pb, pd - pb)})
+            if (dot(unit(n), unit(reference)) <= kMinNormalCos) return false;
+        return true;
     }
 
     // ---- relax and project ------------------------------------------------------------------------------------------
@@ -979,6 +1109,7 @@ Result<RemeshResult> remesh(const PolygonMesh& mesh, const RemeshOptions& option
 
     Remesher remesher;
     if (auto built = remesher.build(input); !built) return built.error();
+    remesher.remove_degenerate_faces();
     remesher.set_constraints(input, options, length);
     result.feature_edges = remesher.feature_edges();
     result.boundary_edges = remesher.boundary_edges();

@@ -87,10 +87,15 @@ struct RemeshResult {
 //! that the mean edge length ends within about 2% of L. Three rounds of flips and relaxation follow, and a last pass
 //! flips edges opposite an angle above 170 degrees (caps) where that is allowed.
 //!
+//! Faces of (almost) zero area (twice the area / longest edge^2 below 1e-6), as CAD exports have them where they
+//! close T-junctions, are removed before the features are found and again at the end: a cap's longest edge is
+//! flipped (or split at the foot of the opposite corner, which then moves onto it), a needle's short edge collapsed.
+//!
 //! Guarantees on the output, for manifold, consistently oriented input: the topology (Euler characteristic, number of
 //! boundary loops) is unchanged; no operation creates a non-manifold edge or vertex (link condition), a face whose
 //! normal turns by more than ~78 degrees from its normal before the operation, or a degenerate face (twice the
-//! area / longest edge^2 below 1e-3 unless the faces involved were already that thin); constrained vertices stay on
+//! area / longest edge^2 below 1e-3 unless the faces involved were already that thin, below 1e-6 never); no
+//! degenerate face of the input is left unless none of the removals above was allowed; constrained vertices stay on
 //! their polylines and corners where they are.
 //!
 //! \pre validate(mesh) succeeds (validated anyway, its error returned).

@@ -264,6 +264,39 @@ void Simplifier::run(std::size_t target, double threshold) {
         collapse_in_order(w, threshold, std::numeric_limits<float>::infinity());
         if (w.cancelled || w.collapses == before) break;
     }
+    if (!w.cancelled) collapse_degenerate_faces(w, threshold);
+}
+
+//! The faces of the input with (almost) zero area (CAD exports close T-junctions with them) cost nothing to collapse,
+//! but a target reached early leaves some: one edge of each degenerate face left is collapsed, shortest first, with
+//! the usual checks (so the output may end a few faces below the target). A face no collapse can remove stays.
+void Simplifier::collapse_degenerate_faces(Worker& w, double threshold) {
+    constexpr int kRounds = 4;  // a collapse can leave a neighbouring degenerate face collapsible only afterwards
+    for (int round = 0; round < kRounds; ++round) {
+        bool changed = false;
+        for (std::size_t f = 0; f < tris_.size(); ++f) {
+            if (!face_alive_[f]) continue;
+            const Tri& t = tris_[f];
+            const Vec3 &p0 = vx_[t[0]].p, &p1 = vx_[t[1]].p, &p2 = vx_[t[2]].p;
+            std::array<std::pair<double, int>, 3> edges{
+                {{dot(p1 - p0, p1 - p0), 0}, {dot(p2 - p1, p2 - p1), 1}, {dot(p0 - p2, p0 - p2), 2}}};
+            std::sort(edges.begin(), edges.end());
+            const double longest = edges[2].first;
+            if (longest > 0 && norm(cross(p1 - p0, p2 - p0)) >= kDegenerate * longest) continue;
+            for (const auto& [length2, j] : edges) {
+                Collapse collapse;
+                if (!evaluate(t[j], t[(j + 1) % 3], collapse, volume_)) continue;
+                collapse.error = collapse.weight > 0 ? std::sqrt(collapse.cost / collapse.weight) : 0.0;
+                if (collapse.error > threshold || !is_valid(w, collapse)) continue;
+                apply(w, collapse);
+                w.max_error = std::max(w.max_error, collapse.error);
+                ++w.collapses;
+                changed = true;
+                break;
+            }
+        }
+        if (!changed) break;
+    }
 }
 
 PolygonMesh Simplifier::extract() const {

@@ -83,7 +83,10 @@ struct SimplifyResult {
 //!  * no collapse creates a non-manifold edge or vertex (link condition), a duplicate face, a face whose normal turns
 //!    by more than 60 degrees from its normal before the collapse or from the input face it started as (flips and
 //!    folds), or a degenerate face (twice the area / longest edge^2 below 1e-3 when it was not already that thin;
-//!    below 1e-6 never). Faces of the input that no collapse touches are output as they are;
+//!    below 1e-6 never). Faces of the input that no collapse touches are output as they are, except the input's
+//!    degenerate faces (thinness below 1e-6, such as the zero-area faces CAD exports close T-junctions with): once
+//!    the target is reached, an edge of each one left is collapsed where the checks allow, so the face count may end
+//!    a few faces below the target;
 //!  * locked vertices, and boundary vertices with lock_border, keep their index order and positions;
 //!  * faces with texture coordinates: vertices on a UV seam (corners with different uv indices) never move, and no
 //!    collapse is made along a seam; other collapses interpolate the uv (and vertex normal) along the edge.

@@ -151,6 +151,7 @@ private:
 
     // the collapse loop and the candidates, in qem.cpp
     void collapse_in_order(Worker& w, double threshold, float level);
+    void collapse_degenerate_faces(Worker& w, double threshold);
     void push_edges_by_face(Worker& w, int pass);
     bool add_candidate(Worker& w, Index a, Index b);
     bool is_candidate_halfedge(Index f, int j, int pass) const;

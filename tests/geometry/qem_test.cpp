@@ -396,6 +396,23 @@ TEST(Qem, ZeroAreaInputTrianglesAreCollapsedAway) {
     }
 }
 
+TEST(Qem, CadExportWithSliversAndZeroAreaCapsComesOutClean) {
+    // CAD-style cylinders (needle fans, full-height strips, T-junctions closed by zero-area faces): every target
+    // removes the zero-area faces and makes none
+    for (const bool open : {false, true}) {
+        const PolygonMesh mesh = testing::cad_cylinder(96, 40, open);
+        ASSERT_GE(testing::degenerate_faces(mesh), 40u);
+        for (double ratio : {0.9, 0.5, 0.2}) {
+            SimplifyOptions options;
+            options.ratio = ratio;
+            auto out = simplify_qem(mesh, options);
+            ASSERT_TRUE(out.ok()) << out.error().message;
+            expect_clean(out->mesh, mesh,
+                         std::string("cad cylinder") + (open ? " open" : "") + ", ratio " + std::to_string(ratio));
+        }
+    }
+}
+
 TEST(Qem, ScannedBunnyToFivePercent) {
     const PolygonMesh input = bunny();
     ASSERT_GT(input.face_count(), 60000u);

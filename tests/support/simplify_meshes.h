@@ -51,6 +51,52 @@ inline PolygonMesh uv_cylinder(int around, int along) {
     return mesh;
 }
 
+//! A cylinder as CAD programs export it to STL: radius 1, height 2, `around` segments; each end a fan from one rim
+//! vertex (needles down to 360/around degrees) unless `open`, the side one strip of full-height triangles. Then `caps`
+//! edges get a T-junction closed the way exporters close them: the edge (a, b) is split at a point m on one side only,
+//! and the slit left on the other side is filled by the zero-area face (a, b, m) (on a boundary edge, the cap's long
+//! edge is the boundary).
+inline PolygonMesh cad_cylinder(int around, int caps, bool open = false) {
+    PolygonMesh m;
+    for (int z = 0; z < 2; ++z)
+        for (int i = 0; i < around; ++i) {
+            const double a = 2 * std::numbers::pi * i / around;
+            m.positions.push_back({std::cos(a), std::sin(a), 2.0 * z});
+        }
+    auto id = [&](int i, int z) { return static_cast<Index>(z * around + (i % around)); };
+    for (int i = 0; i < around; ++i) {
+        m.add_face({id(i, 0), id(i + 1, 0), id(i + 1, 1)});
+        m.add_face({id(i, 0), id(i + 1, 1), id(i, 1)});
+    }
+    for (int i = 1; i + 1 < around && !open; ++i) {
+        m.add_face({id(0, 1), id(i, 1), id(i + 1, 1)});
+        m.add_face({id(0, 0), id(i + 1, 0), id(i, 0)});
+    }
+    // T-junctions on every (faces / caps)-th face's first edge
+    const std::size_t faces = m.face_count();
+    for (int k = 0; k < caps; ++k) {
+        const std::size_t f = (k * 7919) % faces;
+        auto t = m.face(f);
+        const Index a = t[0], b = t[1], x = t[2];
+        const double s = 0.25 + 0.5 * ((k * 37) % 10) / 10.0;
+        const auto mid = static_cast<Index>(m.positions.size());
+        m.positions.push_back(m.positions[a] + (m.positions[b] - m.positions[a]) * s);
+        PolygonMesh next;
+        next.positions = m.positions;
+        for (std::size_t g = 0; g < m.face_count(); ++g)
+            if (g == f) {
+                next.add_face({a, mid, x});
+                next.add_face({mid, b, x});
+            } else {
+                auto u = m.face(g);
+                next.add_face({u[0], u[1], u[2]});
+            }
+        next.add_face({a, b, mid});  // a -> b against the neighbour's b -> a
+        m = std::move(next);
+    }
+    return m;
+}
+
 //! 2 area / longest edge^2 of a triangle: 0 for a degenerate one, sqrt(3)/2 for an equilateral one.
 inline double triangle_thinness(const Vec3& a, const Vec3& b, const Vec3& c) {
     const double l = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
