@@ -1,7 +1,8 @@
 // repair_mesh: every output is manifold, consistently oriented, free of degenerate and duplicate faces and outward
-// where closed (checked here independently of the library's own audit), and each step's count is what the case was
-// built with. Cases: an STL-style soup, flipped and inside-out cubes, duplicates, a fin, a bow-tie, pinched cubes,
-// degenerate faces, a sphere with a hole, small components, a mesh that needs nothing; then seeded random soups.
+// where closed (checked by tests/support/repair_asserts.h, independently of the library's own audit), and each step's
+// count is what the case was built with. Cases: an STL-style soup, flipped and inside-out cubes, duplicates, a fin, a
+// bow-tie, pinched cubes, degenerate faces, a sphere with a hole, small components, a mesh that needs nothing; then
+// seeded random soups. The same cases as files, read by the service's readers: tests/io/repair_corpus_test.cpp.
 #include "geometry/repair/repair.h"
 
 #include <gtest/gtest.h>
@@ -11,8 +12,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
-#include <map>
-#include <numeric>
 #include <random>
 #include <set>
 #include <vector>
@@ -22,130 +21,18 @@
 #include "geometry/mesh/triangulate.h"
 #include "geometry/subdivision/subdivide.h"
 #include "tests/support/mesh_asserts.h"
+#include "tests/support/repair_asserts.h"
 
 namespace surfaced {
 namespace {
 
+using testing::closed_component_volumes;
 using testing::edge_stats;
+using testing::expect_counts_add_up;
+using testing::expect_repaired;
+using testing::faces_by_edge;
 using testing::is_watertight;
 using testing::signed_volume;
-
-// ---- invariants, computed with plain maps (independent of geometry/repair) ----
-
-using EdgeFaces = std::map<std::pair<Index, Index>, std::vector<std::size_t>>;
-
-EdgeFaces faces_by_edge(const PolygonMesh& mesh) {
-    EdgeFaces edges;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const auto face = mesh.face(f);
-        for (std::size_t j = 0; j < face.size(); ++j) {
-            const Index a = face[j], b = face[(j + 1) % face.size()];
-            edges[{std::min(a, b), std::max(a, b)}].push_back(f);
-        }
-    }
-    return edges;
-}
-
-struct FaceGroups {  // union-find over faces
-    std::vector<std::size_t> parent;
-    explicit FaceGroups(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-    std::size_t find(std::size_t x) { return parent[x] == x ? x : parent[x] = find(parent[x]); }
-    void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
-
-//! Vertices whose faces do not form one fan (connected through shared edges at the vertex).
-std::size_t multi_fan_vertices(const PolygonMesh& mesh, const EdgeFaces& edges) {
-    FaceGroups groups(mesh.face_count());
-    std::vector<std::set<std::size_t>> roots(mesh.vertex_count());
-    std::vector<std::vector<std::size_t>> around(mesh.vertex_count());
-    for (std::size_t f = 0; f < mesh.face_count(); ++f)
-        for (Index v : mesh.face(f)) around[v].push_back(f);
-    std::size_t bad = 0;
-    for (Index v = 0; v < mesh.vertex_count(); ++v) {
-        FaceGroups local(mesh.face_count());
-        for (const auto& [key, faces] : edges)
-            if (key.first == v || key.second == v)
-                for (std::size_t i = 1; i < faces.size(); ++i) local.unite(faces[0], faces[i]);
-        std::set<std::size_t> fans;
-        for (std::size_t f : around[v]) fans.insert(local.find(f));
-        if (fans.size() > 1) ++bad;
-    }
-    return bad;
-}
-
-std::size_t degenerate_faces(const PolygonMesh& mesh) {
-    std::size_t bad = 0;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const auto face = mesh.face(f);
-        std::set<Index> distinct(face.begin(), face.end());
-        Vec3 area;
-        for (std::size_t j = 1; j + 1 < face.size(); ++j)
-            area += cross(mesh.positions[face[j]] - mesh.positions[face[0]],
-                          mesh.positions[face[j + 1]] - mesh.positions[face[0]]);
-        if (distinct.size() != face.size() || norm(area) == 0) ++bad;
-    }
-    return bad;
-}
-
-std::size_t duplicate_faces(const PolygonMesh& mesh) {
-    std::set<std::vector<Index>> seen;
-    std::size_t bad = 0;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        std::vector<Index> key(mesh.face(f).begin(), mesh.face(f).end());
-        std::sort(key.begin(), key.end());
-        if (!seen.insert(key).second) ++bad;
-    }
-    return bad;
-}
-
-//! Signed volumes of the closed components (faces connected through shared edges, no boundary edge).
-std::vector<double> closed_component_volumes(const PolygonMesh& mesh, const EdgeFaces& edges) {
-    FaceGroups groups(mesh.face_count());
-    for (const auto& [key, faces] : edges)
-        for (std::size_t i = 1; i < faces.size(); ++i) groups.unite(faces[0], faces[i]);
-    std::map<std::size_t, bool> open;
-    for (const auto& [key, faces] : edges) open[groups.find(faces[0])] |= faces.size() == 1;
-    std::map<std::size_t, double> volume;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const auto face = mesh.face(f);
-        for (std::size_t j = 1; j + 1 < face.size(); ++j)
-            volume[groups.find(f)] +=
-                dot(mesh.positions[face[0]], cross(mesh.positions[face[j]], mesh.positions[face[j + 1]])) / 6.0;
-    }
-    std::vector<double> closed;
-    for (const auto& [root, v] : volume)
-        if (!open[root]) closed.push_back(v);
-    return closed;
-}
-
-//! Everything repair_mesh guarantees. `oriented`: the outward check applies (RepairOptions::orient).
-void expect_repaired(const PolygonMesh& mesh, bool oriented = true) {
-    ASSERT_TRUE(validate(mesh).ok()) << validate(mesh).error().message;
-    const auto stats = edge_stats(mesh);
-    EXPECT_EQ(stats.non_manifold_edges, 0u);
-    EXPECT_EQ(stats.inconsistent_edges, 0u);
-    const EdgeFaces edges = faces_by_edge(mesh);
-    EXPECT_EQ(multi_fan_vertices(mesh, edges), 0u);
-    EXPECT_EQ(degenerate_faces(mesh), 0u);
-    EXPECT_EQ(duplicate_faces(mesh), 0u);
-    if (oriented) {
-        for (double v : closed_component_volumes(mesh, edges))
-            EXPECT_GT(v, -1e-12) << "a closed component is inside out";
-    }
-    EXPECT_FALSE(needs_repair(mesh));
-    const auto audit = audit_mesh(mesh);
-    ASSERT_TRUE(audit.ok());
-    if (oriented) {
-        EXPECT_EQ(audit->inverted_components, 0u);
-    }
-}
-
-//! The counts relate input and output sizes as repair.h says.
-void expect_counts_add_up(const PolygonMesh& in, const RepairResult& r) {
-    const RepairReport& s = r.report;
-    EXPECT_EQ(r.mesh.vertex_count(), in.vertex_count() - s.welded - s.unreferenced + s.nonmanifold_split);
-    EXPECT_EQ(r.mesh.face_count(), in.face_count() - s.degenerate - s.duplicate - s.removed_faces + s.fill_faces);
-}
 
 RepairResult repaired(const PolygonMesh& mesh, const RepairOptions& options = {}) {
     auto result = repair_mesh(mesh, options);
@@ -191,22 +78,11 @@ void append(PolygonMesh& mesh, const PolygonMesh& part, Vec3 offset = {}) {
     }
 }
 
-//! The face's corner positions, rotated to start at the smallest (a face up to its starting corner).
-std::vector<std::array<double, 3>> corner_positions(const PolygonMesh& mesh, std::size_t f) {
-    std::vector<std::array<double, 3>> pts;
-    for (Index v : mesh.face(f)) pts.push_back({mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z});
-    std::rotate(pts.begin(), std::min_element(pts.begin(), pts.end()), pts.end());
-    return pts;
-}
-
 //! Same faces, same windings, same positions, whatever the vertex numbering.
 void expect_same_surface(const PolygonMesh& a, const PolygonMesh& b) {
     ASSERT_EQ(a.face_count(), b.face_count());
     EXPECT_EQ(a.vertex_count(), b.vertex_count());
-    std::multiset<std::vector<std::array<double, 3>>> fa, fb;
-    for (std::size_t f = 0; f < a.face_count(); ++f) fa.insert(corner_positions(a, f));
-    for (std::size_t f = 0; f < b.face_count(); ++f) fb.insert(corner_positions(b, f));
-    EXPECT_EQ(fa, fb);
+    EXPECT_EQ(testing::surface_faces(a), testing::surface_faces(b));
 }
 
 RepairReport only(std::initializer_list<std::pair<std::size_t RepairReport::*, std::size_t>> counts,
