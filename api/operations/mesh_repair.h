@@ -1,8 +1,8 @@
 // The repair step of the operations that need a manifold mesh (/simplify, /remesh) and of POST /repair: what the
 // `repair` option does, the X-Repairs header and the "repairs" JSON object.
 //
-// repair "auto" (the default): a mesh that needs it (geometry/repair/repair.h: needs_repair) is repaired with the
-// default RepairOptions before the operation runs, and the report comes back in X-Repairs (and in JSON output);
+// repair "auto" (the default): a mesh that needs it is repaired with the default RepairOptions before the operation
+// runs, and the report comes back in X-Repairs (and in JSON output);
 // repair "none": the mesh must be valid as it is (validate(): a face that repeats a vertex is 422 degenerate_face)
 // and manifold (the operation's own 422 non_manifold naming the edge).
 #pragma once
@@ -16,6 +16,7 @@
 #include "api/operations/request_forms.h"
 #include "geometry/core/cancel.h"
 #include "geometry/mesh/polygon_mesh.h"
+#include "geometry/repair/open_seams.h"
 #include "geometry/repair/repair.h"
 
 namespace surfaced::api::operations {
@@ -23,10 +24,12 @@ namespace surfaced::api::operations {
 //! Runs a manifold-only operation, `run(mesh)` -> Result<T>, under the repair mode:
 //! * None: the input must be valid as it is (validate(): a face that repeats a vertex is 422 degenerate_face), and
 //!   the operation's own refusal (422 non_manifold naming the edge) stands.
-//! * Auto: the input is tried as it is first, so a clean mesh costs nothing extra; when it is invalid, or the operation
-//!   refuses it as non-manifold or degenerate, it is repaired with the default RepairOptions and the operation runs on
-//!   the repair. `report` is set (all zero when nothing needed repair) and `repaired` holds the repaired mesh when
-//!   there was one.
+//! * Auto: the input is repaired first when it is invalid or has open seams (boundary vertices that welding would
+//!   merge: a triangle soup, a flat-shaded export; count_open_seam_vertices, which costs one sort of the positions
+//!   when there are coincident vertices and one hash pass otherwise); otherwise it is tried as it is, so a clean mesh
+//!   costs little extra, and repaired when the operation refuses it as non-manifold or degenerate. The operation
+//!   runs on the repair; a repair left with no face is 422 degenerate_face. `report` is set (all zero when nothing
+//!   needed repair) and `repaired` holds the repaired mesh when there was one.
 template <class Run>
 auto run_with_repair(const PolygonMesh& input, RepairMode mode, Source source, const Cancel& cancel,
                      std::optional<PolygonMesh>& repaired, std::optional<RepairReport>& report, Run&& run)
@@ -41,7 +44,7 @@ auto run_with_repair(const PolygonMesh& input, RepairMode mode, Source source, c
         return std::move(result.value());
     }
     report = RepairReport{};
-    if (valid) {
+    if (valid && count_open_seam_vertices(input) == 0) {
         auto result = run(input);
         if (result) return std::move(result.value());
         const ErrorCode code = result.error().code;
@@ -54,6 +57,11 @@ auto run_with_repair(const PolygonMesh& input, RepairMode mode, Source source, c
     if (!fixed) return geometry_error(fixed.error(), source);
     report = fixed->report;
     repaired = std::move(fixed->mesh);
+    if (repaired->face_count() == 0)
+        return geometry_error(make_error(ErrorCode::DegenerateFace,
+                                         "no face is left after repair: every face was degenerate (a repeated "
+                                         "vertex or zero area) or a duplicate"),
+                              source);
     auto result = run(*repaired);
     if (!result) return geometry_error(result.error(), source);
     return std::move(result.value());

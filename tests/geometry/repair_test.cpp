@@ -4,6 +4,7 @@
 // bow-tie, pinched cubes, degenerate faces, a sphere with a hole, small components, a mesh that needs nothing; then
 // seeded random soups. The same cases as files, read by the service's readers: tests/io/repair_corpus_test.cpp.
 #include "geometry/repair/repair.h"
+#include "geometry/repair/open_seams.h"
 
 #include <gtest/gtest.h>
 
@@ -185,6 +186,30 @@ TEST(Repair, FinOfFacesInOneDirectionPairsTwoOfThem) {
     keep_winding.orient = false;
     const RepairResult kept = repaired(mesh, keep_winding);
     expect_report(kept.report, only({{&RepairReport::nonmanifold_split, 4}}, 3));
+}
+
+TEST(Repair, OpenSeamsAreCoincidentVerticesOnBoundaryEdges) {
+    EXPECT_EQ(count_open_seam_vertices(cube()), 0u);
+    // a soup of the cube: 36 corners at 8 positions, all on boundary edges
+    EXPECT_EQ(count_open_seam_vertices(soup(cube())), 36u - 8u);
+    // flat-shaded quads: 24 corners at 8 positions
+    EXPECT_EQ(count_open_seam_vertices(soup(shapes::cube())), 24u - 8u);
+    // two closed cubes at the same place: coincident vertices, but no boundary edge
+    PolygonMesh twice = cube();
+    append(twice, cube());
+    EXPECT_EQ(count_open_seam_vertices(twice), 0u);
+    // one face cut off along two edges (its own copies of its three corners): three seam vertices; a fourth copy of a
+    // corner that is on no boundary edge does not count
+    PolygonMesh cut = cube();
+    const auto f = cut.face(0);
+    const std::array<Index, 3> corners{f[0], f[1], f[2]};
+    for (int j = 0; j < 3; ++j) {
+        cut.face_indices[cut.face_offsets[0] + j] = static_cast<Index>(cut.positions.size());
+        cut.positions.push_back(cut.positions[corners[j]]);
+    }
+    EXPECT_EQ(count_open_seam_vertices(cut), 3u);
+    cut.positions.push_back(cut.positions[corners[0]]);
+    EXPECT_EQ(count_open_seam_vertices(cut), 3u);
 }
 
 TEST(Repair, SplitsABowTie) {
