@@ -267,6 +267,24 @@ try {
   await glbDownload.saveAs(glbPath);
   check((await import('node:fs')).readFileSync(glbPath).subarray(0, 4).toString() === 'glTF', `Download GLB: ${glbPath}`);
 
+  // 6a. a broken upload is repaired before simplifying, and the view says what was fixed: an octahedron as a soup (every
+  // triangle with its own corners, welded: 24 - 6 = 18) with one face repeated back to back (a duplicate)
+  const octa = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]];
+  const octaFaces = [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]];
+  const soupLines = [];
+  octaFaces.forEach((f, i) => {
+    for (const v of f) soupLines.push(`v ${octa[v].join(' ')}`);
+    soupLines.push(`f ${3 * i + 1} ${3 * i + 2} ${3 * i + 3}`);
+  });
+  soupLines.push('f 3 2 1');  // the first face again, reversed
+  const updatesBeforeSoup = await statsUpdates();
+  await page.setInputFiles('#simp-file', { name: 'soup.obj', mimeType: 'model/obj', buffer: Buffer.from(soupLines.join('\n') + '\n') });
+  await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n &&
+                                    !window.surfaced.views.simplify.busy, updatesBeforeSoup, { timeout: 60000 });
+  const soupStats = await page.$eval('#stats', (el) => el.textContent);
+  check(!(await page.isVisible('#error')) && /repaired: .*welded 18/.test(soupStats) && /duplicate 1/.test(soupStats),
+        `broken upload repaired and reported: ${JSON.stringify(soupStats.split('\n').find((l) => /repair/.test(l)))} (${await shot('06r-repaired-upload')})`);
+
   // 6b. remeshing, when this server has it: the bumpy sphere remeshed, the quality report shown
   if (await page.isVisible('#tabs button[data-view=remesh]')) {
     await page.click('#tabs button[data-view=remesh]');

@@ -94,7 +94,8 @@ function networkTime(url, t0) {
 /** The media type the service expects for an uploaded mesh file, from its extension. */
 export function meshMediaType(fileName) {
   const ext = fileName.toLowerCase().split('.').pop();
-  return { obj: 'model/obj', off: 'model/off', ply: 'application/ply', stl: 'model/stl', glb: 'model/gltf-binary' }[ext]
+  return { obj: 'model/obj', off: 'model/off', ply: 'application/ply', stl: 'model/stl', glb: 'model/gltf-binary',
+           gltf: 'model/gltf+json' }[ext]
     ?? 'application/octet-stream';
 }
 
