@@ -1,0 +1,118 @@
+// The command line's vocabulary: usage errors and exit codes, the argument reader, the option tables of the file
+// commands (an option, its check, the query parameter it becomes) and the parser they share.
+#pragma once
+
+#include <charconv>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "api/dto.h"
+
+namespace surfaced::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailed = 1;
+constexpr int kExitUsage = 2;
+
+struct UsageError {
+    std::string message;
+};
+
+//! Splits argv into options and positionals; accepts "--name value" and "--name=value".
+class Args {
+public:
+    Args(int argc, char** argv, int first) {
+        for (int i = first; i < argc; ++i) args_.emplace_back(argv[i]);
+    }
+    bool done() const { return pos_ >= args_.size(); }
+    std::string next() { return args_[pos_++]; }
+    //! The value of option `name` (inline after '=' or the next argument).
+    std::string value(std::string_view name, std::optional<std::string>& inline_value) {
+        if (inline_value) return *std::exchange(inline_value, std::nullopt);
+        if (done()) throw UsageError{std::string(name) + " needs a value"};
+        return next();
+    }
+
+private:
+    std::vector<std::string> args_;
+    std::size_t pos_ = 0;
+};
+
+long long parse_number(std::string_view name, const std::string& text, long long min, long long max);
+
+template <class E, std::size_t N>
+std::string checked_enum(std::string_view name, const std::string& text, const api::EnumName<E> (&table)[N]) {
+    if (!api::enum_from_name(table, text))
+        throw UsageError{std::string(name) + ": unknown value \"" + text + "\" (allowed: " + api::enum_names(table) +
+                         ")"};
+    return text;
+}
+
+//! The option loop of every command: splits "--name=value" and hands each argument to `handle(arg, inline_value)`,
+//! which takes the value it needs (Args::value); a value left over is an error ("--normals=yes"). `handle` returns
+//! false when the command is done (it printed its help); so does this.
+template <class Handle>
+bool for_each_argument(Args& args, Handle&& handle) {
+    while (!args.done()) {
+        std::string arg = args.next();
+        std::optional<std::string> inline_value;
+        if (const auto eq = arg.find('='); arg.starts_with("--") && eq != std::string::npos) {
+            inline_value = arg.substr(eq + 1);
+            arg.resize(eq);
+        }
+        if (!handle(arg, inline_value)) return false;
+        if (inline_value) throw UsageError{arg + " takes no value"};
+    }
+    return true;
+}
+
+//! Checks an option's value and returns the text to pass on, or throws a UsageError naming the option.
+using CheckValue = std::function<std::string(std::string_view option, const std::string& text)>;
+
+//! A number option as text, checked to parse (the operation checks its range).
+std::string checked_real(std::string_view name, const std::string& text);
+
+CheckValue integer(long long min, long long max);
+CheckValue real();
+CheckValue any_text();
+template <class E, std::size_t N>
+CheckValue one_of(const api::EnumName<E> (&table)[N]) {
+    return [&table](std::string_view option, const std::string& text) { return checked_enum(option, text, table); };
+}
+
+//! An option of a file command: "--name VALUE" (checked by `check`), or a switch "--name" (no `check`).
+struct Option {
+    std::string_view name;
+    //! The query parameter it becomes (a switch's value is `switch_value`); empty: the command reads it itself.
+    std::string_view param;
+    CheckValue check;
+    std::string_view switch_value = "true";
+};
+
+//! A switch: "--name" (no value) gives query parameter `param`, if any, the value `value`.
+Option flag(std::string_view name, std::string_view param = "", std::string_view value = "true");
+
+//! The arguments of `COMMAND IN -o OUT [options]`: the options given, each with its last (checked) value.
+struct Parsed {
+    std::string input, output;
+    std::map<std::string, std::string, std::less<>> given;  //!< by option name; "" for switches
+
+    bool has(std::string_view name) const { return given.find(name) != given.end(); }
+    //! The value of an option that `has` been given.
+    const std::string& value(std::string_view name) const { return given.find(name)->second; }
+};
+
+//! Parses the arguments of a file command against its `options`, with the wording every command shares: -h/--help
+//! prints `help` (nullopt: the command is done), -o/--output, unknown options, one IN (`input_name` when missing),
+//! OUT required.
+std::optional<Parsed> parse_file_command(Args& args, const std::string& command, std::string_view help,
+                                         const std::vector<Option>& options,
+                                         const std::string& input_name = "input file");
+
+}  // namespace surfaced::cli

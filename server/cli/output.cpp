@@ -1,0 +1,28 @@
+#include "server/cli/output.h"
+
+namespace surfaced::cli {
+
+std::string header(const api::ApiResponse& response, std::string_view name) {
+    for (const auto& [key, value] : response.headers)
+        if (key == name) return value;
+    return "?";
+}
+
+void print_repairs(const Parsed& parsed, const api::ApiResponse& response) {
+    const std::string repairs = header(response, "X-Repairs");
+    if (repairs == "?") return;
+    bool any = false;
+    for (std::size_t at = repairs.find('='); at != std::string::npos; at = repairs.find('=', at + 1)) {
+        const std::size_t name = repairs.rfind(' ', at) == std::string::npos ? 0 : repairs.rfind(' ', at) + 1;
+        if (repairs.compare(name, at - name, "components") != 0 && repairs[at + 1] != '0') any = true;
+    }
+    if (any) std::cerr << "repaired " << parsed.input << ": " << repairs << "\n";
+}
+
+void print_triangulated_result(const Parsed& parsed, const api::ApiResponse& response) {
+    std::cout << "wrote " << parsed.output << ": " << header(response, "X-Output-Faces") << " triangles, "
+              << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
+              << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "") << ")";
+}
+
+}  // namespace surfaced::cli
