@@ -34,13 +34,35 @@ CheckValue any_text() {
     return [](std::string_view, const std::string& text) { return text; };
 }
 
+CheckValue one_of_names(std::vector<std::string_view> allowed) {
+    return [allowed = std::move(allowed)](std::string_view option, const std::string& text) {
+        for (const std::string_view name : allowed)
+            if (text == name) return text;
+        std::string list;
+        for (const std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
+        throw UsageError{std::string(option) + ": unknown value \"" + text + "\" (allowed: " + list + ")"};
+    };
+}
+
 Option flag(std::string_view name, std::string_view param, std::string_view value) {
     return Option{name, param, nullptr, value};
+}
+
+std::optional<std::string> Parsed::option_for_field(std::string_view field) const {
+    for (const auto& [name, option] : option_by_field) {
+        if (field == name) return option;
+        // an element of the option's value, or the option inside an object ("output.quantize_position")
+        if (field.starts_with(name) && (field[name.size()] == '[' || field[name.size()] == '.')) return option;
+        if (field.size() > name.size() && field.ends_with(name) && field[field.size() - name.size() - 1] == '.')
+            return option;
+    }
+    return std::nullopt;
 }
 
 std::optional<Parsed> parse_file_command(Args& args, const std::string& command, std::string_view help,
                                          const std::vector<Option>& options, const std::string& input_name) {
     Parsed parsed;
+    parsed.command = command;
     const bool complete = for_each_argument(args, [&](const std::string& arg,
                                                       std::optional<std::string>& inline_value) {
         if (arg == "-h" || arg == "--help") {
@@ -54,6 +76,10 @@ std::optional<Parsed> parse_file_command(Args& args, const std::string& command,
         for (const Option& option : options)
             if (arg == option.name) {
                 parsed.given[arg] = option.check ? option.check(arg, args.value(arg, inline_value)) : std::string();
+                std::string field(option.param);
+                if (field.empty())
+                    for (const char c : option.name.substr(2)) field += c == '-' ? '_' : c;
+                parsed.option_by_field[field] = arg;
                 return true;
             }
         if (arg.starts_with("-") && arg != "-") throw UsageError{command + ": unknown option \"" + arg + "\""};

@@ -16,6 +16,9 @@
 
 namespace surfaced::cli {
 
+//! The exit codes of every command (listed in `surfaced --help`): the operation succeeded; the operation failed (its
+//! problem: the input's geometry, a budget, a file that cannot be read or written); the command line is wrong (an
+//! unknown command, option or value, a missing or out-of-range argument), whichever command it is.
 constexpr int kExitOk = 0;
 constexpr int kExitFailed = 1;
 constexpr int kExitUsage = 2;
@@ -81,6 +84,9 @@ std::string checked_real(std::string_view name, const std::string& text);
 CheckValue integer(long long min, long long max);
 CheckValue real();
 CheckValue any_text();
+//! One of `allowed` (for choices that have no table in api/dto.h).
+CheckValue one_of_names(std::vector<std::string_view> allowed);
+
 template <class E, std::size_t N>
 CheckValue one_of(const api::EnumName<E> (&table)[N]) {
     return [&table](std::string_view option, const std::string& text) { return checked_enum(option, text, table); };
@@ -100,8 +106,17 @@ Option flag(std::string_view name, std::string_view param = "", std::string_view
 
 //! The arguments of `COMMAND IN -o OUT [options]`: the options given, each with its last (checked) value.
 struct Parsed {
+    std::string command;
     std::string input, output;
     std::map<std::string, std::string, std::less<>> given;  //!< by option name; "" for switches
+    //! The options given, by the request field or query parameter they set: the parameter they become, else their
+    //! name without "--" and with '_' for '-' ("--cell-size": "cell_size"). A 400 problem about one of these is a
+    //! bad value on the command line.
+    std::map<std::string, std::string, std::less<>> option_by_field;
+
+    //! The given option whose value a problem's `field` names ("ratio", "locked_vertices[3]", "output.normals"),
+    //! if any.
+    std::optional<std::string> option_for_field(std::string_view field) const;
 
     bool has(std::string_view name) const { return given.find(name) != given.end(); }
     //! The value of an option that `has` been given.

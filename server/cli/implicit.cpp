@@ -40,12 +40,7 @@ int implicit(Args& args) {
     const std::vector<Option> options = {
         {"--resolution", "", integer(2, 65536)},
         {"--cell-size", "", real()},
-        {"--mode", "",
-         [](std::string_view, const std::string& text) {
-             if (text != "uniform" && text != "adaptive")
-                 throw UsageError{"--mode: unknown value \"" + text + "\" (allowed: uniform, adaptive)"};
-             return text;
-         }},
+        {"--mode", "", one_of_names({"uniform", "adaptive"})},
         {"--simplify-tolerance", "", real()},
         {"--max-grid-cells", "", integer(1, 1'000'000'000'000LL)},
         {"--quantize-position", "", integer(1, 24)},

@@ -132,12 +132,7 @@ int subdivide(Args& args) {
     if (!parsed) return kExitOk;
     const MeshFormat in_format = mesh_input_format(parsed->input);
     const api::OutputFormat out_format = mesh_output_format(parsed->output);
-    if (parsed->has("--quantize-position") && !is_gltf(out_format))
-        throw UsageError{"--quantize-position applies only to .glb and .gltf output"};
-    if (parsed->has("--quantize-position") && parsed->has("--no-draco"))
-        throw UsageError{"--quantize-position applies only with Draco (drop --no-draco)"};
-    if (parsed->has("--normals") && out_format == api::OutputFormat::Json)
-        throw UsageError{"--normals is not available for .json output"};
+    check_mesh_output_options(*parsed, out_format);
     if (parsed->has("--max-output-faces"))
         context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
@@ -161,7 +156,7 @@ int simplify(Args& args) {
         {"--threads", "threads", integer(1, 2)},
         {"--locked-vertices", "locked_vertices", any_text()},
         flag("--report-error", "report_error"),
-        {"--repair", "repair", any_text()},
+        {"--repair", "repair", one_of(api::kRepairModeNames)},
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),
@@ -192,9 +187,9 @@ int remesh(Args& args) {
         {"--edge-length", "edge_length", real()},
         {"--iterations", "iterations", integer(0, 100)},
         {"--feature-angle", "feature_angle", real()},
-        {"--smoothing", "smoothing", any_text()},
+        {"--smoothing", "smoothing", one_of_names({"tangential", "laplacian", "none"})},
         flag("--free-boundary", "keep_boundary", "false"),
-        {"--repair", "repair", any_text()},
+        {"--repair", "repair", one_of(api::kRepairModeNames)},
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),

@@ -8,6 +8,29 @@ std::string header(const api::ApiResponse& response, std::string_view name) {
     return "?";
 }
 
+int print_problem(const api::ApiResponse& response, const Parsed& parsed, ProblemStyle style) {
+    const auto& problem = response.error;
+    if (!problem) {
+        std::cerr << "surfaced: " << parsed.input << ": failed with status " << response.status << "\n";
+        return kExitFailed;
+    }
+    if (response.status == 400 && problem->field)
+        if (const auto option = parsed.option_for_field(*problem->field)) {
+            std::cerr << "surfaced: " << parsed.command << " " << *option << ": " << problem->detail << "\n";
+            return kExitUsage;
+        }
+    std::cerr << "surfaced: " << parsed.input << ": ";
+    if (style.field && problem->field && !problem->field->empty() && !problem->detail.starts_with(*problem->field))
+        std::cerr << *problem->field << ": ";
+    std::cerr << problem->detail;
+    if (style.line && problem->line)
+        std::cerr << " (line " << *problem->line << ")";
+    else if (style.offset && problem->offset)
+        std::cerr << " (byte offset " << *problem->offset << ")";
+    std::cerr << " [" << problem->code << "]\n";
+    return kExitFailed;
+}
+
 void print_repairs(const Parsed& parsed, const api::ApiResponse& response) {
     const std::string repairs = header(response, "X-Repairs");
     if (repairs == "?") return;

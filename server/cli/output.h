@@ -21,28 +21,16 @@ struct ProblemStyle {
     bool offset = true;  //!< (when there is no line)
 };
 
-//! The end of every file command: a problem is printed (exit 1); a result is written to OUT and `summary(response)`
-//! printed (exit 0).
+//! A failed operation's problem on stderr: "surfaced: IN: [field: ]detail[ (line N)][ (byte offset N)] [code]"
+//! (exit 1), or, when it is a 400 about the value of an option given ("ratio must be in (0, 1]"), the same mistake
+//! as an out-of-range value the command line checks itself: "surfaced: COMMAND --option: detail" (exit 2).
+int print_problem(const api::ApiResponse& response, const Parsed& parsed, ProblemStyle style);
+
+//! The end of every file command: a problem is printed (exit 1 or 2: print_problem); a result is written to OUT and
+//! `summary(response)` printed (exit 0).
 template <class Summary>
 int finish(const api::ApiResponse& response, const Parsed& parsed, Summary&& summary, ProblemStyle style = {}) {
-    if (response.status >= 400) {
-        std::cerr << "surfaced: " << parsed.input << ": ";
-        if (const auto& problem = response.error) {
-            if (style.field && problem->field && !problem->field->empty() &&
-                !problem->detail.starts_with(*problem->field))
-                std::cerr << *problem->field << ": ";
-            std::cerr << problem->detail;
-            if (style.line && problem->line)
-                std::cerr << " (line " << *problem->line << ")";
-            else if (style.offset && problem->offset)
-                std::cerr << " (byte offset " << *problem->offset << ")";
-            std::cerr << " [" << problem->code << "]";
-        } else {
-            std::cerr << "failed with status " << response.status;
-        }
-        std::cerr << "\n";
-        return kExitFailed;
-    }
+    if (response.status >= 400) return print_problem(response, parsed, style);
     std::string error;
     if (!write_file(parsed.output, response.body, error)) {
         std::cerr << "surfaced: " << error << "\n";

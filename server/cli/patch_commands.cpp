@@ -26,7 +26,7 @@ Options:
   --tolerance T             guaranteed maximum distance between triangles and surface (model units)
   --segments N              segments along each direction of every patch (default 8)
   --no-draco                write an uncompressed .glb
-  --quantize-position BITS  Draco position quantization, 1..30 (default 14; .glb only)
+  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb only)
   --no-normals              leave out vertex normals
   --max-output-faces N      refuse if the result could have more triangles (default 4000000)
   -h, --help                this text
@@ -64,7 +64,7 @@ int tessellate(Args& args) {
              return text;
          }},
         {"--segments", "segments", integer(1, 1'000'000)},
-        {"--quantize-position", "quantize_position", integer(1, 30)},
+        {"--quantize-position", "quantize_position", integer(1, 24)},
         {"--max-output-faces", "", integer(1, 4'000'000'000LL)},
         flag("--no-draco"),
         flag("--no-normals", "normals", "false"),
@@ -110,12 +110,7 @@ int curve(Args& args) {
     const std::vector<Option> options = {
         {"--tolerance", "", real()},
         flag("--continuity"),
-        {"--enforce-c1", "",
-         [](std::string_view, const std::string& text) {
-             if (text != "C1" && text != "G1")
-                 throw UsageError{"--enforce-c1: unknown value \"" + text + "\" (allowed: C1, G1)"};
-             return text;
-         }},
+        {"--enforce-c1", "", one_of_names({"C1", "G1"})},
     };
     const auto parsed = parse_file_command(args, "curve", kCurveHelp, options, "IN.json or IN.svg");
     if (!parsed) return kExitOk;

@@ -32,7 +32,12 @@ Usage:
   surfaced <command> --help                   options of a command
   surfaced --help | --version
 
-Exit codes: 0 success, 1 the operation failed, 2 bad usage.
+Exit codes (the same in every command):
+  0  success
+  1  the operation failed: the input's geometry or format, a budget (--max-output-faces, levels, grid cells), a
+     file that cannot be read or written; the problem is printed on stderr with its line, offset or field
+  2  bad usage: an unknown command, option or value, a missing argument, a value out of its range or not
+     applicable to the output format
 )";
 
 }  // namespace

@@ -114,15 +114,13 @@ bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::s
     } else if (arg == "--drain-delay-ms") {
         config.drain_delay_ms = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 0, 600'000));
     } else if (arg == "--access-log") {
-        const std::string where = args.value(arg, inline_value);
+        const std::string where = one_of_names({"off", "stdout", "stderr"})(arg, args.value(arg, inline_value));
         if (where == "off")
             config.access_log = server::ServerConfig::AccessLog::Off;
         else if (where == "stdout")
             config.access_log = server::ServerConfig::AccessLog::Stdout;
-        else if (where == "stderr")
-            config.access_log = server::ServerConfig::AccessLog::Stderr;
         else
-            throw UsageError{"--access-log: unknown value \"" + where + "\" (allowed: off, stdout, stderr)"};
+            config.access_log = server::ServerConfig::AccessLog::Stderr;
     } else if (arg == "--auth-token-file") {
         options.auth_token_file = args.value(arg, inline_value);
     } else if (arg == "--cors-origin") {

@@ -1,0 +1,112 @@
+// The `surfaced` binary as a user runs it: exit codes that mean the same in every command, suggestions for
+// misspelt options and values, standard input and output.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "tests/support/mesh_asserts.h"
+
+namespace surfaced {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+class SurfacedCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::random_device rd;
+        dir_ = fs::temp_directory_path() / ("surfaced-cli-" + std::to_string(rd()));
+        fs::create_directories(dir_);
+        std::ofstream(dir_ / "cube.obj", std::ios::binary) << write_obj(shapes::cube());
+        std::ofstream(dir_ / "torus.obj", std::ios::binary) << write_obj(shapes::torus(24, 12));
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+
+    //! Runs `surfaced ARGS` (with standard input from `stdin_file` in dir_, if given); stdout and stderr captured.
+    CliRun run(const std::string& args, const std::string& stdin_file = "") const {
+        const fs::path out = dir_ / "stdout.bin", err = dir_ / "stderr.txt";
+        std::string command =
+            std::string("'") + SURFACED_CLI_PATH + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
+        if (!stdin_file.empty()) command += " <'" + (dir_ / stdin_file).string() + "'";
+        const int status = std::system(command.c_str());
+        return CliRun{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+    }
+    std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
+
+    fs::path dir_;
+};
+
+TEST_F(SurfacedCli, AGeometricFailureExits1WithTheProblem) {
+    // Loop subdivision needs triangles: the operation refuses the cube's quads
+    const CliRun r = run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --scheme loop");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.err, "not_triangle_mesh")) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "x.obj"));
+    // and a budget: more levels than the limit
+    EXPECT_EQ(run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --levels 12").exit_code, 1);
+}
+
+TEST_F(SurfacedCli, TheSameMistakeExitsTheSameInEveryCommand) {
+    // an out-of-range Draco quantization, whichever command: usage (2)
+    const CliRun subdivide = run("subdivide " + path("cube.obj") + " -o " + path("x.glb") + " --quantize-position 25");
+    const CliRun tessellate = run("tessellate sample:teapot -o " + path("x.glb") + " --quantize-position 25");
+    const CliRun simplify =
+        run("simplify " + path("torus.obj") + " -o " + path("x.glb") + " --ratio 0.5 --quantize-position 25");
+    for (const CliRun* r : {&subdivide, &tessellate, &simplify}) {
+        EXPECT_EQ(r->exit_code, 2) << r->err;
+        EXPECT_TRUE(contains(r->err, "--quantize-position")) << r->err;
+    }
+    // a value only the operation checks (simplify's ratio, remesh's feature angle, repair's weld tolerance, the
+    // implicit cell size): the same usage error, naming the option
+    const CliRun ratio = run("simplify " + path("torus.obj") + " -o " + path("x.obj") + " --ratio 2");
+    EXPECT_EQ(ratio.exit_code, 2);
+    EXPECT_TRUE(contains(ratio.err, "simplify --ratio: ")) << ratio.err;
+    const CliRun angle = run("remesh " + path("torus.obj") + " -o " + path("x.obj") + " --feature-angle 200");
+    EXPECT_EQ(angle.exit_code, 2);
+    EXPECT_TRUE(contains(angle.err, "remesh --feature-angle: ")) << angle.err;
+    EXPECT_EQ(run("repair " + path("torus.obj") + " -o " + path("x.obj") + " --weld-tolerance -1").exit_code, 2);
+    // an unknown value of --repair, in both commands that take it
+    EXPECT_EQ(run("simplify " + path("torus.obj") + " -o " + path("x.obj") + " --ratio 0.5 --repair maybe").exit_code,
+              2);
+    EXPECT_EQ(run("remesh " + path("torus.obj") + " -o " + path("x.obj") + " --repair maybe").exit_code, 2);
+    // an option that does not apply to the output format
+    EXPECT_EQ(run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --quantize-position 12").exit_code, 2);
+    EXPECT_EQ(run("remesh " + path("torus.obj") + " -o " + path("x.obj") + " --quantize-position 12").exit_code, 2);
+}
+
+TEST_F(SurfacedCli, HelpListsTheExitCodes) {
+    const CliRun help = run("--help");
+    EXPECT_EQ(help.exit_code, 0);
+    EXPECT_TRUE(contains(help.out, "Exit codes")) << help.out;
+    EXPECT_TRUE(contains(help.out, "  2  bad usage")) << help.out;
+}
+
+}  // namespace
+}  // namespace surfaced
