@@ -49,11 +49,26 @@ private:
 
 long long parse_number(std::string_view name, const std::string& text, long long min, long long max);
 
+//! The word of `known` closest to `typed` by edit distance (insertions, deletions, substitutions, swaps of two
+//! neighbours), when it is close enough to be a typo of it; nullopt otherwise.
+std::optional<std::string_view> closest_match(std::string_view typed, const std::vector<std::string_view>& known);
+
+//! `option`'s error for `text` not among `allowed`: "--scheme: unknown value "catmul-clark" (did you mean
+//! "catmull-clark"? allowed: "catmull-clark", "loop")".
+UsageError unknown_value(std::string_view option, const std::string& text,
+                         const std::vector<std::string_view>& allowed);
+
+//! The error for an unknown option `arg` of `command` with its `known` options: "subdivide: unknown option
+//! "--levle" (did you mean --levels?)".
+UsageError unknown_option(std::string_view command, const std::string& arg, const std::vector<std::string_view>& known);
+
 template <class E, std::size_t N>
 std::string checked_enum(std::string_view name, const std::string& text, const api::EnumName<E> (&table)[N]) {
-    if (!api::enum_from_name(table, text))
-        throw UsageError{std::string(name) + ": unknown value \"" + text + "\" (allowed: " + api::enum_names(table) +
-                         ")"};
+    if (!api::enum_from_name(table, text)) {
+        std::vector<std::string_view> allowed;
+        for (const auto& entry : table) allowed.push_back(entry.name);
+        throw unknown_value(name, text, allowed);
+    }
     return text;
 }
 

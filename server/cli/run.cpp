@@ -3,6 +3,7 @@
 #include <iostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "server/cli.h"
 #include "server/cli/commands.h"
@@ -40,6 +41,9 @@ Exit codes (the same in every command):
      applicable to the output format
 )";
 
+const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
+                                                 "remesh", "repair",      "implicit",  "pointcloud", "curve"};
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -68,9 +72,13 @@ int run(int argc, char** argv) {
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
         if (command == "curve") return curve(args);
-        throw UsageError{"unknown command \"" + command +
-                         "\" (commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, "
-                         "pointcloud, curve; see surfaced --help)"};
+        std::string message = "unknown command \"" + command + "\" (";
+        if (const auto match = closest_match(command, kCommands))
+            message += "did you mean " + std::string(*match) + "? ";
+        message +=
+            "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
+            "curve; see surfaced --help)";
+        throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";
         return kExitUsage;

@@ -129,7 +129,28 @@ bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::s
             throw UsageError{"--cors-origin: \"" + origin + "\" is not an origin (scheme://host[:port], or *)"};
         config.cors_origins.push_back(origin);
     } else {
-        throw UsageError{"serve: unknown argument \"" + arg + "\""};
+        if (!arg.starts_with("-")) throw UsageError{"serve: unexpected argument \"" + arg + "\""};
+        throw unknown_option("serve", arg,
+                             {"--host",
+                              "--port",
+                              "--threads",
+                              "--queue",
+                              "--deadline-ms",
+                              "--keep-alive-max",
+                              "--keep-alive-timeout",
+                              "--header-timeout",
+                              "--body-timeout",
+                              "--body-min-rate",
+                              "--drain-timeout",
+                              "--drain-delay-ms",
+                              "--access-log",
+                              "--auth-token-file",
+                              "--cors-origin",
+                              "--web-root",
+                              "--max-body-mb",
+                              "--max-levels",
+                              "--max-output-faces",
+                              "--help"});
     }
     return true;
 }
@@ -252,7 +273,8 @@ int healthcheck(Args& args) {
                 if (!path.starts_with("/") || path.find_first_of("\r\n ") != std::string::npos)
                     throw UsageError{"--path must start with / and contain no spaces"};
             } else {
-                throw UsageError{"healthcheck: unknown argument \"" + arg + "\""};
+                if (!arg.starts_with("-")) throw UsageError{"healthcheck: unexpected argument \"" + arg + "\""};
+                throw unknown_option("healthcheck", arg, {"--host", "--port", "--timeout", "--path", "--help"});
             }
             return true;
         });

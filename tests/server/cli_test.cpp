@@ -101,6 +101,29 @@ TEST_F(SurfacedCli, TheSameMistakeExitsTheSameInEveryCommand) {
     EXPECT_EQ(run("remesh " + path("torus.obj") + " -o " + path("x.obj") + " --quantize-position 12").exit_code, 2);
 }
 
+TEST_F(SurfacedCli, MisspeltOptionsAndValuesGetASuggestion) {
+    const CliRun option = run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --levle 2");
+    EXPECT_EQ(option.exit_code, 2);
+    EXPECT_TRUE(contains(option.err, "unknown option \"--levle\" (did you mean --levels?)")) << option.err;
+    const CliRun value = run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --scheme catmul-clark");
+    EXPECT_EQ(value.exit_code, 2);
+    EXPECT_TRUE(contains(value.err, "--scheme: unknown value \"catmul-clark\" (did you mean \"catmull-clark\"?"))
+        << value.err;
+    EXPECT_FALSE(fs::exists(dir_ / "x.obj"));
+    // the same in the commands with their own option loops, and for the command itself
+    const CliRun serve = run("serve --prot 8080");
+    EXPECT_EQ(serve.exit_code, 2);
+    EXPECT_TRUE(contains(serve.err, "did you mean --port?")) << serve.err;
+    const CliRun command = run("simplfy " + path("torus.obj"));
+    EXPECT_EQ(command.exit_code, 2);
+    EXPECT_TRUE(contains(command.err, "did you mean simplify?")) << command.err;
+    // nothing close: no suggestion, the allowed values
+    const CliRun far = run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --scheme sqrt3");
+    EXPECT_EQ(far.exit_code, 2);
+    EXPECT_FALSE(contains(far.err, "did you mean")) << far.err;
+    EXPECT_TRUE(contains(far.err, "allowed: \"catmull-clark\", \"loop\"")) << far.err;
+}
+
 TEST_F(SurfacedCli, HelpListsTheExitCodes) {
     const CliRun help = run("--help");
     EXPECT_EQ(help.exit_code, 0);
