@@ -129,6 +129,11 @@ std::optional<Parsed> parse_file_command(Args& args, const std::string& command,
             parsed.output = args.value(arg, inline_value);
             return true;
         }
+        if (arg == "--format") {
+            parsed.given[arg] = args.value(arg, inline_value);
+            parsed.option_by_field["format"] = arg;
+            return true;
+        }
         for (const Option& option : options)
             if (arg == option.name) {
                 parsed.given[arg] = option.check ? option.check(arg, args.value(arg, inline_value)) : std::string();
@@ -139,7 +144,7 @@ std::optional<Parsed> parse_file_command(Args& args, const std::string& command,
                 return true;
             }
         if (arg.starts_with("-") && arg != "-") {
-            std::vector<std::string_view> known = {"--output", "--help"};
+            std::vector<std::string_view> known = {"--output", "--format", "--help"};
             for (const Option& option : options) known.push_back(option.name);
             throw unknown_option(command, arg, known);
         }

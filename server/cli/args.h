@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cstddef>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <string>
@@ -134,13 +135,21 @@ struct Parsed {
     std::optional<std::string> option_for_field(std::string_view field) const;
 
     bool has(std::string_view name) const { return given.find(name) != given.end(); }
+    //! IN "-": standard input; OUT "-": standard output, and then the reports go to stderr.
+    bool from_stdin() const { return input == "-"; }
+    bool to_stdout() const { return output == "-"; }
+    //! Where the summary and the other human-readable reports go: stdout, unless it carries the output file.
+    std::ostream& report() const { return to_stdout() ? std::cerr : std::cout; }
+    //! IN and OUT as the messages name them.
+    std::string input_label() const { return from_stdin() ? "standard input" : input; }
+    std::string output_label() const { return to_stdout() ? "standard output" : output; }
     //! The value of an option that `has` been given.
     const std::string& value(std::string_view name) const { return given.find(name)->second; }
 };
 
 //! Parses the arguments of a file command against its `options`, with the wording every command shares: -h/--help
-//! prints `help` (nullopt: the command is done), -o/--output, unknown options, one IN (`input_name` when missing),
-//! OUT required.
+//! prints `help` (nullopt: the command is done), -o/--output, --format (the output format; see output_format()),
+//! unknown options, one IN (`input_name` when missing), OUT required. IN and OUT may be "-".
 std::optional<Parsed> parse_file_command(Args& args, const std::string& command, std::string_view help,
                                          const std::vector<Option>& options,
                                          const std::string& input_name = "input file");

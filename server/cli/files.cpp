@@ -1,13 +1,15 @@
 #include "server/cli/files.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <vector>
 
-#include "server/cli/args.h"
+#include "api/operations/request_forms.h"
 
 namespace surfaced::cli {
 
@@ -18,6 +20,16 @@ std::string lower_extension(const std::string& path) {
 }
 
 bool read_file(const std::string& path, std::string& out, std::string& error) {
+    if (path == "-") {
+        std::ostringstream buffer;
+        buffer << std::cin.rdbuf();
+        if (std::cin.bad()) {
+            error = "cannot read standard input";
+            return false;
+        }
+        out = std::move(buffer).str();
+        return true;
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         error = "cannot open " + path + ": " + std::strerror(errno);
@@ -34,6 +46,15 @@ bool read_file(const std::string& path, std::string& out, std::string& error) {
 }
 
 bool write_file(const std::string& path, std::string_view bytes, std::string& error) {
+    if (path == "-") {
+        std::cout.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        std::cout.flush();
+        if (!std::cout) {
+            error = "cannot write standard output";
+            return false;
+        }
+        return true;
+    }
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     if (!out) {
         error = "cannot create " + path + ": " + std::strerror(errno);
@@ -55,25 +76,50 @@ std::optional<std::string> read_input(const std::string& path) {
     return std::nullopt;
 }
 
-MeshFormat mesh_input_format(const std::string& input) {
-    const auto format = format_from_extension(input);
+std::optional<MeshFormat> mesh_input_format(const Parsed& parsed) {
+    if (parsed.has("--input-format")) return format_from_extension("." + parsed.value("--input-format"));
+    if (parsed.from_stdin()) return std::nullopt;
+    const auto format = format_from_extension(parsed.input);
     if (!format)
-        throw UsageError{"cannot tell the format of " + input +
-                         " from its extension (use .obj .off .ply .stl .glb .gltf)"};
+        throw UsageError{"cannot tell the format of " + parsed.input +
+                         " from its extension (use .obj .off .ply .stl .glb .gltf, or --input-format)"};
     return *format;
 }
 
-api::OutputFormat output_format(const std::string& output, std::initializer_list<api::OutputFormat> allowed,
-                                std::string_view listed) {
-    const std::string ext = lower_extension(output);
-    for (const api::OutputFormat format : allowed)
-        if (ext == "." + std::string(api::enum_name(api::kOutputFormatNames, format))) return format;
-    throw UsageError{"cannot tell the output format of " + output + " from its extension (use " + std::string(listed) +
-                     ")"};
+MeshFormat sniff_mesh_format(std::string_view bytes) {
+    if (const auto format = api::operations::mesh_format_for("application/octet-stream", bytes)) return *format;
+    throw UsageError{
+        "cannot tell the mesh format of standard input from its bytes (give --input-format: obj, off, "
+        "ply, stl, glb, gltf)"};
 }
-api::OutputFormat mesh_output_format(const std::string& output) {
+
+api::OutputFormat output_format(const Parsed& parsed, std::initializer_list<api::OutputFormat> allowed) {
+    std::vector<std::string_view> names;
+    for (const api::OutputFormat format : allowed) names.push_back(api::enum_name(api::kOutputFormatNames, format));
+    std::string listed, extensions;  // "obj ply", ".obj .ply"
+    for (const std::string_view name : names) {
+        listed += (listed.empty() ? "" : " ") + std::string(name);
+        extensions += (extensions.empty() ? "." : " .") + std::string(name);
+    }
+    std::string name;
+    if (parsed.has("--format")) {
+        name = parsed.value("--format");
+        if (std::find(names.begin(), names.end(), name) == names.end()) throw unknown_value("--format", name, names);
+    } else if (parsed.to_stdout()) {
+        throw UsageError{parsed.command + ": -o - (standard output) needs --format (" + listed + ")"};
+    } else {
+        name = lower_extension(parsed.output);
+        if (name.starts_with(".")) name.erase(0, 1);
+        if (std::find(names.begin(), names.end(), name) == names.end())
+            throw UsageError{"cannot tell the output format of " + parsed.output + " from its extension (use " +
+                             extensions + ", or --format)"};
+    }
+    return *api::enum_from_name(api::kOutputFormatNames, name);
+}
+
+api::OutputFormat mesh_output_format(const Parsed& parsed) {
     using enum api::OutputFormat;
-    return output_format(output, {Obj, Ply, Glb, Gltf, Json}, ".obj .ply .glb .gltf .json");
+    return output_format(parsed, {Obj, Ply, Glb, Gltf, Json});
 }
 
 bool is_gltf(api::OutputFormat format) { return format == api::OutputFormat::Glb || format == api::OutputFormat::Gltf; }

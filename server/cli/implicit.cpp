@@ -21,7 +21,8 @@ surface meets the bounds it is closed by flat caps. SCENE.json is a request body
   OUT: .obj .ply .glb .gltf .json
 
 Options:
-  -o, --output OUT            output file (required)
+  -o, --output OUT            output file (required); - for standard output
+  --format F                  output format instead of OUT's extension: obj ply glb gltf json (needed with -o -)
   --resolution N              cells along the longest side of the bounds (default: the file's, else 64)
   --cell-size H               cell size instead of a resolution
   --mode M                    uniform (default) or adaptive (skips empty space: cost follows the surface)
@@ -51,7 +52,7 @@ int implicit(Args& args) {
     if (!parsed) return kExitOk;
     if (parsed->has("--resolution") && parsed->has("--cell-size"))
         throw UsageError{"give --resolution or --cell-size, not both"};
-    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    const api::OutputFormat out_format = mesh_output_format(*parsed);
     check_mesh_output_options(*parsed, out_format);
     // The overrides implicit_mesh_from_file lays over the file's request.
     api::operations::ImplicitMeshOverrides overrides;
@@ -72,11 +73,11 @@ int implicit(Args& args) {
     return finish(
         api::operations::implicit_mesh_from_file(*bytes, overrides, context), *parsed,
         [&](const api::ApiResponse& response) {
-            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Faces") << " triangles, "
-                      << header(response, "X-Output-Vertices") << " vertices, grid " << header(response, "X-Grid")
-                      << " (" << header(response, "X-Surface-Cells") << " surface cells, "
-                      << header(response, "X-Field-Evaluations") << " field evaluations), in "
-                      << header(response, "X-Elapsed-Ms") << " ms\n";
+            parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Faces")
+                             << " triangles, " << header(response, "X-Output-Vertices") << " vertices, grid "
+                             << header(response, "X-Grid") << " (" << header(response, "X-Surface-Cells")
+                             << " surface cells, " << header(response, "X-Field-Evaluations")
+                             << " field evaluations), in " << header(response, "X-Elapsed-Ms") << " ms\n";
         },
         ProblemStyle{.field = true, .line = false, .offset = true});
 }

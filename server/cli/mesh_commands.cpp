@@ -1,6 +1,7 @@
 // The mesh file commands: `surfaced subdivide`, `simplify`, `remesh` and `repair`, each the raw-file form of its
 // POST endpoint.
 #include <iostream>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -9,6 +10,8 @@
 
 namespace surfaced::cli {
 namespace {
+
+CheckValue mesh_input_formats() { return one_of_names({"obj", "off", "ply", "stl", "glb", "gltf"}); }
 
 constexpr std::string_view kSubdivideHelp = R"(Usage: surfaced subdivide IN -o OUT [options]
 
@@ -19,7 +22,9 @@ Formats come from the file extensions:
        data embedded) .json ({"mesh": ..., "stats": ...})
 
 Options:
-  -o, --output OUT          output file (required)
+  -o, --output OUT          output file (required); - for standard output
+  --format F                output format instead of OUT's extension: obj ply glb gltf json (needed with -o -)
+  --input-format F          IN's format instead of its extension: obj off ply stl glb gltf (IN -: sniffed)
   --scheme S                catmull-clark (default) or loop (triangle meshes only)
   --levels N                refinement levels (default 1)
   --boundary B              edge-only, edge-and-corner or none (default: the file's
@@ -46,7 +51,9 @@ POST /simplify. Polygons are triangulated first. Stops at whichever of the given
   IN:  .obj .off .ply .stl .glb .gltf  OUT: .obj .ply .glb .gltf .json
 
 Options:
-  -o, --output OUT          output file (required)
+  -o, --output OUT          output file (required); - for standard output
+  --format F                output format instead of OUT's extension: obj ply glb gltf json (needed with -o -)
+  --input-format F          IN's format instead of its extension: obj off ply stl glb gltf (IN -: sniffed)
   --target-faces N          stop at N triangles or fewer
   --ratio R                 stop at R times the input's triangles, 0 < R <= 1
   --max-error E             keep the Hausdorff distance to the input <= E (model units)
@@ -74,7 +81,9 @@ edges and the boundary are kept. Prints the triangle quality before and after an
   IN:  .obj .off .ply .stl .glb .gltf  OUT: .obj .ply .glb .gltf .json
 
 Options:
-  -o, --output OUT          output file (required)
+  -o, --output OUT          output file (required); - for standard output
+  --format F                output format instead of OUT's extension: obj ply glb gltf json (needed with -o -)
+  --input-format F          IN's format instead of its extension: obj off ply stl glb gltf (IN -: sniffed)
   --edge-length L           target edge length in model units (default: the input's mean edge length)
   --iterations K            rounds of split/collapse/flip/relax, 0..100 (default 10)
   --feature-angle DEG       dihedral angle above which an edge is sharp, 0..180 (default 60; 180: none)
@@ -98,7 +107,9 @@ holes. Prints what it did.
   IN:  .obj .off .ply .stl .glb        OUT: .obj .ply .glb .gltf .json
 
 Options:
-  -o, --output OUT          output file (required)
+  -o, --output OUT          output file (required); - for standard output
+  --format F                output format instead of OUT's extension: obj ply glb gltf json (needed with -o -)
+  --input-format F          IN's format instead of its extension: obj off ply stl glb gltf (IN -: sniffed)
   --weld-tolerance D        also weld vertices closer than D (model units; default 0: identical positions only)
   --no-orient               leave the faces' orientation as it is
   --min-component-faces N   drop connected components with fewer than N faces (default 0: keep all)
@@ -127,21 +138,23 @@ int subdivide(Args& args) {
         {"--max-output-faces", "", integer(1, 4'000'000'000LL)},
         flag("--no-draco"),
         flag("--normals", "normals"),
+        {"--input-format", "", mesh_input_formats()},
     };
     const auto parsed = parse_file_command(args, "subdivide", kSubdivideHelp, options);
     if (!parsed) return kExitOk;
-    const MeshFormat in_format = mesh_input_format(parsed->input);
-    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    const std::optional<MeshFormat> in_format = mesh_input_format(*parsed);
+    const api::OutputFormat out_format = mesh_output_format(*parsed);
     check_mesh_output_options(*parsed, out_format);
     if (parsed->has("--max-output-faces"))
         context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
     return upload_mesh(
         "/subdivide", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
-            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Vertices") << " vertices, "
-                      << header(response, "X-Output-Faces") << " faces (from " << header(response, "X-Input-Vertices")
-                      << " vertices, " << header(response, "X-Input-Faces") << " faces) in "
-                      << header(response, "X-Elapsed-Ms") << " ms\n";
+            parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Vertices")
+                             << " vertices, " << header(response, "X-Output-Faces") << " faces (from "
+                             << header(response, "X-Input-Vertices") << " vertices, "
+                             << header(response, "X-Input-Faces") << " faces) in " << header(response, "X-Elapsed-Ms")
+                             << " ms\n";
         });
 }
 
@@ -160,25 +173,27 @@ int simplify(Args& args) {
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),
+        {"--input-format", "", mesh_input_formats()},
     };
     const auto parsed = parse_file_command(args, "simplify", kSimplifyHelp, options);
     if (!parsed) return kExitOk;
     if (!parsed->has("--target-faces") && !parsed->has("--ratio") && !parsed->has("--max-error"))
         throw UsageError{"simplify: give --target-faces, --ratio or --max-error"};
-    const MeshFormat in_format = mesh_input_format(parsed->input);
-    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    const std::optional<MeshFormat> in_format = mesh_input_format(*parsed);
+    const api::OutputFormat out_format = mesh_output_format(*parsed);
     check_mesh_output_options(*parsed, out_format);
 
-    return upload_mesh(
-        "/simplify", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
-            print_repairs(*parsed, response);
-            print_triangulated_result(*parsed, response);
-            std::cout << ", error " << header(response, "X-Achieved-Error") << " ("
-                      << header(response, "X-Relative-Error") << " of the bounding-box diagonal)";
-            if (parsed->has("--report-error"))
-                std::cout << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS " << header(response, "X-RMS");
-            std::cout << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
-        });
+    return upload_mesh("/simplify", *parsed, options, in_format, out_format, context,
+                       [&](const api::ApiResponse& response) {
+                           print_repairs(*parsed, response);
+                           print_triangulated_result(*parsed, response);
+                           parsed->report() << ", error " << header(response, "X-Achieved-Error") << " ("
+                                            << header(response, "X-Relative-Error") << " of the bounding-box diagonal)";
+                           if (parsed->has("--report-error"))
+                               parsed->report() << ", Hausdorff " << header(response, "X-Hausdorff") << ", RMS "
+                                                << header(response, "X-RMS");
+                           parsed->report() << ", in " << header(response, "X-Elapsed-Ms") << " ms\n";
+                       });
 }
 
 int remesh(Args& args) {
@@ -193,25 +208,27 @@ int remesh(Args& args) {
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),
+        {"--input-format", "", mesh_input_formats()},
     };
     const auto parsed = parse_file_command(args, "remesh", kRemeshHelp, options);
     if (!parsed) return kExitOk;
-    const MeshFormat in_format = mesh_input_format(parsed->input);
-    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    const std::optional<MeshFormat> in_format = mesh_input_format(*parsed);
+    const api::OutputFormat out_format = mesh_output_format(*parsed);
     check_mesh_output_options(*parsed, out_format);
 
     return upload_mesh(
         "/remesh", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
             print_repairs(*parsed, response);
             print_triangulated_result(*parsed, response);
-            std::cout << ", edge length " << header(response, "X-Edge-Length") << " (mean "
-                      << header(response, "X-Mean-Edge-Length-After") << "), min angle "
-                      << header(response, "X-Min-Angle-Before") << " -> " << header(response, "X-Min-Angle-After")
-                      << " deg, below 30 deg " << header(response, "X-Below-30-Before") << " -> "
-                      << header(response, "X-Below-30-After") << ", radius ratio "
-                      << header(response, "X-Radius-Ratio-Before") << " -> " << header(response, "X-Radius-Ratio-After")
-                      << ", Hausdorff " << header(response, "X-Hausdorff") << ", in "
-                      << header(response, "X-Elapsed-Ms") << " ms\n";
+            parsed->report() << ", edge length " << header(response, "X-Edge-Length") << " (mean "
+                             << header(response, "X-Mean-Edge-Length-After") << "), min angle "
+                             << header(response, "X-Min-Angle-Before") << " -> "
+                             << header(response, "X-Min-Angle-After") << " deg, below 30 deg "
+                             << header(response, "X-Below-30-Before") << " -> " << header(response, "X-Below-30-After")
+                             << ", radius ratio " << header(response, "X-Radius-Ratio-Before") << " -> "
+                             << header(response, "X-Radius-Ratio-After") << ", Hausdorff "
+                             << header(response, "X-Hausdorff") << ", in " << header(response, "X-Elapsed-Ms")
+                             << " ms\n";
         });
 }
 
@@ -225,20 +242,21 @@ int repair(Args& args) {
         {"--quantize-position", "quantize_position", integer(1, 24)},
         flag("--no-draco"),
         flag("--normals", "normals"),
+        {"--input-format", "", mesh_input_formats()},
     };
     const auto parsed = parse_file_command(args, "repair", kRepairHelp, options);
     if (!parsed) return kExitOk;
-    const MeshFormat in_format = mesh_input_format(parsed->input);
-    const api::OutputFormat out_format = mesh_output_format(parsed->output);
+    const std::optional<MeshFormat> in_format = mesh_input_format(*parsed);
+    const api::OutputFormat out_format = mesh_output_format(*parsed);
     check_mesh_output_options(*parsed, out_format);
 
     return upload_mesh(
         "/repair", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
-            std::cout << "wrote " << parsed->output << ": " << header(response, "X-Output-Faces") << " faces, "
-                      << header(response, "X-Output-Vertices") << " vertices (from "
-                      << header(response, "X-Input-Faces") << " faces, " << header(response, "X-Input-Vertices")
-                      << " vertices): " << header(response, "X-Repairs") << ", in " << header(response, "X-Elapsed-Ms")
-                      << " ms\n";
+            parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Faces")
+                             << " faces, " << header(response, "X-Output-Vertices") << " vertices (from "
+                             << header(response, "X-Input-Faces") << " faces, " << header(response, "X-Input-Vertices")
+                             << " vertices): " << header(response, "X-Repairs") << ", in "
+                             << header(response, "X-Elapsed-Ms") << " ms\n";
         });
 }
 

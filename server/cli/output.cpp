@@ -11,7 +11,7 @@ std::string header(const api::ApiResponse& response, std::string_view name) {
 int print_problem(const api::ApiResponse& response, const Parsed& parsed, ProblemStyle style) {
     const auto& problem = response.error;
     if (!problem) {
-        std::cerr << "surfaced: " << parsed.input << ": failed with status " << response.status << "\n";
+        std::cerr << "surfaced: " << parsed.input_label() << ": failed with status " << response.status << "\n";
         return kExitFailed;
     }
     if (response.status == 400 && problem->field)
@@ -19,7 +19,7 @@ int print_problem(const api::ApiResponse& response, const Parsed& parsed, Proble
             std::cerr << "surfaced: " << parsed.command << " " << *option << ": " << problem->detail << "\n";
             return kExitUsage;
         }
-    std::cerr << "surfaced: " << parsed.input << ": ";
+    std::cerr << "surfaced: " << parsed.input_label() << ": ";
     if (style.field && problem->field && !problem->field->empty() && !problem->detail.starts_with(*problem->field))
         std::cerr << *problem->field << ": ";
     std::cerr << problem->detail;
@@ -39,13 +39,13 @@ void print_repairs(const Parsed& parsed, const api::ApiResponse& response) {
         const std::size_t name = repairs.rfind(' ', at) == std::string::npos ? 0 : repairs.rfind(' ', at) + 1;
         if (repairs.compare(name, at - name, "components") != 0 && repairs[at + 1] != '0') any = true;
     }
-    if (any) std::cerr << "repaired " << parsed.input << ": " << repairs << "\n";
+    if (any) std::cerr << "repaired " << parsed.input_label() << ": " << repairs << "\n";
 }
 
 void print_triangulated_result(const Parsed& parsed, const api::ApiResponse& response) {
-    std::cout << "wrote " << parsed.output << ": " << header(response, "X-Output-Faces") << " triangles, "
-              << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
-              << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "") << ")";
+    parsed.report() << "wrote " << parsed.output_label() << ": " << header(response, "X-Output-Faces") << " triangles, "
+                    << header(response, "X-Output-Vertices") << " vertices (from " << header(response, "X-Input-Faces")
+                    << " faces" << (header(response, "X-Triangulated") == "true" ? ", triangulated first" : "") << ")";
 }
 
 }  // namespace surfaced::cli

@@ -27,7 +27,7 @@ struct ProblemStyle {
 int print_problem(const api::ApiResponse& response, const Parsed& parsed, ProblemStyle style);
 
 //! The end of every file command: a problem is printed (exit 1 or 2: print_problem); a result is written to OUT and
-//! `summary(response)` printed (exit 0).
+//! `summary(response)` printed on parsed.report() (exit 0).
 template <class Summary>
 int finish(const api::ApiResponse& response, const Parsed& parsed, Summary&& summary, ProblemStyle style = {}) {
     if (response.status >= 400) return print_problem(response, parsed, style);

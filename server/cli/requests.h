@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -32,15 +33,17 @@ api::ApiRequest upload_request(std::string path, std::string content_type, std::
 //! not the CLI's.
 api::ApiContext file_context();
 
-//! subdivide, simplify, remesh after their own checks: IN read and sent as the raw-file form of POST `path` with the
-//! query of the options given; then `finish`.
+//! subdivide, simplify, remesh, repair after their own checks: IN read and sent as the raw-file form of POST `path`
+//! with the query of the options given (`in_format` nullopt: sniffed from the bytes); then `finish`.
 template <class Summary>
-int upload_mesh(std::string path, const Parsed& parsed, const std::vector<Option>& options, MeshFormat in_format,
-                api::OutputFormat out_format, const api::ApiContext& context, Summary&& summary) {
+int upload_mesh(std::string path, const Parsed& parsed, const std::vector<Option>& options,
+                std::optional<MeshFormat> in_format, api::OutputFormat out_format, const api::ApiContext& context,
+                Summary&& summary) {
     const auto bytes = read_input(parsed.input);
     if (!bytes) return kExitFailed;
+    if (!in_format) in_format = sniff_mesh_format(*bytes);
     const api::ApiRequest request =
-        upload_request(std::move(path), std::string(api::enum_name(api::kMeshMediaTypes, in_format)), *bytes,
+        upload_request(std::move(path), std::string(api::enum_name(api::kMeshMediaTypes, *in_format)), *bytes,
                        file_query(parsed, options, out_format));
     return finish(api::dispatch(request, context), parsed, std::forward<Summary>(summary));
 }

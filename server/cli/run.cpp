@@ -33,6 +33,10 @@ Usage:
   surfaced <command> --help                   options of a command
   surfaced --help | --version
 
+IN - reads standard input (format from --input-format, else from the bytes); -o - writes standard output (with
+--format), and the summary and reports then go to stderr:
+  surfaced simplify - -o - --format obj --ratio 0.1 < in.stl > out.obj
+
 Exit codes (the same in every command):
   0  success
   1  the operation failed: the input's geometry or format, a budget (--max-output-faces, levels, grid cells), a

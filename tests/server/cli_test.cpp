@@ -124,6 +124,44 @@ TEST_F(SurfacedCli, MisspeltOptionsAndValuesGetASuggestion) {
     EXPECT_TRUE(contains(far.err, "allowed: \"catmull-clark\", \"loop\"")) << far.err;
 }
 
+TEST_F(SurfacedCli, StandardInputToStandardOutput) {
+    // PLY in (sniffed: no extension to go by), OBJ out; stdout carries only the file, the summary goes to stderr
+    std::ofstream(dir_ / "torus.ply", std::ios::binary) << write_ply(shapes::torus(24, 12));
+    const CliRun r = run("simplify - -o - --format obj --ratio 0.5", "torus.ply");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "wrote standard output: ")) << r.err;
+    auto mesh = read_mesh(r.out, MeshFormat::Obj);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message << "\n" << r.out.substr(0, 200);
+    EXPECT_LE(mesh->face_count(), 24u * 12u * 2u / 2u);
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    // binary output to stdout, read back as a file; --input-format instead of sniffing
+    const CliRun glb = run("subdivide - --input-format obj -o - --format glb --levels 1", "cube.obj");
+    ASSERT_EQ(glb.exit_code, 0) << glb.err;
+    EXPECT_EQ(glb.out.substr(0, 4), "glTF");
+    auto back = read_mesh(glb.out, MeshFormat::Glb);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->face_count(), 24u * 2u);  // 24 quads, triangulated in glTF
+    // a problem names standard input; nothing is written to stdout
+    std::ofstream(dir_ / "quads.obj", std::ios::binary) << write_obj(shapes::cube());
+    const CliRun loop = run("subdivide - -o - --format obj --scheme loop", "quads.obj");
+    EXPECT_EQ(loop.exit_code, 1);
+    EXPECT_TRUE(contains(loop.err, "surfaced: standard input: ")) << loop.err;
+    EXPECT_EQ(loop.out, "");
+}
+
+TEST_F(SurfacedCli, FormatOverridesTheExtensionAndIsNeededForStandardOutput) {
+    const CliRun r = run("remesh " + path("torus.obj") + " -o " + path("out.mesh") + " --format ply --iterations 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "wrote ")) << r.out;  // a file: the summary stays on stdout
+    EXPECT_EQ(slurp(dir_ / "out.mesh").substr(0, 4), "ply\n");
+    const CliRun missing = run("remesh " + path("torus.obj") + " -o -");
+    EXPECT_EQ(missing.exit_code, 2);
+    EXPECT_TRUE(contains(missing.err, "-o - (standard output) needs --format")) << missing.err;
+    const CliRun wrong = run("remesh " + path("torus.obj") + " -o - --format stl");
+    EXPECT_EQ(wrong.exit_code, 2);
+    EXPECT_TRUE(contains(wrong.err, "--format: unknown value \"stl\"")) << wrong.err;
+}
+
 TEST_F(SurfacedCli, HelpListsTheExitCodes) {
     const CliRun help = run("--help");
     EXPECT_EQ(help.exit_code, 0);
