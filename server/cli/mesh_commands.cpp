@@ -103,8 +103,8 @@ constexpr std::string_view kRepairHelp =
 Repairs the mesh in IN and writes it to OUT, through the same operation as POST /repair: welds vertices at the same
 position, drops degenerate and duplicate faces, orients faces consistently (outward for closed parts), cuts
 non-manifold edges and vertices apart, drops unreferenced vertices; optionally drops small components and fills small
-holes. Prints what it did.
-  IN:  .obj .off .ply .stl .glb        OUT: .obj .ply .glb .gltf .json
+holes. Prints what it did on stderr ("repaired IN: welded=...; ..."), the summary on stdout.
+  IN:  .obj .off .ply .stl .glb .gltf  OUT: .obj .ply .glb .gltf .json
 
 Options:
   -o, --output OUT          output file (required); - for standard output
@@ -252,11 +252,11 @@ int repair(Args& args) {
 
     return upload_mesh(
         "/repair", *parsed, options, in_format, out_format, context, [&](const api::ApiResponse& response) {
+            print_repairs(*parsed, response, true);
             parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Faces")
                              << " faces, " << header(response, "X-Output-Vertices") << " vertices (from "
                              << header(response, "X-Input-Faces") << " faces, " << header(response, "X-Input-Vertices")
-                             << " vertices): " << header(response, "X-Repairs") << ", in "
-                             << header(response, "X-Elapsed-Ms") << " ms\n";
+                             << " vertices), in " << header(response, "X-Elapsed-Ms") << " ms\n";
         });
 }
 

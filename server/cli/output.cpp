@@ -31,10 +31,10 @@ int print_problem(const api::ApiResponse& response, const Parsed& parsed, Proble
     return kExitFailed;
 }
 
-void print_repairs(const Parsed& parsed, const api::ApiResponse& response) {
+void print_repairs(const Parsed& parsed, const api::ApiResponse& response, bool always) {
     const std::string repairs = header(response, "X-Repairs");
     if (repairs == "?") return;
-    bool any = false;
+    bool any = always;
     for (std::size_t at = repairs.find('='); at != std::string::npos; at = repairs.find('=', at + 1)) {
         const std::size_t name = repairs.rfind(' ', at) == std::string::npos ? 0 : repairs.rfind(' ', at) + 1;
         if (repairs.compare(name, at - name, "components") != 0 && repairs[at + 1] != '0') any = true;

@@ -40,9 +40,9 @@ int finish(const api::ApiResponse& response, const Parsed& parsed, Summary&& sum
     return kExitOk;
 }
 
-//! What repair did, on stderr ("repaired IN: welded=12; degenerate=3; ..."), when X-Repairs reports anything; the
-//! output on stdout stays the operation's summary.
-void print_repairs(const Parsed& parsed, const api::ApiResponse& response);
+//! What repair did, on stderr ("repaired IN: welded=12; degenerate=3; ..."), when X-Repairs reports anything (or
+//! `always`); the output on stdout stays the operation's summary.
+void print_repairs(const Parsed& parsed, const api::ApiResponse& response, bool always = false);
 
 //! "wrote OUT: T triangles, V vertices (from F faces[, triangulated first])" of simplify and remesh.
 void print_triangulated_result(const Parsed& parsed, const api::ApiResponse& response);
