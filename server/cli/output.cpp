@@ -14,7 +14,9 @@ int print_problem(const api::ApiResponse& response, const Parsed& parsed, Proble
         std::cerr << "surfaced: " << parsed.input_label() << ": failed with status " << response.status << "\n";
         return kExitFailed;
     }
-    if (response.status == 400 && problem->field)
+    // a budget (422 budget_exceeded) is the operation's limit, not a wrong value: exit 1 like any other failure
+    const bool bad_value = response.status == 400 || (response.status == 422 && problem->code != "budget_exceeded");
+    if (bad_value && problem->field)
         if (const auto option = parsed.option_for_field(*problem->field)) {
             std::cerr << "surfaced: " << parsed.command << " " << *option << ": " << problem->detail << "\n";
             return kExitUsage;

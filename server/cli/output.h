@@ -22,8 +22,9 @@ struct ProblemStyle {
 };
 
 //! A failed operation's problem on stderr: "surfaced: IN: [field: ]detail[ (line N)][ (byte offset N)] [code]"
-//! (exit 1), or, when it is a 400 about the value of an option given ("ratio must be in (0, 1]"), the same mistake
-//! as an out-of-range value the command line checks itself: "surfaced: COMMAND --option: detail" (exit 2).
+//! (exit 1), or, when it is a 400 or 422 (but not a budget) about the value of an option given ("ratio must be in
+//! (0, 1]"), the same mistake as an out-of-range value the command line checks itself: "surfaced: COMMAND --option:
+//! detail" (exit 2).
 int print_problem(const api::ApiResponse& response, const Parsed& parsed, ProblemStyle style);
 
 //! The end of every file command: a problem is printed (exit 1 or 2: print_problem); a result is written to OUT and
