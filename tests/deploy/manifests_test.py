@@ -86,8 +86,8 @@ def dockerfile_runtime_stage():
 
 
 def serve_flags():
-    """The options `surfaced serve --help` lists (from server/cli.cpp's help text)."""
-    text = read(os.path.join(ROOT, "server", "cli.cpp"))
+    """The options `surfaced serve --help` lists (from server/cli/serve.cpp's help text)."""
+    text = read(os.path.join(ROOT, "server", "cli", "serve.cpp"))
     start = text.index("kServeHelp")
     end = text.index(')";', start)
     return set(re.findall(r"^\s+(--[a-z][a-z0-9-]*)", text[start:end], re.M))

@@ -324,7 +324,7 @@ TEST_F(Cli, BadUsageExits2) {
     EXPECT_EQ(run_cli("subdivide " + path("cube.obj") + " -o " + path("x.fbx")).exit_code, 2);
     const auto fbx = run_cli("subdivide " + path("x.fbx") + " -o " + path("y.obj"));
     EXPECT_EQ(fbx.exit_code, 2);
-    EXPECT_NE(fbx.err.find("(use .obj .off .ply .stl .glb .gltf)"), std::string::npos) << fbx.err;
+    EXPECT_NE(fbx.err.find("(use .obj .off .ply .stl .glb .gltf, or --input-format)"), std::string::npos) << fbx.err;
     EXPECT_EQ(run_cli("serve --port 70000").exit_code, 2);
 }
 

@@ -70,6 +70,32 @@ TEST_F(ImplicitCli, MeshesTheFileAtTheGivenResolution) {
     EXPECT_GT(fs::file_size(dir_ / "part.glb"), 100u);
 }
 
+TEST_F(ImplicitCli, MeshesASceneAloneWithBounds) {
+    // the scene object without the request around it: --bounds gives the box, the resolution its default or flag
+    std::ofstream(dir_ / "sphere.json") << R"({"op": "sphere", "radius": 1})";
+    const CliRun r = run("implicit " + path("sphere.json") + " -o " + path("sphere.obj") +
+                         " --bounds -1.5,-1.5,-1.5,1.5,1.5,1.5 --resolution 24");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("grid 24x24x24"), std::string::npos) << r.out;
+    auto mesh = read_mesh(slurp(dir_ / "sphere.obj"), MeshFormat::Obj);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    EXPECT_NEAR(testing::signed_volume(mesh.value()) / (4.0 / 3.0 * 3.14159265358979), 1.0, 0.05);
+    // --bounds over a whole request replaces its bounds: a box cutting the sphere in half meshes a capped half
+    const CliRun half =
+        run("implicit " + path("scene.json") + " -o " + path("half.obj") + " --bounds -1.25,-1.25,0,1.25,1.25,1.25");
+    ASSERT_EQ(half.exit_code, 0) << half.err;
+    auto cut = read_mesh(slurp(dir_ / "half.obj"), MeshFormat::Obj);
+    ASSERT_TRUE(cut.ok()) << cut.error().message;
+    EXPECT_NEAR(testing::signed_volume(cut.value()) / (4.0 - 2.0 / 3.0 * 3.14159265358979 * 0.125), 1.0, 0.02);
+    // a scene alone needs bounds; bounds need six numbers, min below max: usage errors
+    const CliRun missing = run("implicit " + path("sphere.json") + " -o " + path("x.obj"));
+    EXPECT_EQ(missing.exit_code, 2);
+    EXPECT_NE(missing.err.find("--bounds"), std::string::npos) << missing.err;
+    EXPECT_EQ(run("implicit " + path("sphere.json") + " -o " + path("x.obj") + " --bounds 0,0,0,1,1").exit_code, 2);
+    EXPECT_EQ(run("implicit " + path("sphere.json") + " -o " + path("x.obj") + " --bounds 1,1,1,0,0,0").exit_code, 2);
+}
+
 TEST_F(ImplicitCli, ErrorsNameTheProblem) {
     const CliRun budget = run("implicit " + path("scene.json") + " -o " + path("x.ply") + " --resolution 300");
     EXPECT_EQ(budget.exit_code, 1);

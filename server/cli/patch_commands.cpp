@@ -1,0 +1,167 @@
+// The patch and curve file commands: `surfaced tessellate` (POST /tessellate, GET /patches/NAME) and
+// `surfaced curve` (POST /curves).
+#include <charconv>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "api/operations/curves.h"
+#include "server/cli/commands.h"
+#include "server/cli/requests.h"
+
+namespace surfaced::cli {
+namespace {
+
+constexpr std::string_view kTessellateHelp =
+    R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
+
+Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, or
+sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
+operation as POST /tessellate (GET /patches/NAME).
+
+Options:
+  -o, --output OUT          output file: .glb (Draco-compressed unless --no-draco), .obj or .ply (required);
+                            - for standard output
+  --format F                output format instead of OUT's extension: glb obj ply (needed with -o -)
+  --input-format F          IN's format instead of its extension: bez obj (IN -: obj if it has cstype lines)
+  --tolerance T             guaranteed maximum distance between triangles and surface (model units)
+  --segments N              segments along each direction of every patch (default 8)
+  --no-draco                write an uncompressed .glb
+  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb only)
+  --no-normals              leave out vertex normals
+  --max-output-faces N      refuse if the result could have more triangles (default 4000000)
+  -h, --help                this text
+)";
+
+constexpr std::string_view kCurveHelp =
+    R"(Usage: surfaced curve IN.json|IN.svg -o OUT [--tolerance T] [--continuity] [--enforce-c1 MODE]
+
+Runs curve queries on the curve in IN and writes the answer to OUT, through the same operation as POST /curves.
+  IN:  .json  a POST /curves body: one of "points", "chain", "svg", "bspline", and its queries
+       .svg   the d attributes of the <path> elements (one chain per subpath; transforms are not applied),
+              or a file of bare path data
+  OUT: .json (the answer) .glb .gltf (the tessellation as glTF line strips; no Draco, which is for triangles)
+
+Options:
+  -o, --output OUT       output file (required); - for standard output
+  --format F             output format instead of OUT's extension: json glb gltf (needed with -o -)
+  --input-format F       IN's format instead of its extension: json svg (IN -: json if it starts with {)
+  --tolerance T          tessellate within T model units (.glb/.gltf: default the file's, else 0.001)
+  --continuity           report every joint: gap, derivative mismatch, angle, class (chains, SVG paths)
+  --enforce-c1 MODE      make every joint C1 or G1 (MODE: C1, G1) by the mirror rule (chains, SVG paths);
+                         the answer has the modified chain, and the tessellation is of it
+  -h, --help             this text
+)";
+
+}  // namespace
+
+int tessellate(Args& args) {
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--tolerance", "tolerance",
+         [](std::string_view, const std::string& text) {
+             double value = 0;
+             const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+             if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !(value > 0))
+                 throw UsageError{"--tolerance needs a number > 0, got \"" + text + "\""};
+             return text;
+         }},
+        {"--segments", "segments", integer(1, 1'000'000)},
+        {"--quantize-position", "quantize_position", integer(1, 24)},
+        {"--max-output-faces", "", integer(1, 4'000'000'000LL)},
+        flag("--no-draco"),
+        flag("--no-normals", "normals", "false"),
+        {"--input-format", "", one_of_names({"bez", "obj"})},
+    };
+    const auto parsed = parse_file_command(args, "tessellate", kTessellateHelp, options);
+    if (!parsed) return kExitOk;
+    if (parsed->has("--tolerance") && parsed->has("--segments"))
+        throw UsageError{"tessellate: give --tolerance or --segments, not both"};
+    using enum api::OutputFormat;
+    const api::OutputFormat format = output_format(*parsed, {Glb, Obj, Ply});
+    if (parsed->has("--quantize-position") && (format != Glb || parsed->has("--no-draco")))
+        throw UsageError{"--quantize-position applies only to .glb output with Draco"};
+    if (parsed->has("--max-output-faces"))
+        context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
+
+    // The request POST /tessellate (or GET /patches/NAME) would receive: one code path for CLI and service.
+    std::optional<std::string> bytes;
+    api::ApiRequest request;
+    if (parsed->input.starts_with("sample:")) {
+        request.method = "GET";
+        request.path = "/patches/" + parsed->input.substr(7);
+        request.query = file_query(*parsed, options, format);
+    } else {
+        bytes = read_input(parsed->input);
+        if (!bytes) return kExitFailed;
+        // free-form cstype bezier surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines
+        const bool obj = parsed->has("--input-format") ? parsed->value("--input-format") == "obj"
+                         : parsed->from_stdin()        ? bytes->find("cstype") != std::string::npos
+                                                       : lower_extension(parsed->input) == ".obj";
+        request = upload_request("/tessellate", obj ? "model/obj" : "application/x-geomview-bez", *bytes,
+                                 file_query(*parsed, options, format));
+    }
+    return finish(
+        api::dispatch(request, context), *parsed,
+        [&](const api::ApiResponse& response) {
+            parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Vertices")
+                             << " vertices, " << header(response, "X-Output-Faces") << " triangles from "
+                             << header(response, "X-Patches")
+                             << " patches, max deviation <= " << header(response, "X-Error-Bound") << ", in "
+                             << header(response, "X-Elapsed-Ms") << " ms\n";
+        },
+        ProblemStyle{.line = true, .offset = false});
+}
+
+int curve(Args& args) {
+    api::ApiContext context = file_context();
+    const std::vector<Option> options = {
+        {"--tolerance", "", real()},
+        flag("--continuity"),
+        {"--enforce-c1", "", one_of_names({"C1", "G1"})},
+        {"--input-format", "", one_of_names({"json", "svg"})},
+    };
+    const auto parsed = parse_file_command(args, "curve", kCurveHelp, options, "IN.json or IN.svg");
+    if (!parsed) return kExitOk;
+    // .json or .svg: --input-format, else the extension; from standard input a JSON object starts with '{'
+    std::optional<bool> svg;
+    if (parsed->has("--input-format"))
+        svg = parsed->value("--input-format") == "svg";
+    else if (!parsed->from_stdin()) {
+        const std::string in_ext = lower_extension(parsed->input);
+        if (in_ext != ".json" && in_ext != ".svg")
+            throw UsageError{"cannot tell the curve format of " + parsed->input +
+                             " from its extension (use .json .svg, or --input-format)"};
+        svg = in_ext == ".svg";
+    }
+    using enum api::OutputFormat;
+    const api::OutputFormat out_format = output_format(*parsed, {Json, Glb, Gltf});
+    api::operations::CurveFileOverrides overrides;
+    overrides.format = out_format;
+    if (parsed->has("--tolerance")) overrides.tolerance = std::stod(parsed->value("--tolerance"));
+    overrides.continuity = parsed->has("--continuity");
+    if (parsed->has("--enforce-c1")) overrides.enforce_c1 = parsed->value("--enforce-c1");
+
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    if (!svg) {
+        const std::size_t first = bytes->find_first_not_of(" \t\r\n");
+        svg = first == std::string::npos || (*bytes)[first] != '{';
+    }
+    overrides.svg = *svg;
+    return finish(
+        api::operations::curves_from_file(*bytes, overrides, context), *parsed,
+        [&](const api::ApiResponse& response) {
+            parsed->report() << "wrote " << parsed->output_label();
+            if (out_format != Json)
+                parsed->report() << ": " << header(response, "X-Polylines") << " line strip(s), "
+                                 << header(response, "X-Segments") << " segments within "
+                                 << header(response, "X-Error-Bound") << " of the curve";
+            parsed->report() << "\n";
+        },
+        ProblemStyle{.field = true, .line = true, .offset = true});
+}
+
+}  // namespace surfaced::cli
