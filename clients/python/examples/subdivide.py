@@ -3,7 +3,7 @@ Loop; and a bad request, whose error names the field."""
 import os
 
 from _common import OUT, check, client
-from surfaced_client import SurfacedError
+from surfaced import SurfacedError
 
 cube = {
     "positions": [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1], [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]],
