@@ -1,16 +1,23 @@
-// A client for the surfaced HTTP service: an ES module on fetch (Node 18+ or a browser), no dependencies.
+// A client for the surfaced HTTP service: an ES module on fetch (Node 18+ or a browser), no dependencies. The package
+// `surfaced-client` (package.json); types in surfaced.d.ts.
 //
-// One function per endpoint. Mesh endpoints take a JSON mesh ({positions: [[x, y, z], ...], faces: [[i, j, k, ...]]})
-// or the bytes of a mesh file (OBJ, OFF, PLY, STL, GLB) with its media type; options are named as in the API.
-// Results: {status, contentType, headers, body (Uint8Array), json (parsed JSON answers), text()}. Error answers
-// (RFC 9457 problem+json) throw SurfacedError with .status, .problem, .field and .line.
+// One method per endpoint. Mesh operations take a JSON mesh ({positions: [[x, y, z], ...], faces: [[i, j, k, ...]]})
+// or the bytes of a mesh file (OBJ, OFF, PLY, STL, GLB, glTF) with its media type; options are named as in the API.
+// The output options come as `output: {...}` or flattened (format, compression, quantize_position, normals): a JSON
+// request gets them in `output`, a file upload every option as a query parameter. Operations resolve to a Result:
+// {status, contentType, headers, body (Uint8Array), json (parsed JSON answers), text()}. Error answers (RFC 9457
+// problem+json) throw SurfacedError with .status, .problem, .field and .line.
 //
-//   import { Client } from './surfaced.mjs';
+//   import { Client, API_VERSION } from 'surfaced-client';
 //   const c = new Client('http://127.0.0.1:8080');
-//   const r = await c.subdivide({ mesh: cube, levels: 2, output: { format: 'json' } });
+//   await c.checkServerVersion();   // throws IncompatibleServerError for a server of another API version
+//   const r = await c.subdivide({ mesh: cube, levels: 2, format: 'json' });
 //   console.log(r.json.stats.output_faces);
 
-export const MESH_MEDIA_TYPES = { obj: 'model/obj', off: 'model/off', ply: 'application/ply', stl: 'model/stl', glb: 'model/gltf-binary' };
+/** The OpenAPI info.version of the surfaced API this client was made for (api/openapi.json). */
+export const API_VERSION = '0.1.0';
+
+export const MESH_MEDIA_TYPES = { obj: 'model/obj', off: 'model/off', ply: 'application/ply', stl: 'model/stl', glb: 'model/gltf-binary', gltf: 'model/gltf+json' };
 
 export class SurfacedError extends Error {
   constructor(status, problem) {
@@ -26,12 +33,70 @@ export class SurfacedError extends Error {
   }
 }
 
-const queryValue = (v) => (typeof v === 'boolean' ? (v ? 'true' : 'false') : String(v));
+export class IncompatibleServerError extends Error {
+  constructor(serverVersion, apiVersion = API_VERSION) {
+    super(`the server implements API ${serverVersion}; this client was made for ${apiVersion}`);
+    this.serverVersion = serverVersion;
+    this.apiVersion = apiVersion;
+  }
+}
+
+function versionParts(version) {
+  const m = /^\s*v?(\d+)(?:\.(\d+))?(?:\.(\d+))?/.exec(String(version));
+  if (!m) throw new TypeError(`not a version: ${version}`);
+  return [Number(m[1]), Number(m[2] ?? 0), Number(m[3] ?? 0)];
+}
+
+/** Whether a server implementing API `serverVersion` serves a client made for `clientVersion`, by semantic
+ *  versioning: the same major version and a minor version at least the client's; before 1.0, the same minor. */
+export function isCompatible(serverVersion, clientVersion = API_VERSION) {
+  const [smaj, smin] = versionParts(serverVersion);
+  const [cmaj, cmin] = versionParts(clientVersion);
+  if (smaj !== cmaj) return false;
+  return smaj === 0 ? smin === cmin : smin >= cmin;
+}
+
+const queryValue = (v) => (typeof v === 'boolean' ? (v ? 'true' : 'false') : String(v));   // [0, 5] -> "0,5"
+const OUTPUT_KEYS = ['format', 'compression', 'quantize_position', 'normals'];
+
+// Splits the flattened output options off `options` and merges them into a copy of `output`.
+function takeOutput(options, output) {
+  const rest = { ...options };
+  const merged = { ...(output ?? {}) };
+  for (const key of OUTPUT_KEYS) {
+    if (rest[key] === undefined) continue;
+    if (merged[key] !== undefined && merged[key] !== rest[key]) {
+      throw new TypeError(`${key}: ${JSON.stringify(rest[key])} disagrees with output.${key}: ${JSON.stringify(merged[key])}`);
+    }
+    merged[key] = rest[key];
+    delete rest[key];
+  }
+  return [rest, merged];
+}
+
+function jsonBody(fields, output) {
+  const body = {};
+  for (const [k, v] of Object.entries(fields)) if (v !== undefined) body[k] = v;
+  if (Object.keys(output).length) body.output = output;
+  return body;
+}
+
+function queryOf(options, output) {
+  for (const [k, v] of Object.entries(options)) {
+    if (v !== null && typeof v === 'object' && !(Array.isArray(v) && v.every((x) => typeof x !== 'object'))) {
+      throw new TypeError(`${k} can only be sent in a JSON request, not with a file upload`);
+    }
+  }
+  return { ...options, ...output };
+}
 
 export class Client {
-  constructor(baseUrl = 'http://127.0.0.1:8080', { timeoutMs = 60000 } = {}) {
+  /** `token` is sent as Authorization: Bearer; `headers` go with every request. */
+  constructor(baseUrl = 'http://127.0.0.1:8080', { timeoutMs = 60000, token, headers = {} } = {}) {
     this.baseUrl = baseUrl.replace(/\/+$/, '');
     this.timeoutMs = timeoutMs;
+    this.headers = { ...headers };
+    if (token) this.headers.Authorization = `Bearer ${token}`;
   }
 
   /** Any request; `json` is sent as application/json, `data` (bytes or text) with `contentType`. */
@@ -42,7 +107,7 @@ export class Client {
       for (const [k, v] of Object.entries(query)) if (v !== undefined && v !== null) q.set(k, queryValue(v));
       if ([...q].length) url += `?${q}`;
     }
-    const h = { ...headers };
+    const h = { ...this.headers, ...headers };
     let body = data;
     if (json !== undefined) { body = JSON.stringify(json); h['Content-Type'] = 'application/json'; }
     else if (contentType) h['Content-Type'] = contentType;
@@ -69,36 +134,66 @@ export class Client {
     };
   }
 
-  meshOperation(path, { mesh, data, contentType, ...options }) {
-    if ((mesh === undefined) === (data === undefined)) throw new TypeError('give either mesh (JSON) or data (file bytes)');
-    if (mesh !== undefined) return this.request('POST', path, { json: { mesh, ...options } });
-    const { output = {}, ...rest } = options;   // raw file: options in the query, output options flattened
-    return this.request('POST', path, { data, contentType: contentType ?? 'application/octet-stream', query: { ...rest, ...output } });
+  // A JSON request {[payload]: ..., options, output} or, with `data`, a file with the options in the query.
+  operation(path, payload, { data, contentType, output, ...options }) {
+    const [rest, out] = takeOutput(options, output);
+    if (data === undefined) {
+      if (rest[payload] === undefined) throw new TypeError(`give either ${payload} (JSON) or data (file bytes) with contentType`);
+      return this.request('POST', path, { json: jsonBody(rest, out) });
+    }
+    if (rest[payload] !== undefined) throw new TypeError(`give either ${payload} (JSON) or data (file bytes), not both`);
+    delete rest[payload];
+    return this.request('POST', path, { data, contentType: contentType ?? 'application/octet-stream', query: queryOf(rest, out) });
   }
 
-  /** GET /healthz */
+  /** The API version the server implements: info.version of its /openapi.json (no probe or header reports one). */
+  async serverVersion() { return String((await this.openapi()).info.version); }
+
+  /** The server's API version; throws IncompatibleServerError when this client was not made for it. */
+  async checkServerVersion() {
+    const version = await this.serverVersion();
+    if (!isCompatible(version, API_VERSION)) throw new IncompatibleServerError(version, API_VERSION);
+    return version;
+  }
+
+  /** GET /healthz: {status: 'ok'} (an alias of /livez) */
   async healthz() { return (await this.request('GET', '/healthz')).json; }
+
+  /** GET /livez: {status: 'ok'} while the process answers */
+  async livez() { return (await this.request('GET', '/livez')).json; }
+
+  /** GET /readyz: {status: 'ready'}; a draining server throws SurfacedError 503 (code 'draining') */
+  async readyz() { return (await this.request('GET', '/readyz')).json; }
+
+  /** GET /metrics: Prometheus text */
+  async metrics() { return (await this.request('GET', '/metrics')).text(); }
 
   /** GET /openapi.json */
   async openapi() { return (await this.request('GET', '/openapi.json')).json; }
 
-  /** POST /subdivide: {mesh | data + contentType, scheme, levels, boundary, creases, limit_surface, ..., output} */
-  subdivide(args) { return this.meshOperation('/subdivide', args); }
+  /** POST /subdivide: {mesh | data + contentType, scheme, levels, max_faces, boundary, crease_method, triangle_rule,
+   *  uv_interpolation, loop_weights, limit_surface, creases, corners, holes, output | format, compression, ...} */
+  subdivide(options) { return this.operation('/subdivide', 'mesh', options); }
 
   /** POST /simplify: {mesh | data + contentType, target_faces | ratio | max_error, lock_border, restore_volume,
    *  threads, locked_vertices, report_error, repair ('auto' | 'none'), output}; what repair did: X-Repairs */
-  simplify(args) { return this.meshOperation('/simplify', args); }
+  simplify(options) { return this.operation('/simplify', 'mesh', options); }
+
+  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, keep_boundary, smoothing,
+   *  repair ('auto' | 'none'), output} */
+  remesh(options) { return this.operation('/remesh', 'mesh', options); }
 
   /** POST /repair: {mesh | data + contentType, weld_tolerance, orient, min_component_faces, max_hole_edges, output};
    *  the report in X-Repairs and, in JSON output, stats.repairs */
-  repair(args) { return this.meshOperation('/repair', args); }
+  repair(options) { return this.operation('/repair', 'mesh', options); }
 
-  /** POST /tessellate: {patches, tolerance | segments, output} or {bez: text, tolerance | segments, format, ...} */
-  tessellate({ patches, bez, ...options }) {
-    if ((patches === undefined) === (bez === undefined)) throw new TypeError('give either patches or bez');
-    if (patches !== undefined) return this.request('POST', '/tessellate', { json: { patches, ...options } });
-    const { output = {}, ...rest } = options;
-    return this.request('POST', '/tessellate', { data: bez, contentType: 'application/x-geomview-bez', query: { ...rest, ...output } });
+  /** POST /tessellate: {patches | bez (BEZ text) | data + contentType, tolerance | segments, output} */
+  tessellate({ bez, ...options }) {
+    if (bez !== undefined) {
+      if (options.data !== undefined) throw new TypeError('give either bez (text) or data (bytes)');
+      return this.operation('/tessellate', 'patches', { ...options, data: bez, contentType: 'application/x-geomview-bez' });
+    }
+    return this.operation('/tessellate', 'patches', options);
   }
 
   /** GET /patches/{name}: tessellated (tolerance | segments, format, ...), or format 'json' for the control points.
@@ -107,24 +202,49 @@ export class Client {
     return this.request('GET', `/patches/${encodeURIComponent(name)}`, { query, headers: etag ? { 'If-None-Match': etag } : {} });
   }
 
-  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, keep_boundary, smoothing,
-   *  repair ('auto' | 'none'), output} */
-  remesh(args) { return this.meshOperation('/remesh', args); }
+  /** POST /curves: {points | chain | svg | bspline, queries..., output}; the answer's document in .json */
+  curves(request) { return this.request('POST', '/curves', { json: request }); }
 
-  /** POST /implicit/query: {scene, points, rays, tolerance, max_distance, max_steps} */
-  async implicitQuery(request) { return (await this.request('POST', '/implicit/query', { json: request })).json; }
+  /** POST /implicit/query: {scene, points, rays, tolerance, max_distance, max_steps}; the answer's document in .json */
+  implicitQuery(request) { return this.request('POST', '/implicit/query', { json: request }); }
 
-  /** POST /implicit/mesh: {scene, bounds, resolution | cell_size, mode, simplify_tolerance, output} -> a closed mesh */
-  implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }
-
-  /** POST /pointcloud: {points, normals, colors} | {sample: {mesh | scene + bounds, count, seed}} | {data, contentType}
-   *  (PLY/OBJ/XYZ), with estimate_normals (true or {k}) and output (glb, ply, json) */
-  pointcloud({ data, contentType, ...options }) {
-    if (data === undefined) return this.request('POST', '/pointcloud', { json: options });
-    const { output = {}, ...rest } = options;
-    return this.request('POST', '/pointcloud', { data, contentType: contentType ?? 'application/octet-stream', query: { ...rest, ...output } });
+  /** POST /implicit/mesh: {scene, bounds, resolution | cell_size, mode, simplify_tolerance, crease_angle, output}
+   *  -> a closed mesh */
+  implicitMesh({ output, ...options }) {
+    const [rest, out] = takeOutput(options, output);
+    return this.request('POST', '/implicit/mesh', { json: jsonBody(rest, out) });
   }
 
-  /** POST /curves: {points, evaluate, derivatives, curvature, split, elevate, bounding_box, length, closest, tessellate} */
-  async curves(request) { return (await this.request('POST', '/curves', { json: request })).json; }
+  /** POST /pointcloud: {points, normals (an array), colors} | {sample: {mesh | scene + bounds, count, seed}} |
+   *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, ply, json); a
+   *  boolean `normals` is the output option. */
+  pointcloud({ data, contentType, normals, k, output, ...options }) {
+    let out = { ...(output ?? {}) };
+    if (typeof normals === 'boolean') {
+      if (out.normals !== undefined && out.normals !== normals) throw new TypeError('normals disagrees with output.normals');
+      out.normals = normals;
+      normals = undefined;
+    }
+    if (data === undefined) {
+      if (options.points === undefined && options.sample === undefined) throw new TypeError('give points, sample or data (file bytes)');
+      const fields = { ...options, normals };
+      if (k !== undefined) {
+        if (!fields.estimate_normals) throw new TypeError('k needs estimate_normals');
+        fields.estimate_normals = { ...(typeof fields.estimate_normals === 'object' ? fields.estimate_normals : {}), k };
+      }
+      const [rest, merged] = takeOutput(fields, out);
+      return this.request('POST', '/pointcloud', { json: jsonBody(rest, merged) });
+    }
+    if (options.points !== undefined || options.sample !== undefined || normals !== undefined || options.colors !== undefined) {
+      throw new TypeError('a file upload (data) takes no points, sample, normals array or colors');
+    }
+    const query = { ...options, k };
+    if (typeof query.estimate_normals === 'object' && query.estimate_normals !== null) {
+      query.k = query.estimate_normals.k ?? k;
+      query.estimate_normals = true;
+    }
+    const [rest, merged] = takeOutput(query, out);
+    for (const key of Object.keys(rest)) if (rest[key] === undefined) delete rest[key];
+    return this.request('POST', '/pointcloud', { data, contentType: contentType ?? 'application/octet-stream', query: queryOf(rest, merged) });
+  }
 }

@@ -1,7 +1,7 @@
 // POST /implicit/query: a unit sphere classified at points and hit by a ray (exact signed distance).
 import { client, check } from './_common.mjs';
 
-const r = await client.implicitQuery({ scene: { op: 'sphere', radius: 1 }, points: [[0, 0, 0], [2, 0, 0], [0, 0.6, 0.8]],
+const { json: r } = await client.implicitQuery({ scene: { op: 'sphere', radius: 1 }, points: [[0, 0, 0], [2, 0, 0], [0, 0.6, 0.8]],
                                        rays: [{ origin: [-5, 0, 0], direction: [1, 0, 0] }] });
 const classes = r.points.map((p) => p.class);
 check(JSON.stringify(classes) === '["inside","outside","on"]', `classes ${classes}`);

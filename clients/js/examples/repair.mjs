@@ -5,7 +5,7 @@ const mesh = {
   positions: [[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [1, 1, 0]],
   faces: [[0, 1, 2], [0, 3, 4], [0, 1, 2], [2, 5, 1]],
 };
-const r = await client.repair({ mesh, output: { format: 'json' } });
+const r = await client.repair({ mesh, format: 'json' });
 const { repairs } = r.json.stats;
 check(repairs.duplicate === 1, `one duplicate face dropped (${r.headers.get('x-repairs')})`);
 check(repairs.nonmanifold_split === 1, 'the pinched vertex cut apart into two');
