@@ -268,7 +268,7 @@ export interface ImplicitQueryOptions {
   max_steps?: number;
 }
 
-export interface ImplicitMeshOptions extends OutputOptions<OutputFormat> {
+export interface ImplicitMeshOptions {
   scene: ImplicitScene;
   bounds: Bounds;
   /** 2..65536 (excludes cell_size). @default 64 */
@@ -278,8 +278,9 @@ export interface ImplicitMeshOptions extends OutputOptions<OutputFormat> {
   mode?: ImplicitMode;
   /** adaptive mode. @default 0 */
   simplify_tolerance?: number;
-  /** @default 40 */
+  /** GLB/glTF with output.normals: split normals at edges sharper than this (degrees). @default 40 */
   crease_angle?: number;
+  output?: Output<OutputFormat>;
 }
 
 export interface PointcloudOptions {

@@ -210,10 +210,7 @@ export class Client {
 
   /** POST /implicit/mesh: {scene, bounds, resolution | cell_size, mode, simplify_tolerance, crease_angle, output}
    *  -> a closed mesh */
-  implicitMesh({ output, ...options }) {
-    const [rest, out] = takeOutput(options, output);
-    return this.request('POST', '/implicit/mesh', { json: jsonBody(rest, out) });
-  }
+  implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }
 
   /** POST /pointcloud: {points, normals (an array), colors} | {sample: {mesh | scene + bounds, count, seed}} |
    *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, ply, json); a
@@ -227,13 +224,13 @@ export class Client {
     }
     if (data === undefined) {
       if (options.points === undefined && options.sample === undefined) throw new TypeError('give points, sample or data (file bytes)');
-      const fields = { ...options, normals };
+      const fields = { ...options };
       if (k !== undefined) {
         if (!fields.estimate_normals) throw new TypeError('k needs estimate_normals');
         fields.estimate_normals = { ...(typeof fields.estimate_normals === 'object' ? fields.estimate_normals : {}), k };
       }
       const [rest, merged] = takeOutput(fields, out);
-      return this.request('POST', '/pointcloud', { json: jsonBody(rest, merged) });
+      return this.request('POST', '/pointcloud', { json: jsonBody({ ...rest, normals }, merged) });
     }
     if (options.points !== undefined || options.sample !== undefined || normals !== undefined || options.colors !== undefined) {
       throw new TypeError('a file upload (data) takes no points, sample, normals array or colors');

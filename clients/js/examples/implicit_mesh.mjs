@@ -2,7 +2,7 @@
 import { client, check } from './_common.mjs';
 
 const r = await client.implicitMesh({ scene: { op: 'sphere', radius: 1 }, bounds: [[-1.5, -1.5, -1.5], [1.5, 1.5, 1.5]],
-                                      resolution: 32, format: 'json' });
+                                      resolution: 32, output: { format: 'json' } });
 const { positions, faces } = r.json.mesh;
 const off = Math.max(...positions.map((p) => Math.abs(Math.hypot(...p) - 1)));
 const edges = new Map();

@@ -17,3 +17,15 @@ check(radial > 0.9, f"estimated normals radial: min |cos| = {radial:.4f}")
 
 xyz = client.pointcloud(data=b"0 0 0\n1 0 0\n0 1 0\n1 1 0.1\n", content_type="text/x-xyz", format="ply")
 check(xyz.header("X-Output-Points") == "4" and xyz.body.startswith(b"ply"), "XYZ upload -> PLY with 4 points")
+
+try:
+    import numpy
+except ImportError:
+    numpy = None
+if numpy is not None:   # as arrays: points (N, 3), normals (N, 3), colors None
+    arrays = r.point_arrays()
+    cosines = numpy.abs(numpy.einsum("ij,ij->i", arrays.points, arrays.normals))
+    check(arrays.points.shape == (200, 3) and arrays.colors is None and cosines.min() > 0.9,
+          f"point_arrays: points {arrays.points.shape}, normals {arrays.normals.shape}")
+else:
+    print("skip point_arrays (numpy is not installed)")

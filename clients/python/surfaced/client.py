@@ -536,9 +536,8 @@ class Client:
 
     def implicit_mesh(self, scene: ImplicitScene, bounds: Bounds, *, resolution: int = 64,
                       cell_size: Optional[float] = None, mode: ImplicitMode = "uniform",
-                      simplify_tolerance: float = 0, crease_angle: float = 40, output: Optional[Output] = None,
-                      format: OutputFormat = "glb", compression: Compression = "draco", quantize_position: int = 14,
-                      normals: bool = False) -> Result:
+                      simplify_tolerance: float = 0, crease_angle: float = 40,
+                      output: Optional[Output] = None) -> Result:
         """POST /implicit/mesh: the zero level set of ``scene`` inside ``bounds`` (``[[x0, y0, z0], [x1, y1, z1]]``)
         as a closed, manifold triangle mesh (dual marching cubes; sharp edges kept).
 
@@ -548,18 +547,11 @@ class Client:
         :param simplify_tolerance: adaptive mode: QEM-simplify to this Hausdorff distance (default 0: none).
         :param crease_angle: GLB/glTF with normals: split normals where faces meet at more than this many degrees,
             0..180 (default 40).
-        :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"`` or ``"json"``.
-        :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
-        :param quantize_position: Draco position bits, 1..24 (default 14).
-        :param normals: write vertex normals (default False).
+        :param output: ``{"format": "glb" (default) | "gltf" | "obj" | "ply" | "json", "compression": "draco"
+            (default) | "none", "quantize_position": 1..24 (default 14), "normals": bool (default False)}``.
         """
-        options = _options(locals(), Client.implicit_mesh.__kwdefaults__, skip=("scene", "bounds", "output"))
-        body: Dict[str, Any] = {"scene": scene, "bounds": bounds}
-        output_options = _take_output(options, output)
-        body.update(options)
-        if output_options:
-            body["output"] = output_options
+        body = {"scene": scene, "bounds": bounds,
+                **_options(locals(), Client.implicit_mesh.__kwdefaults__, skip=("scene", "bounds"))}
         return self.request("POST", "/implicit/mesh", json_body=body)
 
     # -- point clouds ----------------------------------------------------------------------------------------------
@@ -603,8 +595,10 @@ class Client:
                     raise ValueError("k needs estimate_normals")
                 args["estimate_normals"] = {**(estimate_normals if isinstance(estimate_normals, dict) else {}),
                                             "k": k}
-            options = _options(args, defaults, skip=("data", "content_type", "output", "k"))
+            options = _options(args, defaults, skip=("data", "content_type", "output", "k", "normals"))
             output_options = _take_output(options, args["output"])
+            if args["normals"] is not None:
+                options["normals"] = args["normals"]
             if output_options:
                 options["output"] = output_options
             return self.request("POST", "/pointcloud", json_body=options)
