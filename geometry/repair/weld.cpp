@@ -1,12 +1,16 @@
-// Vertex welding: exact (a hash of coordinates) or within a distance (a hash of grid cells as wide as the distance,
-// searching the 27 cells around each vertex).
+// Vertex welding: exact (vertices sorted by a hash of their coordinates) or within a distance (a hash of grid cells
+// as wide as the distance, searching the 27 cells around each vertex).
 #include "geometry/repair/weld.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <utility>
 
 #include "geometry/repair/index_table.h"
+#include "geometry/repair/radix_sort.h"
 
 namespace surfaced::repair_detail {
 
@@ -16,13 +20,59 @@ std::uint64_t hash_position(const Vec3& p) {
     return mix64(hash_double(p.x) ^ (hash_double(p.y) * 3) ^ (hash_double(p.z) * 7));
 }
 
+//! The position's coordinates as bits, -0.0 taken as 0.0 (positions are finite: equal bits <=> equal positions).
+std::array<std::uint64_t, 3> position_bits(const Vec3& p) {
+    std::array<std::uint64_t, 3> bits{};
+    for (int i = 0; i < 3; ++i) {
+        const double d = p[i] + 0.0;
+        std::memcpy(&bits[static_cast<std::size_t>(i)], &d, sizeof d);
+    }
+    return bits;
+}
+
+//! Vertices sorted by a 32-bit hash of their position (radix sort, stable: increasing index within a hash); the
+//! vertices of one hash are then split by exact position, each merging into the first (lowest) of its position.
 std::vector<Index> weld_exact(std::span<const Vec3> positions) {
-    std::vector<Index> target(positions.size());
-    IndexTable table(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        const Vec3& p = positions[v];
-        target[v] = table.find_or_insert(hash_position(p), static_cast<Index>(v),
-                                         [&](Index other) { return positions[other] == p; });
+    const std::size_t n = positions.size();
+    std::vector<Index> target(n);
+    std::vector<std::uint64_t> keyed(n), scratch;
+    for (std::size_t v = 0; v < n; ++v) keyed[v] = (hash_position(positions[v]) & ~std::uint64_t{0xFFFFFFFF}) | v;
+    radix_sort_by_high_half(keyed, scratch);
+    constexpr std::uint64_t kHigh = ~std::uint64_t{0xFFFFFFFF};
+    std::vector<Index> leaders;  // the distinct positions of one hash, by their first vertex
+    for (std::size_t b = 0, e = 0; b < n; b = e) {
+        e = b + 1;
+        while (e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh)) ++e;
+        const auto first = static_cast<Index>(keyed[b]);
+        target[first] = first;
+        if (e - b == 1) continue;
+        if (e - b <= 32) {
+            leaders.assign(1, first);
+            for (std::size_t i = b + 1; i < e; ++i) {
+                const auto v = static_cast<Index>(keyed[i]);
+                const Vec3& p = positions[v];
+                Index found = kInvalidIndex;
+                for (Index leader : leaders)
+                    if (positions[leader] == p) {
+                        found = leader;
+                        break;
+                    }
+                if (found == kInvalidIndex) leaders.push_back(found = v);
+                target[v] = found;
+            }
+            continue;
+        }
+        // many vertices of one hash (one position used very often, or a collision): sort them by position, then index
+        std::vector<std::pair<std::array<std::uint64_t, 3>, Index>> run;
+        run.reserve(e - b);
+        for (std::size_t i = b; i < e; ++i) {
+            const auto v = static_cast<Index>(keyed[i]);
+            run.emplace_back(position_bits(positions[v]), v);
+        }
+        std::sort(run.begin(), run.end());
+        for (std::size_t i = 0; i < run.size(); ++i)
+            target[run[i].second] =
+                i > 0 && run[i].first == run[i - 1].first ? target[run[i - 1].second] : run[i].second;
     }
     return target;
 }
