@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "geometry/repair/components.h"
-#include "geometry/repair/face_checks.h"
 #include "geometry/repair/fans.h"
 #include "geometry/repair/mesh_edges.h"
+#include "geometry/repair/work_faces.h"
 
 namespace surfaced {
 
@@ -44,22 +44,12 @@ Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) {
     ValidateOptions validate_options;
     validate_options.allow_repeated_vertices = true;
     if (Status valid = validate(mesh, validate_options); !valid) return valid.error();
+    const WorkFaces work = clean_faces(mesh, {});
     MeshDefects defects;
-    std::vector<Index> offsets{0}, indices;
-    FaceSets seen(mesh.face_count());
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const auto face = mesh.face(f);
-        if (has_repeated_index(face) || has_zero_area(mesh.positions, face)) {
-            ++defects.degenerate_faces;
-        } else if (!seen.insert(face)) {
-            ++defects.duplicate_faces;
-        } else {
-            indices.insert(indices.end(), face.begin(), face.end());
-            offsets.push_back(static_cast<Index>(indices.size()));
-        }
-    }
-    const CornerTable table = make_corner_table(offsets, indices);
-    const EdgeGroups edges = group_edges(table, mesh.vertex_count());
+    defects.degenerate_faces = work.degenerate;
+    defects.duplicate_faces = work.duplicate;
+    const CornerTable& table = work.table;
+    const EdgeGroups& edges = work.edges;
     // faces on an edge of two are in one fan around its ends whatever their directions; consistent pairs also join
     // the faces into components for the volume test
     std::vector<Index> any_pair(table.corner_count(), kInvalidIndex), consistent(table.corner_count(), kInvalidIndex);

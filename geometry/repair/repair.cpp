@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "geometry/repair/components.h"
-#include "geometry/repair/face_checks.h"
 #include "geometry/repair/fans.h"
 #include "geometry/repair/fill_holes.h"
 #include "geometry/repair/glue.h"
 #include "geometry/repair/mesh_edges.h"
 #include "geometry/repair/weld.h"
+#include "geometry/repair/work_faces.h"
 
 namespace surfaced {
 
@@ -21,36 +21,6 @@ using namespace repair_detail;
 namespace {
 
 GeoError cancelled() { return make_error(ErrorCode::Cancelled, "mesh repair cancelled"); }
-
-//! The faces that survive welding, degenerate and duplicate removal, with their vertices welded.
-struct WorkFaces {
-    std::vector<Index> offsets{0};
-    std::vector<Index> indices;
-    std::vector<Index> source;  //!< input face of each working face
-};
-
-WorkFaces clean_faces(const PolygonMesh& mesh, const std::vector<Index>& weld, RepairReport& report) {
-    WorkFaces work;
-    work.source.reserve(mesh.face_count());
-    work.offsets.reserve(mesh.face_count() + 1);
-    work.indices.reserve(mesh.face_indices.size());
-    FaceSets seen(mesh.face_count());
-    std::vector<Index> face;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        face.clear();
-        for (Index v : mesh.face(f)) face.push_back(weld[v]);
-        if (has_repeated_index(face) || has_zero_area(mesh.positions, face)) {
-            ++report.degenerate;
-        } else if (!seen.insert(face)) {
-            ++report.duplicate;
-        } else {
-            work.indices.insert(work.indices.end(), face.begin(), face.end());
-            work.offsets.push_back(static_cast<Index>(work.indices.size()));
-            work.source.push_back(static_cast<Index>(f));
-        }
-    }
-    return work;
-}
 
 //! Output vertex of every kept corner: one per fan; the first fan of a vertex (in corner order) keeps the vertex,
 //! renumbered in the input's order, further fans get copies numbered after all kept vertices.
@@ -149,11 +119,13 @@ Result<RepairResult> Repairer::run() {
     for (Index v = 0; v < weld.size(); ++v) report_.welded += weld[v] != v;
     if (options_.cancel.requested()) return cancelled();
 
-    const WorkFaces work = clean_faces(in_, weld, report_);
+    const WorkFaces work = clean_faces(in_, weld);
+    report_.degenerate = work.degenerate;
+    report_.duplicate = work.duplicate;
     if (options_.cancel.requested()) return cancelled();
 
-    const CornerTable table = make_corner_table(work.offsets, work.indices);
-    const EdgeGroups edges = group_edges(table, in_.vertex_count());
+    const CornerTable& table = work.table;
+    const EdgeGroups& edges = work.edges;
     Gluing glue = glue_faces(table, edges, options_.orient);
     if (options_.cancel.requested()) return cancelled();
     const std::vector<Index> fan = fan_of_corners(table, edges, glue.partner);
