@@ -38,7 +38,6 @@ EdgeGroups group_edges(const CornerTable& table, std::size_t vertex_count) {
     // fill[v] is now the end of bucket v, the start of bucket v + 1
     EdgeGroups groups;
     groups.corners.resize(n);
-    groups.corner_edge.resize(n);
     groups.vertex_edge.resize(vertex_count + 1);
     groups.begin.reserve(n / 2 + 2);
     Index b = 0;
@@ -60,7 +59,6 @@ EdgeGroups group_edges(const CornerTable& table, std::size_t vertex_count) {
             const auto c = static_cast<Index>(bucket[i]);
             if (i == b || (bucket[i] >> 32) != (bucket[i - 1] >> 32)) groups.begin.push_back(i);
             groups.corners[i] = c;
-            groups.corner_edge[c] = static_cast<Index>(groups.begin.size() - 1);
         }
         b = e;
     }

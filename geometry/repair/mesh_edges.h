@@ -31,7 +31,6 @@ CornerTable make_corner_table(std::span<const Index> offsets, std::span<const In
 struct EdgeGroups {
     std::vector<Index> corners;
     std::vector<Index> begin;        //!< size edge_count() + 1
-    std::vector<Index> corner_edge;  //!< edge of each corner's half-edge
     std::vector<Index> vertex_edge;  //!< edges whose lower vertex is v: vertex_edge[v] .. vertex_edge[v+1]
 
     std::size_t edge_count() const { return begin.size() - 1; }
