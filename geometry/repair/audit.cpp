@@ -40,7 +40,11 @@ std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> posit
 
 }  // namespace
 
-Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) {
+namespace {
+
+//! The defects; `whole` false: only enough of them to answer needs_repair (no volumes, one non-manifold vertex at
+//! most).
+Result<MeshDefects> find_defects(const PolygonMesh& mesh, bool whole) {
     ValidateOptions validate_options;
     validate_options.allow_repeated_vertices = true;
     if (Status valid = validate(mesh, validate_options); !valid) return valid.error();
@@ -48,41 +52,37 @@ Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) {
     MeshDefects defects;
     defects.degenerate_faces = work.degenerate;
     defects.duplicate_faces = work.duplicate;
+    if (!whole && defects.breaks_manifold()) return defects;
     const CornerTable& table = work.table;
     const EdgeGroups& edges = work.edges;
-    // faces on an edge of two are in one fan around its ends whatever their directions; consistent pairs also join
-    // the faces into components for the volume test
-    std::vector<Index> any_pair(table.corner_count(), kInvalidIndex), consistent(table.corner_count(), kInvalidIndex);
+    // faces on an edge of two are in one fan around its ends whatever their directions
+    std::vector<Index> pair(table.corner_count(), kInvalidIndex);
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         const auto corners = edges.of(e);
         if (corners.size() > 2) ++defects.nonmanifold_edges;
         if (corners.size() != 2) continue;
         const Index a = corners[0], b = corners[1];
-        any_pair[a] = b;
-        any_pair[b] = a;
-        if (table.indices[a] == table.indices[b]) {
-            ++defects.inconsistent_edges;
-        } else {
-            consistent[a] = b;
-            consistent[b] = a;
-        }
+        pair[a] = b;
+        pair[b] = a;
+        if (table.indices[a] == table.indices[b]) ++defects.inconsistent_edges;
     }
-    DisjointSets fans = join_fans(table, any_pair);
-    std::vector<Index> first_fan(mesh.vertex_count(), kInvalidIndex);
-    std::vector<std::uint8_t> counted(mesh.vertex_count(), 0);
-    for (Index c = 0; c < table.corner_count(); ++c) {
-        const Index v = table.indices[c], fan = fans.find(c);
-        if (first_fan[v] == kInvalidIndex) first_fan[v] = fan;
-        if (first_fan[v] == fan || counted[v]) continue;
-        counted[v] = 1;
-        ++defects.nonmanifold_vertices;
-    }
-    defects.inverted_components = count_inverted(table, mesh.positions, consistent);
+    if (!whole && defects.breaks_manifold()) return defects;
+    defects.nonmanifold_vertices = count_split_vertices(table, pair, mesh.vertex_count(), !whole);
+    if (!whole) return defects;
+    // consistent pairs join the faces into components for the volume test
+    if (defects.inconsistent_edges > 0)
+        for (Index c = 0; c < table.corner_count(); ++c)
+            if (pair[c] != kInvalidIndex && table.indices[pair[c]] == table.indices[c]) pair[c] = kInvalidIndex;
+    defects.inverted_components = count_inverted(table, mesh.positions, pair);
     return defects;
 }
 
+}  // namespace
+
+Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) { return find_defects(mesh, true); }
+
 bool needs_repair(const PolygonMesh& mesh) {
-    const Result<MeshDefects> defects = audit_mesh(mesh);
+    const Result<MeshDefects> defects = find_defects(mesh, false);
     return !defects.ok() || defects->breaks_manifold();
 }
 

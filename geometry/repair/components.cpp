@@ -10,7 +10,7 @@ Components find_components(const CornerTable& table, const std::vector<Index>& p
     const std::size_t faces = table.offsets.size() - 1;
     DisjointSets sets(faces);
     for (Index c = 0; c < table.corner_count(); ++c)
-        if (partner[c] != kInvalidIndex) sets.unite(table.face[c], table.face[partner[c]]);
+        if (partner[c] != kInvalidIndex && partner[c] > c) sets.unite(table.face[c], table.face[partner[c]]);
     Components result;
     result.of_face.resize(faces);
     result.face_count.assign(faces, 0);

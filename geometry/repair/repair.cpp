@@ -30,25 +30,32 @@ struct VertexAssignment {
     std::vector<Index> of_input;   //!< output vertex of each input vertex (its first fan), or kInvalidIndex
 };
 
+//! `fan` empty: every vertex has one fan (no copies).
 VertexAssignment assign_vertices(const CornerTable& table, const std::vector<Index>& fan,
                                  const std::vector<std::uint8_t>& keep_face, const std::vector<Index>& weld,
                                  RepairReport& report) {
     const std::size_t n_in = weld.size();
     constexpr Index kCopy = Index{1} << 31;  // marks a copy's number in fan_vertex until numbering is known
-    std::vector<Index> fan_vertex(table.corner_count(), kInvalidIndex);
+    std::vector<Index> fan_vertex(fan.empty() ? 0 : table.corner_count(), kInvalidIndex);
     std::vector<std::uint8_t> used(n_in, 0);
     std::vector<Index> copy_source;
-    for (Index c = 0; c < table.corner_count(); ++c) {
-        if (!keep_face[table.face[c]]) continue;
-        Index& out = fan_vertex[fan[c]];
-        if (out != kInvalidIndex) continue;
-        const Index v = table.indices[c];
-        if (!used[v]) {
-            used[v] = 1;
-            out = v;
-        } else {
-            out = kCopy | static_cast<Index>(copy_source.size());
-            copy_source.push_back(v);
+    for (std::size_t f = 0; f + 1 < table.offsets.size(); ++f) {
+        if (!keep_face[f]) continue;
+        for (Index c = table.offsets[f]; c < table.offsets[f + 1]; ++c) {
+            const Index v = table.indices[c];
+            if (fan.empty()) {
+                used[v] = 1;
+                continue;
+            }
+            Index& out = fan_vertex[fan[c]];
+            if (out != kInvalidIndex) continue;
+            if (!used[v]) {
+                used[v] = 1;
+                out = v;
+            } else {
+                out = kCopy | static_cast<Index>(copy_source.size());
+                copy_source.push_back(v);
+            }
         }
     }
     VertexAssignment result;
@@ -66,10 +73,16 @@ VertexAssignment assign_vertices(const CornerTable& table, const std::vector<Ind
     report.nonmanifold_split = copy_source.size();
     for (Index v = 0; v < n_in; ++v) result.of_input[v] = result.of_input[weld[v]];
     result.of_corner.assign(table.corner_count(), kInvalidIndex);
-    for (Index c = 0; c < table.corner_count(); ++c) {
-        if (!keep_face[table.face[c]]) continue;
-        const Index out = fan_vertex[fan[c]];
-        result.of_corner[c] = (out & kCopy) ? kept + (out & ~kCopy) : result.of_input[out];
+    for (std::size_t f = 0; f + 1 < table.offsets.size(); ++f) {
+        if (!keep_face[f]) continue;
+        for (Index c = table.offsets[f]; c < table.offsets[f + 1]; ++c) {
+            if (fan.empty()) {
+                result.of_corner[c] = result.of_input[table.indices[c]];
+                continue;
+            }
+            const Index out = fan_vertex[fan[c]];
+            result.of_corner[c] = (out & kCopy) ? kept + (out & ~kCopy) : result.of_input[out];
+        }
     }
     return result;
 }
@@ -128,7 +141,7 @@ Result<RepairResult> Repairer::run() {
     const EdgeGroups& edges = work.edges;
     Gluing glue = glue_faces(table, edges, options_.orient);
     if (options_.cancel.requested()) return cancelled();
-    const std::vector<Index> fan = fan_of_corners(table, edges, glue.partner);
+    const std::vector<Index> fan = fan_of_corners(table, edges, glue.partner, in_.vertex_count());
     const Components components = find_components(table, glue.partner);
     if (options_.orient) orient_outward(table, in_.positions, glue.partner, components, glue.flip);
     if (options_.cancel.requested()) return cancelled();
