@@ -23,7 +23,7 @@ std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> posit
     const std::size_t faces = table.offsets.size() - 1;
     std::vector<std::uint8_t> open(faces, 0);
     for (Index c = 0; c < table.corner_count(); ++c)
-        if (partner[c] == kInvalidIndex) open[components.of_face[table.face[c]]] = 1;
+        if (partner[c] == kInvalidIndex) open[components.of_face[table.face(c)]] = 1;
     std::vector<double> volume(faces, 0.0), magnitude(faces, 0.0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];

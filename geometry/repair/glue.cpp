@@ -19,7 +19,7 @@ public:
     //! Joins the half-edges of corners a and b (same undirected edge) when their faces can agree; false otherwise.
     bool try_join(Index a, Index b) {
         const bool same_direction = table_.indices[a] == table_.indices[b];
-        const bool ok = orient_ ? sets_.unite(table_.face[a], table_.face[b], same_direction) : !same_direction;
+        const bool ok = orient_ ? sets_.unite(table_.face(a), table_.face(b), same_direction) : !same_direction;
         if (!ok) return false;
         partner_[a] = b;
         partner_[b] = a;

@@ -9,9 +9,13 @@
 namespace surfaced::repair_detail {
 
 CornerTable make_corner_table(std::span<const Index> offsets, std::span<const Index> indices) {
-    CornerTable table{offsets, indices, std::vector<Index>(indices.size())};
+    CornerTable table{offsets, indices, {}, true};
+    for (std::size_t f = 0; f + 1 < offsets.size() && table.triangles; ++f)
+        table.triangles = offsets[f + 1] == 3 * (f + 1);
+    if (table.triangles) return table;
+    table.corner_faces.resize(indices.size());
     for (std::size_t f = 0; f + 1 < offsets.size(); ++f)
-        for (Index c = offsets[f]; c < offsets[f + 1]; ++c) table.face[c] = static_cast<Index>(f);
+        for (Index c = offsets[f]; c < offsets[f + 1]; ++c) table.corner_faces[c] = static_cast<Index>(f);
     return table;
 }
 

@@ -25,13 +25,13 @@ std::vector<std::uint8_t> duplicate_triangles(const CornerTable& table, const Ed
         const auto corners = edges.of(e);
         if (corners.size() < 2) continue;
         if (corners.size() == 2) {
-            const Index a = table.face[corners[0]], b = table.face[corners[1]];  // a < b: corners in order
+            const Index a = table.face(corners[0]), b = table.face(corners[1]);  // a < b: corners in order
             if (is_triangle(a) && is_triangle(b) && third(corners[0]) == third(corners[1])) duplicate[b] = 1;
             continue;
         }
         keyed.clear();
         for (Index c : corners)
-            if (is_triangle(table.face[c])) keyed.emplace_back(third(c), table.face[c]);
+            if (is_triangle(table.face(c))) keyed.emplace_back(third(c), table.face(c));
         std::sort(keyed.begin(), keyed.end());
         for (std::size_t i = 1; i < keyed.size(); ++i)
             if (keyed[i].first == keyed[i - 1].first) duplicate[keyed[i].second] = 1;
