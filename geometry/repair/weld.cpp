@@ -30,49 +30,65 @@ std::array<std::uint64_t, 3> position_bits(const Vec3& p) {
     return bits;
 }
 
-//! Vertices sorted by a 32-bit hash of their position (radix sort, stable: increasing index within a hash); the
-//! vertices of one hash are then split by exact position, each merging into the first (lowest) of its position.
+//! The vertices of one hash, keyed[b..e) in increasing index, split by exact position: each merges into the first
+//! (lowest) vertex of its position.
+void split_by_position(std::span<const Vec3> positions, const std::uint64_t* keyed, std::size_t b, std::size_t e,
+                       std::vector<Index>& target) {
+    if (e - b <= 32) {
+        std::vector<Index> leaders;  // the distinct positions, by their first vertex
+        for (std::size_t i = b; i < e; ++i) {
+            const auto v = static_cast<Index>(keyed[i]);
+            Index found = kInvalidIndex;
+            for (Index leader : leaders)
+                if (positions[leader] == positions[v]) {
+                    found = leader;
+                    break;
+                }
+            if (found == kInvalidIndex) leaders.push_back(found = v);
+            target[v] = found;
+        }
+        return;
+    }
+    // many vertices of one hash (one position used very often, or collisions): sort them by position, then index
+    std::vector<std::pair<std::array<std::uint64_t, 3>, Index>> run;
+    run.reserve(e - b);
+    for (std::size_t i = b; i < e; ++i) {
+        const auto v = static_cast<Index>(keyed[i]);
+        run.emplace_back(position_bits(positions[v]), v);
+    }
+    std::sort(run.begin(), run.end());
+    for (std::size_t i = 0; i < run.size(); ++i)
+        target[run[i].second] = i > 0 && run[i].first == run[i - 1].first ? target[run[i - 1].second] : run[i].second;
+}
+
+//! Vertices sorted by a 32-bit hash of their position (radix sort, stable: increasing index within a hash). Every
+//! vertex first takes the first vertex of its hash, which is right unless two positions share the hash; that is
+//! checked in vertex order (the compared positions are mostly near each other in memory), and only the hashes where
+//! it failed are split by exact position.
 std::vector<Index> weld_exact(std::span<const Vec3> positions) {
     const std::size_t n = positions.size();
     std::vector<Index> target(n);
     std::vector<std::uint64_t> keyed(n), scratch;
-    for (std::size_t v = 0; v < n; ++v) keyed[v] = (hash_position(positions[v]) & ~std::uint64_t{0xFFFFFFFF}) | v;
-    radix_sort_by_high_half(keyed, scratch);
     constexpr std::uint64_t kHigh = ~std::uint64_t{0xFFFFFFFF};
-    std::vector<Index> leaders;  // the distinct positions of one hash, by their first vertex
+    for (std::size_t v = 0; v < n; ++v) keyed[v] = (hash_position(positions[v]) & kHigh) | v;
+    radix_sort_by_high_half(keyed, scratch);
     for (std::size_t b = 0, e = 0; b < n; b = e) {
-        e = b + 1;
-        while (e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh)) ++e;
         const auto first = static_cast<Index>(keyed[b]);
-        target[first] = first;
-        if (e - b == 1) continue;
-        if (e - b <= 32) {
-            leaders.assign(1, first);
-            for (std::size_t i = b + 1; i < e; ++i) {
-                const auto v = static_cast<Index>(keyed[i]);
-                const Vec3& p = positions[v];
-                Index found = kInvalidIndex;
-                for (Index leader : leaders)
-                    if (positions[leader] == p) {
-                        found = leader;
-                        break;
-                    }
-                if (found == kInvalidIndex) leaders.push_back(found = v);
-                target[v] = found;
-            }
-            continue;
-        }
-        // many vertices of one hash (one position used very often, or a collision): sort them by position, then index
-        std::vector<std::pair<std::array<std::uint64_t, 3>, Index>> run;
-        run.reserve(e - b);
-        for (std::size_t i = b; i < e; ++i) {
-            const auto v = static_cast<Index>(keyed[i]);
-            run.emplace_back(position_bits(positions[v]), v);
-        }
-        std::sort(run.begin(), run.end());
-        for (std::size_t i = 0; i < run.size(); ++i)
-            target[run[i].second] =
-                i > 0 && run[i].first == run[i - 1].first ? target[run[i - 1].second] : run[i].second;
+        for (e = b; e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh); ++e)
+            target[static_cast<Index>(keyed[e])] = first;
+    }
+    std::vector<std::uint8_t> collided;
+    for (std::size_t v = 0; v < n; ++v) {
+        if (target[v] == v || positions[target[v]] == positions[v]) continue;
+        if (collided.empty()) collided.assign(n, 0);
+        collided[v] = 1;
+    }
+    if (collided.empty()) return target;
+    for (std::size_t b = 0, e = 0; b < n; b = e) {
+        bool redo = false;
+        for (e = b; e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh); ++e)
+            redo |= collided[static_cast<Index>(keyed[e])] != 0;
+        if (redo) split_by_position(positions, keyed.data(), b, e, target);
     }
     return target;
 }
