@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
@@ -31,7 +32,7 @@ public:
     }
 
 private:
-    std::vector<Index> parent_;
+    Array<Index> parent_;
 };
 
 //! Disjoint sets whose members have a parity relative to their root; unite(a, b, p) records parity(a) ^ parity(b)
@@ -79,8 +80,8 @@ public:
     }
 
 private:
-    std::vector<Index> parent_;
-    std::vector<std::uint8_t> parity_;
+    Array<Index> parent_;
+    Array<std::uint8_t> parity_;
 };
 
 }  // namespace surfaced::repair_detail

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
@@ -74,7 +75,7 @@ private:
         std::uint32_t tag = 0;
     };
 
-    std::vector<Slot> slots_;
+    Array<Slot> slots_;
     std::size_t mask_ = 0;
     std::size_t size_ = 0;
 };

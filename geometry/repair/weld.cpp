@@ -33,9 +33,9 @@ std::array<std::uint64_t, 3> position_bits(const Vec3& p) {
 //! The vertices of one hash, keyed[b..e) in increasing index, split by exact position: each merges into the first
 //! (lowest) vertex of its position.
 void split_by_position(std::span<const Vec3> positions, const std::uint64_t* keyed, std::size_t b, std::size_t e,
-                       std::vector<Index>& target) {
+                       Array<Index>& target) {
     if (e - b <= 32) {
-        std::vector<Index> leaders;  // the distinct positions, by their first vertex
+        Array<Index> leaders;  // the distinct positions, by their first vertex
         for (std::size_t i = b; i < e; ++i) {
             const auto v = static_cast<Index>(keyed[i]);
             Index found = kInvalidIndex;
@@ -50,7 +50,7 @@ void split_by_position(std::span<const Vec3> positions, const std::uint64_t* key
         return;
     }
     // many vertices of one hash (one position used very often, or collisions): sort them by position, then index
-    std::vector<std::pair<std::array<std::uint64_t, 3>, Index>> run;
+    Array<std::pair<std::array<std::uint64_t, 3>, Index>> run;
     run.reserve(e - b);
     for (std::size_t i = b; i < e; ++i) {
         const auto v = static_cast<Index>(keyed[i]);
@@ -65,10 +65,10 @@ void split_by_position(std::span<const Vec3> positions, const std::uint64_t* key
 //! vertex first takes the first vertex of its hash, which is right unless two positions share the hash; that is
 //! checked in vertex order (the compared positions are mostly near each other in memory), and only the hashes where
 //! it failed are split by exact position.
-std::vector<Index> weld_exact(std::span<const Vec3> positions) {
+Array<Index> weld_exact(std::span<const Vec3> positions) {
     const std::size_t n = positions.size();
-    std::vector<Index> target(n);
-    std::vector<std::uint64_t> keyed(n), scratch;
+    Array<Index> target(n);
+    Array<std::uint64_t> keyed(n), scratch;
     constexpr std::uint64_t kHigh = ~std::uint64_t{0xFFFFFFFF};
     for (std::size_t v = 0; v < n; ++v) keyed[v] = (hash_position(positions[v]) & kHigh) | v;
     radix_sort_by_high_half(keyed, scratch);
@@ -77,7 +77,7 @@ std::vector<Index> weld_exact(std::span<const Vec3> positions) {
         for (e = b; e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh); ++e)
             target[static_cast<Index>(keyed[e])] = first;
     }
-    std::vector<std::uint8_t> collided;
+    Array<std::uint8_t> collided;
     for (std::size_t v = 0; v < n; ++v) {
         if (target[v] == v || positions[target[v]] == positions[v]) continue;
         if (collided.empty()) collided.assign(n, 0);
@@ -115,15 +115,15 @@ std::uint64_t hash_cell(const Cell& c) {
 
 // Cells are twice the tolerance wide, so that the vertices within the tolerance of a point lie in the 2 x 2 x 2
 // cells nearest to it (the half of each neighbouring cell the point is closer to).
-std::vector<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
+Array<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
     const std::size_t n = positions.size();
     const double inverse_width = 0.5 / tolerance;
     const double tolerance2 = tolerance * tolerance;
     // identical positions merge alike (into the target of the first of them): only first occurrences search
-    std::vector<Index> target = weld_exact(positions);
+    Array<Index> target = weld_exact(positions);
     // cell -> its first kept vertex; the rest of the cell's kept vertices follow through next_in_cell
     IndexTable cells(n);
-    std::vector<Index> next_in_cell(n, kInvalidIndex);
+    Array<Index> next_in_cell(n, kInvalidIndex);
     auto in_cell = [&](const Cell& c) {
         return [&, c](Index kept) { return cell_of(positions[kept], inverse_width) == c; };
     };
@@ -162,7 +162,7 @@ std::vector<Index> weld_within(std::span<const Vec3> positions, double tolerance
 
 }  // namespace
 
-std::vector<Index> weld_targets(std::span<const Vec3> positions, double tolerance) {
+Array<Index> weld_targets(std::span<const Vec3> positions, double tolerance) {
     return tolerance > 0 ? weld_within(positions, tolerance) : weld_exact(positions);
 }
 

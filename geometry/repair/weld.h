@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
@@ -14,6 +15,6 @@ namespace surfaced::repair_detail {
 //! inclusive), or is kept; kept vertices are therefore more than `tolerance` apart, and a merged vertex is within
 //! `tolerance` of its target (not necessarily of every other vertex merged into it). Expected linear time (a hash of
 //! positions, or of grid cells `tolerance` wide). Positions must be finite.
-std::vector<Index> weld_targets(std::span<const Vec3> positions, double tolerance);
+Array<Index> weld_targets(std::span<const Vec3> positions, double tolerance);
 
 }  // namespace surfaced::repair_detail

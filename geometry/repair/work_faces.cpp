@@ -15,12 +15,12 @@ namespace {
 
 //! Per working face: 1 when it is a triangle with the vertex set of an earlier triangle. Two triangles on one edge
 //! have the same vertex set exactly when their corners off the edge are the same vertex.
-std::vector<std::uint8_t> duplicate_triangles(const CornerTable& table, const EdgeGroups& edges, std::size_t& count) {
+Array<std::uint8_t> duplicate_triangles(const CornerTable& table, const EdgeGroups& edges, std::size_t& count) {
     const std::size_t faces = table.offsets.size() - 1;
-    std::vector<std::uint8_t> duplicate(faces, 0);
+    Array<std::uint8_t> duplicate(faces, 0);
     auto is_triangle = [&](Index f) { return table.offsets[f + 1] - table.offsets[f] == 3; };
     auto third = [&](Index c) { return table.indices[table.prev(c)]; };
-    std::vector<std::pair<Index, Index>> keyed;  // (third vertex, face) of an edge of more than two triangles
+    Array<std::pair<Index, Index>> keyed;  // (third vertex, face) of an edge of more than two triangles
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         const auto corners = edges.of(e);
         if (corners.size() < 2) continue;
@@ -79,7 +79,7 @@ WorkFaces clean_faces(const PolygonMesh& mesh, std::span<const Index> weld) {
     work.edges = group_edges(work.table, mesh.vertex_count());
 
     std::size_t duplicates = 0;
-    const std::vector<std::uint8_t> drop = duplicate_triangles(work.table, work.edges, duplicates);
+    const Array<std::uint8_t> drop = duplicate_triangles(work.table, work.edges, duplicates);
     if (duplicates == 0) return work;
     work.duplicate += duplicates;
     WorkFaces kept;
