@@ -16,10 +16,6 @@ namespace surfaced::repair_detail {
 
 namespace {
 
-std::uint64_t hash_position(const Vec3& p) {
-    return mix64(hash_double(p.x) ^ (hash_double(p.y) * 3) ^ (hash_double(p.z) * 7));
-}
-
 //! The position's coordinates as bits, -0.0 taken as 0.0 (positions are finite: equal bits <=> equal positions).
 std::array<std::uint64_t, 3> position_bits(const Vec3& p) {
     std::array<std::uint64_t, 3> bits{};
@@ -28,6 +24,12 @@ std::array<std::uint64_t, 3> position_bits(const Vec3& p) {
         std::memcpy(&bits[static_cast<std::size_t>(i)], &d, sizeof d);
     }
     return bits;
+}
+
+//! One multiply-add chain over the coordinates' bits, then one finaliser: a position hash for millions of vertices.
+std::uint64_t hash_position(const Vec3& p) {
+    const auto [x, y, z] = position_bits(p);
+    return mix64(x + 0x9E3779B97F4A7C15ULL * (y + 0xC2B2AE3D27D4EB4FULL * z));
 }
 
 //! The vertices of one hash, keyed[b..e) in increasing index, split by exact position: each merges into the first
