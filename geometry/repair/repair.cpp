@@ -159,6 +159,11 @@ Result<RepairResult> Repairer::run() {
     report_.components = components.count - report_.small_components;
 
     const VertexAssignment vertices = assign_vertices(table, fan, keep_face, weld, report_);
+    if (options_.max_hole_edges == 0 && !report_.changed()) {  // nothing to assemble unless a face is reversed
+        bool flipped = false;
+        for (Index f = 0; f < faces && !flipped; ++f) flipped = keep_face[f] && glue.flip[f];
+        if (!flipped) return RepairResult{in_, report_};
+    }
     PolygonMesh out = assemble(work, vertices, keep_face, glue.flip);
     if (options_.max_hole_edges > 0) {
         if (options_.cancel.requested()) return cancelled();
@@ -183,6 +188,10 @@ PolygonMesh Repairer::assemble(const WorkFaces& work, const VertexAssignment& ve
         for (Index v : vertices.source) out.normals.push_back(in_.normals[v]);
     const bool uvs = in_.has_uvs();
     if (uvs) out.uvs = in_.uvs;
+    out.face_offsets.reserve(keep_face.size() + 1);
+    out.face_indices.reserve(work.indices.size());
+    if (uvs) out.uv_indices.reserve(work.indices.size());
+    reversed_.reserve(keep_face.size());
     Array<Index> face_of_input(in_.face_count(), kInvalidIndex);
     for (Index f = 0; f < keep_face.size(); ++f) {
         if (!keep_face[f]) continue;
