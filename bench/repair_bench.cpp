@@ -4,7 +4,8 @@
 // repair_mesh, simplify_qem on the mesh as sent (what `repair: auto` tries first: on broken input, the time until it
 // refuses) and simplify_qem to 1% on the repaired mesh, and prints the ratios we hold repair to (repair / simplify
 // <= 0.1; the check on clean input as well). Peak memory is the peak of live heap bytes during the call, counted by
-// the global operator new below, minus what was live before it. Bench only, never linked into the service.
+// the global operator new below (the aligned one too: BlockVector's blocks), minus what was live before it. Bench
+// only, never linked into the service.
 //
 // Usage: bench_repair [--rounds N] [--repair-only] [--cpu]   (rounds: each step's fastest of N runs, the steps in turn,
 // default 3; --repair-only: needs_repair and repair_mesh alone, for profiling; --cpu: the thread's CPU time instead of
@@ -58,6 +59,26 @@ void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
 void* operator new[](std::size_t n) { return operator new(n); }
 void operator delete[](void* p) noexcept { operator delete(p); }
 void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
+// Over-aligned arrays (BlockVector's 2 MiB blocks): the block's start and size are kept just below the aligned pointer.
+void* operator new(std::size_t n, std::align_val_t align) {
+    const std::size_t a = std::max(static_cast<std::size_t>(align), std::size_t{16});
+    void* base = std::aligned_alloc(a, (n + a + a - 1) / a * a);
+    if (!base) throw std::bad_alloc();
+    char* p = static_cast<char*>(base) + a;
+    reinterpret_cast<std::size_t*>(p)[-1] = n;
+    reinterpret_cast<void**>(p)[-2] = base;
+    note_alloc(static_cast<long long>(n));
+    return p;
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+    if (!p) return;
+    g_live.fetch_sub(static_cast<long long>(reinterpret_cast<std::size_t*>(p)[-1]));
+    std::free(reinterpret_cast<void**>(p)[-2]);
+}
+void operator delete(void* p, std::size_t, std::align_val_t align) noexcept { operator delete(p, align); }
+void* operator new[](std::size_t n, std::align_val_t align) { return operator new(n, align); }
+void operator delete[](void* p, std::align_val_t align) noexcept { operator delete(p, align); }
+void operator delete[](void* p, std::size_t, std::align_val_t align) noexcept { operator delete(p, align); }
 
 namespace {
 
