@@ -17,13 +17,14 @@ namespace {
 
 //! Closed components (every half-edge joined) whose signed volume is negative beyond rounding: below -1e-9 times the
 //! sum of the faces' absolute volumes (a flat closed component is neither inverted nor not).
-std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> positions, const Array<Index>& partner) {
+std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> positions,
+                           const std::vector<Index>& partner) {
     const Components components = find_components(table, partner);
     const std::size_t faces = table.offsets.size() - 1;
-    Array<std::uint8_t> open(faces, 0);
+    std::vector<std::uint8_t> open(faces, 0);
     for (Index c = 0; c < table.corner_count(); ++c)
         if (partner[c] == kInvalidIndex) open[components.of_face[table.face(c)]] = 1;
-    Array<double> volume(faces, 0.0), magnitude(faces, 0.0);
+    std::vector<double> volume(faces, 0.0), magnitude(faces, 0.0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];
         if (open[root]) continue;
@@ -55,7 +56,7 @@ Result<MeshDefects> find_defects(const PolygonMesh& mesh, bool whole) {
     const CornerTable& table = work.table;
     const EdgeGroups& edges = work.edges;
     // faces on an edge of two are in one fan around its ends whatever their directions
-    Array<Index> pair(table.corner_count(), kInvalidIndex);
+    std::vector<Index> pair(table.corner_count(), kInvalidIndex);
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         const auto corners = edges.of(e);
         if (corners.size() > 2) ++defects.nonmanifold_edges;

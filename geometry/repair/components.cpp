@@ -6,7 +6,7 @@
 
 namespace surfaced::repair_detail {
 
-Components find_components(const CornerTable& table, const Array<Index>& partner) {
+Components find_components(const CornerTable& table, const std::vector<Index>& partner) {
     const std::size_t faces = table.offsets.size() - 1;
     DisjointSets sets(faces);
     for (Index c = 0; c < table.corner_count(); ++c)
@@ -31,15 +31,15 @@ double face_volume(std::span<const Vec3> positions, std::span<const Index> face,
     return v / 6.0;
 }
 
-void orient_outward(const CornerTable& table, std::span<const Vec3> positions, const Array<Index>& partner,
-                    const Components& components, Array<std::uint8_t>& flip) {
+void orient_outward(const CornerTable& table, std::span<const Vec3> positions, const std::vector<Index>& partner,
+                    const Components& components, std::vector<std::uint8_t>& flip) {
     const std::size_t faces = table.offsets.size() - 1;
     // the lowest face of a component (the one that names it) keeps its winding; it comes first, so go backwards
     for (Index f = static_cast<Index>(faces); f-- > 0;) flip[f] ^= flip[components.of_face[f]];
-    Array<std::uint8_t> open(faces, 0);
+    std::vector<std::uint8_t> open(faces, 0);
     for (Index c = 0; c < table.corner_count(); ++c)
         if (partner[c] == kInvalidIndex) open[components.of_face[table.face(c)]] = 1;
-    Array<double> volume(faces, 0.0);
+    std::vector<double> volume(faces, 0.0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];
         if (open[root]) continue;

@@ -5,24 +5,23 @@
 #include <span>
 #include <vector>
 
-#include "geometry/repair/arrays.h"
 #include "geometry/repair/mesh_edges.h"
 
 namespace surfaced::repair_detail {
 
 struct Components {
-    Array<Index> of_face;     //!< component of each face, named by its lowest face
-    Array<Index> face_count;  //!< faces of the component named c (0 for names not in use)
+    std::vector<Index> of_face;     //!< component of each face, named by its lowest face
+    std::vector<Index> face_count;  //!< faces of the component named c (0 for names not in use)
     std::size_t count = 0;
 };
 
 //! Faces joined through `partner` (directly or through other faces) form a component.
-Components find_components(const CornerTable& table, const Array<Index>& partner);
+Components find_components(const CornerTable& table, const std::vector<Index>& partner);
 
 //! Makes each component's lowest face keep its winding (reversing the whole component when `flip` says otherwise),
 //! then reverses every closed component (no unjoined half-edge) whose signed volume, with `flip` applied, is negative.
-void orient_outward(const CornerTable& table, std::span<const Vec3> positions, const Array<Index>& partner,
-                    const Components& components, Array<std::uint8_t>& flip);
+void orient_outward(const CornerTable& table, std::span<const Vec3> positions, const std::vector<Index>& partner,
+                    const Components& components, std::vector<std::uint8_t>& flip);
 
 //! Signed volume of a face as seen from `origin` (divergence theorem, fan triangles): the sum over a closed surface
 //! is its enclosed volume, positive when the faces wind counter-clockwise seen from outside. `reversed`: of the face

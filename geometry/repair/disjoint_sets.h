@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "geometry/core/types.h"
-#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
@@ -32,7 +31,7 @@ public:
     }
 
 private:
-    Array<Index> parent_;
+    std::vector<Index> parent_;
 };
 
 //! Disjoint sets whose members have a parity relative to their root; unite(a, b, p) records parity(a) ^ parity(b)
@@ -80,8 +79,8 @@ public:
     }
 
 private:
-    Array<Index> parent_;
-    Array<std::uint8_t> parity_;
+    std::vector<Index> parent_;
+    std::vector<std::uint8_t> parity_;
 };
 
 }  // namespace surfaced::repair_detail

@@ -15,7 +15,7 @@ bool has_repeated_index(std::span<const Index> face) {
                 if (face[i] == face[j]) return true;
         return false;
     }
-    Array<Index> sorted(face.begin(), face.end());
+    std::vector<Index> sorted(face.begin(), face.end());
     std::sort(sorted.begin(), sorted.end());
     return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
 }

@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "geometry/core/types.h"
-#include "geometry/repair/arrays.h"
 #include "geometry/repair/index_table.h"
 
 namespace surfaced::repair_detail {
@@ -28,9 +27,9 @@ public:
 
 private:
     IndexTable table_;
-    Array<Index> sorted_;       // sorted vertices of the remembered faces, one after another
-    Array<std::size_t> start_;  // remembered face -> its start in sorted_
-    Array<Index> scratch_;
+    std::vector<Index> sorted_;       // sorted vertices of the remembered faces, one after another
+    std::vector<std::size_t> start_;  // remembered face -> its start in sorted_
+    std::vector<Index> scratch_;
 };
 
 }  // namespace surfaced::repair_detail

@@ -7,7 +7,7 @@
 
 namespace surfaced::repair_detail {
 
-DisjointSets join_fans(const CornerTable& table, const Array<Index>& partner) {
+DisjointSets join_fans(const CornerTable& table, const std::vector<Index>& partner) {
     DisjointSets fans(table.corner_count());
     for (Index c = 0; c < table.corner_count(); ++c) {
         const Index p = partner[c];
@@ -25,7 +25,7 @@ DisjointSets join_fans(const CornerTable& table, const Array<Index>& partner) {
 
 namespace {
 
-void unjoin(Array<Index>& partner, Index c) {
+void unjoin(std::vector<Index>& partner, Index c) {
     const Index p = partner[c];
     if (p == kInvalidIndex) return;
     partner[p] = kInvalidIndex;
@@ -34,8 +34,8 @@ void unjoin(Array<Index>& partner, Index c) {
 
 //! Cuts the corners of edge e that share both fans with another of its faces without being joined to it. True when
 //! something was cut.
-bool cut_shared(const CornerTable& table, std::span<const Index> corners, DisjointSets& fans, Array<Index>& partner,
-                Array<std::array<Index, 3>>& keyed) {
+bool cut_shared(const CornerTable& table, std::span<const Index> corners, DisjointSets& fans,
+                std::vector<Index>& partner, std::vector<std::array<Index, 3>>& keyed) {
     keyed.clear();
     for (Index c : corners) {
         const Index n = table.next(c);
@@ -72,9 +72,9 @@ bool cut_shared(const CornerTable& table, std::span<const Index> corners, Disjoi
 
 }  // namespace
 
-std::size_t count_split_vertices(const CornerTable& table, const Array<Index>& partner, std::size_t vertex_count,
+std::size_t count_split_vertices(const CornerTable& table, const std::vector<Index>& partner, std::size_t vertex_count,
                                  bool stop_at_first) {
-    Array<Index> corners(vertex_count, 0), first(vertex_count);
+    std::vector<Index> corners(vertex_count, 0), first(vertex_count);
     for (Index c = 0; c < table.corner_count(); ++c)
         if (corners[table.indices[c]]++ == 0) first[table.indices[c]] = c;
     // The corner of q's face at v, where q's half-edge has v at one end, and whether q is that corner's outgoing
@@ -116,15 +116,15 @@ std::size_t count_split_vertices(const CornerTable& table, const Array<Index>& p
     return split;
 }
 
-Array<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, Array<Index>& partner,
-                            std::size_t vertex_count) {
+std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, std::vector<Index>& partner,
+                                  std::size_t vertex_count) {
     bool cuts_possible = false;
     for (std::size_t e = 0; e < edges.edge_count() && !cuts_possible; ++e) {
         const auto corners = edges.of(e);
         cuts_possible = corners.size() > 2 || (corners.size() == 2 && partner[corners[0]] != corners[1]);
     }
     if (!cuts_possible && count_split_vertices(table, partner, vertex_count, true) == 0) return {};
-    Array<std::array<Index, 3>> keyed;
+    std::vector<std::array<Index, 3>> keyed;
     for (;;) {
         DisjointSets fans = join_fans(table, partner);
         bool cut = false;
@@ -135,7 +135,7 @@ Array<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, A
             cut |= cut_shared(table, corners, fans, partner, keyed);
         }
         if (!cut) {
-            Array<Index> fan(table.corner_count());
+            std::vector<Index> fan(table.corner_count());
             for (Index c = 0; c < fan.size(); ++c) fan[c] = fans.find(c);
             return fan;
         }

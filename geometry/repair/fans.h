@@ -3,7 +3,6 @@
 
 #include <vector>
 
-#include "geometry/repair/arrays.h"
 #include "geometry/repair/disjoint_sets.h"
 #include "geometry/repair/mesh_edges.h"
 
@@ -16,15 +15,15 @@ namespace surfaced::repair_detail {
 //! from its neighbours (its joins at that corner are removed from `partner`), and the fans are formed again. Once
 //! this returns, giving each fan its own vertex makes every edge used by one face or by two joined faces.
 //! Corners joined into fans through `partner` alone, without any cutting.
-DisjointSets join_fans(const CornerTable& table, const Array<Index>& partner);
+DisjointSets join_fans(const CornerTable& table, const std::vector<Index>& partner);
 
 //! Empty when no join was cut and the corners at every vertex form one fan (nearly every mesh: no union-find then).
-Array<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, Array<Index>& partner,
-                            std::size_t vertex_count);
+std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, std::vector<Index>& partner,
+                                  std::size_t vertex_count);
 
 //! Vertices (below vertex_count) whose corners form more than one fan through `partner` (which pairs half-edges of
 //! one undirected edge, in either direction), found by walking around each vertex; with stop_at_first, 0 or 1.
-std::size_t count_split_vertices(const CornerTable& table, const Array<Index>& partner, std::size_t vertex_count,
+std::size_t count_split_vertices(const CornerTable& table, const std::vector<Index>& partner, std::size_t vertex_count,
                                  bool stop_at_first = false);
 
 }  // namespace surfaced::repair_detail

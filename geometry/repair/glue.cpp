@@ -39,7 +39,7 @@ private:
     const CornerTable& table_;
     bool orient_;
     ParitySets sets_;
-    Array<Index> partner_;
+    std::vector<Index> partner_;
 };
 
 //! Every edge used by at most two faces, and by two in opposite directions: all pairs join, no face is reversed.
@@ -74,7 +74,7 @@ Gluing glue_faces(const CornerTable& table, const EdgeGroups& edges, bool orient
         if (edges.size(e) == 2) joiner.try_join(edges.of(e)[0], edges.of(e)[1]);
     // Edges of three or more faces. The unjoined faces seen so far on the edge cannot agree with one another (else
     // they would have been joined), so a new face can agree with all of them or with none: join it to the first.
-    Array<Index> open;
+    std::vector<Index> open;
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         if (edges.size(e) <= 2) continue;
         open.clear();

@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/repair/arrays.h"
 #include "geometry/repair/mesh_edges.h"
 
 namespace surfaced::repair_detail {
@@ -12,9 +11,9 @@ namespace surfaced::repair_detail {
 struct Gluing {
     //! Per corner: the corner whose half-edge is joined to this corner's half-edge (the same undirected edge, the
     //! opposite direction once `flip` is applied), or kInvalidIndex where the face is on its own (boundary or cut).
-    Array<Index> partner;
+    std::vector<Index> partner;
     //! Per face: 1 to reverse the face. The lowest face of every joined set keeps its winding.
-    Array<std::uint8_t> flip;
+    std::vector<std::uint8_t> flip;
 };
 
 //! Joins faces pairwise across edges, at most two faces per edge. Edges used by two faces are joined first (with

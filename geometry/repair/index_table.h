@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "geometry/core/types.h"
-#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
@@ -75,7 +74,7 @@ private:
         std::uint32_t tag = 0;
     };
 
-    Array<Slot> slots_;
+    std::vector<Slot> slots_;
     std::size_t mask_ = 0;
     std::size_t size_ = 0;
 };

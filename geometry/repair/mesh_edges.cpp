@@ -34,10 +34,10 @@ EdgeGroups group_edges(const CornerTable& table, std::size_t vertex_count) {
     };
     // counting sort of the half-edges by their lower vertex (stable: corner order within a bucket), each as
     // (higher vertex << 32 | corner), so that sorting a bucket's words sorts it by higher vertex, then corner
-    Array<Index> fill(vertex_count + 1, 0);
+    std::vector<Index> fill(vertex_count + 1, 0);
     for_each_halfedge([&](Index, Index lo, Index) { ++fill[lo + 1]; });
     for (std::size_t v = 0; v < vertex_count; ++v) fill[v + 1] += fill[v];
-    Array<std::uint64_t> keyed(n);
+    std::vector<std::uint64_t> keyed(n);
     for_each_halfedge([&](Index c, Index lo, Index hi) { keyed[fill[lo]++] = (std::uint64_t{hi} << 32) | c; });
     // fill[v] is now the end of bucket v, the start of bucket v + 1
     EdgeGroups groups;

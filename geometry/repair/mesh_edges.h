@@ -6,15 +6,14 @@
 #include <vector>
 
 #include "geometry/core/types.h"
-#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
 struct CornerTable {
-    std::span<const Index> offsets;  //!< face f: corners offsets[f] .. offsets[f+1]
-    std::span<const Index> indices;  //!< vertex of each corner
-    Array<Index> corner_faces;       //!< face of each corner; empty when every face is a triangle
-    bool triangles = false;          //!< every face is a triangle: corner c is corner c % 3 of face c / 3
+    std::span<const Index> offsets;   //!< face f: corners offsets[f] .. offsets[f+1]
+    std::span<const Index> indices;   //!< vertex of each corner
+    std::vector<Index> corner_faces;  //!< face of each corner; empty when every face is a triangle
+    bool triangles = false;           //!< every face is a triangle: corner c is corner c % 3 of face c / 3
 
     std::size_t corner_count() const { return indices.size(); }
     Index face(Index c) const { return triangles ? c / 3 : corner_faces[c]; }
@@ -38,9 +37,9 @@ CornerTable make_corner_table(std::span<const Index> offsets, std::span<const In
 //! Half-edges grouped by undirected edge. Edge e is used by the half-edges of corners[begin[e] .. begin[e+1]), in
 //! increasing corner order; edges are ordered by (lower vertex, higher vertex).
 struct EdgeGroups {
-    Array<Index> corners;
-    Array<Index> begin;        //!< size edge_count() + 1
-    Array<Index> vertex_edge;  //!< edges whose lower vertex is v: vertex_edge[v] .. vertex_edge[v+1]
+    std::vector<Index> corners;
+    std::vector<Index> begin;        //!< size edge_count() + 1
+    std::vector<Index> vertex_edge;  //!< edges whose lower vertex is v: vertex_edge[v] .. vertex_edge[v+1]
 
     std::size_t edge_count() const { return begin.size() - 1; }
     std::size_t size(std::size_t e) const { return begin[e + 1] - begin[e]; }

@@ -8,20 +8,18 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/repair/arrays.h"
-
 namespace surfaced::repair_detail {
 
 //! Sorts `words` by bits 32..63, stably; `scratch` is resized and clobbered.
-inline void radix_sort_by_high_half(Array<std::uint64_t>& words, Array<std::uint64_t>& scratch) {
+inline void radix_sort_by_high_half(std::vector<std::uint64_t>& words, std::vector<std::uint64_t>& scratch) {
     constexpr int kShift[3] = {32, 43, 54};
     constexpr std::uint64_t kMask[3] = {0x7FF, 0x7FF, 0x3FF};
     std::array<std::array<std::size_t, 2048>, 3> count{};
     for (std::uint64_t w : words)
         for (int pass = 0; pass < 3; ++pass) ++count[pass][(w >> kShift[pass]) & kMask[pass]];
     scratch.resize(words.size());
-    Array<std::uint64_t>* from = &words;
-    Array<std::uint64_t>* to = &scratch;
+    std::vector<std::uint64_t>* from = &words;
+    std::vector<std::uint64_t>* to = &scratch;
     for (int pass = 0; pass < 3; ++pass) {
         std::size_t sum = 0;
         for (std::size_t& c : count[pass]) {

@@ -25,19 +25,20 @@ GeoError cancelled() { return make_error(ErrorCode::Cancelled, "mesh repair canc
 //! Output vertex of every kept corner: one per fan; the first fan of a vertex (in corner order) keeps the vertex,
 //! renumbered in the input's order, further fans get copies numbered after all kept vertices.
 struct VertexAssignment {
-    Array<Index> of_corner;  //!< output vertex of each working corner (kInvalidIndex: face dropped)
-    Array<Index> source;     //!< input vertex of each output vertex
-    Array<Index> of_input;   //!< output vertex of each input vertex (its first fan), or kInvalidIndex
+    std::vector<Index> of_corner;  //!< output vertex of each working corner (kInvalidIndex: face dropped)
+    std::vector<Index> source;     //!< input vertex of each output vertex
+    std::vector<Index> of_input;   //!< output vertex of each input vertex (its first fan), or kInvalidIndex
 };
 
 //! `fan` empty: every vertex has one fan (no copies).
-VertexAssignment assign_vertices(const CornerTable& table, const Array<Index>& fan,
-                                 const Array<std::uint8_t>& keep_face, const Array<Index>& weld, RepairReport& report) {
+VertexAssignment assign_vertices(const CornerTable& table, const std::vector<Index>& fan,
+                                 const std::vector<std::uint8_t>& keep_face, const std::vector<Index>& weld,
+                                 RepairReport& report) {
     const std::size_t n_in = weld.size();
     constexpr Index kCopy = Index{1} << 31;  // marks a copy's number in fan_vertex until numbering is known
-    Array<Index> fan_vertex(fan.empty() ? 0 : table.corner_count(), kInvalidIndex);
-    Array<std::uint8_t> used(n_in, 0);
-    Array<Index> copy_source;
+    std::vector<Index> fan_vertex(fan.empty() ? 0 : table.corner_count(), kInvalidIndex);
+    std::vector<std::uint8_t> used(n_in, 0);
+    std::vector<Index> copy_source;
     for (std::size_t f = 0; f + 1 < table.offsets.size(); ++f) {
         if (!keep_face[f]) continue;
         for (Index c = table.offsets[f]; c < table.offsets[f + 1]; ++c) {
@@ -87,8 +88,8 @@ VertexAssignment assign_vertices(const CornerTable& table, const Array<Index>& f
 }
 
 //! Creases and corners follow their vertices, hole tags their faces; anything whose element is gone is dropped.
-SubdivisionTags remap_tags(const SubdivisionTags& tags, const Array<Index>& vertex_of_input,
-                           const Array<Index>& face_of_input) {
+SubdivisionTags remap_tags(const SubdivisionTags& tags, const std::vector<Index>& vertex_of_input,
+                           const std::vector<Index>& face_of_input) {
     SubdivisionTags out;
     out.boundary = tags.boundary;
     for (const Crease& c : tags.creases) {
@@ -115,19 +116,19 @@ public:
 
 private:
     //! Builds the output mesh from the kept working faces; `reversed` gets one entry per output face.
-    PolygonMesh assemble(const WorkFaces& work, const VertexAssignment& vertices, const Array<std::uint8_t>& keep_face,
-                         const Array<std::uint8_t>& flip);
+    PolygonMesh assemble(const WorkFaces& work, const VertexAssignment& vertices,
+                         const std::vector<std::uint8_t>& keep_face, const std::vector<std::uint8_t>& flip);
     //! After holes were closed: reverses the closed components that now have a negative volume.
     void orient_filled(PolygonMesh& mesh);
 
     const PolygonMesh& in_;
     const RepairOptions& options_;
     RepairReport report_;
-    Array<std::uint8_t> reversed_;  // per output face
+    std::vector<std::uint8_t> reversed_;  // per output face
 };
 
 Result<RepairResult> Repairer::run() {
-    const Array<Index> weld = weld_targets(in_.positions, options_.weld_tolerance);
+    const std::vector<Index> weld = weld_targets(in_.positions, options_.weld_tolerance);
     for (Index v = 0; v < weld.size(); ++v) report_.welded += weld[v] != v;
     if (options_.cancel.requested()) return cancelled();
 
@@ -140,14 +141,14 @@ Result<RepairResult> Repairer::run() {
     const EdgeGroups& edges = work.edges;
     Gluing glue = glue_faces(table, edges, options_.orient);
     if (options_.cancel.requested()) return cancelled();
-    const Array<Index> fan = fan_of_corners(table, edges, glue.partner, in_.vertex_count());
+    const std::vector<Index> fan = fan_of_corners(table, edges, glue.partner, in_.vertex_count());
     const Components components = find_components(table, glue.partner);
     if (options_.orient) orient_outward(table, in_.positions, glue.partner, components, glue.flip);
     if (options_.cancel.requested()) return cancelled();
 
     const std::size_t faces = work.source.size();
-    Array<std::uint8_t> keep_face(faces, 1);
-    Array<std::uint8_t> dropped_component(faces, 0);
+    std::vector<std::uint8_t> keep_face(faces, 1);
+    std::vector<std::uint8_t> dropped_component(faces, 0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];
         if (components.face_count[root] >= options_.min_component_faces) continue;
@@ -180,7 +181,7 @@ Result<RepairResult> Repairer::run() {
 }
 
 PolygonMesh Repairer::assemble(const WorkFaces& work, const VertexAssignment& vertices,
-                               const Array<std::uint8_t>& keep_face, const Array<std::uint8_t>& flip) {
+                               const std::vector<std::uint8_t>& keep_face, const std::vector<std::uint8_t>& flip) {
     PolygonMesh out;
     out.positions.reserve(vertices.source.size());
     for (Index v : vertices.source) out.positions.push_back(in_.positions[v]);
@@ -192,7 +193,7 @@ PolygonMesh Repairer::assemble(const WorkFaces& work, const VertexAssignment& ve
     out.face_indices.reserve(work.indices.size());
     if (uvs) out.uv_indices.reserve(work.indices.size());
     reversed_.reserve(keep_face.size());
-    Array<Index> face_of_input(in_.face_count(), kInvalidIndex);
+    std::vector<Index> face_of_input(in_.face_count(), kInvalidIndex);
     for (Index f = 0; f < keep_face.size(); ++f) {
         if (!keep_face[f]) continue;
         face_of_input[work.source[f]] = static_cast<Index>(out.face_count());
@@ -217,13 +218,13 @@ PolygonMesh Repairer::assemble(const WorkFaces& work, const VertexAssignment& ve
 void Repairer::orient_filled(PolygonMesh& mesh) {
     const CornerTable table = make_corner_table(mesh.face_offsets, mesh.face_indices);
     const EdgeGroups edges = group_edges(table, mesh.vertex_count());
-    Array<Index> partner(table.corner_count(), kInvalidIndex);
+    std::vector<Index> partner(table.corner_count(), kInvalidIndex);
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         if (edges.size(e) != 2) continue;
         partner[edges.of(e)[0]] = edges.of(e)[1];
         partner[edges.of(e)[1]] = edges.of(e)[0];
     }
-    Array<std::uint8_t> flip(mesh.face_count(), 0);
+    std::vector<std::uint8_t> flip(mesh.face_count(), 0);
     orient_outward(table, mesh.positions, partner, find_components(table, partner), flip);
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         if (!flip[f]) continue;

@@ -35,9 +35,9 @@ std::uint64_t hash_position(const Vec3& p) {
 //! The vertices of one hash, keyed[b..e) in increasing index, split by exact position: each merges into the first
 //! (lowest) vertex of its position.
 void split_by_position(std::span<const Vec3> positions, const std::uint64_t* keyed, std::size_t b, std::size_t e,
-                       Array<Index>& target) {
+                       std::vector<Index>& target) {
     if (e - b <= 32) {
-        Array<Index> leaders;  // the distinct positions, by their first vertex
+        std::vector<Index> leaders;  // the distinct positions, by their first vertex
         for (std::size_t i = b; i < e; ++i) {
             const auto v = static_cast<Index>(keyed[i]);
             Index found = kInvalidIndex;
@@ -52,7 +52,7 @@ void split_by_position(std::span<const Vec3> positions, const std::uint64_t* key
         return;
     }
     // many vertices of one hash (one position used very often, or collisions): sort them by position, then index
-    Array<std::pair<std::array<std::uint64_t, 3>, Index>> run;
+    std::vector<std::pair<std::array<std::uint64_t, 3>, Index>> run;
     run.reserve(e - b);
     for (std::size_t i = b; i < e; ++i) {
         const auto v = static_cast<Index>(keyed[i]);
@@ -67,10 +67,10 @@ void split_by_position(std::span<const Vec3> positions, const std::uint64_t* key
 //! vertex first takes the first vertex of its hash, which is right unless two positions share the hash; that is
 //! checked in vertex order (the compared positions are mostly near each other in memory), and only the hashes where
 //! it failed are split by exact position.
-Array<Index> weld_exact(std::span<const Vec3> positions) {
+std::vector<Index> weld_exact(std::span<const Vec3> positions) {
     const std::size_t n = positions.size();
-    Array<Index> target(n);
-    Array<std::uint64_t> keyed(n), scratch;
+    std::vector<Index> target(n);
+    std::vector<std::uint64_t> keyed(n), scratch;
     constexpr std::uint64_t kHigh = ~std::uint64_t{0xFFFFFFFF};
     for (std::size_t v = 0; v < n; ++v) keyed[v] = (hash_position(positions[v]) & kHigh) | v;
     radix_sort_by_high_half(keyed, scratch);
@@ -79,7 +79,7 @@ Array<Index> weld_exact(std::span<const Vec3> positions) {
         for (e = b; e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh); ++e)
             target[static_cast<Index>(keyed[e])] = first;
     }
-    Array<std::uint8_t> collided;
+    std::vector<std::uint8_t> collided;
     for (std::size_t v = 0; v < n; ++v) {
         if (target[v] == v || positions[target[v]] == positions[v]) continue;
         if (collided.empty()) collided.assign(n, 0);
@@ -117,15 +117,15 @@ std::uint64_t hash_cell(const Cell& c) {
 
 // Cells are twice the tolerance wide, so that the vertices within the tolerance of a point lie in the 2 x 2 x 2
 // cells nearest to it (the half of each neighbouring cell the point is closer to).
-Array<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
+std::vector<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
     const std::size_t n = positions.size();
     const double inverse_width = 0.5 / tolerance;
     const double tolerance2 = tolerance * tolerance;
     // identical positions merge alike (into the target of the first of them): only first occurrences search
-    Array<Index> target = weld_exact(positions);
+    std::vector<Index> target = weld_exact(positions);
     // cell -> its first kept vertex; the rest of the cell's kept vertices follow through next_in_cell
     IndexTable cells(n);
-    Array<Index> next_in_cell(n, kInvalidIndex);
+    std::vector<Index> next_in_cell(n, kInvalidIndex);
     auto in_cell = [&](const Cell& c) {
         return [&, c](Index kept) { return cell_of(positions[kept], inverse_width) == c; };
     };
@@ -164,7 +164,7 @@ Array<Index> weld_within(std::span<const Vec3> positions, double tolerance) {
 
 }  // namespace
 
-Array<Index> weld_targets(std::span<const Vec3> positions, double tolerance) {
+std::vector<Index> weld_targets(std::span<const Vec3> positions, double tolerance) {
     return tolerance > 0 ? weld_within(positions, tolerance) : weld_exact(positions);
 }
 

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "geometry/core/types.h"
-#include "geometry/repair/arrays.h"
 
 namespace surfaced::repair_detail {
 
@@ -15,6 +14,6 @@ namespace surfaced::repair_detail {
 //! inclusive), or is kept; kept vertices are therefore more than `tolerance` apart, and a merged vertex is within
 //! `tolerance` of its target (not necessarily of every other vertex merged into it). Expected linear time (a hash of
 //! positions, or of grid cells `tolerance` wide). Positions must be finite.
-Array<Index> weld_targets(std::span<const Vec3> positions, double tolerance);
+std::vector<Index> weld_targets(std::span<const Vec3> positions, double tolerance);
 
 }  // namespace surfaced::repair_detail

@@ -15,12 +15,12 @@ namespace {
 
 //! Per working face: 1 when it is a triangle with the vertex set of an earlier triangle. Two triangles on one edge
 //! have the same vertex set exactly when their corners off the edge are the same vertex.
-Array<std::uint8_t> duplicate_triangles(const CornerTable& table, const EdgeGroups& edges, std::size_t& count) {
+std::vector<std::uint8_t> duplicate_triangles(const CornerTable& table, const EdgeGroups& edges, std::size_t& count) {
     const std::size_t faces = table.offsets.size() - 1;
-    Array<std::uint8_t> duplicate(faces, 0);
+    std::vector<std::uint8_t> duplicate(faces, 0);
     auto is_triangle = [&](Index f) { return table.offsets[f + 1] - table.offsets[f] == 3; };
     auto third = [&](Index c) { return table.indices[table.prev(c)]; };
-    Array<std::pair<Index, Index>> keyed;  // (third vertex, face) of an edge of more than two triangles
+    std::vector<std::pair<Index, Index>> keyed;  // (third vertex, face) of an edge of more than two triangles
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         const auto corners = edges.of(e);
         if (corners.size() < 2) continue;
@@ -43,7 +43,7 @@ Array<std::uint8_t> duplicate_triangles(const CornerTable& table, const EdgeGrou
 
 //! The edges of the faces not dropped, renumbered as when the dropped faces' corners are taken out: a few dropped
 //! faces cost a pass over the edges instead of grouping them again.
-EdgeGroups without_faces(const EdgeGroups& edges, const CornerTable& table, const Array<std::uint8_t>& drop,
+EdgeGroups without_faces(const EdgeGroups& edges, const CornerTable& table, const std::vector<std::uint8_t>& drop,
                          std::size_t vertex_count) {
     // first corner of every dropped face, and the corners dropped before it
     std::vector<std::pair<Index, Index>> dropped;
@@ -115,7 +115,7 @@ WorkFaces clean_faces(const PolygonMesh& mesh, std::span<const Index> weld) {
     work.edges = group_edges(work.table, mesh.vertex_count());
 
     std::size_t duplicates = 0;
-    const Array<std::uint8_t> drop = duplicate_triangles(work.table, work.edges, duplicates);
+    const std::vector<std::uint8_t> drop = duplicate_triangles(work.table, work.edges, duplicates);
     if (duplicates == 0) return work;
     work.duplicate += duplicates;
     WorkFaces kept;

@@ -6,17 +6,16 @@
 #include <span>
 #include <vector>
 
-#include "geometry/repair/arrays.h"
 #include "geometry/mesh/polygon_mesh.h"
 #include "geometry/repair/mesh_edges.h"
 
 namespace surfaced::repair_detail {
 
 struct WorkFaces {
-    Array<Index> offsets{0};
-    Array<Index> indices;
-    Array<Index> source;  //!< input face of each working face
-    CornerTable table;    //!< over offsets and indices
+    std::vector<Index> offsets{0};
+    std::vector<Index> indices;
+    std::vector<Index> source;  //!< input face of each working face
+    CornerTable table;          //!< over offsets and indices
     EdgeGroups edges;
     std::size_t degenerate = 0;  //!< input faces dropped: a repeated vertex or zero area
     std::size_t duplicate = 0;   //!< input faces dropped: the vertex set of an earlier face
