@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Installs the benchmark-only peers, builds the benchmarks and runs them: ours against the reference in one process
-# each (OpenSubdiv for subdivision, meshoptimizer and CGAL for simplification), plus implicit meshing and patch
-# tessellation. Debian 12, as root for the installs. The peers are never linked into the service.
+# each (OpenSubdiv for subdivision, meshoptimizer and CGAL for simplification), plus implicit meshing, patch
+# tessellation and mesh repair against the simplification it precedes. Debian 12, as root for the installs. The peers are never linked into the service.
 #   scripts/bench.sh                       every benchmark, full size (the 1M-triangle simplifications take minutes)
 #   scripts/bench.sh --quick               smaller meshes only
-#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate
+#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate repair
 # Each output also goes to build/bench-results/NAME.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,11 +14,11 @@ selected=()
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=(--quick) ;;
-    subdivide|simplify|implicit|tessellate) selected+=("$arg") ;;
-    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate]..." >&2; exit 2 ;;
+    subdivide|simplify|implicit|tessellate|repair) selected+=("$arg") ;;
+    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate|repair]..." >&2; exit 2 ;;
   esac
 done
-[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate)
+[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate repair)
 
 # The build dependencies come from scripts/install-deps.sh (run it first on a fresh machine); here only the bench-only
 # peers: meshoptimizer, CGAL (header-only; pulls Boost, GMP, MPFR) and Eigen (CGAL's Garland-Heckbert policies use
@@ -61,5 +61,7 @@ for name in "${selected[@]}"; do
     continue
   fi
   echo "== $name ($(date -u +%FT%TZ), $binary ${quick[*]})"
-  "$binary" "${quick[@]}" | tee "build/bench-results/$name.md"
+  args=("${quick[@]}")
+  [ "$name" = repair ] && args=()  # one 1M-triangle mesh, no --quick
+  "$binary" "${args[@]}" | tee "build/bench-results/$name.md"
 done

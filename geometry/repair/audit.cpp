@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "geometry/repair/components.h"
-#include "geometry/repair/face_checks.h"
 #include "geometry/repair/fans.h"
 #include "geometry/repair/mesh_edges.h"
+#include "geometry/repair/work_faces.h"
 
 namespace surfaced {
 
@@ -23,7 +23,7 @@ std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> posit
     const std::size_t faces = table.offsets.size() - 1;
     std::vector<std::uint8_t> open(faces, 0);
     for (Index c = 0; c < table.corner_count(); ++c)
-        if (partner[c] == kInvalidIndex) open[components.of_face[table.face[c]]] = 1;
+        if (partner[c] == kInvalidIndex) open[components.of_face[table.face(c)]] = 1;
     std::vector<double> volume(faces, 0.0), magnitude(faces, 0.0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];
@@ -40,59 +40,49 @@ std::size_t count_inverted(const CornerTable& table, std::span<const Vec3> posit
 
 }  // namespace
 
-Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) {
+namespace {
+
+//! The defects; `whole` false: only enough of them to answer needs_repair (no volumes, one non-manifold vertex at
+//! most).
+Result<MeshDefects> find_defects(const PolygonMesh& mesh, bool whole) {
     ValidateOptions validate_options;
     validate_options.allow_repeated_vertices = true;
     if (Status valid = validate(mesh, validate_options); !valid) return valid.error();
+    const WorkFaces work = clean_faces(mesh, {});
     MeshDefects defects;
-    std::vector<Index> offsets{0}, indices;
-    FaceSets seen(mesh.face_count());
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const auto face = mesh.face(f);
-        if (has_repeated_index(face) || has_zero_area(mesh.positions, face)) {
-            ++defects.degenerate_faces;
-        } else if (!seen.insert(face)) {
-            ++defects.duplicate_faces;
-        } else {
-            indices.insert(indices.end(), face.begin(), face.end());
-            offsets.push_back(static_cast<Index>(indices.size()));
-        }
-    }
-    const CornerTable table = make_corner_table(offsets, indices);
-    const EdgeGroups edges = group_edges(table, mesh.vertex_count());
-    // faces on an edge of two are in one fan around its ends whatever their directions; consistent pairs also join
-    // the faces into components for the volume test
-    std::vector<Index> any_pair(table.corner_count(), kInvalidIndex), consistent(table.corner_count(), kInvalidIndex);
+    defects.degenerate_faces = work.degenerate;
+    defects.duplicate_faces = work.duplicate;
+    if (!whole && defects.breaks_manifold()) return defects;
+    const CornerTable& table = work.table;
+    const EdgeGroups& edges = work.edges;
+    // faces on an edge of two are in one fan around its ends whatever their directions
+    std::vector<Index> pair(table.corner_count(), kInvalidIndex);
     for (std::size_t e = 0; e < edges.edge_count(); ++e) {
         const auto corners = edges.of(e);
         if (corners.size() > 2) ++defects.nonmanifold_edges;
         if (corners.size() != 2) continue;
         const Index a = corners[0], b = corners[1];
-        any_pair[a] = b;
-        any_pair[b] = a;
-        if (table.indices[a] == table.indices[b]) {
-            ++defects.inconsistent_edges;
-        } else {
-            consistent[a] = b;
-            consistent[b] = a;
-        }
+        pair[a] = b;
+        pair[b] = a;
+        if (table.indices[a] == table.indices[b]) ++defects.inconsistent_edges;
     }
-    DisjointSets fans = join_fans(table, any_pair);
-    std::vector<Index> first_fan(mesh.vertex_count(), kInvalidIndex);
-    std::vector<std::uint8_t> counted(mesh.vertex_count(), 0);
-    for (Index c = 0; c < table.corner_count(); ++c) {
-        const Index v = table.indices[c], fan = fans.find(c);
-        if (first_fan[v] == kInvalidIndex) first_fan[v] = fan;
-        if (first_fan[v] == fan || counted[v]) continue;
-        counted[v] = 1;
-        ++defects.nonmanifold_vertices;
-    }
-    defects.inverted_components = count_inverted(table, mesh.positions, consistent);
+    if (!whole && defects.breaks_manifold()) return defects;
+    defects.nonmanifold_vertices = count_split_vertices(table, pair, mesh.vertex_count(), !whole);
+    if (!whole) return defects;
+    // consistent pairs join the faces into components for the volume test
+    if (defects.inconsistent_edges > 0)
+        for (Index c = 0; c < table.corner_count(); ++c)
+            if (pair[c] != kInvalidIndex && table.indices[pair[c]] == table.indices[c]) pair[c] = kInvalidIndex;
+    defects.inverted_components = count_inverted(table, mesh.positions, pair);
     return defects;
 }
 
+}  // namespace
+
+Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) { return find_defects(mesh, true); }
+
 bool needs_repair(const PolygonMesh& mesh) {
-    const Result<MeshDefects> defects = audit_mesh(mesh);
+    const Result<MeshDefects> defects = find_defects(mesh, false);
     return !defects.ok() || defects->breaks_manifold();
 }
 

@@ -10,7 +10,7 @@ Components find_components(const CornerTable& table, const std::vector<Index>& p
     const std::size_t faces = table.offsets.size() - 1;
     DisjointSets sets(faces);
     for (Index c = 0; c < table.corner_count(); ++c)
-        if (partner[c] != kInvalidIndex) sets.unite(table.face[c], table.face[partner[c]]);
+        if (partner[c] != kInvalidIndex && partner[c] > c) sets.unite(table.face(c), table.face(partner[c]));
     Components result;
     result.of_face.resize(faces);
     result.face_count.assign(faces, 0);
@@ -38,7 +38,7 @@ void orient_outward(const CornerTable& table, std::span<const Vec3> positions, c
     for (Index f = static_cast<Index>(faces); f-- > 0;) flip[f] ^= flip[components.of_face[f]];
     std::vector<std::uint8_t> open(faces, 0);
     for (Index c = 0; c < table.corner_count(); ++c)
-        if (partner[c] == kInvalidIndex) open[components.of_face[table.face[c]]] = 1;
+        if (partner[c] == kInvalidIndex) open[components.of_face[table.face(c)]] = 1;
     std::vector<double> volume(faces, 0.0);
     for (Index f = 0; f < faces; ++f) {
         const Index root = components.of_face[f];

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <utility>
 
 namespace surfaced::repair_detail {
 
@@ -71,7 +72,58 @@ bool cut_shared(const CornerTable& table, std::span<const Index> corners, Disjoi
 
 }  // namespace
 
-std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, std::vector<Index>& partner) {
+std::size_t count_split_vertices(const CornerTable& table, const std::vector<Index>& partner, std::size_t vertex_count,
+                                 bool stop_at_first) {
+    std::vector<Index> corners(vertex_count, 0), first(vertex_count);
+    for (Index c = 0; c < table.corner_count(); ++c)
+        if (corners[table.indices[c]]++ == 0) first[table.indices[c]] = c;
+    // The corner of q's face at v, where q's half-edge has v at one end, and whether q is that corner's outgoing
+    // half-edge (else its incoming one).
+    auto at = [&](Index q, Index v) {
+        return table.indices[q] == v ? std::pair{q, true} : std::pair{table.next(q), false};
+    };
+    std::size_t split = 0;
+    for (Index v = 0; v < vertex_count; ++v) {
+        const Index count = corners[v];
+        if (count <= 1) continue;
+        // each corner at v has two half-edges at v, each joined to at most one other corner's: the fans are paths and
+        // cycles; walk the one of v's first corner, leaving it through its outgoing half-edge, then (when that ends
+        // at a boundary) through its incoming one
+        const Index start = first[v];
+        Index visited = 1;
+        bool closed = false;
+        for (int direction = 0; direction < 2 && !closed && visited <= count; ++direction) {
+            Index d = start;
+            bool out = direction == 0;
+            for (;;) {
+                const Index q = partner[out ? d : table.prev(d)];
+                if (q == kInvalidIndex) break;
+                const auto [next, arrived_out] = at(q, v);
+                if (next == start) {
+                    closed = true;
+                    break;
+                }
+                if (++visited > count) break;  // cannot happen with consistent partners; stop all the same
+                d = next;
+                out = !arrived_out;
+            }
+        }
+        if (visited != count) {
+            ++split;
+            if (stop_at_first) return split;
+        }
+    }
+    return split;
+}
+
+std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, std::vector<Index>& partner,
+                                  std::size_t vertex_count) {
+    bool cuts_possible = false;
+    for (std::size_t e = 0; e < edges.edge_count() && !cuts_possible; ++e) {
+        const auto corners = edges.of(e);
+        cuts_possible = corners.size() > 2 || (corners.size() == 2 && partner[corners[0]] != corners[1]);
+    }
+    if (!cuts_possible && count_split_vertices(table, partner, vertex_count, true) == 0) return {};
     std::vector<std::array<Index, 3>> keyed;
     for (;;) {
         DisjointSets fans = join_fans(table, partner);

@@ -17,6 +17,13 @@ namespace surfaced::repair_detail {
 //! Corners joined into fans through `partner` alone, without any cutting.
 DisjointSets join_fans(const CornerTable& table, const std::vector<Index>& partner);
 
-std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, std::vector<Index>& partner);
+//! Empty when no join was cut and the corners at every vertex form one fan (nearly every mesh: no union-find then).
+std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& edges, std::vector<Index>& partner,
+                                  std::size_t vertex_count);
+
+//! Vertices (below vertex_count) whose corners form more than one fan through `partner` (which pairs half-edges of
+//! one undirected edge, in either direction), found by walking around each vertex; with stop_at_first, 0 or 1.
+std::size_t count_split_vertices(const CornerTable& table, const std::vector<Index>& partner, std::size_t vertex_count,
+                                 bool stop_at_first = false);
 
 }  // namespace surfaced::repair_detail

@@ -159,7 +159,7 @@ void HoleFiller::follow(Index start, const std::vector<Index>& boundary_from, st
 bool HoleFiller::close(const std::vector<Index>& loop) {
     const std::size_t n = loop.size();
     if (n < 3 || table_.indices[table_.next(loop.back())] != table_.indices[loop.front()]) return false;
-    if (n == 3 && table_.face[loop[0]] == table_.face[loop[1]] && table_.face[loop[1]] == table_.face[loop[2]])
+    if (n == 3 && table_.face(loop[0]) == table_.face(loop[1]) && table_.face(loop[1]) == table_.face(loop[2]))
         return false;
     // the hole's polygon winds against the loop: loop corners 0, n-1, ..., 1
     std::vector<Index> polygon(n), corner(n);

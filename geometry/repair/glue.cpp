@@ -19,7 +19,7 @@ public:
     //! Joins the half-edges of corners a and b (same undirected edge) when their faces can agree; false otherwise.
     bool try_join(Index a, Index b) {
         const bool same_direction = table_.indices[a] == table_.indices[b];
-        const bool ok = orient_ ? sets_.unite(table_.face[a], table_.face[b], same_direction) : !same_direction;
+        const bool ok = orient_ ? sets_.unite(table_.face(a), table_.face(b), same_direction) : !same_direction;
         if (!ok) return false;
         partner_[a] = b;
         partner_[b] = a;
@@ -42,9 +42,33 @@ private:
     std::vector<Index> partner_;
 };
 
+//! Every edge used by at most two faces, and by two in opposite directions: all pairs join, no face is reversed.
+bool pairs_consistently(const CornerTable& table, const EdgeGroups& edges) {
+    for (std::size_t e = 0; e < edges.edge_count(); ++e) {
+        const std::size_t size = edges.size(e);
+        if (size > 2) return false;
+        if (size == 2 &&
+            table.indices[edges.corners[edges.begin[e]]] == table.indices[edges.corners[edges.begin[e] + 1]])
+            return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 Gluing glue_faces(const CornerTable& table, const EdgeGroups& edges, bool orient) {
+    if (pairs_consistently(table, edges)) {  // a clean mesh, or a soup of one: no union-find needed
+        Gluing g;
+        g.partner.assign(table.corner_count(), kInvalidIndex);
+        for (std::size_t e = 0; e < edges.edge_count(); ++e) {
+            if (edges.size(e) != 2) continue;
+            const Index a = edges.corners[edges.begin[e]], b = edges.corners[edges.begin[e] + 1];
+            g.partner[a] = b;
+            g.partner[b] = a;
+        }
+        g.flip.assign(table.offsets.size() - 1, 0);
+        return g;
+    }
     Joiner joiner(table, orient);
     for (std::size_t e = 0; e < edges.edge_count(); ++e)
         if (edges.size(e) == 2) joiner.try_join(edges.of(e)[0], edges.of(e)[1]);

@@ -10,16 +10,24 @@
 namespace surfaced::repair_detail {
 
 struct CornerTable {
-    std::span<const Index> offsets;  //!< face f: corners offsets[f] .. offsets[f+1]
-    std::span<const Index> indices;  //!< vertex of each corner
-    std::vector<Index> face;         //!< face of each corner
+    std::span<const Index> offsets;   //!< face f: corners offsets[f] .. offsets[f+1]
+    std::span<const Index> indices;   //!< vertex of each corner
+    std::vector<Index> corner_faces;  //!< face of each corner; empty when every face is a triangle
+    bool triangles = false;           //!< every face is a triangle: corner c is corner c % 3 of face c / 3
 
     std::size_t corner_count() const { return indices.size(); }
-    Index next(Index c) const { return c + 1 == offsets[face[c] + 1] ? offsets[face[c]] : c + 1; }
-    Index prev(Index c) const { return c == offsets[face[c]] ? offsets[face[c] + 1] - 1 : c - 1; }
+    Index face(Index c) const { return triangles ? c / 3 : corner_faces[c]; }
+    Index next(Index c) const {
+        if (triangles) return c % 3 == 2 ? c - 2 : c + 1;
+        return c + 1 == offsets[corner_faces[c] + 1] ? offsets[corner_faces[c]] : c + 1;
+    }
+    Index prev(Index c) const {
+        if (triangles) return c % 3 == 0 ? c + 2 : c - 1;
+        return c == offsets[corner_faces[c]] ? offsets[corner_faces[c] + 1] - 1 : c - 1;
+    }
     //! The corner of c's face at vertex v (which the face must use).
     Index corner_at(Index c, Index v) const {
-        Index k = offsets[face[c]];
+        Index k = offsets[face(c)];
         while (indices[k] != v) ++k;
         return k;
     }
@@ -31,7 +39,6 @@ CornerTable make_corner_table(std::span<const Index> offsets, std::span<const In
 struct EdgeGroups {
     std::vector<Index> corners;
     std::vector<Index> begin;        //!< size edge_count() + 1
-    std::vector<Index> corner_edge;  //!< edge of each corner's half-edge
     std::vector<Index> vertex_edge;  //!< edges whose lower vertex is v: vertex_edge[v] .. vertex_edge[v+1]
 
     std::size_t edge_count() const { return begin.size() - 1; }

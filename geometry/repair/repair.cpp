@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "geometry/repair/components.h"
-#include "geometry/repair/face_checks.h"
 #include "geometry/repair/fans.h"
 #include "geometry/repair/fill_holes.h"
 #include "geometry/repair/glue.h"
 #include "geometry/repair/mesh_edges.h"
 #include "geometry/repair/weld.h"
+#include "geometry/repair/work_faces.h"
 
 namespace surfaced {
 
@@ -22,36 +22,6 @@ namespace {
 
 GeoError cancelled() { return make_error(ErrorCode::Cancelled, "mesh repair cancelled"); }
 
-//! The faces that survive welding, degenerate and duplicate removal, with their vertices welded.
-struct WorkFaces {
-    std::vector<Index> offsets{0};
-    std::vector<Index> indices;
-    std::vector<Index> source;  //!< input face of each working face
-};
-
-WorkFaces clean_faces(const PolygonMesh& mesh, const std::vector<Index>& weld, RepairReport& report) {
-    WorkFaces work;
-    work.source.reserve(mesh.face_count());
-    work.offsets.reserve(mesh.face_count() + 1);
-    work.indices.reserve(mesh.face_indices.size());
-    FaceSets seen(mesh.face_count());
-    std::vector<Index> face;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        face.clear();
-        for (Index v : mesh.face(f)) face.push_back(weld[v]);
-        if (has_repeated_index(face) || has_zero_area(mesh.positions, face)) {
-            ++report.degenerate;
-        } else if (!seen.insert(face)) {
-            ++report.duplicate;
-        } else {
-            work.indices.insert(work.indices.end(), face.begin(), face.end());
-            work.offsets.push_back(static_cast<Index>(work.indices.size()));
-            work.source.push_back(static_cast<Index>(f));
-        }
-    }
-    return work;
-}
-
 //! Output vertex of every kept corner: one per fan; the first fan of a vertex (in corner order) keeps the vertex,
 //! renumbered in the input's order, further fans get copies numbered after all kept vertices.
 struct VertexAssignment {
@@ -60,25 +30,32 @@ struct VertexAssignment {
     std::vector<Index> of_input;   //!< output vertex of each input vertex (its first fan), or kInvalidIndex
 };
 
+//! `fan` empty: every vertex has one fan (no copies).
 VertexAssignment assign_vertices(const CornerTable& table, const std::vector<Index>& fan,
                                  const std::vector<std::uint8_t>& keep_face, const std::vector<Index>& weld,
                                  RepairReport& report) {
     const std::size_t n_in = weld.size();
     constexpr Index kCopy = Index{1} << 31;  // marks a copy's number in fan_vertex until numbering is known
-    std::vector<Index> fan_vertex(table.corner_count(), kInvalidIndex);
+    std::vector<Index> fan_vertex(fan.empty() ? 0 : table.corner_count(), kInvalidIndex);
     std::vector<std::uint8_t> used(n_in, 0);
     std::vector<Index> copy_source;
-    for (Index c = 0; c < table.corner_count(); ++c) {
-        if (!keep_face[table.face[c]]) continue;
-        Index& out = fan_vertex[fan[c]];
-        if (out != kInvalidIndex) continue;
-        const Index v = table.indices[c];
-        if (!used[v]) {
-            used[v] = 1;
-            out = v;
-        } else {
-            out = kCopy | static_cast<Index>(copy_source.size());
-            copy_source.push_back(v);
+    for (std::size_t f = 0; f + 1 < table.offsets.size(); ++f) {
+        if (!keep_face[f]) continue;
+        for (Index c = table.offsets[f]; c < table.offsets[f + 1]; ++c) {
+            const Index v = table.indices[c];
+            if (fan.empty()) {
+                used[v] = 1;
+                continue;
+            }
+            Index& out = fan_vertex[fan[c]];
+            if (out != kInvalidIndex) continue;
+            if (!used[v]) {
+                used[v] = 1;
+                out = v;
+            } else {
+                out = kCopy | static_cast<Index>(copy_source.size());
+                copy_source.push_back(v);
+            }
         }
     }
     VertexAssignment result;
@@ -96,10 +73,16 @@ VertexAssignment assign_vertices(const CornerTable& table, const std::vector<Ind
     report.nonmanifold_split = copy_source.size();
     for (Index v = 0; v < n_in; ++v) result.of_input[v] = result.of_input[weld[v]];
     result.of_corner.assign(table.corner_count(), kInvalidIndex);
-    for (Index c = 0; c < table.corner_count(); ++c) {
-        if (!keep_face[table.face[c]]) continue;
-        const Index out = fan_vertex[fan[c]];
-        result.of_corner[c] = (out & kCopy) ? kept + (out & ~kCopy) : result.of_input[out];
+    for (std::size_t f = 0; f + 1 < table.offsets.size(); ++f) {
+        if (!keep_face[f]) continue;
+        for (Index c = table.offsets[f]; c < table.offsets[f + 1]; ++c) {
+            if (fan.empty()) {
+                result.of_corner[c] = result.of_input[table.indices[c]];
+                continue;
+            }
+            const Index out = fan_vertex[fan[c]];
+            result.of_corner[c] = (out & kCopy) ? kept + (out & ~kCopy) : result.of_input[out];
+        }
     }
     return result;
 }
@@ -149,14 +132,16 @@ Result<RepairResult> Repairer::run() {
     for (Index v = 0; v < weld.size(); ++v) report_.welded += weld[v] != v;
     if (options_.cancel.requested()) return cancelled();
 
-    const WorkFaces work = clean_faces(in_, weld, report_);
+    const WorkFaces work = clean_faces(in_, weld);
+    report_.degenerate = work.degenerate;
+    report_.duplicate = work.duplicate;
     if (options_.cancel.requested()) return cancelled();
 
-    const CornerTable table = make_corner_table(work.offsets, work.indices);
-    const EdgeGroups edges = group_edges(table, in_.vertex_count());
+    const CornerTable& table = work.table;
+    const EdgeGroups& edges = work.edges;
     Gluing glue = glue_faces(table, edges, options_.orient);
     if (options_.cancel.requested()) return cancelled();
-    const std::vector<Index> fan = fan_of_corners(table, edges, glue.partner);
+    const std::vector<Index> fan = fan_of_corners(table, edges, glue.partner, in_.vertex_count());
     const Components components = find_components(table, glue.partner);
     if (options_.orient) orient_outward(table, in_.positions, glue.partner, components, glue.flip);
     if (options_.cancel.requested()) return cancelled();
@@ -175,6 +160,11 @@ Result<RepairResult> Repairer::run() {
     report_.components = components.count - report_.small_components;
 
     const VertexAssignment vertices = assign_vertices(table, fan, keep_face, weld, report_);
+    if (options_.max_hole_edges == 0 && !report_.changed()) {  // nothing to assemble unless a face is reversed
+        bool flipped = false;
+        for (Index f = 0; f < faces && !flipped; ++f) flipped = keep_face[f] && glue.flip[f];
+        if (!flipped) return RepairResult{in_, report_};
+    }
     PolygonMesh out = assemble(work, vertices, keep_face, glue.flip);
     if (options_.max_hole_edges > 0) {
         if (options_.cancel.requested()) return cancelled();
@@ -199,6 +189,10 @@ PolygonMesh Repairer::assemble(const WorkFaces& work, const VertexAssignment& ve
         for (Index v : vertices.source) out.normals.push_back(in_.normals[v]);
     const bool uvs = in_.has_uvs();
     if (uvs) out.uvs = in_.uvs;
+    out.face_offsets.reserve(keep_face.size() + 1);
+    out.face_indices.reserve(work.indices.size());
+    if (uvs) out.uv_indices.reserve(work.indices.size());
+    reversed_.reserve(keep_face.size());
     std::vector<Index> face_of_input(in_.face_count(), kInvalidIndex);
     for (Index f = 0; f < keep_face.size(); ++f) {
         if (!keep_face[f]) continue;

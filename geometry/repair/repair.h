@@ -96,7 +96,8 @@ struct RepairResult {
 };
 
 //! Repairs the mesh as described at the top of this file. Work and memory are linear in the size of the mesh for
-//! bounded valence (hash tables and union-find; edges of k faces cost O(k log k)), plus the holes it closes.
+//! bounded valence (a radix sort of position hashes, counting sorts of edges, union-find where faces disagree or a
+//! vertex has several fans; edges of k faces cost O(k log k)), plus the holes it closes.
 //! \pre validate(mesh, {.allow_repeated_vertices = true}) succeeds (checked; its error is returned).
 //! \return the repaired mesh and the report, or InvalidArgument (weld_tolerance negative or not finite), or the
 //!         validation error, or Cancelled.

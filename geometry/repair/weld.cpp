@@ -1,28 +1,96 @@
-// Vertex welding: exact (a hash of coordinates) or within a distance (a hash of grid cells as wide as the distance,
-// searching the 27 cells around each vertex).
+// Vertex welding: exact (vertices sorted by a hash of their coordinates) or within a distance (a hash of grid cells
+// as wide as the distance, searching the 27 cells around each vertex).
 #include "geometry/repair/weld.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <utility>
 
 #include "geometry/repair/index_table.h"
+#include "geometry/repair/radix_sort.h"
 
 namespace surfaced::repair_detail {
 
 namespace {
 
-std::uint64_t hash_position(const Vec3& p) {
-    return mix64(hash_double(p.x) ^ (hash_double(p.y) * 3) ^ (hash_double(p.z) * 7));
+//! The position's coordinates as bits, -0.0 taken as 0.0 (positions are finite: equal bits <=> equal positions).
+std::array<std::uint64_t, 3> position_bits(const Vec3& p) {
+    std::array<std::uint64_t, 3> bits{};
+    for (int i = 0; i < 3; ++i) {
+        const double d = p[i] + 0.0;
+        std::memcpy(&bits[static_cast<std::size_t>(i)], &d, sizeof d);
+    }
+    return bits;
 }
 
+//! One multiply-add chain over the coordinates' bits, then one finaliser: a position hash for millions of vertices.
+std::uint64_t hash_position(const Vec3& p) {
+    const auto [x, y, z] = position_bits(p);
+    return mix64(x + 0x9E3779B97F4A7C15ULL * (y + 0xC2B2AE3D27D4EB4FULL * z));
+}
+
+//! The vertices of one hash, keyed[b..e) in increasing index, split by exact position: each merges into the first
+//! (lowest) vertex of its position.
+void split_by_position(std::span<const Vec3> positions, const std::uint64_t* keyed, std::size_t b, std::size_t e,
+                       std::vector<Index>& target) {
+    if (e - b <= 32) {
+        std::vector<Index> leaders;  // the distinct positions, by their first vertex
+        for (std::size_t i = b; i < e; ++i) {
+            const auto v = static_cast<Index>(keyed[i]);
+            Index found = kInvalidIndex;
+            for (Index leader : leaders)
+                if (positions[leader] == positions[v]) {
+                    found = leader;
+                    break;
+                }
+            if (found == kInvalidIndex) leaders.push_back(found = v);
+            target[v] = found;
+        }
+        return;
+    }
+    // many vertices of one hash (one position used very often, or collisions): sort them by position, then index
+    std::vector<std::pair<std::array<std::uint64_t, 3>, Index>> run;
+    run.reserve(e - b);
+    for (std::size_t i = b; i < e; ++i) {
+        const auto v = static_cast<Index>(keyed[i]);
+        run.emplace_back(position_bits(positions[v]), v);
+    }
+    std::sort(run.begin(), run.end());
+    for (std::size_t i = 0; i < run.size(); ++i)
+        target[run[i].second] = i > 0 && run[i].first == run[i - 1].first ? target[run[i - 1].second] : run[i].second;
+}
+
+//! Vertices sorted by a 32-bit hash of their position (radix sort, stable: increasing index within a hash). Every
+//! vertex first takes the first vertex of its hash, which is right unless two positions share the hash; that is
+//! checked in vertex order (the compared positions are mostly near each other in memory), and only the hashes where
+//! it failed are split by exact position.
 std::vector<Index> weld_exact(std::span<const Vec3> positions) {
-    std::vector<Index> target(positions.size());
-    IndexTable table(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        const Vec3& p = positions[v];
-        target[v] = table.find_or_insert(hash_position(p), static_cast<Index>(v),
-                                         [&](Index other) { return positions[other] == p; });
+    const std::size_t n = positions.size();
+    std::vector<Index> target(n);
+    std::vector<std::uint64_t> keyed(n), scratch;
+    constexpr std::uint64_t kHigh = ~std::uint64_t{0xFFFFFFFF};
+    for (std::size_t v = 0; v < n; ++v) keyed[v] = (hash_position(positions[v]) & kHigh) | v;
+    radix_sort_by_high_half(keyed, scratch);
+    for (std::size_t b = 0, e = 0; b < n; b = e) {
+        const auto first = static_cast<Index>(keyed[b]);
+        for (e = b; e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh); ++e)
+            target[static_cast<Index>(keyed[e])] = first;
+    }
+    std::vector<std::uint8_t> collided;
+    for (std::size_t v = 0; v < n; ++v) {
+        if (target[v] == v || positions[target[v]] == positions[v]) continue;
+        if (collided.empty()) collided.assign(n, 0);
+        collided[v] = 1;
+    }
+    if (collided.empty()) return target;
+    for (std::size_t b = 0, e = 0; b < n; b = e) {
+        bool redo = false;
+        for (e = b; e < n && (keyed[e] & kHigh) == (keyed[b] & kHigh); ++e)
+            redo |= collided[static_cast<Index>(keyed[e])] != 0;
+        if (redo) split_by_position(positions, keyed.data(), b, e, target);
     }
     return target;
 }

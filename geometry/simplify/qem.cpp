@@ -83,10 +83,17 @@ Simplifier::Simplifier(const PolygonMesh& mesh, const SimplifyOptions& options)
 Status Simplifier::init() {
     FanEnds ends = pooled<std::array<Index, 2>>();
     if (auto status = build_fans(ends); !status) return status;
-    add_face_planes();
+    // the manifold check comes before the face planes, so that a mesh refused as non-manifold (which repair "auto"
+    // then repairs) is refused without computing them; boundary planes are added after the face planes all the same
+    const auto odd = find_odd_halfedges(ends);
     BlockVector<Index> boundary_edges = pooled<Index>();  //!< per vertex
     boundary_edges.assign(vx_.size(), 0);
-    if (auto status = classify_odd_halfedges(find_odd_halfedges(ends), ends, boundary_edges); !status) return status;
+    const bool refused = std::any_of(odd.begin(), odd.end(), [](const std::vector<OddHalfedge>& list) {
+        return std::any_of(list.begin(), list.end(), [](const OddHalfedge& h) { return h.same > 0 || h.opposite > 1; });
+    });
+    if (refused) return classify_odd_halfedges(odd, ends, boundary_edges);
+    add_face_planes();
+    if (auto status = classify_odd_halfedges(odd, ends, boundary_edges); !status) return status;
     pin_vertices(boundary_edges);
     return Ok{};
 }

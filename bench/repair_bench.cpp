@@ -1,0 +1,266 @@
+// Mesh repair against the simplification it precedes, in one run: on the bunny after two Loop levels (1.1M
+// triangles; an icosphere of 1.3M when glmark2-data is missing), clean, with one duplicate face appended, and as a
+// soup (every triangle with its own three vertices, as STL stores it), it times needs_repair (audit_mesh),
+// repair_mesh, simplify_qem on the mesh as sent (what `repair: auto` tries first: on broken input, the time until it
+// refuses) and simplify_qem to 1% on the repaired mesh, and prints the ratios we hold repair to (repair / simplify
+// <= 0.1; the check on clean input as well). Peak memory is the peak of live heap bytes during the call, counted by
+// the global operator new below (the aligned one too: BlockVector's blocks), minus what was live before it. Bench
+// only, never linked into the service.
+//
+// Usage: bench_repair [--rounds N] [--repair-only] [--cpu]   (rounds: each step's fastest of N runs, the steps in turn,
+// default 3; --repair-only: needs_repair and repair_mesh alone, for profiling; --cpu: the thread's CPU time instead of
+// wall time)
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <new>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "geometry/core/block_pool.h"
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/repair/repair.h"
+#include "geometry/simplify/qem.h"
+#include "geometry/subdivision/subdivide.h"
+
+// ---- counting allocator -------------------------------------------------------------------------------------------
+namespace {
+std::atomic<long long> g_live{0}, g_peak{0};
+void note_alloc(long long n) {
+    const long long live = g_live.fetch_add(n) + n;
+    long long peak = g_peak.load();
+    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
+}
+}  // namespace
+
+void* operator new(std::size_t n) {
+    void* p = std::malloc(n + 16);
+    if (!p) throw std::bad_alloc();
+    *static_cast<std::size_t*>(p) = n;
+    note_alloc(static_cast<long long>(n));
+    return static_cast<char*>(p) + 16;
+}
+void operator delete(void* p) noexcept {
+    if (!p) return;
+    char* base = static_cast<char*>(p) - 16;
+    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
+    std::free(base);
+}
+void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete[](void* p) noexcept { operator delete(p); }
+void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
+// Over-aligned arrays (BlockVector's 2 MiB blocks): the block's start and size are kept just below the aligned pointer.
+void* operator new(std::size_t n, std::align_val_t align) {
+    const std::size_t a = std::max(static_cast<std::size_t>(align), std::size_t{16});
+    void* base = std::aligned_alloc(a, (n + a + a - 1) / a * a);
+    if (!base) throw std::bad_alloc();
+    char* p = static_cast<char*>(base) + a;
+    reinterpret_cast<std::size_t*>(p)[-1] = n;
+    reinterpret_cast<void**>(p)[-2] = base;
+    note_alloc(static_cast<long long>(n));
+    return p;
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+    if (!p) return;
+    g_live.fetch_sub(static_cast<long long>(reinterpret_cast<std::size_t*>(p)[-1]));
+    std::free(reinterpret_cast<void**>(p)[-2]);
+}
+void operator delete(void* p, std::size_t, std::align_val_t align) noexcept { operator delete(p, align); }
+void* operator new[](std::size_t n, std::align_val_t align) { return operator new(n, align); }
+void operator delete[](void* p, std::align_val_t align) noexcept { operator delete(p, align); }
+void operator delete[](void* p, std::size_t, std::align_val_t align) noexcept { operator delete(p, align); }
+
+namespace {
+
+using namespace surfaced;
+using Clock = std::chrono::steady_clock;
+
+//! simplify_qem takes its large arrays from one pool for the process, with the service's limit
+//! (api/operations/simplify.cpp), so that it is timed as the service runs it.
+BlockPool& block_pool() {
+    static BlockPool pool(std::size_t{64} << 20);
+    return pool;
+}
+
+//! One step's fastest run and the peak heap of its last run.
+struct Timing {
+    double seconds = 1e300;
+    double peak_mib = 0;
+};
+
+bool g_cpu_time = false;
+
+//! Wall time, or with --cpu the thread's CPU time (steadier than wall time on a machine other work preempts us on).
+double now_seconds() {
+    if (!g_cpu_time) return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void time_once(const std::function<void()>& step, Timing& t) {
+    const long long before = g_live.load();
+    g_peak.store(before);
+    const double start = now_seconds();
+    step();
+    const double seconds = now_seconds() - start;
+    t.seconds = std::min(t.seconds, seconds);
+    t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
+}
+
+Result<SimplifyResult> simplify(const PolygonMesh& mesh) {
+    SimplifyOptions options;
+    options.ratio = 0.01;
+    options.block_pool = &block_pool();
+    return simplify_qem(mesh, options);
+}
+
+PolygonMesh with_duplicate_face(const PolygonMesh& mesh) {
+    PolygonMesh out = mesh;
+    const auto face = mesh.face(mesh.face_count() / 2);
+    out.add_face({face[0], face[1], face[2]});
+    return out;
+}
+
+PolygonMesh soup(const PolygonMesh& mesh) {
+    PolygonMesh out;
+    out.positions.reserve(mesh.face_indices.size());
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto face = mesh.face(f);
+        const auto first = static_cast<Index>(out.positions.size());
+        for (Index v : face) out.positions.push_back(mesh.positions[v]);
+        out.add_face({first, first + 1, first + 2});
+    }
+    return out;
+}
+
+std::string report_text(const RepairReport& r) {
+    std::string text;
+    auto add = [&](const char* name, std::size_t n) {
+        if (n == 0) return;
+        if (!text.empty()) text += ", ";
+        text += name + std::string("=") + std::to_string(n);
+    };
+    add("welded", r.welded);
+    add("degenerate", r.degenerate);
+    add("duplicate", r.duplicate);
+    add("flipped", r.flipped);
+    add("nonmanifold_split", r.nonmanifold_split);
+    add("unreferenced", r.unreferenced);
+    return text.empty() ? "nothing" : text;
+}
+
+bool g_repair_only = false;
+
+void run(const std::string& name, const PolygonMesh& mesh, int rounds) {
+    Timing audit, repair, first_try, simplified;
+    bool needs = false;
+    RepairResult repaired;
+    std::string first_outcome;
+    for (int round = 0; round < rounds; ++round) {
+        time_once([&] { needs = needs_repair(mesh); }, audit);
+        time_once(
+            [&] {
+                auto result = repair_mesh(mesh);
+                if (!result) {
+                    std::fprintf(stderr, "repair_mesh failed: %s\n", result.error().message.c_str());
+                    std::exit(1);
+                }
+                repaired = std::move(result.value());
+            },
+            repair);
+        // what `repair: auto` runs first; on clean input that is the simplification itself (the next column)
+        if (g_repair_only) continue;
+        if (needs)
+            time_once(
+                [&] {
+                    auto result = simplify(mesh);
+                    first_outcome = result ? "accepted" : "refused";
+                },
+                first_try);
+        time_once(
+            [&] {
+                auto result = simplify(repaired.mesh);
+                if (!result) {
+                    std::fprintf(stderr, "simplify_qem failed: %s\n", result.error().message.c_str());
+                    std::exit(1);
+                }
+            },
+            simplified);
+    }
+    if (g_repair_only) {
+        std::printf("| %s | %zu / %zu | %s | %.3f | %.3f | %s | - | - | - | - | %.0f | - |\n", name.c_str(),
+                    mesh.vertex_count(), mesh.face_count(), needs ? "yes" : "no", audit.seconds, repair.seconds,
+                    report_text(repaired.report).c_str(), repair.peak_mib);
+        std::fflush(stdout);
+        return;
+    }
+    char first[64] = "-";
+    if (needs) std::snprintf(first, sizeof first, "%.3f (%s)", first_try.seconds, first_outcome.c_str());
+    std::printf("| %s | %zu / %zu | %s | %.3f | %.3f | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", name.c_str(),
+                mesh.vertex_count(), mesh.face_count(), needs ? "yes" : "no", audit.seconds, repair.seconds,
+                report_text(repaired.report).c_str(), first, simplified.seconds, audit.seconds / simplified.seconds,
+                repair.seconds / simplified.seconds, repair.peak_mib, simplified.peak_mib);
+    std::fflush(stdout);
+}
+
+PolygonMesh large_mesh(std::string& name) {
+    SubdivisionOptions options;
+    options.scheme = SubdivisionScheme::Loop;
+    const char* bunny_path = "/usr/share/glmark2/models/bunny.obj";
+    if (std::filesystem::exists(bunny_path)) {
+        std::ifstream in(bunny_path, std::ios::binary);
+        std::stringstream text;
+        text << in.rdbuf();
+        if (auto bunny = read_obj(text.str())) {
+            options.levels = 2;
+            name = "bunny, Loop 2";
+            return subdivide(bunny.value(), options).value();
+        }
+    }
+    std::fprintf(stderr, "%s missing (Debian glmark2-data): icosphere 8 instead\n", bunny_path);
+    options.levels = 8;
+    name = "icosphere 8";
+    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
+    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
+    return mesh;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int rounds = 3;
+    for (int i = 1; i + 1 < argc; ++i)
+        if (std::strcmp(argv[i], "--rounds") == 0) rounds = std::max(1, std::atoi(argv[i + 1]));
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--repair-only") == 0)
+            g_repair_only = true;
+        else if (std::strcmp(argv[i], "--cpu") == 0)
+            g_cpu_time = true;
+    std::string name;
+    const PolygonMesh clean = large_mesh(name);
+    std::printf(
+        "%s in seconds, one thread, each step's fastest of %d runs (the steps in turn); simplify: simplify_qem to "
+        "1%% "
+        "of the repaired mesh's faces; first try: simplify_qem on the mesh as sent (what repair auto runs first); "
+        "peak: live heap during the call\n\n",
+        g_cpu_time ? "CPU time" : "time", rounds);
+    std::printf(
+        "| input | vertices / faces | needs_repair | needs_repair time | repair_mesh time | repairs | first try | "
+        "simplify time | needs_repair / simplify | repair / simplify | repair peak MiB | simplify peak MiB |\n");
+    std::printf("|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
+    run(name + ", clean", clean, rounds);
+    run(name + ", one duplicate face", with_duplicate_face(clean), rounds);
+    run(name + ", soup", soup(clean), rounds);
+    return 0;
+}
