@@ -118,7 +118,8 @@ ApiResult<bool> parse_output_parameter(const std::string& name, const std::strin
     return true;
 }
 
-std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type) {
+std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
+                                   std::string_view accepted) {
     if (request.body.size() > limits.max_body_bytes)
         return make_problem(Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
                                                           " bytes; the limit is " +
@@ -126,7 +127,7 @@ std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limi
     media_type = media_type_of(request.content_type);
     if (media_type.empty())
         return make_problem(Problem::UnsupportedMediaType,
-                            "a Content-Type is required; accepted: " + accepted_mesh_media_types());
+                            "a Content-Type is required; accepted: " + std::string(accepted));
     return std::nullopt;
 }
 
@@ -141,7 +142,7 @@ std::optional<ApiError> reject_query_with_json(const ApiRequest& request) {
 std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits,
                                              std::string_view operation) {
     std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error;
+    if (auto error = check_body(request, limits, media_type, "application/json")) return error;
     if (media_type != "application/json")
         return make_problem(Problem::UnsupportedMediaType,
                             std::string(operation) + " takes application/json" +

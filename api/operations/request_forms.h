@@ -97,7 +97,9 @@ std::optional<ApiError> read_parameter(const std::string& name, const std::strin
 // ---- the two request forms ----------------------------------------------------------------------------------------
 
 //! Body size against the budget, then a Content-Type (normalised into `media_type`): both before anything is parsed.
-std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type);
+//! `accepted` lists the endpoint's media types, for the 415 when there is no Content-Type.
+std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
+                                   std::string_view accepted);
 //! Options of a JSON request go in its body: query parameters with it are an error naming the first one.
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
 //! The intake of an endpoint that takes only a JSON body (`operation` names it in the message, e.g.
@@ -154,7 +156,7 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
                                                    DecodeJson&& decode_json, ParamsFromQuery&& params_from_query,
                                                    CheckParams&& check_params, MeshRules rules = MeshRules::Strict) {
     std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return std::move(*error);
+    if (auto error = check_body(request, limits, media_type, accepted_mesh_media_types())) return std::move(*error);
     MeshRequest<Params> out;
     // An operation that repairs its input reads it leniently (`rules`), unless the request says repair "none": then
     // the strict rules, with their errors at the file's line.

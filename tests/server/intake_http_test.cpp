@@ -1,0 +1,132 @@
+// How the server answers requests whose body is unusual, over a real loopback socket: form media types (which
+// cpp-httplib would otherwise decode itself), a missing or empty body, a body longer than the limit, a method the
+// route does not take, numbers and coordinates out of range. Each is answered at once with a problem+json naming
+// what is wrong; waits are bounds for a stuck test, not timing assertions.
+#include <gtest/gtest.h>
+
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+#include <utility>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/http_test_server.h"
+
+namespace surfaced::server {
+namespace {
+
+using Json = nlohmann::json;
+using testing::body_of;
+using testing::connect_to;
+using testing::expect_http_problem;
+using testing::raw_header;
+using testing::read_one_response;
+using testing::send_all_text;
+using testing::status_of;
+
+constexpr const char* kCubeObj =
+    "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+    "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+//! An OBJ over `bytes` long: the cube, padded with comment lines.
+std::string obj_of_size(std::size_t bytes) {
+    std::string out = kCubeObj;
+    while (out.size() <= bytes) out += "# padding padding padding padding padding padding padding padding\n";
+    return out;
+}
+
+class IntakeHttp : public ::testing::Test {
+public:
+    static int port() { return server_->port(); }
+
+protected:
+    static void SetUpTestSuite() {
+        ServerConfig config;
+        config.threads = 2;
+        config.web_root = "";
+        config.limits.max_body_bytes = 1 << 20;
+        server_ = new testing::LoopbackServer(config);
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        server_ = nullptr;
+    }
+    static httplib::Client client() { return server_->client(20); }
+    static testing::LoopbackServer* server_;
+};
+testing::LoopbackServer* IntakeHttp::server_ = nullptr;
+
+//! Sends `head` (request line and headers, without the blank line) and `body` on a new connection; the response.
+std::string exchange(const std::string& head, const std::string& body = {}) {
+    const int fd = connect_to(IntakeHttp::port());
+    EXPECT_GE(fd, 0);
+    if (fd < 0) return {};
+    EXPECT_TRUE(send_all_text(fd, head + "\r\n\r\n" + body));
+    std::string answer = read_one_response(fd);
+    close(fd);
+    return answer;
+}
+
+//! A POST of `body` with Content-Length and no Content-Type: its status and problem.
+std::pair<int, Json> post_without_type(const std::string& path, const std::string& body) {
+    const std::string answer =
+        exchange("POST " + path + " HTTP/1.1\r\nHost: test\r\nContent-Length: " + std::to_string(body.size()), body);
+    return {status_of(answer), Json::parse(body_of(answer), nullptr, false)};
+}
+
+//! The problem's detail, after checking it is a 415 naming each of `types`.
+void expect_415_naming(const httplib::Result& res, std::initializer_list<const char*> types) {
+    const Json problem = expect_http_problem(res, 415, "unsupported_media_type");
+    const std::string detail = problem.value("detail", "");
+    for (const char* type : types) EXPECT_NE(detail.find(type), std::string::npos) << type << " in " << detail;
+}
+
+// curl -d / --data-binary sends application/x-www-form-urlencoded. cpp-httplib decodes such bodies into query
+// parameters and refused one over 8 KiB with 413; the server reads it as bytes and answers 415 with the endpoint's
+// accepted types, for any size below the body limit.
+TEST_F(IntakeHttp, FormEncodedBodyIs415WithTheEndpointsTypesAtAnySize) {
+    for (const std::size_t size : {std::size_t{20}, std::size_t{9000}, std::size_t{200'000}}) {
+        SCOPED_TRACE(size);
+        const std::string body = obj_of_size(size);
+        expect_415_naming(client().Post("/subdivide", body, "application/x-www-form-urlencoded"),
+                          {"application/x-www-form-urlencoded", "application/json", "model/obj", "model/stl"});
+        expect_415_naming(client().Post("/pointcloud", body, "application/x-www-form-urlencoded"),
+                          {"application/json", "application/ply", "text/x-xyz"});
+        expect_415_naming(client().Post("/tessellate", body, "application/x-www-form-urlencoded; charset=utf-8"),
+                          {"application/json", "application/x-geomview-bez"});
+        expect_415_naming(client().Post("/curves", body, "Application/X-WWW-Form-Urlencoded"), {"application/json"});
+    }
+}
+
+// multipart/form-data (curl -F) is decoded by cpp-httplib into files, leaving the body empty: also 415.
+TEST_F(IntakeHttp, MultipartFormBodyIs415) {
+    httplib::MultipartFormDataItems items{{"file", kCubeObj, "cube.obj", "model/obj"}};
+    expect_415_naming(client().Post("/subdivide", items), {"multipart/form-data", "model/obj"});
+}
+
+// Without a Content-Type, the 415 lists what this endpoint accepts (not the mesh types for every endpoint).
+TEST_F(IntakeHttp, BodyWithoutContentTypeIs415WithTheEndpointsTypes) {
+    for (const std::size_t size : {std::size_t{20}, std::size_t{9000}}) {
+        SCOPED_TRACE(size);
+        const std::string body = obj_of_size(size);
+        const auto [mesh_status, mesh] = post_without_type("/subdivide", body);
+        EXPECT_EQ(mesh_status, 415) << mesh.dump();
+        EXPECT_NE(mesh.value("detail", "").find("model/obj"), std::string::npos) << mesh.dump();
+        const auto [points_status, points] = post_without_type("/pointcloud", body);
+        EXPECT_EQ(points_status, 415) << points.dump();
+        EXPECT_NE(points.value("detail", "").find("text/x-xyz"), std::string::npos) << points.dump();
+        EXPECT_EQ(points.value("detail", "").find("model/stl"), std::string::npos) << points.dump();
+        const auto [query_status, query] = post_without_type("/implicit/query", body);
+        EXPECT_EQ(query_status, 415) << query.dump();
+        EXPECT_NE(query.value("detail", "").find("application/json"), std::string::npos) << query.dump();
+        EXPECT_EQ(query.value("detail", "").find("model/obj"), std::string::npos) << query.dump();
+    }
+}
+
+}  // namespace
+}  // namespace surfaced::server
