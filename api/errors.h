@@ -8,7 +8,8 @@
 // describes this occurrence. `type` is a relative URI reserved for a future documentation page per code.
 //
 // Status codes are chosen in errors.cpp and nowhere else:
-//   400  the request cannot be read: malformed JSON / mesh file (parse_error, invalid_json), a field of the wrong
+//   400  the request cannot be read: no body (empty_body), malformed JSON / mesh file (parse_error, invalid_json), a
+//        field of the wrong
 //        type or an unknown enum value (invalid_field), unknown JSON fields (unknown_field) or query parameters
 //        (unknown_parameter)
 //   404  no such route (not_found); 405 known route, other method (method_not_allowed)
@@ -48,6 +49,7 @@ struct ApiError {
 //! Problems raised by the API itself (as opposed to GeoErrors from geometry/).
 enum class Problem {
     BadRequest,            //!< 400 the HTTP request itself is malformed (rejected by the HTTP layer)
+    EmptyBody,             //!< 400 the endpoint needs a body and none was sent
     InvalidJson,           //!< 400 the body is not JSON
     InvalidField,          //!< 400 a field/parameter has the wrong type or an unknown value, or is missing
     UnknownField,          //!< 400 a JSON object has a member we do not know

@@ -84,6 +84,15 @@ void hide_form_content_type(httplib::Request& req) {
     req.headers.erase("Content-Type");
 }
 
+//! A request that expects a body but has neither Content-Length nor Transfer-Encoding has an empty body (RFC 9112
+//! section 6.3); cpp-httplib would read it until the client closes, so the emptiness is made explicit.
+void empty_body_without_length(httplib::Request& req) {
+    const bool takes_body =
+        req.method == "POST" || req.method == "PUT" || req.method == "PATCH" || req.method == "DELETE";
+    if (takes_body && !req.has_header("Content-Length") && !req.has_header("Transfer-Encoding"))
+        req.set_header("Content-Length", "0");
+}
+
 //! cpp-httplib route patterns are regular expressions; our paths are literal except for `{name}` segments, which
 //! match one path segment (api::match_path extracts their values).
 std::string literal_pattern(std::string_view path) {
@@ -410,12 +419,14 @@ struct HttplibAdapter::Impl {
         server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
             // Debian's libcpp-httplib is built with brotli, which it prefers and runs at quality 11: 5-13 s for
             // three.js's 2 MB modules, seconds for large JSON/OBJ results, where gzip (zlib level 6) takes ~0.15 s.
-            // Hide "br" from the library's choice of encoding; forms likewise (see hide_form_content_type). The
+            // Hide "br" from the library's choice of encoding; forms likewise (see hide_form_content_type), and make
+            // a missing body length explicit (see empty_body_without_length). The
             // Request is a non-const local of httplib's process_request, so changing it through this const
             // reference is well defined.
             auto& request_head = const_cast<httplib::Request&>(req);
             without_brotli(request_head);
             hide_form_content_type(request_head);
+            empty_body_without_length(request_head);
             const LibraryRequest request(req);
             LibraryResponse response(res);
             return hooks.before_routing(request, response, t_request) ? httplib::Server::HandlerResponse::Handled

@@ -124,6 +124,9 @@ std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limi
         return make_problem(Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
                                                           " bytes; the limit is " +
                                                           std::to_string(limits.max_body_bytes) + " bytes");
+    if (request.body.empty())
+        return make_problem(Problem::EmptyBody, "the request body is empty; " + request.method + " " + request.path +
+                                                    " needs one, as " + std::string(accepted));
     media_type = media_type_of(request.content_type);
     if (media_type.empty())
         return make_problem(Problem::UnsupportedMediaType,

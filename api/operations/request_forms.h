@@ -96,8 +96,8 @@ std::optional<ApiError> read_parameter(const std::string& name, const std::strin
 
 // ---- the two request forms ----------------------------------------------------------------------------------------
 
-//! Body size against the budget, then a Content-Type (normalised into `media_type`): both before anything is parsed.
-//! `accepted` lists the endpoint's media types, for the 415 when there is no Content-Type.
+//! Body size against the budget, a body at all (400 empty_body), then a Content-Type (normalised into `media_type`):
+//! all before anything is parsed. `accepted` lists the endpoint's media types, for those two errors.
 std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
                                    std::string_view accepted);
 //! Options of a JSON request go in its body: query parameters with it are an error naming the first one.

@@ -50,6 +50,9 @@ protected:
         config.threads = 2;
         config.web_root = "";
         config.limits.max_body_bytes = 1 << 20;
+        // Far beyond the tests' read bounds (10 s): an answer that waits for a body that never comes fails them.
+        config.body_timeout_seconds = 120;
+        config.read_timeout_seconds = 120;
         server_ = new testing::LoopbackServer(config);
     }
     static void TearDownTestSuite() {
@@ -78,6 +81,9 @@ std::pair<int, Json> post_without_type(const std::string& path, const std::strin
         exchange("POST " + path + " HTTP/1.1\r\nHost: test\r\nContent-Length: " + std::to_string(body.size()), body);
     return {status_of(answer), Json::parse(body_of(answer), nullptr, false)};
 }
+
+//! The JSON body of a raw response (discarded when it is not JSON).
+Json problem_of(const std::string& answer) { return Json::parse(body_of(answer), nullptr, false); }
 
 //! The problem's detail, after checking it is a 415 naming each of `types`.
 void expect_415_naming(const httplib::Result& res, std::initializer_list<const char*> types) {
@@ -126,6 +132,103 @@ TEST_F(IntakeHttp, BodyWithoutContentTypeIs415WithTheEndpointsTypes) {
         EXPECT_NE(query.value("detail", "").find("application/json"), std::string::npos) << query.dump();
         EXPECT_EQ(query.value("detail", "").find("model/obj"), std::string::npos) << query.dump();
     }
+}
+
+// A POST with neither Content-Length nor Transfer-Encoding has an empty body (RFC 9112 section 6.3). cpp-httplib
+// read such a body until the client closed, which ended in 408 after the body timeout; it is answered at once, 400
+// empty_body, and the connection serves the next request.
+TEST_F(IntakeHttp, PostWithoutBodyOrLengthIsAnsweredAtOnce) {
+    for (const char* path : {"/subdivide", "/simplify", "/remesh", "/repair", "/tessellate", "/curves",
+                             "/implicit/query", "/pointcloud", "/implicit/mesh"}) {
+        SCOPED_TRACE(path);
+        const int fd = connect_to(port());
+        ASSERT_GE(fd, 0);
+        ASSERT_TRUE(send_all_text(
+            fd, std::string("POST ") + path + " HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\n\r\n"));
+        const std::string answer = read_one_response(fd, 10'000);
+        EXPECT_EQ(status_of(answer), 400) << answer;
+        const Json problem = problem_of(answer);
+        EXPECT_EQ(problem.value("code", ""), "empty_body") << answer;
+        EXPECT_NE(problem.value("detail", "").find("empty"), std::string::npos) << answer;
+        // the connection is still usable
+        ASSERT_TRUE(send_all_text(fd, "GET /livez HTTP/1.1\r\nHost: test\r\n\r\n"));
+        EXPECT_EQ(status_of(read_one_response(fd, 10'000)), 200);
+        close(fd);
+    }
+}
+
+// An explicit empty body is the same 400, whatever the Content-Type (or none).
+TEST_F(IntakeHttp, EmptyBodyIs400EmptyBody) {
+    expect_http_problem(client().Post("/subdivide", "", "model/obj"), 400, "empty_body");
+    expect_http_problem(client().Post("/simplify?target_faces=4", "", "model/obj"), 400, "empty_body");
+    expect_http_problem(client().Post("/curves", "", "application/json"), 400, "empty_body");
+    const auto [status, problem] = post_without_type("/pointcloud", "");
+    EXPECT_EQ(status, 400) << problem.dump();
+    EXPECT_EQ(problem.value("code", ""), "empty_body") << problem.dump();
+}
+
+// A method the route does not take is refused from the head, before any body is read: 405 with Allow (404 for no
+// route at all), and the connection closed since the body was not read.
+TEST_F(IntakeHttp, WrongMethodIsRefusedBeforeTheBody) {
+    const std::string teapot = exchange(
+        "POST /patches/teapot HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: 50000");
+    EXPECT_EQ(status_of(teapot), 405) << teapot;
+    EXPECT_EQ(raw_header(teapot, "Allow"), "GET, HEAD");
+    EXPECT_EQ(raw_header(teapot, "Connection"), "close");
+    EXPECT_EQ(problem_of(teapot).value("code", ""), "method_not_allowed") << teapot;
+
+    const std::string put = exchange("PUT /subdivide HTTP/1.1\r\nHost: test\r\nContent-Length: 50000");
+    EXPECT_EQ(status_of(put), 405) << put;
+    EXPECT_EQ(raw_header(put, "Allow"), "POST");
+
+    const std::string nowhere = exchange("POST /nowhere HTTP/1.1\r\nHost: test\r\nContent-Length: 50000");
+    EXPECT_EQ(status_of(nowhere), 404) << nowhere;
+    EXPECT_EQ(problem_of(nowhere).value("code", ""), "not_found") << nowhere;
+
+    // without a body the connection stays open, as for any answer
+    const std::string empty = exchange("POST /patches/teapot HTTP/1.1\r\nHost: test\r\nContent-Length: 0");
+    EXPECT_EQ(status_of(empty), 405) << empty;
+    EXPECT_EQ(raw_header(empty, "Connection"), "");
+}
+
+// A Content-Length over the limit is 413 at once, without waiting for (or reading) the body, and the connection is
+// closed: no Keep-Alive.
+TEST_F(IntakeHttp, DeclaredBodyOverTheLimitIs413AtOnce) {
+    const int fd = connect_to(port());
+    ASSERT_GE(fd, 0);
+    ASSERT_TRUE(send_all_text(fd,
+                              "POST /subdivide HTTP/1.1\r\nHost: test\r\nContent-Type: model/obj\r\n"
+                              "Content-Length: 1048577\r\n\r\nv 0 0 0\n"));
+    const std::string answer = read_one_response(fd, 10'000);
+    EXPECT_EQ(status_of(answer), 413) << answer;
+    EXPECT_EQ(raw_header(answer, "Connection"), "close");
+    EXPECT_EQ(raw_header(answer, "Keep-Alive"), "");
+    const Json problem = problem_of(answer);
+    EXPECT_EQ(problem.value("code", ""), "payload_too_large") << answer;
+    EXPECT_NE(problem.value("detail", "").find("1048577"), std::string::npos) << answer;
+    EXPECT_EQ(testing::read_until_close(fd, 10'000), "");  // closed by the server
+    close(fd);
+}
+
+// A 408 closes the connection and says so: Connection: close and no Keep-Alive, with or without other clients.
+TEST(IntakeTimeout, BodyTimeoutClosesTheConnection) {
+    ServerConfig config;
+    config.threads = 2;
+    config.web_root = "";
+    config.body_timeout_seconds = 1;
+    testing::LoopbackServer s(config);
+    ASSERT_TRUE(s.started());
+    const int fd = connect_to(s.port());
+    ASSERT_GE(fd, 0);
+    ASSERT_TRUE(send_all_text(
+        fd, "POST /subdivide HTTP/1.1\r\nHost: test\r\nContent-Type: model/obj\r\nContent-Length: 10\r\n\r\nv 0"));
+    const std::string answer = read_one_response(fd);
+    EXPECT_EQ(status_of(answer), 408) << answer;
+    EXPECT_EQ(raw_header(answer, "Connection"), "close");
+    EXPECT_EQ(raw_header(answer, "Keep-Alive"), "");
+    EXPECT_EQ(problem_of(answer).value("code", ""), "body_timeout") << answer;
+    EXPECT_EQ(testing::read_until_close(fd, 10'000), "");
+    close(fd);
 }
 
 }  // namespace
