@@ -16,6 +16,7 @@ ProblemInfo info(Problem problem) {
         case Problem::BadRequest: return {400, "bad_request", "Malformed HTTP request"};
         case Problem::EmptyBody: return {400, "empty_body", "Request body is empty"};
         case Problem::InvalidJson: return {400, "invalid_json", "Request body is not valid JSON"};
+        case Problem::NumberOutOfRange: return {400, "number_out_of_range", "Number out of range"};
         case Problem::InvalidField: return {400, "invalid_field", "Invalid field or parameter"};
         case Problem::UnknownField: return {400, "unknown_field", "Unknown field"};
         case Problem::UnknownParameter: return {400, "unknown_parameter", "Unknown query parameter"};

@@ -9,9 +9,8 @@
 //
 // Status codes are chosen in errors.cpp and nowhere else:
 //   400  the request cannot be read: no body (empty_body), malformed JSON / mesh file (parse_error, invalid_json), a
-//        field of the wrong
-//        type or an unknown enum value (invalid_field), unknown JSON fields (unknown_field) or query parameters
-//        (unknown_parameter)
+//        JSON number beyond a double (number_out_of_range), a field of the wrong type or an unknown enum value
+//        (invalid_field), unknown JSON fields (unknown_field) or query parameters (unknown_parameter)
 //   404  no such route (not_found); 405 known route, other method (method_not_allowed)
 //   413  the request body is over Limits::max_body_bytes (payload_too_large). Only the byte size of the body.
 //   415  the Content-Type is not one we read (unsupported_media_type)
@@ -51,6 +50,7 @@ enum class Problem {
     BadRequest,            //!< 400 the HTTP request itself is malformed (rejected by the HTTP layer)
     EmptyBody,             //!< 400 the endpoint needs a body and none was sent
     InvalidJson,           //!< 400 the body is not JSON
+    NumberOutOfRange,      //!< 400 a JSON number does not fit a double (1e400)
     InvalidField,          //!< 400 a field/parameter has the wrong type or an unknown value, or is missing
     UnknownField,          //!< 400 a JSON object has a member we do not know
     UnknownParameter,      //!< 400 a query parameter we do not know

@@ -930,12 +930,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     if (auto error = check_json_only_body(request, limits, "POST /curves")) return error_response(std::move(*error));
     Json root;
-    try {
-        root = Json::parse(request.body.begin(), request.body.end());
-    } catch (const Json::exception& e) {
-        return error_response(
-            make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what()));
-    }
+    if (auto error = json::parse(request.body, root)) return error_response(std::move(*error));
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
     static constexpr std::string_view kMembers[] = {
         "points",       "weights",    "evaluate",  "derivatives", "curvature", "split", "elevate",

@@ -245,9 +245,8 @@ ApiResponse guarded(F&& body) noexcept {
         return body();
     } catch (const std::bad_alloc&) {
         return error_response(make_problem(Problem::Internal, "out of memory while processing the request"));
-    } catch (const std::exception& e) {
-        return error_response(make_problem(Problem::Internal, std::string("internal error: ") + e.what()));
     } catch (...) {
+        // A library's exception text says nothing useful to a client (and may show internals).
         return error_response(make_problem(Problem::Internal, "internal error"));
     }
 }

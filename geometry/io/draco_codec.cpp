@@ -149,8 +149,8 @@ Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options) {
         return encode_unchecked(mesh, options);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while Draco-encoding the mesh");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string("Draco encoder failed: ") + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::Internal, "Draco encoder failed");
     }
 }
 
@@ -159,8 +159,8 @@ Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds&
         return decode_unchecked(bytes, ids, limits);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while decoding Draco data");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::ParseError, std::string("Draco decoder failed: ") + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::ParseError, "Draco decoder failed: the data is not a Draco stream we can read");
     }
 }
 

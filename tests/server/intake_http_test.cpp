@@ -231,5 +231,35 @@ TEST(IntakeTimeout, BodyTimeoutClosesTheConnection) {
     close(fd);
 }
 
+// A JSON number beyond a double is 400 number_out_of_range with its position; no problem detail carries a
+// library's exception text.
+TEST_F(IntakeHttp, JsonNumberOutOfRangeIs400WithItsPosition) {
+    const std::string mesh = "{\"mesh\":{\"positions\":[[0,0,0],[1,0,0],\n[0,1e400,0]],\"faces\":[[0,1,2]]}}";
+    const Json subdivide =
+        expect_http_problem(client().Post("/subdivide", mesh, "application/json"), 400, "number_out_of_range");
+    EXPECT_EQ(subdivide.value("offset", -1), static_cast<int>(mesh.find("1e400"))) << subdivide.dump();
+    EXPECT_NE(subdivide.value("detail", "").find("line 2, column 4"), std::string::npos) << subdivide.dump();
+    EXPECT_NE(subdivide.value("detail", "").find("1e400"), std::string::npos) << subdivide.dump();
+
+    const std::string curve = R"({"points": [[0, 0, 0], [1, -1e400, 0]], "evaluate": [0.5]})";
+    const Json curves =
+        expect_http_problem(client().Post("/curves", curve, "application/json"), 400, "number_out_of_range");
+    EXPECT_EQ(curves.value("offset", -1), static_cast<int>(curve.find("-1e400"))) << curves.dump();
+
+    for (const char* path : {"/subdivide", "/curves", "/implicit/query", "/pointcloud", "/tessellate", "/repair"}) {
+        for (const char* body : {R"({"a": 1e400})", R"({"a": x})", R"({"a": [1, 2)", "[1e999999999]"}) {
+            SCOPED_TRACE(std::string(path) + " " + body);
+            auto res = client().Post(path, body, "application/json");
+            ASSERT_TRUE(res);
+            EXPECT_EQ(res->status, 400) << res->body;
+            const Json problem = Json::parse(res->body, nullptr, false);
+            const std::string detail = problem.value("detail", "");
+            EXPECT_EQ(detail.find("json.exception"), std::string::npos) << detail;
+            EXPECT_EQ(detail.find("parse error"), std::string::npos) << detail;
+            EXPECT_TRUE(problem.contains("offset")) << res->body;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace surfaced::server
