@@ -24,6 +24,8 @@ ProblemInfo info(Problem problem) {
         case Problem::MethodNotAllowed: return {405, "method_not_allowed", "Method not allowed"};
         case Problem::PayloadTooLarge: return {413, "payload_too_large", "Request body too large"};
         case Problem::UnsupportedMediaType: return {415, "unsupported_media_type", "Unsupported media type"};
+        case Problem::CoordinateOutOfRange:
+            return {422, "coordinate_out_of_range", "Coordinate beyond the output format's range"};
         case Problem::BudgetExceeded: return {422, "budget_exceeded", "Request exceeds a budget"};
         case Problem::Internal: return {500, "internal", "Internal error"};
     }

@@ -15,9 +15,10 @@
 //   413  the request body is over Limits::max_body_bytes (payload_too_large). Only the byte size of the body.
 //   415  the Content-Type is not one we read (unsupported_media_type)
 //   422  the request is well formed but its geometry or size cannot be processed: index_out_of_range,
-//        degenerate_face, non_finite, not_triangle_mesh, non_manifold, invalid_argument, unsupported, and
-//        budget_exceeded (levels over the limit, input or *predicted output* over the face budget). We chose 422 over
-//        413 for budgets because the body itself was accepted; it is the work it asks for that is too large.
+//        degenerate_face, non_finite, not_triangle_mesh, non_manifold, invalid_argument, unsupported,
+//        coordinate_out_of_range (a coordinate beyond float32 for a glTF output), and budget_exceeded (levels over the
+//        limit, input or *predicted output* over the face budget). We chose 422 over 413 for budgets because the
+//        body itself was accepted; it is the work it asks for that is too large.
 //   500  internal (a bug)
 //   503  cancelled: the request's compute deadline passed or the server is shutting down (Retry-After is set)
 #pragma once
@@ -58,6 +59,7 @@ enum class Problem {
     MethodNotAllowed,      //!< 405
     PayloadTooLarge,       //!< 413
     UnsupportedMediaType,  //!< 415
+    CoordinateOutOfRange,  //!< 422 a coordinate a float32 output format cannot hold
     BudgetExceeded,        //!< 422
     Internal,              //!< 500
 };

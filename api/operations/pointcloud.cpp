@@ -378,6 +378,11 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     } else if (output.format == OutputFormat::Ply) {
         response.body = write_ply_points(cloud);
     } else {
+        // Points sent as JSON keep their indices through conversion and normal estimation: name the field then.
+        const bool sent_points = d.source == Source::Json && d.input_points == cloud.size();
+        if (auto error = check_float32_range(cloud.positions, output.format, "point",
+                                             sent_points ? std::optional<std::string_view>("points") : std::nullopt))
+            return error_response(std::move(*error));
         PointGlbOptions options;
         options.draco = output.draco.value_or(true);
         if (output.quantize_position) options.quantize_position = static_cast<int>(*output.quantize_position);

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 
 #include "geometry/io/gltf.h"
@@ -228,6 +229,30 @@ std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const
     return std::nullopt;
 }
 
+bool float32_format(OutputFormat format) { return format == OutputFormat::Glb || format == OutputFormat::Gltf; }
+
+std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, OutputFormat format,
+                                            std::string_view element, std::optional<std::string_view> field) {
+    if (!float32_format(format)) return std::nullopt;
+    constexpr double kMax = std::numeric_limits<float>::max();
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        const Vec3& p = positions[i];
+        const double coordinates[3] = {p.x, p.y, p.z};
+        for (int axis = 0; axis < 3; ++axis) {
+            if (std::abs(coordinates[axis]) <= kMax) continue;
+            const std::string format_name(enum_name(kOutputFormatNames, format));
+            ApiError error = make_problem(Problem::CoordinateOutOfRange,
+                                          std::string(element) + " " + std::to_string(i) + " has " + "xyz"[axis] +
+                                              " = " + format_double(coordinates[axis]) +
+                                              ", beyond the float32 range (+-3.4028235e38) of format \"" + format_name +
+                                              "\"; format obj, ply or json keeps doubles");
+            if (field) error.field = std::string(*field) + "[" + std::to_string(i) + "]";
+            return error;
+        }
+    }
+    return std::nullopt;
+}
+
 std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel) {
     if (!cancel.requested()) return std::nullopt;
     return from_geo_error(GeoError{ErrorCode::Cancelled, "the request's compute deadline passed before encoding"});
@@ -293,6 +318,7 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
     switch (out.format) {
         case OutputFormat::Glb:
         case OutputFormat::Gltf: {
+            if (auto error = check_float32_range(mesh.positions, out.format, "output vertex")) return std::move(*error);
             GltfOptions gltf;
             gltf.draco = out.draco.value_or(true);
             if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);

@@ -139,6 +139,13 @@ std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& 
                                          MeshRules rules = MeshRules::Strict);
 //! Triangulation turns an n-gon into n - 2 triangles: for operations whose work is proportional to those.
 std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const Limits& limits);
+//! Whether `format` stores coordinates as float32 (glTF and GLB, Draco or not; OBJ, PLY and JSON keep doubles).
+bool float32_format(OutputFormat format);
+//! 422 coordinate_out_of_range naming the first of `positions` with a coordinate beyond float32 (|c| > FLT_MAX, which
+//! a float32 accessor, min/max or Draco cannot hold): its index, axis and value; `element` names what the positions
+//! are ("output vertex", "input vertex", "point") and `field`, when given, the JSON path of the array.
+std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, OutputFormat format,
+                                            std::string_view element, std::optional<std::string_view> field = {});
 //! 503 `cancelled` when the request's deadline passed while computing (encoding cannot be stopped, so check first).
 std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel);
 
@@ -185,6 +192,13 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
     }
     out.decoded = Clock::now();
     if (auto error = check_mesh_input(out.mesh, limits, out.source, effective_rules())) return std::move(*error);
+    // An input vertex a float32 output cannot hold is named where the client wrote it (the output is checked again
+    // when encoded, for vertices the operation moved there).
+    if constexpr (requires { out.params.output.format; })
+        if (auto error = check_float32_range(
+                out.mesh.positions, out.params.output.format, "input vertex",
+                out.source == Source::Json ? std::optional<std::string_view>("mesh.positions") : std::nullopt))
+            return std::move(*error);
     return out;
 }
 

@@ -209,6 +209,8 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
     ApiResponse response;
     response.content_type = std::string(output_media_type(out.format));
     if (out.format == OutputFormat::Glb) {
+        if (auto error = check_float32_range(mesh.positions, out.format, "output vertex"))
+            return error_response(std::move(*error));
         GltfOptions gltf;
         gltf.draco = out.draco.value_or(true);
         if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);

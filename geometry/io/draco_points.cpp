@@ -29,6 +29,8 @@ int add_attribute(draco::PointCloud& cloud, draco::GeometryAttribute::Type type,
 }
 
 Result<Encoded> encode_unchecked(const PointData& data, const draco_codec::EncodeOptions& options) {
+    if (Status quantizable = draco_codec::check_quantizable_positions(data.positions); !quantizable)
+        return std::move(quantizable.error());
     draco::PointCloud cloud;
     cloud.set_num_points(static_cast<std::uint32_t>(data.point_count()));
     const int position =

@@ -261,5 +261,54 @@ TEST_F(IntakeHttp, JsonNumberOutOfRangeIs400WithItsPosition) {
     }
 }
 
+// A coordinate beyond float32 cannot be written to glTF (an accessor's min/max would be null, Draco fails): 422
+// coordinate_out_of_range naming the vertex, its field path when the mesh was JSON. Formats that keep doubles work.
+TEST_F(IntakeHttp, CoordinateBeyondFloat32Is422ForGltfOutput) {
+    const std::string mesh = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[1,1,0],[0,1e39,0]],"faces":[[0,1,2,3]]})";
+    for (const char* output : {"", R"(,"output":{"compression":"none"})", R"(,"output":{"format":"gltf"})"}) {
+        SCOPED_TRACE(output);
+        const Json problem = expect_http_problem(client().Post("/subdivide", mesh + output + "}", "application/json"),
+                                                 422, "coordinate_out_of_range", "mesh.positions[3]");
+        EXPECT_NE(problem.value("detail", "").find("1e+39"), std::string::npos) << problem.dump();
+    }
+    auto obj = client().Post("/subdivide", mesh + R"(,"output":{"format":"obj"}})", "application/json");
+    ASSERT_TRUE(obj);
+    EXPECT_EQ(obj->status, 200) << obj->body;
+
+    const Json upload = expect_http_problem(
+        client().Post("/subdivide", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1e39 0\nf 1 2 3 4\n", "model/obj"), 422,
+        "coordinate_out_of_range");
+    EXPECT_NE(upload.value("detail", "").find("vertex 3"), std::string::npos) << upload.dump();
+
+    const Json points = expect_http_problem(
+        client().Post("/pointcloud", R"({"points":[[0,0,0],[1,0,0],[0,2e39,0]]})", "application/json"), 422,
+        "coordinate_out_of_range", "points[2]");
+    EXPECT_NE(points.value("detail", "").find("2e+39"), std::string::npos) << points.dump();
+    const Json xyz = expect_http_problem(client().Post("/pointcloud", "0 0 0\n1 0 0\n0 2e39 0\n", "text/x-xyz"), 422,
+                                         "coordinate_out_of_range");
+    EXPECT_NE(xyz.value("detail", "").find("point 2"), std::string::npos) << xyz.dump();
+}
+
+// Coordinates within float32 whose extent is not (both signs near 3.4e38) cannot be quantized by Draco, which
+// crashed on them: 422; without compression they are written, with finite accessor bounds.
+TEST_F(IntakeHttp, ExtentBeyondFloat32Is422WithDraco) {
+    const std::string mesh =
+        R"({"mesh":{"positions":[[-3e38,0,0],[3e38,0,0],[3e38,3e38,0],[-3e38,3e38,0]],"faces":[[0,1,2,3]]})";
+    const Json problem =
+        expect_http_problem(client().Post("/subdivide", mesh + "}", "application/json"), 422, "invalid_argument");
+    EXPECT_NE(problem.value("detail", "").find("compression none"), std::string::npos) << problem.dump();
+    expect_http_problem(client().Post("/pointcloud", R"({"points":[[-3e38,0,0],[3e38,0,0]]})", "application/json"), 422,
+                        "invalid_argument");
+
+    auto plain =
+        client().Post("/subdivide", mesh + R"(,"output":{"format":"gltf","compression":"none"}})", "application/json");
+    ASSERT_TRUE(plain);
+    ASSERT_EQ(plain->status, 200) << plain->body;
+    const Json gltf = Json::parse(plain->body, nullptr, false);
+    ASSERT_FALSE(gltf.is_discarded());
+    for (const Json& bound : gltf["accessors"][0]["max"]) EXPECT_TRUE(bound.is_number()) << gltf["accessors"][0];
+    EXPECT_EQ(client().Get("/livez")->status, 200);
+}
+
 }  // namespace
 }  // namespace surfaced::server
