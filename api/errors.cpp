@@ -14,7 +14,9 @@ struct ProblemInfo {
 ProblemInfo info(Problem problem) {
     switch (problem) {
         case Problem::BadRequest: return {400, "bad_request", "Malformed HTTP request"};
+        case Problem::EmptyBody: return {400, "empty_body", "Request body is empty"};
         case Problem::InvalidJson: return {400, "invalid_json", "Request body is not valid JSON"};
+        case Problem::NumberOutOfRange: return {400, "number_out_of_range", "Number out of range"};
         case Problem::InvalidField: return {400, "invalid_field", "Invalid field or parameter"};
         case Problem::UnknownField: return {400, "unknown_field", "Unknown field"};
         case Problem::UnknownParameter: return {400, "unknown_parameter", "Unknown query parameter"};
@@ -22,6 +24,8 @@ ProblemInfo info(Problem problem) {
         case Problem::MethodNotAllowed: return {405, "method_not_allowed", "Method not allowed"};
         case Problem::PayloadTooLarge: return {413, "payload_too_large", "Request body too large"};
         case Problem::UnsupportedMediaType: return {415, "unsupported_media_type", "Unsupported media type"};
+        case Problem::CoordinateOutOfRange:
+            return {422, "coordinate_out_of_range", "Coordinate beyond the output format's range"};
         case Problem::BudgetExceeded: return {422, "budget_exceeded", "Request exceeds a budget"};
         case Problem::Internal: return {500, "internal", "Internal error"};
     }

@@ -8,16 +8,17 @@
 // describes this occurrence. `type` is a relative URI reserved for a future documentation page per code.
 //
 // Status codes are chosen in errors.cpp and nowhere else:
-//   400  the request cannot be read: malformed JSON / mesh file (parse_error, invalid_json), a field of the wrong
-//        type or an unknown enum value (invalid_field), unknown JSON fields (unknown_field) or query parameters
-//        (unknown_parameter)
+//   400  the request cannot be read: no body (empty_body), malformed JSON / mesh file (parse_error, invalid_json), a
+//        JSON number beyond a double (number_out_of_range), a field of the wrong type or an unknown enum value
+//        (invalid_field), unknown JSON fields (unknown_field) or query parameters (unknown_parameter)
 //   404  no such route (not_found); 405 known route, other method (method_not_allowed)
 //   413  the request body is over Limits::max_body_bytes (payload_too_large). Only the byte size of the body.
 //   415  the Content-Type is not one we read (unsupported_media_type)
 //   422  the request is well formed but its geometry or size cannot be processed: index_out_of_range,
-//        degenerate_face, non_finite, not_triangle_mesh, non_manifold, invalid_argument, unsupported, and
-//        budget_exceeded (levels over the limit, input or *predicted output* over the face budget). We chose 422 over
-//        413 for budgets because the body itself was accepted; it is the work it asks for that is too large.
+//        degenerate_face, non_finite, not_triangle_mesh, non_manifold, invalid_argument, unsupported,
+//        coordinate_out_of_range (a coordinate beyond float32 for a glTF output), and budget_exceeded (levels over the
+//        limit, input or *predicted output* over the face budget). We chose 422 over 413 for budgets because the
+//        body itself was accepted; it is the work it asks for that is too large.
 //   500  internal (a bug)
 //   503  cancelled: the request's compute deadline passed or the server is shutting down (Retry-After is set)
 #pragma once
@@ -48,7 +49,9 @@ struct ApiError {
 //! Problems raised by the API itself (as opposed to GeoErrors from geometry/).
 enum class Problem {
     BadRequest,            //!< 400 the HTTP request itself is malformed (rejected by the HTTP layer)
+    EmptyBody,             //!< 400 the endpoint needs a body and none was sent
     InvalidJson,           //!< 400 the body is not JSON
+    NumberOutOfRange,      //!< 400 a JSON number does not fit a double (1e400)
     InvalidField,          //!< 400 a field/parameter has the wrong type or an unknown value, or is missing
     UnknownField,          //!< 400 a JSON object has a member we do not know
     UnknownParameter,      //!< 400 a query parameter we do not know
@@ -56,6 +59,7 @@ enum class Problem {
     MethodNotAllowed,      //!< 405
     PayloadTooLarge,       //!< 413
     UnsupportedMediaType,  //!< 415
+    CoordinateOutOfRange,  //!< 422 a coordinate a float32 output format cannot hold
     BudgetExceeded,        //!< 422
     Internal,              //!< 500
 };

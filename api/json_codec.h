@@ -7,8 +7,8 @@
 //   400 invalid_field      wrong type ("mesh.positions[3][1] must be a finite number"), unknown enum value (the
 //                          allowed ones are listed), missing required member
 //   400 unknown_field      members we do not know, all of them named ("unknown field(s) at top level: \"mesh2\"")
-//   422 non_finite         a number overflows a double (1e999; nlohmann refuses it while parsing, so without a
-//                          field path)
+//   400 number_out_of_range a number overflows a double (1e999; refused while parsing, so with the line, column
+//                          and offset, without a field path)
 //   422 index_out_of_range "mesh.faces[12][3]: vertex 99 out of range (8 vertices)"
 //   422 degenerate_face    a face with fewer than 3 vertices
 //   422 budget_exceeded    more positions/faces than Limits allows (checked before they are decoded)

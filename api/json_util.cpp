@@ -1,7 +1,11 @@
 #include "api/json_util.h"
 
+#include <algorithm>
 #include <cmath>
+#include <exception>
+#include <new>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace surfaced::api::json {
@@ -32,28 +36,77 @@ ApiError geometry_error(ErrorCode code, const std::string& field, std::string de
     return error;
 }
 
-//! Parses `text`; nlohmann reports errors by exception, which must not leave this function.
+namespace {
+
+//! nlohmann's DOM builder, except that a parse error is recorded (where, and whether a number overflowed) instead of
+//! thrown: the exception's text is the library's, and its out_of_range.406 ("1e400") carries no position.
+class RecordingSax : public nlohmann::detail::json_sax_dom_parser<Json> {
+public:
+    explicit RecordingSax(Json& result) : json_sax_dom_parser(result, false) {}
+
+    template <class Exception>
+    bool parse_error(std::size_t position, const std::string& last_token, const Exception& ex) {
+        failed = true;
+        end = position;
+        token_size = last_token.size();
+        overflow = std::is_same_v<Exception, nlohmann::detail::out_of_range>;
+        static_cast<void>(ex);
+        return false;
+    }
+
+    bool failed = false;
+    bool overflow = false;  //!< a number does not fit a double
+    std::size_t end = 0;    //!< bytes read when the error was found (the end of the offending token)
+    std::size_t token_size = 0;
+};
+
+//! "line 3, column 7" (both 1-based) of byte `offset` in `text`.
+std::string line_and_column(std::string_view text, std::size_t offset) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+}  // namespace
+
 std::optional<ApiError> parse(std::string_view text, Json& out) {
     try {
-        out = Json::parse(text.begin(), text.end());
-        return std::nullopt;
-    } catch (const Json::parse_error& e) {
-        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ..."; the bracketed id
-        // means nothing to a client.
-        std::string message = e.what();
-        if (const auto pos = message.find("] "); message.starts_with("[json.exception") && pos != std::string::npos)
-            message.erase(0, pos + 2);
-        ApiError error = make_problem(Problem::InvalidJson, "request body is not valid JSON: " + message);
-        // nlohmann's `byte` counts from 1 (the byte it stopped at); ours is a 0-based offset into the body.
-        error.offset = e.byte > 0 ? static_cast<std::int64_t>(e.byte - 1) : 0;
+        RecordingSax sax(out);
+        const bool ok = Json::sax_parse(text.begin(), text.end(), &sax);
+        if (ok && !sax.failed) return std::nullopt;
+        if (sax.overflow) {
+            // The number token ends where the error was found.
+            const std::size_t start = sax.end >= sax.token_size ? sax.end - sax.token_size : 0;
+            const std::string number(text.substr(start, std::min<std::size_t>(sax.token_size, 40)));
+            ApiError error = make_problem(Problem::NumberOutOfRange,
+                                          "number out of range at " + line_and_column(text, start) + ": " + number +
+                                              " is beyond the largest double (about 1.8e308)");
+            error.offset = static_cast<std::int64_t>(start);
+            return error;
+        }
+        // The offset is that of the byte the parser stopped at (it had read `end` bytes).
+        const std::size_t at = sax.end > 0 ? std::min(sax.end - 1, text.size()) : 0;
+        std::string what;
+        if (text.empty())
+            what = "the body is empty";
+        else if (sax.end > text.size())  // the parser asked for a byte past the end
+            what = "the body ends too early, at " + line_and_column(text, text.size());
+        else
+            what = "syntax error at " + line_and_column(text, at);
+        ApiError error = make_problem(Problem::InvalidJson, "request body is not valid JSON: " + what);
+        error.offset = static_cast<std::int64_t>(at);
         return error;
-    } catch (const Json::out_of_range& e) {
-        // Not a parse_error: nlohmann throws out_of_range.406 for a literal that overflows a double ("1e999"),
-        // without a position. It is a non-finite coordinate (or option), so it gets the NonFinite status.
-        return from_geo_error(
-            make_error(ErrorCode::NonFinite, std::string("a number in the body does not fit a double: ") + e.what()));
-    } catch (const Json::exception& e) {
-        return make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what());
+    } catch (const std::bad_alloc&) {
+        throw;  // the operation's guard answers 500 out of memory
+    } catch (const std::exception&) {
+        return make_problem(Problem::InvalidJson, "request body is not valid JSON");
     }
 }
 

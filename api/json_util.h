@@ -28,8 +28,9 @@ ApiError invalid(const std::string& field, std::string detail);
 //! The status of a geometry error code, naming `field`.
 ApiError geometry_error(ErrorCode code, const std::string& field, std::string detail);
 
-//! Parses a request body; a syntax error becomes 400 invalid_json with the byte offset (nlohmann reports errors by
-//! exception, which does not leave this function).
+//! Parses a request body; a syntax error becomes 400 invalid_json, a number beyond a double's range ("1e400") 400
+//! number_out_of_range, both with the byte offset in `offset` and the line and column in the detail, in our words
+//! (nothing of nlohmann's exception text).
 std::optional<ApiError> parse(std::string_view text, Json& out);
 //! Every member of `object` must be in `allowed`; otherwise one 400 unknown_field naming all unknown members.
 std::optional<ApiError> check_members(const Json& object, std::string_view path,

@@ -5,6 +5,7 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -36,6 +37,8 @@ using Clock = std::chrono::steady_clock;
 // A connection is served start to end by one worker thread and its requests one after another, so the record of the
 // current request, which the library's hooks (pre-routing, handler, error, post-routing) fill in, is thread-local.
 thread_local RequestRecord t_request;
+// The Content-Type of the current request when it names a form (see hide_form_content_type), else empty.
+thread_local std::string t_form_content_type;
 
 // ---- requests and responses ------------------------------------------------------------------------------------
 
@@ -57,6 +60,37 @@ void without_brotli(httplib::Request& req) {
         }
         it->second = std::move(kept);
     }
+}
+
+//! The media type of a Content-Type value, lower-cased, without parameters.
+std::string media_type_of(std::string_view content_type) {
+    std::string_view type = content_type.substr(0, content_type.find(';'));
+    while (!type.empty() && type.front() == ' ') type.remove_prefix(1);
+    while (!type.empty() && type.back() == ' ') type.remove_suffix(1);
+    std::string out(type);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+//! cpp-httplib decodes form bodies itself while reading them: application/x-www-form-urlencoded into query
+//! parameters (and refuses one over 8 KiB with 413, whatever the body limit), multipart/form-data into files (the
+//! body stays empty). No endpoint takes either, so the header is taken off the library's request and kept in
+//! t_form_content_type: the body is read as plain bytes and the operation answers 415 with the types it accepts.
+void hide_form_content_type(httplib::Request& req) {
+    t_form_content_type.clear();
+    const std::string type = media_type_of(req.get_header_value("Content-Type"));
+    if (type != "application/x-www-form-urlencoded" && type != "multipart/form-data") return;
+    t_form_content_type = req.get_header_value("Content-Type");
+    req.headers.erase("Content-Type");
+}
+
+//! A request that expects a body but has neither Content-Length nor Transfer-Encoding has an empty body (RFC 9112
+//! section 6.3); cpp-httplib would read it until the client closes, so the emptiness is made explicit.
+void empty_body_without_length(httplib::Request& req) {
+    const bool takes_body =
+        req.method == "POST" || req.method == "PUT" || req.method == "PATCH" || req.method == "DELETE";
+    if (takes_body && !req.has_header("Content-Length") && !req.has_header("Transfer-Encoding"))
+        req.set_header("Content-Length", "0");
 }
 
 //! cpp-httplib route patterns are regular expressions; our paths are literal except for `{name}` segments, which
@@ -82,24 +116,30 @@ public:
 
     const std::string& method() const override { return req_.method; }
     const std::string& path() const override { return req_.path; }
-    bool has_header(const std::string& name) const override { return req_.has_header(name); }
-    std::string header(const std::string& name) const override { return req_.get_header_value(name); }
+    bool has_header(const std::string& name) const override { return is_hidden(name) || req_.has_header(name); }
+    std::string header(const std::string& name) const override {
+        return is_hidden(name) ? t_form_content_type : req_.get_header_value(name);
+    }
     api::ApiRequest to_api() const override {
         api::ApiRequest out;
         out.method = req_.method;
         out.path = req_.path;
         out.query.insert(req_.params.begin(), req_.params.end());
-        out.content_type = req_.get_header_value("Content-Type");
+        out.content_type = header("Content-Type");
         out.body = req_.body;
         for (const auto& [name, value] : req_.headers) {
             std::string lower = name;
             for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
             out.headers.emplace(std::move(lower), value);
         }
+        if (!t_form_content_type.empty()) out.headers.emplace("content-type", t_form_content_type);
         return out;
     }
 
 private:
+    static bool is_hidden(const std::string& name) {
+        return !t_form_content_type.empty() && name.size() == 12 && strncasecmp(name.c_str(), "content-type", 12) == 0;
+    }
     const httplib::Request& req_;
 };
 
@@ -324,6 +364,7 @@ struct HttplibAdapter::Impl {
                     served + 1 == max_requests || owner_.draining.load() || owner_.counters.queued.load() > 0;
                 stream.begin_request();
                 t_request = RequestRecord{};
+                t_form_content_type.clear();
                 t_request.start = Clock::now();
                 ++owner_.counters.in_flight;
                 bool closed = false;
@@ -378,9 +419,14 @@ struct HttplibAdapter::Impl {
         server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
             // Debian's libcpp-httplib is built with brotli, which it prefers and runs at quality 11: 5-13 s for
             // three.js's 2 MB modules, seconds for large JSON/OBJ results, where gzip (zlib level 6) takes ~0.15 s.
-            // Hide "br" from the library's choice of encoding. The Request is a non-const local of httplib's
-            // process_request, so changing it through this const reference is well defined.
-            without_brotli(const_cast<httplib::Request&>(req));
+            // Hide "br" from the library's choice of encoding; forms likewise (see hide_form_content_type), and make
+            // a missing body length explicit (see empty_body_without_length). The
+            // Request is a non-const local of httplib's process_request, so changing it through this const
+            // reference is well defined.
+            auto& request_head = const_cast<httplib::Request&>(req);
+            without_brotli(request_head);
+            hide_form_content_type(request_head);
+            empty_body_without_length(request_head);
             const LibraryRequest request(req);
             LibraryResponse response(res);
             return hooks.before_routing(request, response, t_request) ? httplib::Server::HandlerResponse::Handled

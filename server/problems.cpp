@@ -40,6 +40,13 @@ api::ApiResponse body_timeout_problem(int body_timeout_seconds, std::size_t body
                        " s plus 1 s per " + std::to_string(body_min_rate_bytes) + " bytes received");
 }
 
+api::ApiResponse declared_body_too_large_problem(std::uint64_t length, std::size_t max_body_bytes) {
+    return api::error_response(
+        api::make_problem(api::Problem::PayloadTooLarge, "request body is " + std::to_string(length) +
+                                                             " bytes (Content-Length); the limit is " +
+                                                             std::to_string(max_body_bytes) + " bytes"));
+}
+
 api::ApiResponse library_error_problem(int status, std::string_view method, std::string_view path,
                                        std::size_t max_body_bytes) {
     switch (status) {

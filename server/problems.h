@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -25,6 +26,9 @@ api::ApiResponse origin_not_allowed_problem(const std::string& origin);
 
 //! 408 `body_timeout`, naming the body deadline (see ServerConfig::body_timeout_seconds).
 api::ApiResponse body_timeout_problem(int body_timeout_seconds, std::size_t body_min_rate_bytes);
+
+//! 413 `payload_too_large` for a Content-Length of `length` bytes over `max_body_bytes`, before any of it is read.
+api::ApiResponse declared_body_too_large_problem(std::uint64_t length, std::size_t max_body_bytes);
 
 //! The problem for an error status the HTTP library produced itself (404/405 for no route, 413 past
 //! `max_body_bytes`, 400 for an unparsable request, another status as is).

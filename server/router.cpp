@@ -3,6 +3,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -21,6 +22,25 @@ std::string route_template(std::string_view path) {
     for (const api::Route& route : api::routes())
         if (api::match_path(route.path, path)) return std::string(route.path);
     return {};
+}
+
+//! Whether a route answers `method` at `path` (cpp-httplib answers HEAD with a GET route).
+bool has_route(std::string_view method, std::string_view path) {
+    for (const api::Route& route : api::routes())
+        if ((route.method == method || (method == "HEAD" && route.method == "GET")) &&
+            api::match_path(route.path, path))
+            return true;
+    return false;
+}
+
+//! The value of a Content-Length header, or nullopt when it is absent or not a number.
+std::optional<std::uint64_t> content_length(const HttpRequest& req) {
+    if (!req.has_header("Content-Length")) return std::nullopt;
+    const std::string text = req.header("Content-Length");
+    std::uint64_t value = 0;
+    const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || result.ec != std::errc() || result.ptr != text.data() + text.size()) return std::nullopt;
+    return value;
 }
 
 }  // namespace
@@ -79,6 +99,19 @@ bool Router::before_routing(const HttpRequest& req, HttpResponse& res, RequestRe
             return true;
         }
     }
+    // What can be refused from the head alone is refused before the body is read (which could take until the body
+    // deadline): no route for this method (404, or 405 with Allow), or a Content-Length over the limit (413). The
+    // body stays unread, so the connection is closed after the answer.
+    if (!has_route(req.method(), req.path())) {
+        write_response(api::route_not_found(req.method(), req.path()), res);
+        record.force_close = has_body;
+        return true;
+    }
+    if (const auto length = content_length(req); length && *length > config_.limits.max_body_bytes) {
+        write_response(declared_body_too_large_problem(*length, config_.limits.max_body_bytes), res);
+        record.force_close = true;
+        return true;
+    }
     return false;
 }
 
@@ -99,9 +132,6 @@ bool Router::on_error_status(const HttpRequest& req, HttpResponse& res, RequestR
     if (res.has_body()) return false;
     record.force_close = true;
     if (record.body_timed_out) {
-        res.remove_header("Keep-Alive");
-        res.remove_header("Connection");
-        res.add_header("Connection", "close");
         write_response(body_timeout_problem(config_.body_timeout_seconds, config_.body_min_rate_bytes), res);
         return true;
     }
@@ -114,6 +144,13 @@ void Router::on_exception(HttpResponse& res) { write_response(internal_error_pro
 
 void Router::before_sending(const HttpRequest& req, HttpResponse& res, RequestRecord& record) {
     if (record.id.empty()) record.id = new_request_id();  // the head could not be parsed: no before_routing
+    if (record.force_close) {
+        // The connection loop closes the connection after this response; say so. cpp-httplib adds Keep-Alive to
+        // every response whose request did not ask for close, after the error hook has run.
+        res.remove_header("Keep-Alive");
+        res.remove_header("Connection");
+        res.add_header("Connection", "close");
+    }
     if (record.method.empty()) record.method = req.method();
     record.status = res.status();
     res.add_header("X-Request-Id", record.id);

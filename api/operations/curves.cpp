@@ -928,26 +928,9 @@ ApiResponse run_bspline(const Json& root, const ApiContext& context, OutputForma
 
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
-    if (request.body.size() > limits.max_body_bytes)
-        return error_response(make_problem(Problem::PayloadTooLarge,
-                                           "request body is " + std::to_string(request.body.size()) +
-                                               " bytes; the limit is " + std::to_string(limits.max_body_bytes)));
-    std::string_view type = std::string_view(request.content_type).substr(0, request.content_type.find(';'));
-    while (!type.empty() && type.back() == ' ') type.remove_suffix(1);
-    if (type != "application/json")
-        return error_response(make_problem(Problem::UnsupportedMediaType, "POST /curves takes application/json"));
-    if (!request.query.empty())
-        return error_response(make_problem(
-            Problem::UnknownParameter,
-            "query parameters are not accepted (options go in the body), got \"" + request.query.begin()->first + "\"",
-            request.query.begin()->first));
+    if (auto error = check_json_only_body(request, limits, "POST /curves")) return error_response(std::move(*error));
     Json root;
-    try {
-        root = Json::parse(request.body.begin(), request.body.end());
-    } catch (const Json::exception& e) {
-        return error_response(
-            make_problem(Problem::InvalidJson, std::string("request body is not valid JSON: ") + e.what()));
-    }
+    if (auto error = json::parse(request.body, root)) return error_response(std::move(*error));
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
     static constexpr std::string_view kMembers[] = {
         "points",       "weights",    "evaluate",  "derivatives", "curvature", "split", "elevate",

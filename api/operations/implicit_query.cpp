@@ -201,8 +201,9 @@ ApiResponse implicit_query(const ApiRequest& request, const ApiContext& context)
         return run(request, context);
     } catch (const std::bad_alloc&) {
         return error_response(make_problem(Problem::Internal, "out of memory while answering the query"));
-    } catch (const std::exception& e) {
-        return error_response(make_problem(Problem::Internal, std::string("unexpected error: ") + e.what()));
+    } catch (...) {
+        // A library's exception text says nothing useful to a client (and may show internals).
+        return error_response(make_problem(Problem::Internal, "internal error"));
     }
 }
 

@@ -298,6 +298,9 @@ std::optional<ApiError> decode_json_request(const ApiRequest& request, const Api
     return std::nullopt;
 }
 
+constexpr std::string_view kAcceptedMediaTypes =
+    "application/json, application/ply, model/obj, text/x-xyz, application/octet-stream or text/plain (sniffed)";
+
 //! A point file as the body (PLY, OBJ, XYZ, or sniffed), options in the query.
 std::optional<ApiError> decode_file_request(const ApiRequest& request, const ApiContext& context,
                                             const std::string& media_type, Decoded& d) {
@@ -305,13 +308,12 @@ std::optional<ApiError> decode_file_request(const ApiRequest& request, const Api
     if (!format && (media_type == "application/octet-stream" || media_type == "text/plain"))
         format = sniff_point_format(request.body);
     if (!format)
-        return make_problem(Problem::UnsupportedMediaType,
-                            media_type == "application/octet-stream" || media_type == "text/plain"
-                                ? "could not recognise the point format from the content; send Content-Type "
-                                  "application/json, application/ply, model/obj or text/x-xyz"
-                                : "Content-Type \"" + media_type +
-                                      "\" is not accepted; accepted: application/json, application/ply, model/obj, "
-                                      "text/x-xyz, application/octet-stream or text/plain (sniffed)");
+        return make_problem(
+            Problem::UnsupportedMediaType,
+            media_type == "application/octet-stream" || media_type == "text/plain"
+                ? "could not recognise the point format from the content; send Content-Type "
+                  "application/json, application/ply, model/obj or text/x-xyz"
+                : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + std::string(kAcceptedMediaTypes));
     auto query_params = params_from_query(request.query);
     if (!query_params) return std::move(query_params.error());
     d.params = std::move(query_params.value());
@@ -352,7 +354,8 @@ std::optional<ApiError> run_normal_estimation(Decoded& d, const ApiContext& cont
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_start = Clock::now();
     std::string media_type;
-    if (auto error = check_body(request, context.limits, media_type)) return error_response(std::move(*error));
+    if (auto error = check_body(request, context.limits, media_type, kAcceptedMediaTypes))
+        return error_response(std::move(*error));
 
     Decoded d;
     auto decode_error = media_type == "application/json" ? decode_json_request(request, context, d)
@@ -375,6 +378,11 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     } else if (output.format == OutputFormat::Ply) {
         response.body = write_ply_points(cloud);
     } else {
+        // Points sent as JSON keep their indices through conversion and normal estimation: name the field then.
+        const bool sent_points = d.source == Source::Json && d.input_points == cloud.size();
+        if (auto error = check_float32_range(cloud.positions, output.format, "point",
+                                             sent_points ? std::optional<std::string_view>("points") : std::nullopt))
+            return error_response(std::move(*error));
         PointGlbOptions options;
         options.draco = output.draco.value_or(true);
         if (output.quantize_position) options.quantize_position = static_cast<int>(*output.quantize_position);

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 
 #include "geometry/io/gltf.h"
@@ -118,15 +119,19 @@ ApiResult<bool> parse_output_parameter(const std::string& name, const std::strin
     return true;
 }
 
-std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type) {
+std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
+                                   std::string_view accepted) {
     if (request.body.size() > limits.max_body_bytes)
         return make_problem(Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
                                                           " bytes; the limit is " +
                                                           std::to_string(limits.max_body_bytes) + " bytes");
+    if (request.body.empty())
+        return make_problem(Problem::EmptyBody, "the request body is empty; " + request.method + " " + request.path +
+                                                    " needs one, as " + std::string(accepted));
     media_type = media_type_of(request.content_type);
     if (media_type.empty())
         return make_problem(Problem::UnsupportedMediaType,
-                            "a Content-Type is required; accepted: " + accepted_mesh_media_types());
+                            "a Content-Type is required; accepted: " + std::string(accepted));
     return std::nullopt;
 }
 
@@ -141,7 +146,7 @@ std::optional<ApiError> reject_query_with_json(const ApiRequest& request) {
 std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits,
                                              std::string_view operation) {
     std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return error;
+    if (auto error = check_body(request, limits, media_type, "application/json")) return error;
     if (media_type != "application/json")
         return make_problem(Problem::UnsupportedMediaType,
                             std::string(operation) + " takes application/json" +
@@ -224,6 +229,30 @@ std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const
     return std::nullopt;
 }
 
+bool float32_format(OutputFormat format) { return format == OutputFormat::Glb || format == OutputFormat::Gltf; }
+
+std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, OutputFormat format,
+                                            std::string_view element, std::optional<std::string_view> field) {
+    if (!float32_format(format)) return std::nullopt;
+    constexpr double kMax = std::numeric_limits<float>::max();
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        const Vec3& p = positions[i];
+        const double coordinates[3] = {p.x, p.y, p.z};
+        for (int axis = 0; axis < 3; ++axis) {
+            if (std::abs(coordinates[axis]) <= kMax) continue;
+            const std::string format_name(enum_name(kOutputFormatNames, format));
+            ApiError error = make_problem(Problem::CoordinateOutOfRange,
+                                          std::string(element) + " " + std::to_string(i) + " has " + "xyz"[axis] +
+                                              " = " + format_double(coordinates[axis]) +
+                                              ", beyond the float32 range (+-3.4028235e38) of format \"" + format_name +
+                                              "\"; format obj, ply or json keeps doubles");
+            if (field) error.field = std::string(*field) + "[" + std::to_string(i) + "]";
+            return error;
+        }
+    }
+    return std::nullopt;
+}
+
 std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel) {
     if (!cancel.requested()) return std::nullopt;
     return from_geo_error(GeoError{ErrorCode::Cancelled, "the request's compute deadline passed before encoding"});
@@ -289,6 +318,7 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
     switch (out.format) {
         case OutputFormat::Glb:
         case OutputFormat::Gltf: {
+            if (auto error = check_float32_range(mesh.positions, out.format, "output vertex")) return std::move(*error);
             GltfOptions gltf;
             gltf.draco = out.draco.value_or(true);
             if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);

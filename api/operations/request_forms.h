@@ -96,8 +96,10 @@ std::optional<ApiError> read_parameter(const std::string& name, const std::strin
 
 // ---- the two request forms ----------------------------------------------------------------------------------------
 
-//! Body size against the budget, then a Content-Type (normalised into `media_type`): both before anything is parsed.
-std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type);
+//! Body size against the budget, a body at all (400 empty_body), then a Content-Type (normalised into `media_type`):
+//! all before anything is parsed. `accepted` lists the endpoint's media types, for those two errors.
+std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
+                                   std::string_view accepted);
 //! Options of a JSON request go in its body: query parameters with it are an error naming the first one.
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
 //! The intake of an endpoint that takes only a JSON body (`operation` names it in the message, e.g.
@@ -137,6 +139,13 @@ std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& 
                                          MeshRules rules = MeshRules::Strict);
 //! Triangulation turns an n-gon into n - 2 triangles: for operations whose work is proportional to those.
 std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const Limits& limits);
+//! Whether `format` stores coordinates as float32 (glTF and GLB, Draco or not; OBJ, PLY and JSON keep doubles).
+bool float32_format(OutputFormat format);
+//! 422 coordinate_out_of_range naming the first of `positions` with a coordinate beyond float32 (|c| > FLT_MAX, which
+//! a float32 accessor, min/max or Draco cannot hold): its index, axis and value; `element` names what the positions
+//! are ("output vertex", "input vertex", "point") and `field`, when given, the JSON path of the array.
+std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, OutputFormat format,
+                                            std::string_view element, std::optional<std::string_view> field = {});
 //! 503 `cancelled` when the request's deadline passed while computing (encoding cannot be stopped, so check first).
 std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel);
 
@@ -154,7 +163,7 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
                                                    DecodeJson&& decode_json, ParamsFromQuery&& params_from_query,
                                                    CheckParams&& check_params, MeshRules rules = MeshRules::Strict) {
     std::string media_type;
-    if (auto error = check_body(request, limits, media_type)) return std::move(*error);
+    if (auto error = check_body(request, limits, media_type, accepted_mesh_media_types())) return std::move(*error);
     MeshRequest<Params> out;
     // An operation that repairs its input reads it leniently (`rules`), unless the request says repair "none": then
     // the strict rules, with their errors at the file's line.
@@ -183,6 +192,13 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
     }
     out.decoded = Clock::now();
     if (auto error = check_mesh_input(out.mesh, limits, out.source, effective_rules())) return std::move(*error);
+    // An input vertex a float32 output cannot hold is named where the client wrote it (the output is checked again
+    // when encoded, for vertices the operation moved there).
+    if constexpr (requires { out.params.output.format; })
+        if (auto error = check_float32_range(
+                out.mesh.positions, out.params.output.format, "input vertex",
+                out.source == Source::Json ? std::optional<std::string_view>("mesh.positions") : std::nullopt))
+            return std::move(*error);
     return out;
 }
 
@@ -243,9 +259,8 @@ ApiResponse guarded(F&& body) noexcept {
         return body();
     } catch (const std::bad_alloc&) {
         return error_response(make_problem(Problem::Internal, "out of memory while processing the request"));
-    } catch (const std::exception& e) {
-        return error_response(make_problem(Problem::Internal, std::string("internal error: ") + e.what()));
     } catch (...) {
+        // A library's exception text says nothing useful to a client (and may show internals).
         return error_response(make_problem(Problem::Internal, "internal error"));
     }
 }

@@ -209,6 +209,8 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
     ApiResponse response;
     response.content_type = std::string(output_media_type(out.format));
     if (out.format == OutputFormat::Glb) {
+        if (auto error = check_float32_range(mesh.positions, out.format, "output vertex"))
+            return error_response(std::move(*error));
         GltfOptions gltf;
         gltf.draco = out.draco.value_or(true);
         if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
@@ -243,11 +245,9 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
 ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto start = Clock::now();
-    if (request.body.size() > limits.max_body_bytes)
-        return error_response(make_problem(
-            Problem::PayloadTooLarge, "request body is " + std::to_string(request.body.size()) +
-                                          " bytes; the limit is " + std::to_string(limits.max_body_bytes) + " bytes"));
-    const std::string media_type = media_type_of(request.content_type);
+    std::string media_type;
+    if (auto error = check_body(request, limits, media_type, accepted_media_types()))
+        return error_response(std::move(*error));
     if (media_type == "application/json") {
         if (!request.query.empty())
             return error_response(
@@ -264,9 +264,7 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
     if (!obj && std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
         return error_response(
             make_problem(Problem::UnsupportedMediaType,
-                         (media_type.empty() ? std::string("a Content-Type is required")
-                                             : "Content-Type \"" + media_type + "\" is not accepted") +
-                             "; accepted: " + accepted_media_types()));
+                         "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_media_types()));
     // options first: a file is not parsed for a request we would refuse anyway
     auto params = params_from_query(request.query);
     if (!params) return error_response(std::move(params.error()));

@@ -3,7 +3,10 @@
 // escape into the public API.
 #include "geometry/io/draco_codec.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <new>
 
@@ -31,6 +34,8 @@ int add_float_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, 
 }
 
 Result<Encoded> encode_unchecked(const MeshData& data, const EncodeOptions& options) {
+    if (Status quantizable = check_quantizable_positions(data.positions); !quantizable)
+        return std::move(quantizable.error());
     const std::size_t points = data.point_count();
     draco::Mesh mesh;
     mesh.set_num_points(static_cast<std::uint32_t>(points));
@@ -144,13 +149,32 @@ Result<MeshData> decode_unchecked(std::span<const std::uint8_t> bytes, const Att
 
 }  // namespace
 
+Status check_quantizable_positions(const std::vector<float>& positions) {
+    for (int axis = 0; axis < 3; ++axis) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (std::size_t i = static_cast<std::size_t>(axis); i < positions.size(); i += 3) {
+            lo = std::min(lo, static_cast<double>(positions[i]));
+            hi = std::max(hi, static_cast<double>(positions[i]));
+        }
+        if (hi - lo > static_cast<double>(std::numeric_limits<float>::max())) {
+            char extent[32];
+            std::snprintf(extent, sizeof extent, "%.9g", hi - lo);
+            return make_error(ErrorCode::InvalidArgument,
+                              std::string("the positions span ") + extent + " along " + "xyz"[axis] +
+                                  ", beyond the float32 range that Draco compression quantizes over; use "
+                                  "compression none");
+        }
+    }
+    return Ok{};
+}
+
 Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options) {
     try {
         return encode_unchecked(mesh, options);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while Draco-encoding the mesh");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string("Draco encoder failed: ") + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::Internal, "Draco encoder failed");
     }
 }
 
@@ -159,8 +183,8 @@ Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds&
         return decode_unchecked(bytes, ids, limits);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while decoding Draco data");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::ParseError, std::string("Draco decoder failed: ") + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::ParseError, "Draco decoder failed: the data is not a Draco stream we can read");
     }
 }
 

@@ -43,8 +43,14 @@ struct Encoded {
     AttributeIds ids;
 };
 
+//! Draco quantizes positions over their bounding box, whose extent it computes in float32: an extent beyond the
+//! float32 range (coordinates of both signs near 3.4e38) would overflow to infinity, on which the encoder crashes.
+//! InvalidArgument naming the axis and the extent when `positions` (x, y, z floats) have one.
+Status check_quantizable_positions(const std::vector<float>& positions);
+
 //! Encodes `mesh` (preconditions: positions non-empty, sizes consistent, indices in range; options in range).
-//! Errors: Internal when Draco rejects the input.
+//! Errors: InvalidArgument for positions Draco cannot quantize (check_quantizable_positions), Internal when Draco
+//! rejects the input.
 Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options);
 
 struct DecodeLimits {

@@ -29,6 +29,8 @@ int add_attribute(draco::PointCloud& cloud, draco::GeometryAttribute::Type type,
 }
 
 Result<Encoded> encode_unchecked(const PointData& data, const draco_codec::EncodeOptions& options) {
+    if (Status quantizable = draco_codec::check_quantizable_positions(data.positions); !quantizable)
+        return std::move(quantizable.error());
     draco::PointCloud cloud;
     cloud.set_num_points(static_cast<std::uint32_t>(data.point_count()));
     const int position =
@@ -126,8 +128,8 @@ Result<Encoded> encode(const PointData& points, const draco_codec::EncodeOptions
         return encode_unchecked(points, options);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while Draco-encoding the point cloud");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string("Draco encoder failed: ") + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::Internal, "Draco encoder failed");
     }
 }
 
@@ -136,8 +138,8 @@ Result<PointData> decode(std::span<const std::uint8_t> bytes, const AttributeIds
         return decode_unchecked(bytes, ids, max_points);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while decoding Draco data");
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::ParseError, std::string("Draco decoder failed: ") + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::ParseError, "Draco decoder failed: the data is not a Draco stream we can read");
     }
 }
 

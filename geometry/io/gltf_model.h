@@ -54,8 +54,8 @@ Result<std::string> guarded(Write&& write, std::string_view what) {
         return write();
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, "out of memory while writing the " + std::string(what));
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::Internal, std::string(what) + " writer failed: " + e.what());
+    } catch (const std::exception&) {
+        return make_error(ErrorCode::Internal, std::string(what) + " writer failed");
     }
 }
 

@@ -569,9 +569,13 @@ Result<Document> parse_document(const SceneInput& input, std::vector<std::vector
     } catch (const json::parse_error& e) {
         // e.byte is 1-based within the JSON text.
         const auto at = input.json_offset + static_cast<std::int64_t>(e.byte > 0 ? e.byte - 1 : 0);
-        return parse_error(std::string(input.embedded ? "invalid glTF JSON" : "invalid JSON chunk") + " at byte " +
-                               std::to_string(at) + ": " + e.what(),
-                           at);
+        return parse_error(
+            std::string(input.embedded ? "invalid glTF JSON" : "invalid JSON chunk") + " at byte " + std::to_string(at),
+            at);
+    } catch (const json::out_of_range&) {  // a number beyond a double; nlohmann gives no position
+        return parse_error(std::string(input.embedded ? "glTF JSON" : "the JSON chunk") +
+                               " holds a number beyond the range of a double",
+                           input.json_offset);
     }
     if (!root.is_object()) return parse_error("glTF JSON must be an object", input.json_offset);
     const auto asset = root.find("asset");
@@ -1049,8 +1053,10 @@ Result<PolygonMesh> guarded(const char* kind, GltfReadReport* report, Read&& rea
         return read(counts);
     } catch (const std::bad_alloc&) {
         return make_error(ErrorCode::BudgetExceeded, std::string("out of memory while reading the ") + kind);
-    } catch (const std::exception& e) {
-        return make_error(ErrorCode::ParseError, std::string("malformed ") + kind + ": " + e.what());
+    } catch (const std::exception&) {
+        // nlohmann's or Draco's exception text is theirs, not a description a client can act on.
+        return make_error(ErrorCode::ParseError,
+                          std::string("malformed ") + kind + ": a member has an unexpected type or value");
     }
 }
 

@@ -143,12 +143,18 @@ TEST(JsonCodec, PositionErrorsNameTheCoordinate) {
     ASSERT_FALSE(short_point.ok());
     expect_error(short_point.error(), 400, "invalid_field", "mesh.positions[1]");
 
-    // JSON has no Inf literal; a number that overflows a double is refused by nlohmann while parsing (an
-    // out_of_range exception, not a parse_error: it must not escape as a 500). Non-finite: 422, no field path.
-    auto inf = decode_mesh(mesh_json(R"([[0,0,0],[1,0,0],[0,1e999,0]])", "[[0,1,2]]"), Limits{});
+    // JSON has no Inf literal; a number that overflows a double is refused while parsing: 400 number_out_of_range
+    // with the number, its line and column and its byte offset, and none of nlohmann's exception text.
+    const std::string body = mesh_json(R"([[0,0,0],[1,0,0],[0,1e999,0]])", "[[0,1,2]]");
+    auto inf = decode_mesh(body, Limits{});
     ASSERT_FALSE(inf.ok());
-    expect_error(inf.error(), 422, "non_finite", std::nullopt);
-    EXPECT_NE(inf.error().detail.find("1e999"), std::string::npos) << inf.error().detail;
+    expect_error(inf.error(), 400, "number_out_of_range", std::nullopt);
+    const std::string& detail = inf.error().detail;
+    EXPECT_NE(detail.find("1e999"), std::string::npos) << detail;
+    EXPECT_NE(detail.find("line 1, column "), std::string::npos) << detail;
+    EXPECT_EQ(detail.find("json.exception"), std::string::npos) << detail;
+    ASSERT_TRUE(inf.error().offset.has_value());
+    EXPECT_EQ(body.substr(static_cast<std::size_t>(*inf.error().offset), 5), "1e999") << body;
 }
 
 TEST(JsonCodec, FaceErrorsNameTheIndex) {

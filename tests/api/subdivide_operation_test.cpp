@@ -304,9 +304,11 @@ TEST(SubdivideOperation, FacesRepeatingAVertexAreSubdividedLikeOpenSubdiv) {
     EXPECT_EQ(simplify.status, 422) << simplify.body;
 }
 
-TEST(SubdivideOperation, OverflowingNumberIs422NotInternalError) {
-    const std::string body = R"({"mesh":{"positions":[[0,0,0],[1,0,0],[0,1e999,0]],"faces":[[0,1,2]]}})";
-    expect_problem(call("application/json", body), 422, "non_finite");
+TEST(SubdivideOperation, OverflowingNumberIs400WithItsPosition) {
+    const std::string body = "{\"mesh\":{\"positions\":[[0,0,0],[1,0,0],\n[0,1e999,0]],\"faces\":[[0,1,2]]}}";
+    const auto json = expect_problem(call("application/json", body), 400, "number_out_of_range");
+    EXPECT_EQ(json.value("offset", -1), static_cast<int>(body.find("1e999"))) << json.dump();
+    EXPECT_NE(json.value("detail", "").find("line 2, column 4"), std::string::npos) << json.dump();
 }
 
 TEST(SubdivideOperation, LoopOnQuadsNamesTheFace) {

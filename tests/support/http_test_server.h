@@ -105,6 +105,26 @@ inline bool complete_response(const std::string& response) {
            body_of(response).size() == static_cast<std::size_t>(std::stoull(length));
 }
 
+//! Reads one response (head, then Content-Length bytes of body) from a connection that may stay open; what arrived
+//! when the peer closes or `bound_ms` pass without a byte.
+inline std::string read_one_response(int fd, int bound_ms = 20'000) {
+    std::string out;
+    char buffer[4096];
+    for (;;) {
+        const std::size_t head_end = out.find("\r\n\r\n");
+        if (head_end != std::string::npos) {
+            const std::string length = raw_header(out, "Content-Length");
+            const std::size_t want = head_end + 4 + (length.empty() ? 0 : std::stoull(length));
+            if (out.size() >= want) return out;
+        }
+        pollfd pfd{fd, POLLIN, 0};
+        if (poll(&pfd, 1, bound_ms) <= 0) return out;
+        const ssize_t n = recv(fd, buffer, sizeof buffer, 0);
+        if (n <= 0) return out;
+        out.append(buffer, static_cast<std::size_t>(n));
+    }
+}
+
 // ---- a server per suite --------------------------------------------------------------------------------------
 
 //! An HttpServer on an ephemeral loopback port: `config.host`/`port` are overridden.
