@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "api/options/mesh_params.h"
 
 namespace surfaced::api {
 namespace {
@@ -320,25 +321,13 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
     if (!root.is_object())
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
-    if (auto error =
-            check_members(root, "",
-                          {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule", "uv_interpolation",
-                           "loop_weights", "limit_surface", "max_faces", "creases", "corners", "holes", "output"}))
-        return std::move(*error);
+    const auto& spec = *options::operation_options("subdivide");
+    if (auto error = check_members(root, "", options::json_members(spec))) return std::move(*error);
+    auto values = options::read_json(spec, root);
+    if (!values) return std::move(values.error());
 
     SubdivideJsonRequest request;
-    SubdivideParams& params = request.params;
-    request.params.levels_given = root.contains("levels");
-    for (auto error :
-         {read_member(root, "scheme", kSchemeNames, params.scheme), read_member(root, "levels", params.levels),
-          read_member(root, "crease_method", kCreaseMethodNames, params.crease_method),
-          read_member(root, "triangle_rule", kTriangleRuleNames, params.triangle_rule),
-          read_member(root, "loop_weights", kLoopWeightNames, params.loop_weights),
-          read_member(root, "uv_interpolation", kUvInterpolationNames, params.uv_interpolation),
-          read_member(root, "limit_surface", params.limit_surface), read_member(root, "max_faces", params.max_faces),
-          read_member(root, "boundary", kBoundaryNames, params.boundary)})
-        if (error) return std::move(*error);
-    if (auto error = read_output(root, request.params.output)) return std::move(*error);
+    request.params = options::subdivide_params(values.value());
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");

@@ -1,8 +1,11 @@
 #include "api/json_util.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
+
+#include "api/options/option_reader.h"
 
 namespace surfaced::api::json {
 
@@ -57,23 +60,30 @@ std::optional<ApiError> parse(std::string_view text, Json& out) {
     }
 }
 
-//! Every member of `object` must be in `allowed`; otherwise one error naming all unknown members.
 std::optional<ApiError> check_members(const Json& object, std::string_view path,
                                       std::initializer_list<std::string_view> allowed) {
+    return check_members(object, path, std::vector<std::string_view>(allowed));
+}
+
+std::optional<ApiError> check_members(const Json& object, std::string_view path,
+                                      const std::vector<std::string_view>& allowed) {
     std::vector<std::string> unknown;
-    for (const auto& item : object.items()) {
-        bool known = false;
-        for (std::string_view name : allowed) known = known || item.key() == name;
-        if (!known) unknown.push_back(item.key());
-    }
+    for (const auto& item : object.items())
+        if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) unknown.push_back(item.key());
     if (unknown.empty()) return std::nullopt;
-    std::string names, allowed_names;
-    for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+    std::string names, allowed_names, suggestions;
+    for (const auto& name : unknown) {
+        names += (names.empty() ? "\"" : ", \"") + name + "\"";
+        if (auto near = options::nearest_name(name, allowed))
+            suggestions += (suggestions.empty() ? "\"" : ", \"") + std::string(*near) + "\" for \"" + name + "\"";
+    }
     for (std::string_view name : allowed)
         allowed_names += (allowed_names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    if (unknown.size() == 1 && !suggestions.empty()) suggestions = suggestions.substr(0, suggestions.find(" for "));
     const std::string where = path.empty() ? "at top level" : "in " + std::string(path);
     return make_problem(Problem::UnknownField,
                         "unknown field" + std::string(unknown.size() > 1 ? "s " : " ") + names + " " + where +
+                            (suggestions.empty() ? "" : " (did you mean " + suggestions + "?)") +
                             " (allowed: " + allowed_names + ")",
                         member_path(path, unknown.front()));
 }

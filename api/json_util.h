@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -31,9 +32,12 @@ ApiError geometry_error(ErrorCode code, const std::string& field, std::string de
 //! Parses a request body; a syntax error becomes 400 invalid_json with the byte offset (nlohmann reports errors by
 //! exception, which does not leave this function).
 std::optional<ApiError> parse(std::string_view text, Json& out);
-//! Every member of `object` must be in `allowed`; otherwise one 400 unknown_field naming all unknown members.
+//! Every member of `object` must be in `allowed`; otherwise one 400 unknown_field naming all unknown members (and
+//! the nearest allowed name of each that looks like a typo).
 std::optional<ApiError> check_members(const Json& object, std::string_view path,
                                       std::initializer_list<std::string_view> allowed);
+std::optional<ApiError> check_members(const Json& object, std::string_view path,
+                                      const std::vector<std::string_view>& allowed);
 
 ApiResult<std::int64_t> read_integer(const Json& value, const std::string& field);  //!< no fraction or exponent
 ApiResult<double> read_number(const Json& value, const std::string& field);         //!< finite

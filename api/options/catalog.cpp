@@ -1,0 +1,133 @@
+// The option tables of the operations (option_spec.h). Ranges here are the ones the readers enforce; the drift test
+// holds api/openapi.json to them.
+#include <algorithm>
+#include <vector>
+
+#include "api/dto.h"
+#include "api/options/option_spec.h"
+
+namespace surfaced::api::options {
+namespace {
+
+constexpr auto kOutputFormats = names_of(kOutputFormatNames);
+constexpr auto kCompressions = names_of(kCompressionNames);
+constexpr auto kSchemes = names_of(kSchemeNames);
+constexpr auto kBoundaries = names_of(kBoundaryNames);
+constexpr auto kCreaseMethods = names_of(kCreaseMethodNames);
+constexpr auto kTriangleRules = names_of(kTriangleRuleNames);
+constexpr auto kUvInterpolations = names_of(kUvInterpolationNames);
+constexpr auto kLoopWeights = names_of(kLoopWeightNames);
+
+constexpr Bound at_least(double v) { return Bound{v, false}; }
+constexpr Bound above(double v) { return Bound{v, true}; }
+constexpr Bound at_most(double v) { return Bound{v, false}; }
+
+// ---- the output of every operation that answers with a mesh (JSON: members of "output") --------------------------
+constexpr OptionSpec kMeshOutput[] = {
+    {.name = "format",
+     .type = OptionType::Enum,
+     .default_json = "\"glb\"",
+     .description = "Encoding of the result: binary or text glTF, OBJ, PLY, or the JSON mesh",
+     .values = kOutputFormats,
+     .json_object = "output"},
+    {.name = "compression",
+     .type = OptionType::Enum,
+     .default_json = "\"draco\"",
+     .description = "Draco mesh compression (glb and gltf only)",
+     .values = kCompressions,
+     .json_object = "output"},
+    {.name = "quantize_position",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(24),
+     .default_json = "14",
+     .units = "bits",
+     .description = "Draco position quantization (glb and gltf with compression draco only)",
+     .json_object = "output"},
+    {.name = "normals",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Write vertex normals (computed when the mesh has none); not with format json",
+     .json_object = "output"},
+};
+
+constexpr std::string_view kSubdivideInputs[] = {"mesh", "creases", "corners", "holes"};
+
+constexpr OptionSpec kSubdivide[] = {
+    {.name = "scheme",
+     .type = OptionType::Enum,
+     .default_json = "\"catmull-clark\"",
+     .description = "Subdivision scheme (loop needs triangles)",
+     .values = kSchemes},
+    {.name = "levels",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .max = at_most(8),
+     .max_is_limit = true,  // Limits::max_levels
+     .default_json = "1",
+     .description = "Subdivision levels; each multiplies the face count by about 4"},
+    {.name = "max_faces",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .description = "Use the largest level (up to levels, if given) whose output has at most this many faces"},
+    {.name = "boundary",
+     .type = OptionType::Enum,
+     .description = "Boundary interpolation; unset: the mesh's own tag, else edge-only",
+     .values = kBoundaries},
+    {.name = "crease_method",
+     .type = OptionType::Enum,
+     .default_json = "\"uniform\"",
+     .description = "How semi-sharp crease sharpness decays per level",
+     .values = kCreaseMethods},
+    {.name = "triangle_rule",
+     .type = OptionType::Enum,
+     .default_json = "\"catmark\"",
+     .description = "Catmull-Clark weights on triangles",
+     .values = kTriangleRules},
+    {.name = "uv_interpolation",
+     .type = OptionType::Enum,
+     .default_json = "\"corners-plus1\"",
+     .description = "Face-varying (UV) interpolation rule",
+     .values = kUvInterpolations},
+    {.name = "loop_weights",
+     .type = OptionType::Enum,
+     .default_json = "\"loop\"",
+     .description = "Loop vertex weights",
+     .values = kLoopWeights},
+    {.name = "limit_surface",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Project onto the limit surface; normals come from limit tangents"},
+};
+
+constexpr OperationOptions kOperations[] = {
+    {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
+};
+
+}  // namespace
+
+std::span<const OperationOptions> operations() { return kOperations; }
+
+const OperationOptions* operation_options(std::string_view operation) {
+    for (const auto& op : kOperations)
+        if (op.operation == operation) return &op;
+    return nullptr;
+}
+
+std::vector<const OptionSpec*> all_options(const OperationOptions& operation) {
+    std::vector<const OptionSpec*> out;
+    for (const auto& option : operation.options) out.push_back(&option);
+    for (const auto& option : operation.output) out.push_back(&option);
+    return out;
+}
+
+const OptionSpec* find_option(const OperationOptions& operation, std::string_view name) {
+    for (const OptionSpec* option_ptr : all_options(operation)) {
+        const OptionSpec& option = *option_ptr;
+        if (option.name == name) return &option;
+        if (std::find(option.aliases.begin(), option.aliases.end(), name) != option.aliases.end()) return &option;
+    }
+    return nullptr;
+}
+
+}  // namespace surfaced::api::options
