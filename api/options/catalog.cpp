@@ -11,6 +11,7 @@ namespace {
 
 constexpr auto kOutputFormats = names_of(kOutputFormatNames);
 constexpr auto kCompressions = names_of(kCompressionNames);
+constexpr auto kRepairModes = names_of(kRepairModeNames);
 constexpr auto kSchemes = names_of(kSchemeNames);
 constexpr auto kBoundaries = names_of(kBoundaryNames);
 constexpr auto kCreaseMethods = names_of(kCreaseMethodNames);
@@ -51,6 +52,14 @@ constexpr OptionSpec kMeshOutput[] = {
      .json_object = "output"},
 };
 
+constexpr OptionSpec kRepairOption{
+    .name = "repair",
+    .type = OptionType::Enum,
+    .default_json = "\"auto\"",
+    .description = "Repair a mesh that is not manifold first (auto), or refuse it (none)",
+    .values = kRepairModes};
+
+constexpr std::string_view kMeshInput[] = {"mesh"};
 constexpr std::string_view kSubdivideInputs[] = {"mesh", "creases", "corners", "holes"};
 
 constexpr OptionSpec kSubdivide[] = {
@@ -100,8 +109,51 @@ constexpr OptionSpec kSubdivide[] = {
      .description = "Project onto the limit surface; normals come from limit tangents"},
 };
 
+constexpr OptionSpec kSimplify[] = {
+    {.name = "target_faces",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .description = "Stop at this many faces (triangles)"},
+    {.name = "ratio",
+     .type = OptionType::Number,
+     .min = above(0),
+     .max = at_most(1),
+     .description = "Stop at this fraction of the input's triangles"},
+    {.name = "max_error",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .units = "model units",
+     .description = "Stop before the distance to the input exceeds this"},
+    {.name = "lock_border",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Boundary vertices keep their positions"},
+    {.name = "restore_volume",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(1),
+     .default_json = "0",
+     .description = "Fraction of the way each placement moves towards keeping the volume"},
+    {.name = "threads",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(2),
+     .default_json = "1",
+     .description = "Threads for the first phase of a large mesh"},
+    {.name = "report_error",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Measure the Hausdorff and RMS distances to the input"},
+    {.name = "locked_vertices",
+     .type = OptionType::List,
+     .min = at_least(0),
+     .description = "Vertex indices that never move or disappear"},
+    kRepairOption,
+};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
+    {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
 };
 
 }  // namespace

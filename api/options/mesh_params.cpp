@@ -18,4 +18,19 @@ SubdivideParams subdivide_params(const OptionValues& values) {
     return params;
 }
 
+SimplifyParams simplify_params(const OptionValues& values) {
+    SimplifyParams params;
+    values.get("target_faces", params.target_faces);
+    values.get("ratio", params.ratio);
+    values.get("max_error", params.max_error);
+    values.get("lock_border", params.lock_border);
+    values.get("restore_volume", params.restore_volume);
+    values.get("threads", params.threads);
+    values.get("report_error", params.report_error);
+    values.get("locked_vertices", params.locked_vertices);
+    values.get("repair", kRepairModeNames, params.repair);
+    values.get_output(params.output);
+    return params;
+}
+
 }  // namespace surfaced::api::options

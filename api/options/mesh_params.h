@@ -8,5 +8,6 @@
 namespace surfaced::api::options {
 
 SubdivideParams subdivide_params(const OptionValues& values);
+SimplifyParams simplify_params(const OptionValues& values);
 
 }  // namespace surfaced::api::options
