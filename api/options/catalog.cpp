@@ -18,6 +18,7 @@ constexpr auto kCreaseMethods = names_of(kCreaseMethodNames);
 constexpr auto kTriangleRules = names_of(kTriangleRuleNames);
 constexpr auto kUvInterpolations = names_of(kUvInterpolationNames);
 constexpr auto kLoopWeights = names_of(kLoopWeightNames);
+constexpr auto kSmoothings = names_of(kRemeshSmoothingNames);
 
 constexpr Bound at_least(double v) { return Bound{v, false}; }
 constexpr Bound above(double v) { return Bound{v, true}; }
@@ -151,9 +152,41 @@ constexpr OptionSpec kSimplify[] = {
     kRepairOption,
 };
 
+constexpr OptionSpec kRemesh[] = {
+    {.name = "edge_length",
+     .type = OptionType::Number,
+     .min = above(0),
+     .units = "model units",
+     .description = "Target edge length; unset: the input's mean edge length"},
+    {.name = "iterations",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .max = at_most(100),
+     .default_json = "10",
+     .description = "Rounds of split, collapse, flip and smooth"},
+    {.name = "feature_angle",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(180),
+     .default_json = "60",
+     .units = "degrees",
+     .description = "Edges whose dihedral angle exceeds this are kept as features (180: none)"},
+    {.name = "keep_boundary",
+     .type = OptionType::Bool,
+     .default_json = "true",
+     .description = "Boundary vertices and edges stay where they are"},
+    {.name = "smoothing",
+     .type = OptionType::Enum,
+     .default_json = "\"tangential\"",
+     .description = "How vertices move after each round",
+     .values = kSmoothings},
+    kRepairOption,
+};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
+    {"remesh", "/remesh", "post", kRemesh, kMeshOutput, kMeshInput},
 };
 
 }  // namespace
