@@ -183,10 +183,35 @@ constexpr OptionSpec kRemesh[] = {
     kRepairOption,
 };
 
+constexpr OptionSpec kRepair[] = {
+    {.name = "weld_tolerance",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "0",
+     .units = "model units",
+     .description = "Weld vertices closer than this (0: equal positions only)"},
+    {.name = "orient",
+     .type = OptionType::Bool,
+     .default_json = "true",
+     .description = "Orient every component consistently, outwards when closed"},
+    {.name = "min_component_faces",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .default_json = "0",
+     .description = "Drop components with fewer faces (0: keep all)"},
+    {.name = "max_hole_edges",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .max = at_most(10'000),
+     .default_json = "0",
+     .description = "Fill holes with at most this many boundary edges (0: none)"},
+};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
     {"remesh", "/remesh", "post", kRemesh, kMeshOutput, kMeshInput},
+    {"repair", "/repair", "post", kRepair, kMeshOutput, kMeshInput},
 };
 
 }  // namespace
