@@ -24,35 +24,56 @@ constexpr Bound at_least(double v) { return Bound{v, false}; }
 constexpr Bound above(double v) { return Bound{v, true}; }
 constexpr Bound at_most(double v) { return Bound{v, false}; }
 
-// ---- the output of every operation that answers with a mesh (JSON: members of "output") --------------------------
-constexpr OptionSpec kMeshOutput[] = {
-    {.name = "format",
-     .type = OptionType::Enum,
-     .default_json = "\"glb\"",
-     .description = "Encoding of the result: binary or text glTF, OBJ, PLY, or the JSON mesh",
-     .values = kOutputFormats,
-     .json_object = "output"},
-    {.name = "compression",
-     .type = OptionType::Enum,
-     .default_json = "\"draco\"",
-     .description = "Draco mesh compression (glb and gltf only)",
-     .values = kCompressions,
-     .json_object = "output"},
-    {.name = "quantize_position",
-     .type = OptionType::Integer,
-     .min = at_least(1),
-     .max = at_most(24),
-     .default_json = "14",
-     .units = "bits",
-     .description = "Draco position quantization (glb and gltf with compression draco only)",
-     .json_object = "output"},
-    {.name = "normals",
-     .type = OptionType::Bool,
-     .default_json = "false",
-     .description = "Write vertex normals (computed when the mesh has none); not with format json",
-     .json_object = "output"},
-};
+// ---- the output of the operations that answer with a mesh (JSON: members of "output") ----------------------------
+// Each row once; an operation whose encoder offers fewer formats or another default composes its own list from them.
+constexpr OptionSpec kFormatOption{
+    .name = "format",
+    .type = OptionType::Enum,
+    .default_json = "\"glb\"",
+    .description = "Encoding of the result: binary or text glTF, OBJ, PLY, or the JSON mesh",
+    .values = kOutputFormats,
+    .json_object = "output"};
+constexpr OptionSpec kCompressionOption{.name = "compression",
+                                        .type = OptionType::Enum,
+                                        .default_json = "\"draco\"",
+                                        .description = "Draco mesh compression (glTF formats only)",
+                                        .values = kCompressions,
+                                        .json_object = "output"};
+// Draco itself takes up to 30 bits; the glTF writer stops at 24 (geometry/io/gltf_write.cpp kMaxQuantizationBits).
+constexpr OptionSpec kQuantizeOption{
+    .name = "quantize_position",
+    .type = OptionType::Integer,
+    .min = at_least(1),
+    .max = at_most(24),
+    .default_json = "14",
+    .units = "bits",
+    .description = "Draco position quantization (glTF formats with compression draco only)",
+    .json_object = "output"};
+constexpr OptionSpec kNormalsOption{
+    .name = "normals",
+    .type = OptionType::Bool,
+    .default_json = "false",
+    .description = "Write vertex normals (computed when the mesh has none); not with format json",
+    .json_object = "output"};
 
+constexpr OptionSpec kMeshOutput[] = {kFormatOption, kCompressionOption, kQuantizeOption, kNormalsOption};
+
+// Tessellated patches: glb, OBJ or PLY, with the patches' exact normals unless asked not to.
+constexpr std::string_view kPatchFormats[] = {"glb", "obj", "ply"};
+constexpr OptionSpec patch_format(std::span<const std::string_view> values, std::string_view description) {
+    OptionSpec out = kFormatOption;
+    out.values = values;
+    out.description = description;
+    return out;
+}
+constexpr OptionSpec kPatchNormalsOption = [] {
+    OptionSpec out = kNormalsOption;
+    out.default_json = "true";
+    out.description = "Write the surface normals of the patches";
+    return out;
+}();
+constexpr OptionSpec kTessellateOutput[] = {patch_format(kPatchFormats, "Encoding of the triangles: glb, OBJ or PLY"),
+                                            kCompressionOption, kQuantizeOption, kPatchNormalsOption};
 constexpr OptionSpec kRepairOption{
     .name = "repair",
     .type = OptionType::Enum,
@@ -207,11 +228,42 @@ constexpr OptionSpec kRepair[] = {
      .description = "Fill holes with at most this many boundary edges (0: none)"},
 };
 
+// ---- Bezier patches: POST /tessellate (query or JSON) and GET /patches/{name} (query) -----------------------------
+constexpr std::string_view kPatchesInput[] = {"patches"};
+constexpr OptionSpec kTolerance{.name = "tolerance",
+                                .type = OptionType::Number,
+                                .min = above(0),
+                                .units = "model units",
+                                .description = "Largest distance between triangles and surface; excludes segments"};
+constexpr OptionSpec kSegments{.name = "segments",
+                               .type = OptionType::Integer,
+                               .min = at_least(1),
+                               .max = at_most(256),
+                               .max_is_limit = true,  // Limits::max_patch_segments
+                               .default_json = "8",
+                               .description = "Segments along each direction of every patch; excludes tolerance"};
+constexpr OptionSpec kTessellate[] = {kTolerance, kSegments};
+
+// GET /patches/{name}: the same options, as query parameters only; format json answers with the sample's control
+// points instead of a mesh.
+constexpr OptionSpec query_only(OptionSpec option) {
+    option.transports = kQuery;
+    return option;
+}
+constexpr std::string_view kPatchSampleFormats[] = {"glb", "obj", "ply", "json"};
+constexpr OptionSpec kPatchSample[] = {query_only(kTolerance), query_only(kSegments)};
+constexpr OptionSpec kPatchSampleOutput[] = {
+    query_only(
+        patch_format(kPatchSampleFormats, "Encoding of the triangles (glb, OBJ, PLY), or json: the control points")),
+    query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kPatchNormalsOption)};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
     {"remesh", "/remesh", "post", kRemesh, kMeshOutput, kMeshInput},
     {"repair", "/repair", "post", kRepair, kMeshOutput, kMeshInput},
+    {"tessellate", "/tessellate", "post", kTessellate, kTessellateOutput, kPatchesInput},
+    {"patches", "/patches/{name}", "get", kPatchSample, kPatchSampleOutput, {}},
 };
 
 }  // namespace

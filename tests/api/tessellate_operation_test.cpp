@@ -231,6 +231,22 @@ TEST(PatchSamples, TeapotWithETagAndNotModified) {
     EXPECT_NE(header(get_sample("teapot", {{"tolerance", "0.02"}}), "ETag"), etag);
 }
 
+TEST(PatchSamples, OutOfRangeOptionsAre400NamingTheOption) {
+    // the glTF writer takes at most 24 bits: refused before any work, as every mesh operation refuses it
+    auto json = expect_problem(get_sample("teapot", {{"quantize_position", "25"}}), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "quantize_position");
+    EXPECT_NE(json.value("detail", "").find("[1, 24]"), std::string::npos) << json.dump();
+    expect_problem(post_json(std::string(kBilinear) + R"(,"output":{"quantize_position":25}})"), 400, "invalid_field",
+                   "output.quantize_position");
+    json = expect_problem(get_sample("teapot", {{"tolerance", "-1e-9"}}), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "tolerance");
+    EXPECT_NE(json.value("detail", "").find("got -1e-09"), std::string::npos) << json.dump();
+    // format json (the control points) is allowed here, so it is listed when a value is not
+    json = expect_problem(get_sample("teapot", {{"format", "gltf"}}), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "format");
+    EXPECT_NE(json.value("detail", "").find("\"json\""), std::string::npos) << json.dump();
+}
+
 TEST(PatchSamples, Errors) {
     expect_problem(get_sample("kettle"), 404, "not_found", "");
     expect_problem(get_sample("teapot", {{"tolerance", "abc"}}), 400, "invalid_field", "tolerance");
