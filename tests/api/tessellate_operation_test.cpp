@@ -113,6 +113,9 @@ TEST(TessellateOperation, ErrorsNameTheField) {
 TEST(TessellateOperation, BudgetsBeforeWork) {
     expect_problem(post_json(std::string(kBilinear) + R"(,"segments":100000})"), 422, "budget_exceeded", "segments");
     expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":1e-12})"), 422, "budget_exceeded", "tolerance");
+    const auto fine =
+        expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":1e-12})"), 422, "budget_exceeded");
+    EXPECT_NE(fine.value("detail", "").find("tolerance 1e-12 needs"), std::string::npos) << fine.dump();
     ApiContext small;
     small.limits.max_output_faces = 100;
     expect_problem(post_json(std::string(kBilinear) + R"(,"segments":8})", small), 422, "budget_exceeded", "segments");
