@@ -257,6 +257,30 @@ constexpr OptionSpec kPatchSampleOutput[] = {
         patch_format(kPatchSampleFormats, "Encoding of the triangles (glb, OBJ, PLY), or json: the control points")),
     query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kPatchNormalsOption)};
 
+// ---- POST /curves: a JSON body of curves and queries on them; its options are those of the output -----------------
+// (line strips: no normals, and Draco is defined for triangles and points only)
+constexpr std::string_view kCurveFormats[] = {"json", "glb", "gltf"};
+constexpr std::string_view kCurveCompressions[] = {"none"};
+constexpr OptionSpec kCurvesOutput[] = {
+    {.name = "format",
+     .type = OptionType::Enum,
+     .default_json = "\"json\"",
+     .description = "json: the answers to the queries; glb or gltf: the tessellation as line strips",
+     .values = kCurveFormats,
+     .transports = kJson,
+     .json_object = "output"},
+    {.name = "compression",
+     .type = OptionType::Enum,
+     .description = "Line strips are never compressed",
+     .values = kCurveCompressions,
+     .transports = kJson,
+     .json_object = "output"},
+};
+constexpr std::string_view kCurvesInputs[] = {"points",       "weights",     "chain",      "svg",        "bspline",
+                                              "evaluate",     "derivatives", "curvature",  "split",      "elevate",
+                                              "bounding_box", "length",      "closest",    "tessellate", "continuity",
+                                              "enforce_c1",   "to_bezier",   "insert_knot"};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
@@ -264,6 +288,7 @@ constexpr OperationOptions kOperations[] = {
     {"repair", "/repair", "post", kRepair, kMeshOutput, kMeshInput},
     {"tessellate", "/tessellate", "post", kTessellate, kTessellateOutput, kPatchesInput},
     {"patches", "/patches/{name}", "get", kPatchSample, kPatchSampleOutput, {}},
+    {"curves", "/curves", "post", {}, kCurvesOutput, kCurvesInputs},
 };
 
 }  // namespace
