@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "api/dto.h"
+#include "api/operations/implicit_mesh.h"
 #include "api/options/option_spec.h"
 
 namespace surfaced::api::options {
@@ -281,6 +282,52 @@ constexpr std::string_view kCurvesInputs[] = {"points",       "weights",     "ch
                                               "bounding_box", "length",      "closest",    "tessellate", "continuity",
                                               "enforce_c1",   "to_bezier",   "insert_knot"};
 
+// ---- POST /implicit/mesh: a JSON body (the scene and its bounds, grid options, the mesh's output) ---------------
+constexpr auto kImplicitModes = names_of(operations::kImplicitMeshModeNames);
+constexpr OptionSpec json_only(OptionSpec option) {
+    option.transports = kJson;
+    return option;
+}
+constexpr std::string_view kImplicitMeshInputs[] = {"scene", "bounds"};
+constexpr OptionSpec kImplicitMesh[] = {
+    {.name = "resolution",
+     .type = OptionType::Integer,
+     .min = at_least(2),
+     .max = at_most(65536),
+     .default_json = "64",
+     .description = "Cells along the longest side of the bounds; excludes cell_size",
+     .transports = kJson},
+    {.name = "cell_size",
+     .type = OptionType::Number,
+     .min = above(0),
+     .units = "model units",
+     .description = "Cell size instead of a resolution",
+     .transports = kJson},
+    {.name = "mode",
+     .type = OptionType::Enum,
+     .default_json = "\"uniform\"",
+     .description = "Uniform grid, or adaptive octree with dual contouring",
+     .values = kImplicitModes,
+     .transports = kJson},
+    {.name = "simplify_tolerance",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "0",
+     .units = "model units",
+     .description = "Adaptive mode only: simplify to this measured distance (0: none)",
+     .transports = kJson},
+    {.name = "crease_angle",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(180),
+     .default_json = "40",
+     .units = "degrees",
+     .description = "Vertices where faces meet at more than this get a normal per side (output.normals)",
+     .transports = kJson},
+};
+constexpr OptionSpec kImplicitMeshOutput[] = {json_only(kFormatOption), json_only(kCompressionOption),
+                                              json_only(kQuantizeOption), json_only(kNormalsOption)};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
@@ -289,6 +336,7 @@ constexpr OperationOptions kOperations[] = {
     {"tessellate", "/tessellate", "post", kTessellate, kTessellateOutput, kPatchesInput},
     {"patches", "/patches/{name}", "get", kPatchSample, kPatchSampleOutput, {}},
     {"curves", "/curves", "post", {}, kCurvesOutput, kCurvesInputs},
+    {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
 };
 
 }  // namespace
