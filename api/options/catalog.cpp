@@ -61,7 +61,7 @@ constexpr OptionSpec kMeshOutput[] = {kFormatOption, kCompressionOption, kQuanti
 
 // Tessellated patches: glb, OBJ or PLY, with the patches' exact normals unless asked not to.
 constexpr std::string_view kPatchFormats[] = {"glb", "obj", "ply"};
-constexpr OptionSpec patch_format(std::span<const std::string_view> values, std::string_view description) {
+constexpr OptionSpec format_of(std::span<const std::string_view> values, std::string_view description) {
     OptionSpec out = kFormatOption;
     out.values = values;
     out.description = description;
@@ -73,7 +73,7 @@ constexpr OptionSpec kPatchNormalsOption = [] {
     out.description = "Write the surface normals of the patches";
     return out;
 }();
-constexpr OptionSpec kTessellateOutput[] = {patch_format(kPatchFormats, "Encoding of the triangles: glb, OBJ or PLY"),
+constexpr OptionSpec kTessellateOutput[] = {format_of(kPatchFormats, "Encoding of the triangles: glb, OBJ or PLY"),
                                             kCompressionOption, kQuantizeOption, kPatchNormalsOption};
 constexpr OptionSpec kRepairOption{
     .name = "repair",
@@ -255,7 +255,7 @@ constexpr std::string_view kPatchSampleFormats[] = {"glb", "obj", "ply", "json"}
 constexpr OptionSpec kPatchSample[] = {query_only(kTolerance), query_only(kSegments)};
 constexpr OptionSpec kPatchSampleOutput[] = {
     query_only(
-        patch_format(kPatchSampleFormats, "Encoding of the triangles (glb, OBJ, PLY), or json: the control points")),
+        format_of(kPatchSampleFormats, "Encoding of the triangles (glb, OBJ, PLY), or json: the control points")),
     query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kPatchNormalsOption)};
 
 // ---- POST /curves: a JSON body of curves and queries on them; its options are those of the output -----------------
@@ -328,6 +328,34 @@ constexpr OptionSpec kImplicitMesh[] = {
 constexpr OptionSpec kImplicitMeshOutput[] = {json_only(kFormatOption), json_only(kCompressionOption),
                                               json_only(kQuantizeOption), json_only(kNormalsOption)};
 
+// ---- POST /pointcloud: a point file with query parameters, or a JSON body ---------------------------------------
+// In a JSON body estimate_normals is true, false or {"k": n}: the operation reads that member itself and checks k
+// against this table's row.
+constexpr std::string_view kPointFormats[] = {"glb", "ply", "json"};
+constexpr std::string_view kPointCloudInputs[] = {"points", "normals", "colors", "sample", "estimate_normals"};
+constexpr OptionSpec kPointCloud[] = {
+    {.name = "estimate_normals",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Estimate and orient normals from the k nearest neighbours",
+     .transports = kQuery},
+    {.name = "k",
+     .type = OptionType::Integer,
+     .min = at_least(3),
+     .max = at_most(256),
+     .default_json = "16",
+     .description = "Neighbours for normal estimation (with estimate_normals)",
+     .transports = kQuery},
+};
+constexpr OptionSpec kPointNormalsOption = [] {
+    OptionSpec out = kNormalsOption;
+    out.default_json = "true";
+    out.description = "false leaves normals out of the output";
+    return out;
+}();
+constexpr OptionSpec kPointCloudOutput[] = {format_of(kPointFormats, "Encoding of the points: glb, PLY or JSON"),
+                                            kCompressionOption, kQuantizeOption, kPointNormalsOption};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
@@ -335,6 +363,7 @@ constexpr OperationOptions kOperations[] = {
     {"repair", "/repair", "post", kRepair, kMeshOutput, kMeshInput},
     {"tessellate", "/tessellate", "post", kTessellate, kTessellateOutput, kPatchesInput},
     {"patches", "/patches/{name}", "get", kPatchSample, kPatchSampleOutput, {}},
+    {"pointcloud", "/pointcloud", "post", kPointCloud, kPointCloudOutput, kPointCloudInputs},
     {"curves", "/curves", "post", {}, kCurvesOutput, kCurvesInputs},
     {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
 };

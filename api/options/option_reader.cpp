@@ -43,21 +43,6 @@ bool in_range(const OptionSpec& option, double value) {
     return true;
 }
 
-//! nullopt when `value` (a number, or one item of a list) is within the option's range; else 400 naming `field`.
-std::optional<ApiError> check_range(const OptionSpec& option, const OptionValue& value, const std::string& field) {
-    double number = 0;
-    if (const auto* i = std::get_if<std::int64_t>(&value))
-        number = static_cast<double>(*i);
-    else if (const auto* d = std::get_if<double>(&value))
-        number = *d;
-    else
-        return std::nullopt;
-    if (in_range(option, number)) return std::nullopt;
-    std::string detail = field + " must be " + range_text(option);
-    if (!option.units.empty()) detail += " (" + std::string(option.units) + ")";
-    return make_problem(Problem::InvalidField, detail + ", got " + value_text(value), field);
-}
-
 std::vector<std::string_view> query_names(const OperationOptions& operation) {
     std::vector<std::string_view> out;
     for (const OptionSpec* option : all_options(operation))
@@ -170,6 +155,20 @@ ApiResult<OptionValue> read_json_value(const OptionSpec& option, const Json& val
 }
 
 }  // namespace
+
+std::optional<ApiError> check_range(const OptionSpec& option, const OptionValue& value, const std::string& field) {
+    double number = 0;
+    if (const auto* i = std::get_if<std::int64_t>(&value))
+        number = static_cast<double>(*i);
+    else if (const auto* d = std::get_if<double>(&value))
+        number = *d;
+    else
+        return std::nullopt;
+    if (in_range(option, number)) return std::nullopt;
+    std::string detail = field + " must be " + range_text(option);
+    if (!option.units.empty()) detail += " (" + std::string(option.units) + ")";
+    return make_problem(Problem::InvalidField, detail + ", got " + value_text(value), field);
+}
 
 void OptionValues::get_output(OutputOptions& out) const {
     get("format", kOutputFormatNames, out.format);

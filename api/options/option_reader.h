@@ -73,6 +73,9 @@ ApiResult<OptionValues> read_json(const OperationOptions& operation, const nlohm
 //! The members a JSON body may have: the operation's inputs, its JSON options, and their objects ("output").
 std::vector<std::string_view> json_members(const OperationOptions& operation);
 
+//! nullopt when `value` (a number, or one item of a list) is within the option's range; else 400 invalid_field naming
+//! `field`, with the range and the value. For a member an operation reads itself.
+std::optional<ApiError> check_range(const OptionSpec& option, const OptionValue& value, const std::string& field);
 //! The candidate nearest to `name` by edit distance, when near enough to be a likely typo.
 std::optional<std::string_view> nearest_name(std::string_view name, const std::vector<std::string_view>& candidates);
 //! "in [1, 24]", "in (0, 1]", ">= 0", "> 0": the option's range, as error messages state it.
