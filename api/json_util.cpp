@@ -111,43 +111,4 @@ ApiResult<double> read_number(const Json& value, const std::string& field) {
     return value.get<double>();
 }
 
-ApiResult<OutputOptions> decode_output(const Json& value) {
-    const std::string path = "output";
-    if (!value.is_object())
-        return invalid(path, R"(output must be an object {"format", "compression", "quantize_position", "normals"})");
-    if (auto error = check_members(value, path, {"format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
-    OutputOptions out;
-    if (auto it = value.find("format"); it != value.end()) {
-        auto format = read_enum(*it, "output.format", kOutputFormatNames);
-        if (!format) return std::move(format.error());
-        out.format = format.value();
-    }
-    if (auto it = value.find("compression"); it != value.end()) {
-        auto draco = read_enum(*it, "output.compression", kCompressionNames);
-        if (!draco) return std::move(draco.error());
-        out.draco = draco.value();
-    }
-    if (auto it = value.find("quantize_position"); it != value.end()) {
-        auto bits = read_integer(*it, "output.quantize_position");
-        if (!bits) return std::move(bits.error());
-        out.quantize_position = bits.value();
-    }
-    if (auto it = value.find("normals"); it != value.end()) {
-        auto normals = read_bool(*it, "output.normals");
-        if (!normals) return std::move(normals.error());
-        out.normals = normals.value();
-    }
-    return out;
-}
-
-std::optional<ApiError> read_output(const Json& object, OutputOptions& target) {
-    const auto it = object.find("output");
-    if (it == object.end()) return std::nullopt;
-    auto output = decode_output(*it);
-    if (!output) return std::move(output.error());
-    target = std::move(output.value());
-    return std::nullopt;
-}
-
 }  // namespace surfaced::api::json
