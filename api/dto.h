@@ -11,6 +11,7 @@
 
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/polygon_mesh.h"
+#include "geometry/remesh/remesh.h"
 #include "geometry/repair/repair.h"
 #include "geometry/subdivision/subdivide.h"
 
@@ -89,6 +90,13 @@ struct EnumName {
 inline constexpr EnumName<RepairMode> kRepairModeNames[] = {
     {"auto", RepairMode::Auto},
     {"none", RepairMode::None},
+};
+
+//! POST /remesh: how vertices are moved after each round of splits, collapses and flips.
+inline constexpr EnumName<RemeshSmoothing> kRemeshSmoothingNames[] = {
+    {"tangential", RemeshSmoothing::Tangential},
+    {"laplacian", RemeshSmoothing::Laplacian},
+    {"none", RemeshSmoothing::None},
 };
 
 inline constexpr EnumName<SubdivisionScheme> kSchemeNames[] = {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "api/options/mesh_params.h"
 
 namespace surfaced::api {
 namespace {
@@ -320,25 +321,13 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
     if (!root.is_object())
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "scheme": ..., "levels": ...})");
-    if (auto error =
-            check_members(root, "",
-                          {"mesh", "scheme", "levels", "boundary", "crease_method", "triangle_rule", "uv_interpolation",
-                           "loop_weights", "limit_surface", "max_faces", "creases", "corners", "holes", "output"}))
-        return std::move(*error);
+    const auto& spec = *options::operation_options("subdivide");
+    if (auto error = check_members(root, "", options::json_members(spec))) return std::move(*error);
+    auto values = options::read_json(spec, root);
+    if (!values) return std::move(values.error());
 
     SubdivideJsonRequest request;
-    SubdivideParams& params = request.params;
-    request.params.levels_given = root.contains("levels");
-    for (auto error :
-         {read_member(root, "scheme", kSchemeNames, params.scheme), read_member(root, "levels", params.levels),
-          read_member(root, "crease_method", kCreaseMethodNames, params.crease_method),
-          read_member(root, "triangle_rule", kTriangleRuleNames, params.triangle_rule),
-          read_member(root, "loop_weights", kLoopWeightNames, params.loop_weights),
-          read_member(root, "uv_interpolation", kUvInterpolationNames, params.uv_interpolation),
-          read_member(root, "limit_surface", params.limit_surface), read_member(root, "max_faces", params.max_faces),
-          read_member(root, "boundary", kBoundaryNames, params.boundary)})
-        if (error) return std::move(*error);
-    if (auto error = read_output(root, request.params.output)) return std::move(*error);
+    request.params = options::subdivide_params(values.value());
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
@@ -382,35 +371,18 @@ ApiResult<SimplifyJsonRequest> decode_simplify_request(std::string_view body, co
         return make_problem(
             Problem::InvalidField,
             R"(request body must be a JSON object {"mesh": {...}, "target_faces": N | "ratio": r | "max_error": e})");
-    if (auto error = check_members(root, "",
-                                   {"mesh", "target_faces", "ratio", "max_error", "lock_border", "restore_volume",
-                                    "threads", "report_error", "locked_vertices", "repair", "output"}))
-        return std::move(*error);
+    const auto& spec = *options::operation_options("simplify");
+    if (auto error = check_members(root, "", options::json_members(spec))) return std::move(*error);
+    auto values = options::read_json(spec, root);
+    if (!values) return std::move(values.error());
     SimplifyJsonRequest request;
-    SimplifyParams& params = request.params;
-    for (auto error :
-         {read_member(root, "target_faces", params.target_faces), read_member(root, "ratio", params.ratio),
-          read_member(root, "max_error", params.max_error), read_member(root, "lock_border", params.lock_border),
-          read_member(root, "restore_volume", params.restore_volume), read_member(root, "threads", params.threads),
-          read_member(root, "report_error", params.report_error),
-          read_member(root, "repair", kRepairModeNames, params.repair)})
-        if (error) return std::move(*error);
-    if (auto error = read_output(root, request.params.output)) return std::move(*error);
+    request.params = options::simplify_params(values.value());
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
     auto mesh = decode_mesh_value(*mesh_it, "mesh", limits);
     if (!mesh) return std::move(mesh.error());
     request.mesh = std::move(mesh.value());
-    if (auto it = root.find("locked_vertices"); it != root.end()) {
-        if (!it->is_array()) return invalid("locked_vertices", "locked_vertices must be an array of vertex indices");
-        request.params.locked_vertices.reserve(it->size());
-        for (std::size_t i = 0; i < it->size(); ++i) {
-            auto v = read_index((*it)[i], index_path("locked_vertices", i), request.mesh.vertex_count(), "vertex");
-            if (!v) return std::move(v.error());
-            request.params.locked_vertices.push_back(v.value());
-        }
-    }
     return request;
 }
 

@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "api/options/option_reader.h"
+
 namespace surfaced::api::json {
 
 std::string index_path(std::string_view path, std::size_t i) {
@@ -110,23 +112,30 @@ std::optional<ApiError> parse(std::string_view text, Json& out) {
     }
 }
 
-//! Every member of `object` must be in `allowed`; otherwise one error naming all unknown members.
 std::optional<ApiError> check_members(const Json& object, std::string_view path,
                                       std::initializer_list<std::string_view> allowed) {
+    return check_members(object, path, std::vector<std::string_view>(allowed));
+}
+
+std::optional<ApiError> check_members(const Json& object, std::string_view path,
+                                      const std::vector<std::string_view>& allowed) {
     std::vector<std::string> unknown;
-    for (const auto& item : object.items()) {
-        bool known = false;
-        for (std::string_view name : allowed) known = known || item.key() == name;
-        if (!known) unknown.push_back(item.key());
-    }
+    for (const auto& item : object.items())
+        if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) unknown.push_back(item.key());
     if (unknown.empty()) return std::nullopt;
-    std::string names, allowed_names;
-    for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+    std::string names, allowed_names, suggestions;
+    for (const auto& name : unknown) {
+        names += (names.empty() ? "\"" : ", \"") + name + "\"";
+        if (auto near = options::nearest_name(name, allowed))
+            suggestions += (suggestions.empty() ? "\"" : ", \"") + std::string(*near) + "\" for \"" + name + "\"";
+    }
     for (std::string_view name : allowed)
         allowed_names += (allowed_names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    if (unknown.size() == 1 && !suggestions.empty()) suggestions = suggestions.substr(0, suggestions.find(" for "));
     const std::string where = path.empty() ? "at top level" : "in " + std::string(path);
     return make_problem(Problem::UnknownField,
                         "unknown field" + std::string(unknown.size() > 1 ? "s " : " ") + names + " " + where +
+                            (suggestions.empty() ? "" : " (did you mean " + suggestions + "?)") +
                             " (allowed: " + allowed_names + ")",
                         member_path(path, unknown.front()));
 }
@@ -152,45 +161,6 @@ ApiResult<double> read_number(const Json& value, const std::string& field) {
     if (!value.is_number() || !std::isfinite(value.get<double>()))
         return invalid(field, field + " must be a finite number");
     return value.get<double>();
-}
-
-ApiResult<OutputOptions> decode_output(const Json& value) {
-    const std::string path = "output";
-    if (!value.is_object())
-        return invalid(path, R"(output must be an object {"format", "compression", "quantize_position", "normals"})");
-    if (auto error = check_members(value, path, {"format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
-    OutputOptions out;
-    if (auto it = value.find("format"); it != value.end()) {
-        auto format = read_enum(*it, "output.format", kOutputFormatNames);
-        if (!format) return std::move(format.error());
-        out.format = format.value();
-    }
-    if (auto it = value.find("compression"); it != value.end()) {
-        auto draco = read_enum(*it, "output.compression", kCompressionNames);
-        if (!draco) return std::move(draco.error());
-        out.draco = draco.value();
-    }
-    if (auto it = value.find("quantize_position"); it != value.end()) {
-        auto bits = read_integer(*it, "output.quantize_position");
-        if (!bits) return std::move(bits.error());
-        out.quantize_position = bits.value();
-    }
-    if (auto it = value.find("normals"); it != value.end()) {
-        auto normals = read_bool(*it, "output.normals");
-        if (!normals) return std::move(normals.error());
-        out.normals = normals.value();
-    }
-    return out;
-}
-
-std::optional<ApiError> read_output(const Json& object, OutputOptions& target) {
-    const auto it = object.find("output");
-    if (it == object.end()) return std::nullopt;
-    auto output = decode_output(*it);
-    if (!output) return std::move(output.error());
-    target = std::move(output.value());
-    return std::nullopt;
 }
 
 }  // namespace surfaced::api::json

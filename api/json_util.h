@@ -1,6 +1,6 @@
 // Reading request JSON with errors that name the field (internal to api/; includes nlohmann, so only the codec TUs
-// include it). One copy of the rules: what counts as an integer, a finite number, an unknown member, and the output
-// options object every endpoint shares.
+// include it). One copy of the rules: what counts as an integer, a finite number, an unknown member. Options (the
+// output object included) are read by their tables: api/options/option_reader.h.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -32,9 +33,12 @@ ApiError geometry_error(ErrorCode code, const std::string& field, std::string de
 //! number_out_of_range, both with the byte offset in `offset` and the line and column in the detail, in our words
 //! (nothing of nlohmann's exception text).
 std::optional<ApiError> parse(std::string_view text, Json& out);
-//! Every member of `object` must be in `allowed`; otherwise one 400 unknown_field naming all unknown members.
+//! Every member of `object` must be in `allowed`; otherwise one 400 unknown_field naming all unknown members (and
+//! the nearest allowed name of each that looks like a typo).
 std::optional<ApiError> check_members(const Json& object, std::string_view path,
                                       std::initializer_list<std::string_view> allowed);
+std::optional<ApiError> check_members(const Json& object, std::string_view path,
+                                      const std::vector<std::string_view>& allowed);
 
 ApiResult<std::int64_t> read_integer(const Json& value, const std::string& field);  //!< no fraction or exponent
 ApiResult<double> read_number(const Json& value, const std::string& field);         //!< finite
@@ -46,53 +50,5 @@ ApiResult<E> read_enum(const Json& value, const std::string& field, const EnumNa
     if (auto parsed = enum_from_name(table, text)) return *parsed;
     return invalid(field, field + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")");
 }
-
-//! Reads member `name` of `object` into `target` when it is there, by target's type (std::int64_t: integer, double:
-//! finite number, bool; or a std::optional of one): nullopt when absent or read, else the error naming `name`.
-//! `target` changes only when the member was read (the JSON counterpart of request_forms.h's read_parameter).
-template <class T>
-std::optional<ApiError> read_member(const Json& object, const std::string& name, T& target) {
-    const auto it = object.find(name);
-    if (it == object.end()) return std::nullopt;
-    auto value = [&] {
-        if constexpr (requires {
-                          typename T::value_type;
-                          target.reset();
-                      }) {  // std::optional<U>
-            using U = typename T::value_type;
-            if constexpr (std::is_same_v<U, bool>)
-                return read_bool(*it, name);
-            else if constexpr (std::is_floating_point_v<U>)
-                return read_number(*it, name);
-            else
-                return read_integer(*it, name);
-        } else if constexpr (std::is_same_v<T, bool>) {
-            return read_bool(*it, name);
-        } else if constexpr (std::is_floating_point_v<T>) {
-            return read_number(*it, name);
-        } else {
-            return read_integer(*it, name);
-        }
-    }();
-    if (!value) return std::move(value.error());
-    target = value.value();
-    return std::nullopt;
-}
-//! The same for an enumerated member: one of the names in `table` (`target` an E or a std::optional<E>).
-template <class E, std::size_t N, class Target>
-std::optional<ApiError> read_member(const Json& object, const std::string& name, const EnumName<E> (&table)[N],
-                                    Target& target) {
-    const auto it = object.find(name);
-    if (it == object.end()) return std::nullopt;
-    auto value = read_enum(*it, name, table);
-    if (!value) return std::move(value.error());
-    target = value.value();
-    return std::nullopt;
-}
-
-//! "output": {"format", "compression", "quantize_position", "normals"}; ranges are checked by the operations.
-ApiResult<OutputOptions> decode_output(const Json& value);
-//! Member "output" of `object` decoded into `target` when it is there (decode_output): nullopt when absent or read.
-std::optional<ApiError> read_output(const Json& object, OutputOptions& target);
 
 }  // namespace surfaced::api::json

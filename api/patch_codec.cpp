@@ -83,9 +83,13 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
     if (!root.is_object())
         return invalid(
             "", R"(the body must be an object {"patches": [...], "tolerance": t | "segments": n, "output": {...}})");
-    if (auto error = check_members(root, "", {"patches", "tolerance", "segments", "output"})) return std::move(*error);
+    const auto& spec = *options::operation_options("tessellate");
+    if (auto error = check_members(root, "", options::json_members(spec))) return std::move(*error);
+    auto values = options::read_json(spec, root);
+    if (!values) return std::move(values.error());
 
     TessellateJsonRequest request;
+    request.params = tessellate_params(values.value());
     const auto patches = root.find("patches");
     if (patches == root.end() || !patches->is_array() || patches->empty())
         return invalid("patches", R"(patches is required: a non-empty array of {"degree": [m, n], "points": [...]})");
@@ -112,13 +116,15 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
         request.patches.patches.push_back(std::move(patch.value()));
     }
 
-    if (auto it = root.find("tolerance"); it != root.end()) {
-        if (!it->is_number()) return invalid("tolerance", "tolerance must be a number (model units)");
-        request.params.tolerance = it->get<double>();
-    }
-    if (auto error = read_member(root, "segments", request.params.segments)) return std::move(*error);
-    if (auto error = read_output(root, request.params.output)) return std::move(*error);
     return request;
+}
+
+TessellateParams tessellate_params(const options::OptionValues& values) {
+    TessellateParams params;
+    values.get("tolerance", params.tolerance);
+    values.get("segments", params.segments);
+    values.get_output(params.output);
+    return params;
 }
 
 }  // namespace surfaced::api

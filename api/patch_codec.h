@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "api/dto.h"
+#include "api/options/option_reader.h"
 #include "api/errors.h"
 #include "api/limits.h"
 #include "geometry/surfaces/bezier_patch.h"
@@ -34,5 +35,7 @@ struct TessellateJsonRequest {
 };
 
 ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body, const Limits& limits);
+//! The params from option values read by the table of "tessellate" or "patches" (api/options).
+TessellateParams tessellate_params(const options::OptionValues& values);
 
 }  // namespace surfaced::api

@@ -16,6 +16,7 @@
 
 #include "api/json_util.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 
 #include "geometry/curves/bezier_curve.h"
 #include "geometry/curves/bspline.h"
@@ -166,26 +167,14 @@ struct Encoder {
 
 // ---- output --------------------------------------------------------------------------------------------------------
 
-//! "output": {"format": "json" | "glb" | "gltf", "compression": "none"}; json when absent.
+//! "output": {"format": "json" | "glb" | "gltf", "compression": "none"} by the option table; json when absent.
 ApiResult<OutputFormat> read_output(const Json& root) {
-    const auto it = root.find("output");
-    if (it == root.end()) return OutputFormat::Json;
-    auto decoded = decode_output(*it);
-    if (!decoded) return std::move(decoded.error());
-    const OutputOptions out = decoded.value();
-    const OutputFormat format = it->contains("format") ? out.format : OutputFormat::Json;
-    if (format != OutputFormat::Json && format != OutputFormat::Glb && format != OutputFormat::Gltf)
-        return invalid("output.format", "curves are answered as \"json\", \"glb\" or \"gltf\" (line strips), not \"" +
-                                            std::string(enum_name(kOutputFormatNames, format)) + "\"");
-    if (out.draco.value_or(false))
-        return invalid("output.compression",
-                       "line strips are not Draco-compressed (KHR_draco_mesh_compression is defined for triangles and "
-                       "points only): leave compression out or give \"none\"");
-    if (out.draco && format == OutputFormat::Json)
+    auto values = options::read_json(*options::operation_options("curves"), root);
+    if (!values) return std::move(values.error());
+    OutputFormat format = OutputFormat::Json;
+    values->get("format", kOutputFormatNames, format);
+    if (values->has("compression") && format == OutputFormat::Json)
         return invalid("output.compression", "output.compression applies to glb/gltf output only");
-    if (out.quantize_position)
-        return invalid("output.quantize_position", "output.quantize_position applies to Draco only");
-    if (out.normals) return invalid("output.normals", "line strips have no normals");
     return format;
 }
 

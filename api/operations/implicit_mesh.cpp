@@ -5,6 +5,7 @@
 
 #include "api/json_util.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 #include "api/scene_codec.h"
 #include "geometry/implicit/mesh_field.h"
 
@@ -13,12 +14,7 @@ namespace {
 
 using json::Json;
 
-constexpr EnumName<implicit::MeshFieldMode> kModeNames[] = {
-    {"uniform", implicit::MeshFieldMode::Uniform},
-    {"adaptive", implicit::MeshFieldMode::Adaptive},
-};
 constexpr std::int64_t kDefaultResolution = 64;
-constexpr std::int64_t kMaxResolution = 65536;
 //! Faces meeting at more than this many degrees get separate normals in GLB/glTF (split_normals_at_creases).
 constexpr double kDefaultCreaseAngle = 40;
 
@@ -61,10 +57,10 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
     Json root;
     if (auto error = json::parse(request.body, root)) return std::move(*error);
     if (!root.is_object()) return json::invalid("", "the body must be a JSON object");
-    if (auto error = json::check_members(
-            root, "",
-            {"scene", "bounds", "resolution", "cell_size", "mode", "simplify_tolerance", "crease_angle", "output"}))
-        return std::move(*error);
+    const auto& spec = *options::operation_options("implicit_mesh");
+    if (auto error = json::check_members(root, "", options::json_members(spec))) return std::move(*error);
+    auto values = options::read_json(spec, root);
+    if (!values) return std::move(values.error());
     MeshRequest out;
     if (!root.contains("scene")) return json::invalid("scene", "scene is required");
     if (!root.contains("bounds")) return json::invalid("bounds", "bounds is required");
@@ -75,47 +71,17 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
     // grid size
     if (root.contains("resolution") && root.contains("cell_size"))
         return json::invalid("cell_size", "give either resolution or cell_size, not both");
-    out.options.resolution = static_cast<int>(kDefaultResolution);
-    if (root.contains("resolution")) {
-        auto resolution = json::read_integer(root["resolution"], "resolution");
-        if (!resolution) return std::move(resolution.error());
-        if (resolution.value() < 2 || resolution.value() > kMaxResolution)
-            return json::invalid("resolution", "resolution must be between 2 and " + std::to_string(kMaxResolution) +
-                                                   ", got " + std::to_string(resolution.value()));
-        out.options.resolution = static_cast<int>(resolution.value());
-    }
-    if (root.contains("cell_size")) {
-        auto cell_size = json::read_number(root["cell_size"], "cell_size");
-        if (!cell_size) return std::move(cell_size.error());
-        if (!(cell_size.value() > 0)) return json::invalid("cell_size", "cell_size must be > 0");
-        out.options.cell_size = cell_size.value();
-        out.cell_size_given = true;
-    }
-    if (root.contains("mode")) {
-        auto mode = json::read_enum(root["mode"], "mode", kModeNames);
-        if (!mode) return std::move(mode.error());
-        out.options.mode = mode.value();
-    }
-    if (root.contains("simplify_tolerance")) {
-        auto tolerance = json::read_number(root["simplify_tolerance"], "simplify_tolerance");
-        if (!tolerance) return std::move(tolerance.error());
-        if (!(tolerance.value() >= 0)) return json::invalid("simplify_tolerance", "simplify_tolerance must be >= 0");
-        if (tolerance.value() > 0 && out.options.mode != implicit::MeshFieldMode::Adaptive)
-            return json::invalid("simplify_tolerance", "simplify_tolerance applies only to mode \"adaptive\"");
-        out.options.simplify_tolerance = tolerance.value();
-    }
-    if (root.contains("crease_angle")) {
-        auto angle = json::read_number(root["crease_angle"], "crease_angle");
-        if (!angle) return std::move(angle.error());
-        if (!(angle.value() >= 0 && angle.value() <= 180))
-            return json::invalid("crease_angle", "crease_angle must be between 0 and 180 degrees");
-        out.crease_angle = angle.value();
-    }
-    if (root.contains("output")) {
-        auto output = json::decode_output(root["output"]);
-        if (!output) return std::move(output.error());
-        out.output = output.value();
-    }
+    std::int64_t resolution = kDefaultResolution;
+    values->get("resolution", resolution);
+    out.options.resolution = static_cast<int>(resolution);
+    out.cell_size_given = values->has("cell_size");
+    if (out.cell_size_given) values->get("cell_size", out.options.cell_size);
+    values->get("mode", kImplicitMeshModeNames, out.options.mode);
+    values->get("simplify_tolerance", out.options.simplify_tolerance);
+    if (out.options.simplify_tolerance > 0 && out.options.mode != implicit::MeshFieldMode::Adaptive)
+        return json::invalid("simplify_tolerance", "simplify_tolerance applies only to mode \"adaptive\"");
+    values->get("crease_angle", out.crease_angle);
+    values->get_output(out.output);
     if (auto error = check_output_options(out.output, Source::Json)) return std::move(*error);
 
     // the grid against the budget, before the scene is even parsed

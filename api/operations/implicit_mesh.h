@@ -24,8 +24,15 @@
 
 #include "api/dto.h"
 #include "api/operation.h"
+#include "geometry/implicit/mesh_field.h"
 
 namespace surfaced::api::operations {
+
+//! "mode": the meshing grid, uniform or adaptive (octree with dual contouring).
+inline constexpr EnumName<implicit::MeshFieldMode> kImplicitMeshModeNames[] = {
+    {"uniform", implicit::MeshFieldMode::Uniform},
+    {"adaptive", implicit::MeshFieldMode::Adaptive},
+};
 
 ApiResponse implicit_mesh(const ApiRequest& request, const ApiContext& context) noexcept;
 

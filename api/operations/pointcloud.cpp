@@ -11,6 +11,7 @@
 #include "api/json_codec.h"
 #include "api/json_util.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 #include "api/scene_codec.h"
 #include "geometry/io/pointcloud_glb.h"
 #include "geometry/io/pointcloud_io.h"
@@ -22,7 +23,7 @@ namespace {
 
 using namespace json;  // the shared readers (api/json_util.h)
 
-constexpr std::int64_t kMinK = 3, kMaxK = 256, kDefaultK = 16;
+constexpr std::int64_t kDefaultK = 16;  // the table's default for k
 
 struct Params {
     std::optional<std::int64_t> k;  //!< set: estimate normals with k neighbours
@@ -38,21 +39,10 @@ ApiError point_error(const GeoError& error, Source source, const char* array = "
     return out;
 }
 
-std::optional<ApiError> check_k(std::int64_t k, const std::string& field) {
-    if (k < kMinK || k > kMaxK)
-        return make_problem(Problem::InvalidField,
-                            field + " must be in " + std::to_string(kMinK) + ".." + std::to_string(kMaxK) + ", got " +
-                                std::to_string(k),
-                            field);
-    return std::nullopt;
-}
+const options::OperationOptions& pointcloud_options() { return *options::operation_options("pointcloud"); }
 
+//! The output options that do not fit the format (the formats themselves are the table's: glb, ply, json).
 std::optional<ApiError> check_output(const OutputOptions& out, Source source) {
-    if (out.format == OutputFormat::Gltf || out.format == OutputFormat::Obj)
-        return make_problem(Problem::InvalidField,
-                            "point clouds are written as \"glb\", \"ply\" or \"json\", not \"" +
-                                std::string(enum_name(kOutputFormatNames, out.format)) + "\"",
-                            source == Source::Json ? "output.format" : "format");
     OutputOptions shared = out;
     shared.normals.reset();  // the mesh rule "no normals in JSON" does not apply: point JSON carries them
     return check_output_options(shared, source);
@@ -194,29 +184,19 @@ ApiResult<PointCloud> run_sampling(const Json& sample, const ApiContext& context
 }
 
 ApiResult<Params> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(
-            query, {"estimate_normals", "k", "format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
+    auto values = options::read_query(pointcloud_options(), query);
+    if (!values) return std::move(values.error());
     Params params;
     bool estimate = false;
-    std::optional<std::int64_t> k;
-    for (const auto& [name, text] : query) {
-        if (name == "estimate_normals") {
-            auto v = parse_bool_parameter(name, text);
-            if (!v) return std::move(v.error());
-            estimate = v.value();
-        } else if (name == "k") {
-            auto v = parse_integer_parameter(name, text);
-            if (!v) return std::move(v.error());
-            if (auto error = check_k(v.value(), "k")) return std::move(*error);
-            k = v.value();
-        } else {
-            auto output = parse_output_parameter(name, text, params.output);
-            if (!output) return std::move(output.error());
-        }
+    values->get("estimate_normals", estimate);
+    if (values->has("k") && !estimate)
+        return make_problem(Problem::InvalidField, "k applies only with estimate_normals=true", "k");
+    if (estimate) {
+        std::int64_t k = kDefaultK;
+        values->get("k", k);
+        params.k = k;
     }
-    if (k && !estimate) return make_problem(Problem::InvalidField, "k applies only with estimate_normals=true", "k");
-    if (estimate) params.k = k.value_or(kDefaultK);
+    values->get_output(params.output);
     return params;
 }
 
@@ -231,14 +211,18 @@ ApiResult<Params> params_from_json(const Json& root) {
             if (auto k = it->find("k"); k != it->end()) {
                 auto v = read_integer(*k, "estimate_normals.k");
                 if (!v) return std::move(v.error());
-                if (auto error = check_k(v.value(), "estimate_normals.k")) return std::move(*error);
+                if (auto error = options::check_range(*options::find_option(pointcloud_options(), "k"), v.value(),
+                                                      "estimate_normals.k"))
+                    return std::move(*error);
                 params.k = v.value();
             }
         } else {
             return invalid("estimate_normals", R"(estimate_normals must be a boolean or {"k": 3..256})");
         }
     }
-    if (auto error = read_output(root, params.output)) return std::move(*error);
+    auto values = options::read_json(pointcloud_options(), root);
+    if (!values) return std::move(values.error());
+    values->get_output(params.output);
     return params;
 }
 
@@ -280,8 +264,7 @@ std::optional<ApiError> decode_json_request(const ApiRequest& request, const Api
     Json root;
     if (auto error = parse(request.body, root)) return error;
     if (!root.is_object()) return invalid("", "the body must be a JSON object");
-    if (auto error = check_members(root, "", {"points", "normals", "colors", "sample", "estimate_normals", "output"}))
-        return error;
+    if (auto error = check_members(root, "", options::json_members(pointcloud_options()))) return error;
     auto decoded_params = params_from_json(root);
     if (!decoded_params) return std::move(decoded_params.error());
     d.params = std::move(decoded_params.value());

@@ -9,20 +9,13 @@
 #include "api/json_util.h"
 #include "api/operations/mesh_repair.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 #include "geometry/remesh/remesh.h"
 
 namespace surfaced::api::operations {
 namespace {
 
 using json::Json;
-
-constexpr int kMaxIterations = 100;
-
-inline constexpr EnumName<RemeshSmoothing> kSmoothingNames[] = {
-    {"tangential", RemeshSmoothing::Tangential},
-    {"laplacian", RemeshSmoothing::Laplacian},
-    {"none", RemeshSmoothing::None},
-};
 
 struct RemeshParams {
     std::optional<double> edge_length;
@@ -34,31 +27,24 @@ struct RemeshParams {
     OutputOptions output;
 };
 
-ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error =
-            check_query_names(query, {"edge_length", "iterations", "feature_angle", "keep_boundary", "smoothing",
-                                      "repair", "format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
+RemeshParams params_from(const options::OptionValues& values) {
     RemeshParams params;
-    for (const auto& [name, text] : query) {
-        std::optional<ApiError> error;
-        if (name == "edge_length")
-            error = read_parameter(name, text, params.edge_length);
-        else if (name == "iterations")
-            error = read_parameter(name, text, params.iterations);
-        else if (name == "feature_angle")
-            error = read_parameter(name, text, params.feature_angle);
-        else if (name == "keep_boundary")
-            error = read_parameter(name, text, params.keep_boundary);
-        else if (name == "smoothing")
-            error = read_parameter(name, text, kSmoothingNames, params.smoothing);
-        else if (name == "repair")
-            error = read_parameter(name, text, kRepairModeNames, params.repair);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output)
-            error = std::move(output.error());
-        if (error) return std::move(*error);
-    }
+    values.get("edge_length", params.edge_length);
+    values.get("iterations", params.iterations);
+    values.get("feature_angle", params.feature_angle);
+    values.get("keep_boundary", params.keep_boundary);
+    values.get("smoothing", kRemeshSmoothingNames, params.smoothing);
+    values.get("repair", kRepairModeNames, params.repair);
+    values.get_output(params.output);
     return params;
+}
+
+const options::OperationOptions& remesh_options() { return *options::operation_options("remesh"); }
+
+ApiResult<RemeshParams> params_from_query(const std::multimap<std::string, std::string>& query) {
+    auto values = options::read_query(remesh_options(), query);
+    if (!values) return std::move(values.error());
+    return params_from(values.value());
 }
 
 struct JsonRequest {
@@ -72,20 +58,11 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
     if (!root.is_object())
         return make_problem(Problem::InvalidField,
                             R"(request body must be a JSON object {"mesh": {...}, "edge_length": L, ...})");
-    if (auto error = json::check_members(
-            root, "",
-            {"mesh", "edge_length", "iterations", "feature_angle", "keep_boundary", "smoothing", "repair", "output"}))
-        return std::move(*error);
+    if (auto error = json::check_members(root, "", options::json_members(remesh_options()))) return std::move(*error);
+    auto values = options::read_json(remesh_options(), root);
+    if (!values) return std::move(values.error());
     JsonRequest request;
-    RemeshParams& params = request.params;
-    for (auto error : {json::read_member(root, "edge_length", params.edge_length),
-                       json::read_member(root, "iterations", params.iterations),
-                       json::read_member(root, "feature_angle", params.feature_angle),
-                       json::read_member(root, "keep_boundary", params.keep_boundary),
-                       json::read_member(root, "smoothing", kSmoothingNames, params.smoothing),
-                       json::read_member(root, "repair", kRepairModeNames, params.repair)})
-        if (error) return std::move(*error);
-    if (auto error = json::read_output(root, params.output)) return std::move(*error);
+    request.params = params_from(values.value());
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return json::invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
@@ -96,21 +73,8 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
     return request;
 }
 
+//! Ranges were checked as the options were read: what is left is output options that do not fit the format.
 std::optional<ApiError> check_params(const RemeshParams& params, Source source) {
-    if (params.edge_length && !(std::isfinite(*params.edge_length) && *params.edge_length > 0))
-        return make_problem(Problem::InvalidField,
-                            "edge_length must be a finite length > 0, got " + format_double(*params.edge_length),
-                            "edge_length");
-    if (params.iterations < 0 || params.iterations > kMaxIterations)
-        return make_problem(
-            Problem::InvalidField,
-            "iterations must be in 0.." + std::to_string(kMaxIterations) + ", got " + std::to_string(params.iterations),
-            "iterations");
-    if (!(params.feature_angle >= 0 && params.feature_angle <= 180))
-        return make_problem(
-            Problem::InvalidField,
-            "feature_angle must be in [0, 180] degrees (180: no features), got " + format_double(params.feature_angle),
-            "feature_angle");
     return check_output_options(params.output, source);
 }
 

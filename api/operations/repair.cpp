@@ -11,15 +11,13 @@
 #include "api/json_util.h"
 #include "api/operations/mesh_repair.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 #include "geometry/repair/repair.h"
 
 namespace surfaced::api::operations {
 namespace {
 
 using json::Json;
-
-//! Holes with more boundary edges than this are never filled (the fill is quadratic in the loop's length).
-constexpr std::int64_t kMaxHoleEdges = 10'000;
 
 struct RepairParams {
     double weld_tolerance = 0;
@@ -29,26 +27,22 @@ struct RepairParams {
     OutputOptions output;
 };
 
-ApiResult<RepairParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(query, {"weld_tolerance", "orient", "min_component_faces", "max_hole_edges",
-                                               "format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
+RepairParams params_from(const options::OptionValues& values) {
     RepairParams params;
-    for (const auto& [name, text] : query) {
-        std::optional<ApiError> error;
-        if (name == "weld_tolerance")
-            error = read_parameter(name, text, params.weld_tolerance);
-        else if (name == "orient")
-            error = read_parameter(name, text, params.orient);
-        else if (name == "min_component_faces")
-            error = read_parameter(name, text, params.min_component_faces);
-        else if (name == "max_hole_edges")
-            error = read_parameter(name, text, params.max_hole_edges);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output)
-            error = std::move(output.error());
-        if (error) return std::move(*error);
-    }
+    values.get("weld_tolerance", params.weld_tolerance);
+    values.get("orient", params.orient);
+    values.get("min_component_faces", params.min_component_faces);
+    values.get("max_hole_edges", params.max_hole_edges);
+    values.get_output(params.output);
     return params;
+}
+
+const options::OperationOptions& repair_options() { return *options::operation_options("repair"); }
+
+ApiResult<RepairParams> params_from_query(const std::multimap<std::string, std::string>& query) {
+    auto values = options::read_query(repair_options(), query);
+    if (!values) return std::move(values.error());
+    return params_from(values.value());
 }
 
 struct JsonRequest {
@@ -61,17 +55,11 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
     if (auto error = json::parse(body, root)) return std::move(*error);
     if (!root.is_object())
         return make_problem(Problem::InvalidField, R"(request body must be a JSON object {"mesh": {...}, ...})");
-    if (auto error = json::check_members(
-            root, "", {"mesh", "weld_tolerance", "orient", "min_component_faces", "max_hole_edges", "output"}))
-        return std::move(*error);
+    if (auto error = json::check_members(root, "", options::json_members(repair_options()))) return std::move(*error);
+    auto values = options::read_json(repair_options(), root);
+    if (!values) return std::move(values.error());
     JsonRequest request;
-    RepairParams& params = request.params;
-    for (auto error : {json::read_member(root, "weld_tolerance", params.weld_tolerance),
-                       json::read_member(root, "orient", params.orient),
-                       json::read_member(root, "min_component_faces", params.min_component_faces),
-                       json::read_member(root, "max_hole_edges", params.max_hole_edges)})
-        if (error) return std::move(*error);
-    if (auto error = json::read_output(root, params.output)) return std::move(*error);
+    request.params = params_from(values.value());
     const auto mesh_it = root.find("mesh");
     if (mesh_it == root.end())
         return json::invalid("mesh", R"(mesh is required: {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
@@ -81,21 +69,8 @@ ApiResult<JsonRequest> decode_request(std::string_view body, const Limits& limit
     return request;
 }
 
+//! Ranges were checked as the options were read: what is left is output options that do not fit the format.
 std::optional<ApiError> check_params(const RepairParams& params, Source source) {
-    if (!(std::isfinite(params.weld_tolerance) && params.weld_tolerance >= 0))
-        return make_problem(
-            Problem::InvalidField,
-            "weld_tolerance must be a finite distance >= 0, got " + format_double(params.weld_tolerance),
-            "weld_tolerance");
-    if (params.min_component_faces < 0)
-        return make_problem(Problem::InvalidField,
-                            "min_component_faces must be >= 0, got " + std::to_string(params.min_component_faces),
-                            "min_component_faces");
-    if (params.max_hole_edges < 0 || params.max_hole_edges > kMaxHoleEdges)
-        return make_problem(Problem::InvalidField,
-                            "max_hole_edges must be in 0.." + std::to_string(kMaxHoleEdges) + ", got " +
-                                std::to_string(params.max_hole_edges),
-                            "max_hole_edges");
     return check_output_options(params.output, source);
 }
 

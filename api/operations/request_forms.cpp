@@ -103,22 +103,6 @@ ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string&
                         "query parameter " + name + " must be true or false, got \"" + text + "\"", name);
 }
 
-ApiResult<bool> parse_output_parameter(const std::string& name, const std::string& text, OutputOptions& out) {
-    std::optional<ApiError> error;
-    if (name == "format")
-        error = read_parameter(name, text, kOutputFormatNames, out.format);
-    else if (name == "compression")
-        error = read_parameter(name, text, kCompressionNames, out.draco);
-    else if (name == "quantize_position")
-        error = read_parameter(name, text, out.quantize_position);
-    else if (name == "normals")
-        error = read_parameter(name, text, out.normals);
-    else
-        return false;
-    if (error) return std::move(*error);
-    return true;
-}
-
 std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
                                    std::string_view accepted) {
     if (request.body.size() > limits.max_body_bytes)
@@ -152,27 +136,6 @@ std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Li
                             std::string(operation) + " takes application/json" +
                                 (media_type.empty() ? std::string() : ", not \"" + media_type + "\""));
     return reject_query_with_json(request);
-}
-
-std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
-                                          std::initializer_list<std::string_view> allowed) {
-    std::set<std::string> unknown;
-    for (const auto& [name, value] : query)
-        if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) unknown.insert(name);
-    if (!unknown.empty()) {
-        std::string names, allowed_names;
-        for (const auto& name : unknown) names += (names.empty() ? "\"" : ", \"") + name + "\"";
-        for (std::string_view name : allowed) allowed_names += (allowed_names.empty() ? "" : ", ") + std::string(name);
-        return make_problem(Problem::UnknownParameter,
-                            "unknown query parameter" + std::string(unknown.size() > 1 ? "s " : " ") + names +
-                                " (allowed: " + allowed_names + ")",
-                            *unknown.begin());
-    }
-    for (std::string_view name : allowed)
-        if (query.count(std::string(name)) > 1)
-            return make_problem(Problem::InvalidField,
-                                "query parameter " + std::string(name) + " is given more than once", std::string(name));
-    return std::nullopt;
 }
 
 ApiResult<PolygonMesh> read_uploaded_mesh(const ApiRequest& request, const std::string& media_type,
@@ -296,18 +259,11 @@ std::optional<ApiError> check_output_options(const OutputOptions& out, Source so
         return make_problem(Problem::InvalidField,
                             "compression applies only to formats \"glb\" and \"gltf\", not \"" + format + "\"",
                             field("compression"));
-    if (out.quantize_position) {
-        if (!gltf || !out.draco.value_or(true))
-            return make_problem(
-                Problem::InvalidField,
-                "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
-                field("quantize_position"));
-        if (*out.quantize_position < 1 || *out.quantize_position > 24)
-            return make_problem(
-                Problem::InvalidField,
-                "quantize_position must be between 1 and 24 bits, got " + std::to_string(*out.quantize_position),
-                field("quantize_position"));
-    }
+    // (its range, 1..24, is the option table's)
+    if (out.quantize_position && (!gltf || !out.draco.value_or(true)))
+        return make_problem(Problem::InvalidField,
+                            "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
+                            field("quantize_position"));
     if (out.normals.value_or(false) && out.format == OutputFormat::Json)
         return make_problem(Problem::InvalidField, "normals are not available in format \"json\"", field("normals"));
     return std::nullopt;

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <chrono>
-#include <initializer_list>
 #include <exception>
 #include <map>
 #include <new>
@@ -47,52 +46,11 @@ enum class Source { Json, File };
 //! The API error for a GeoError, with the JSON field path of the element it names (when the request was JSON).
 ApiError geometry_error(const GeoError& error, Source source);
 
-//! Query parameters: each error names the parameter and what was expected.
+//! Query parameters: each error names the parameter and what was expected (the option readers of api/options use
+//! them).
 ApiResult<std::int64_t> parse_integer_parameter(const std::string& name, const std::string& text);
 ApiResult<double> parse_number_parameter(const std::string& name, const std::string& text);
 ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string& text);
-template <class E, std::size_t N>
-ApiResult<E> parse_enum_parameter(const std::string& name, const std::string& text, const EnumName<E> (&table)[N]) {
-    if (auto value = enum_from_name(table, text)) return *value;
-    return make_problem(
-        Problem::InvalidField,
-        "query parameter " + name + ": unknown value \"" + text + "\" (allowed: " + enum_names(table) + ")", name);
-}
-
-//! Parses query parameter `name` into `target` by its type (std::int64_t: integer, double: finite number, bool; or a
-//! std::optional of one): nullopt when it parsed, else the error naming the parameter. `target` changes only then.
-template <class T>
-std::optional<ApiError> read_parameter(const std::string& name, const std::string& text, T& target) {
-    if constexpr (requires {
-                      typename T::value_type;
-                      target.reset();
-                  }) {  // std::optional<U>
-        typename T::value_type value{};
-        if (auto error = read_parameter(name, text, value)) return error;
-        target = value;
-    } else {
-        auto parsed = [&] {
-            if constexpr (std::is_same_v<T, bool>)
-                return parse_bool_parameter(name, text);
-            else if constexpr (std::is_floating_point_v<T>)
-                return parse_number_parameter(name, text);
-            else
-                return parse_integer_parameter(name, text);
-        }();
-        if (!parsed) return std::move(parsed.error());
-        target = parsed.value();
-    }
-    return std::nullopt;
-}
-//! The same for an enumerated parameter (`target` an E or a std::optional<E>): one of the names in `table`.
-template <class E, std::size_t N, class Target>
-std::optional<ApiError> read_parameter(const std::string& name, const std::string& text, const EnumName<E> (&table)[N],
-                                       Target& target) {
-    auto parsed = parse_enum_parameter(name, text, table);
-    if (!parsed) return std::move(parsed.error());
-    target = parsed.value();
-    return std::nullopt;
-}
 
 // ---- the two request forms ----------------------------------------------------------------------------------------
 
@@ -106,9 +64,6 @@ std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
 //! "POST /curves"): body size, Content-Type application/json, no query parameters.
 std::optional<ApiError> check_json_only_body(const ApiRequest& request, const Limits& limits,
                                              std::string_view operation);
-//! Parameters must be known and given once; errors name them (and list the allowed ones).
-std::optional<ApiError> check_query_names(const std::multimap<std::string, std::string>& query,
-                                          std::initializer_list<std::string_view> allowed);
 //! What the input mesh must satisfy: `validate()` (Strict), or `validate_for_subdivision()` (faces may repeat a vertex,
 //! as OpenSubdiv allows: /subdivide; and the operations that repair their input, which drops such faces).
 enum class MeshRules { Strict, Subdivision };
@@ -247,10 +202,6 @@ ApiResponse mesh_response(PolygonMesh& mesh, const OutputOptions& out, Source so
     response.headers = std::move(headers);
     return response;
 }
-//! The output options as query parameters (format, compression, quantize_position, normals): true when `name` was one
-//! of them (and is now in `out`), false when it is not an output option.
-ApiResult<bool> parse_output_parameter(const std::string& name, const std::string& text, OutputOptions& out);
-
 //! Runs an operation body; anything escaping it (a bug, or memory exhaustion) becomes a 500 envelope, so that the
 //! Operation contract "never throws" holds.
 template <class F>

@@ -1,17 +1,16 @@
 #include "api/operations/simplify.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cstddef>
 #include <cstdint>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "api/dto.h"
 #include "api/json_codec.h"
 #include "api/operations/mesh_repair.h"
 #include "api/operations/request_forms.h"
+#include "api/options/mesh_params.h"
 #include "geometry/core/block_pool.h"
 #include "geometry/simplify/mesh_distance.h"
 #include "geometry/simplify/qem.h"
@@ -31,28 +30,6 @@ BlockPool& simplify_block_pool() {
     return pool;
 }
 
-//! "0,5,100": vertex indices, comma-separated (empty: none). Each must be a non-negative integer; whether it names a
-//! vertex is checked once the mesh is read (check_locked_vertices).
-std::optional<ApiError> read_locked_vertices(const std::string& text, std::vector<std::int64_t>& out) {
-    out.clear();
-    if (text.empty()) return std::nullopt;
-    for (std::size_t start = 0, k = 0;; ++k) {
-        const std::size_t comma = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, comma - start);
-        const std::string field = "locked_vertices[" + std::to_string(k) + "]";
-        std::int64_t value = -1;
-        const auto parsed = std::from_chars(item.data(), item.data() + item.size(), value);
-        if (item.empty() || parsed.ec != std::errc() || parsed.ptr != item.data() + item.size() || value < 0)
-            return make_problem(Problem::InvalidField,
-                                "query parameter locked_vertices: item " + std::to_string(k) + " (\"" + item +
-                                    "\") must be a non-negative integer vertex index (locked_vertices=0,5,100)",
-                                field);
-        out.push_back(value);
-        if (comma == text.size()) return std::nullopt;
-        start = comma + 1;
-    }
-}
-
 //! Every locked vertex must be a vertex of the mesh (422 naming locked_vertices[k]). Triangulation keeps the vertices
 //! and their order, so the indices mean the same after it.
 std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& locked, const PolygonMesh& mesh) {
@@ -70,61 +47,19 @@ std::optional<ApiError> check_locked_vertices(const std::vector<std::int64_t>& l
 }
 
 ApiResult<SimplifyParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(
-            query, {"target_faces", "ratio", "max_error", "lock_border", "restore_volume", "threads", "report_error",
-                    "locked_vertices", "repair", "format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
-
-    SimplifyParams params;
-    for (const auto& [name, text] : query) {
-        std::optional<ApiError> error;
-        if (name == "target_faces")
-            error = read_parameter(name, text, params.target_faces);
-        else if (name == "ratio")
-            error = read_parameter(name, text, params.ratio);
-        else if (name == "max_error")
-            error = read_parameter(name, text, params.max_error);
-        else if (name == "lock_border")
-            error = read_parameter(name, text, params.lock_border);
-        else if (name == "restore_volume")
-            error = read_parameter(name, text, params.restore_volume);
-        else if (name == "threads")
-            error = read_parameter(name, text, params.threads);
-        else if (name == "report_error")
-            error = read_parameter(name, text, params.report_error);
-        else if (name == "repair")
-            error = read_parameter(name, text, kRepairModeNames, params.repair);
-        else if (name == "locked_vertices")
-            error = read_locked_vertices(text, params.locked_vertices);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output)
-            error = std::move(output.error());
-        if (error) return std::move(*error);
-    }
-    return params;
+    auto values = options::read_query(*options::operation_options("simplify"), query);
+    if (!values) return std::move(values.error());
+    return options::simplify_params(values.value());
 }
 
+//! What the option table cannot say: that one stop criterion is needed, and output options that do not fit the
+//! format (ranges were checked as the options were read).
 std::optional<ApiError> check_params(const SimplifyParams& params, Source source) {
     if (!params.target_faces && !params.ratio && !params.max_error)
         return make_problem(Problem::InvalidField,
                             "one of target_faces, ratio or max_error is required (simplification stops at whichever "
                             "is reached first)",
                             "target_faces");
-    if (params.target_faces && *params.target_faces < 0)
-        return make_problem(Problem::InvalidField,
-                            "target_faces must be >= 0, got " + std::to_string(*params.target_faces), "target_faces");
-    if (params.ratio && !(*params.ratio > 0 && *params.ratio <= 1))
-        return make_problem(Problem::InvalidField, "ratio must be in (0, 1], got " + format_double(*params.ratio),
-                            "ratio");
-    if (params.max_error && !(*params.max_error >= 0))
-        return make_problem(Problem::InvalidField,
-                            "max_error must be a distance >= 0, got " + format_double(*params.max_error), "max_error");
-    if (!(params.restore_volume >= 0 && params.restore_volume <= 1))
-        return make_problem(Problem::InvalidField,
-                            "restore_volume must be in [0, 1], got " + format_double(params.restore_volume),
-                            "restore_volume");
-    if (params.threads != 1 && params.threads != 2)
-        return make_problem(Problem::InvalidField, "threads must be 1 or 2, got " + std::to_string(params.threads),
-                            "threads");
     return check_output_options(params.output, source);
 }
 

@@ -6,60 +6,27 @@
 #include "api/dto.h"
 #include "api/json_codec.h"
 #include "api/operations/request_forms.h"
+#include "api/options/mesh_params.h"
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::api::operations {
 namespace {
 
-//! Options of the raw-file form. Same names and values as the JSON form (output options unnested).
+//! Options of the raw-file form: the same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    if (auto error = check_query_names(query, {"scheme", "levels", "boundary", "crease_method", "triangle_rule",
-                                               "uv_interpolation", "loop_weights", "limit_surface", "max_faces",
-                                               "format", "compression", "quantize_position", "normals"}))
-        return std::move(*error);
-
-    SubdivideParams params;
-    for (const auto& [name, text] : query) {
-        std::optional<ApiError> error;
-        if (name == "scheme")
-            error = read_parameter(name, text, kSchemeNames, params.scheme);
-        else if (name == "levels") {
-            error = read_parameter(name, text, params.levels);
-            params.levels_given = true;
-        } else if (name == "crease_method")
-            error = read_parameter(name, text, kCreaseMethodNames, params.crease_method);
-        else if (name == "triangle_rule")
-            error = read_parameter(name, text, kTriangleRuleNames, params.triangle_rule);
-        else if (name == "loop_weights")
-            error = read_parameter(name, text, kLoopWeightNames, params.loop_weights);
-        else if (name == "uv_interpolation")
-            error = read_parameter(name, text, kUvInterpolationNames, params.uv_interpolation);
-        else if (name == "limit_surface")
-            error = read_parameter(name, text, params.limit_surface);
-        else if (name == "max_faces")
-            error = read_parameter(name, text, params.max_faces);
-        else if (name == "boundary")
-            error = read_parameter(name, text, kBoundaryNames, params.boundary);
-        else if (auto output = parse_output_parameter(name, text, params.output); !output)
-            error = std::move(output.error());
-        if (error) return std::move(*error);
-    }
-    return params;
+    auto values = options::read_query(*options::operation_options("subdivide"), query);
+    if (!values) return std::move(values.error());
+    return options::subdivide_params(values.value());
 }
 
-//! Range checks shared by both request forms. Field names: the JSON path (query parameters use the leaf name).
+//! What the option table cannot say: levels against this server's limit, and output options that do not fit the
+//! format. Field names: the JSON path (query parameters use the leaf name).
 std::optional<ApiError> check_params(const SubdivideParams& params, const Limits& limits, Source source) {
-    if (params.levels < 0)
-        return make_problem(Problem::InvalidField, "levels must be >= 0, got " + std::to_string(params.levels),
-                            "levels");
     if (params.levels > limits.max_levels)
         return make_problem(Problem::BudgetExceeded,
                             "levels is " + std::to_string(params.levels) + "; this server allows at most " +
                                 std::to_string(limits.max_levels),
                             "levels");
-    if (params.max_faces && *params.max_faces < 1)
-        return make_problem(Problem::InvalidField, "max_faces must be >= 1, got " + std::to_string(*params.max_faces),
-                            "max_faces");
     return check_output_options(params.output, source);
 }
 

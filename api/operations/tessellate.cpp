@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -11,6 +10,7 @@
 
 #include "api/dto.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 #include "api/patch_codec.h"
 #include "geometry/io/bez.h"
 #include "geometry/io/gltf.h"
@@ -24,8 +24,6 @@ namespace {
 constexpr std::int64_t kDefaultSegments = 8;
 constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
 constexpr std::string_view kObjMediaType = "model/obj";  // free-form cstype bezier surfaces
-constexpr std::string_view kQueryOptions[] = {"tolerance",   "segments",          "format",
-                                              "compression", "quantize_position", "normals"};
 
 std::string format_number(double value, const char* format = "%.3f") {
     char buf[64];
@@ -43,55 +41,13 @@ ApiError invalid_parameter(const std::string& name, const std::string& detail) {
     return make_problem(Problem::InvalidField, "query parameter " + name + " " + detail, name);
 }
 
-//! Options from query parameters (raw BEZ upload, GET /patches/{name}); same names as the JSON form.
-ApiResult<TessellateParams> params_from_query(const std::multimap<std::string, std::string>& query) {
-    for (const auto& [name, value] : query) {
-        if (std::find(std::begin(kQueryOptions), std::end(kQueryOptions), name) == std::end(kQueryOptions)) {
-            std::string allowed;
-            for (std::string_view option : kQueryOptions)
-                allowed += (allowed.empty() ? "" : ", ") + std::string(option);
-            return make_problem(Problem::UnknownParameter,
-                                "unknown query parameter \"" + name + "\" (allowed: " + allowed + ")", name);
-        }
-        if (query.count(name) > 1) return invalid_parameter(name, "is given more than once");
-    }
-    TessellateParams params;
-    for (const auto& [name, text] : query) {
-        const char* first = text.data();
-        const char* last = text.data() + text.size();
-        if (name == "tolerance") {
-            double value = 0;
-            const auto r = std::from_chars(first, last, value);
-            if (text.empty() || r.ec != std::errc() || r.ptr != last)
-                return invalid_parameter(name, "must be a number, got \"" + text + "\"");
-            params.tolerance = value;
-        } else if (name == "segments" || name == "quantize_position") {
-            std::int64_t value = 0;
-            const auto r = std::from_chars(first, last, value);
-            if (text.empty() || r.ec != std::errc() || r.ptr != last)
-                return invalid_parameter(name, "must be an integer, got \"" + text + "\"");
-            (name == "segments" ? params.segments : params.output.quantize_position) = value;
-        } else if (name == "normals") {
-            if (text == "true" || text == "1")
-                params.output.normals = true;
-            else if (text == "false" || text == "0")
-                params.output.normals = false;
-            else
-                return invalid_parameter(name, "must be true or false, got \"" + text + "\"");
-        } else if (name == "format") {
-            auto format = enum_from_name(kOutputFormatNames, text);
-            if (!format)
-                return invalid_parameter(name, ": unknown value \"" + text + "\" (allowed: \"glb\", \"obj\", \"ply\")");
-            params.output.format = *format;
-        } else if (name == "compression") {
-            auto draco = enum_from_name(kCompressionNames, text);
-            if (!draco)
-                return invalid_parameter(
-                    name, ": unknown value \"" + text + "\" (allowed: " + enum_names(kCompressionNames) + ")");
-            params.output.draco = *draco;
-        }
-    }
-    return params;
+//! Options from query parameters by the table of `operation`: "tessellate" (a raw BEZ or OBJ upload) or "patches"
+//! (GET /patches/{name}); the same names as the JSON form.
+ApiResult<TessellateParams> params_from_query(std::string_view operation,
+                                              const std::multimap<std::string, std::string>& query) {
+    auto values = options::read_query(*options::operation_options(operation), query);
+    if (!values) return std::move(values.error());
+    return tessellate_params(values.value());
 }
 
 //! {"patches":[{"degree":[m,n],"points":[[x,y,z],...]},...]}: the JSON form of POST /tessellate's body.
@@ -120,25 +76,20 @@ std::string patch_set_json(const PatchSet& set) {
 
 enum class Source { Json, Query };
 
-//! Range checks shared by every request form, before any work. Field names: the JSON path or the parameter name.
+//! What the option tables cannot say, for every request form, before any work: tolerance or segments, segments
+//! against this server's limit, output options that do not fit the format. Field names: the JSON path or the
+//! parameter name.
 std::optional<ApiError> check_params(const TessellateParams& params, const Limits& limits, Source source) {
     const auto output_field = [&](std::string_view leaf) {
         return (source == Source::Json ? "output." : "") + std::string(leaf);
     };
     if (params.tolerance && params.segments)
         return make_problem(Problem::InvalidField, "give either tolerance or segments, not both", "segments");
-    if (params.tolerance && !(std::isfinite(*params.tolerance) && *params.tolerance > 0))
-        return make_problem(Problem::InvalidField, "tolerance must be a finite number > 0", "tolerance");
-    if (params.segments) {
-        if (*params.segments < 1)
-            return make_problem(Problem::InvalidField, "segments must be >= 1, got " + std::to_string(*params.segments),
-                                "segments");
-        if (*params.segments > limits.max_patch_segments)
-            return make_problem(Problem::BudgetExceeded,
-                                "segments is " + std::to_string(*params.segments) + "; this server allows at most " +
-                                    std::to_string(limits.max_patch_segments) + " per patch direction",
-                                "segments");
-    }
+    if (params.segments && *params.segments > limits.max_patch_segments)
+        return make_problem(Problem::BudgetExceeded,
+                            "segments is " + std::to_string(*params.segments) + "; this server allows at most " +
+                                std::to_string(limits.max_patch_segments) + " per patch direction",
+                            "segments");
     const OutputOptions& out = params.output;
     const bool glb = out.format == OutputFormat::Glb;
     if (out.format != OutputFormat::Glb && out.format != OutputFormat::Obj && out.format != OutputFormat::Ply)
@@ -149,17 +100,10 @@ std::optional<ApiError> check_params(const TessellateParams& params, const Limit
     if (out.draco && !glb)
         return make_problem(Problem::InvalidField, "compression applies only to format \"glb\"",
                             output_field("compression"));
-    if (out.quantize_position) {
-        if (!glb || !out.draco.value_or(true))
-            return make_problem(Problem::InvalidField,
-                                "quantize_position applies only to format \"glb\" with compression \"draco\"",
-                                output_field("quantize_position"));
-        if (*out.quantize_position < 1 || *out.quantize_position > 30)
-            return make_problem(
-                Problem::InvalidField,
-                "quantize_position must be between 1 and 30 bits, got " + std::to_string(*out.quantize_position),
-                output_field("quantize_position"));
-    }
+    if (out.quantize_position && (!glb || !out.draco.value_or(true)))
+        return make_problem(Problem::InvalidField,
+                            "quantize_position applies only to format \"glb\" with compression \"draco\"",
+                            output_field("quantize_position"));
     return std::nullopt;
 }
 
@@ -266,7 +210,7 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
             make_problem(Problem::UnsupportedMediaType,
                          "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_media_types()));
     // options first: a file is not parsed for a request we would refuse anyway
-    auto params = params_from_query(request.query);
+    auto params = params_from_query("tessellate", request.query);
     if (!params) return error_response(std::move(params.error()));
     if (auto error = check_params(params.value(), limits, Source::Query)) return error_response(std::move(*error));
     Result<PatchSet> set = make_error(ErrorCode::Internal, "unread");
@@ -318,7 +262,7 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
         return error_response(make_problem(Problem::NotFound,
                                            "no built-in patch sample \"" + name + "\" (available: " + available + ")"));
     }
-    auto params = params_from_query(request.query);
+    auto params = params_from_query("patches", request.query);
     if (!params) return error_response(std::move(params.error()));
     // format=json: the sample's control points (the body POST /tessellate accepts), for editors that show the net.
     const bool control_points = params->output.format == OutputFormat::Json;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "geometry/core/format_number.h"
 #include "geometry/curves/de_casteljau.h"
 
 namespace surfaced {
@@ -303,9 +304,8 @@ Result<CurveTessellation> tessellate(const BezierCurve& curve, double tolerance,
         Piece piece = std::move(stack.back());
         stack.pop_back();
         if (total > max_segments)
-            return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(tolerance) +
-                                                             " needs more than " + std::to_string(max_segments) +
-                                                             " segments");
+            return make_error(ErrorCode::BudgetExceeded, "tolerance " + shortest_text(tolerance) + " needs more than " +
+                                                             std::to_string(max_segments) + " segments");
         const double width = piece.t1 - piece.t0;
         if (!curve.is_rational()) {
             const std::size_t whole = wang_segments(piece.curve, tolerance);
@@ -319,7 +319,7 @@ Result<CurveTessellation> tessellate(const BezierCurve& curve, double tolerance,
                 continue;
             }
             if (whole > max_segments)
-                return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(tolerance) +
+                return make_error(ErrorCode::BudgetExceeded, "tolerance " + shortest_text(tolerance) +
                                                                  " needs more than " + std::to_string(max_segments) +
                                                                  " segments");
             total += whole;
@@ -337,7 +337,7 @@ Result<CurveTessellation> tessellate(const BezierCurve& curve, double tolerance,
         }
     }
     if (total > max_segments)
-        return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(tolerance) + " needs more than " +
+        return make_error(ErrorCode::BudgetExceeded, "tolerance " + shortest_text(tolerance) + " needs more than " +
                                                          std::to_string(max_segments) + " segments");
 
     // 2. the polyline, in parameter order (pieces were pushed so that they pop left to right)

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "geometry/core/format_number.h"
+
 namespace surfaced {
 namespace {
 
@@ -276,7 +278,7 @@ Result<ChainTessellation> tessellate(const BezierChain& chain, const ChainTessel
         if (!piece) {
             GeoError e = piece.error();
             if (e.code == ErrorCode::BudgetExceeded)
-                e.message = "tolerance " + std::to_string(options.tolerance) + " needs more than " +
+                e.message = "tolerance " + shortest_text(options.tolerance) + " needs more than " +
                             std::to_string(options.max_segments) + " segments for the chain (at piece " +
                             std::to_string(i) + ")";
             else
@@ -299,7 +301,7 @@ Result<ChainTessellation> tessellate(const BezierChain& chain, const ChainTessel
         used += t.segments;
         if (used > options.max_segments)
             return make_error(ErrorCode::BudgetExceeded,
-                              "tolerance " + std::to_string(options.tolerance) + " needs more than " +
+                              "tolerance " + shortest_text(options.tolerance) + " needs more than " +
                                   std::to_string(options.max_segments) + " segments for the chain");
         out.max_deviation = std::max(out.max_deviation, t.max_deviation);
         out.bound = std::max(out.bound, t.bound);
@@ -307,7 +309,7 @@ Result<ChainTessellation> tessellate(const BezierChain& chain, const ChainTessel
     if (chain.closed && out.points.back() != out.points.front()) {
         if (used + 1 > options.max_segments)
             return make_error(ErrorCode::BudgetExceeded,
-                              "tolerance " + std::to_string(options.tolerance) + " needs more than " +
+                              "tolerance " + shortest_text(options.tolerance) + " needs more than " +
                                   std::to_string(options.max_segments) + " segments for the chain");
         // the closing joint has a gap: bridge it so that the polyline is closed
         out.points.push_back(out.points.front());

@@ -35,6 +35,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "geometry/core/format_number.h"
 #include "geometry/curves/de_casteljau.h"
 
 namespace surfaced {
@@ -569,7 +570,7 @@ Result<TessellationPlan> plan_tessellation(std::span<const BezierPatch> patches,
             if (!(need_u <= options.max_segments) || !(need_v <= options.max_segments)) {
                 GeoError error = make_error(
                     ErrorCode::BudgetExceeded,
-                    "patch " + std::to_string(p) + ": tolerance " + std::to_string(tolerance) + " needs " +
+                    "patch " + std::to_string(p) + ": tolerance " + shortest_text(tolerance) + " needs " +
                         std::to_string(static_cast<long long>(std::min(std::max(need_u, need_v), 1e15))) +
                         " segments along one direction; the limit is " + std::to_string(options.max_segments));
                 error.element = static_cast<std::int64_t>(p);

@@ -134,7 +134,7 @@ TEST(CurvesOperation, GltfOutputErrorsNameTheirField) {
     expect_problem(post("{" + curve + R"(, "output": {"format": "stl"}})"), 400, "invalid_field", "output.format");
     expect_problem(
         post("{" + curve + R"(, "tessellate": {"tolerance": 0.1}, "output": {"format": "glb", "normals": true}})"), 400,
-        "invalid_field", "output.normals");
+        "unknown_field", "output.normals");
 }
 
 TEST(CurvesOperation, PolylineWriterChecksItsInput) {

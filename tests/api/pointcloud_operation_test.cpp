@@ -267,6 +267,20 @@ TEST(PointcloudOperation, ErrorsNameTheFieldLineOrBudget) {
     }
 }
 
+TEST(PointcloudOperation, AllowedFormatsListedAreTheOnesThatWork) {
+    const auto problem = expect_problem(
+        post("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n", "application/ply", {{"format", "gltf"}}), 400,
+        "invalid_field");
+    EXPECT_EQ(problem.value("field", ""), "format");
+    const std::string detail = problem.value("detail", "");
+    EXPECT_NE(detail.find("(allowed: \"glb\", \"ply\", \"json\")"), std::string::npos) << detail;
+    expect_problem(post(R"({"points": [[0,0,0]], "estimate_normals": {"k": 300}})"), 400, "invalid_field",
+                   "estimate_normals.k");
+    expect_problem(post("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n", "application/ply",
+                        {{"estimate_normals", "true"}, {"k", "300"}}),
+                   400, "invalid_field", "k");
+}
+
 TEST(PointcloudOperation, BudgetsAreCheckedBeforeWork) {
     ApiContext context;
     context.limits.max_points = 3;

@@ -113,6 +113,9 @@ TEST(TessellateOperation, ErrorsNameTheField) {
 TEST(TessellateOperation, BudgetsBeforeWork) {
     expect_problem(post_json(std::string(kBilinear) + R"(,"segments":100000})"), 422, "budget_exceeded", "segments");
     expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":1e-12})"), 422, "budget_exceeded", "tolerance");
+    const auto fine =
+        expect_problem(post_json(std::string(kBilinear) + R"(,"tolerance":1e-12})"), 422, "budget_exceeded");
+    EXPECT_NE(fine.value("detail", "").find("tolerance 1e-12 needs"), std::string::npos) << fine.dump();
     ApiContext small;
     small.limits.max_output_faces = 100;
     expect_problem(post_json(std::string(kBilinear) + R"(,"segments":8})", small), 422, "budget_exceeded", "segments");
@@ -229,6 +232,22 @@ TEST(PatchSamples, TeapotWithETagAndNotModified) {
     EXPECT_EQ(other.status, 200);
     EXPECT_NE(header(other, "ETag"), etag);
     EXPECT_NE(header(get_sample("teapot", {{"tolerance", "0.02"}}), "ETag"), etag);
+}
+
+TEST(PatchSamples, OutOfRangeOptionsAre400NamingTheOption) {
+    // the glTF writer takes at most 24 bits: refused before any work, as every mesh operation refuses it
+    auto json = expect_problem(get_sample("teapot", {{"quantize_position", "25"}}), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "quantize_position");
+    EXPECT_NE(json.value("detail", "").find("[1, 24]"), std::string::npos) << json.dump();
+    expect_problem(post_json(std::string(kBilinear) + R"(,"output":{"quantize_position":25}})"), 400, "invalid_field",
+                   "output.quantize_position");
+    json = expect_problem(get_sample("teapot", {{"tolerance", "-1e-9"}}), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "tolerance");
+    EXPECT_NE(json.value("detail", "").find("got -1e-09"), std::string::npos) << json.dump();
+    // format json (the control points) is allowed here, so it is listed when a value is not
+    json = expect_problem(get_sample("teapot", {{"format", "gltf"}}), 400, "invalid_field");
+    EXPECT_EQ(json.value("field", ""), "format");
+    EXPECT_NE(json.value("detail", "").find("\"json\""), std::string::npos) << json.dump();
 }
 
 TEST(PatchSamples, Errors) {

@@ -1,0 +1,397 @@
+// The option tables of the operations (option_spec.h). Ranges here are the ones the readers enforce; the drift test
+// holds api/openapi.json to them.
+#include <algorithm>
+#include <vector>
+
+#include "api/dto.h"
+#include "api/operations/implicit_mesh.h"
+#include "api/options/option_spec.h"
+
+namespace surfaced::api::options {
+namespace {
+
+constexpr auto kOutputFormats = names_of(kOutputFormatNames);
+constexpr auto kCompressions = names_of(kCompressionNames);
+constexpr auto kRepairModes = names_of(kRepairModeNames);
+constexpr auto kSchemes = names_of(kSchemeNames);
+constexpr auto kBoundaries = names_of(kBoundaryNames);
+constexpr auto kCreaseMethods = names_of(kCreaseMethodNames);
+constexpr auto kTriangleRules = names_of(kTriangleRuleNames);
+constexpr auto kUvInterpolations = names_of(kUvInterpolationNames);
+constexpr auto kLoopWeights = names_of(kLoopWeightNames);
+constexpr auto kSmoothings = names_of(kRemeshSmoothingNames);
+
+constexpr Bound at_least(double v) { return Bound{v, false}; }
+constexpr Bound above(double v) { return Bound{v, true}; }
+constexpr Bound at_most(double v) { return Bound{v, false}; }
+
+// ---- the output of the operations that answer with a mesh (JSON: members of "output") ----------------------------
+// Each row once; an operation whose encoder offers fewer formats or another default composes its own list from them.
+constexpr OptionSpec kFormatOption{
+    .name = "format",
+    .type = OptionType::Enum,
+    .default_json = "\"glb\"",
+    .description = "Encoding of the result: binary or text glTF, OBJ, PLY, or the JSON mesh",
+    .values = kOutputFormats,
+    .json_object = "output"};
+constexpr OptionSpec kCompressionOption{.name = "compression",
+                                        .type = OptionType::Enum,
+                                        .default_json = "\"draco\"",
+                                        .description = "Draco mesh compression (glTF formats only)",
+                                        .values = kCompressions,
+                                        .json_object = "output"};
+// Draco itself takes up to 30 bits; the glTF writer stops at 24 (geometry/io/gltf_write.cpp kMaxQuantizationBits).
+constexpr OptionSpec kQuantizeOption{
+    .name = "quantize_position",
+    .type = OptionType::Integer,
+    .min = at_least(1),
+    .max = at_most(24),
+    .default_json = "14",
+    .units = "bits",
+    .description = "Draco position quantization (glTF formats with compression draco only)",
+    .json_object = "output"};
+constexpr OptionSpec kNormalsOption{
+    .name = "normals",
+    .type = OptionType::Bool,
+    .default_json = "false",
+    .description = "Write vertex normals (computed when the mesh has none); not with format json",
+    .json_object = "output"};
+
+constexpr OptionSpec kMeshOutput[] = {kFormatOption, kCompressionOption, kQuantizeOption, kNormalsOption};
+
+// Tessellated patches: glb, OBJ or PLY, with the patches' exact normals unless asked not to.
+constexpr std::string_view kPatchFormats[] = {"glb", "obj", "ply"};
+constexpr OptionSpec format_of(std::span<const std::string_view> values, std::string_view description) {
+    OptionSpec out = kFormatOption;
+    out.values = values;
+    out.description = description;
+    return out;
+}
+constexpr OptionSpec kPatchNormalsOption = [] {
+    OptionSpec out = kNormalsOption;
+    out.default_json = "true";
+    out.description = "Write the surface normals of the patches";
+    return out;
+}();
+constexpr OptionSpec kTessellateOutput[] = {format_of(kPatchFormats, "Encoding of the triangles: glb, OBJ or PLY"),
+                                            kCompressionOption, kQuantizeOption, kPatchNormalsOption};
+constexpr OptionSpec kRepairOption{
+    .name = "repair",
+    .type = OptionType::Enum,
+    .default_json = "\"auto\"",
+    .description = "Repair a mesh that is not manifold first (auto), or refuse it (none)",
+    .values = kRepairModes};
+
+constexpr std::string_view kMeshInput[] = {"mesh"};
+constexpr std::string_view kSubdivideInputs[] = {"mesh", "creases", "corners", "holes"};
+
+constexpr OptionSpec kSubdivide[] = {
+    {.name = "scheme",
+     .type = OptionType::Enum,
+     .default_json = "\"catmull-clark\"",
+     .description = "Subdivision scheme (loop needs triangles)",
+     .values = kSchemes},
+    {.name = "levels",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .max = at_most(8),
+     .max_is_limit = true,  // Limits::max_levels
+     .default_json = "1",
+     .description = "Subdivision levels; each multiplies the face count by about 4"},
+    {.name = "max_faces",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .description = "Use the largest level (up to levels, if given) whose output has at most this many faces"},
+    {.name = "boundary",
+     .type = OptionType::Enum,
+     .description = "Boundary interpolation; unset: the mesh's own tag, else edge-only",
+     .values = kBoundaries},
+    {.name = "crease_method",
+     .type = OptionType::Enum,
+     .default_json = "\"uniform\"",
+     .description = "How semi-sharp crease sharpness decays per level",
+     .values = kCreaseMethods},
+    {.name = "triangle_rule",
+     .type = OptionType::Enum,
+     .default_json = "\"catmark\"",
+     .description = "Catmull-Clark weights on triangles",
+     .values = kTriangleRules},
+    {.name = "uv_interpolation",
+     .type = OptionType::Enum,
+     .default_json = "\"corners-plus1\"",
+     .description = "Face-varying (UV) interpolation rule",
+     .values = kUvInterpolations},
+    {.name = "loop_weights",
+     .type = OptionType::Enum,
+     .default_json = "\"loop\"",
+     .description = "Loop vertex weights",
+     .values = kLoopWeights},
+    {.name = "limit_surface",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Project onto the limit surface; normals come from limit tangents"},
+};
+
+constexpr OptionSpec kSimplify[] = {
+    {.name = "target_faces",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .description = "Stop at this many faces (triangles)"},
+    {.name = "ratio",
+     .type = OptionType::Number,
+     .min = above(0),
+     .max = at_most(1),
+     .description = "Stop at this fraction of the input's triangles"},
+    {.name = "max_error",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .units = "model units",
+     .description = "Stop before the distance to the input exceeds this"},
+    {.name = "lock_border",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Boundary vertices keep their positions"},
+    {.name = "restore_volume",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(1),
+     .default_json = "0",
+     .description = "Fraction of the way each placement moves towards keeping the volume"},
+    {.name = "threads",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(2),
+     .default_json = "1",
+     .description = "Threads for the first phase of a large mesh"},
+    {.name = "report_error",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Measure the Hausdorff and RMS distances to the input"},
+    {.name = "locked_vertices",
+     .type = OptionType::List,
+     .min = at_least(0),
+     .description = "Vertex indices that never move or disappear"},
+    kRepairOption,
+};
+
+constexpr OptionSpec kRemesh[] = {
+    {.name = "edge_length",
+     .type = OptionType::Number,
+     .min = above(0),
+     .units = "model units",
+     .description = "Target edge length; unset: the input's mean edge length"},
+    {.name = "iterations",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .max = at_most(100),
+     .default_json = "10",
+     .description = "Rounds of split, collapse, flip and smooth"},
+    {.name = "feature_angle",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(180),
+     .default_json = "60",
+     .units = "degrees",
+     .description = "Edges whose dihedral angle exceeds this are kept as features (180: none)"},
+    {.name = "keep_boundary",
+     .type = OptionType::Bool,
+     .default_json = "true",
+     .description = "Boundary vertices and edges stay where they are"},
+    {.name = "smoothing",
+     .type = OptionType::Enum,
+     .default_json = "\"tangential\"",
+     .description = "How vertices move after each round",
+     .values = kSmoothings},
+    kRepairOption,
+};
+
+constexpr OptionSpec kRepair[] = {
+    {.name = "weld_tolerance",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "0",
+     .units = "model units",
+     .description = "Weld vertices closer than this (0: equal positions only)"},
+    {.name = "orient",
+     .type = OptionType::Bool,
+     .default_json = "true",
+     .description = "Orient every component consistently, outwards when closed"},
+    {.name = "min_component_faces",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .default_json = "0",
+     .description = "Drop components with fewer faces (0: keep all)"},
+    {.name = "max_hole_edges",
+     .type = OptionType::Integer,
+     .min = at_least(0),
+     .max = at_most(10'000),
+     .default_json = "0",
+     .description = "Fill holes with at most this many boundary edges (0: none)"},
+};
+
+// ---- Bezier patches: POST /tessellate (query or JSON) and GET /patches/{name} (query) -----------------------------
+constexpr std::string_view kPatchesInput[] = {"patches"};
+constexpr OptionSpec kTolerance{.name = "tolerance",
+                                .type = OptionType::Number,
+                                .min = above(0),
+                                .units = "model units",
+                                .description = "Largest distance between triangles and surface; excludes segments"};
+constexpr OptionSpec kSegments{.name = "segments",
+                               .type = OptionType::Integer,
+                               .min = at_least(1),
+                               .max = at_most(256),
+                               .max_is_limit = true,  // Limits::max_patch_segments
+                               .default_json = "8",
+                               .description = "Segments along each direction of every patch; excludes tolerance"};
+constexpr OptionSpec kTessellate[] = {kTolerance, kSegments};
+
+// GET /patches/{name}: the same options, as query parameters only; format json answers with the sample's control
+// points instead of a mesh.
+constexpr OptionSpec query_only(OptionSpec option) {
+    option.transports = kQuery;
+    return option;
+}
+constexpr std::string_view kPatchSampleFormats[] = {"glb", "obj", "ply", "json"};
+constexpr OptionSpec kPatchSample[] = {query_only(kTolerance), query_only(kSegments)};
+constexpr OptionSpec kPatchSampleOutput[] = {
+    query_only(
+        format_of(kPatchSampleFormats, "Encoding of the triangles (glb, OBJ, PLY), or json: the control points")),
+    query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kPatchNormalsOption)};
+
+// ---- POST /curves: a JSON body of curves and queries on them; its options are those of the output -----------------
+// (line strips: no normals, and Draco is defined for triangles and points only)
+constexpr std::string_view kCurveFormats[] = {"json", "glb", "gltf"};
+constexpr std::string_view kCurveCompressions[] = {"none"};
+constexpr OptionSpec kCurvesOutput[] = {
+    {.name = "format",
+     .type = OptionType::Enum,
+     .default_json = "\"json\"",
+     .description = "json: the answers to the queries; glb or gltf: the tessellation as line strips",
+     .values = kCurveFormats,
+     .transports = kJson,
+     .json_object = "output"},
+    {.name = "compression",
+     .type = OptionType::Enum,
+     .description = "Line strips are never compressed",
+     .values = kCurveCompressions,
+     .transports = kJson,
+     .json_object = "output"},
+};
+constexpr std::string_view kCurvesInputs[] = {"points",       "weights",     "chain",      "svg",        "bspline",
+                                              "evaluate",     "derivatives", "curvature",  "split",      "elevate",
+                                              "bounding_box", "length",      "closest",    "tessellate", "continuity",
+                                              "enforce_c1",   "to_bezier",   "insert_knot"};
+
+// ---- POST /implicit/mesh: a JSON body (the scene and its bounds, grid options, the mesh's output) ---------------
+constexpr auto kImplicitModes = names_of(operations::kImplicitMeshModeNames);
+constexpr OptionSpec json_only(OptionSpec option) {
+    option.transports = kJson;
+    return option;
+}
+constexpr std::string_view kImplicitMeshInputs[] = {"scene", "bounds"};
+constexpr OptionSpec kImplicitMesh[] = {
+    {.name = "resolution",
+     .type = OptionType::Integer,
+     .min = at_least(2),
+     .max = at_most(65536),
+     .default_json = "64",
+     .description = "Cells along the longest side of the bounds; excludes cell_size",
+     .transports = kJson},
+    {.name = "cell_size",
+     .type = OptionType::Number,
+     .min = above(0),
+     .units = "model units",
+     .description = "Cell size instead of a resolution",
+     .transports = kJson},
+    {.name = "mode",
+     .type = OptionType::Enum,
+     .default_json = "\"uniform\"",
+     .description = "Uniform grid, or adaptive octree with dual contouring",
+     .values = kImplicitModes,
+     .transports = kJson},
+    {.name = "simplify_tolerance",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "0",
+     .units = "model units",
+     .description = "Adaptive mode only: simplify to this measured distance (0: none)",
+     .transports = kJson},
+    {.name = "crease_angle",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(180),
+     .default_json = "40",
+     .units = "degrees",
+     .description = "Vertices where faces meet at more than this get a normal per side (output.normals)",
+     .transports = kJson},
+};
+constexpr OptionSpec kImplicitMeshOutput[] = {json_only(kFormatOption), json_only(kCompressionOption),
+                                              json_only(kQuantizeOption), json_only(kNormalsOption)};
+
+// ---- POST /pointcloud: a point file with query parameters, or a JSON body ---------------------------------------
+// In a JSON body estimate_normals is true, false or {"k": n}: the operation reads that member itself and checks k
+// against this table's row.
+constexpr std::string_view kPointFormats[] = {"glb", "ply", "json"};
+constexpr std::string_view kPointCloudInputs[] = {"points", "normals", "colors", "sample", "estimate_normals"};
+constexpr OptionSpec kPointCloud[] = {
+    {.name = "estimate_normals",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Estimate and orient normals from the k nearest neighbours",
+     .transports = kQuery},
+    {.name = "k",
+     .type = OptionType::Integer,
+     .min = at_least(3),
+     .max = at_most(256),
+     .default_json = "16",
+     .description = "Neighbours for normal estimation (with estimate_normals)",
+     .transports = kQuery},
+};
+constexpr OptionSpec kPointNormalsOption = [] {
+    OptionSpec out = kNormalsOption;
+    out.default_json = "true";
+    out.description = "false leaves normals out of the output";
+    return out;
+}();
+constexpr OptionSpec kPointCloudOutput[] = {format_of(kPointFormats, "Encoding of the points: glb, PLY or JSON"),
+                                            kCompressionOption, kQuantizeOption, kPointNormalsOption};
+
+constexpr OperationOptions kOperations[] = {
+    {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
+    {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
+    {"remesh", "/remesh", "post", kRemesh, kMeshOutput, kMeshInput},
+    {"repair", "/repair", "post", kRepair, kMeshOutput, kMeshInput},
+    {"tessellate", "/tessellate", "post", kTessellate, kTessellateOutput, kPatchesInput},
+    {"patches", "/patches/{name}", "get", kPatchSample, kPatchSampleOutput, {}},
+    {"pointcloud", "/pointcloud", "post", kPointCloud, kPointCloudOutput, kPointCloudInputs},
+    {"curves", "/curves", "post", {}, kCurvesOutput, kCurvesInputs},
+    {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
+};
+
+}  // namespace
+
+std::span<const OperationOptions> operations() { return kOperations; }
+
+const OperationOptions* operation_options(std::string_view operation) {
+    for (const auto& op : kOperations)
+        if (op.operation == operation) return &op;
+    return nullptr;
+}
+
+std::vector<const OptionSpec*> all_options(const OperationOptions& operation) {
+    std::vector<const OptionSpec*> out;
+    for (const auto& option : operation.options) out.push_back(&option);
+    for (const auto& option : operation.output) out.push_back(&option);
+    return out;
+}
+
+const OptionSpec* find_option(const OperationOptions& operation, std::string_view name) {
+    for (const OptionSpec* option_ptr : all_options(operation)) {
+        const OptionSpec& option = *option_ptr;
+        if (option.name == name) return &option;
+        if (std::find(option.aliases.begin(), option.aliases.end(), name) != option.aliases.end()) return &option;
+    }
+    return nullptr;
+}
+
+}  // namespace surfaced::api::options
