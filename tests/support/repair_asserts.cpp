@@ -48,7 +48,7 @@ std::size_t multi_fan_vertices(const PolygonMesh& mesh, const EdgeFaces& edges) 
     return bad;
 }
 
-std::size_t degenerate_faces(const PolygonMesh& mesh) {
+std::size_t zero_area_faces(const PolygonMesh& mesh) {
     std::size_t bad = 0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const auto face = mesh.face(f);
@@ -62,7 +62,7 @@ std::size_t degenerate_faces(const PolygonMesh& mesh) {
     return bad;
 }
 
-std::size_t duplicate_faces(const PolygonMesh& mesh) {
+std::size_t same_vertex_set_faces(const PolygonMesh& mesh) {
     std::set<std::vector<Index>> seen;
     std::size_t bad = 0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
@@ -110,8 +110,8 @@ void expect_repaired(const PolygonMesh& mesh, bool oriented) {
     EXPECT_EQ(repeated_directed_edges(mesh), 0u);
     const EdgeFaces edges = faces_by_edge(mesh);
     EXPECT_EQ(multi_fan_vertices(mesh, edges), 0u);
-    EXPECT_EQ(degenerate_faces(mesh), 0u);
-    EXPECT_EQ(duplicate_faces(mesh), 0u);
+    EXPECT_EQ(zero_area_faces(mesh), 0u);
+    EXPECT_EQ(same_vertex_set_faces(mesh), 0u);
     if (oriented) {
         for (double v : closed_component_volumes(mesh, edges))
             EXPECT_GT(v, -1e-12) << "a closed component is inside out";

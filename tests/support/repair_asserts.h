@@ -21,9 +21,9 @@ EdgeFaces faces_by_edge(const PolygonMesh& mesh);
 //! Vertices whose faces do not form one fan (connected through shared edges at the vertex).
 std::size_t multi_fan_vertices(const PolygonMesh& mesh, const EdgeFaces& edges);
 //! Faces with a repeated vertex or a zero vector area.
-std::size_t degenerate_faces(const PolygonMesh& mesh);
+std::size_t zero_area_faces(const PolygonMesh& mesh);
 //! Faces with the same vertex set as an earlier face.
-std::size_t duplicate_faces(const PolygonMesh& mesh);
+std::size_t same_vertex_set_faces(const PolygonMesh& mesh);
 //! Directed edges (a -> b) that more than one face traverses.
 std::size_t repeated_directed_edges(const PolygonMesh& mesh);
 //! Signed volumes of the closed components (faces connected through shared edges, no boundary edge).
