@@ -161,41 +161,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     return response;
 }
 
-ApiResponse run_from_file(std::string_view file_json, const ImplicitMeshOverrides& overrides,
-                          const ApiContext& context) {
-    Json root;
-    if (auto error = json::parse(file_json, root)) return error_response(std::move(*error));
-    if (!root.is_object())
-        return error_response(json::invalid("", "the file must hold a JSON object {\"scene\": ..., \"bounds\": ...}"));
-    if (overrides.resolution || overrides.cell_size) {
-        root.erase("resolution");
-        root.erase("cell_size");
-    }
-    if (overrides.resolution) root["resolution"] = *overrides.resolution;
-    if (overrides.cell_size) root["cell_size"] = *overrides.cell_size;
-    if (overrides.mode) root["mode"] = *overrides.mode;
-    if (overrides.simplify_tolerance) root["simplify_tolerance"] = *overrides.simplify_tolerance;
-    const OutputOptions& out = overrides.output;
-    Json output = {{"format", std::string(enum_name(kOutputFormatNames, out.format))}};
-    if (out.draco) output["compression"] = std::string(enum_name(kCompressionNames, *out.draco));
-    if (out.quantize_position) output["quantize_position"] = *out.quantize_position;
-    if (out.normals) output["normals"] = *out.normals;
-    root["output"] = std::move(output);
-    const std::string body = root.dump();
-    ApiRequest request;
-    request.method = "POST";
-    request.path = "/implicit/mesh";
-    request.content_type = "application/json";
-    request.body = body;
-    return run(request, context);
-}
-
 }  // namespace
-
-ApiResponse implicit_mesh_from_file(std::string_view file_json, const ImplicitMeshOverrides& overrides,
-                                    const ApiContext& context) noexcept {
-    return guarded([&] { return run_from_file(file_json, overrides, context); });
-}
 
 ApiResponse implicit_mesh(const ApiRequest& request, const ApiContext& context) noexcept {
     return guarded([&] { return run(request, context); });

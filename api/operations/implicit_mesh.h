@@ -17,10 +17,7 @@
 // X-Output-Faces, X-Elapsed-Ms, Server-Timing.
 #pragma once
 
-#include <cstdint>
-#include <optional>
 #include <string>
-#include <string_view>
 
 #include "api/dto.h"
 #include "api/operation.h"
@@ -35,21 +32,5 @@ inline constexpr EnumName<implicit::MeshFieldMode> kImplicitMeshModeNames[] = {
 };
 
 ApiResponse implicit_mesh(const ApiRequest& request, const ApiContext& context) noexcept;
-
-//! Command-line options laid over a request file (`surfaced implicit SCENE.json -o OUT ...`). Unset members keep the
-//! file's value; `output` always replaces the file's (it follows OUT's extension).
-struct ImplicitMeshOverrides {
-    std::optional<std::int64_t> resolution;  //!< replaces the file's resolution / cell_size
-    std::optional<double> cell_size;         //!< replaces the file's resolution / cell_size
-    std::optional<std::string> mode;
-    std::optional<double> simplify_tolerance;
-    OutputOptions output;
-};
-
-//! `file_json` is a POST /implicit/mesh body ({"scene", "bounds", ...}); the overrides are merged into it and the
-//! result goes through implicit_mesh(), so the CLI and the service share one code path. A file that is not such a
-//! JSON object gets the operation's own 400 (invalid_json with the byte offset, or invalid_field).
-ApiResponse implicit_mesh_from_file(std::string_view file_json, const ImplicitMeshOverrides& overrides,
-                                    const ApiContext& context) noexcept;
 
 }  // namespace surfaced::api::operations

@@ -11,6 +11,7 @@
 
 #include "api/json_util.h"
 #include "api/operations/request_forms.h"
+#include "api/options/option_reader.h"
 #include "api/scene_codec.h"
 #include "geometry/implicit/query.h"
 
@@ -41,26 +42,21 @@ const char* kind_name(implicit::FieldKind kind) {
     return "general";
 }
 
-//! max_steps and max_distance for the rays (budgets: Limits::max_ray_steps).
-std::optional<ApiError> read_ray_options(const Json& root, const Limits& limits, implicit::RayOptions& options) {
+//! max_steps and max_distance for the rays, read by the option table; max_steps against Limits::max_ray_steps.
+std::optional<ApiError> read_ray_options(const options::OptionValues& values, const Limits& limits,
+                                         implicit::RayOptions& options) {
     options.max_steps = std::min(1000, limits.max_ray_steps);
-    if (auto it = root.find("max_steps"); it != root.end()) {
-        auto n = read_integer(*it, "max_steps");
-        if (!n) return std::move(n.error());
-        if (n.value() < 1) return invalid("max_steps", "max_steps must be >= 1");
-        if (n.value() > limits.max_ray_steps)
+    if (values.has("max_steps")) {
+        std::int64_t steps = 0;
+        values.get("max_steps", steps);
+        if (steps > limits.max_ray_steps)
             return make_problem(
                 Problem::BudgetExceeded,
-                "max_steps is " + std::to_string(n.value()) + "; the limit is " + std::to_string(limits.max_ray_steps),
+                "max_steps is " + std::to_string(steps) + "; the limit is " + std::to_string(limits.max_ray_steps),
                 "max_steps");
-        options.max_steps = static_cast<int>(n.value());
+        options.max_steps = static_cast<int>(steps);
     }
-    if (auto it = root.find("max_distance"); it != root.end()) {
-        auto d = read_number(*it, "max_distance");
-        if (!d) return std::move(d.error());
-        if (!(d.value() > 0)) return invalid("max_distance", "max_distance must be > 0");
-        options.max_distance = d.value();
-    }
+    values.get("max_distance", options.max_distance);
     return std::nullopt;
 }
 
@@ -120,8 +116,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     Json root;
     if (auto error = parse(request.body, root)) return error_response(std::move(*error));
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
-    if (auto error = check_members(root, "", {"scene", "points", "tolerance", "rays", "max_distance", "max_steps"}))
-        return error_response(std::move(*error));
+    const auto& spec = *options::operation_options("implicit_query");
+    if (auto error = check_members(root, "", options::json_members(spec))) return error_response(std::move(*error));
+    auto values = options::read_json(spec, root);
+    if (!values) return error_response(std::move(values.error()));
 
     // Budgets and shapes first, before the scene is built or evaluated.
     const auto points_it = root.find("points");
@@ -143,15 +141,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                                            point_count > ray_count ? "points" : "rays"));
     implicit::RayOptions ray_options;
     ray_options.cancel = context.cancel;
-    if (auto error = read_ray_options(root, limits, ray_options)) return error_response(std::move(*error));
+    if (auto error = read_ray_options(values.value(), limits, ray_options)) return error_response(std::move(*error));
     implicit::PointQueryOptions point_options;
     point_options.cancel = context.cancel;
-    if (auto it = root.find("tolerance"); it != root.end()) {
-        auto t = read_number(*it, "tolerance");
-        if (!t) return error_response(std::move(t.error()));
-        if (t.value() < 0) return error_response(invalid("tolerance", "tolerance must be >= 0"));
-        point_options.tolerance = t.value();
-    }
+    values->get("tolerance", point_options.tolerance);
 
     std::vector<Vec3> points;
     points.reserve(point_count);

@@ -328,6 +328,32 @@ constexpr OptionSpec kImplicitMesh[] = {
 constexpr OptionSpec kImplicitMeshOutput[] = {json_only(kFormatOption), json_only(kCompressionOption),
                                               json_only(kQuantizeOption), json_only(kNormalsOption)};
 
+// ---- POST /implicit/query: a JSON body (the scene, points and rays, and how they are queried) --------------------
+constexpr std::string_view kImplicitQueryInputs[] = {"scene", "points", "rays"};
+constexpr OptionSpec kImplicitQuery[] = {
+    {.name = "tolerance",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "1e-06",
+     .description = "Points where |f| is at most this are on the surface",
+     .transports = kJson},
+    {.name = "max_distance",
+     .type = OptionType::Number,
+     .min = above(0),
+     .default_json = "100",
+     .units = "model units",
+     .description = "Farthest distance along a ray that is searched",
+     .transports = kJson},
+    {.name = "max_steps",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(10'000),
+     .max_is_limit = true,  // Limits::max_ray_steps
+     .default_json = "1000",
+     .description = "Field evaluations per ray (a ray that runs out is a miss)",
+     .transports = kJson},
+};
+
 // ---- POST /pointcloud: a point file with query parameters, or a JSON body ---------------------------------------
 // In a JSON body estimate_normals is true, false or {"k": n}: the operation reads that member itself and checks k
 // against this table's row.
@@ -366,6 +392,7 @@ constexpr OperationOptions kOperations[] = {
     {"pointcloud", "/pointcloud", "post", kPointCloud, kPointCloudOutput, kPointCloudInputs},
     {"curves", "/curves", "post", {}, kCurvesOutput, kCurvesInputs},
     {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
+    {"implicit_query", "/implicit/query", "post", kImplicitQuery, {}, kImplicitQueryInputs},
 };
 
 }  // namespace

@@ -88,9 +88,6 @@ CheckValue integer(long long min, long long max) {
     };
 }
 CheckValue real() { return checked_real; }
-CheckValue any_text() {
-    return [](std::string_view, const std::string& text) { return text; };
-}
 
 CheckValue one_of_names(std::vector<std::string_view> allowed) {
     return [allowed = std::move(allowed)](std::string_view option, const std::string& text) {
@@ -100,8 +97,8 @@ CheckValue one_of_names(std::vector<std::string_view> allowed) {
     };
 }
 
-Option flag(std::string_view name, std::string_view param, std::string_view value) {
-    return Option{name, param, nullptr, value};
+Option flag(std::string name, std::string param, std::string value) {
+    return Option{.name = std::move(name), .param = std::move(param), .switch_value = std::move(value)};
 }
 
 std::optional<std::string> Parsed::option_for_field(std::string_view field) const {
@@ -136,16 +133,26 @@ std::optional<Parsed> parse_file_command(Args& args, const std::string& command,
         }
         for (const Option& option : options)
             if (arg == option.name) {
-                parsed.given[arg] = option.check ? option.check(arg, args.value(arg, inline_value)) : std::string();
-                std::string field(option.param);
-                if (field.empty())
+                std::string value;
+                if (option.check) try {
+                        value = option.check(arg, args.value(arg, inline_value));
+                    } catch (const UsageError& e) {
+                        throw UsageError{command + " " + e.message};
+                    }
+                if (option.param.empty()) {
+                    parsed.given[arg] = value;
+                    std::string field;
                     for (const char c : option.name.substr(2)) field += c == '-' ? '_' : c;
-                parsed.option_by_field[field] = arg;
+                    parsed.option_by_field[field] = arg;
+                } else {
+                    parsed.params[option.param] = option.check ? value : option.switch_value;
+                    parsed.option_by_field[option.param] = arg;
+                }
                 return true;
             }
         if (arg.starts_with("-") && arg != "-") {
             std::vector<std::string_view> known = {"--output", "--format", "--help"};
-            for (const Option& option : options) known.push_back(option.name);
+            for (const Option& option : options) known.emplace_back(option.name);
             throw unknown_option(command, arg, known);
         }
         if (!parsed.input.empty())

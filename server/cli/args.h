@@ -1,5 +1,5 @@
-// The command line's vocabulary: usage errors and exit codes, the argument reader, the option tables of the file
-// commands (an option, its check, the query parameter it becomes) and the parser they share.
+// The command line's vocabulary: usage errors and exit codes, the argument reader, the options of the file commands
+// (an option, its check, the operation option it sets) and the parser they share.
 #pragma once
 
 #include <charconv>
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "api/dto.h"
+#include "api/options/option_spec.h"
 
 namespace surfaced::cli {
 
@@ -63,16 +64,6 @@ UsageError unknown_value(std::string_view option, const std::string& text,
 //! "--levle" (did you mean --levels?)".
 UsageError unknown_option(std::string_view command, const std::string& arg, const std::vector<std::string_view>& known);
 
-template <class E, std::size_t N>
-std::string checked_enum(std::string_view name, const std::string& text, const api::EnumName<E> (&table)[N]) {
-    if (!api::enum_from_name(table, text)) {
-        std::vector<std::string_view> allowed;
-        for (const auto& entry : table) allowed.push_back(entry.name);
-        throw unknown_value(name, text, allowed);
-    }
-    return text;
-}
-
 //! The option loop of every command: splits "--name=value" and hands each argument to `handle(arg, inline_value)`,
 //! which takes the value it needs (Args::value); a value left over is an error ("--normals=yes"). `handle` returns
 //! false when the command is done (it printed its help); so does this.
@@ -99,34 +90,38 @@ std::string checked_real(std::string_view name, const std::string& text);
 
 CheckValue integer(long long min, long long max);
 CheckValue real();
-CheckValue any_text();
 //! One of `allowed` (for choices that have no table in api/dto.h).
 CheckValue one_of_names(std::vector<std::string_view> allowed);
 
-template <class E, std::size_t N>
-CheckValue one_of(const api::EnumName<E> (&table)[N]) {
-    return [&table](std::string_view option, const std::string& text) { return checked_enum(option, text, table); };
-}
-
-//! An option of a file command: "--name VALUE" (checked by `check`), or a switch "--name" (no `check`).
+//! An option of a command: "--name VALUE" (checked by `check`), or a switch "--name" (no `check`). The options of
+//! an operation's table are generated from it (table_options.h); the others are written by hand.
 struct Option {
-    std::string_view name;
-    //! The query parameter it becomes (a switch's value is `switch_value`); empty: the command reads it itself.
-    std::string_view param;
-    CheckValue check;
-    std::string_view switch_value = "true";
+    std::string name{};  //!< "--levels"
+    //! The operation option it sets (its name in the table: the query parameter or JSON member it becomes); empty:
+    //! the command reads it itself.
+    std::string param{};
+    CheckValue check{};
+    std::string switch_value = "true";  //!< what a switch sets `param` to
+    //! The table row of `param`, for generated options (their help comes from it).
+    const api::options::OptionSpec* spec = nullptr;
+    //! A deprecated spelling: the flag to use instead ("--compression none"); listed apart in the help.
+    std::string replaced_by{};
+    //! Hand-written help: "--bounds X0,Y0,Z0,X1,Y1,Z1" and its description (generated options have none).
+    std::string synopsis{}, description{};
 };
 
-//! A switch: "--name" (no value) gives query parameter `param`, if any, the value `value`.
-Option flag(std::string_view name, std::string_view param = "", std::string_view value = "true");
+//! A switch: "--name" (no value) gives `param`, if any, the value `value`.
+Option flag(std::string name, std::string param = "", std::string value = "true");
 
 //! The arguments of `COMMAND IN -o OUT [options]`: the options given, each with its last (checked) value.
 struct Parsed {
     std::string command;
     std::string input, output;
-    std::map<std::string, std::string, std::less<>> given;  //!< by option name; "" for switches
-    //! The options given, by the request field or query parameter they set: the parameter they become, else their
-    //! name without "--" and with '_' for '-' ("--cell-size": "cell_size"). A 400 problem about one of these is a
+    //! The options the command reads itself, by flag ("--bounds"), with their values ("" for switches).
+    std::map<std::string, std::string, std::less<>> given;
+    //! The operation's options given, by their names in its table, with the values to send ("true" for a switch).
+    std::map<std::string, std::string, std::less<>> params;
+    //! The flag given for each request field ("format", "levels", "cell_size"): a 400 problem about one of these is a
     //! bad value on the command line.
     std::map<std::string, std::string, std::less<>> option_by_field;
 
@@ -135,6 +130,11 @@ struct Parsed {
     std::optional<std::string> option_for_field(std::string_view field) const;
 
     bool has(std::string_view name) const { return given.find(name) != given.end(); }
+    //! The value given to the operation's option `name` (its table name), if any.
+    std::optional<std::string> param(std::string_view name) const {
+        const auto it = params.find(name);
+        return it == params.end() ? std::nullopt : std::optional<std::string>(it->second);
+    }
     //! IN "-": standard input; OUT "-": standard output, and then the reports go to stderr.
     bool from_stdin() const { return input == "-"; }
     bool to_stdout() const { return output == "-"; }
@@ -149,7 +149,8 @@ struct Parsed {
 
 //! Parses the arguments of a file command against its `options`, with the wording every command shares: -h/--help
 //! prints `help` (nullopt: the command is done), -o/--output, --format (the output format; see output_format()),
-//! unknown options, one IN (`input_name` when missing), OUT required. IN and OUT may be "-".
+//! unknown options, one IN (`input_name` when missing), OUT required. IN and OUT may be "-". A value that fails its
+//! check is a UsageError naming the command and the option.
 std::optional<Parsed> parse_file_command(Args& args, const std::string& command, std::string_view help,
                                          const std::vector<Option>& options,
                                          const std::string& input_name = "input file");

@@ -93,9 +93,11 @@ MeshFormat sniff_mesh_format(std::string_view bytes) {
         "ply, stl, glb, gltf)"};
 }
 
-api::OutputFormat output_format(const Parsed& parsed, std::initializer_list<api::OutputFormat> allowed) {
+api::OutputFormat output_format(const Parsed& parsed, const api::options::OperationOptions& operation) {
     std::vector<std::string_view> names;
-    for (const api::OutputFormat format : allowed) names.push_back(api::enum_name(api::kOutputFormatNames, format));
+    if (const auto* format = api::options::find_option(operation, "format"))
+        for (const std::string_view name : format->values)
+            if (api::enum_from_name(api::kOutputFormatNames, name)) names.push_back(name);
     std::string listed, extensions;  // "obj ply", ".obj .ply"
     for (const std::string_view name : names) {
         listed += (listed.empty() ? "" : " ") + std::string(name);
@@ -104,22 +106,18 @@ api::OutputFormat output_format(const Parsed& parsed, std::initializer_list<api:
     std::string name;
     if (parsed.has("--format")) {
         name = parsed.value("--format");
-        if (std::find(names.begin(), names.end(), name) == names.end()) throw unknown_value("--format", name, names);
+        if (std::find(names.begin(), names.end(), name) == names.end())
+            throw unknown_value(parsed.command + " --format", name, names);
     } else if (parsed.to_stdout()) {
         throw UsageError{parsed.command + ": -o - (standard output) needs --format (" + listed + ")"};
     } else {
         name = lower_extension(parsed.output);
         if (name.starts_with(".")) name.erase(0, 1);
         if (std::find(names.begin(), names.end(), name) == names.end())
-            throw UsageError{"cannot tell the output format of " + parsed.output + " from its extension (use " +
-                             extensions + ", or --format)"};
+            throw UsageError{parsed.command + ": cannot tell the output format of " + parsed.output +
+                             " from its extension (use " + extensions + ", or --format)"};
     }
     return *api::enum_from_name(api::kOutputFormatNames, name);
-}
-
-api::OutputFormat mesh_output_format(const Parsed& parsed) {
-    using enum api::OutputFormat;
-    return output_format(parsed, {Obj, Ply, Glb, Gltf, Json});
 }
 
 bool is_gltf(api::OutputFormat format) { return format == api::OutputFormat::Glb || format == api::OutputFormat::Gltf; }

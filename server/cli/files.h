@@ -1,12 +1,12 @@
 // Files and formats: reading and writing whole files, and the formats their extensions name.
 #pragma once
 
-#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "api/dto.h"
+#include "api/options/option_spec.h"
 #include "geometry/io/mesh_io.h"
 #include "server/cli/args.h"
 
@@ -27,9 +27,10 @@ std::optional<MeshFormat> mesh_input_format(const Parsed& parsed);
 //! The format of a mesh read from standard input, as the service sniffs an application/octet-stream upload.
 MeshFormat sniff_mesh_format(std::string_view bytes);
 
-//! The output format: --format if given, else OUT's extension ("-o -" needs --format); one of `allowed`.
-api::OutputFormat output_format(const Parsed& parsed, std::initializer_list<api::OutputFormat> allowed);
-api::OutputFormat mesh_output_format(const Parsed& parsed);
+//! The output format: --format if given, else OUT's extension ("-o -" needs --format), one of the values of the
+//! `format` row of `operation`'s table; the extension ".EXT" names the format whose name (api::kOutputFormatNames)
+//! is EXT.
+api::OutputFormat output_format(const Parsed& parsed, const api::options::OperationOptions& operation);
 
 bool is_gltf(api::OutputFormat format);
 

@@ -1,4 +1,5 @@
-// `surfaced implicit`: a scene file meshed through POST /implicit/mesh, with the command's options laid over it.
+// `surfaced implicit`: a scene file meshed through POST /implicit/mesh, with the command's options (the operation's
+// table, table_options.h) laid over it.
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -7,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "api/operations/implicit_mesh.h"
 #include "server/cli/commands.h"
 #include "server/cli/requests.h"
+#include "server/cli/table_options.h"
 
 namespace surfaced::cli {
 namespace {
@@ -21,22 +22,10 @@ Meshes the zero level set of an implicit scene inside its bounds, through the sa
 (dual marching cubes with QEF vertices: closed, manifold, consistently oriented, sharp edges kept). Where the
 surface meets the bounds it is closed by flat caps. SCENE.json (- for standard input) is a request body:
   {"scene": {"op": "difference", "args": [...]}, "bounds": [[x0,y0,z0],[x1,y1,z1]], "resolution": 64}
-or the scene alone, {"op": "difference", "args": [...]}, with --bounds.
-  OUT: .obj .ply .glb .gltf .json
+or the scene alone, {"op": "difference", "args": [...]}, with --bounds. The options below replace the file's
+members (--resolution and --cell-size both of its grid members); the defaults are those of a body without them.
+OUT: a --format name; the output options of the file are replaced by those given here.
 
-Options:
-  -o, --output OUT            output file (required); - for standard output
-  --format F                  output format instead of OUT's extension: obj ply glb gltf json (needed with -o -)
-  --bounds X0,Y0,Z0,X1,Y1,Z1  the box to mesh in (default: the file's; required for a scene alone)
-  --resolution N              cells along the longest side of the bounds (default: the file's, else 64)
-  --cell-size H               cell size instead of a resolution
-  --mode M                    uniform (default) or adaptive (skips empty space: cost follows the surface)
-  --simplify-tolerance T      adaptive only: QEM-simplify flat regions to this Hausdorff distance
-  --max-grid-cells N          refuse larger grids (default 16777216)
-  --no-draco                  write uncompressed glTF (.glb, .gltf)
-  --quantize-position BITS    Draco position quantization, 1..24 (default 14; .glb/.gltf only)
-  --normals                   also write vertex normals (.glb .gltf .obj .ply)
-  -h, --help                  this text
 )";
 
 //! --bounds: six numbers, the minimum corner then the maximum one (the operation checks that min < max).
@@ -50,24 +39,54 @@ std::string checked_bounds(std::string_view option, const std::string& text) {
     return text;
 }
 
-//! The POST /implicit/mesh body of SCENE.json: a request body as it is, or a scene alone (an object with "op" and
-//! no "scene") as the request's "scene"; --bounds replaces the file's bounds or gives a bare scene its own. A file
-//! that is not a JSON object goes to the operation unchanged, which reports where it breaks.
-std::string implicit_request_body(const std::string& bytes, const Parsed& parsed) {
+//! The JSON value of a table option given on the command line as `text` (checked by its flag).
+nlohmann::json json_value(const api::options::OptionSpec& spec, const std::string& text) {
+    using api::options::OptionType;
+    switch (spec.type) {
+        case OptionType::Integer: return std::stoll(text);
+        case OptionType::Number: return std::stod(text);
+        case OptionType::Bool: return text == "true";
+        case OptionType::Enum: return text;
+        case OptionType::List: {
+            nlohmann::json items = nlohmann::json::array();
+            std::istringstream in(text);
+            for (std::string item; std::getline(in, item, ',');) items.push_back(std::stoll(item));
+            return items;
+        }
+    }
+    return text;
+}
+
+//! The POST /implicit/mesh body of SCENE.json with the command's options laid over it: a request body, or a scene
+//! alone (an object with "op" and no "scene") as the request's "scene"; --bounds replaces the file's bounds or gives
+//! a bare scene its own; --resolution and --cell-size replace both grid members; "output" is the command's (format
+//! from OUT). A file that is not a JSON object goes to the operation unchanged, which reports where it breaks.
+std::string implicit_request_body(const std::string& bytes, const Parsed& parsed,
+                                  const api::options::OperationOptions& operation, api::OutputFormat format) {
     nlohmann::json doc = nlohmann::json::parse(bytes, nullptr, false);
     if (doc.is_discarded() || !doc.is_object()) return bytes;
-    const bool bare_scene = !doc.contains("scene") && doc.contains("op");
-    if (!bare_scene && !parsed.has("--bounds")) return bytes;  // unchanged, so that errors keep their offsets
-    if (bare_scene) {
+    if (!doc.contains("scene") && doc.contains("op")) {
         if (!parsed.has("--bounds"))
             throw UsageError{"implicit: " + parsed.input_label() +
                              " is a scene alone (no \"scene\" member): give --bounds xmin,ymin,zmin,xmax,ymax,zmax"};
         doc = nlohmann::json{{"scene", std::move(doc)}};
     }
-    std::vector<double> v;
-    std::istringstream in(parsed.value("--bounds"));
-    for (std::string number; std::getline(in, number, ',');) v.push_back(std::stod(number));
-    doc["bounds"] = nlohmann::json::array({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
+    if (parsed.has("--bounds")) {
+        std::vector<double> v;
+        std::istringstream in(parsed.value("--bounds"));
+        for (std::string number; std::getline(in, number, ',');) v.push_back(std::stod(number));
+        doc["bounds"] = nlohmann::json::array({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
+    }
+    if (parsed.param("resolution") || parsed.param("cell_size")) {
+        doc.erase("resolution");
+        doc.erase("cell_size");
+    }
+    doc["output"] = {{"format", std::string(api::enum_name(api::kOutputFormatNames, format))}};
+    for (const auto& [name, text] : parsed.params) {
+        const api::options::OptionSpec& spec = table_option(operation, name);
+        nlohmann::json& container = spec.json_object.empty() ? doc : doc[std::string(spec.json_object)];
+        container[name] = json_value(spec, text);
+    }
     return doc.dump();
 }
 
@@ -75,41 +94,30 @@ std::string implicit_request_body(const std::string& bytes, const Parsed& parsed
 
 int implicit(Args& args) {
     api::ApiContext context = file_context();
-    const std::vector<Option> options = {
-        {"--bounds", "", checked_bounds},
-        {"--resolution", "", integer(2, 65536)},
-        {"--cell-size", "", real()},
-        {"--mode", "", one_of_names({"uniform", "adaptive"})},
-        {"--simplify-tolerance", "", real()},
-        {"--max-grid-cells", "", integer(1, 1'000'000'000'000LL)},
-        {"--quantize-position", "", integer(1, 24)},
-        flag("--no-draco"),
-        flag("--normals"),
-    };
-    const auto parsed = parse_file_command(args, "implicit", kImplicitHelp, options, "SCENE.json");
+    const api::options::OperationOptions& operation = *api::options::operation_options("implicit_mesh");
+    std::vector<Option> options = table_options(operation, api::options::kJson);
+    options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
+    options.push_back(Option{.name = "--bounds",
+                             .check = checked_bounds,
+                             .synopsis = "--bounds X0,Y0,Z0,X1,Y1,Z1",
+                             .description = "the box to mesh in (default: the file's; required for a scene alone)"});
+    options.push_back(Option{.name = "--max-grid-cells",
+                             .check = integer(1, 1'000'000'000'000LL),
+                             .synopsis = "--max-grid-cells N",
+                             .description = "refuse larger grids (default 16777216)"});
+    const auto parsed = parse_file_command(
+        args, "implicit", std::string(kImplicitHelp) + options_help(operation, options), options, "SCENE.json");
     if (!parsed) return kExitOk;
-    if (parsed->has("--resolution") && parsed->has("--cell-size"))
-        throw UsageError{"give --resolution or --cell-size, not both"};
-    const api::OutputFormat out_format = mesh_output_format(*parsed);
-    check_mesh_output_options(*parsed, out_format);
-    // The overrides implicit_mesh_from_file lays over the file's request.
-    api::operations::ImplicitMeshOverrides overrides;
-    if (parsed->has("--resolution")) overrides.resolution = std::stoll(parsed->value("--resolution"));
-    if (parsed->has("--cell-size")) overrides.cell_size = std::stod(parsed->value("--cell-size"));
-    if (parsed->has("--mode")) overrides.mode = parsed->value("--mode");
-    if (parsed->has("--simplify-tolerance"))
-        overrides.simplify_tolerance = std::stod(parsed->value("--simplify-tolerance"));
+    if (parsed->param("resolution") && parsed->param("cell_size"))
+        throw UsageError{"implicit: give --resolution or --cell-size, not both"};
+    const api::OutputFormat out_format = output_format(*parsed, operation);
     if (parsed->has("--max-grid-cells")) context.limits.max_grid_cells = std::stoull(parsed->value("--max-grid-cells"));
-    overrides.output.format = out_format;
-    if (parsed->has("--no-draco") && is_gltf(out_format)) overrides.output.draco = false;
-    if (parsed->has("--quantize-position"))
-        overrides.output.quantize_position = std::stoll(parsed->value("--quantize-position"));
-    if (parsed->has("--normals")) overrides.output.normals = true;
 
     const auto bytes = read_input(parsed->input);
     if (!bytes) return kExitFailed;
+    const std::string body = implicit_request_body(*bytes, *parsed, operation, out_format);
     return finish(
-        api::operations::implicit_mesh_from_file(implicit_request_body(*bytes, *parsed), overrides, context), *parsed,
+        api::dispatch(upload_request("/implicit/mesh", "application/json", body, {}), context), *parsed,
         [&](const api::ApiResponse& response) {
             parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Faces")
                              << " triangles, " << header(response, "X-Output-Vertices") << " vertices, grid "

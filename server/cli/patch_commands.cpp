@@ -1,6 +1,5 @@
 // The patch and curve file commands: `surfaced tessellate` (POST /tessellate, GET /patches/NAME) and
 // `surfaced curve` (POST /curves).
-#include <charconv>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -10,29 +9,21 @@
 #include "api/operations/curves.h"
 #include "server/cli/commands.h"
 #include "server/cli/requests.h"
+#include "server/cli/table_options.h"
 
 namespace surfaced::cli {
 namespace {
+
+using api::options::OperationOptions;
 
 constexpr std::string_view kTessellateHelp =
     R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
 
 Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, or
 sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
-operation as POST /tessellate (GET /patches/NAME).
+operation as POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
+--compression none).
 
-Options:
-  -o, --output OUT          output file: .glb (Draco-compressed unless --no-draco), .obj or .ply (required);
-                            - for standard output
-  --format F                output format instead of OUT's extension: glb obj ply (needed with -o -)
-  --input-format F          IN's format instead of its extension: bez obj (IN -: obj if it has cstype lines)
-  --tolerance T             guaranteed maximum distance between triangles and surface (model units)
-  --segments N              segments along each direction of every patch (default 8)
-  --no-draco                write an uncompressed .glb
-  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb only)
-  --no-normals              leave out vertex normals
-  --max-output-faces N      refuse if the result could have more triangles (default 4000000)
-  -h, --help                this text
 )";
 
 constexpr std::string_view kCurveHelp =
@@ -59,30 +50,24 @@ Options:
 
 int tessellate(Args& args) {
     api::ApiContext context = file_context();
-    const std::vector<Option> options = {
-        {"--tolerance", "tolerance",
-         [](std::string_view, const std::string& text) {
-             double value = 0;
-             const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
-             if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || !(value > 0))
-                 throw UsageError{"--tolerance needs a number > 0, got \"" + text + "\""};
-             return text;
-         }},
-        {"--segments", "segments", integer(1, 1'000'000)},
-        {"--quantize-position", "quantize_position", integer(1, 24)},
-        {"--max-output-faces", "", integer(1, 4'000'000'000LL)},
-        flag("--no-draco"),
-        flag("--no-normals", "normals", "false"),
-        {"--input-format", "", one_of_names({"bez", "obj"})},
-    };
-    const auto parsed = parse_file_command(args, "tessellate", kTessellateHelp, options);
+    const OperationOptions& operation = *api::options::operation_options("tessellate");
+    std::vector<Option> options = table_options(operation, api::options::kQuery);
+    options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
+    options.push_back(Option{.name = "--input-format",
+                             .check = one_of_names({"bez", "obj"}),
+                             .synopsis = "--input-format NAME",
+                             .description = "IN's format instead of its extension: bez obj (IN -: obj if it has "
+                                            "cstype lines)"});
+    options.push_back(Option{.name = "--max-output-faces",
+                             .check = integer(1, 4'000'000'000LL),
+                             .synopsis = "--max-output-faces N",
+                             .description = "refuse if the result could have more triangles (default 4000000)"});
+    const auto parsed = parse_file_command(args, "tessellate",
+                                           std::string(kTessellateHelp) + options_help(operation, options), options);
     if (!parsed) return kExitOk;
-    if (parsed->has("--tolerance") && parsed->has("--segments"))
+    if (parsed->param("tolerance") && parsed->param("segments"))
         throw UsageError{"tessellate: give --tolerance or --segments, not both"};
-    using enum api::OutputFormat;
-    const api::OutputFormat format = output_format(*parsed, {Glb, Obj, Ply});
-    if (parsed->has("--quantize-position") && (format != Glb || parsed->has("--no-draco")))
-        throw UsageError{"--quantize-position applies only to .glb output with Draco"};
+    const api::OutputFormat format = output_format(*parsed, operation);
     if (parsed->has("--max-output-faces"))
         context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
@@ -92,7 +77,7 @@ int tessellate(Args& args) {
     if (parsed->input.starts_with("sample:")) {
         request.method = "GET";
         request.path = "/patches/" + parsed->input.substr(7);
-        request.query = file_query(*parsed, options, format);
+        request.query = file_query(*parsed, format);
     } else {
         bytes = read_input(parsed->input);
         if (!bytes) return kExitFailed;
@@ -101,7 +86,7 @@ int tessellate(Args& args) {
                          : parsed->from_stdin()        ? bytes->find("cstype") != std::string::npos
                                                        : lower_extension(parsed->input) == ".obj";
         request = upload_request("/tessellate", obj ? "model/obj" : "application/x-geomview-bez", *bytes,
-                                 file_query(*parsed, options, format));
+                                 file_query(*parsed, format));
     }
     return finish(
         api::dispatch(request, context), *parsed,
@@ -137,7 +122,7 @@ int curve(Args& args) {
         svg = in_ext == ".svg";
     }
     using enum api::OutputFormat;
-    const api::OutputFormat out_format = output_format(*parsed, {Json, Glb, Gltf});
+    const api::OutputFormat out_format = output_format(*parsed, *api::options::operation_options("curves"));
     api::operations::CurveFileOverrides overrides;
     overrides.format = out_format;
     if (parsed->has("--tolerance")) overrides.tolerance = std::stod(parsed->value("--tolerance"));

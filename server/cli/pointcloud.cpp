@@ -7,6 +7,7 @@
 #include "geometry/io/pointcloud_io.h"
 #include "server/cli/commands.h"
 #include "server/cli/requests.h"
+#include "server/cli/table_options.h"
 
 namespace surfaced::cli {
 namespace {
@@ -17,48 +18,32 @@ constexpr std::string_view kPointcloudHelp =
 Reads the points in IN and writes them to OUT, through the same operation as POST /pointcloud; with
 --estimate-normals the normals are replaced by PCA of the k nearest neighbours, consistently oriented (outward on
 closed shapes).
-  IN:  .ply .obj .xyz (.txt .pts as XYZ)        OUT: .glb (Draco POINTS) .ply .json
+  IN:  .ply .obj .xyz (.txt .pts as XYZ)        OUT: a --format name (.glb: Draco POINTS unless --compression none)
 
-Options:
-  -o, --output OUT          output file (required); - for standard output
-  --format F                output format instead of OUT's extension: glb ply json (needed with -o -)
-  --input-format F          IN's format instead of its extension: ply obj xyz (IN -: from the bytes)
-  --estimate-normals        estimate and orient normals
-  --k N                     neighbours for --estimate-normals, 3..256 (default 16)
-  --no-normals              leave normals out of the output
-  --no-draco                write an uncompressed .glb
-  --quantize-position BITS  Draco position quantization, 1..24 (default 14; .glb only)
-  -h, --help                this text
 )";
 
 }  // namespace
 
 int pointcloud(Args& args) {
     api::ApiContext context = file_context();
-    const std::vector<Option> options = {
-        flag("--estimate-normals", "estimate_normals"),
-        {"--k", "k", integer(3, 256)},
-        flag("--no-normals", "normals", "false"),
-        flag("--no-draco"),
-        {"--quantize-position", "quantize_position", integer(1, 24)},
-        {"--input-format", "", one_of_names({"ply", "obj", "xyz"})},
-    };
-    const auto parsed = parse_file_command(args, "pointcloud", kPointcloudHelp, options);
+    const api::options::OperationOptions& operation = *api::options::operation_options("pointcloud");
+    std::vector<Option> options = table_options(operation, api::options::kQuery);
+    options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
+    options.push_back(
+        Option{.name = "--input-format",
+               .check = one_of_names({"ply", "obj", "xyz"}),
+               .synopsis = "--input-format NAME",
+               .description = "IN's format instead of its extension: ply obj xyz (IN -: from the bytes)"});
+    const auto parsed = parse_file_command(args, "pointcloud",
+                                           std::string(kPointcloudHelp) + options_help(operation, options), options);
     if (!parsed) return kExitOk;
-    if (parsed->has("--k") && !parsed->has("--estimate-normals"))
-        throw UsageError{"--k applies only with --estimate-normals"};
     std::optional<PointFormat> in_format;
     if (parsed->has("--input-format"))
         in_format = point_format_from_extension("." + parsed->value("--input-format"));
     else if (!parsed->from_stdin() && !(in_format = point_format_from_extension(parsed->input)))
         throw UsageError{"cannot tell the point format of " + parsed->input +
                          " from its extension (use .ply .obj .xyz, or --input-format)"};
-    using enum api::OutputFormat;
-    const api::OutputFormat out_format = output_format(*parsed, {Glb, Ply, Json});
-    const bool no_draco = parsed->has("--no-draco"), quantize = parsed->has("--quantize-position");
-    if ((no_draco || quantize) && out_format != Glb)
-        throw UsageError{"--no-draco and --quantize-position apply only to .glb output"};
-    if (quantize && no_draco) throw UsageError{"--quantize-position applies only with Draco"};
+    const api::OutputFormat out_format = output_format(*parsed, operation);
 
     const auto bytes = read_input(parsed->input);
     if (!bytes) return kExitFailed;
@@ -70,7 +55,7 @@ int pointcloud(Args& args) {
                                      : *in_format == PointFormat::Obj ? "model/obj"
                                                                       : "text/x-xyz";
     const api::ApiRequest request =
-        upload_request("/pointcloud", content_type, *bytes, file_query(*parsed, options, out_format));
+        upload_request("/pointcloud", content_type, *bytes, file_query(*parsed, out_format));
     return finish(api::dispatch(request, context), *parsed, [&](const api::ApiResponse& response) {
         parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Points")
                          << " points" << (header(response, "X-Normals") == "true" ? ", normals" : "")

@@ -2,21 +2,9 @@
 
 namespace surfaced::cli {
 
-void check_mesh_output_options(const Parsed& parsed, api::OutputFormat format) {
-    if (parsed.has("--quantize-position") && (!is_gltf(format) || parsed.has("--no-draco")))
-        throw UsageError{"--quantize-position applies only to .glb/.gltf output with Draco"};
-    if (parsed.has("--normals") && format == api::OutputFormat::Json)
-        throw UsageError{"--normals is not available for .json output"};
-}
-
-std::multimap<std::string, std::string> file_query(const Parsed& parsed, const std::vector<Option>& options,
-                                                   api::OutputFormat format) {
-    std::multimap<std::string, std::string> query;
-    for (const Option& option : options)
-        if (!option.param.empty() && parsed.has(option.name))
-            query.emplace(option.param, option.check ? parsed.value(option.name) : std::string(option.switch_value));
+std::multimap<std::string, std::string> file_query(const Parsed& parsed, api::OutputFormat format) {
+    std::multimap<std::string, std::string> query(parsed.params.begin(), parsed.params.end());
     query.emplace("format", std::string(api::enum_name(api::kOutputFormatNames, format)));
-    if (parsed.has("--no-draco") && is_gltf(format)) query.emplace("compression", "none");
     return query;
 }
 

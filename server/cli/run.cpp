@@ -30,7 +30,7 @@ Usage:
   surfaced implicit SCENE.json -o OUT [opts]  mesh an implicit scene (dual marching cubes, closed)
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
-  surfaced <command> --help                   options of a command
+  surfaced <command> --help                   options of a command (those of its operation, as the API names them)
   surfaced --help | --version
 
 IN - reads standard input (format from --input-format, else from the bytes); -o - writes standard output (with
@@ -42,7 +42,7 @@ Exit codes (the same in every command):
   1  the operation failed: the input's geometry or format, a budget (--max-output-faces, levels, grid cells), a
      file that cannot be read or written; the problem is printed on stderr with its line, offset or field
   2  bad usage: an unknown command, option or value, a missing argument, a value out of its range or not
-     applicable to the output format
+     applicable to the output format, whether the command line or the operation notices it
 )";
 
 const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",

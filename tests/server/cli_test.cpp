@@ -1,17 +1,23 @@
 // The `surfaced` binary as a user runs it: exit codes that mean the same in every command, suggestions for
-// misspelt options and values, standard input and output.
+// misspelt options and values, standard input and output, and each command's flags and help held to its
+// operation's option table (api/options/catalog.cpp).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include "api/options/option_spec.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "tests/support/mesh_asserts.h"
@@ -43,6 +49,10 @@ protected:
         fs::create_directories(dir_);
         std::ofstream(dir_ / "cube.obj", std::ios::binary) << write_obj(shapes::cube());
         std::ofstream(dir_ / "torus.obj", std::ios::binary) << write_obj(shapes::torus(24, 12));
+        std::ofstream points(dir_ / "points.xyz");
+        for (int i = 0; i < 64; ++i) points << (i % 4) << " " << (i / 4 % 4) << " " << (i / 16) << "\n";
+        std::ofstream(dir_ / "scene.json") << R"({"scene": {"op": "sphere", "radius": 1},
+            "bounds": [[-1.5, -1.5, -1.5], [1.5, 1.5, 1.5]], "resolution": 8})";
     }
     void TearDown() override {
         std::error_code ec;
@@ -157,9 +167,9 @@ TEST_F(SurfacedCli, FormatOverridesTheExtensionAndIsNeededForStandardOutput) {
     const CliRun missing = run("remesh " + path("torus.obj") + " -o -");
     EXPECT_EQ(missing.exit_code, 2);
     EXPECT_TRUE(contains(missing.err, "-o - (standard output) needs --format")) << missing.err;
-    const CliRun wrong = run("remesh " + path("torus.obj") + " -o - --format stl");
+    const CliRun wrong = run("remesh " + path("torus.obj") + " -o - --format dae");
     EXPECT_EQ(wrong.exit_code, 2);
-    EXPECT_TRUE(contains(wrong.err, "--format: unknown value \"stl\"")) << wrong.err;
+    EXPECT_TRUE(contains(wrong.err, "--format: unknown value \"dae\"")) << wrong.err;
 }
 
 TEST_F(SurfacedCli, HelpListsTheExitCodes) {
@@ -167,6 +177,223 @@ TEST_F(SurfacedCli, HelpListsTheExitCodes) {
     EXPECT_EQ(help.exit_code, 0);
     EXPECT_TRUE(contains(help.out, "Exit codes")) << help.out;
     EXPECT_TRUE(contains(help.out, "  2  bad usage")) << help.out;
+}
+
+//! A file command and the operation whose option table gives its flags.
+struct TableCommand {
+    std::string command;
+    std::string operation;
+    unsigned transport;  //!< the options it takes: query parameters, or (implicit) the members of a JSON body
+};
+
+const std::vector<TableCommand>& table_commands() {
+    using api::options::kJson;
+    using api::options::kQuery;
+    static const std::vector<TableCommand> commands = {
+        {"subdivide", "subdivide", kQuery},   {"simplify", "simplify", kQuery},
+        {"remesh", "remesh", kQuery},         {"repair", "repair", kQuery},
+        {"tessellate", "tessellate", kQuery}, {"pointcloud", "pointcloud", kQuery},
+        {"implicit", "implicit_mesh", kJson},
+    };
+    return commands;
+}
+
+std::string kebab(std::string_view name) {
+    std::string out = "--";
+    for (const char c : name) out += c == '_' ? '-' : c;
+    return out;
+}
+
+//! `flag` in `help` as a whole word (not the start of a longer flag).
+bool mentions(const std::string& help, const std::string& flag) {
+    for (std::size_t at = help.find(flag); at != std::string::npos; at = help.find(flag, at + 1)) {
+        const std::size_t end = at + flag.size();
+        if ((at == 0 || help[at - 1] == ' ' || help[at - 1] == '\n') &&
+            (end == help.size() || !(std::isalnum(static_cast<unsigned char>(help[end])) || help[end] == '-')))
+            return true;
+    }
+    return false;
+}
+
+//! A value of `option` inside its range, as the command line spells it.
+std::string valid_value(const api::options::OptionSpec& option) {
+    using api::options::OptionType;
+    if (option.type == OptionType::Enum) return std::string(option.values.back());
+    const double low = option.min ? option.min->value : 1;
+    double value = low;
+    if (option.min && option.min->exclusive) value = option.max ? (low + option.max->value) / 2 : low + 1;
+    if (option.type == OptionType::Number) return std::to_string(value);
+    if (option.type == OptionType::List) return std::to_string(static_cast<long long>(value)) + ",3";
+    return std::to_string(static_cast<long long>(value));
+}
+
+TEST_F(SurfacedCli, EveryTableOptionIsAFlagInTheHelp) {
+    for (const TableCommand& command : table_commands()) {
+        SCOPED_TRACE(command.command);
+        const auto* operation = api::options::operation_options(command.operation);
+        ASSERT_NE(operation, nullptr);
+        const CliRun help = run(command.command + " --help");
+        ASSERT_EQ(help.exit_code, 0) << help.err;
+        std::string flat;  // the help with its line breaks and indentation as single spaces
+        for (const char c : help.out)
+            if (!(std::isspace(static_cast<unsigned char>(c)) && !flat.empty() && flat.back() == ' '))
+                flat += std::isspace(static_cast<unsigned char>(c)) ? ' ' : c;
+        for (const api::options::OptionSpec* option : api::options::all_options(*operation)) {
+            if ((option->transports & command.transport) == 0) continue;
+            const std::string flag = option->name == "format" ? "--format" : kebab(option->name);
+            EXPECT_TRUE(mentions(help.out, flag)) << flag << " is not in the help:\n" << help.out;
+            if (option->name == "format") continue;
+            // the description and default of the row are what the help says
+            EXPECT_TRUE(contains(flat, std::string(option->description))) << flag;
+            if (!option->default_json.empty() && option->type != api::options::OptionType::Enum) {
+                EXPECT_TRUE(contains(flat, "default " + std::string(option->default_json))) << flag;
+            }
+            // the flag is accepted (arguments are parsed in order, so --help after it ends the run with 0)
+            if (option->type == api::options::OptionType::Bool) {
+                EXPECT_TRUE(mentions(help.out, "--no-" + flag.substr(2))) << flag;
+                EXPECT_EQ(run(command.command + " " + flag + " --help").exit_code, 0) << flag;
+                EXPECT_EQ(run(command.command + " --no-" + flag.substr(2) + " --help").exit_code, 0) << flag;
+            } else {
+                const CliRun given = run(command.command + " " + flag + " " + valid_value(*option) + " --help");
+                EXPECT_EQ(given.exit_code, 0) << flag << " " << valid_value(*option) << ": " << given.err;
+            }
+            // each old name is still accepted, and listed
+            for (const std::string_view alias : option->aliases) {
+                EXPECT_TRUE(mentions(help.out, kebab(alias))) << kebab(alias);
+                const std::string value =
+                    option->type == api::options::OptionType::Bool ? "" : " " + valid_value(*option);
+                EXPECT_EQ(run(command.command + " " + kebab(alias) + value + " --help").exit_code, 0) << kebab(alias);
+            }
+            // out of the row's range: a usage error naming the flag (a limit's maximum is the operation's: exit 1)
+            if (option->type == api::options::OptionType::Integer && option->max && !option->max_is_limit) {
+                const CliRun over = run(command.command + " " + flag + " " +
+                                        std::to_string(static_cast<long long>(option->max->value) + 1) + " --help");
+                EXPECT_EQ(over.exit_code, 2) << flag;
+                EXPECT_TRUE(contains(over.err, command.command + " " + flag + ": ")) << over.err;
+            }
+        }
+        // and every flag of the Options section is a table option, or one of the hand-written ones
+        const std::vector<std::string> hand_written = {"--output",           "--format", "--input-format",  "--help",
+                                                       "--max-output-faces", "--bounds", "--max-grid-cells"};
+        const std::vector<std::pair<std::string, std::string>> deprecated = {{"--no-draco", "compression"},
+                                                                             {"--free-boundary", "keep_boundary"}};
+        const std::string options = help.out.substr(help.out.find("\nOptions:\n"));
+        for (std::size_t at = options.find(" --"); at != std::string::npos; at = options.find(" --", at + 1)) {
+            std::size_t end = at + 3;
+            while (end < options.size() &&
+                   (std::isalnum(static_cast<unsigned char>(options[end])) || options[end] == '-'))
+                ++end;
+            const std::string flag = options.substr(at + 1, end - at - 1);
+            if (std::find(hand_written.begin(), hand_written.end(), flag) != hand_written.end()) continue;
+            const auto old =
+                std::find_if(deprecated.begin(), deprecated.end(), [&](const auto& d) { return d.first == flag; });
+            std::string name = old != deprecated.end() ? old->second : flag.substr(2);
+            if (old == deprecated.end()) {
+                for (char& c : name) c = c == '-' ? '_' : c;
+                if (!api::options::find_option(*operation, name) && name.starts_with("no_")) name = name.substr(3);
+            }
+            const api::options::OptionSpec* option = api::options::find_option(*operation, name);
+            EXPECT_TRUE(option && (option->transports & command.transport) != 0)
+                << flag << " in the help of " << command.command << " is no option of " << command.operation;
+        }
+    }
+}
+
+TEST_F(SurfacedCli, ATableOfMistakesExitsAlikeInEveryCommand) {
+    // each command's run, writing OUT with the extension given
+    struct Command {
+        std::string name;
+        std::function<std::string(const std::string& ext)> args;
+        std::string plain;  //!< an output format that is not glTF
+    };
+    const std::vector<Command> commands = {
+        {"subdivide",
+         [&](const std::string& ext) { return "subdivide " + path("cube.obj") + " -o " + path("x." + ext); }, "obj"},
+        {"simplify",
+         [&](const std::string& ext) {
+             return "simplify " + path("torus.obj") + " -o " + path("x." + ext) + " --ratio 0.5";
+         },
+         "obj"},
+        {"remesh",
+         [&](const std::string& ext) {
+             return "remesh " + path("torus.obj") + " -o " + path("x." + ext) + " --iterations 1";
+         },
+         "ply"},
+        {"repair", [&](const std::string& ext) { return "repair " + path("torus.obj") + " -o " + path("x." + ext); },
+         "obj"},
+        {"tessellate",
+         [&](const std::string& ext) { return "tessellate sample:teapot -o " + path("x." + ext) + " --segments 2"; },
+         "obj"},
+        {"pointcloud",
+         [&](const std::string& ext) { return "pointcloud " + path("points.xyz") + " -o " + path("x." + ext); }, "ply"},
+        {"implicit",
+         [&](const std::string& ext) { return "implicit " + path("scene.json") + " -o " + path("x." + ext); }, "obj"},
+    };
+    struct Mistake {
+        std::string what;
+        bool plain;         //!< written to the command's non-glTF format, else to .glb
+        std::string extra;  //!< the arguments that make the mistake
+        int exit_code;
+        std::string message;  //!< part of what stderr says
+    };
+    const std::vector<Mistake> mistakes = {
+        {"none", false, "", 0, ""},
+        {"none, plain output", true, "", 0, ""},
+        {"out of range", false, "--quantize-position 25", 2,
+         "--quantize-position: quantize_position must be in [1, 24]"},
+        {"not a number", false, "--quantize-position twelve", 2, "--quantize-position needs an integer"},
+        {"unknown value", false, "--compression zstd", 2, "--compression: unknown value \"zstd\""},
+        {"unknown option", false, "--quantise-position 12", 2, "did you mean --quantize-position?"},
+        {"not for this format", true, "--quantize-position 12", 2, "--quantize-position: "},
+        {"compression not for this format", true, "--compression none", 2, "--compression: "},
+        {"the old spelling, not for this format", true, "--no-draco", 2, "--no-draco: "},
+        {"quantization without Draco", false, "--compression none --quantize-position 12", 2, "--quantize-position: "},
+        {"an unknown output format", false, "--format dae", 2, "--format: unknown value \"dae\""},
+    };
+    for (const Command& command : commands)
+        for (const Mistake& mistake : mistakes) {
+            const CliRun r = run(command.args(mistake.plain ? command.plain : "glb") + " " + mistake.extra);
+            EXPECT_EQ(r.exit_code, mistake.exit_code) << command.name << ", " << mistake.what << ": " << r.err;
+            EXPECT_TRUE(contains(r.err, mistake.message)) << command.name << ", " << mistake.what << ": " << r.err;
+            if (mistake.exit_code == 2) {
+                EXPECT_TRUE(contains(r.err, "surfaced: " + command.name)) << r.err;
+            }
+        }
+    // an operation's budget is a failure (1), whichever command
+    EXPECT_EQ(run(commands[0].args("glb") + " --levels 12").exit_code, 1);
+    EXPECT_EQ(run("tessellate sample:teapot -o " + path("x.glb") + " --segments 1000").exit_code, 1);
+    EXPECT_EQ(run(commands[6].args("glb") + " --resolution 5000").exit_code, 1);
+    // a rule only the operation knows is the same usage error, naming the flag
+    const CliRun k = run(commands[5].args("ply") + " --k 8");
+    EXPECT_EQ(k.exit_code, 2);
+    EXPECT_TRUE(contains(k.err, "pointcloud --k: ")) << k.err;
+    // a range the command line checks and one the operation checks read alike
+    const CliRun cli = run(commands[1].args("obj") + " --ratio 2");
+    EXPECT_EQ(cli.exit_code, 2);
+    EXPECT_TRUE(contains(cli.err, "surfaced: simplify --ratio: ratio must be in (0, 1], got 2")) << cli.err;
+}
+
+TEST_F(SurfacedCli, OldSpellingsSetTheirTableOptions) {
+    // --no-draco is --compression none: a plain glTF is larger than a Draco one
+    ASSERT_EQ(run("subdivide " + path("cube.obj") + " -o " + path("draco.glb") + " --levels 2").exit_code, 0);
+    ASSERT_EQ(run("subdivide " + path("cube.obj") + " -o " + path("plain.glb") + " --levels 2 --no-draco").exit_code,
+              0);
+    ASSERT_EQ(
+        run("subdivide " + path("cube.obj") + " -o " + path("none.glb") + " --levels 2 --compression none").exit_code,
+        0);
+    EXPECT_GT(fs::file_size(dir_ / "plain.glb"), fs::file_size(dir_ / "draco.glb"));
+    EXPECT_EQ(slurp(dir_ / "plain.glb"), slurp(dir_ / "none.glb"));
+    // --free-boundary is the boundary option set false, under whatever name the table gives it
+    const auto* remesh = api::options::operation_options("remesh");
+    const auto* boundary = api::options::find_option(*remesh, "keep_boundary");
+    ASSERT_NE(boundary, nullptr);
+    std::ofstream(dir_ / "sheet.obj", std::ios::binary) << write_obj(shapes::grid(6, 6, true));
+    const std::string base = "remesh " + path("sheet.obj") + " --iterations 2 --edge-length 0.3 -o ";
+    ASSERT_EQ(run(base + path("free.obj") + " --free-boundary").exit_code, 0);
+    ASSERT_EQ(run(base + path("no.obj") + " --no-" + kebab(boundary->name).substr(2)).exit_code, 0);
+    ASSERT_EQ(run(base + path("kept.obj")).exit_code, 0);
+    EXPECT_EQ(slurp(dir_ / "free.obj"), slurp(dir_ / "no.obj"));
+    EXPECT_NE(slurp(dir_ / "free.obj"), slurp(dir_ / "kept.obj"));
 }
 
 }  // namespace

@@ -106,7 +106,7 @@ TEST_F(ImplicitCli, ErrorsNameTheProblem) {
     EXPECT_NE(bad.err.find("scene.radius"), std::string::npos) << bad.err;
     std::ofstream(dir_ / "broken.json") << R"({"scene": )";
     EXPECT_EQ(run("implicit " + path("broken.json") + " -o " + path("x.ply")).exit_code, 1);
-    EXPECT_EQ(run("implicit " + path("scene.json") + " -o " + path("x.stl")).exit_code, 2);
+    EXPECT_EQ(run("implicit " + path("scene.json") + " -o " + path("x.dae")).exit_code, 2);
     EXPECT_EQ(run("implicit " + path("scene.json")).exit_code, 2);
     EXPECT_EQ(run("implicit " + path("scene.json") + " -o " + path("x.obj") + " --mode octree").exit_code, 2);
     const CliRun help = run("implicit --help");
