@@ -228,6 +228,36 @@ TEST(ImplicitQueryOperation, DeepScenesAreRefusedNotOverflowed) {
     EXPECT_EQ(deep.error->code, "budget_exceeded");
 }
 
+TEST(ImplicitQueryOperation, OptionsAreReadByTheirTable) {
+    const std::string head = R"({"scene": {"op": "sphere", "radius": 1}, "points": [[0, 0, 0]], )";
+    // the range, the units and the value in the detail, as every operation words it
+    const ApiResponse range = post(head + R"("max_distance": -2})");
+    ASSERT_EQ(range.status, 400);
+    EXPECT_EQ(range.error->field, "max_distance");
+    EXPECT_EQ(range.error->detail, "max_distance must be > 0 (model units), got -2");
+    const ApiResponse steps = post(head + R"("max_steps": 0})");
+    ASSERT_EQ(steps.status, 400);
+    EXPECT_EQ(steps.error->detail, "max_steps must be in [1, 10000], got 0");
+    // a wrong type, and a whole number given as a fraction
+    expect_problem(post(head + R"("tolerance": "small"})"), 400, "invalid_field", "tolerance");
+    expect_problem(post(head + R"("max_steps": 2.5})"), 400, "invalid_field", "max_steps");
+    // a misspelt option gets the table's suggestion
+    const ApiResponse typo = post(head + R"("max_step": 10})");
+    ASSERT_EQ(typo.status, 400);
+    EXPECT_EQ(typo.error->code, "unknown_field");
+    EXPECT_NE(typo.error->detail.find("max_steps"), std::string::npos) << typo.error->detail;
+    // in range, the values take effect: a ray searched to 3 misses the sphere 4 away
+    const ApiResponse short_ray = post(
+        R"({"scene": {"op": "sphere", "radius": 1}, "rays": [{"origin": [-5, 0, 0], "direction": [1, 0, 0]}],
+            "max_distance": 3})");
+    ASSERT_EQ(short_ray.status, 200) << short_ray.body;
+    EXPECT_FALSE(Json::parse(short_ray.body)["rays"][0]["hit"].get<bool>());
+    const ApiResponse long_ray =
+        post(R"({"scene": {"op": "sphere", "radius": 1}, "rays": [{"origin": [-5, 0, 0], "direction": [1, 0, 0]}]})");
+    ASSERT_EQ(long_ray.status, 200) << long_ray.body;
+    EXPECT_TRUE(Json::parse(long_ray.body)["rays"][0]["hit"].get<bool>());
+}
+
 TEST(ImplicitQueryOperation, RequestErrors) {
     const std::string scene = R"({"op": "sphere", "radius": 1})";
     expect_problem(post(R"({"scene": )" + scene + R"(, "points": [[0, 0]]})"), 400, "invalid_field", "points[0]");
