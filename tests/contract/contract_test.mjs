@@ -113,6 +113,12 @@ const uploadsFor = { '/pointcloud': pointUploads, '/tessellate': patchUploads };
 // The upload that carries the query-parameter cases, when it is not the first documented type with a sample.
 const queryUpload = { '/pointcloud': 'text/x-xyz', '/tessellate': 'application/x-geomview-bez' };
 
+// The media type each output format answers with.
+const formatMedia = {
+  glb: 'model/gltf-binary', gltf: 'model/gltf+json', obj: 'model/obj', ply: 'application/ply', json: 'application/json',
+  stl: 'model/stl', off: 'model/off',
+};
+
 // Options that exclude each other are read from the document ("Excludes cell_size." in a description): testing
 // one removes the other from the base request.
 const excludes = new Map();  // name -> names it excludes
@@ -153,6 +159,11 @@ const knownGaps = [
     op: 'POST /subdivide', option: 'max_faces', kind: 'min', transport: 'query', status: 422, code: 'budget_exceeded',
     reason: 'max_faces 1 is in range, but the tetrahedron already has 4 faces (422 budget_exceeded); the JSON walk ' +
       'sends it with the one-quad example',
+  },
+  {
+    op: 'POST /pointcloud', option: 'sample.count', kind: 'min', transport: 'json',
+    status: 422, code: 'invalid_argument',
+    reason: 'sample.count 1 is in range, but the example also estimates normals, which needs at least 3 points',
   },
   {
     op: 'GET /patches/{name}', option: 'segments', kind: 'max', status: 422, code: 'budget_exceeded',
@@ -297,9 +308,13 @@ function shown(out) {
   const type = out.headers.get('content-type') ?? '';
   return /json|text/.test(type) ? out.bytes.toString('utf8').slice(0, 300) : `(${out.bytes.length} bytes of ${type})`;
 }
-function expectAccepted(out) {
-  check(out.status >= 200 && out.status < 300,
-    `${out.label} -> ${out.status}: expected success, got ${shown(out)}`);
+// `option`, `value`: the option the case set; a `format` must answer with its media type.
+function expectAccepted(out, option, value) {
+  if (!check(out.status >= 200 && out.status < 300,
+    `${out.label} -> ${out.status}: expected success, got ${shown(out)}`)) return;
+  if (option !== 'format' || !(value in formatMedia)) return;  // a format the table does not know: listed type only
+  const type = (out.headers.get('content-type') ?? '').split(';')[0].trim();
+  check(formatMedia[value] === type, `${out.label}: format ${value} answered as ${type}, not ${formatMedia[value]}`);
 }
 
 // ---- cases from a schema ----------------------------------------------------------------------------------------
@@ -375,6 +390,17 @@ function objectOf(schema) {
   }
   return null;
 }
+// An object whose scalar members are options: all its members are scalars (`output`) and it needs none or the example
+// has it; or it is a closed object (additionalProperties false) the example has and whose required members are
+// scalars (`sample`: count and seed beside the mesh). A scene node is neither (its members depend on its op).
+function optionsObject(object, inExample) {
+  const present = typeof inExample === 'object' && inExample !== null && !Array.isArray(inExample);
+  if (Object.values(object.properties).every(isScalar)) return present || !(object.required ?? []).length;
+  // an object that requires a non-scalar member is an input (bspline: degree and points), not options
+  const requiresInput = (object.required ?? []).some((name) => !isScalar(object.properties[name] ?? {}));
+  return present && object.additionalProperties === false && !requiresInput;
+}
+
 // Each option comes with the example it is tried in: the first that has its top-level member (a member of some
 // inputs only, like the curves' `continuity` for chains, gets an example of that input), else the first.
 function jsonOptions(bodySchema, examples) {
@@ -387,12 +413,9 @@ function jsonOptions(bodySchema, examples) {
     for (const alt of m.oneOf ?? [])
       if (isScalar(alt)) found.push({ path: [name], schema: resolve(alt), container: root, example });
     const object = objectOf(m);
-    if (!object) continue;
-    const props = Object.values(object.properties);
-    if (!props.every(isScalar)) continue;
-    if ((object.required ?? []).length && typeof example[name] !== 'object') continue;
+    if (!object || !optionsObject(object, example[name])) continue;
     for (const [inner, s] of Object.entries(object.properties))
-      found.push({ path: [name, inner], schema: resolve(s), container: object, example });
+      if (isScalar(s)) found.push({ path: [name, inner], schema: resolve(s), container: object, example });
   }
   return found;
 }
@@ -586,7 +609,7 @@ async function walk(op) {
           continue;
         }
         const tag = `${p.deprecated ? 'deprecated ' : ''}query ${p.name}`;
-        if (c.expect === 'ok') expectAccepted(out);
+        if (c.expect === 'ok') expectAccepted(out, p.name, c.value);
         else if (c.expect === 'budget') {
           check(op.responses['422'] !== undefined, `${op.label}: ${tag} has a limit but 422 is not documented`);
           expectRefused(out, 422, p.name, 'budget_exceeded');
@@ -614,7 +637,7 @@ async function walk(op) {
           knownGap(out, g, `${op.label} JSON ${field}=${JSON.stringify(c.value)} (${c.kind})`);
           continue;
         }
-        if (c.expect === 'ok') expectAccepted(out);
+        if (c.expect === 'ok') expectAccepted(out, path.at(-1), c.value);
         else if (c.expect === 'budget') expectRefused(out, 422, field, 'budget_exceeded');
         else expectRefused(out, 400, field);
       }
@@ -627,9 +650,8 @@ async function walk(op) {
       400, 'contract_undocumented');
     for (const [name, member] of Object.entries(root.properties ?? {})) {
       const object = objectOf(member);
-      const into = examples.find((e) => typeof e[name] === 'object' && e[name] !== null);
-      if (!object || object.additionalProperties !== false || !into) continue;
-      if (!Object.values(object.properties).every(isScalar)) continue;
+      const into = examples.find((e) => typeof e[name] === 'object' && e[name] !== null && !Array.isArray(e[name]));
+      if (!object || object.additionalProperties !== false || !into || !optionsObject(object, into[name])) continue;
       const body = structuredClone(into);
       body[name].contract_undocumented = 1;
       expectRefused(await send(op, { body: JSON.stringify(body), contentType: 'application/json', pathValues,
