@@ -201,6 +201,7 @@ function validatorFor(schema) {
 
 let checks = 0;
 let requests = 0;
+const perOperation = new Map();
 const failures = [];
 const skipped = [];
 function check(ok, what) {
@@ -222,6 +223,7 @@ async function send(op, { query = {}, body, contentType, headers = {}, pathValue
     if (contentType) init.headers['Content-Type'] = contentType;
   }
   requests += 1;
+  perOperation.set(op.label, (perOperation.get(op.label) ?? 0) + 1);
   const res = await fetch(base + path, init);
   const bytes = Buffer.from(await res.arrayBuffer());
   const label = `${op.label}${qs ? '?' + qs : ''}${contentType ? ` [${contentType}]` : ''}${note ? ' ' + note : ''}`;
@@ -266,6 +268,12 @@ function checkResponse(op, out) {
       if (out.json !== undefined && schema) {
         const validate = validatorFor(schema);
         check(validate(out.json), `${where}: body against the ${type} schema: ${ajv.errorsText(validate.errors)}`);
+      }
+      if (type === 'application/problem+json' && out.json) {
+        // RFC 9457: the member status is the response's; the type is the code's problem page
+        check(out.json.status === out.status, `${where}: problem status ${out.json.status}`);
+        check(out.json.type === `/problems/${out.json.code}`,
+          `${where}: problem type ${out.json.type} for ${out.json.code}`);
       }
     } else if (type === 'model/gltf-binary') {
       check(out.bytes.subarray(0, 4).toString('latin1') === 'glTF', `${where}: GLB without the glTF magic`);
@@ -663,7 +671,7 @@ async function walk(op) {
 // ---- main -------------------------------------------------------------------------------------------------------
 
 const started = Date.now();
-const server = await startServer(binary);
+const server = await startServer(binary, undefined, ['--access-log', 'off']);  // a failure prints its request
 base = server.url;
 try {
   doc = documentFile
@@ -677,6 +685,7 @@ try {
   await server.stop();
 }
 
+for (const [label, n] of perOperation) console.log(`${label}: ${n} requests`);
 for (const s of skipped) console.log(`SKIPPED (known gap) ${s}`);
 for (const f of failures) console.log(`FAIL ${f}`);
 console.log(`contract: ${requests} requests, ${checks} checks, ${failures.length} failed, ` +
