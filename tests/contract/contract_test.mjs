@@ -538,9 +538,17 @@ async function walk(op) {
         `${op.label}: an unknown ${p.name} is not 404`);
   }
 
-  // the JSON examples are accepted
+  // the JSON examples are accepted, and refused with a query parameter (options go in the body); the probes without
+  // parameters or body (healthz, livez, readyz, metrics, openapi.json) ignore a query string, which is not checked
   for (const example of examples)
     expectAccepted(await send(op, { body: JSON.stringify(example), contentType: 'application/json', pathValues }));
+  if (examples.length) {
+    const documented = op.parameters.find((p) => p.in === 'query');
+    const name = documented?.name ?? 'contract_undocumented';
+    const value = String((documented && resolve(documented.schema).default) ?? '1');
+    expectRefused(await send(op, { query: { [name]: value }, body: JSON.stringify(examples[0]),
+      contentType: 'application/json', pathValues }), 400, name, 'unknown_parameter');
+  }
   if (!op.requestBody) {
     const out = await send(op, { pathValues });
     if (op.path !== '/readyz' && op.path !== '/metrics') expectAccepted(out);
