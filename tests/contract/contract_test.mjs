@@ -11,13 +11,19 @@
 //   * a valid value, the boundary values just inside the range and every enum value are accepted;
 //   * values just outside the range, a wrong enum value and a wrong type are 400 with a problem `field` naming the
 //     parameter (`levels`, or `output.quantize_position` in JSON); an undocumented parameter or member is 400 too;
-//   * a maximum marked `x-maximum-is-limit` is a server limit: just above it is 422 budget_exceeded naming it.
+//   * a maximum marked `x-maximum-is-limit` is a server limit: just above it is 422 budget_exceeded naming it;
+//   * an item outside a JSON list's item range is refused naming the item; a JSON request with a query parameter
+//     is refused naming it.
+// Every documented upload media type is accepted (a tiny file of each, below; multipart/form-data with the file as
+// its binary part); an unknown media type is 415, broken JSON 400 invalid_json with its offset, an Accept nothing
+// matches 406 where documented; a path parameter's values answer and another is 404; If-None-Match gives 304.
 // Every response, success or error, must have a status and content type the operation lists; JSON answers
 // (application/json, application/problem+json, model/gltf+json) validate against the documented schema (Ajv,
 // JSON Schema 2020-12); a GLB answer starts with the glTF magic; the documented response headers are present and
-// match their schemas (a header whose description says it is sent "only" in some cases may be absent).
-// The request bodies are the document's own examples (JSON) plus the tiny files in `uploads` below.
-// Cases the server cannot satisfy as written are listed in `knownGaps` with the reason; they are printed and counted.
+// match their schemas (a header whose description says it is sent "only" in some cases may be absent); a problem's
+// status and type agree with the response; each `format` answers with its media type.
+// The JSON bodies are the document's own request examples. Cases the server cannot satisfy as written are listed in
+// `knownGaps` with the reason and the answer they get instead; they are sent, checked, printed and counted.
 import { strict as assert } from 'node:assert';
 import { readFileSync } from 'node:fs';
 import Ajv2020 from 'ajv/dist/2020.js';
@@ -32,7 +38,6 @@ if (!binary) {
 
 // ---- tables: the only per-operation knowledge the test has ---------------------------------------------------------
 
-// Tiny valid files for the upload media types (the document lists the media types, not sample files).
 // Tiny valid files for the upload media types (the document lists the media types, not sample files). Every
 // documented upload type with a sample is sent once; the first one listed carries the query-parameter cases.
 const tetraPositions = [[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]];
@@ -333,8 +338,9 @@ function expectAccepted(out, option, value) {
 
 // ---- cases from a schema ----------------------------------------------------------------------------------------
 
-// The values to try for one option: {value, expect: 'ok'|'bad'|'budget', kind}. `query`: as query-string text.
-function casesFor(schema, query, name) {
+// The values to try for one option: {value, expect: 'ok'|'bad'|'budget', kind}. `query`: as query-string text;
+// `current`: the option's value in the request example, if it has one.
+function casesFor(schema, query, name, current) {
   schema = resolve(schema);
   const cases = [];
   const text = (v) => (query ? String(v) : v);
@@ -374,6 +380,8 @@ function casesFor(schema, query, name) {
       ok(schema.exclusiveMaximum - step, 'below exclusive max');
     }
     if (schema.default !== undefined) ok(schema.default, 'default');
+    // no bound and no default: the example's value, else 1
+    if (!cases.some((c) => c.expect === 'ok')) ok(current ?? 1, 'a value');
     if (int) bad(query ? '1.5' : 1.5, 'fraction');
     bad(query ? 'abc' : '1', 'wrong type');
     return cases;
@@ -388,9 +396,6 @@ function casesFor(schema, query, name) {
   return cases;
 }
 
-// The scalar options of a JSON body schema: top-level scalar members, and the members of objects whose members are
-// all scalars (objects of options like `output`, `estimate_normals: {k}`); an object with required members only when
-// the example has it. Returns [{path: ['output', 'format'], schema}].
 function isScalar(schema) {
   schema = resolve(schema);
   return schema.enum !== undefined || ['integer', 'number', 'boolean', 'string'].includes(schema.type);
@@ -415,6 +420,9 @@ function optionsObject(object, inExample) {
   return present && object.additionalProperties === false && !requiresInput;
 }
 
+// The scalar options of a JSON body schema: its scalar members (and scalar alternatives of a oneOf) and the scalar
+// members of its objects of options (optionsObject). Returns [{path: ['output', 'format'], schema, container,
+// example}]: `container` is the schema of the object holding the option.
 // Each option comes with the example it is tried in: the first that has its top-level member (a member of some
 // inputs only, like the curves' `continuity` for chains, gets an example of that input), else the first.
 function jsonOptions(bodySchema, examples) {
@@ -616,7 +624,7 @@ async function walk(op) {
   if (queryParams.length && (upload || !op.requestBody)) {
     expectAccepted(await sendQuery(baseQuery));
     for (const p of queryParams) {
-      for (const c of casesFor(p.schema, true, p.name)) {
+      for (const c of casesFor(p.schema, true, p.name, baseQuery[p.name])) {
         const g = gap(op, p.name, c.kind, 'query');
         const query = { ...baseQuery, [p.name]: c.value };
         for (const other of excludes.get(p.name) ?? []) delete query[other];
@@ -650,7 +658,7 @@ async function walk(op) {
     const example = examples[0];
     for (const { path, schema, container, example: into } of jsonOptions(jsonMedia.schema, examples)) {
       const field = path.join('.');
-      for (const c of casesFor(schema, false, path.at(-1))) {
+      for (const c of casesFor(schema, false, path.at(-1), path.reduce((at, key) => at?.[key], into))) {
         const g = gap(op, field, c.kind, 'json');
         const body = JSON.stringify(withValue(into, path, c.value, container));
         const note = `JSON ${field}=${JSON.stringify(c.value)}`;
