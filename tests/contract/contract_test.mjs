@@ -16,7 +16,8 @@
 //     is refused naming it.
 // Every documented upload media type is accepted (a tiny file of each, below; multipart/form-data with the file as
 // its binary part); an unknown media type is 415, broken JSON 400 invalid_json with its offset, an Accept nothing
-// matches 406 where documented; a path parameter's values answer and another is 404; If-None-Match gives 304.
+// matches 406 where documented; a path parameter's values answer and another is 404; If-None-Match gives 304; an
+// undocumented method is 405 with Allow, an unknown path 404.
 // Every response, success or error, must have a status and content type the operation lists; JSON answers
 // (application/json, application/problem+json, model/gltf+json) validate against the documented schema (Ajv,
 // JSON Schema 2020-12); a GLB answer starts with the glTF magic; the documented response headers are present and
@@ -708,6 +709,42 @@ async function walk(op) {
   }
 }
 
+// The statuses the document gives every endpoint (info.description): a method a path does not document is 405 with
+// Allow naming the documented ones, an unknown path 404; both problems validate against the Problem schema.
+async function sharedStatuses() {
+  const problem = validatorFor({ $ref: '#/components/schemas/Problem' });
+  const expectProblem = (res, json, status, code, where) => {
+    if (!check(res.status === status, `${where}: expected ${status}, got ${res.status}`)) return;
+    check(problem(json), `${where}: problem against the Problem schema: ${ajv.errorsText(problem.errors)}`);
+    check(json?.code === code, `${where}: problem code ${json?.code}, expected ${code}`);
+  };
+  const parse = async (res) => {
+    try {
+      return JSON.parse(await res.text());
+    } catch {
+      return undefined;
+    }
+  };
+  for (const [path, item] of Object.entries(doc.paths)) {
+    const documented = ['get', 'post', 'put', 'patch', 'delete'].filter((m) => item[m]);
+    const other = ['put', 'delete', 'patch', 'post'].find((m) => !item[m]);
+    const concrete = path.replace(/\{(\w+)\}/g, (_, name) => {
+      const p = [...(item.parameters ?? []), ...documented.flatMap((m) => item[m].parameters ?? [])]
+        .map(resolve).find((q) => q.in === 'path' && q.name === name);
+      return encodeURIComponent(resolve(p?.schema ?? {}).enum?.[0] ?? 'x');
+    });
+    requests += 1;
+    const res = await fetch(base + concrete, { method: other.toUpperCase() });
+    const where = `${other.toUpperCase()} ${concrete}`;
+    expectProblem(res, await parse(res), 405, 'method_not_allowed', where);
+    const allow = (res.headers.get('allow') ?? '').split(',').map((m) => m.trim().toLowerCase());
+    for (const m of documented) check(allow.includes(m), `${where}: Allow "${res.headers.get('allow')}" lacks ${m}`);
+  }
+  requests += 1;
+  const res = await fetch(`${base}/contract-no-such-path`);
+  expectProblem(res, await parse(res), 404, 'not_found', 'GET /contract-no-such-path');
+}
+
 // ---- main -------------------------------------------------------------------------------------------------------
 
 const started = Date.now();
@@ -721,6 +758,7 @@ try {
   ajv.addSchema(JSON.parse(JSON.stringify({ $id: 'surfaced-components', $defs: doc.components?.schemas ?? {} })
     .replace(/"#\/components\/schemas\//g, '"#/$defs/')));
   for (const op of operations()) await walk(op);
+  await sharedStatuses();
 } finally {
   await server.stop();
 }
