@@ -17,7 +17,8 @@
 // Every documented upload media type is accepted (a tiny file of each, below; multipart/form-data with the file as
 // its binary part); an unknown media type is 415, broken JSON 400 invalid_json with its offset, an Accept nothing
 // matches 406 where documented; a path parameter's values answer and another is 404; If-None-Match gives 304; an
-// undocumented method is 405 with Allow, an unknown path 404.
+// undocumented method is 405 with Allow, an unknown path 404. With a bearer token configured (a second server),
+// operations with security [] answer without it and the others are 401 without it.
 // Every response, success or error, must have a status and content type the operation lists; JSON answers
 // (application/json, application/problem+json, model/gltf+json) validate against the documented schema (Ajv,
 // JSON Schema 2020-12); a GLB answer starts with the glTF magic; the documented response headers are present and
@@ -26,7 +27,9 @@
 // The JSON bodies are the document's own request examples. Cases the server cannot satisfy as written are listed in
 // `knownGaps` with the reason and the answer they get instead; they are sent, checked, printed and counted.
 import { strict as assert } from 'node:assert';
-import { readFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import Ajv2020 from 'ajv/dist/2020.js';
 import addFormats from 'ajv-formats';
 import { startServer } from '../browser/serve.mjs';
@@ -745,6 +748,56 @@ async function sharedStatuses() {
   expectProblem(res, await parse(res), 404, 'not_found', 'GET /contract-no-such-path');
 }
 
+// Bearer authentication (components.securitySchemes, http bearer): a second server runs with a token. An operation
+// whose security is [] answers without it; any other is 401 `unauthorized` with WWW-Authenticate without the token
+// (a status it must document) and answers with it.
+async function authentication() {
+  const scheme = Object.entries(doc.components?.securitySchemes ?? {})
+    .find(([, s]) => s.type === 'http' && s.scheme === 'bearer')?.[0];
+  if (!scheme) return;
+  const dir = mkdtempSync(join(tmpdir(), 'surfaced-contract-'));
+  const tokenFile = join(dir, 'token');
+  const token = 'contract-test-token';
+  writeFileSync(tokenFile, `${token}\n`);
+  const secured = await startServer(binary, undefined, ['--access-log', 'off', '--auth-token-file', tokenFile]);
+  const plain = base;
+  base = secured.url;
+  try {
+    for (const op of operations()) {
+      const item = doc.paths[op.path][op.method];
+      const requirements = item.security ?? doc.security ?? [];
+      const open = requirements.every((r) => Object.keys(r).length === 0);  // security [] (or only {})
+      const media = op.requestBody?.content?.['application/json'];
+      const example = examplesOf(media)[0];
+      const pathValues = Object.fromEntries(op.parameters.filter((p) => p.in === 'path')
+        .map((p) => [p.name, resolve(p.schema).enum?.[0] ?? 'x']));
+      const request = (headers) => send(op, {
+        body: example === undefined ? undefined : JSON.stringify(example),
+        contentType: example === undefined ? undefined : 'application/json', pathValues, headers,
+        note: headers.Authorization ? '(with the token)' : '(no token)',
+      });
+      if (op.requestBody && example === undefined) continue;  // nothing to send
+      const without = await request({});
+      if (open) {
+        check(without.status !== 401, `${without.label}: security [] but 401 without a token`);
+        continue;
+      }
+      if (check(without.status === 401, `${without.label} -> ${without.status}: expected 401 without the token`)) {
+        check(without.json?.code === 'unauthorized', `${without.label}: problem code ${without.json?.code}`);
+        check(/^Bearer/i.test(without.headers.get('www-authenticate') ?? ''),
+          `${without.label}: 401 without WWW-Authenticate: Bearer`);
+      }
+      const withToken = await request({ Authorization: `Bearer ${token}` });
+      if (op.path !== '/readyz' && op.path !== '/metrics') expectAccepted(withToken);
+      else check(withToken.status !== 401, `${withToken.label}: 401 with the token`);
+    }
+  } finally {
+    base = plain;
+    await secured.stop();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
 // ---- main -------------------------------------------------------------------------------------------------------
 
 const started = Date.now();
@@ -759,6 +812,7 @@ try {
     .replace(/"#\/components\/schemas\//g, '"#/$defs/')));
   for (const op of operations()) await walk(op);
   await sharedStatuses();
+  await authentication();
 } finally {
   await server.stop();
 }
