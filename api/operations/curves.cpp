@@ -80,8 +80,8 @@ ApiResult<Vec3> read_point(const Json& value, const std::string& field, std::siz
 
 ApiResult<double> read_tolerance(const Json& value, const std::string& path) {
     const std::string field = path + ".tolerance";
-    if (!value.is_object() || !value.contains("tolerance") || value.size() != 1)
-        return invalid(field, path + " must be {\"tolerance\": e}");
+    if (!value.is_object() || !value.contains("tolerance")) return invalid(field, path + " must be {\"tolerance\": e}");
+    if (auto error = check_members(value, path, {"tolerance"})) return std::move(*error);
     auto e = read_number(value["tolerance"], field);
     if (!e) return e;
     if (e.value() <= 0) return invalid(field, field + " must be > 0");
@@ -315,7 +315,9 @@ std::optional<ApiError> answer_curve_queries(const Json& root, const BezierCurve
                            "elevate must be an integer >= 0 keeping the degree <= " + std::to_string(kMaxCurveDegree));
         out["elevate"] = encoder.curve(elevate_degree(curve, static_cast<int>(it->get<std::int64_t>())));
     }
-    if (auto it = root.find("bounding_box"); it != root.end() && it->is_boolean() && it->get<bool>()) {
+    auto box_asked = read_switch(root, "bounding_box");
+    if (!box_asked) return std::move(box_asked.error());
+    if (box_asked.value()) {
         const Box3 box = bounding_box(curve);
         out["bounding_box"] = {{"min", encoder.point(box.min)}, {"max", encoder.point(box.max)}};
     }

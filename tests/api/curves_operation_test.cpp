@@ -137,6 +137,20 @@ TEST(CurvesOperation, GltfOutputErrorsNameTheirField) {
         "unknown_field", "output.normals");
 }
 
+TEST(CurvesOperation, SingleCurveQueryMembersAreChecked) {
+    const std::string curve = R"("points": [[0,0],[1,2],[3,2]])";
+    // a switch that is not a boolean is refused, not taken as false
+    expect_problem(post("{" + curve + R"(, "bounding_box": "true"})"), 400, "invalid_field", "bounding_box");
+    // an unknown member beside a tolerance is named itself
+    expect_problem(post("{" + curve + R"(, "length": {"tolerance": 0.1, "toleranse": 1}})"), 400, "unknown_field",
+                   "length.toleranse");
+    expect_problem(post("{" + curve + R"(, "tessellate": {"tolerance": 0.1, "segments": 4}})"), 400, "unknown_field",
+                   "tessellate.segments");
+    expect_problem(post("{" + curve + R"(, "length": {}})"), 400, "invalid_field", "length.tolerance");
+    EXPECT_TRUE(ok_json(post("{" + curve + R"(, "bounding_box": true})")).contains("bounding_box"));
+    EXPECT_FALSE(ok_json(post("{" + curve + R"(, "bounding_box": false})")).contains("bounding_box"));
+}
+
 TEST(CurvesOperation, PolylineWriterChecksItsInput) {
     EXPECT_FALSE(write_polylines_glb({}));
     EXPECT_FALSE(write_polylines_glb({{Vec3{0, 0, 0}}}));                    // one point is no line strip

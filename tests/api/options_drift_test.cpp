@@ -49,7 +49,8 @@ std::string type_name(const OptionSpec& option) {
     return "?";
 }
 
-//! The bounds of `schema` against the option's: minimum or exclusiveMinimum, maximum or exclusiveMaximum.
+//! The bounds of `schema` against the option's: minimum or exclusiveMinimum, maximum or exclusiveMaximum, and whether
+//! the maximum is a server limit.
 void expect_bounds(const json& schema, const OptionSpec& option, const std::string& where) {
     const auto expect_bound = [&](const std::optional<options::Bound>& bound, const char* inclusive,
                                   const char* exclusive) {
@@ -67,6 +68,9 @@ void expect_bounds(const json& schema, const OptionSpec& option, const std::stri
     };
     expect_bound(option.min, "minimum", "exclusiveMinimum");
     expect_bound(option.max, "maximum", "exclusiveMaximum");
+    // a maximum that is the server's (configurable) limit is marked so: above it is 422 budget_exceeded, not 400
+    EXPECT_EQ(schema.value("x-maximum-is-limit", false), option.max_is_limit)
+        << where << ": x-maximum-is-limit against the table's max_is_limit";
 }
 
 //! One documented option (a query parameter's schema, or a JSON member's) against its row of the table.

@@ -1,9 +1,11 @@
 // Starts `surfaced serve` on a free loopback port (--port 0) and resolves once it prints where it listens.
 import { spawn } from 'node:child_process';
 
-export function startServer(binary, webRoot) {
+// `extraArgs`: more `serve` options (e.g. ['--access-log', 'off']).
+export function startServer(binary, webRoot, extraArgs = []) {
   const args = ['serve', '--host', '127.0.0.1', '--port', '0', '--threads', process.env.SURFACED_TEST_THREADS ?? '2'];
   if (webRoot) args.push('--web-root', webRoot);
+  args.push(...extraArgs);
   const child = spawn(binary, args, { stdio: ['ignore', 'pipe', 'inherit'] });
   return new Promise((resolve, reject) => {
     let out = '';
