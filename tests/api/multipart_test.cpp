@@ -10,6 +10,7 @@
 
 #include "api/accept.h"
 #include "api/multipart.h"
+#include "api/operations/implicit_mesh.h"
 #include "api/operations/pointcloud.h"
 #include "api/operations/subdivide.h"
 #include "api/operations/tessellate.h"
@@ -291,6 +292,24 @@ TEST(AcceptHeader, PicksTheFormatUnlessOneIsNamed) {
                               R"("output":{"format":"json"}})";
     json.body = named;
     EXPECT_EQ(operations::subdivide(json, context_with()).content_type, "application/json");
+}
+
+TEST(AcceptHeader, TessellateAndImplicitMeshFollowIt) {
+    const std::string patches = R"({"patches":[{"degree":[1,1],"points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]]}]})";
+    ApiRequest tessellate = make_request("POST", "/tessellate", "application/json", patches);
+    tessellate.headers.emplace("accept", "application/ply");
+    EXPECT_EQ(operations::tessellate(tessellate, context_with()).content_type, "application/ply");
+    tessellate.headers.clear();
+    tessellate.headers.emplace("accept", "application/json");  // not among /tessellate's formats (glb, obj, ply)
+    EXPECT_EQ(operations::tessellate(tessellate, context_with()).status, 406);
+
+    const std::string scene = R"({"scene":{"op":"sphere","radius":1},"bounds":[[-1.5,-1.5,-1.5],[1.5,1.5,1.5]],)"
+                              R"("resolution":8})";
+    ApiRequest implicit = make_request("POST", "/implicit/mesh", "application/json", scene);
+    implicit.headers.emplace("accept", "model/obj;q=0.5, application/json;q=0.6");
+    const ApiResponse meshed = operations::implicit_mesh(implicit, context_with());
+    ASSERT_EQ(meshed.status, 200) << meshed.body;
+    EXPECT_EQ(meshed.content_type, "application/json");
 }
 
 }  // namespace
