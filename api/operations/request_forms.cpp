@@ -210,7 +210,9 @@ std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& li
 
 std::optional<ApiError> negotiate_output_format(const ApiRequest& request, OutputOptions& out) {
     if (out.format_given) return std::nullopt;
-    const std::string accept = request.header("accept");
+    std::string accept;  // several Accept headers make one list (RFC 9110 section 5.3)
+    for (auto [it, end] = request.headers.equal_range("accept"); it != end; ++it)
+        accept += (accept.empty() ? "" : ", ") + it->second;
     if (accept.empty()) return std::nullopt;
     const options::OptionSpec* format_option = nullptr;
     for (const options::OperationOptions& operation : options::operations())

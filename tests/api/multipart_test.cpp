@@ -283,6 +283,11 @@ TEST(AcceptHeader, PicksTheFormatUnlessOneIsNamed) {
     for (const char* type :
          {"model/gltf-binary", "model/gltf+json", "model/obj", "application/ply", "application/json"})
         EXPECT_NE(detail.find(type), std::string::npos) << type << " in " << detail;
+    // two Accept headers are one list
+    ApiRequest twice = make_request("POST", "/subdivide", kFormType, form);
+    twice.headers.emplace("accept", "text/html");
+    twice.headers.emplace("accept", "model/obj;q=0.5");
+    EXPECT_EQ(operations::subdivide(twice, context_with()).content_type, "model/obj");
     // a JSON body: output.format wins, else Accept
     ApiRequest json = make_request("POST", "/subdivide", "application/json",
                                    R"({"mesh":{"positions":[[0,0,0],[1,0,0],[0,1,0]],"faces":[[0,1,2]]}})");
