@@ -26,6 +26,7 @@ struct OutputOptions {
     std::optional<bool> draco;                      //!< glb only; default true ("compression": "draco"|"none")
     std::optional<std::int64_t> quantize_position;  //!< glb with Draco only; 1..24, default 14
     std::optional<bool> normals;                    //!< glb/obj/ply; default false
+    bool format_given = false;  //!< the request named `format` (else its Accept header may choose one)
 };
 
 struct SubdivideParams {

@@ -20,8 +20,10 @@ ProblemInfo info(Problem problem) {
         case Problem::InvalidField: return {400, "invalid_field", "Invalid field or parameter"};
         case Problem::UnknownField: return {400, "unknown_field", "Unknown field"};
         case Problem::UnknownParameter: return {400, "unknown_parameter", "Unknown query parameter"};
+        case Problem::MalformedMultipart: return {400, "malformed_multipart", "Malformed multipart/form-data body"};
         case Problem::NotFound: return {404, "not_found", "No such endpoint"};
         case Problem::MethodNotAllowed: return {405, "method_not_allowed", "Method not allowed"};
+        case Problem::NotAcceptable: return {406, "not_acceptable", "No acceptable output media type"};
         case Problem::PayloadTooLarge: return {413, "payload_too_large", "Request body too large"};
         case Problem::UnsupportedMediaType: return {415, "unsupported_media_type", "Unsupported media type"};
         case Problem::CoordinateOutOfRange:

@@ -10,8 +10,10 @@
 // Status codes are chosen in errors.cpp and nowhere else:
 //   400  the request cannot be read: no body (empty_body), malformed JSON / mesh file (parse_error, invalid_json), a
 //        JSON number beyond a double (number_out_of_range), a field of the wrong type or an unknown enum value
-//        (invalid_field), unknown JSON fields (unknown_field) or query parameters (unknown_parameter)
+//        (invalid_field), unknown JSON fields (unknown_field) or query parameters (unknown_parameter), a
+//        multipart/form-data body that does not parse or has not exactly one file part (malformed_multipart)
 //   404  no such route (not_found); 405 known route, other method (method_not_allowed)
+//   406  no `format` was given and the Accept header accepts none of the endpoint's output types (not_acceptable)
 //   413  the request body is over Limits::max_body_bytes (payload_too_large). Only the byte size of the body.
 //   415  the Content-Type is not one we read (unsupported_media_type)
 //   422  the request is well formed but its geometry or size cannot be processed: index_out_of_range,
@@ -55,8 +57,10 @@ enum class Problem {
     InvalidField,          //!< 400 a field/parameter has the wrong type or an unknown value, or is missing
     UnknownField,          //!< 400 a JSON object has a member we do not know
     UnknownParameter,      //!< 400 a query parameter we do not know
+    MalformedMultipart,    //!< 400 a multipart/form-data body that does not parse, or without exactly one file part
     NotFound,              //!< 404
     MethodNotAllowed,      //!< 405
+    NotAcceptable,         //!< 406 the Accept header accepts none of the endpoint's output media types
     PayloadTooLarge,       //!< 413
     UnsupportedMediaType,  //!< 415
     CoordinateOutOfRange,  //!< 422 a coordinate a float32 output format cannot hold

@@ -74,8 +74,10 @@ std::string media_type_of(std::string_view content_type) {
 
 //! cpp-httplib decodes form bodies itself while reading them: application/x-www-form-urlencoded into query
 //! parameters (and refuses one over 8 KiB with 413, whatever the body limit), multipart/form-data into files (the
-//! body stays empty). No endpoint takes either, so the header is taken off the library's request and kept in
-//! t_form_content_type: the body is read as plain bytes and the operation answers 415 with the types it accepts.
+//! body stays empty). So the header is taken off the library's request and kept in t_form_content_type: the body is
+//! read as plain bytes within the body limit, like any other, and reaches the API unchanged with its Content-Type;
+//! the upload operations parse a multipart/form-data body themselves (api/multipart.h), and answer 415 with the
+//! types they accept for a urlencoded one.
 void hide_form_content_type(httplib::Request& req) {
     t_form_content_type.clear();
     const std::string type = media_type_of(req.get_header_value("Content-Type"));

@@ -82,6 +82,7 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
         return json::invalid("simplify_tolerance", "simplify_tolerance applies only to mode \"adaptive\"");
     values->get("crease_angle", out.crease_angle);
     values->get_output(out.output);
+    if (auto error = negotiate_output_format(request, out.output)) return std::move(*error);
     if (auto error = check_output_options(out.output, Source::Json)) return std::move(*error);
 
     // the grid against the budget, before the scene is even parsed

@@ -268,6 +268,7 @@ std::optional<ApiError> decode_json_request(const ApiRequest& request, const Api
     auto decoded_params = params_from_json(root);
     if (!decoded_params) return std::move(decoded_params.error());
     d.params = std::move(decoded_params.value());
+    if (auto error = negotiate_output_format(request, d.params.output)) return error;
     if (auto error = check_output(d.params.output, d.source)) return error;
     const bool has_points = root.contains("points"), has_sample = root.contains("sample");
     if (has_points == has_sample) return invalid("points", "give exactly one of \"points\" and \"sample\"");
@@ -282,7 +283,14 @@ std::optional<ApiError> decode_json_request(const ApiRequest& request, const Api
 }
 
 constexpr std::string_view kAcceptedMediaTypes =
-    "application/json, application/ply, model/obj, text/x-xyz, application/octet-stream or text/plain (sniffed)";
+    "application/json, application/ply, model/obj, text/x-xyz, application/octet-stream or text/plain (sniffed), "
+    "multipart/form-data (one file part, options as fields)";
+
+//! The file types POST /pointcloud reads (for the file part of a form).
+bool reads_point_media_type(std::string_view media_type) {
+    return media_type == "application/json" || media_type == "application/octet-stream" || media_type == "text/plain" ||
+           point_format_from_media_type(media_type);
+}
 
 //! A point file as the body (PLY, OBJ, XYZ, or sniffed), options in the query.
 std::optional<ApiError> decode_file_request(const ApiRequest& request, const ApiContext& context,
@@ -300,6 +308,7 @@ std::optional<ApiError> decode_file_request(const ApiRequest& request, const Api
     auto query_params = params_from_query(request.query);
     if (!query_params) return std::move(query_params.error());
     d.params = std::move(query_params.value());
+    if (auto error = negotiate_output_format(request, d.params.output)) return error;
     if (auto error = check_output(d.params.output, d.source)) return error;
     PointReadOptions read_options;
     read_options.max_points = static_cast<std::size_t>(context.limits.max_points);
@@ -334,11 +343,13 @@ std::optional<ApiError> run_normal_estimation(Decoded& d, const ApiContext& cont
     return std::nullopt;
 }
 
-ApiResponse run(const ApiRequest& request, const ApiContext& context) {
+ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
     const auto t_start = Clock::now();
-    std::string media_type;
-    if (auto error = check_body(request, context.limits, media_type, kAcceptedMediaTypes))
+    Upload upload;
+    if (auto error = check_upload(sent, context.limits, kAcceptedMediaTypes, reads_point_media_type, upload))
         return error_response(std::move(*error));
+    const ApiRequest& request = *upload.request;
+    const std::string& media_type = upload.media_type;
 
     Decoded d;
     auto decode_error = media_type == "application/json" ? decode_json_request(request, context, d)

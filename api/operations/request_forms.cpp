@@ -8,6 +8,10 @@
 #include <limits>
 #include <set>
 
+#include "api/accept.h"
+#include "api/multipart.h"
+#include "api/options/option_spec.h"
+#include "api/routes.h"
 #include "geometry/io/gltf.h"
 #include "geometry/mesh/normals.h"
 #include "geometry/subdivision/subdivide.h"
@@ -43,7 +47,8 @@ std::string media_type_of(std::string_view content_type) {
 std::string accepted_mesh_media_types() {
     std::string out = "application/json";
     for (const auto& entry : kMeshMediaTypes) out += ", " + std::string(entry.name);
-    return out + ", application/octet-stream (format detected from the content)";
+    return out + ", application/octet-stream (format detected from the content)" +
+           std::string(multipart_media_type_note());
 }
 
 std::optional<MeshFormat> mesh_format_for(const std::string& media_type, std::string_view body) {
@@ -117,6 +122,128 @@ std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limi
         return make_problem(Problem::UnsupportedMediaType,
                             "a Content-Type is required; accepted: " + std::string(accepted));
     return std::nullopt;
+}
+
+std::string_view multipart_media_type_note() { return ", multipart/form-data (one file part, options as fields)"; }
+
+std::string media_type_for_filename(std::string_view filename) {
+    if (auto format = format_from_extension(filename)) return std::string(enum_name(kMeshMediaTypes, *format));
+    const std::size_t dot = filename.rfind('.');
+    if (dot == std::string_view::npos) return {};
+    std::string ext(filename.substr(dot + 1));
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == "json") return "application/json";
+    if (ext == "bez" || ext == "bpt" || ext == "bbp") return "application/x-geomview-bez";
+    if (ext == "xyz" || ext == "pts") return "text/x-xyz";
+    if (ext == "txt") return "text/plain";
+    return {};
+}
+
+bool reads_mesh_media_type(std::string_view media_type) {
+    return media_type == "application/json" || media_type == "application/octet-stream" ||
+           format_from_media_type(media_type) || enum_from_name(kMeshMediaTypes, media_type);
+}
+
+namespace {
+
+//! The media type of the file part: its own when the endpoint reads it (the generic application/octet-stream and
+//! text/plain, which browsers and curl send for files they do not know, give way to a known extension), else the
+//! extension's, else application/octet-stream (the format then sniffed where the endpoint does so).
+std::string file_part_media_type(const MultipartPart& part, ReadsMediaType reads) {
+    const std::string declared = media_type_of(part.content_type);
+    const bool generic = declared == "application/octet-stream" || declared == "text/plain";
+    if (!declared.empty() && !generic && reads(declared)) return declared;
+    const std::string by_name = media_type_for_filename(part.filename.value_or(""));
+    if (!by_name.empty() && reads(by_name)) return by_name;
+    if (!declared.empty()) return declared;
+    return "application/octet-stream";
+}
+
+}  // namespace
+
+std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& limits, std::string_view accepted,
+                                     ReadsMediaType reads, Upload& out) {
+    out.request = &request;
+    if (auto error = check_body(request, limits, out.media_type, accepted)) return error;
+    if (out.media_type != "multipart/form-data") return std::nullopt;
+    auto boundary = multipart_boundary(request.content_type);
+    if (!boundary) return std::move(boundary.error());
+    auto parts = parse_multipart(request.body, boundary.value());
+    if (!parts) return std::move(parts.error());
+    const MultipartPart* file = nullptr;
+    ApiRequest& form = out.form;
+    form.method = request.method;
+    form.path = request.path;
+    form.path_params = request.path_params;
+    form.headers = request.headers;
+    form.query = request.query;
+    for (const MultipartPart& part : parts.value()) {
+        if (part.filename || part.name == "file") {
+            if (file)
+                return make_problem(Problem::MalformedMultipart, "two file parts, \"" + file->name + "\" and \"" +
+                                                                     part.name + "\": send exactly one file");
+            file = &part;
+            continue;
+        }
+        if (request.query.count(part.name))
+            return make_problem(Problem::InvalidField,
+                                "option " + part.name + " is given both as a query parameter and as a form field",
+                                part.name);
+        form.query.emplace(part.name, std::string(part.body));
+    }
+    if (!file)
+        return make_problem(Problem::MalformedMultipart,
+                            "no file part: send the file as a part with a filename (curl -F file=@mesh.obj), the "
+                            "options as the other parts");
+    if (file->body.empty())
+        return make_problem(Problem::EmptyBody,
+                            "the file part \"" + file->name + "\"" +
+                                (file->filename && !file->filename->empty() ? " (" + *file->filename + ")"
+                                                                            : std::string(" (no file chosen?)")) +
+                                " is empty");
+    form.body = file->body;
+    out.media_type = file_part_media_type(*file, reads);
+    form.content_type = out.media_type;
+    out.request = &form;
+    return std::nullopt;
+}
+
+std::optional<ApiError> negotiate_output_format(const ApiRequest& request, OutputOptions& out) {
+    if (out.format_given) return std::nullopt;
+    std::string accept;  // several Accept headers make one list (RFC 9110 section 5.3)
+    for (auto [it, end] = request.headers.equal_range("accept"); it != end; ++it)
+        accept += (accept.empty() ? "" : ", ") + it->second;
+    if (accept.empty()) return std::nullopt;
+    const options::OptionSpec* format_option = nullptr;
+    for (const options::OperationOptions& operation : options::operations())
+        if (match_path(operation.path, request.path)) {
+            format_option = options::find_option(operation, "format");
+            if (format_option) break;
+        }
+    if (!format_option) return std::nullopt;
+    std::vector<OutputFormat> formats;
+    std::vector<std::string_view> media_types;
+    std::size_t preferred = 0;
+    std::string_view default_name = format_option->default_json;
+    if (default_name.size() >= 2 && default_name.front() == '"')
+        default_name = default_name.substr(1, default_name.size() - 2);
+    for (std::string_view name : format_option->values) {
+        const auto format = enum_from_name(kOutputFormatNames, name);
+        if (!format) continue;
+        if (name == default_name) preferred = formats.size();
+        formats.push_back(*format);
+        media_types.push_back(output_media_type(*format));
+    }
+    if (const auto chosen = negotiate_media_type(accept, media_types, preferred)) {
+        out.format = formats[*chosen];
+        return std::nullopt;
+    }
+    std::string offered;
+    for (std::string_view type : media_types) offered += (offered.empty() ? "" : ", ") + std::string(type);
+    const std::string shown = accept.size() > 200 ? accept.substr(0, 200) + "..." : accept;
+    return make_problem(Problem::NotAcceptable,
+                        "the Accept header (\"" + shown + "\") accepts none of the media types " + request.method +
+                            " " + request.path + " answers with: " + offered + " (or name one with format)");
 }
 
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request) {

@@ -1,5 +1,6 @@
 // What every operation that takes a mesh (or patches) shares: the two request forms (a JSON body, or a raw file body
-// with options as query parameters), media types, query-parameter parsing with named errors, error field paths,
+// with options as query parameters, which a multipart/form-data body also stands for), media types, the output format
+// from `format` or the Accept header, query-parameter parsing with named errors, error field paths,
 // timing, and the never-throw guard. One copy, so every endpoint words its errors the same way.
 #pragma once
 
@@ -58,6 +59,48 @@ ApiResult<bool> parse_bool_parameter(const std::string& name, const std::string&
 //! all before anything is parsed. `accepted` lists the endpoint's media types, for those two errors.
 std::optional<ApiError> check_body(const ApiRequest& request, const Limits& limits, std::string& media_type,
                                    std::string_view accepted);
+// ---- multipart/form-data: the raw-file form sent as an HTML form or curl -F ---------------------------------------
+
+//! Whether an endpoint reads files of `media_type` (normalised): how a file part's declared type is judged.
+using ReadsMediaType = bool (*)(std::string_view media_type);
+//! The media type a file name's extension stands for (.obj model/obj, .ply application/ply, .json application/json,
+//! .bez application/x-geomview-bez, .xyz text/x-xyz, ...); empty when the extension says nothing.
+std::string media_type_for_filename(std::string_view filename);
+//! Whether a mesh endpoint reads `media_type`: application/json, a mesh file type, or application/octet-stream.
+bool reads_mesh_media_type(std::string_view media_type);
+//! ", multipart/form-data (...)": the tail every upload endpoint's list of accepted media types ends with.
+std::string_view multipart_media_type_note();
+
+//! The request an upload endpoint reads: the request itself, or for a multipart/form-data body the raw-file request
+//! it stands for (held in `form`, whose body is a view into the original body).
+struct Upload {
+    const ApiRequest* request = nullptr;
+    std::string media_type;  //!< of `request`'s body, normalised
+    ApiRequest form;
+
+    Upload() = default;
+    Upload(const Upload&) = delete;
+    Upload& operator=(const Upload&) = delete;
+};
+//! check_body, then for a multipart/form-data body: its parts (400 malformed_multipart naming what is wrong), exactly
+//! one file part (a part with a filename, or the part named "file"; 400 malformed_multipart for none or two, 400
+//! empty_body when it is empty) as the body, and the other parts as query parameters, read by the same option
+//! readers (an option given both as a query parameter and as a form field is 400 invalid_field naming it). The file
+//! part's media type: its Content-Type when `reads` takes it (application/octet-stream and text/plain only when the
+//! file name's extension names no type `reads` takes), else its extension's type, else application/octet-stream.
+std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& limits, std::string_view accepted,
+                                     ReadsMediaType reads, Upload& out);
+
+// ---- the output format: `format`, else the Accept header ------------------------------------------------------------
+
+//! When the request named no format (`out.format_given`) and sent an Accept header: the format of the endpoint at
+//! `request.path` (the values of its option table's "format") whose media type Accept prefers (a tie: the default);
+//! 406 not_acceptable listing the media types offered when Accept takes none of them. Endpoints without a "format"
+//! option keep their one media type.
+std::optional<ApiError> negotiate_output_format(const ApiRequest& request, OutputOptions& out);
+
+// ---- JSON bodies --------------------------------------------------------------------------------------------------
+
 //! Options of a JSON request go in its body: query parameters with it are an error naming the first one.
 std::optional<ApiError> reject_query_with_json(const ApiRequest& request);
 //! The intake of an endpoint that takes only a JSON body (`operation` names it in the message, e.g.
@@ -105,21 +148,31 @@ std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, 
 std::optional<ApiError> check_deadline_before_encoding(const Cancel& cancel);
 
 //! The two request forms of a mesh operation, each checked in the same order:
-//! 1. body size and media type, before anything is parsed;
+//! 1. body size and media type, before anything is parsed (a multipart/form-data body: its file part and fields);
 //! 2. a JSON body: no query parameters, `decode_json(body, limits)` (an ApiResult of something with `params` and
 //!    `mesh`), `check_params(params, Source::Json)`; or an uploaded file: a known format (415), then
-//!    `params_from_query(query)` and `check_params(params, Source::File)`, both before the file is read;
+//!    `params_from_query(query)` and `check_params(params, Source::File)`, both before the file is read; in both, a
+//!    format not named comes from the Accept header (before check_params);
 //! 3. the input budget and the mesh's validity.
 //! `rules` are the reader's and validity rules; for a Params with a `repair` member (operations that repair their input
 //! and so pass the lenient rules), repair "none" means the strict ones.
 //! The operation states only what differs: its options, their decoders and their checks.
 template <class Params, class DecodeJson, class ParamsFromQuery, class CheckParams>
-ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, const Limits& limits,
+ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& sent, const Limits& limits,
                                                    DecodeJson&& decode_json, ParamsFromQuery&& params_from_query,
                                                    CheckParams&& check_params, MeshRules rules = MeshRules::Strict) {
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type, accepted_mesh_media_types())) return std::move(*error);
+    Upload upload;
+    if (auto error = check_upload(sent, limits, accepted_mesh_media_types(), reads_mesh_media_type, upload))
+        return std::move(*error);
+    const ApiRequest& request = *upload.request;
+    const std::string& media_type = upload.media_type;
     MeshRequest<Params> out;
+    // A format the request did not name comes from its Accept header (before the checks of the output options).
+    const auto negotiate = [&]() -> std::optional<ApiError> {
+        if constexpr (requires { out.params.output.format; })
+            return negotiate_output_format(request, out.params.output);
+        return std::nullopt;
+    };
     // An operation that repairs its input reads it leniently (`rules`), unless the request says repair "none": then
     // the strict rules, with their errors at the file's line.
     const auto effective_rules = [&] {
@@ -133,6 +186,7 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
         auto decoded = decode_json(request.body, limits);
         if (!decoded) return std::move(decoded.error());
         out.params = std::move(decoded->params);
+        if (auto error = negotiate()) return std::move(*error);
         if (auto error = check_params(out.params, out.source)) return std::move(*error);
         out.mesh = std::move(decoded->mesh);
     } else {
@@ -140,6 +194,7 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& request, co
         auto query_params = params_from_query(request.query);
         if (!query_params) return std::move(query_params.error());
         out.params = std::move(query_params.value());
+        if (auto error = negotiate()) return std::move(*error);
         if (auto error = check_params(out.params, out.source)) return std::move(*error);
         auto read = read_uploaded_mesh(request, media_type, limits, effective_rules(), &out.read);
         if (!read) return std::move(read.error());

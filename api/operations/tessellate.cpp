@@ -34,7 +34,13 @@ std::string format_number(double value, const char* format = "%.3f") {
 std::string accepted_media_types() {
     std::string out = "application/json";
     for (std::string_view type : kBezMediaTypes) out += ", " + std::string(type);
-    return out + ", " + std::string(kObjMediaType);
+    return out + ", " + std::string(kObjMediaType) + std::string(multipart_media_type_note());
+}
+
+//! The file types a POST /tessellate reads (for the file part of a form).
+bool reads_patch_media_type(std::string_view media_type) {
+    return media_type == "application/json" || media_type == kObjMediaType ||
+           std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) != std::end(kBezMediaTypes);
 }
 
 ApiError invalid_parameter(const std::string& name, const std::string& detail) {
@@ -186,12 +192,14 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
     return response;
 }
 
-ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context) {
+ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto start = Clock::now();
-    std::string media_type;
-    if (auto error = check_body(request, limits, media_type, accepted_media_types()))
+    Upload upload;
+    if (auto error = check_upload(sent, limits, accepted_media_types(), reads_patch_media_type, upload))
         return error_response(std::move(*error));
+    const ApiRequest& request = *upload.request;
+    const std::string& media_type = upload.media_type;
     if (media_type == "application/json") {
         if (!request.query.empty())
             return error_response(
@@ -201,6 +209,8 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
                              request.query.begin()->first));
         auto decoded = decode_tessellate_request(request.body, limits);
         if (!decoded) return error_response(std::move(decoded.error()));
+        if (auto error = negotiate_output_format(request, decoded->params.output))
+            return error_response(std::move(*error));
         if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
         return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start, context.cancel);
     }
@@ -212,6 +222,7 @@ ApiResponse run_tessellate(const ApiRequest& request, const ApiContext& context)
     // options first: a file is not parsed for a request we would refuse anyway
     auto params = params_from_query("tessellate", request.query);
     if (!params) return error_response(std::move(params.error()));
+    if (auto error = negotiate_output_format(request, params->output)) return error_response(std::move(*error));
     if (auto error = check_params(params.value(), limits, Source::Query)) return error_response(std::move(*error));
     Result<PatchSet> set = make_error(ErrorCode::Internal, "unread");
     if (obj) {
@@ -264,6 +275,7 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     }
     auto params = params_from_query("patches", request.query);
     if (!params) return error_response(std::move(params.error()));
+    if (auto error = negotiate_output_format(request, params->output)) return error_response(std::move(*error));
     // format=json: the sample's control points (the body POST /tessellate accepts), for editors that show the net.
     const bool control_points = params->output.format == OutputFormat::Json;
     if (control_points) {
@@ -286,8 +298,9 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     key += "|normals=" + std::to_string(p.output.normals.value_or(true));
     char etag[24];
     std::snprintf(etag, sizeof etag, "\"%016llx\"", static_cast<unsigned long long>(fnv1a(text, fnv1a(key))));
-    const std::vector<std::pair<std::string, std::string>> cache_headers = {{"ETag", etag},
-                                                                            {"Cache-Control", "public, max-age=3600"}};
+    std::vector<std::pair<std::string, std::string>> cache_headers = {{"ETag", etag},
+                                                                      {"Cache-Control", "public, max-age=3600"}};
+    if (!p.output.format_given) cache_headers.emplace_back("Vary", "Accept");  // the format came from Accept
 
     if (etag_matches(request.header("if-none-match"), etag)) {
         ApiResponse not_modified;

@@ -172,6 +172,7 @@ std::optional<ApiError> check_range(const OptionSpec& option, const OptionValue&
 
 void OptionValues::get_output(OutputOptions& out) const {
     get("format", kOutputFormatNames, out.format);
+    if (has("format")) out.format_given = true;
     get("compression", kCompressionNames, out.draco);
     get("quantize_position", out.quantize_position);
     get("normals", out.normals);

@@ -207,5 +207,38 @@ TEST(OptionsDrift, JsonBodyMembersMatchTheTable) {
     }
 }
 
+// A multipart/form-data upload carries the query parameters as text fields: its schema documents the same options
+// (and the file part), so a form field is described exactly as the query parameter it stands for.
+TEST(OptionsDrift, MultipartFieldsMatchTheQueryParameters) {
+    int forms = 0;
+    for (const auto& op : options::operations()) {
+        const json& operation = document()["paths"][std::string(op.path)][std::string(op.method)];
+        if (!operation.contains("requestBody")) continue;
+        const json& content = resolve(operation["requestBody"])["content"];
+        if (!content.contains("multipart/form-data")) continue;
+        SCOPED_TRACE(label(op));
+        ++forms;
+        const json& properties = resolve(content["multipart/form-data"]["schema"])["properties"];
+        EXPECT_TRUE(properties.contains("file")) << label(op) << ": the form has no file part";
+        std::set<std::string> query;
+        for (const OptionSpec* option : options::all_options(op)) {
+            if (!option->on_query()) continue;
+            const std::string name(option->name);
+            query.insert(name);
+            if (!properties.contains(name)) {
+                ADD_FAILURE() << "form field " << name << " of " << label(op) << ": a query parameter, not a field";
+                continue;
+            }
+            // (a field's text is read as the query parameter's: "query parameter" in `where` says so to expect_same)
+            expect_same(resolve(properties[name]), *option,
+                        "form field " + name + " (read as its query parameter) of " + label(op));
+        }
+        for (const auto& [name, schema] : properties.items())
+            EXPECT_TRUE(name == "file" || query.count(name))
+                << "form field " << name << " of " << label(op) << ": in OpenAPI, not a query parameter";
+    }
+    EXPECT_GE(forms, 6);  // subdivide, simplify, remesh, repair, tessellate, pointcloud
+}
+
 }  // namespace
 }  // namespace surfaced::api
