@@ -583,7 +583,13 @@ async function walk(op) {
     check(Number.isInteger(out.json?.offset), `${out.label}: invalid_json without a byte offset`);
   }
   if (op.responses['406']) {
-    const body = examples[0] !== undefined ? JSON.stringify(examples[0]) : undefined;
+    // Accept only picks the format when the request names none: the example without its output.format
+    let example = examples[0];
+    if (example?.output?.format !== undefined) {
+      const { format, ...output } = example.output;
+      example = { ...example, output };
+    }
+    const body = example !== undefined ? JSON.stringify(example) : undefined;
     expectRefusedCode(await send(op, { body, contentType: body && 'application/json', pathValues,
       headers: { Accept: 'application/x-contract-nothing' }, note: 'Accept: application/x-contract-nothing' }), 406);
   }
