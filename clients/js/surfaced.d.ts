@@ -184,8 +184,8 @@ export interface RemeshOptions extends MeshInput, OutputOptions<OutputFormat> {
   iterations?: number;
   /** degrees, 0..180 (180: no features). @default 60 */
   feature_angle?: number;
-  /** @default true */
-  keep_boundary?: boolean;
+  /** boundary vertices stay on the input's border (moving an open mesh's border shrinks it). @default true */
+  lock_border?: boolean;
   /** @default 'tangential' */
   smoothing?: RemeshSmoothing;
   /** @default 'auto' */

@@ -179,7 +179,7 @@ export class Client {
    *  threads, locked_vertices, report_error, repair ('auto' | 'none'), output}; what repair did: X-Repairs */
   simplify(options) { return this.operation('/simplify', 'mesh', options); }
 
-  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, keep_boundary, smoothing,
+  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, lock_border, smoothing,
    *  repair ('auto' | 'none'), output} */
   remesh(options) { return this.operation('/remesh', 'mesh', options); }
 

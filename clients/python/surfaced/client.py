@@ -392,7 +392,7 @@ class Client:
     def remesh(self, mesh: Optional[Mesh] = None, *, data: Optional[bytes] = None,
                content_type: Optional[str] = None,
                edge_length: Optional[float] = None, iterations: int = 10, feature_angle: float = 60,
-               keep_boundary: bool = True, smoothing: RemeshSmoothing = "tangential", repair: RepairMode = "auto",
+               lock_border: bool = True, smoothing: RemeshSmoothing = "tangential", repair: RepairMode = "auto",
                output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
                quantize_position: int = 14, normals: bool = False) -> Result:
         """POST /remesh: Botsch-Kobbelt isotropic remeshing to one edge length. Quality before and after comes in
@@ -404,7 +404,8 @@ class Client:
         :param iterations: 0..100 (default 10).
         :param feature_angle: dihedral angle in degrees above which an edge is a sharp feature, 0..180 (default 60;
             180 disables features).
-        :param keep_boundary: boundary vertices stay on the input boundary (default True).
+        :param lock_border: boundary vertices stay on the input boundary (default True: moving an open mesh's border
+            shrinks it); the server still accepts its deprecated name ``keep_boundary``.
         :param smoothing: ``"tangential"`` (default), ``"laplacian"`` or ``"none"``.
         :param repair: ``"auto"`` (default) or ``"none"``, as for :meth:`simplify`.
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
