@@ -31,7 +31,10 @@
 //
 // Response: the mesh as GLB (default), glTF, OBJ, PLY or JSON ({"mesh": ..., "stats": ...}), with headers
 // X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces, X-Triangulated (true|false),
-// X-Achieved-Error, X-Relative-Error (SimplifyResult's, relative to the input's bounding-box diagonal),
+// X-Target-Faces (the face count worked toward: target_faces, floor(ratio x the triangles simplified), the smaller
+// of the two; absent with max_error alone), X-Achieved-Faces, X-Target-Met (false when the output has more faces than
+// the target or the target is above the triangles there were: still 200; true with max_error alone), the same as
+// "target_faces", "achieved_faces", "target_met" in the JSON stats, X-Achieved-Error, X-Relative-Error (SimplifyResult's, relative to the input's bounding-box diagonal),
 // X-Hausdorff and X-RMS (report_error: measured between input and output by mesh_distance()), X-Repairs (repair
 // "auto": "welded=0; degenerate=0; ..."), X-Elapsed-Ms and
 // Server-Timing (decode, simplify, measure, encode, total).
