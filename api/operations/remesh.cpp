@@ -160,7 +160,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.cancel = context.cancel;
     std::optional<PolygonMesh> repaired;
     std::optional<RepairReport> repairs;
-    auto remeshed = run_with_repair(input, params.repair, source, context.cancel, repaired, repairs,
+    auto remeshed = run_with_repair(input, params.repair, source, read_report, context.cancel, repaired, repairs,
                                     [&](const PolygonMesh& m) { return surfaced::remesh(m, options); });
     if (!remeshed) return error_response(std::move(remeshed.error()));
     RemeshResult& result = remeshed.value();

@@ -119,8 +119,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const SimplifyParams& wanted = params;
     const PolygonMesh& sent = input;
     std::size_t simplified_triangles = 0;  // of the mesh simplified (the input or its repair), once triangulated
-    auto simplified =
-        run_with_repair(input, params.repair, source, context.cancel, repaired, repairs, [&](const PolygonMesh& mesh) {
+    auto simplified = run_with_repair(
+        input, params.repair, source, read_report, context.cancel, repaired, repairs, [&](const PolygonMesh& mesh) {
             simplified_triangles = mesh.face_indices.size() - 2 * mesh.face_count();
             return simplify_qem(mesh, simplify_options(wanted, sent, mesh, context.cancel));
         });

@@ -22,8 +22,9 @@
 // Polygons are triangulated first (X-Triangulated: true). "repair": "auto" (default; query repair=auto) repairs a mesh
 // that needs it first (api/operations/mesh_repair.h), reported in X-Repairs and the JSON stats' "repairs"; locked
 // vertices follow their positions into the repaired mesh. "none": non-manifold input (an edge shared by more than two
-// faces, or inconsistently oriented faces) is refused with 422 non_manifold naming the edge, a face that repeats a
-// vertex with 422 degenerate_face.
+// faces, inconsistently oriented faces, a vertex where several fans meet) is refused with 422 non_manifold naming the
+// edge or vertex, a face that repeats a vertex with 422 degenerate_face: the rules /remesh applies
+// (check_manifold_input() in mesh_repair.h), located at a face (field or file line) with a hint.
 //
 // Order of checks, all before simplifying: body size (413), media type (415), options (400: unknown, malformed, out
 // of range, no stop criterion), decode (400 with line/offset or field path), input size against Limits::max_input_*

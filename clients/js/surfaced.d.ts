@@ -354,6 +354,8 @@ export type CurvesAnswer = Record<string, unknown>;
 
 export interface Problem {
   type?: string; title?: string; status?: number; detail?: string; code?: string; field?: string; line?: number;
+  /** what would make the request work ("repair=auto repairs it") */
+  hint?: string;
   [member: string]: unknown;
 }
 
@@ -365,6 +367,7 @@ export declare class SurfacedError extends Error {
   code?: string;
   field?: string;
   line?: number;
+  hint?: string;
 }
 
 export declare class IncompatibleServerError extends Error {

@@ -43,7 +43,8 @@ _OUTPUT_KEYS = ("format", "compression", "quantize_position", "normals")
 
 class SurfacedError(Exception):
     """A problem+json answer (RFC 9457), or a transport failure (status 0). ``field`` names the request member that
-    is wrong (``mesh.faces[3][1]``), ``line`` the line of an uploaded file."""
+    is wrong (``mesh.faces[3][1]``), ``line`` the line of an uploaded file, ``hint`` what would make the request work
+    ("repair=auto repairs it")."""
 
     def __init__(self, status: int, problem: Mapping[str, Any]) -> None:
         self.status: int = status
@@ -51,11 +52,14 @@ class SurfacedError(Exception):
         self.code: Optional[str] = problem.get("code")
         self.field: Optional[str] = problem.get("field")
         self.line: Optional[int] = problem.get("line")
+        self.hint: Optional[str] = problem.get("hint")
         text = f"{problem.get('status', status)} {problem.get('title', 'error')}: {problem.get('detail', '')}"
         if self.field:
             text += f" (field {self.field})"
         if self.line:
             text += f" (line {self.line})"
+        if self.hint:
+            text += f" (hint: {self.hint})"
         super().__init__(text)
 
 
