@@ -79,6 +79,13 @@ struct SimplifyStats {
     double achieved_error = 0, relative_error = 0;  //!< see SimplifyResult
     std::optional<double> hausdorff, rms;           //!< when report_error
     std::optional<RepairReport> repairs;            //!< repair "auto": what was repaired before simplifying
+    //! The face count worked toward: target_faces, floor(ratio x the triangles simplified), the smaller when both
+    //! were given; unset with max_error alone.
+    std::optional<std::size_t> target_faces;
+    std::size_t achieved_faces = 0;  //!< the output's faces (triangles)
+    //! achieved_faces <= target_faces <= the triangles simplified (simplification never adds faces); true with
+    //! max_error alone (the output is always within it).
+    bool target_met = true;
     double elapsed_ms = 0;
 };
 

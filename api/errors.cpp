@@ -178,6 +178,7 @@ std::string to_problem_json(const ApiError& error) {
     if (error.field) out += ",\"field\":" + json_quote(*error.field);
     if (error.line) out += ",\"line\":" + std::to_string(*error.line);
     if (error.offset) out += ",\"offset\":" + std::to_string(*error.offset);
+    if (error.hint) out += ",\"hint\":" + json_quote(*error.hint);
     out += "}";
     return out;
 }

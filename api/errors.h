@@ -3,7 +3,8 @@
 // Every failure a client can see is an ApiError, rendered as RFC 9457 `application/problem+json`:
 //   {"type": "/problems/<code>", "title": ..., "status": ..., "detail": ..., "code": "<code>",
 //    "field": "mesh.faces[12][3]"  (when the problem is at a known place in a JSON request)
-//    "line": 12 / "offset": 345     (when it is at a known place in an uploaded file or a JSON body)}
+//    "line": 12 / "offset": 345     (when it is at a known place in an uploaded file or a JSON body)
+//    "hint": "..."                  (when another option would make the request work)}
 // `code` is stable and machine-readable (snake_case); `title` is the same for every occurrence of a code; `detail`
 // describes this occurrence. `type` is a relative URI reserved for a future documentation page per code.
 //
@@ -46,6 +47,7 @@ struct ApiError {
     std::optional<std::string> field;    //!< path into a JSON request: "mesh.faces[12][3]", "levels"
     std::optional<std::int64_t> line;    //!< 1-based line in an uploaded text file
     std::optional<std::int64_t> offset;  //!< byte offset in an uploaded binary file or a JSON body
+    std::optional<std::string> hint;     //!< what would make the request work ("repair=auto repairs it")
 };
 
 //! Problems raised by the API itself (as opposed to GeoErrors from geometry/).

@@ -449,6 +449,9 @@ std::string encode_simplify_response(const PolygonMesh& mesh, const SimplifyStat
         out += ",\"repairs\":";
         out += encode_repairs(*stats.repairs);
     }
+    if (stats.target_faces) member("target_faces", static_cast<std::uint64_t>(*stats.target_faces));
+    member("achieved_faces", static_cast<std::uint64_t>(stats.achieved_faces));
+    out += stats.target_met ? ",\"target_met\":true" : ",\"target_met\":false";
     member("elapsed_ms", stats.elapsed_ms);
     out += "}}";
     return out;

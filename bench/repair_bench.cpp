@@ -1,7 +1,7 @@
 // Mesh repair against the simplification it precedes, in one run: on the bunny after two Loop levels (1.1M
 // triangles; an icosphere of 1.3M when glmark2-data is missing), clean, with one duplicate face appended, and as a
 // soup (every triangle with its own three vertices, as STL stores it), it times needs_repair (audit_mesh),
-// repair_mesh, simplify_qem on the mesh as sent (what `repair: auto` tries first: on broken input, the time until it
+// validate + check_manifold (the manifold rules /simplify and /remesh apply before running), repair_mesh, simplify_qem on the mesh as sent (what `repair: auto` tries first: on broken input, the time until it
 // refuses) and simplify_qem to 1% on the repaired mesh, and prints the ratios we hold repair to (repair / simplify
 // <= 0.1; the check on clean input as well). Peak memory is the peak of live heap bytes during the call, counted by
 // the global operator new below (the aligned one too: BlockVector's blocks), minus what was live before it. Bench
@@ -163,12 +163,14 @@ std::string report_text(const RepairReport& r) {
 bool g_repair_only = false;
 
 void run(const std::string& name, const PolygonMesh& mesh, int rounds) {
-    Timing audit, repair, first_try, simplified;
-    bool needs = false;
+    Timing audit, manifold, repair, first_try, simplified;
+    bool needs = false, is_manifold = false;
     RepairResult repaired;
     std::string first_outcome;
     for (int round = 0; round < rounds; ++round) {
         time_once([&] { needs = needs_repair(mesh); }, audit);
+        // the shared manifold check /simplify and /remesh run before the operation (repair none and auto alike)
+        time_once([&] { is_manifold = validate(mesh).ok() && check_manifold(mesh).ok(); }, manifold);
         time_once(
             [&] {
                 auto result = repair_mesh(mesh);
@@ -199,18 +201,21 @@ void run(const std::string& name, const PolygonMesh& mesh, int rounds) {
             simplified);
     }
     if (g_repair_only) {
-        std::printf("| %s | %zu / %zu | %s | %.3f | %.3f | %s | - | - | - | - | %.0f | - |\n", name.c_str(),
-                    mesh.vertex_count(), mesh.face_count(), needs ? "yes" : "no", audit.seconds, repair.seconds,
-                    report_text(repaired.report).c_str(), repair.peak_mib);
+        std::printf("| %s | %zu / %zu | %s | %.3f | %s | %.3f | %.3f | %s | - | - | - | - | - | %.0f | - |\n",
+                    name.c_str(), mesh.vertex_count(), mesh.face_count(), needs ? "yes" : "no", audit.seconds,
+                    is_manifold ? "yes" : "no", manifold.seconds, repair.seconds, report_text(repaired.report).c_str(),
+                    repair.peak_mib);
         std::fflush(stdout);
         return;
     }
     char first[64] = "-";
     if (needs) std::snprintf(first, sizeof first, "%.3f (%s)", first_try.seconds, first_outcome.c_str());
-    std::printf("| %s | %zu / %zu | %s | %.3f | %.3f | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", name.c_str(),
-                mesh.vertex_count(), mesh.face_count(), needs ? "yes" : "no", audit.seconds, repair.seconds,
-                report_text(repaired.report).c_str(), first, simplified.seconds, audit.seconds / simplified.seconds,
-                repair.seconds / simplified.seconds, repair.peak_mib, simplified.peak_mib);
+    std::printf(
+        "| %s | %zu / %zu | %s | %.3f | %s | %.3f | %.3f | %s | %s | %.3f | %.3f | %.3f | %.3f | %.0f | %.0f |\n",
+        name.c_str(), mesh.vertex_count(), mesh.face_count(), needs ? "yes" : "no", audit.seconds,
+        is_manifold ? "yes" : "no", manifold.seconds, repair.seconds, report_text(repaired.report).c_str(), first,
+        simplified.seconds, audit.seconds / simplified.seconds, manifold.seconds / simplified.seconds,
+        repair.seconds / simplified.seconds, repair.peak_mib, simplified.peak_mib);
     std::fflush(stdout);
 }
 
@@ -256,9 +261,10 @@ int main(int argc, char** argv) {
         "peak: live heap during the call\n\n",
         g_cpu_time ? "CPU time" : "time", rounds);
     std::printf(
-        "| input | vertices / faces | needs_repair | needs_repair time | repair_mesh time | repairs | first try | "
-        "simplify time | needs_repair / simplify | repair / simplify | repair peak MiB | simplify peak MiB |\n");
-    std::printf("|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
+        "| input | vertices / faces | needs_repair | needs_repair time | manifold | check_manifold time | "
+        "repair_mesh time | repairs | first try | simplify time | needs_repair / simplify | check_manifold / simplify "
+        "| repair / simplify | repair peak MiB | simplify peak MiB |\n");
+    std::printf("|---|---:|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
     run(name + ", clean", clean, rounds);
     run(name + ", one duplicate face", with_duplicate_face(clean), rounds);
     run(name + ", soup", soup(clean), rounds);

@@ -26,6 +26,19 @@ struct PositionHash {
 
 }  // namespace
 
+ApiError input_error(const GeoError& error, Source source, const ReadReport& read) {
+    ApiError out = geometry_error(error, source, read);
+    if (error.code == ErrorCode::NonManifold || error.code == ErrorCode::DegenerateFace)
+        out.hint = source == Source::Json ? "\"repair\": \"auto\" repairs it" : "repair=auto repairs it";
+    return out;
+}
+
+std::optional<ApiError> check_manifold_input(const PolygonMesh& mesh, Source source, const ReadReport& read) {
+    if (const Status valid = validate(mesh); !valid) return input_error(valid.error(), source, read);
+    if (const Status manifold = check_manifold(mesh); !manifold) return input_error(manifold.error(), source, read);
+    return std::nullopt;
+}
+
 std::vector<Index> vertices_by_position(const PolygonMesh& before, const PolygonMesh& after,
                                         const std::vector<std::int64_t>& vertices) {
     std::unordered_map<Vec3, Index, PositionHash> at;

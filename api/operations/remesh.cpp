@@ -21,7 +21,7 @@ struct RemeshParams {
     std::optional<double> edge_length;
     std::int64_t iterations = 10;
     double feature_angle = 60;
-    bool keep_boundary = true;
+    bool lock_border = true;
     RemeshSmoothing smoothing = RemeshSmoothing::Tangential;
     RepairMode repair = RepairMode::Auto;
     OutputOptions output;
@@ -32,7 +32,7 @@ RemeshParams params_from(const options::OptionValues& values) {
     values.get("edge_length", params.edge_length);
     values.get("iterations", params.iterations);
     values.get("feature_angle", params.feature_angle);
-    values.get("keep_boundary", params.keep_boundary);
+    values.get("lock_border", params.lock_border);
     values.get("smoothing", kRemeshSmoothingNames, params.smoothing);
     values.get("repair", kRepairModeNames, params.repair);
     values.get_output(params.output);
@@ -153,14 +153,14 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.target_edge_length = length;
     options.iterations = static_cast<int>(params.iterations);
     options.feature_angle_degrees = params.feature_angle;
-    options.keep_boundary = params.keep_boundary;
+    options.lock_border = params.lock_border;
     options.smoothing = params.smoothing;
     // intermediate meshes may briefly exceed the prediction (splits before collapses); never past twice the limit
     options.max_faces = static_cast<std::size_t>(2 * limits.max_output_faces);
     options.cancel = context.cancel;
     std::optional<PolygonMesh> repaired;
     std::optional<RepairReport> repairs;
-    auto remeshed = run_with_repair(input, params.repair, source, context.cancel, repaired, repairs,
+    auto remeshed = run_with_repair(input, params.repair, source, read_report, context.cancel, repaired, repairs,
                                     [&](const PolygonMesh& m) { return surfaced::remesh(m, options); });
     if (!remeshed) return error_response(std::move(remeshed.error()));
     RemeshResult& result = remeshed.value();

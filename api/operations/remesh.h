@@ -3,7 +3,7 @@
 // Same two request forms as POST /subdivide and /simplify:
 //  * Content-Type application/json:
 //      {"mesh": {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]},
-//       "edge_length": L, "iterations": 10, "feature_angle": 60, "keep_boundary": true,
+//       "edge_length": L, "iterations": 10, "feature_angle": 60, "lock_border": true,
 //       "smoothing": "tangential"|"laplacian"|"none", "repair": "auto"|"none",
 //       "output": {"format": "glb"|"gltf"|"obj"|"ply"|"json", "compression": "draco"|"none", "quantize_position": 14,
 //                  "normals": false}}
@@ -11,7 +11,9 @@
 //    triangles). Query parameters are rejected.
 //  * A mesh file as the body (model/obj, model/off, application/ply, model/stl, model/gltf-binary, model/gltf+json,
 //    application/octet-stream): the same options as query parameters, output options unnested:
-//    ?edge_length=0.01&iterations=5&feature_angle=45&keep_boundary=false&smoothing=laplacian&format=obj
+//    ?edge_length=0.01&iterations=5&feature_angle=45&lock_border=false&smoothing=laplacian&format=obj
+// lock_border (default true: moving an open mesh's border shrinks it) keeps boundary vertices on the input's border;
+// its deprecated name keep_boundary is accepted too (query and JSON), both names at once is 400 invalid_field.
 // Polygons are triangulated first (X-Triangulated: true). UVs and normals of the input are not carried over.
 // "repair": "auto" (default; query repair=auto) repairs a mesh that needs it first (api/operations/mesh_repair.h: weld,
 // degenerate and duplicate faces, orientation, non-manifold edges and vertices cut apart), reported in X-Repairs and

@@ -83,6 +83,17 @@ ApiError geometry_error(const GeoError& error, Source source) {
     return out;
 }
 
+ApiError geometry_error(const GeoError& error, Source source, const ReadReport& read) {
+    ApiError out = geometry_error(error, source);
+    if (source != Source::File || out.line || error.element_kind != ElementKind::Face || error.element < 0 ||
+        static_cast<std::uint64_t>(error.element) >= read.face_lines.size())
+        return out;
+    const std::uint32_t line = read.face_lines[static_cast<std::size_t>(error.element)];
+    out.line = line;
+    out.detail = "line " + std::to_string(line) + ": " + out.detail;
+    return out;
+}
+
 ApiResult<std::int64_t> parse_integer_parameter(const std::string& name, const std::string& text) {
     std::int64_t value = 0;
     const auto result = std::from_chars(text.data(), text.data() + text.size(), value);

@@ -46,6 +46,10 @@ std::string_view output_media_type(OutputFormat format);
 enum class Source { Json, File };
 //! The API error for a GeoError, with the JSON field path of the element it names (when the request was JSON).
 ApiError geometry_error(const GeoError& error, Source source);
+//! The same, and for an uploaded text file the line of the face the error names (ReadReport::face_lines, kept by
+//! the reader), as `line` and at the start of the detail: for errors found after reading (a face Loop subdivision
+//! cannot take, a non-manifold edge). Binary files have no lines: the detail's face index names the element.
+ApiError geometry_error(const GeoError& error, Source source, const ReadReport& read);
 
 //! Query parameters: each error names the parameter and what was expected (the option readers of api/options use
 //! them).
@@ -125,7 +129,7 @@ struct MeshRequest {
     Params params;
     PolygonMesh mesh;
     Clock::time_point decoded;  //!< when decoding ended (before the budget and validity checks), for Server-Timing
-    ReadReport read;            //!< what the file reader passed over (glTF point and line primitives)
+    ReadReport read;  //!< what the file reader passed over (glTF point and line primitives); each face's line (text)
 };
 
 //! 415 for an upload whose mesh format is unknown (checked before the query, so that a wrong file type is named

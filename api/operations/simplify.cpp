@@ -1,6 +1,7 @@
 #include "api/operations/simplify.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -63,6 +64,19 @@ std::optional<ApiError> check_params(const SimplifyParams& params, Source source
     return check_output_options(params.output, source);
 }
 
+//! The face count simplification works toward (as simplify_qem computes it, but not capped at the input: a target
+//! above the triangles there are cannot be met): target_faces, floor(ratio x triangles), the smaller of the two when
+//! both are given; none with max_error alone.
+std::optional<std::size_t> face_target(const SimplifyParams& params, std::size_t triangles) {
+    std::optional<std::size_t> target;
+    if (params.target_faces) target = static_cast<std::size_t>(*params.target_faces);
+    if (params.ratio) {
+        const auto by_ratio = static_cast<std::size_t>(std::floor(*params.ratio * static_cast<double>(triangles)));
+        target = target ? std::min(*target, by_ratio) : by_ratio;
+    }
+    return target;
+}
+
 //! The options for simplifying `mesh`: `input` itself, or its repair, into which the locked vertices follow their
 //! positions (one whose every face repair dropped has nothing left to keep).
 SimplifyOptions simplify_options(const SimplifyParams& params, const PolygonMesh& input, const PolygonMesh& mesh,
@@ -104,8 +118,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     // named references: clang 14 does not let a lambda capture structured bindings
     const SimplifyParams& wanted = params;
     const PolygonMesh& sent = input;
-    auto simplified =
-        run_with_repair(input, params.repair, source, context.cancel, repaired, repairs, [&](const PolygonMesh& mesh) {
+    std::size_t simplified_triangles = 0;  // of the mesh simplified (the input or its repair), once triangulated
+    auto simplified = run_with_repair(
+        input, params.repair, source, read_report, context.cancel, repaired, repairs, [&](const PolygonMesh& mesh) {
+            simplified_triangles = mesh.face_indices.size() - 2 * mesh.face_count();
             return simplify_qem(mesh, simplify_options(wanted, sent, mesh, context.cancel));
         });
     if (!simplified) return error_response(std::move(simplified.error()));
@@ -122,6 +138,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.triangulated = result.triangulated;
     stats.achieved_error = result.achieved_error;
     stats.relative_error = result.relative_error;
+    stats.target_faces = face_target(params, simplified_triangles);
+    stats.achieved_faces = result.faces;
+    stats.target_met =
+        !stats.target_faces || (result.faces <= *stats.target_faces && *stats.target_faces <= simplified_triangles);
     if (params.report_error) {
         const MeshDistance distance = mesh_distance(input, result.mesh);
         stats.hausdorff = distance.hausdorff;
@@ -135,6 +155,9 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces);
     append_read_headers(headers, read_report);
     headers.emplace_back("X-Triangulated", stats.triangulated ? "true" : "false");
+    if (stats.target_faces) headers.emplace_back("X-Target-Faces", std::to_string(*stats.target_faces));
+    headers.emplace_back("X-Achieved-Faces", std::to_string(stats.achieved_faces));
+    headers.emplace_back("X-Target-Met", stats.target_met ? "true" : "false");
     headers.emplace_back("X-Achieved-Error", format_double(stats.achieved_error));
     headers.emplace_back("X-Relative-Error", format_double(stats.relative_error));
     if (stats.hausdorff) headers.emplace_back("X-Hausdorff", format_double(*stats.hausdorff));

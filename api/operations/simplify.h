@@ -22,8 +22,9 @@
 // Polygons are triangulated first (X-Triangulated: true). "repair": "auto" (default; query repair=auto) repairs a mesh
 // that needs it first (api/operations/mesh_repair.h), reported in X-Repairs and the JSON stats' "repairs"; locked
 // vertices follow their positions into the repaired mesh. "none": non-manifold input (an edge shared by more than two
-// faces, or inconsistently oriented faces) is refused with 422 non_manifold naming the edge, a face that repeats a
-// vertex with 422 degenerate_face.
+// faces, inconsistently oriented faces, a vertex where several fans meet) is refused with 422 non_manifold naming the
+// edge or vertex, a face that repeats a vertex with 422 degenerate_face: the rules /remesh applies
+// (check_manifold_input() in mesh_repair.h), located at a face (field or file line) with a hint.
 //
 // Order of checks, all before simplifying: body size (413), media type (415), options (400: unknown, malformed, out
 // of range, no stop criterion), decode (400 with line/offset or field path), input size against Limits::max_input_*
@@ -31,7 +32,10 @@
 //
 // Response: the mesh as GLB (default), glTF, OBJ, PLY or JSON ({"mesh": ..., "stats": ...}), with headers
 // X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces, X-Triangulated (true|false),
-// X-Achieved-Error, X-Relative-Error (SimplifyResult's, relative to the input's bounding-box diagonal),
+// X-Target-Faces (the face count worked toward: target_faces, floor(ratio x the triangles simplified), the smaller
+// of the two; absent with max_error alone), X-Achieved-Faces, X-Target-Met (false when the output has more faces than
+// the target or the target is above the triangles there were: still 200; true with max_error alone), the same as
+// "target_faces", "achieved_faces", "target_met" in the JSON stats, X-Achieved-Error, X-Relative-Error (SimplifyResult's, relative to the input's bounding-box diagonal),
 // X-Hausdorff and X-RMS (report_error: measured between input and output by mesh_distance()), X-Repairs (repair
 // "auto": "welded=0; degenerate=0; ..."), X-Elapsed-Ms and
 // Server-Timing (decode, simplify, measure, encode, total).

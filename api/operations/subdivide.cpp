@@ -97,7 +97,12 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.levels = levels;
     options.cancel = context.cancel;
     auto refined = surfaced::subdivide(mesh, options);
-    if (!refined) return error_response(geometry_error(refined.error(), source));
+    if (!refined) {
+        // located at the face the error names: its line in an uploaded text file, its field in a JSON body
+        ApiError error = geometry_error(refined.error(), source, read_report);
+        if (refined.error().code == ErrorCode::NotTriangleMesh) error.hint = "scheme catmull-clark takes any polygons";
+        return error_response(std::move(error));
+    }
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
     PolygonMesh& result = refined.value();
     const auto t_refined = Clock::now();

@@ -16,7 +16,10 @@
 // Order of checks, all before any refinement: body size (413), media type (415), options (400) and levels against
 // Limits::max_levels (422) -- for a file upload before the file is parsed; for JSON right after decoding, since the
 // options are in the body --, decode (400 with line/offset or field path), input size, validate() (422),
-// predicted_face_count against Limits::max_output_faces (422). Then subdivide, then encode.
+// predicted_face_count against Limits::max_output_faces (422). Then subdivide, then encode. Scheme loop on a mesh with
+// a face that is not a triangle is 422 not_triangle_mesh naming the first such face: its line in an uploaded text
+// file (OBJ, OFF, ascii PLY; its index in a binary one), its field (mesh.faces[i]) in a JSON body, with the hint that
+// scheme catmull-clark takes any polygons.
 //
 // Response: the mesh as model/gltf-binary (default), model/obj, application/ply or application/json
 // ({"mesh": ..., "stats": ...}), with headers X-Input-Vertices, X-Input-Faces, X-Output-Vertices, X-Output-Faces,

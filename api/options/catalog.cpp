@@ -174,6 +174,8 @@ constexpr OptionSpec kSimplify[] = {
     kRepairOption,
 };
 
+// /remesh's deprecated name for lock_border (the name /simplify, meshoptimizer and gltf-transform use)
+constexpr std::string_view kLockBorderAliases[] = {"keep_boundary"};
 constexpr OptionSpec kRemesh[] = {
     {.name = "edge_length",
      .type = OptionType::Number,
@@ -193,10 +195,11 @@ constexpr OptionSpec kRemesh[] = {
      .default_json = "60",
      .units = "degrees",
      .description = "Edges whose dihedral angle exceeds this are kept as features (180: none)"},
-    {.name = "keep_boundary",
+    {.name = "lock_border",
      .type = OptionType::Bool,
      .default_json = "true",
-     .description = "Boundary vertices and edges stay where they are"},
+     .description = "Boundary vertices stay on the input's border (moving an open mesh's border shrinks it)",
+     .aliases = kLockBorderAliases},
     {.name = "smoothing",
      .type = OptionType::Enum,
      .default_json = "\"tangential\"",

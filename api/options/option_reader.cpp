@@ -245,12 +245,20 @@ ApiResult<OptionValues> read_query(const OperationOptions& operation,
         return make_problem(Problem::UnknownParameter, detail + " (allowed: " + allowed_names + ")", *unknown.begin());
     }
     OptionValues values;
+    std::map<std::string_view, std::string_view> given_as;  // option -> the name it was given under
     for (const auto& [name, text] : query) {
         const OptionSpec& option = *find_option(operation, name);
-        if (values.has(option.name))
+        if (const auto it = given_as.find(option.name); it != given_as.end()) {
+            if (it->second == name)
+                return make_problem(Problem::InvalidField, "query parameter " + name + " is given more than once",
+                                    name);
+            const std::string alias(it->second == option.name ? std::string_view(name) : it->second);
             return make_problem(Problem::InvalidField,
-                                "query parameter " + std::string(option.name) + " is given more than once",
-                                std::string(option.name));
+                                "query parameters " + std::string(it->second) + " and " + name + " both give " +
+                                    std::string(option.name) + " (" + alias + " is its deprecated name): give one",
+                                name);
+        }
+        given_as.emplace(option.name, name);
         auto value = parse_query_value(option, name, text);
         if (!value) return std::move(value.error());
         if (auto error = check_range(option, value.value(), name)) return std::move(*error);
@@ -305,8 +313,9 @@ ApiResult<OptionValues> read_json(const OperationOptions& operation, const Json&
             if (it == container->end()) continue;
             const std::string field = json::member_path(option.json_object, name);
             if (values.has(option.name))
-                return json::invalid(
-                    field, field + " is given more than once (" + std::string(option.name) + " and its old name)");
+                return json::invalid(field, json::member_path(option.json_object, option.name) + " and " + field +
+                                                " both give " + std::string(option.name) + " (" + std::string(name) +
+                                                " is its deprecated name): give one");
             auto value = read_json_value(option, *it, field);
             if (!value) return std::move(value.error());
             if (auto error = check_range(option, value.value(), field)) return std::move(*error);

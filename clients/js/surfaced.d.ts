@@ -184,8 +184,8 @@ export interface RemeshOptions extends MeshInput, OutputOptions<OutputFormat> {
   iterations?: number;
   /** degrees, 0..180 (180: no features). @default 60 */
   feature_angle?: number;
-  /** @default true */
-  keep_boundary?: boolean;
+  /** boundary vertices stay on the input's border (moving an open mesh's border shrinks it). @default true */
+  lock_border?: boolean;
   /** @default 'tangential' */
   smoothing?: RemeshSmoothing;
   /** @default 'auto' */
@@ -354,6 +354,8 @@ export type CurvesAnswer = Record<string, unknown>;
 
 export interface Problem {
   type?: string; title?: string; status?: number; detail?: string; code?: string; field?: string; line?: number;
+  /** what would make the request work ("repair=auto repairs it") */
+  hint?: string;
   [member: string]: unknown;
 }
 
@@ -365,6 +367,7 @@ export declare class SurfacedError extends Error {
   code?: string;
   field?: string;
   line?: number;
+  hint?: string;
 }
 
 export declare class IncompatibleServerError extends Error {

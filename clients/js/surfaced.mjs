@@ -6,7 +6,7 @@
 // The output options come as `output: {...}` or flattened (format, compression, quantize_position, normals): a JSON
 // request gets them in `output`, a file upload every option as a query parameter. Operations resolve to a Result:
 // {status, contentType, headers, body (Uint8Array), json (parsed JSON answers), text()}. Error answers (RFC 9457
-// problem+json) throw SurfacedError with .status, .problem, .field and .line.
+// problem+json) throw SurfacedError with .status, .problem, .field, .line and .hint.
 //
 //   import { Client, API_VERSION } from 'surfaced-client';
 //   const c = new Client('http://127.0.0.1:8080');
@@ -24,12 +24,14 @@ export class SurfacedError extends Error {
     let text = `${problem.status ?? status} ${problem.title ?? 'error'}: ${problem.detail ?? ''}`;
     if (problem.field) text += ` (field ${problem.field})`;
     if (problem.line) text += ` (line ${problem.line})`;
+    if (problem.hint) text += ` (hint: ${problem.hint})`;
     super(text);
     this.status = status;
     this.problem = problem;
     this.code = problem.code;
     this.field = problem.field;
     this.line = problem.line;
+    this.hint = problem.hint;
   }
 }
 
@@ -179,7 +181,7 @@ export class Client {
    *  threads, locked_vertices, report_error, repair ('auto' | 'none'), output}; what repair did: X-Repairs */
   simplify(options) { return this.operation('/simplify', 'mesh', options); }
 
-  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, keep_boundary, smoothing,
+  /** POST /remesh: {mesh | data + contentType, edge_length, iterations, feature_angle, lock_border, smoothing,
    *  repair ('auto' | 'none'), output} */
   remesh(options) { return this.operation('/remesh', 'mesh', options); }
 

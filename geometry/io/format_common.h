@@ -11,8 +11,15 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/io/mesh_io.h"
 
 namespace surfaced::io_detail {
+
+//! Records `line` as the next face's line (ReadReport::face_lines), when there is a report to fill.
+inline void record_face_line(ReadReport* report, std::int64_t line) {
+    if (report && line > 0 && line <= std::int64_t{std::numeric_limits<std::uint32_t>::max()})
+        report->face_lines.push_back(static_cast<std::uint32_t>(line));
+}
 
 //! A vertex used twice in one face, if any. Small faces (the usual case) are checked pairwise without touching
 //! `scratch`; large ones are sorted in it.

@@ -5,9 +5,11 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "geometry/core/result.h"
 #include "geometry/mesh/polygon_mesh.h"
@@ -26,6 +28,17 @@ struct ReadOptions {
     bool allow_repeated_vertices = false;
 };
 
+//! What a read passed over, for the caller to report (glTF: point and line primitives, which have no surface), and
+//! where each face came from, so that an error found after reading (a face Loop subdivision cannot take, a
+//! non-manifold edge) can name the face's line in the file.
+struct ReadReport {
+    std::size_t skipped_primitives = 0;
+    //! Text formats (OBJ, OFF, ascii PLY): the 1-based line each face starts on, one per face in order (4 bytes a
+    //! face). Empty for binary formats, whose errors name the face's index, and for STL (its reader welds and drops
+    //! triangles). Lines past 2^32 - 1 are not recorded: the vector then stops short of the faces.
+    std::vector<std::uint32_t> face_lines;
+};
+
 //! Wavefront OBJ: `v`, `vt`, `vn`, `f` (v, v/vt, v//vn, v/vt/vn, negative indices, any polygon size), comments,
 //! blank lines, CRLF, line continuations; OpenSubdiv's `t` tags (crease, corner, hole, interpolateboundary) into
 //! mesh.tags. Other statements (g, o, s, usemtl, mtllib, l, p) are ignored. Face-varying `vt` go to uvs/uv_indices
@@ -35,24 +48,26 @@ struct ReadOptions {
 //! checked against the final counts; a negative sharpness is clamped to 0 as OpenSubdiv does; unknown tags are
 //! skipped by their declared counts. A file without faces is a ParseError ("no faces").
 Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options = {});
+//! The same, appending each face's line to `report->face_lines` (report may be null).
+Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options, ReadReport* report);
 //! OFF / COFF / NOFF (ascii), with `#` comments.
 Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options = {});
+//! The same, appending each face's line to `report->face_lines` (report may be null).
+Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options, ReadReport* report);
 //! PLY ascii, binary_little_endian and binary_big_endian 1.0; vertex x/y/z (float or double, any other properties
 //! skipped), face vertex_indices / vertex_index list of any integer types; other elements skipped.
 //! nx/ny/nz, when all three are present and finite, are read into normals (so write_ply round-trips). Header lines
 //! whose first word is not a PLY keyword ("Created by Blender 2.49") are ignored.
 Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options = {});
+//! The same, appending each face's line to `report->face_lines` (report may be null).
+Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options, ReadReport* report);
 //! STL ascii or binary (detected by content, not by the word "solid"); coincident corners welded exactly.
 //! Binary when the size is 84 + 50 * count; bytes after the last triangle of a non-"solid" file are ignored.
 //! Triangles with two exactly equal corners (degenerate by index after welding) are dropped, not reported;
 //! DegenerateFace only when nothing is left.
 Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options = {});
 
-//! Dispatch on format (Glb and Gltf go to read_glb and read_gltf in gltf.h).
-//! What a read passed over, for the caller to report (glTF: point and line primitives, which have no surface).
-struct ReadReport {
-    std::size_t skipped_primitives = 0;
-};
+//! Dispatch on format (Glb and Gltf go to read_glb and read_gltf in gltf.h); `report`, when given, is reset first.
 Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const ReadOptions& options = {},
                               ReadReport* report = nullptr);
 

@@ -44,7 +44,8 @@ std::size_t count_lines_starting_with(std::string_view text, std::string_view pr
 
 class ObjReader {
 public:
-    ObjReader(std::string_view text, const ReadOptions& options) : text_(text), options_(options) {}
+    ObjReader(std::string_view text, const ReadOptions& options, ReadReport* report)
+        : text_(text), options_(options), report_(report) {}
 
     Result<PolygonMesh> read() {
         auto start = io_detail::check_text_encoding(text_);
@@ -215,6 +216,7 @@ private:
         if (mesh_.face_indices.size() + face_.size() > io_detail::kMaxIndexCount)
             return error_at_line(ErrorCode::BudgetExceeded, line_, "more than 2^32 face corners");
         mesh_.add_face(face_);
+        io_detail::record_face_line(report_, line_);
         if (corners_with_uv != 0) {
             ++faces_with_uv_;
             // Once a face without vt has been seen the uvs will be dropped; stop collecting them.
@@ -401,6 +403,7 @@ private:
 
     std::string_view text_;
     const ReadOptions& options_;
+    ReadReport* report_;
     PolygonMesh mesh_;
     std::int64_t line_ = 0;
     std::size_t normal_count_ = 0;
@@ -423,8 +426,13 @@ void write_vec(std::string& out, const char* keyword, std::initializer_list<doub
 }  // namespace
 
 Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options) {
-    return io_detail::with_text(
-        text, [&](std::string_view decoded, io_detail::TextEncoding) { return ObjReader(decoded, options).read(); });
+    return read_obj(text, options, nullptr);
+}
+
+Result<PolygonMesh> read_obj(std::string_view text, const ReadOptions& options, ReadReport* report) {
+    return io_detail::with_text(text, [&](std::string_view decoded, io_detail::TextEncoding) {
+        return ObjReader(decoded, options, report).read();
+    });
 }
 
 std::string write_obj(const PolygonMesh& mesh, const ObjWriteOptions& options) {

@@ -34,7 +34,8 @@ HeaderKind classify_header(std::string_view token) {
 
 class OffReader {
 public:
-    OffReader(std::string_view text, const ReadOptions& options) : text_(text), options_(options) {}
+    OffReader(std::string_view text, const ReadOptions& options, ReadReport* report)
+        : text_(text), options_(options), report_(report) {}
 
     Result<PolygonMesh> read() {
         auto start = io_detail::check_text_encoding(text_);
@@ -181,20 +182,27 @@ private:
                 return error_at_line(ErrorCode::BudgetExceeded, line, "more than 2^32 face corners");
             tokens.skip_line();  // optional face colour
             mesh_.add_face(face);
+            io_detail::record_face_line(report_, line);
         }
         return std::nullopt;
     }
 
     std::string_view text_;
     const ReadOptions& options_;
+    ReadReport* report_;
     PolygonMesh mesh_;
 };
 
 }  // namespace
 
 Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options) {
-    return io_detail::with_text(
-        text, [&](std::string_view decoded, io_detail::TextEncoding) { return OffReader(decoded, options).read(); });
+    return read_off(text, options, nullptr);
+}
+
+Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options, ReadReport* report) {
+    return io_detail::with_text(text, [&](std::string_view decoded, io_detail::TextEncoding) {
+        return OffReader(decoded, options, report).read();
+    });
 }
 
 }  // namespace surfaced

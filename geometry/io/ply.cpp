@@ -30,8 +30,8 @@ struct Layout {
 
 class PlyReader : io_detail::ply::BinaryCursor {
 public:
-    PlyReader(std::string_view bytes, io_detail::TextEncoding encoding, const ReadOptions& options)
-        : BinaryCursor(bytes), encoding_(encoding), options_(options) {}
+    PlyReader(std::string_view bytes, io_detail::TextEncoding encoding, const ReadOptions& options, ReadReport* report)
+        : BinaryCursor(bytes), encoding_(encoding), options_(options), report_(report) {}
 
     Result<PolygonMesh> read() {
         auto parsed = parse_header(bytes_, options_, encoding_);
@@ -283,11 +283,13 @@ private:
         if (mesh_.face_indices.size() + face.size() > io_detail::kMaxIndexCount)
             return located(ErrorCode::BudgetExceeded, offset, line, "more than 2^32 face corners");
         mesh_.add_face(face);
+        if (line >= 0) io_detail::record_face_line(report_, line);  // ascii: the line of the face's first token
         return std::nullopt;
     }
 
     io_detail::TextEncoding encoding_;
     const ReadOptions& options_;
+    ReadReport* report_;
     PlyHeader header_;
     Layout layout_;
     bool read_normals_ = false;
@@ -304,8 +306,12 @@ void store_le(std::string& out, std::uint64_t bits, std::size_t size) {
 }  // namespace
 
 Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options) {
+    return read_ply(bytes, options, nullptr);
+}
+
+Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options, ReadReport* report) {
     return io_detail::with_text(bytes, [&](std::string_view text, io_detail::TextEncoding encoding) {
-        return PlyReader(text, encoding, options).read();
+        return PlyReader(text, encoding, options, report).read();
     });
 }
 

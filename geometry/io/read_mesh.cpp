@@ -13,9 +13,9 @@ Result<PolygonMesh> read_mesh(std::string_view bytes, MeshFormat format, const R
         return mesh;
     }
     switch (format) {
-        case MeshFormat::Obj: return read_obj(bytes, options);
-        case MeshFormat::Off: return read_off(bytes, options);
-        case MeshFormat::Ply: return read_ply(bytes, options);
+        case MeshFormat::Obj: return read_obj(bytes, options, report);
+        case MeshFormat::Off: return read_off(bytes, options, report);
+        case MeshFormat::Ply: return read_ply(bytes, options, report);
         case MeshFormat::Stl: return read_stl(bytes, options);
         case MeshFormat::Glb: return read_glb(bytes, options);
         case MeshFormat::Gltf: return read_gltf(bytes, options);

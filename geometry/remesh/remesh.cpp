@@ -5,7 +5,7 @@
 // have no face, and a boundary vertex's outgoing halfedge is its boundary one. Elements are marked dead rather than
 // removed, and the output is compacted at the end.
 //
-// Constraints: boundary edges (keep_boundary) and sharp feature edges of the input are "constrained". A vertex on
+// Constraints: boundary edges (lock_border) and sharp feature edges of the input are "constrained". A vertex on
 // exactly two constrained edges that do not turn sharply is a curve vertex: it is removed only by collapsing along a
 // constrained edge, relaxes along its curve and is projected onto the input's constrained polylines. Other vertices
 // on constrained edges are corners and never move or disappear.
@@ -155,7 +155,7 @@ public:
         return Ok{};
     }
 
-    //! Marks boundary (keep_boundary) and sharp feature edges constrained and classifies vertices; builds the
+    //! Marks boundary (lock_border) and sharp feature edges constrained and classifies vertices; builds the
     //! projection targets from the input.
     void set_constraints(const PolygonMesh& input, const RemeshOptions& options, double length) {
         const double cos_feature = std::cos(options.feature_angle_degrees * std::numbers::pi / 180.0);
@@ -164,7 +164,7 @@ public:
             const Index h = 2 * e, o = 2 * e + 1;
             if (h_face_[h] == kNone || h_face_[o] == kNone) {
                 ++boundary_edges_;
-                if (options.keep_boundary) e_constrained_[e] = kBoundaryEdge;
+                if (options.lock_border) e_constrained_[e] = kBoundaryEdge;
                 continue;
             }
             if (!features) continue;

@@ -42,7 +42,7 @@ struct RemeshOptions {
     //! Boundary edges are constrained like features: boundary vertices stay on the input's boundary polyline,
     //! boundary edges are split and collapsed only along it, and boundary corners stay fixed. Off: boundary
     //! vertices are relaxed like interior ones (the boundary may shrink).
-    bool keep_boundary = true;
+    bool lock_border = true;
     RemeshSmoothing smoothing = RemeshSmoothing::Tangential;
     //! Measure the Hausdorff distance between input and output (mesh_distance, default sampling).
     bool measure_hausdorff = true;

@@ -2,6 +2,7 @@
 #include "geometry/repair/repair.h"
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "geometry/repair/components.h"
@@ -80,6 +81,59 @@ Result<MeshDefects> find_defects(const PolygonMesh& mesh, bool whole) {
 }  // namespace
 
 Result<MeshDefects> audit_mesh(const PolygonMesh& mesh) { return find_defects(mesh, true); }
+
+Status check_manifold(const PolygonMesh& mesh) {
+    const CornerTable table = make_corner_table(mesh.face_offsets, mesh.face_indices);
+    const EdgeGroups edges = group_edges(table, mesh.vertex_count());
+    // edges: the one whose offending face comes first; corners of an edge are in face order
+    constexpr Index kNone = kInvalidIndex;
+    Index bad_corner = kNone;
+    bool same_direction = false;
+    std::vector<Index> pair(table.corner_count(), kNone);
+    for (std::size_t e = 0; e < edges.edge_count(); ++e) {
+        const auto corners = edges.of(e);
+        Index offending = kNone;
+        bool same = false;
+        if (corners.size() > 2) {
+            offending = corners[2];
+        } else if (corners.size() == 2) {
+            const Index a = corners[0], b = corners[1];
+            if (table.indices[a] == table.indices[b]) {
+                offending = b;
+                same = true;
+            } else {
+                pair[a] = b;
+                pair[b] = a;
+            }
+        }
+        if (offending != kNone && (bad_corner == kNone || table.face(offending) < table.face(bad_corner))) {
+            bad_corner = offending;
+            same_direction = same;
+        }
+    }
+    if (bad_corner != kNone) {
+        const Index f = table.face(bad_corner);
+        const std::string edge = "(" + std::to_string(table.indices[bad_corner]) + ", " +
+                                 std::to_string(table.indices[table.next(bad_corner)]) + ")";
+        return element_error(
+            ErrorCode::NonManifold,
+            same_direction
+                ? "edge " + edge + " is traversed in the same direction by face " + std::to_string(f) +
+                      " and another face (inconsistent orientation or a duplicate face)"
+                : "edge " + edge + " is shared by more than two faces (face " + std::to_string(f) + " is one)",
+            ElementKind::Face, f);
+    }
+    Index vertex = kNone;
+    if (count_split_vertices(table, pair, mesh.vertex_count(), true, &vertex) == 0) return Ok{};
+    Index face = kNone;
+    for (Index c = 0; c < table.corner_count() && face == kNone; ++c)
+        if (table.indices[c] == vertex) face = table.face(c);
+    return element_error(ErrorCode::NonManifold,
+                         "vertex " + std::to_string(vertex) +
+                             " joins several fans of faces (a non-manifold vertex; face " + std::to_string(face) +
+                             " uses it)",
+                         ElementKind::Face, face);
+}
 
 bool needs_repair(const PolygonMesh& mesh) {
     const Result<MeshDefects> defects = find_defects(mesh, false);

@@ -73,7 +73,7 @@ bool cut_shared(const CornerTable& table, std::span<const Index> corners, Disjoi
 }  // namespace
 
 std::size_t count_split_vertices(const CornerTable& table, const std::vector<Index>& partner, std::size_t vertex_count,
-                                 bool stop_at_first) {
+                                 bool stop_at_first, Index* first_split) {
     std::vector<Index> corners(vertex_count, 0), first(vertex_count);
     for (Index c = 0; c < table.corner_count(); ++c)
         if (corners[table.indices[c]]++ == 0) first[table.indices[c]] = c;
@@ -109,6 +109,7 @@ std::size_t count_split_vertices(const CornerTable& table, const std::vector<Ind
             }
         }
         if (visited != count) {
+            if (split == 0 && first_split) *first_split = v;
             ++split;
             if (stop_at_first) return split;
         }

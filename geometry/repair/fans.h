@@ -23,7 +23,8 @@ std::vector<Index> fan_of_corners(const CornerTable& table, const EdgeGroups& ed
 
 //! Vertices (below vertex_count) whose corners form more than one fan through `partner` (which pairs half-edges of
 //! one undirected edge, in either direction), found by walking around each vertex; with stop_at_first, 0 or 1.
+//! `first_split`, when given, is set to the lowest such vertex (left alone when there is none).
 std::size_t count_split_vertices(const CornerTable& table, const std::vector<Index>& partner, std::size_t vertex_count,
-                                 bool stop_at_first = false);
+                                 bool stop_at_first = false, Index* first_split = nullptr);
 
 }  // namespace surfaced::repair_detail

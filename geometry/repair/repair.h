@@ -125,6 +125,16 @@ struct MeshDefects {
 //! repair_mesh's joining step alone. \return the counts, or validate()'s error (repeated vertices allowed).
 Result<MeshDefects> audit_mesh(const PolygonMesh& mesh);
 
+//! Whether the mesh is manifold as it is (no welding, no repair): every edge is used by one face, or by two faces in
+//! opposite directions, and the faces around every vertex form one fan. The rule every operation that needs a
+//! manifold mesh applies before it runs (api/operations/mesh_repair.h), so that they refuse the same meshes.
+//! \pre validate(mesh) succeeds (no face repeats a vertex).
+//! \return Ok, or NonManifold naming the defect, with a face at it as the error's element (ElementKind::Face; so that a
+//!         caller can point at the face in a file or a JSON body): for an edge of more than two faces, its third face;
+//!         for an edge two faces traverse in the same direction, the second; the edge with the lowest such face is
+//!         named first, then the lowest non-manifold vertex, with the first face that uses it.
+Status check_manifold(const PolygonMesh& mesh);
+
 //! The cheap question an operation asks first: would a manifold-only algorithm trip over this mesh (any defect of
 //! MeshDefects::breaks_manifold)? True also when the mesh fails validation (repair_mesh then reports why).
 bool needs_repair(const PolygonMesh& mesh);

@@ -55,6 +55,9 @@ TEST(Errors, ProblemJsonShape) {
     EXPECT_EQ(json["field"], "mesh.faces[12][3]");
     EXPECT_EQ(json["line"], 3);
     EXPECT_FALSE(json.contains("offset"));
+    EXPECT_FALSE(json.contains("hint"));
+    e.hint = "scheme \"catmull-clark\" takes any polygons";
+    EXPECT_EQ(nlohmann::json::parse(error_response(e).body)["hint"], *e.hint);  // quoted as JSON
 }
 
 TEST(Errors, JsonQuoteNeverEmitsInvalidJson) {

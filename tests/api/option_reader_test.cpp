@@ -139,5 +139,42 @@ TEST(OptionReader, DeprecatedAliasesAreReadUnderTheOptionsName) {
     EXPECT_NE(std::find(members.begin(), members.end(), "subdivision_levels"), members.end());
 }
 
+TEST(OptionReader, RemeshTakesLockBorderAndItsDeprecatedNameKeepBoundary) {
+    const OperationOptions& remesh = *operation_options("remesh");
+    const OptionSpec* lock = find_option(remesh, "lock_border");
+    ASSERT_NE(lock, nullptr);
+    EXPECT_EQ(find_option(remesh, "keep_boundary"), lock);
+    EXPECT_EQ(lock->default_json, "true");  // moving an open mesh's border shrinks it
+    EXPECT_EQ(find_option(*operation_options("simplify"), "lock_border")->default_json, "false");  // as meshoptimizer
+    for (const char* name : {"lock_border", "keep_boundary"}) {
+        SCOPED_TRACE(name);
+        bool value = true;
+        auto query = read_query(remesh, {{name, "false"}});
+        ASSERT_TRUE(query.ok()) << query.error().detail;
+        query->get("lock_border", value);
+        EXPECT_FALSE(value);
+        value = true;
+        auto body = read_json(remesh, nlohmann::json::parse(std::string("{\"") + name + "\":false}"));
+        ASSERT_TRUE(body.ok()) << body.error().detail;
+        body->get("lock_border", value);
+        EXPECT_FALSE(value);
+    }
+    // both names: 400 naming the deprecated one, saying which option it is
+    auto both_query = read_query(remesh, {{"lock_border", "true"}, {"keep_boundary", "false"}});
+    ASSERT_FALSE(both_query.ok());
+    EXPECT_EQ(both_query.error().status, 400);
+    EXPECT_EQ(both_query.error().code, "invalid_field");
+    EXPECT_NE(both_query.error().detail.find("keep_boundary is its deprecated name"), std::string::npos)
+        << both_query.error().detail;
+    auto both_json = read_json(remesh, nlohmann::json::parse(R"({"lock_border":true,"keep_boundary":true})"));
+    ASSERT_FALSE(both_json.ok());
+    EXPECT_EQ(both_json.error().status, 400);
+    EXPECT_EQ(both_json.error().field, "keep_boundary");
+    EXPECT_NE(both_json.error().detail.find("keep_boundary is its deprecated name"), std::string::npos)
+        << both_json.error().detail;
+    // the old name of /remesh is not one of /simplify's
+    EXPECT_EQ(find_option(*operation_options("simplify"), "keep_boundary"), nullptr);
+}
+
 }  // namespace
 }  // namespace surfaced::api::options

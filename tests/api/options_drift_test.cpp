@@ -1,7 +1,8 @@
 // The option tables (api/options/catalog.cpp) against api/openapi.json: for every operation with a table, each
 // option is documented as a query parameter and/or a JSON body member (as its transports say) with the same type,
-// range, default and enum values, and the document lists no option the table does not have. The table is what the
-// readers enforce, so a failure here means the document no longer describes the server.
+// range, default and enum values, and the document lists no option the table does not have. Each deprecated alias of
+// an option is documented too, as a parameter or member of its own marked `deprecated: true` (and only the aliases
+// are). The table is what the readers enforce, so a failure here means the document no longer describes the server.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -124,9 +125,12 @@ TEST(OptionsDrift, QueryParametersMatchTheTable) {
         SCOPED_TRACE(label(op));
         const json& operation = document()["paths"][std::string(op.path)][std::string(op.method)];
         std::map<std::string, json> documented;
+        std::set<std::string> deprecated;
         for (const auto& parameter : operation.value("parameters", json::array())) {
             const json& p = resolve(parameter);
-            if (p.value("in", "") == "query") documented[p["name"]] = p["schema"];
+            if (p.value("in", "") != "query") continue;
+            documented[p["name"]] = p["schema"];
+            if (p.value("deprecated", false)) deprecated.insert(p["name"]);
         }
         for (const OptionSpec* option : options::all_options(op)) {
             const std::string name(option->name);
@@ -141,10 +145,23 @@ TEST(OptionsDrift, QueryParametersMatchTheTable) {
                 continue;
             }
             expect_same(documented[name], *option, where);
+            EXPECT_FALSE(deprecated.count(name)) << where << ": marked deprecated, the option table has no such mark";
+            // each deprecated alias: a parameter of its own, deprecated, of the option's type, range and default
+            for (std::string_view alias_view : option->aliases) {
+                const std::string alias(alias_view);
+                const std::string alias_where =
+                    "query parameter " + alias + " (deprecated alias of " + name + ") of " + label(op);
+                if (!documented.count(alias)) {
+                    ADD_FAILURE() << alias_where << ": in the option table, missing from OpenAPI";
+                    continue;
+                }
+                EXPECT_TRUE(deprecated.count(alias)) << alias_where << ": not marked deprecated: true";
+                expect_same(documented[alias], *option, alias_where);
+            }
         }
         for (const auto& [name, schema] : documented) {
             const OptionSpec* option = options::find_option(op, name);
-            EXPECT_TRUE(option && option->on_query() && option->name == name)
+            EXPECT_TRUE(option && option->on_query())
                 << "query parameter " << name << " of " << label(op) << ": in OpenAPI, missing from the option table";
         }
     }
@@ -186,6 +203,23 @@ TEST(OptionsDrift, JsonBodyMembersMatchTheTable) {
                 continue;
             }
             expect_same((*container)[name], *option, where);
+            EXPECT_FALSE(resolve((*container)[name]).value("deprecated", false))
+                << where << ": marked deprecated, the option table has no such mark";
+            // each deprecated alias (the readers accept them for members of the body itself): a member of its own,
+            // deprecated, of the option's type, range and default
+            if (!option->json_object.empty()) continue;
+            for (std::string_view alias_view : option->aliases) {
+                const std::string alias(alias_view);
+                const std::string alias_where =
+                    "JSON member " + alias + " (deprecated alias of " + name + ") of " + label(op);
+                if (!container->contains(alias)) {
+                    ADD_FAILURE() << alias_where << ": in the option table, missing from OpenAPI";
+                    continue;
+                }
+                const json& schema = (*container)[alias];
+                EXPECT_TRUE(schema.value("deprecated", false)) << alias_where << ": not marked deprecated: true";
+                expect_same(schema, *option, alias_where);
+            }
         }
 
         // every documented member is an input, an option or an object of options, and so is every member of those

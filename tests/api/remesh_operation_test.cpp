@@ -110,6 +110,44 @@ TEST(RemeshOperation, RawObjWithQueryToObjKeepsTheBoundary) {
     EXPECT_EQ(std::to_string(out->face_count()), header(response, "X-Output-Faces"));
 }
 
+TEST(RemeshOperation, LockBorderFalseFreesTheBoundaryUnderEitherName) {
+    const std::string grid = write_obj(shapes::grid(8, 4));
+    const std::multimap<std::string, std::string> base = {
+        {"edge_length", "0.05"}, {"iterations", "4"}, {"smoothing", "laplacian"}, {"format", "obj"}};
+    const auto with = [&](const char* name, const char* value) {
+        auto query = base;
+        query.emplace(name, value);
+        return call("model/obj", grid, query);
+    };
+    const auto freed = with("lock_border", "false");
+    const auto freed_old_name = with("keep_boundary", "false");
+    ASSERT_EQ(freed.status, 200) << freed.body;
+    ASSERT_EQ(freed_old_name.status, 200) << freed_old_name.body;
+    EXPECT_EQ(freed.body, freed_old_name.body);  // one option, two names
+    auto out = read_obj(freed.body);
+    ASSERT_TRUE(out.ok()) << out.error().message;
+    // relaxed like interior vertices, the border shrinks: some boundary vertex leaves the square's sides
+    std::size_t off_side = 0;
+    for (const auto& p : testing::boundary_positions(*out))
+        off_side += !(p[0] < 1e-9 || p[0] > 1 - 1e-9 || p[1] < 1e-9 || p[1] > 1 - 1e-9);
+    EXPECT_GT(off_side, 0u);
+    // the default (true) is the same as saying so under either name
+    const auto locked = call("model/obj", grid, base);
+    ASSERT_EQ(locked.status, 200) << locked.body;
+    EXPECT_EQ(with("lock_border", "true").body, locked.body);
+    EXPECT_EQ(with("keep_boundary", "true").body, locked.body);
+    EXPECT_NE(locked.body, freed.body);
+    // both names at once: 400
+    auto both = base;
+    both.emplace("lock_border", "true");
+    both.emplace("keep_boundary", "true");
+    expect_problem(call("model/obj", grid, both), 400, "invalid_field");
+    const auto json_both = expect_problem(
+        call("application/json", json_request(shapes::grid(8, 4), R"(,"lock_border":false,"keep_boundary":false)")),
+        400, "invalid_field");
+    EXPECT_EQ(json_both.value("field", ""), "keep_boundary");
+}
+
 TEST(RemeshOperation, DefaultOutputIsValidDracoGlb) {
     const auto response = call("application/json", json_request(testing::icosphere(2), R"(,"iterations":3)"));
     ASSERT_EQ(response.status, 200) << response.body;
@@ -131,6 +169,7 @@ TEST(RemeshOperation, OutOfRangeOptionsAre400WithField) {
     EXPECT_EQ(field_of(call("application/json", json_request(m, R"(,"iterations":101)"))), "iterations");
     EXPECT_EQ(field_of(call("application/json", json_request(m, R"(,"iterations":2.5)"))), "iterations");
     EXPECT_EQ(field_of(call("application/json", json_request(m, R"(,"feature_angle":181)"))), "feature_angle");
+    EXPECT_EQ(field_of(call("application/json", json_request(m, R"(,"lock_border":"yes")"))), "lock_border");
     EXPECT_EQ(field_of(call("application/json", json_request(m, R"(,"keep_boundary":"yes")"))), "keep_boundary");
     EXPECT_EQ(field_of(call("application/json", json_request(m, R"(,"smoothing":"bilateral")"))), "smoothing");
     EXPECT_EQ(field_of(call("model/obj", write_obj(m), {{"edge_length", "inf"}})), "edge_length");

@@ -7,7 +7,8 @@ For every operation of the OpenAPI document (paths x methods):
   - the operation's options are its parameters (query and path; a header parameter under the client's name from
     HEADER_NAMES) and the top-level properties of its JSON request body. Each is a keyword of the Python method and a
     property of the JS method's options type (or a positional parameter), and neither client accepts a name the API
-    does not document, except the transport arguments in CLIENT_ONLY (file bytes and their media type);
+    does not document, except the transport arguments in CLIENT_ONLY (file bytes and their media type); a name the
+    API marks deprecated (an old name it still accepts) need not be offered;
   - Python options other than the request's payload are keyword-only, take no **kwargs, and a default in the
     signature is the API's documented default (an option the API gives one default for must show it); a JS property's
     `@default` tag, where there is one, is the API's default;
@@ -84,6 +85,7 @@ def default_of(schema):
 
 
 operations = []   # (operationId, {option: [documented defaults]})
+deprecated = set()   # (operationId, name): deprecated names the API still accepts; a client need not offer them
 path_params = set()   # (operationId, name)
 for path, item in doc["paths"].items():
     for method, op in item.items():
@@ -97,6 +99,8 @@ for path, item in doc["paths"].items():
         for param in item.get("parameters", []) + op.get("parameters", []):
             param = resolve(param)
             name = param["name"]
+            if param.get("deprecated"):
+                deprecated.add((op_id, name))
             if param["in"] == "header":
                 if name not in HEADER_NAMES:
                     problem(f"{op_id}: header parameter {name} has no client name in HEADER_NAMES")
@@ -114,6 +118,8 @@ for path, item in doc["paths"].items():
         content = op.get("requestBody", {}).get("content", {})
         if "application/json" in content:
             for name, schema in properties(content["application/json"].get("schema", {})).items():
+                if resolve(schema).get("deprecated"):
+                    deprecated.add((op_id, name))
                 options.setdefault(name, [])
                 d = default_of(schema)
                 if d is not ...:
@@ -149,7 +155,8 @@ for op_id, options in operations:
             problem(f"python: Client.{name}({p.name}) is not keyword-only")
     names = {p.name for p in params} - CLIENT_ONLY["python"]
     for missing in sorted(set(options) - names):
-        problem(f"python: Client.{name} lacks the API's option {missing}")
+        if (op_id, missing) not in deprecated:
+            problem(f"python: Client.{name} lacks the API's option {missing}")
     for extra in sorted(names - set(options)):
         problem(f"python: Client.{name} accepts {extra}, which the API does not document for {op_id}")
     for p in params:
@@ -283,7 +290,8 @@ for op_id, options in operations:
             names.add(pm.group(1))
     names -= CLIENT_ONLY["js"]
     for missing in sorted(set(options) - names):
-        problem(f"js: Client.{op_id}'s options lack the API's option {missing}")
+        if (op_id, missing) not in deprecated:
+            problem(f"js: Client.{op_id}'s options lack the API's option {missing}")
     for extra in sorted(names - set(options)):
         problem(f"js: Client.{op_id}'s options have {extra}, which the API does not document for {op_id}")
     for key, text in defaults.items():

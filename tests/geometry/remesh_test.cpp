@@ -286,7 +286,7 @@ TEST(Remesh, FreeBoundaryMayMove) {
     const PolygonMesh input = height_field(12);
     RemeshOptions options;
     options.target_edge_length = 0.04;
-    options.keep_boundary = false;
+    options.lock_border = false;
     auto r = remesh(input, options);
     ASSERT_TRUE(r.ok()) << r.error().message;
     expect_clean(*r, input, "free boundary");

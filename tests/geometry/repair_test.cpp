@@ -448,5 +448,59 @@ TEST(Repair, RandomSoupsAlwaysComeOutManifold) {
     }
 }
 
+// check_manifold: the rule /simplify and /remesh apply with repair "none"; the defect is named and located at a face.
+TEST(CheckManifold, AcceptsManifoldMeshesWithOrWithoutBoundary) {
+    for (const PolygonMesh& mesh : {shapes::cube(), shapes::torus(12, 6), shapes::icosahedron(), shapes::grid(4, 3),
+                                    shapes::grid_with_holes(), shapes::mixed_polygons()}) {
+        const Status manifold = check_manifold(mesh);
+        EXPECT_TRUE(manifold.ok()) << manifold.error().message;
+    }
+}
+
+TEST(CheckManifold, NamesTheDefectAndAFaceAtIt) {
+    const auto error_of = [](std::vector<Vec3> positions, std::vector<std::vector<Index>> faces) {
+        PolygonMesh m;
+        m.positions = std::move(positions);
+        for (const auto& f : faces) m.add_face(f);
+        const Status status = check_manifold(m);
+        EXPECT_FALSE(status.ok());
+        return status.ok() ? GeoError{} : status.error();
+    };
+    const std::vector<Vec3> five = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+    // a fin: the third face on (0, 1)
+    GeoError e = error_of(five, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+    EXPECT_EQ(e.code, ErrorCode::NonManifold);
+    EXPECT_EQ(e.element_kind, ElementKind::Face);
+    EXPECT_EQ(e.element, 2);
+    EXPECT_EQ(e.message, "edge (0, 1) is shared by more than two faces (face 2 is one)");
+    // the same direction twice: the second face
+    e = error_of(five, {{0, 1, 2}, {0, 1, 3}});
+    EXPECT_EQ(e.element, 1);
+    EXPECT_EQ(e.message,
+              "edge (0, 1) is traversed in the same direction by face 1 and another face (inconsistent orientation or "
+              "a duplicate face)");
+    // of two defective edges, the one whose offending face comes first
+    e = error_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {5, 0, 0}, {6, 0, 0}, {5, 1, 0}},
+                 {{5, 6, 7}, {5, 6, 7}, {0, 1, 2}, {0, 1, 3}});
+    EXPECT_EQ(e.element, 1);
+    // a bow-tie: two triangles meeting at vertex 2, located at the first face that uses it
+    e = error_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 0}, {2, 2, 0}}, {{0, 1, 2}, {2, 3, 4}});
+    EXPECT_EQ(e.element, 0);
+    EXPECT_EQ(e.message, "vertex 2 joins several fans of faces (a non-manifold vertex; face 0 uses it)");
+    // polygons: quads meeting at a corner
+    e = error_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}},
+                 {{0, 1, 2, 3}, {2, 4, 5, 6}});
+    EXPECT_EQ(e.message, "vertex 2 joins several fans of faces (a non-manifold vertex; face 0 uses it)");
+    // what repair_mesh makes of them passes
+    PolygonMesh bowtie;
+    bowtie.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 0}, {2, 2, 0}};
+    bowtie.add_face({0, 1, 2});
+    bowtie.add_face({2, 3, 4});
+    auto repaired = repair_mesh(bowtie);
+    ASSERT_TRUE(repaired.ok());
+    EXPECT_EQ(repaired->report.nonmanifold_split, 1u);
+    EXPECT_TRUE(check_manifold(repaired->mesh).ok());
+}
+
 }  // namespace
 }  // namespace surfaced

@@ -376,5 +376,44 @@ TEST(ObjCorpus, HandCheckedShapes) {
     EXPECT_FALSE(pole.has_uvs());
 }
 
+// ReadReport::face_lines: the line each face starts on, for text formats, so that an error found after reading can
+// name it; none for binary formats and STL.
+TEST(ReadReport, KeepsTheLineOfEachFaceOfATextFile) {
+    const auto lines_of = [](std::string_view bytes, MeshFormat format) {
+        ReadReport report;
+        report.face_lines = {99};  // read_mesh starts afresh
+        auto mesh = read_mesh(bytes, format, {}, &report);
+        EXPECT_TRUE(mesh.ok()) << (mesh.ok() ? "" : mesh.error().message);
+        if (mesh.ok() && !report.face_lines.empty()) {
+            EXPECT_EQ(report.face_lines.size(), mesh->face_count());
+        }
+        return report.face_lines;
+    };
+    // comments, blank lines, other statements and a continued face (it is numbered by its first line)
+    const std::string obj =
+        "# square\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\ng part\nf 1 2 3\n# next\nf 1 \\\n3 4\n"
+        "s off\r\nf 2 3 4\r\n";
+    EXPECT_EQ(lines_of(obj, MeshFormat::Obj), (std::vector<std::uint32_t>{8, 10, 13}));
+    const std::string off = "OFF\n# c\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n\n3 0 2 3 255 0 0\n";
+    EXPECT_EQ(lines_of(off, MeshFormat::Off), (std::vector<std::uint32_t>{8, 10}));
+    PolygonMesh square;
+    square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    square.add_face({0, 1, 2});
+    square.add_face({0, 2, 3});
+    const std::string ascii = write_ply(square, PlyEncoding::Ascii);
+    const auto header_lines = static_cast<std::uint32_t>(
+        std::count(ascii.begin(), ascii.begin() + static_cast<std::ptrdiff_t>(ascii.find("end_header")), '\n') + 1);
+    EXPECT_EQ(lines_of(ascii, MeshFormat::Ply),
+              (std::vector<std::uint32_t>{header_lines + 5, header_lines + 6}));  // after the 4 vertex lines
+    EXPECT_TRUE(lines_of(write_ply(square), MeshFormat::Ply).empty());            // binary: no lines
+    // UTF-16 text keeps its line numbers
+    std::string utf16 = "\xff\xfe";
+    for (char c : off) {
+        utf16 += c;
+        utf16 += '\0';
+    }
+    EXPECT_EQ(lines_of(utf16, MeshFormat::Off), (std::vector<std::uint32_t>{8, 10}));
+}
+
 }  // namespace
 }  // namespace surfaced

@@ -148,6 +148,61 @@ TEST_F(RepairHttp, SimplifyAndRemeshWithRepairNoneRefuseNamingTheProblem) {
     }
 }
 
+TEST_F(RepairHttp, NonManifoldUploadsAreRefusedAtAFacesLineByBothOperations) {
+    struct Case {
+        const char* file;
+        const char* type;
+        int line;            // of the face the problem is located at
+        const char* detail;  // after "line N: "
+    };
+    // boxes: faces 6, 9, 17 and 22 (0-based; lines 22, 25, 33, 38) share the edge between vertices 2 and 6: the
+    // third, f 3 12 7 on line 33, makes it non-manifold (its half-edge there runs from 6 to 2);
+    // the bow-tie and the pyramids meet at vertex 0, first used by the face on line 11 and line 13
+    const Case cases[] = {
+        {"boxes_sharing_edge.obj", "model/obj", 33, "edge (6, 2) is shared by more than two faces (face 17 is one)"},
+        {"bowtie.obj", "model/obj", 11, "vertex 0 joins several fans of faces"},
+        {"pinched_pyramids.off", "model/off", 13, "vertex 0 joins several fans of faces"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.file);
+        std::vector<Json> problems;
+        for (const std::string op : {"/simplify?ratio=0.5&repair=none", "/remesh?repair=none"}) {
+            SCOPED_TRACE(op);
+            const Json problem =
+                expect_http_problem(client().Post(op, corpus_file(c.file), c.type), 422, "non_manifold");
+            EXPECT_EQ(problem.value("line", 0), c.line) << problem.dump();
+            EXPECT_EQ(
+                problem.value("detail", ""),
+                "line " + std::to_string(c.line) + ": " + c.detail +
+                    (std::string(c.detail).rfind("vertex", 0) == 0 ? " (a non-manifold vertex; face 0 uses it)" : ""))
+                << problem.dump();
+            EXPECT_EQ(problem.value("hint", ""), "repair=auto repairs it");
+            problems.push_back(problem);
+        }
+        EXPECT_EQ(problems[0], problems[1]);  // the same rules, the same words
+        // repair=auto: both cut the vertex or edge apart
+        for (const std::string op : {"/simplify?ratio=0.5&format=obj", "/remesh?format=obj"}) {
+            auto res = client().Post(op, corpus_file(c.file), c.type);
+            ASSERT_TRUE(res) << httplib::to_string(res.error());
+            ASSERT_EQ(res->status, 200) << op << ": " << res->body;
+            EXPECT_EQ(res->get_header_value("X-Repairs"), expected_x_repairs(c.file)) << op;
+        }
+    }
+}
+
+TEST_F(RepairHttp, LoopOnAQuadUploadNamesTheFacesLineWithAHint) {
+    const std::string obj =
+        "# a triangle and a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3\n\nf 2 5 6 3\n";
+    const Json problem =
+        expect_http_problem(client().Post("/subdivide?scheme=loop", obj, "model/obj"), 422, "not_triangle_mesh");
+    EXPECT_EQ(problem.value("line", 0), 10) << problem.dump();
+    EXPECT_EQ(problem.value("detail", ""), "line 10: face 1 has 4 vertices; Loop subdivision needs triangles");
+    EXPECT_EQ(problem.value("hint", ""), "scheme catmull-clark takes any polygons");
+    auto res = client().Post("/subdivide?scheme=catmull-clark&format=obj", obj, "model/obj");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    EXPECT_EQ(res->status, 200) << res->body;
+}
+
 // ---- the CLI ----
 
 struct CliResult {

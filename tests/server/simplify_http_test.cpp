@@ -90,6 +90,110 @@ TEST_F(SimplifyHttp, JsonWithMaxErrorToJson) {
     EXPECT_LT(json["mesh"]["faces"].size(), sphere.face_count());
 }
 
+// X-Target-Faces / X-Achieved-Faces / X-Target-Met, and the same in the JSON stats: a target that cannot be met is
+// still 200, saying so.
+struct Reached {
+    int status = 0;
+    std::string target, achieved, met;  // the headers ("" when absent)
+    std::string body;
+};
+
+TEST_F(SimplifyHttp, ReportsTheTargetAndWhatItReached) {
+    const auto post = [&](const std::string& query, const PolygonMesh& mesh) {
+        auto res = client().Post("/simplify?" + query + "&format=obj", write_obj(mesh), "model/obj");
+        EXPECT_TRUE(res) << httplib::to_string(res.error());
+        if (!res) return Reached{};
+        Reached r{res->status, header_of(res, "X-Target-Faces"), header_of(res, "X-Achieved-Faces"),
+                  header_of(res, "X-Target-Met"), res->body};
+        if (res->status == 200) {
+            EXPECT_EQ(r.achieved, header_of(res, "X-Output-Faces")) << query;
+            auto back = read_obj(res->body);
+            EXPECT_TRUE(back.ok()) << query;
+            if (back.ok()) {
+                EXPECT_EQ(std::to_string(back->face_count()), r.achieved) << query;
+            }
+        }
+        return r;
+    };
+    const PolygonMesh sphere = testing::icosphere(3);  // 1280 triangles, closed
+    // a target it reaches
+    Reached r = post("target_faces=500", sphere);
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "500");
+    EXPECT_LE(std::stoi(r.achieved), 500);
+    EXPECT_GE(std::stoi(r.achieved), 490);  // a collapse removes two faces; it stops at the target
+    EXPECT_EQ(r.met, "true");
+    // ratio: of the input's triangles, floor(0.25 x 1280)
+    r = post("ratio=0.25", sphere);
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "320");
+    EXPECT_LE(std::stoi(r.achieved), 320);
+    EXPECT_EQ(r.met, "true");
+    // both: the smaller
+    r = post("ratio=0.5&target_faces=600", sphere);
+    EXPECT_EQ(r.target, "600");
+    r = post("ratio=0.25&target_faces=600", sphere);
+    EXPECT_EQ(r.target, "320");
+    // ratio counts triangles, not polygons: the cube's 6 quads are 12 triangles
+    r = post("ratio=0.5", shapes::cube());
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "6");
+    EXPECT_EQ(r.met, std::stoi(r.achieved) <= 6 ? "true" : "false");
+    // target 0 on a closed mesh: a tetrahedron cannot lose a face and stay a closed surface
+    r = post("target_faces=0", shapes::tetrahedron());
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "0");
+    EXPECT_EQ(r.achieved, "4");
+    EXPECT_EQ(r.met, "false");
+    // a target above the input's count: simplification never adds faces
+    r = post("target_faces=5000", sphere);
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "5000");
+    EXPECT_EQ(r.achieved, "1280");
+    EXPECT_EQ(r.met, "false");
+    // max_error stops it before the target: nothing may move off the sphere
+    r = post("target_faces=10&max_error=0", sphere);
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "10");
+    EXPECT_GT(std::stoi(r.achieved), 10);
+    EXPECT_EQ(r.met, "false");
+    // max_error alone: no face target, and the bound always holds
+    r = post("max_error=0.01", sphere);
+    ASSERT_EQ(r.status, 200) << r.body;
+    EXPECT_EQ(r.target, "");
+    EXPECT_LT(std::stoi(r.achieved), 1280);
+    EXPECT_EQ(r.met, "true");
+
+    // the JSON output's stats say the same
+    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
+    const PolygonMesh tetra = shapes::tetrahedron();
+    for (const Vec3& p : tetra.positions) positions.push_back({p.x, p.y, p.z});
+    for (std::size_t f = 0; f < tetra.face_count(); ++f) {
+        auto t = tetra.face(f);
+        faces.push_back({t[0], t[1], t[2]});
+    }
+    nlohmann::json body = {
+        {"mesh", {{"positions", positions}, {"faces", faces}}}, {"target_faces", 0}, {"output", {{"format", "json"}}}};
+    auto res = client().Post("/simplify", body.dump(), "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    auto stats = nlohmann::json::parse(res->body)["stats"];
+    EXPECT_EQ(stats["target_faces"], 0);
+    EXPECT_EQ(stats["achieved_faces"], 4);
+    EXPECT_EQ(stats["target_met"], false);
+    EXPECT_EQ(header_of(res, "X-Target-Met"), "false");
+    body.erase("target_faces");
+    body["max_error"] = 0.5;
+    res = client().Post("/simplify", body.dump(), "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    stats = nlohmann::json::parse(res->body)["stats"];
+    EXPECT_FALSE(stats.contains("target_faces"));
+    EXPECT_EQ(stats["achieved_faces"], stats["output_faces"]);
+    EXPECT_EQ(stats["target_met"], true);
+    EXPECT_FALSE(res->has_header("X-Target-Faces"));
+}
+
 TEST_F(SimplifyHttp, ErrorsAreProblemJson) {
     auto res = client().Post("/simplify?format=obj", write_obj(testing::icosphere(1)), "model/obj");
     ASSERT_TRUE(res);

@@ -43,7 +43,8 @@ _OUTPUT_KEYS = ("format", "compression", "quantize_position", "normals")
 
 class SurfacedError(Exception):
     """A problem+json answer (RFC 9457), or a transport failure (status 0). ``field`` names the request member that
-    is wrong (``mesh.faces[3][1]``), ``line`` the line of an uploaded file."""
+    is wrong (``mesh.faces[3][1]``), ``line`` the line of an uploaded file, ``hint`` what would make the request work
+    ("repair=auto repairs it")."""
 
     def __init__(self, status: int, problem: Mapping[str, Any]) -> None:
         self.status: int = status
@@ -51,11 +52,14 @@ class SurfacedError(Exception):
         self.code: Optional[str] = problem.get("code")
         self.field: Optional[str] = problem.get("field")
         self.line: Optional[int] = problem.get("line")
+        self.hint: Optional[str] = problem.get("hint")
         text = f"{problem.get('status', status)} {problem.get('title', 'error')}: {problem.get('detail', '')}"
         if self.field:
             text += f" (field {self.field})"
         if self.line:
             text += f" (line {self.line})"
+        if self.hint:
+            text += f" (hint: {self.hint})"
         super().__init__(text)
 
 
@@ -392,7 +396,7 @@ class Client:
     def remesh(self, mesh: Optional[Mesh] = None, *, data: Optional[bytes] = None,
                content_type: Optional[str] = None,
                edge_length: Optional[float] = None, iterations: int = 10, feature_angle: float = 60,
-               keep_boundary: bool = True, smoothing: RemeshSmoothing = "tangential", repair: RepairMode = "auto",
+               lock_border: bool = True, smoothing: RemeshSmoothing = "tangential", repair: RepairMode = "auto",
                output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
                quantize_position: int = 14, normals: bool = False) -> Result:
         """POST /remesh: Botsch-Kobbelt isotropic remeshing to one edge length. Quality before and after comes in
@@ -404,7 +408,8 @@ class Client:
         :param iterations: 0..100 (default 10).
         :param feature_angle: dihedral angle in degrees above which an edge is a sharp feature, 0..180 (default 60;
             180 disables features).
-        :param keep_boundary: boundary vertices stay on the input boundary (default True).
+        :param lock_border: boundary vertices stay on the input boundary (default True: moving an open mesh's border
+            shrinks it); the server still accepts its deprecated name ``keep_boundary``.
         :param smoothing: ``"tangential"`` (default), ``"laplacian"`` or ``"none"``.
         :param repair: ``"auto"`` (default) or ``"none"``, as for :meth:`simplify`.
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
