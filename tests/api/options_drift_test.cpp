@@ -259,6 +259,13 @@ TEST(OptionsDrift, MultipartFieldsMatchTheQueryParameters) {
             if (!option->on_query()) continue;
             const std::string name(option->name);
             query.insert(name);
+            // a deprecated alias is a field too, documented as deprecated
+            for (const std::string_view alias : option->aliases) {
+                query.insert(std::string(alias));
+                EXPECT_TRUE(properties.contains(std::string(alias)) &&
+                            resolve(properties[std::string(alias)]).value("deprecated", false))
+                    << "form field " << alias << " of " << label(op) << ": a deprecated alias, not documented so";
+            }
             if (!properties.contains(name)) {
                 ADD_FAILURE() << "form field " << name << " of " << label(op) << ": a query parameter, not a field";
                 continue;
