@@ -246,7 +246,7 @@ std::string encode_json(const PointCloud& cloud, double elapsed_ms) {
         out["colors"] = std::move(list);
     }
     out["stats"] = {{"points", cloud.size()}, {"elapsed_ms", elapsed_ms}};
-    return out.dump();
+    return json_text(out);
 }
 
 //! A decoded request: where the options came from, the options, the cloud, and how many points the request sent.

@@ -196,7 +196,7 @@ export class Client {
     return this.operation('/tessellate', 'patches', options);
   }
 
-  /** GET /patches/{name}: tessellated (tolerance | segments, format, ...), or format 'json' for the control points.
+  /** GET /patches/{name}: tessellated (tolerance | segments, format, ...), or format 'patches' for the control points.
    *  With etag, an unchanged answer has status 304. */
   patchSample(name = 'teapot', { etag, ...query } = {}) {
     return this.request('GET', `/patches/${encodeURIComponent(name)}`, { query, headers: etag ? { 'If-None-Match': etag } : {} });

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/io/gltf.h"
+#include "geometry/io/json_text.h"
 
 namespace surfaced {
 
@@ -68,7 +69,7 @@ Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& optio
         // the BIN chunk is padded to 4 bytes; the buffer is byteLength long
         buffer["uri"] = "data:application/octet-stream;base64," + base64(bytes.substr(bin_header + 8, byte_length));
     }
-    return document.dump();
+    return json_text(document);  // numbers (accessor min/max) as every text output prints them
 }
 
 }  // namespace surfaced
