@@ -335,7 +335,7 @@ constexpr OptionSpec kImplicitMeshOutput[] = {json_only(kFormatOption), json_onl
 // ---- POST /pointcloud: a point file with query parameters, or a JSON body ---------------------------------------
 // In a JSON body estimate_normals is true, false or {"k": n}: the operation reads that member itself and checks k
 // against this table's row.
-constexpr std::string_view kPointFormats[] = {"glb", "ply", "json"};
+constexpr std::string_view kPointFormats[] = {"glb", "gltf", "ply", "json"};
 constexpr std::string_view kPointCloudInputs[] = {"points", "normals", "colors", "sample", "estimate_normals"};
 constexpr OptionSpec kPointCloud[] = {
     {.name = "estimate_normals",
@@ -356,8 +356,9 @@ constexpr OptionSpec kPointNormalsOption = [] {
     out.description = "false leaves normals out of the output";
     return out;
 }();
-constexpr OptionSpec kPointCloudOutput[] = {format_of(kPointFormats, "Encoding of the points: glb, PLY or JSON"),
-                                            kCompressionOption, kQuantizeOption, kPointNormalsOption};
+constexpr OptionSpec kPointCloudOutput[] = {
+    format_of(kPointFormats, "Encoding of the points: binary or text glTF, PLY or JSON"), kCompressionOption,
+    kQuantizeOption, kPointNormalsOption};
 
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},

@@ -44,7 +44,7 @@ export type RemeshSmoothing = 'tangential' | 'laplacian' | 'none';
 export type ImplicitMode = 'uniform' | 'adaptive';
 export type TessellateFormat = OutputFormat;
 export type PatchSampleFormat = OutputFormat | 'patches';
-export type PointcloudFormat = 'glb' | 'ply' | 'json';
+export type PointcloudFormat = 'glb' | 'gltf' | 'ply' | 'json';
 export type CurvesFormat = 'json' | 'glb' | 'gltf';
 export type KnotVector = 'clamped' | 'uniform' | 'closed';
 

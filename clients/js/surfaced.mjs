@@ -213,7 +213,7 @@ export class Client {
   implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }
 
   /** POST /pointcloud: {points, normals (an array), colors} | {sample: {mesh | scene + bounds, count, seed}} |
-   *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, ply, json); a
+   *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, gltf, ply, json); a
    *  boolean `normals` is the output option. */
   pointcloud({ data, contentType, normals, k, output, ...options }) {
     let out = { ...(output ?? {}) };

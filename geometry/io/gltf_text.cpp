@@ -48,7 +48,10 @@ std::uint32_t read_u32(std::string_view bytes, std::size_t at) {
 Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& options) {
     auto glb = write_glb(mesh, options);
     if (!glb) return glb.error();
-    const std::string_view bytes = *glb;
+    return gltf_from_glb(*glb);
+}
+
+Result<std::string> gltf_from_glb(std::string_view bytes) {
     // our own GLB: header, JSON chunk, BIN chunk (checked anyway: a mistake here must not read out of bounds)
     if (bytes.size() < 20) return make_error(ErrorCode::Internal, "GLB too short");
     const std::uint32_t json_length = read_u32(bytes, 12);

@@ -269,5 +269,27 @@ TEST_F(FormatsHttp, ExplicitNormalsWithStlOrOffIs400) {
     }
 }
 
+// Point clouds keep their own formats; gltf is the GLB's scene as glTF JSON, as for meshes.
+TEST_F(FormatsHttp, PointcloudAnswersGltf) {
+    auto http = client();
+    const json body = {{"points", {{0, 0, 0}, {1, -0.0, 0.5}, {0.25, 1, -0.0}}},
+                       {"normals", {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}},
+                       {"output", {{"format", "gltf"}, {"compression", "none"}}}};
+    auto res = http.Post("/pointcloud", body.dump(), "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "model/gltf+json");
+    const auto report = testing::run_gltf_validator(res->body);
+    ASSERT_TRUE(report.ran) << report.report;
+    EXPECT_EQ(report.errors, 0) << report.report;
+    const json doc = json::parse(res->body);
+    const json& attributes = doc["meshes"][0]["primitives"][0]["attributes"];
+    EXPECT_TRUE(attributes.contains("NORMAL"));
+    const json& position = doc["accessors"][attributes["POSITION"].get<int>()];
+    EXPECT_EQ(position["count"], 3);
+    EXPECT_EQ(position["max"], json::array({1, 1, 0.5}));  // printed "1", not "1.0"
+    expect_no_negative_zero(res->body, "pointcloud gltf");
+}
+
 }  // namespace
 }  // namespace surfaced::server

@@ -577,7 +577,8 @@ class Client:
             (default False); ``{"k": n}`` also sets k.
         :param k: neighbours for normal estimation, 3..256 (default 16).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default, one POINTS primitive), ``"ply"`` or ``"json"``.
+        :param format: ``"glb"`` (default, one POINTS primitive), ``"gltf"`` (the same as glTF JSON), ``"ply"`` or
+            ``"json"``.
         :param compression: GLB: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..24 (default 14).
         """

@@ -39,7 +39,7 @@ RemeshSmoothing = Literal["tangential", "laplacian", "none"]
 ImplicitMode = Literal["uniform", "adaptive"]
 TessellateFormat = OutputFormat
 PatchSampleFormat = Literal["glb", "gltf", "obj", "ply", "json", "stl", "off", "patches"]
-PointcloudFormat = Literal["glb", "ply", "json"]
+PointcloudFormat = Literal["glb", "gltf", "ply", "json"]
 CurvesFormat = Literal["json", "glb", "gltf"]
 KnotVector = Literal["clamped", "uniform", "closed"]
 
