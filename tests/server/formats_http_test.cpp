@@ -291,5 +291,21 @@ TEST_F(FormatsHttp, PointcloudAnswersGltf) {
     expect_no_negative_zero(res->body, "pointcloud gltf");
 }
 
+// STL stores float32 as glTF does: a coordinate beyond its range is 422 naming the vertex; OFF keeps the double.
+TEST_F(FormatsHttp, CoordinateBeyondFloat32Is422ForStlOnly) {
+    auto http = client();
+    const json mesh = {{"positions", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1e39, 0}}}, {"faces", {{0, 1, 2, 3}}}};
+    const Endpoint unchanged{"subdivide levels 0", "/subdivide", {{"mesh", mesh}, {"levels", 0}}};
+    const json problem = testing::expect_http_problem(request(http, unchanged, {{"format", "stl"}}), 422,
+                                                      "coordinate_out_of_range", "mesh.positions[3]");
+    EXPECT_NE(problem.value("detail", "").find("\"stl\""), std::string::npos) << problem.dump();
+    auto off = request(http, unchanged, {{"format", "off"}});
+    ASSERT_TRUE(off);
+    ASSERT_EQ(off->status, 200) << off->body;
+    auto read = read_off(off->body);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->positions[3].y, 1e39);
+}
+
 }  // namespace
 }  // namespace surfaced::server
