@@ -277,7 +277,7 @@ std::optional<ApiError> check_output_options(const OutputOptions& out, Source so
 void prepare_normals(PolygonMesh& mesh, const OutputOptions& out) {
     if (!output_normals(out))
         mesh.normals.clear();
-    else if (!mesh.has_normals())
+    else if (mesh.normals.size() != mesh.positions.size())  // none, or not one per vertex: computed
         mesh.normals = compute_vertex_normals(mesh);
 }
 
@@ -291,6 +291,7 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
             gltf.draco = out.draco.value_or(true);
             if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
             gltf.normals = normals;
+            prepare_normals(mesh, out);
             auto encoded = out.format == OutputFormat::Glb ? write_glb(mesh, gltf) : write_gltf(mesh, gltf);
             if (!encoded) return geometry_error(encoded.error(), source);
             return std::move(encoded).value();

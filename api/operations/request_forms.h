@@ -102,7 +102,8 @@ bool float32_format(OutputFormat format);
 bool normals_format(OutputFormat format);
 //! Whether the output carries vertex normals: a format that holds them, and `normals` true or unset (the default).
 bool output_normals(const OutputOptions& out);
-//! The mesh's normals as the output wants them: computed when wanted and missing, dropped when not wanted.
+//! The mesh's normals as the output wants them: computed when wanted and missing (or not one per vertex), dropped
+//! when not wanted.
 void prepare_normals(PolygonMesh& mesh, const OutputOptions& out);
 //! 422 coordinate_out_of_range naming the first of `positions` with a coordinate beyond float32 (|c| > FLT_MAX, which
 //! a float32 accessor, min/max or Draco cannot hold): its index, axis and value; `element` names what the positions

@@ -251,6 +251,17 @@ TEST_F(FormatsHttp, JsonOutputWithNormalsPostsBack) {
     EXPECT_EQ(echoed["mesh"]["positions"], answer["mesh"]["positions"]);
     EXPECT_EQ(echoed["mesh"]["faces"], answer["mesh"]["faces"]);
 
+    // operations that change the vertices carry the input's normals along (or compute them): one per output vertex
+    for (const char* path : {"/repair", "/simplify", "/remesh"}) {
+        json body = {{"mesh", answer["mesh"]}, {"output", {{"format", "json"}}}};
+        if (std::string_view(path) == "/simplify") body["ratio"] = 0.5;
+        auto changed = http.Post(path, body.dump(), "application/json");
+        ASSERT_TRUE(changed);
+        ASSERT_EQ(changed->status, 200) << path << ": " << changed->body.substr(0, 300);
+        const json out = json::parse(changed->body);
+        EXPECT_EQ(out["mesh"]["normals"].size(), out["mesh"]["positions"].size()) << path;
+    }
+
     json bad = answer["mesh"];
     bad["normals"].erase(bad["normals"].begin());
     testing::expect_http_problem(http.Post("/subdivide", json{{"mesh", bad}}.dump(), "application/json"), 400,
