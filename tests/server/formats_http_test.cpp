@@ -318,5 +318,22 @@ TEST_F(FormatsHttp, CoordinateBeyondFloat32Is422ForStlOnly) {
     EXPECT_EQ(read->positions[3].y, 1e39);
 }
 
+// The OpenAPI document served lists every format's media type among each endpoint's 200 answers (the format enums
+// themselves are held to the option tables by tests/api/options_drift_test.cpp).
+TEST_F(FormatsHttp, OpenApiListsEveryFormat) {
+    auto http = client();
+    auto res = http.Get("/openapi.json");
+    ASSERT_TRUE(res && res->status == 200);
+    const json doc = json::parse(res->body);
+    for (const Endpoint& endpoint : endpoints()) {
+        const bool get = endpoint.body.is_null();
+        const std::string path = get ? "/patches/{name}" : endpoint.path;
+        const json& operation = doc["paths"][path][get ? "get" : "post"];
+        const json& content = operation["responses"]["200"]["content"];
+        for (const Format& format : kFormats)
+            EXPECT_TRUE(content.contains(format.media_type)) << path << " " << format.media_type;
+    }
+}
+
 }  // namespace
 }  // namespace surfaced::server
