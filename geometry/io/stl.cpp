@@ -13,6 +13,7 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
+#include "geometry/mesh/triangulate.h"
 
 namespace surfaced {
 namespace {
@@ -300,7 +301,12 @@ void store_vec_le(std::string& out, const Vec3& v) {
 
 }  // namespace
 
-std::string write_stl(const PolygonMesh& mesh) {
+std::string write_stl(const PolygonMesh& polygons) {
+    bool all_triangles = true;
+    for (std::size_t f = 0; f < polygons.face_count() && all_triangles; ++f) all_triangles = polygons.face_size(f) == 3;
+    PolygonMesh triangulated;
+    if (!all_triangles) triangulated = triangulate(polygons);
+    const PolygonMesh& mesh = all_triangles ? polygons : triangulated;
     std::uint64_t triangles = 0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f)
         if (mesh.face_size(f) >= 3) triangles += mesh.face_size(f) - 2;

@@ -225,6 +225,28 @@ TEST(StlWrite, ReadsBackToTheSameTrianglesAndConnectivity) {
     }
 }
 
+TEST(StlWrite, NonConvexPolygonIsTriangulatedInsideItsOutline) {
+    // an L-shaped hexagon whose fan from corner 0 would cover area outside it: every written triangle must face +z
+    // and the areas must add up to the polygon's (3)
+    PolygonMesh mesh;
+    mesh.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+    mesh.add_face({2, 3, 4, 5, 0, 1});  // starting at a corner next to the reflex one
+    const std::string bytes = write_stl(mesh);
+    ASSERT_EQ(bytes.size(), 84u + 4u * 50u);
+    double area = 0;
+    for (std::size_t t = 0; t < 4; ++t) {
+        const std::size_t at = 84 + t * 50;
+        Vec3 c[3];
+        for (int k = 0; k < 3; ++k)
+            c[k] = {stored_float(bytes, at + 12 + 12 * k), stored_float(bytes, at + 16 + 12 * k),
+                    stored_float(bytes, at + 20 + 12 * k)};
+        const Vec3 n = cross(c[1] - c[0], c[2] - c[0]);
+        EXPECT_GT(n.z, 0) << "triangle " << t;
+        area += 0.5 * norm(n);
+    }
+    EXPECT_DOUBLE_EQ(area, 3.0);
+}
+
 TEST(StlWrite, DegenerateTriangleGetsAZeroNormal) {
     PolygonMesh mesh;
     mesh.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
