@@ -17,7 +17,7 @@
 
 namespace surfaced::api {
 
-enum class OutputFormat { Glb, Gltf, Obj, Ply, Json };
+enum class OutputFormat { Glb, Gltf, Obj, Ply, Json, Stl, Off };
 
 //! How the result is encoded. Unset optionals mean "the default"; they are optional so that an option that does
 //! not apply to the chosen format (compression with OBJ) can be rejected instead of silently ignored.
@@ -25,7 +25,9 @@ struct OutputOptions {
     OutputFormat format = OutputFormat::Glb;
     std::optional<bool> draco;                      //!< glb only; default true ("compression": "draco"|"none")
     std::optional<std::int64_t> quantize_position;  //!< glb with Draco only; 1..24, default 14
-    std::optional<bool> normals;                    //!< glb/obj/ply; default false
+    //! Vertex normals (computed when the mesh has none) in the formats that hold them (glb, gltf, obj, ply, json);
+    //! default true. STL has facet normals only and OFF none: there the default does not apply and true is an error.
+    std::optional<bool> normals;
     bool format_given = false;  //!< the request named `format` (else its Accept header may choose one)
 };
 
@@ -142,8 +144,8 @@ inline constexpr EnumName<UvInterpolation> kUvInterpolationNames[] = {
     {"all", UvInterpolation::All},
 };
 inline constexpr EnumName<OutputFormat> kOutputFormatNames[] = {
-    {"glb", OutputFormat::Glb}, {"gltf", OutputFormat::Gltf}, {"obj", OutputFormat::Obj},
-    {"ply", OutputFormat::Ply}, {"json", OutputFormat::Json},
+    {"glb", OutputFormat::Glb},   {"gltf", OutputFormat::Gltf}, {"obj", OutputFormat::Obj}, {"ply", OutputFormat::Ply},
+    {"json", OutputFormat::Json}, {"stl", OutputFormat::Stl},   {"off", OutputFormat::Off},
 };
 //! "compression": value true means Draco.
 inline constexpr EnumName<bool> kCompressionNames[] = {

@@ -9,15 +9,17 @@
 
 #include "api/json_util.h"
 #include "api/options/mesh_params.h"
+#include "geometry/io/number_text.h"
 
 namespace surfaced::api {
 namespace {
 
 using namespace json;  // the shared readers (api/json_util.h)
 
-//! "positions": [[x, y, z], ...] into mesh.positions.
-std::optional<ApiError> decode_positions(const Json& positions, const std::string& positions_path, PolygonMesh& mesh) {
-    mesh.positions.reserve(positions.size());
+//! "positions": [[x, y, z], ...] (or "normals") into `out`.
+std::optional<ApiError> decode_vectors(const Json& positions, const std::string& positions_path,
+                                       std::vector<Vec3>& out) {
+    out.reserve(positions.size());
     for (std::size_t v = 0; v < positions.size(); ++v) {
         const Json& p = positions[v];
         if (!p.is_array() || p.size() != 3) {
@@ -38,9 +40,22 @@ std::optional<ApiError> decode_positions(const Json& positions, const std::strin
                 return geometry_error(ErrorCode::NonFinite, field, field + " must be a finite number");
             }
         }
-        mesh.positions.push_back(point);
+        out.push_back(point);
     }
     return std::nullopt;
+}
+
+//! "normals": one finite [x, y, z] per position (as the JSON mesh output writes them) into mesh.normals.
+std::optional<ApiError> decode_normals(const Json& root, std::string_view path, PolygonMesh& mesh) {
+    const auto it = root.find("normals");
+    if (it == root.end()) return std::nullopt;
+    const std::string normals_path = member_path(path, "normals");
+    if (!it->is_array()) return invalid(normals_path, normals_path + " must be an array of [x, y, z]");
+    if (it->size() != mesh.positions.size())
+        return invalid(normals_path, normals_path + " has " + std::to_string(it->size()) +
+                                         " normals; it needs one per position (" +
+                                         std::to_string(mesh.positions.size()) + ")");
+    return decode_vectors(*it, normals_path, mesh.normals);
 }
 
 //! "faces": [[i, j, k, ...], ...] into mesh.face_offsets / face_indices; indices checked against the positions.
@@ -133,7 +148,8 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
     if (!root.is_object())
         return invalid(mesh_path,
                        mesh_path + R"( must be an object {"positions": [[x,y,z],...], "faces": [[i,j,k,...],...]})");
-    if (auto error = check_members(root, path, {"positions", "faces", "uvs", "uv_faces"})) return std::move(*error);
+    if (auto error = check_members(root, path, {"positions", "faces", "normals", "uvs", "uv_faces"}))
+        return std::move(*error);
 
     const std::string positions_path = member_path(path, "positions");
     const std::string faces_path = member_path(path, "faces");
@@ -161,8 +177,9 @@ ApiResult<PolygonMesh> decode_mesh_value(const Json& root, std::string_view path
                             faces_path);
 
     PolygonMesh mesh;
-    if (auto error = decode_positions(positions, positions_path, mesh)) return std::move(*error);
+    if (auto error = decode_vectors(positions, positions_path, mesh.positions)) return std::move(*error);
     if (auto error = decode_faces(faces, faces_path, mesh)) return std::move(*error);
+    if (auto error = decode_normals(root, path, mesh)) return std::move(*error);
     if (auto error = decode_uvs(root, path, limits, mesh)) return std::move(*error);
     return mesh;
 }
@@ -247,23 +264,12 @@ void append_number(std::string& out, double value) {
         out += "null";
         return;
     }
-    char buf[32];
-    const auto result = std::to_chars(buf, buf + sizeof buf, value);
-    out.append(buf, result.ptr);
+    append_number_text(out, value);
 }
 
-void append_number(std::string& out, std::uint64_t value) {
-    char buf[24];
-    const auto result = std::to_chars(buf, buf + sizeof buf, value);
-    out.append(buf, result.ptr);
-}
-
-//! "mesh":{"positions":[...],"faces":[...]} (plus "uvs" and "uv_faces" when the mesh has texture coordinates),
-//! doubles in shortest round-trip form.
-void append_mesh(std::string& out, const PolygonMesh& mesh) {
-    out += "\"mesh\":{\"positions\":[";
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-        const Vec3& p = mesh.positions[v];
+void append_vectors(std::string& out, const std::vector<Vec3>& vectors) {
+    for (std::size_t v = 0; v < vectors.size(); ++v) {
+        const Vec3& p = vectors[v];
         out += v == 0 ? "[" : ",[";
         append_number(out, p.x);
         out += ',';
@@ -272,6 +278,19 @@ void append_mesh(std::string& out, const PolygonMesh& mesh) {
         append_number(out, p.z);
         out += ']';
     }
+}
+
+void append_number(std::string& out, std::uint64_t value) {
+    char buf[24];
+    const auto result = std::to_chars(buf, buf + sizeof buf, value);
+    out.append(buf, result.ptr);
+}
+
+//! "mesh":{"positions":[...],"faces":[...]} (plus "normals" when the mesh has one per vertex, "uvs" and "uv_faces"
+//! when it has texture coordinates), doubles in shortest round-trip form.
+void append_mesh(std::string& out, const PolygonMesh& mesh) {
+    out += "\"mesh\":{\"positions\":[";
+    append_vectors(out, mesh.positions);
     out += "],\"faces\":[";
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         out += f == 0 ? "[" : ",[";
@@ -284,6 +303,11 @@ void append_mesh(std::string& out, const PolygonMesh& mesh) {
         out += ']';
     }
     out += ']';
+    if (mesh.has_normals() && mesh.normals.size() == mesh.positions.size()) {
+        out += ",\"normals\":[";
+        append_vectors(out, mesh.normals);
+        out += ']';
+    }
     if (mesh.has_uvs()) {
         out += ",\"uvs\":[";
         for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {

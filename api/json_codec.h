@@ -1,7 +1,8 @@
 // JSON <-> DTOs and PolygonMesh. The only api/ translation unit that includes nlohmann/json (build time).
 //
-// Mesh JSON form:  {"positions": [[x, y, z], ...], "faces": [[i, j, k, ...], ...]}
-//   positions: finite numbers; faces: >= 3 non-negative integer indices into positions.
+// Mesh JSON form:  {"positions": [[x, y, z], ...], "faces": [[i, j, k, ...], ...], "normals": [[x, y, z], ...]}
+//   positions: finite numbers; faces: >= 3 non-negative integer indices into positions; normals (optional, as the
+//   JSON output writes them): one finite [x, y, z] per position. Also "uvs" and "uv_faces" (optional).
 // Errors name the exact place with a field path and say what was expected:
 //   400 invalid_json       the body is not JSON (offset = byte position where parsing stopped)
 //   400 invalid_field      wrong type ("mesh.positions[3][1] must be a finite number"), unknown enum value (the
@@ -40,7 +41,8 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
 //! Decodes a mesh object on its own (`path` prefixes field paths in errors, e.g. "mesh").
 ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& limits, std::string_view path = "mesh");
 
-//! {"mesh": {"positions": [...], "faces": [...]}, "stats": {...}}. Doubles are written in shortest round-trip form.
+//! {"mesh": {"positions": [...], "faces": [...], "normals": [...] (when the mesh has them)}, "stats": {...}}. Numbers
+//! are written as geometry/io/number_text.h prints them (shortest round trip, no -0).
 std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& stats);
 
 struct SimplifyJsonRequest {

@@ -16,6 +16,7 @@
 #include "api/dto.h"
 #include "api/errors.h"
 #include "geometry/core/result.h"
+#include "geometry/io/json_text.h"  // json_text(): JSON outputs with numbers as every output prints them
 
 namespace surfaced::api::json {
 

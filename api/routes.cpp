@@ -21,20 +21,22 @@ constexpr Route kRoutes[] = {
     {"GET", "/metrics", &metrics, "Prometheus text metrics: requests, latency, in-flight, queue, bytes, output faces"},
     {"GET", "/openapi.json", &openapi, "The OpenAPI 3.1 description of every endpoint"},
     {"POST", "/subdivide", &operations::subdivide,
-     "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> GLB/OBJ/PLY/JSON"},
+     "Catmull-Clark or Loop subdivision of a JSON or uploaded mesh (OBJ, OFF, PLY, STL, GLB) -> "
+     "GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
     {"POST", "/simplify", &operations::simplify,
      "QEM edge-collapse simplification to target_faces / ratio / max_error (repairs the input first), optional "
-     "Hausdorff/RMS report -> GLB/OBJ/PLY/JSON"},
+     "Hausdorff/RMS report -> GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
     {"POST", "/remesh", &operations::remesh,
      "Isotropic remeshing to edge_length (split, collapse, flip, relax, project), features and boundary kept, quality "
-     "report (repairs the input first) -> GLB/OBJ/PLY/JSON"},
+     "report (repairs the input first) -> GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
     {"POST", "/repair", &operations::repair,
      "Mesh repair: weld, drop degenerate and duplicate faces, orient, cut non-manifold edges and vertices, fill small "
-     "holes, with a report -> GLB/OBJ/PLY/JSON"},
+     "holes, with a report -> GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
     {"POST", "/tessellate", &operations::tessellate,
-     "Bezier patches (JSON or geomview BEZ/BBP) tessellated by tolerance or segments, crack-free -> GLB/OBJ/PLY"},
+     "Bezier patches (JSON or geomview BEZ/BBP) tessellated by tolerance or segments, crack-free -> "
+     "GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
     {"GET", "/patches/{name}", &operations::patch_sample,
-     "A built-in patch sample (teapot) tessellated, ?tolerance=T or ?segments=N (?format=json: its control points); "
+     "A built-in patch sample (teapot) tessellated, ?tolerance=T or ?segments=N (?format=patches: its control points); "
      "ETag / If-None-Match -> 304"},
     {"POST", "/curves", &operations::curves,
      "Bezier curve queries (evaluate, derivatives, split, elevate, length, closest point, tessellate) -> JSON"},
@@ -42,10 +44,10 @@ constexpr Route kRoutes[] = {
      "Implicit scene queries: points inside/on/outside, value and gradient; rays by sphere tracing -> JSON"},
     {"POST", "/pointcloud", &operations::pointcloud,
      "Point clouds: convert PLY/OBJ/XYZ/JSON points, sample a mesh or implicit scene, estimate oriented normals "
-     "(kNN PCA) -> GLB POINTS (Draco)/PLY/JSON"},
+     "(kNN PCA) -> GLB POINTS (Draco)/glTF/PLY/JSON"},
     {"POST", "/implicit/mesh", &operations::implicit_mesh,
      "Implicit scene meshed in bounds (dual marching cubes, QEF vertices; closed, manifold, sharp) -> "
-     "GLB/OBJ/PLY/JSON"},
+     "GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
 };
 
 }  // namespace

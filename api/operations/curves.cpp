@@ -217,7 +217,7 @@ ApiResponse polyline_response(const std::vector<Polyline>& polylines, OutputForm
 ApiResponse json_response(const Json& out) {
     ApiResponse response;
     response.content_type = "application/json";
-    response.body = out.dump();
+    response.body = json_text(out);
     return response;
 }
 
@@ -1016,7 +1016,7 @@ ApiResponse run_from_file(std::string_view file, const CurveFileOverrides& overr
         if (!root.contains("tessellate")) root["tessellate"] = {{"tolerance", kDefaultCurveFileTolerance}};
     }
     // invalid UTF-8 in an SVG file is replaced (the path parser then reports the first such byte)
-    const std::string body = root.dump(-1, ' ', false, Json::error_handler_t::replace);
+    const std::string body = json_text(root);
     ApiRequest request;
     request.method = "POST";
     request.path = "/curves";

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "api/json_codec.h"
 #include "api/json_util.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
@@ -31,17 +32,9 @@ std::string grid_text(const implicit::MeshFieldGrid& grid) {
     return std::to_string(grid.nx) + "x" + std::to_string(grid.ny) + "x" + std::to_string(grid.nz);
 }
 
-//! {"mesh": {"positions", "faces"}, "stats": {...}}
+//! {"mesh": {"positions", "faces", "normals" (when the mesh has them)}, "stats": {...}}
 std::string encode_json(const PolygonMesh& mesh, const implicit::MeshFieldStats& stats, double elapsed_ms) {
-    Json positions = Json::array(), faces = Json::array();
-    for (const Vec3& p : mesh.positions) positions.push_back({p.x, p.y, p.z});
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        const auto face = mesh.face(f);
-        faces.push_back(Json::array({face[0], face[1], face[2]}));
-    }
-    Json out;
-    out["mesh"] = {{"positions", std::move(positions)}, {"faces", std::move(faces)}};
-    out["stats"] = {
+    Json stats_json = {
         {"grid", {stats.grid.nx, stats.grid.ny, stats.grid.nz}},
         {"grid_cells", stats.grid.cells},
         {"surface_cells", stats.surface_cells},
@@ -50,7 +43,8 @@ std::string encode_json(const PolygonMesh& mesh, const implicit::MeshFieldStats&
         {"output_faces", mesh.face_count()},
         {"elapsed_ms", elapsed_ms},
     };
-    return out.dump();
+    // the mesh as every endpoint writes it (json_codec), the stats with the same number printing
+    return encode_mesh_with_stats(mesh, json_text(stats_json));
 }
 
 ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
@@ -134,7 +128,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     // positions stay identical, so the mesh welds back to the watertight one). OBJ and PLY write one normal per
     // vertex index, where a split would show as duplicate vertices: they keep the welded mesh and smooth normals.
     const bool gltf = req.output.format == OutputFormat::Glb || req.output.format == OutputFormat::Gltf;
-    if (gltf && req.output.normals.value_or(false)) mesh = implicit::split_normals_at_creases(mesh, req.crease_angle);
+    if (gltf && output_normals(req.output)) mesh = implicit::split_normals_at_creases(mesh, req.crease_angle);
     const auto t_meshed = Clock::now();
 
     ApiResponse response;

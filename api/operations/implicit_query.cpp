@@ -183,7 +183,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     }
     ApiResponse response;
     response.content_type = "application/json";
-    response.body = out.dump(-1, ' ', false, Json::error_handler_t::replace);
+    response.body = json_text(out);
     return response;
 }
 

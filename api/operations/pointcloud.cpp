@@ -12,6 +12,7 @@
 #include "api/json_util.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
+#include "geometry/io/gltf.h"
 #include "api/scene_codec.h"
 #include "geometry/io/pointcloud_glb.h"
 #include "geometry/io/pointcloud_io.h"
@@ -41,11 +42,10 @@ ApiError point_error(const GeoError& error, Source source, const char* array = "
 
 const options::OperationOptions& pointcloud_options() { return *options::operation_options("pointcloud"); }
 
-//! The output options that do not fit the format (the formats themselves are the table's: glb, ply, json).
+//! The output options that do not fit the format (the formats themselves are the table's: glb, gltf, ply, json;
+//! every one of them holds normals).
 std::optional<ApiError> check_output(const OutputOptions& out, Source source) {
-    OutputOptions shared = out;
-    shared.normals.reset();  // the mesh rule "no normals in JSON" does not apply: point JSON carries them
-    return check_output_options(shared, source);
+    return check_output_options(out, source);
 }
 
 ApiResult<Vec3> read_vec3(const Json& value, const std::string& field) {
@@ -246,7 +246,7 @@ std::string encode_json(const PointCloud& cloud, double elapsed_ms) {
         out["colors"] = std::move(list);
     }
     out["stats"] = {{"points", cloud.size()}, {"elapsed_ms", elapsed_ms}};
-    return out.dump();
+    return json_text(out);
 }
 
 //! A decoded request: where the options came from, the options, the cloud, and how many points the request sent.
@@ -382,7 +382,13 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
         if (output.quantize_position) options.quantize_position = static_cast<int>(*output.quantize_position);
         auto glb = write_points_glb(cloud, options);
         if (!glb) return error_response(point_error(glb.error(), d.source));
-        response.body = std::move(glb.value());
+        if (output.format == OutputFormat::Gltf) {
+            auto text = gltf_from_glb(glb.value());
+            if (!text) return error_response(point_error(text.error(), d.source));
+            response.body = std::move(text.value());
+        } else {
+            response.body = std::move(glb.value());
+        }
     }
     const auto t_encoded = Clock::now();
     response.headers = {

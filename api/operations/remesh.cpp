@@ -102,7 +102,7 @@ std::string encode_json_response(const PolygonMesh& mesh, const Json& stats) {
     if (at == std::string::npos) return out;
     out.resize(at);
     out += ",\"stats\":";
-    out += stats.dump();
+    out += json_text(stats);
     out += '}';
     return out;
 }

@@ -13,6 +13,7 @@
 #include "api/options/option_spec.h"
 #include "api/routes.h"
 #include "geometry/io/gltf.h"
+#include "geometry/io/number_text.h"
 #include "geometry/mesh/normals.h"
 #include "geometry/subdivision/subdivide.h"
 
@@ -22,17 +23,9 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-std::string format_ms(double ms) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3f", ms);
-    return buf;
-}
+std::string format_ms(double ms) { return number_text(std::round(ms * 1000) / 1000); }
 
-std::string format_double(double value) {
-    char buf[32];
-    const auto result = std::to_chars(buf, buf + sizeof buf, value);
-    return std::string(buf, result.ptr);
-}
+std::string format_double(double value) { return number_text(value); }
 
 std::string media_type_of(std::string_view content_type) {
     const auto semicolon = content_type.find(';');
@@ -64,6 +57,8 @@ std::string_view output_media_type(OutputFormat format) {
         case OutputFormat::Obj: return "model/obj";
         case OutputFormat::Ply: return "application/ply";
         case OutputFormat::Json: return "application/json";
+        case OutputFormat::Stl: return "model/stl";
+        case OutputFormat::Off: return "model/off";
     }
     return "application/octet-stream";
 }
@@ -330,7 +325,13 @@ std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const
     return std::nullopt;
 }
 
-bool float32_format(OutputFormat format) { return format == OutputFormat::Glb || format == OutputFormat::Gltf; }
+bool float32_format(OutputFormat format) {
+    return format == OutputFormat::Glb || format == OutputFormat::Gltf || format == OutputFormat::Stl;
+}
+
+bool normals_format(OutputFormat format) { return format != OutputFormat::Stl && format != OutputFormat::Off; }
+
+bool output_normals(const OutputOptions& out) { return normals_format(out.format) && out.normals.value_or(true); }
 
 std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, OutputFormat format,
                                             std::string_view element, std::optional<std::string_view> field) {
@@ -346,7 +347,7 @@ std::optional<ApiError> check_float32_range(const std::vector<Vec3>& positions, 
                                           std::string(element) + " " + std::to_string(i) + " has " + "xyz"[axis] +
                                               " = " + format_double(coordinates[axis]) +
                                               ", beyond the float32 range (+-3.4028235e38) of format \"" + format_name +
-                                              "\"; format obj, ply or json keeps doubles");
+                                              "\"; format obj, ply, off or json keeps doubles");
             if (field) error.field = std::string(*field) + "[" + std::to_string(i) + "]";
             return error;
         }
@@ -402,13 +403,24 @@ std::optional<ApiError> check_output_options(const OutputOptions& out, Source so
         return make_problem(Problem::InvalidField,
                             "quantize_position applies only to formats \"glb\" and \"gltf\" with compression \"draco\"",
                             field("quantize_position"));
-    if (out.normals.value_or(false) && out.format == OutputFormat::Json)
-        return make_problem(Problem::InvalidField, "normals are not available in format \"json\"", field("normals"));
+    if (out.normals.value_or(false) && !normals_format(out.format))
+        return make_problem(Problem::InvalidField,
+                            "normals: format \"" + format + "\" has no vertex normals" +
+                                (out.format == OutputFormat::Stl ? " (STL writes a facet normal per triangle)" : "") +
+                                "; leave normals out or set it to false",
+                            field("normals"));
     return std::nullopt;
 }
 
+void prepare_normals(PolygonMesh& mesh, const OutputOptions& out) {
+    if (!output_normals(out))
+        mesh.normals.clear();
+    else if (mesh.normals.size() != mesh.positions.size())  // none, or not one per vertex: computed
+        mesh.normals = compute_vertex_normals(mesh);
+}
+
 ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source) {
-    const bool normals = out.normals.value_or(false);
+    const bool normals = output_normals(out);
     switch (out.format) {
         case OutputFormat::Glb:
         case OutputFormat::Gltf: {
@@ -417,6 +429,7 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
             gltf.draco = out.draco.value_or(true);
             if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
             gltf.normals = normals;
+            prepare_normals(mesh, out);
             auto encoded = out.format == OutputFormat::Glb ? write_glb(mesh, gltf) : write_gltf(mesh, gltf);
             if (!encoded) return geometry_error(encoded.error(), source);
             return std::move(encoded).value();
@@ -424,14 +437,16 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
         case OutputFormat::Obj: {
             ObjWriteOptions obj;
             obj.write_normals = normals;
-            if (normals && !mesh.has_normals()) mesh.normals = compute_vertex_normals(mesh);
+            prepare_normals(mesh, out);
             return write_obj(mesh, obj);
         }
         case OutputFormat::Ply:
-            // write_ply writes normals exactly when the mesh has them
-            if (normals && !mesh.has_normals()) mesh.normals = compute_vertex_normals(mesh);
-            if (!normals) mesh.normals.clear();
+            prepare_normals(mesh, out);  // write_ply writes normals exactly when the mesh has them
             return write_ply(mesh);
+        case OutputFormat::Stl:
+            if (auto error = check_float32_range(mesh.positions, out.format, "output vertex")) return std::move(*error);
+            return write_stl(mesh);
+        case OutputFormat::Off: return write_off(mesh);
         case OutputFormat::Json: break;
     }
     return make_problem(Problem::Internal, "JSON output is encoded by the operation");

@@ -28,9 +28,10 @@ namespace surfaced::api::operations {
 using Clock = std::chrono::steady_clock;
 
 double ms_between(Clock::time_point a, Clock::time_point b);
-//! "%.3f"
+//! Milliseconds rounded to the microsecond, printed as format_double prints ("1.25", "12").
 std::string format_ms(double ms);
-//! Shortest text that reads back as the same double.
+//! Shortest text that reads back as the same double, integral values without a fraction, -0 as "0"
+//! (geometry/io/number_text.h: every text output prints numbers this way).
 std::string format_double(double value);
 
 //! "Application/JSON; charset=utf-8" -> "application/json".
@@ -141,8 +142,16 @@ std::optional<ApiError> check_mesh_input(const PolygonMesh& mesh, const Limits& 
                                          MeshRules rules = MeshRules::Strict);
 //! Triangulation turns an n-gon into n - 2 triangles: for operations whose work is proportional to those.
 std::optional<ApiError> check_triangulated_budget(const PolygonMesh& mesh, const Limits& limits);
-//! Whether `format` stores coordinates as float32 (glTF and GLB, Draco or not; OBJ, PLY and JSON keep doubles).
+//! Whether `format` stores coordinates as float32 (glTF and GLB, Draco or not, and STL; OBJ, PLY, OFF and JSON keep
+//! doubles).
 bool float32_format(OutputFormat format);
+//! Whether `format` can hold vertex normals (all but STL, which has facet normals only, and OFF).
+bool normals_format(OutputFormat format);
+//! Whether the output carries vertex normals: a format that holds them, and `normals` true or unset (the default).
+bool output_normals(const OutputOptions& out);
+//! The mesh's normals as the output wants them: computed when wanted and missing (or not one per vertex), dropped
+//! when not wanted.
+void prepare_normals(PolygonMesh& mesh, const OutputOptions& out);
 //! 422 coordinate_out_of_range naming the first of `positions` with a coordinate beyond float32 (|c| > FLT_MAX, which
 //! a float32 accessor, min/max or Draco cannot hold): its index, axis and value; `element` names what the positions
 //! are ("output vertex", "input vertex", "point") and `field`, when given, the JSON path of the array.
@@ -237,13 +246,19 @@ void append_timing_headers(Headers& headers, const Timing& timing);
 //! "output" options that do not fit the format (compression with OBJ, ...), named by their JSON path (`output.x`) or
 //! query name.
 std::optional<ApiError> check_output_options(const OutputOptions& out, Source source);
-//! The mesh in the requested format (GLB/glTF with Draco unless compression "none", OBJ, PLY); JSON is the
-//! operation's own (`encode_json`). Normals are written when asked (computed if the mesh has none).
+//! The mesh in the requested format (GLB/glTF with Draco unless compression "none", OBJ, PLY, binary STL, OFF); JSON
+//! is the operation's own (`encode_json`). Vertex normals are written unless `normals` is false (computed if the mesh
+//! has none) in the formats that hold them; UVs go into glTF and OBJ when the mesh has them.
 ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source);
+//! encode_mesh_file, or for format json `encode_json(mesh)` with the mesh's normals prepared (prepare_normals), so
+//! that a JSON mesh carries "normals" exactly when the other formats would.
 template <class EncodeJson>
 ApiResult<std::string> encode_mesh_output(PolygonMesh& mesh, const OutputOptions& out, Source source,
                                           EncodeJson&& encode_json) {
-    if (out.format == OutputFormat::Json) return encode_json(mesh);
+    if (out.format == OutputFormat::Json) {
+        prepare_normals(mesh, out);
+        return encode_json(mesh);
+    }
     return encode_mesh_file(mesh, out, source);
 }
 //! A mesh operation's response: the mesh in the requested format (JSON by `encode_json`), its media type, and the

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "api/dto.h"
+#include "api/json_codec.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
 #include "api/patch_codec.h"
@@ -24,12 +25,8 @@ namespace {
 constexpr std::int64_t kDefaultSegments = 8;
 constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
 constexpr std::string_view kObjMediaType = "model/obj";  // free-form cstype bezier surfaces
-
-std::string format_number(double value, const char* format = "%.3f") {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, value);
-    return buf;
-}
+//! GET /patches/{name}?format=patches: the sample's control points rather than a mesh (catalog.cpp lists it).
+constexpr std::string_view kPatchesFormat = "patches";
 
 std::string accepted_media_types() {
     std::string out = "application/json";
@@ -65,14 +62,13 @@ std::string patch_set_json(const PatchSet& set) {
                std::to_string(patch.degree_v) + "],\"points\":[";
         for (std::size_t i = 0; i < patch.points.size(); ++i) {
             const Vec3& q = patch.points[i];
-            out += (i ? ",[" : "[") + format_number(q.x, "%.17g") + "," + format_number(q.y, "%.17g") + "," +
-                   format_number(q.z, "%.17g") + "]";
+            out += (i ? ",[" : "[") + format_double(q.x) + "," + format_double(q.y) + "," + format_double(q.z) + "]";
         }
         out += "]";
         if (patch.rational()) {
             out += ",\"weights\":[";
             for (std::size_t i = 0; i < patch.weights.size(); ++i)
-                out += (i ? "," : "") + format_number(patch.weights[i], "%.17g");
+                out += (i ? "," : "") + format_double(patch.weights[i]);
             out += "]";
         }
         out += "}";
@@ -80,15 +76,10 @@ std::string patch_set_json(const PatchSet& set) {
     return out + "]}";
 }
 
-enum class Source { Json, Query };
-
 //! What the option tables cannot say, for every request form, before any work: tolerance or segments, segments
 //! against this server's limit, output options that do not fit the format. Field names: the JSON path or the
 //! parameter name.
 std::optional<ApiError> check_params(const TessellateParams& params, const Limits& limits, Source source) {
-    const auto output_field = [&](std::string_view leaf) {
-        return (source == Source::Json ? "output." : "") + std::string(leaf);
-    };
     if (params.tolerance && params.segments)
         return make_problem(Problem::InvalidField, "give either tolerance or segments, not both", "segments");
     if (params.segments && *params.segments > limits.max_patch_segments)
@@ -96,21 +87,7 @@ std::optional<ApiError> check_params(const TessellateParams& params, const Limit
                             "segments is " + std::to_string(*params.segments) + "; this server allows at most " +
                                 std::to_string(limits.max_patch_segments) + " per patch direction",
                             "segments");
-    const OutputOptions& out = params.output;
-    const bool glb = out.format == OutputFormat::Glb;
-    if (out.format != OutputFormat::Glb && out.format != OutputFormat::Obj && out.format != OutputFormat::Ply)
-        return make_problem(Problem::InvalidField,
-                            "format \"" + std::string(enum_name(kOutputFormatNames, out.format)) +
-                                "\" is not available here; use glb, obj or ply",
-                            output_field("format"));
-    if (out.draco && !glb)
-        return make_problem(Problem::InvalidField, "compression applies only to format \"glb\"",
-                            output_field("compression"));
-    if (out.quantize_position && (!glb || !out.draco.value_or(true)))
-        return make_problem(Problem::InvalidField,
-                            "quantize_position applies only to format \"glb\" with compression \"draco\"",
-                            output_field("quantize_position"));
-    return std::nullopt;
+    return check_output_options(params.output, source);
 }
 
 TessellationOptions tessellation_options(const TessellateParams& params, const Limits& limits) {
@@ -154,42 +131,25 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
     PolygonMesh& mesh = tessellated->mesh;
     const auto t_tessellated = Clock::now();
 
-    const OutputOptions& out = params.output;
-    const bool normals = out.normals.value_or(true);
-    ApiResponse response;
-    response.content_type = std::string(output_media_type(out.format));
-    if (out.format == OutputFormat::Glb) {
-        if (auto error = check_float32_range(mesh.positions, out.format, "output vertex"))
-            return error_response(std::move(*error));
-        GltfOptions gltf;
-        gltf.draco = out.draco.value_or(true);
-        if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
-        gltf.normals = normals;
-        gltf.texcoords = true;
-        auto glb = write_glb(mesh, gltf);
-        if (!glb) return error_response(from_geo_error(glb.error()));
-        response.body = std::move(glb.value());
-    } else if (out.format == OutputFormat::Obj) {
-        ObjWriteOptions obj;
-        obj.write_normals = normals;
-        response.body = write_obj(mesh, obj);
-    } else {
-        if (!normals) mesh.normals.clear();
-        response.body = write_ply(mesh);
-    }
-    const auto t_encoded = Clock::now();
-    response.headers = {
+    Headers headers = {
         {"X-Patches", std::to_string(set.patches.size())},
         {"X-Output-Vertices", std::to_string(mesh.vertex_count())},
         {"X-Output-Faces", std::to_string(mesh.face_count())},
-        {"X-Error-Bound", format_number(tessellated->plan.error_bound, "%.6g")},
-        {"X-Elapsed-Ms", format_number(ms_between(start, t_encoded))},
-        {"Server-Timing", "decode;dur=" + format_number(ms_between(start, t_planned)) +
-                              ", tessellate;dur=" + format_number(ms_between(t_planned, t_tessellated)) +
-                              ", encode;dur=" + format_number(ms_between(t_tessellated, t_encoded)) +
-                              ", total;dur=" + format_number(ms_between(start, t_encoded))},
+        {"X-Error-Bound", format_double(tessellated->plan.error_bound)},
     };
-    return response;
+    const double error_bound = tessellated->plan.error_bound;
+    const double elapsed_ms = ms_between(start, t_tessellated);
+    const auto encode_json = [&](const PolygonMesh& m) -> ApiResult<std::string> {
+        const std::string stats = "{\"patches\":" + std::to_string(set.patches.size()) +
+                                  ",\"output_vertices\":" + std::to_string(m.vertex_count()) +
+                                  ",\"output_faces\":" + std::to_string(m.face_count()) +
+                                  ",\"error_bound\":" + format_double(error_bound) +
+                                  ",\"elapsed_ms\":" + format_double(elapsed_ms) + "}";
+        return encode_mesh_with_stats(m, stats);
+    };
+    // the tessellated mesh carries the patches' exact normals and (u, v): written unless normals is false
+    return mesh_response(mesh, params.output, source, encode_json, std::move(headers),
+                         Timing{start, {{"decode", t_planned}, {"tessellate", t_tessellated}}});
 }
 
 ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
@@ -223,7 +183,7 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
     auto params = params_from_query("tessellate", request.query);
     if (!params) return error_response(std::move(params.error()));
     if (auto error = negotiate_output_format(request, params->output)) return error_response(std::move(*error));
-    if (auto error = check_params(params.value(), limits, Source::Query)) return error_response(std::move(*error));
+    if (auto error = check_params(params.value(), limits, Source::File)) return error_response(std::move(*error));
     Result<PatchSet> set = make_error(ErrorCode::Internal, "unread");
     if (obj) {
         ObjPatchReadOptions read_options;
@@ -236,7 +196,7 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
         set = read_bez(request.body, read_options);
     }
     if (!set) return error_response(from_geo_error(set.error()));
-    return tessellate_and_encode(set.value(), params.value(), limits, Source::Query, start, context.cancel);
+    return tessellate_and_encode(set.value(), params.value(), limits, Source::File, start, context.cancel);
 }
 
 //! FNV-1a, 64 bit: a stable content hash for ETags (not security relevant).
@@ -276,26 +236,29 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     auto params = params_from_query("patches", request.query);
     if (!params) return error_response(std::move(params.error()));
     if (auto error = negotiate_output_format(request, params->output)) return error_response(std::move(*error));
-    // format=json: the sample's control points (the body POST /tessellate accepts), for editors that show the net.
-    const bool control_points = params->output.format == OutputFormat::Json;
+    // format=patches: the sample's control points (the body POST /tessellate accepts), for editors that show the
+    // net. (read_query checked that format is given at most once and is one of the table's names.)
+    const auto format_it = request.query.find("format");
+    const bool control_points = format_it != request.query.end() && format_it->second == kPatchesFormat;
     if (control_points) {
         for (const auto& [option, value] : request.query)
             if (option != "format")
                 return error_response(
-                    invalid_parameter(option, "does not apply to format=json (the control points, not a mesh)"));
-    } else if (auto error = check_params(params.value(), context.limits, Source::Query)) {
+                    invalid_parameter(option, "does not apply to format=patches (the control points, not a mesh)"));
+    } else if (auto error = check_params(params.value(), context.limits, Source::File)) {
         return error_response(std::move(*error));
     }
 
     // The ETag covers everything the bytes depend on: sample data, normalised options, tessellator revision.
     const TessellateParams& p = params.value();
     std::string key = std::string(kPatchSampleRevision) + "|" + name;
-    key += "|tolerance=" + (p.tolerance ? format_number(*p.tolerance, "%.17g") : std::string("-"));
+    key += "|tolerance=" + (p.tolerance ? format_double(*p.tolerance) : std::string("-"));
     key += "|segments=" + std::to_string(p.segments.value_or(p.tolerance ? 0 : kDefaultSegments));
-    key += "|format=" + std::string(enum_name(kOutputFormatNames, p.output.format));
+    key += "|format=" +
+           (control_points ? std::string(kPatchesFormat) : std::string(enum_name(kOutputFormatNames, p.output.format)));
     key += "|draco=" + std::to_string(p.output.draco.value_or(true));
     key += "|quantize=" + std::to_string(p.output.quantize_position.value_or(0));
-    key += "|normals=" + std::to_string(p.output.normals.value_or(true));
+    key += "|normals=" + std::to_string(output_normals(p.output));
     char etag[24];
     std::snprintf(etag, sizeof etag, "\"%016llx\"", static_cast<unsigned long long>(fnv1a(text, fnv1a(key))));
     std::vector<std::pair<std::string, std::string>> cache_headers = {{"ETag", etag},
@@ -305,7 +268,8 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
     if (etag_matches(request.header("if-none-match"), etag)) {
         ApiResponse not_modified;
         not_modified.status = 304;
-        not_modified.content_type = std::string(output_media_type(p.output.format));
+        not_modified.content_type =
+            control_points ? std::string("application/json") : std::string(output_media_type(p.output.format));
         not_modified.headers = cache_headers;
         return not_modified;
     }
@@ -318,7 +282,7 @@ ApiResponse run_patch_sample(const ApiRequest& request, const ApiContext& contex
         response.headers = cache_headers;
         return response;
     }
-    ApiResponse response = tessellate_and_encode(set.value(), p, context.limits, Source::Query, start, context.cancel);
+    ApiResponse response = tessellate_and_encode(set.value(), p, context.limits, Source::File, start, context.cancel);
     if (response.status == 200)
         response.headers.insert(response.headers.end(), cache_headers.begin(), cache_headers.end());
     return response;

@@ -1,6 +1,8 @@
 // The option tables of the operations (option_spec.h). Ranges here are the ones the readers enforce; the drift test
 // holds api/openapi.json to them.
 #include <algorithm>
+#include <array>
+#include <iterator>
 #include <vector>
 
 #include "api/dto.h"
@@ -31,7 +33,7 @@ constexpr OptionSpec kFormatOption{
     .name = "format",
     .type = OptionType::Enum,
     .default_json = "\"glb\"",
-    .description = "Encoding of the result: binary or text glTF, OBJ, PLY, or the JSON mesh",
+    .description = "Encoding of the result: binary or text glTF, OBJ, PLY, the JSON mesh, binary STL or OFF",
     .values = kOutputFormats,
     .json_object = "output"};
 constexpr OptionSpec kCompressionOption{.name = "compression",
@@ -50,31 +52,27 @@ constexpr OptionSpec kQuantizeOption{
     .units = "bits",
     .description = "Draco position quantization (glTF formats with compression draco only)",
     .json_object = "output"};
+// One default on every mesh-producing endpoint. STL and OFF hold no vertex normals: the default does not apply to
+// them and true given explicitly is a 400 (request_forms.cpp check_output_options).
 constexpr OptionSpec kNormalsOption{
     .name = "normals",
     .type = OptionType::Bool,
-    .default_json = "false",
-    .description = "Write vertex normals (computed when the mesh has none); not with format json",
+    .default_json = "true",
+    .description =
+        "Write vertex normals (the mesh's own, else computed) in glb, gltf, obj, ply and json; STL has facet "
+        "normals only and OFF none, so with stl or off it must be left out or false",
     .json_object = "output"};
 
 constexpr OptionSpec kMeshOutput[] = {kFormatOption, kCompressionOption, kQuantizeOption, kNormalsOption};
 
-// Tessellated patches: glb, OBJ or PLY, with the patches' exact normals unless asked not to.
-constexpr std::string_view kPatchFormats[] = {"glb", "obj", "ply"};
 constexpr OptionSpec format_of(std::span<const std::string_view> values, std::string_view description) {
     OptionSpec out = kFormatOption;
     out.values = values;
     out.description = description;
     return out;
 }
-constexpr OptionSpec kPatchNormalsOption = [] {
-    OptionSpec out = kNormalsOption;
-    out.default_json = "true";
-    out.description = "Write the surface normals of the patches";
-    return out;
-}();
-constexpr OptionSpec kTessellateOutput[] = {format_of(kPatchFormats, "Encoding of the triangles: glb, OBJ or PLY"),
-                                            kCompressionOption, kQuantizeOption, kPatchNormalsOption};
+// Tessellated patches: every mesh format; the normals written are the patches' exact surface normals.
+constexpr OptionSpec kTessellateOutput[] = {kFormatOption, kCompressionOption, kQuantizeOption, kNormalsOption};
 constexpr OptionSpec kRepairOption{
     .name = "repair",
     .type = OptionType::Enum,
@@ -248,18 +246,24 @@ constexpr OptionSpec kSegments{.name = "segments",
                                .description = "Segments along each direction of every patch; excludes tolerance"};
 constexpr OptionSpec kTessellate[] = {kTolerance, kSegments};
 
-// GET /patches/{name}: the same options, as query parameters only; format json answers with the sample's control
-// points instead of a mesh.
+// GET /patches/{name}: the same options, as query parameters only; format patches answers with the sample's control
+// points (the JSON body POST /tessellate takes) instead of a mesh.
 constexpr OptionSpec query_only(OptionSpec option) {
     option.transports = kQuery;
     return option;
 }
-constexpr std::string_view kPatchSampleFormats[] = {"glb", "obj", "ply", "json"};
+constexpr auto kPatchSampleFormats = [] {
+    std::array<std::string_view, std::size(kOutputFormatNames) + 1> out{};
+    for (std::size_t i = 0; i < std::size(kOutputFormatNames); ++i) out[i] = kOutputFormatNames[i].name;
+    out.back() = "patches";
+    return out;
+}();
 constexpr OptionSpec kPatchSample[] = {query_only(kTolerance), query_only(kSegments)};
 constexpr OptionSpec kPatchSampleOutput[] = {
-    query_only(
-        format_of(kPatchSampleFormats, "Encoding of the triangles (glb, OBJ, PLY), or json: the control points")),
-    query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kPatchNormalsOption)};
+    query_only(format_of(kPatchSampleFormats,
+                         "Encoding of the tessellated sample as on POST /tessellate, or patches: its "
+                         "control points (the JSON POST /tessellate takes)")),
+    query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kNormalsOption)};
 
 // ---- POST /curves: a JSON body of curves and queries on them; its options are those of the output -----------------
 // (line strips: no normals, and Draco is defined for triangles and points only)
@@ -360,7 +364,7 @@ constexpr OptionSpec kImplicitQuery[] = {
 // ---- POST /pointcloud: a point file with query parameters, or a JSON body ---------------------------------------
 // In a JSON body estimate_normals is true, false or {"k": n}: the operation reads that member itself and checks k
 // against this table's row.
-constexpr std::string_view kPointFormats[] = {"glb", "ply", "json"};
+constexpr std::string_view kPointFormats[] = {"glb", "gltf", "ply", "json"};
 constexpr std::string_view kPointCloudInputs[] = {"points", "normals", "colors", "sample", "estimate_normals"};
 constexpr OptionSpec kPointCloud[] = {
     {.name = "estimate_normals",
@@ -378,12 +382,12 @@ constexpr OptionSpec kPointCloud[] = {
 };
 constexpr OptionSpec kPointNormalsOption = [] {
     OptionSpec out = kNormalsOption;
-    out.default_json = "true";
     out.description = "false leaves normals out of the output";
     return out;
 }();
-constexpr OptionSpec kPointCloudOutput[] = {format_of(kPointFormats, "Encoding of the points: glb, PLY or JSON"),
-                                            kCompressionOption, kQuantizeOption, kPointNormalsOption};
+constexpr OptionSpec kPointCloudOutput[] = {
+    format_of(kPointFormats, "Encoding of the points: binary or text glTF, PLY or JSON"), kCompressionOption,
+    kQuantizeOption, kPointNormalsOption};
 
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},

@@ -37,14 +37,14 @@ export type CreaseMethod = 'uniform' | 'chaikin';
 export type TriangleRule = 'catmark' | 'smooth';
 export type UvInterpolation = 'none' | 'corners-only' | 'corners-plus1' | 'corners-plus2' | 'boundaries' | 'all';
 export type LoopWeights = 'loop' | 'warren';
-export type OutputFormat = 'glb' | 'gltf' | 'obj' | 'ply' | 'json';
+export type OutputFormat = 'glb' | 'gltf' | 'obj' | 'ply' | 'json' | 'stl' | 'off';
 export type Compression = 'draco' | 'none';
 export type RepairMode = 'auto' | 'none';
 export type RemeshSmoothing = 'tangential' | 'laplacian' | 'none';
 export type ImplicitMode = 'uniform' | 'adaptive';
-export type TessellateFormat = 'glb' | 'obj' | 'ply';
-export type PatchSampleFormat = 'glb' | 'obj' | 'ply' | 'json';
-export type PointcloudFormat = 'glb' | 'ply' | 'json';
+export type TessellateFormat = OutputFormat;
+export type PatchSampleFormat = OutputFormat | 'patches';
+export type PointcloudFormat = 'glb' | 'gltf' | 'ply' | 'json';
 export type CurvesFormat = 'json' | 'glb' | 'gltf';
 export type KnotVector = 'clamped' | 'uniform' | 'closed';
 
@@ -52,6 +52,8 @@ export interface Mesh {
   positions: Vec3[];
   /** vertex indices, 3 or more per face */
   faces: number[][];
+  /** vertex normals, one per position (the JSON output writes them unless normals is false) */
+  normals?: Vec3[];
   uvs?: Vec2[];
   /** per face, one index into uvs per corner */
   uv_faces?: number[][];
@@ -65,7 +67,7 @@ export interface Output<F extends string = OutputFormat> {
   compression?: Compression;
   /** Draco position bits. @default 14 */
   quantize_position?: number;
-  /** write vertex normals (default: false for meshes, true for patches and point clouds) */
+  /** write vertex normals (glb, gltf, obj, ply, json; not with stl or off). @default true */
   normals?: boolean;
 }
 
@@ -127,6 +129,7 @@ export interface OutputOptions<F extends string = OutputFormat> {
   compression?: Compression;
   /** @default 14 */
   quantize_position?: number;
+  /** not with stl or off. @default true */
   normals?: boolean;
 }
 
@@ -222,7 +225,7 @@ export interface PatchSampleOptions {
   tolerance?: number;
   /** @default 8 */
   segments?: number;
-  /** 'json': the control points. @default 'glb' */
+  /** 'patches': the control points. @default 'glb' */
   format?: PatchSampleFormat;
   /** @default 'draco' */
   compression?: Compression;

@@ -198,7 +198,7 @@ export class Client {
     return this.operation('/tessellate', 'patches', options);
   }
 
-  /** GET /patches/{name}: tessellated (tolerance | segments, format, ...), or format 'json' for the control points.
+  /** GET /patches/{name}: tessellated (tolerance | segments, format, ...), or format 'patches' for the control points.
    *  With etag, an unchanged answer has status 304. */
   patchSample(name = 'teapot', { etag, ...query } = {}) {
     return this.request('GET', `/patches/${encodeURIComponent(name)}`, { query, headers: etag ? { 'If-None-Match': etag } : {} });
@@ -215,7 +215,7 @@ export class Client {
   implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }
 
   /** POST /pointcloud: {points, normals (an array), colors} | {sample: {mesh | scene + bounds, count, seed}} |
-   *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, ply, json); a
+   *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, gltf, ply, json); a
    *  boolean `normals` is the output option. */
   pointcloud({ data, contentType, normals, k, output, ...options }) {
     let out = { ...(output ?? {}) };

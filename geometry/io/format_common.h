@@ -12,6 +12,7 @@
 
 #include "geometry/core/types.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/number_text.h"
 
 namespace surfaced::io_detail {
 
@@ -38,13 +39,14 @@ inline std::optional<Index> repeated_vertex(std::span<const Index> face, std::ve
     return std::nullopt;
 }
 
-//! Appends a double: the shortest text that reads back to the same value when precision >= 17 (so 0.1 stays
-//! "0.1" and round trips stay exact), otherwise %.{precision}g.
+//! Appends a double: number_text.h's shortest round-trip text when precision >= 17 (so 0.1 stays "0.1" and round
+//! trips stay exact), otherwise %.{precision}g; -0 prints as "0" either way.
 inline void append_double(std::string& out, double value, int precision) {
+    if (precision >= 17) return append_number_text(out, value);
+    if (value == 0) value = 0;
     char buffer[64];
-    std::to_chars_result r = precision >= 17 ? std::to_chars(buffer, buffer + sizeof(buffer), value)
-                                             : std::to_chars(buffer, buffer + sizeof(buffer), value,
-                                                             std::chars_format::general, std::max(precision, 1));
+    const std::to_chars_result r =
+        std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general, std::max(precision, 1));
     out.append(buffer, r.ptr);
 }
 

@@ -29,6 +29,9 @@ Result<std::string> write_glb(const PolygonMesh& mesh, const GltfOptions& option
 
 //! The same scene as glTF JSON (.gltf): one self-contained text file, the binary data embedded as a base64 data URI.
 Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& options = {});
+//! A GLB written by this library (write_glb, write_points_glb, ...) as that self-contained glTF JSON, numbers printed
+//! as number_text.h prints them. Internal error when the bytes are not such a GLB.
+Result<std::string> gltf_from_glb(std::string_view glb);
 
 //! What a glTF read passed over, for the caller to report.
 struct GltfReadReport {

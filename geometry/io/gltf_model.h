@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "geometry/core/result.h"
+#include "geometry/io/json_text.h"
 #include "geometry/io/tinygltf_config.h"
 
 namespace surfaced::gltf_detail {
@@ -38,13 +39,45 @@ inline void add_single_mesh_scene(tinygltf::Model& model, tinygltf::Mesh mesh) {
     model.defaultScene = 0;
 }
 
+//! The glTF JSON of `text` again, numbers printed as every output prints them (json_text.h): tinygltf writes
+//! accessor bounds as 1.0 and -0.0.
+inline Result<std::string> reprint_json(std::string_view text) {
+    const nlohmann::json document = nlohmann::json::parse(text, nullptr, false);
+    if (document.is_discarded()) return make_error(ErrorCode::Internal, "tinygltf wrote a glTF that is not JSON");
+    return json_text(document);
+}
+
+inline void store_u32_le(std::string& out, std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out[at + i] = static_cast<char>((v >> (8 * i)) & 0xff);
+}
+
+inline std::uint32_t load_u32_le(std::string_view bytes, std::size_t at) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
+    return v;
+}
+
 //! GLB, or text glTF with the buffer embedded as a base64 data URI (tinygltf does so for buffers without a uri).
+//! The JSON (a GLB's JSON chunk) is printed through json_text.h.
 inline Result<std::string> serialise(tinygltf::Model& model, bool binary) {
     std::ostringstream stream;
     tinygltf::TinyGLTF writer;
     if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/binary) || !stream)
         return make_error(ErrorCode::Internal, "tinygltf failed to serialise the glTF");
-    return std::move(stream).str();
+    std::string out = std::move(stream).str();
+    if (!binary) return reprint_json(out);
+    // GLB: 12-byte header, then the JSON chunk (length, type, text padded with spaces to 4 bytes), then the rest
+    if (out.size() < 20) return make_error(ErrorCode::Internal, "tinygltf wrote a GLB shorter than its header");
+    const std::size_t json_length = load_u32_le(out, 12);
+    if (20 + json_length > out.size()) return make_error(ErrorCode::Internal, "tinygltf wrote a truncated GLB");
+    auto json = reprint_json(std::string_view(out).substr(20, json_length));
+    if (!json) return json.error();
+    std::string& text = json.value();
+    text.resize((text.size() + 3) & ~std::size_t{3}, ' ');
+    std::string glb = out.substr(0, 20) + text + out.substr(20 + json_length);
+    store_u32_le(glb, 8, static_cast<std::uint32_t>(glb.size()));
+    store_u32_le(glb, 12, static_cast<std::uint32_t>(text.size()));
+    return glb;
 }
 
 //! Runs a writer: tinygltf and nlohmann::json report failures by throwing, and nothing may cross the public API.

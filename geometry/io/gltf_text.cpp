@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/io/gltf.h"
+#include "geometry/io/json_text.h"
 
 namespace surfaced {
 
@@ -47,7 +48,10 @@ std::uint32_t read_u32(std::string_view bytes, std::size_t at) {
 Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& options) {
     auto glb = write_glb(mesh, options);
     if (!glb) return glb.error();
-    const std::string_view bytes = *glb;
+    return gltf_from_glb(*glb);
+}
+
+Result<std::string> gltf_from_glb(std::string_view bytes) {
     // our own GLB: header, JSON chunk, BIN chunk (checked anyway: a mistake here must not read out of bounds)
     if (bytes.size() < 20) return make_error(ErrorCode::Internal, "GLB too short");
     const std::uint32_t json_length = read_u32(bytes, 12);
@@ -68,7 +72,7 @@ Result<std::string> write_gltf(const PolygonMesh& mesh, const GltfOptions& optio
         // the BIN chunk is padded to 4 bytes; the buffer is byteLength long
         buffer["uri"] = "data:application/octet-stream;base64," + base64(bytes.substr(bin_header + 8, byte_length));
     }
-    return document.dump();
+    return json_text(document);  // numbers (accessor min/max) as every text output prints them
 }
 
 }  // namespace surfaced

@@ -93,4 +93,14 @@ enum class PlyEncoding { Ascii, BinaryLittleEndian };
 //! (`list uint uint` when a face has more than 255 vertices). UVs and subdivision tags are not written.
 std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding = PlyEncoding::BinaryLittleEndian);
 
+//! Binary STL: float32 corners, each triangle with its unit facet normal (zero for a degenerate triangle), polygons
+//! split by triangulate() as the glTF writer splits them (a fan from the first corner when convex, ear clipping
+//! otherwise). Vertex normals, UVs and tags have no place in STL. Coordinates beyond the float32 range become
+//! infinities: callers check the range first.
+std::string write_stl(const PolygonMesh& mesh);
+//! ascii OFF: "OFF", the counts (edges 0), one vertex per line, one polygon per line (kept as polygons). Numbers in
+//! number_text.h's shortest round-trip form, so read_off gives back the same doubles. Normals, UVs and tags are not
+//! written.
+std::string write_off(const PolygonMesh& mesh);
+
 }  // namespace surfaced

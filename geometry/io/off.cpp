@@ -1,4 +1,4 @@
-// Object File Format (Geomview OFF) reader: ascii OFF with the C/N/ST prefixes (colours, normals, texture
+// Object File Format (Geomview OFF) reader and writer. Reader: ascii OFF with the C/N/ST prefixes (colours, normals, texture
 // coordinates after each vertex, which are skipped), counts on the header line or the next one, `#` comments.
 #include <optional>
 #include <string>
@@ -203,6 +203,35 @@ Result<PolygonMesh> read_off(std::string_view text, const ReadOptions& options, 
     return io_detail::with_text(text, [&](std::string_view decoded, io_detail::TextEncoding) {
         return OffReader(decoded, options, report).read();
     });
+}
+
+std::string write_off(const PolygonMesh& mesh) {
+    using io_detail::append_uint;
+    std::string out;
+    out.reserve(32 + mesh.positions.size() * 60 + mesh.face_indices.size() * 8 + mesh.face_count() * 4);
+    out += "OFF\n";
+    append_uint(out, mesh.positions.size());
+    out += ' ';
+    append_uint(out, mesh.face_count());
+    out += " 0\n";
+    for (const Vec3& p : mesh.positions) {
+        append_number_text(out, p.x);
+        out += ' ';
+        append_number_text(out, p.y);
+        out += ' ';
+        append_number_text(out, p.z);
+        out += '\n';
+    }
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto face = mesh.face(f);
+        append_uint(out, face.size());
+        for (Index v : face) {
+            out += ' ';
+            append_uint(out, v);
+        }
+        out += '\n';
+    }
+    return out;
 }
 
 }  // namespace surfaced

@@ -1,6 +1,7 @@
-// STL reader, ascii and binary. STL stores each triangle with its own three corners; the reader welds corners
-// whose coordinates are exactly equal into shared vertices, so the result has real connectivity.
+// STL reader (ascii and binary) and binary writer. STL stores each triangle with its own three corners; the reader
+// welds corners whose coordinates are exactly equal into shared vertices, so the result has real connectivity.
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
+#include "geometry/mesh/triangulate.h"
 
 namespace surfaced {
 namespace {
@@ -279,6 +281,60 @@ Result<PolygonMesh> read_stl(std::string_view bytes, const ReadOptions& options)
                                    std::to_string(bytes.size()) + " bytes, at least 84 needed)");
     // Not ascii, so binary whose size does not match its count: truncated (error) or padded (read, extra ignored).
     return read_binary(bytes, options);
+}
+
+namespace {
+
+void store_u32_le(std::string& out, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out += static_cast<char>((v >> (8 * i)) & 0xff);
+}
+
+void store_float_le(std::string& out, double v) {
+    store_u32_le(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)));
+}
+
+void store_vec_le(std::string& out, const Vec3& v) {
+    store_float_le(out, v.x);
+    store_float_le(out, v.y);
+    store_float_le(out, v.z);
+}
+
+}  // namespace
+
+std::string write_stl(const PolygonMesh& polygons) {
+    bool all_triangles = true;
+    for (std::size_t f = 0; f < polygons.face_count() && all_triangles; ++f) all_triangles = polygons.face_size(f) == 3;
+    PolygonMesh triangulated;
+    if (!all_triangles) triangulated = triangulate(polygons);
+    const PolygonMesh& mesh = all_triangles ? polygons : triangulated;
+    std::uint64_t triangles = 0;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        if (mesh.face_size(f) >= 3) triangles += mesh.face_size(f) - 2;
+    std::string out;
+    out.reserve(kBinaryHeader + triangles * kBinaryTriangle);
+    // The header must not start with "solid", which would make it look like ascii STL to some readers.
+    std::string header = "binary STL written by surfaced";
+    header.resize(80, ' ');
+    out += header;
+    store_u32_le(out, static_cast<std::uint32_t>(triangles));
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto face = mesh.face(f);
+        for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+            const Vec3& a = mesh.positions[face[0]];
+            const Vec3& b = mesh.positions[face[k]];
+            const Vec3& c = mesh.positions[face[k + 1]];
+            const Vec3 n = cross(b - a, c - a);
+            const double length = norm(n);
+            // a degenerate triangle has no direction: STL readers recompute a zero normal from the corners
+            store_vec_le(out, length > 0 && std::isfinite(length) ? n * (1.0 / length) : Vec3{0, 0, 0});
+            store_vec_le(out, a);
+            store_vec_le(out, b);
+            store_vec_le(out, c);
+            out += '\0';
+            out += '\0';  // attribute byte count
+        }
+    }
+    return out;
 }
 
 }  // namespace surfaced

@@ -230,5 +230,40 @@ TEST(JsonCodec, EncodeRoundTripsExactly) {
     EXPECT_EQ(back->face_indices, mesh.face_indices);
 }
 
+TEST(JsonCodec, NormalsAreWrittenAndReadBack) {
+    PolygonMesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.normals = {{0, 0, 1}, {0, -0.0, 1}, {0.6, 0, 0.8}};
+    mesh.add_face({0, 1, 2});
+    const std::string text = encode_mesh_with_stats(mesh, "{}");
+    // one normal per vertex, in the shared number form (integral values without a fraction, -0 as 0)
+    EXPECT_NE(text.find(R"("normals":[[0,0,1],[0,0,1],[0.6,0,0.8]])"), std::string::npos) << text;
+    auto back = decode_mesh(nlohmann::json::parse(text)["mesh"].dump(), Limits{});
+    ASSERT_TRUE(back.ok()) << back.error().detail;
+    ASSERT_EQ(back->normals.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(back->normals[i], mesh.normals[i]) << i;
+}
+
+TEST(JsonCodec, NormalErrorsNameTheField) {
+    const std::string positions = "[[0,0,0],[1,0,0],[0,1,0]]";
+    const auto with_normals = [&](std::string_view normals) {
+        return std::string(R"({"positions":)") + positions + R"(,"faces":[[0,1,2]],"normals":)" + std::string(normals) +
+               "}";
+    };
+    auto count = decode_mesh(with_normals("[[0,0,1],[0,0,1]]"), Limits{});
+    ASSERT_FALSE(count.ok());
+    expect_error(count.error(), 400, "invalid_field", "mesh.normals");
+    EXPECT_NE(count.error().detail.find("one per position (3)"), std::string::npos) << count.error().detail;
+    auto shape = decode_mesh(with_normals("[[0,0,1],[0,0],[0,0,1]]"), Limits{});
+    ASSERT_FALSE(shape.ok());
+    expect_error(shape.error(), 400, "invalid_field", "mesh.normals[1]");
+    auto type = decode_mesh(with_normals(R"([[0,0,1],[0,0,1],[0,"z",1]])"), Limits{});
+    ASSERT_FALSE(type.ok());
+    expect_error(type.error(), 400, "invalid_field", "mesh.normals[2][1]");
+    auto not_array = decode_mesh(with_normals("true"), Limits{});
+    ASSERT_FALSE(not_array.ok());
+    expect_error(not_array.error(), 400, "invalid_field", "mesh.normals");
+}
+
 }  // namespace
 }  // namespace surfaced::api

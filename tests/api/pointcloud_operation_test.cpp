@@ -269,11 +269,17 @@ TEST(PointcloudOperation, ErrorsNameTheFieldLineOrBudget) {
 
 TEST(PointcloudOperation, AllowedFormatsListedAreTheOnesThatWork) {
     const auto problem = expect_problem(
-        post("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n", "application/ply", {{"format", "gltf"}}), 400,
+        post("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n", "application/ply", {{"format", "obj"}}), 400,
         "invalid_field");
     EXPECT_EQ(problem.value("field", ""), "format");
     const std::string detail = problem.value("detail", "");
-    EXPECT_NE(detail.find("(allowed: \"glb\", \"ply\", \"json\")"), std::string::npos) << detail;
+    EXPECT_NE(detail.find("(allowed: \"glb\", \"gltf\", \"ply\", \"json\")"), std::string::npos) << detail;
+    // and each one listed answers
+    for (const char* format : {"glb", "gltf", "ply", "json"}) {
+        const ApiResponse response =
+            post(R"({"points": [[0,0,0],[1,0,0]], "output": {"format": ")" + std::string(format) + R"("}})");
+        EXPECT_EQ(response.status, 200) << format << ": " << response.body;
+    }
     expect_problem(post(R"({"points": [[0,0,0]], "estimate_normals": {"k": 300}})"), 400, "invalid_field",
                    "estimate_normals.k");
     expect_problem(post("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n", "application/ply",

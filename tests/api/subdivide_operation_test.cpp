@@ -217,7 +217,17 @@ TEST(SubdivideOperation, OptionsThatDoNotApplyAre400) {
         expect_problem(call("application/json", json_request(shapes::cube(), R"(,"output":{"quantize_position":31})")),
                        400, "invalid_field");
     EXPECT_EQ(bits.value("field", ""), "output.quantize_position");
-    expect_problem(call("model/obj", kCubeObj, {{"format", "json"}, {"normals", "true"}}), 400, "invalid_field");
+    // STL has facet normals only, OFF none: normals=true given with them names the option
+    for (const char* format : {"stl", "off"}) {
+        const auto normals = expect_problem(call("model/obj", kCubeObj, {{"format", format}, {"normals", "true"}}), 400,
+                                            "invalid_field");
+        EXPECT_EQ(normals.value("field", ""), "normals") << format;
+        const auto in_json = expect_problem(
+            call("application/json", json_request(shapes::cube(), std::string(R"(,"output":{"format":")") + format +
+                                                                      R"(","normals":true})")),
+            400, "invalid_field");
+        EXPECT_EQ(in_json.value("field", ""), "output.normals") << format;
+    }
 }
 
 TEST(SubdivideOperation, ObjParseErrorNamesTheLine) {

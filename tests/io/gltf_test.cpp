@@ -331,6 +331,30 @@ TEST(GltfWrite, DracoCubeIsValidAndWellFormed) {
     }
 }
 
+// The JSON of a GLB and of a text glTF prints numbers as every text output does: accessor bounds of -0 and 1 as
+// "0" and "1" (tinygltf alone writes -0.0 and 1.0).
+TEST(GltfWrite, JsonNumbersAreShortestWithoutNegativeZero) {
+    PolygonMesh mesh;
+    mesh.positions = {{-0.0, -0.0, -0.0}, {1, -0.0, 0.5}, {-0.0, 1, -0.0}};
+    mesh.add_face({0, 1, 2});
+    GltfOptions options;
+    options.draco = false;
+    const std::string glb = write_ok(mesh, options);
+    expect_valid_gltf(glb);
+    const GlbParts parts = split_glb(glb);
+    const std::string chunk(glb.substr(20, u32_at(glb, 12)));
+    auto text = write_gltf(mesh, options);
+    ASSERT_TRUE(text.ok()) << text.error().message;
+    for (const std::string& json_text : {chunk, *text}) {
+        EXPECT_NE(json_text.find(R"("max":[1,1,0.5])"), std::string::npos) << json_text.substr(0, 400);
+        EXPECT_NE(json_text.find(R"("min":[0,0,0])"), std::string::npos) << json_text.substr(0, 400);
+        EXPECT_EQ(json_text.find("-0"), std::string::npos) << json_text.substr(0, 400);
+        EXPECT_EQ(json_text.find(".0,"), std::string::npos) << json_text.substr(0, 400);
+        EXPECT_EQ(json_text.find(".0]"), std::string::npos) << json_text.substr(0, 400);
+    }
+    EXPECT_EQ(parts.gltf["accessors"][0]["count"], 3);
+}
+
 TEST(GltfWrite, DracoPositionsWithinQuantizationBound) {
     const PolygonMesh sphere = make_icosphere(2, 3.0);
     for (int bits : {8, 11, 14, 20, 24}) {

@@ -1,10 +1,12 @@
 // OFF reader: header variants, where the counts go, skipped per-vertex and per-face data.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/number_text.h"
 #include "tests/io/format_test_helpers.h"
 
 namespace surfaced {
@@ -105,6 +107,40 @@ TEST(OffRead, SameMeshAsObj) {
     auto b = read_off(std::string("OFF\n8 6 12\n") + kCubeBody);
     ASSERT_TRUE(a.ok() && b.ok());
     format_test::expect_same_mesh(*a, *b);
+}
+
+// ---- write_off --------------------------------------------------------------------------------------------------
+
+TEST(OffWrite, PolygonsKeptAndDoublesRoundTripExactly) {
+    PolygonMesh mesh = format_test::big_grid(5);  // quads with coordinates such as 1/7 and 1/3
+    mesh.add_face({0, 1, 2});                     // and a triangle: faces keep their sizes
+    mesh.positions[3] = {0.1, -1e-300, 12345678.901234567};
+    const std::string text = write_off(mesh);
+    EXPECT_EQ(text.substr(0, 4), "OFF\n");
+    auto read = read_off(text);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    format_test::expect_same_mesh(mesh, *read);
+}
+
+TEST(OffWrite, ShortestNumbersAndNoNegativeZero) {
+    PolygonMesh mesh;
+    mesh.positions = {{-0.0, 0.1, 1}, {1, -0.0, 2.5}, {0, 1, -0.0}};
+    mesh.add_face({0, 1, 2});
+    EXPECT_EQ(write_off(mesh), "OFF\n3 1 0\n0 0.1 1\n1 0 2.5\n0 1 0\n3 0 1 2\n");
+}
+
+TEST(NumberText, ShortestRoundTripIntegralWithoutFractionNoNegativeZero) {
+    EXPECT_EQ(number_text(-0.0), "0");
+    EXPECT_EQ(number_text(0.0), "0");
+    EXPECT_EQ(number_text(1.0), "1");
+    EXPECT_EQ(number_text(-2.0), "-2");
+    EXPECT_EQ(number_text(0.1), "0.1");
+    EXPECT_EQ(number_text(1e300), "1e+300");
+    EXPECT_EQ(number_text(1.0 / 3.0), "0.3333333333333333");
+    for (double v : {1.0 / 3.0, 0.1 + 0.2, 5e-324, 1.7976931348623157e308, -123.456, 2.0 / 7.0 * 1e-20}) {
+        const std::string text = number_text(v);
+        EXPECT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
+    }
 }
 
 }  // namespace

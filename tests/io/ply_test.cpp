@@ -254,5 +254,13 @@ TEST(PlyWrite, BinaryLayoutIsExact) {
     EXPECT_EQ(static_cast<unsigned char>(bytes[body + 72]), 3u);
 }
 
+TEST(PlyWrite, AsciiNumbersAreShortestWithoutNegativeZero) {
+    PolygonMesh mesh;
+    mesh.positions = {{-0.0, 0.1, 1}, {1, 2.5, -0.0}, {0, 1, 1e-300}};
+    mesh.add_face({0, 1, 2});
+    const std::string text = write_ply(mesh, PlyEncoding::Ascii);
+    EXPECT_NE(text.find("end_header\n0 0.1 1\n1 2.5 0\n0 1 1e-300\n3 0 1 2\n"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace surfaced

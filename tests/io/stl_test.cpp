@@ -166,5 +166,95 @@ TEST(StlRead, LargeGridWeldsExactly) {
     EXPECT_EQ(format_test::euler(*mesh), 1);
 }
 
+// ---- write_stl --------------------------------------------------------------------------------------------------
+
+float stored_float(const std::string& bytes, std::size_t offset) {
+    std::uint32_t bits = 0;
+    for (int i = 3; i >= 0; --i) bits = (bits << 8) | static_cast<unsigned char>(bytes[offset + i]);
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+}
+
+TEST(StlWrite, BinaryLayoutFanTrianglesAndUnitFacetNormals) {
+    const PolygonMesh cube = format_test::cube();  // 6 quads -> 12 triangles
+    const std::string bytes = write_stl(cube);
+    ASSERT_EQ(bytes.size(), 84u + 12u * 50u);
+    EXPECT_NE(bytes.substr(0, 5), "solid");  // a binary header must not look like ascii STL
+    EXPECT_EQ(static_cast<unsigned char>(bytes[80]), 12u);
+    EXPECT_EQ(bytes[81] | bytes[82] | bytes[83], 0);
+    std::size_t t = 0;
+    for (std::size_t f = 0; f < cube.face_count(); ++f) {
+        const auto face = cube.face(f);
+        for (std::size_t k = 1; k + 1 < face.size(); ++k, ++t) {
+            const std::size_t at = 84 + t * 50;
+            const Vec3 corners[3] = {cube.positions[face[0]], cube.positions[face[k]], cube.positions[face[k + 1]]};
+            // the facet normal: the unit normal of the fan triangle, outward for the outward cube
+            const Vec3 n{stored_float(bytes, at), stored_float(bytes, at + 4), stored_float(bytes, at + 8)};
+            EXPECT_NEAR(norm(n), 1.0, 1e-6) << "triangle " << t;
+            const Vec3 expected = cross(corners[1] - corners[0], corners[2] - corners[0]);
+            EXPECT_NEAR(dot(n, expected * (1.0 / norm(expected))), 1.0, 1e-6) << "triangle " << t;
+            for (int c = 0; c < 3; ++c)
+                for (int axis = 0; axis < 3; ++axis)
+                    EXPECT_EQ(stored_float(bytes, at + 12 + 12 * c + 4 * axis), static_cast<float>(corners[c][axis]));
+            EXPECT_EQ(bytes[at + 48] | bytes[at + 49], 0);  // attribute byte count
+        }
+    }
+}
+
+TEST(StlWrite, ReadsBackToTheSameTrianglesAndConnectivity) {
+    // float-representable coordinates: STL stores float32, so these come back bit for bit
+    PolygonMesh grid = format_test::big_grid(6);
+    for (Vec3& p : grid.positions)
+        for (int axis = 0; axis < 3; ++axis) p[axis] = static_cast<float>(p[axis]);
+    auto read = read_stl(write_stl(grid));
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    ASSERT_EQ(read->face_count(), 2 * grid.face_count());
+    EXPECT_EQ(read->vertex_count(), grid.vertex_count());  // corners weld back into the grid's vertices
+    EXPECT_EQ(format_test::euler(*read), format_test::euler(grid));
+    std::size_t t = 0;
+    for (std::size_t f = 0; f < grid.face_count(); ++f) {
+        const auto face = grid.face(f);
+        for (std::size_t k = 1; k + 1 < face.size(); ++k, ++t) {
+            const auto got = read->face(t);
+            ASSERT_EQ(got.size(), 3u);
+            EXPECT_TRUE(read->positions[got[0]] == grid.positions[face[0]]) << "triangle " << t;
+            EXPECT_TRUE(read->positions[got[1]] == grid.positions[face[k]]) << "triangle " << t;
+            EXPECT_TRUE(read->positions[got[2]] == grid.positions[face[k + 1]]) << "triangle " << t;
+        }
+    }
+}
+
+TEST(StlWrite, NonConvexPolygonIsTriangulatedInsideItsOutline) {
+    // an L-shaped hexagon whose fan from corner 0 would cover area outside it: every written triangle must face +z
+    // and the areas must add up to the polygon's (3)
+    PolygonMesh mesh;
+    mesh.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+    mesh.add_face({2, 3, 4, 5, 0, 1});  // starting at a corner next to the reflex one
+    const std::string bytes = write_stl(mesh);
+    ASSERT_EQ(bytes.size(), 84u + 4u * 50u);
+    double area = 0;
+    for (std::size_t t = 0; t < 4; ++t) {
+        const std::size_t at = 84 + t * 50;
+        Vec3 c[3];
+        for (int k = 0; k < 3; ++k)
+            c[k] = {stored_float(bytes, at + 12 + 12 * k), stored_float(bytes, at + 16 + 12 * k),
+                    stored_float(bytes, at + 20 + 12 * k)};
+        const Vec3 n = cross(c[1] - c[0], c[2] - c[0]);
+        EXPECT_GT(n.z, 0) << "triangle " << t;
+        area += 0.5 * norm(n);
+    }
+    EXPECT_DOUBLE_EQ(area, 3.0);
+}
+
+TEST(StlWrite, DegenerateTriangleGetsAZeroNormal) {
+    PolygonMesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    mesh.add_face({0, 1, 2});
+    const std::string bytes = write_stl(mesh);
+    ASSERT_EQ(bytes.size(), 84u + 50u);
+    for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(stored_float(bytes, 84 + 4 * axis), 0.0f);
+}
+
 }  // namespace
 }  // namespace surfaced

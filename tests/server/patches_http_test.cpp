@@ -99,10 +99,10 @@ TEST_F(PatchesHttp, RawBezUpload) {
     EXPECT_EQ(report.warnings, 0) << report.report;
 }
 
-// format=json gives the control points, exactly as the built-in BEZ text has them, in the form POST /tessellate
+// format=patches gives the control points, exactly as the built-in BEZ text has them, in the form POST /tessellate
 // accepts: posting them back tessellates to the same mesh as GET /patches/teapot with the same options.
 TEST_F(PatchesHttp, TeapotControlPointsRoundTrip) {
-    auto res = client().Get("/patches/teapot?format=json");
+    auto res = client().Get("/patches/teapot?format=patches");
     ASSERT_TRUE(res) << httplib::to_string(res.error());
     ASSERT_EQ(res->status, 200) << res->body;
     EXPECT_EQ(res->get_header_value("Content-Type"), "application/json");
@@ -134,7 +134,7 @@ TEST_F(PatchesHttp, TeapotControlPointsRoundTrip) {
     ASSERT_EQ(direct->status, 200) << direct->body;
     EXPECT_EQ(posted->body, direct->body);
 
-    auto mixed = client().Get("/patches/teapot?format=json&segments=4");
+    auto mixed = client().Get("/patches/teapot?format=patches&segments=4");
     ASSERT_TRUE(mixed);
     EXPECT_EQ(mixed->status, 400);
     const auto problem = nlohmann::json::parse(mixed->body, nullptr, false);

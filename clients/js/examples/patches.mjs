@@ -6,7 +6,7 @@ check(glb.contentType === 'model/gltf-binary', `teapot within 0.01: error bound 
 const again = await client.patchSample('teapot', { tolerance: 0.01, etag: glb.headers.get('etag') });
 check(again.status === 304, 'unchanged sample answers 304 Not Modified');
 
-const net = (await client.patchSample('teapot', { format: 'json' })).json;
+const net = (await client.patchSample('teapot', { format: 'patches' })).json;
 check(net.patches.length === 32, 'teapot control points: 32 bicubic patches');
 const original = await client.patchSample('teapot', { segments: 4, format: 'obj' });
 net.patches[0].points[5][2] += 0.5;

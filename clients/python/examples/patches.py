@@ -9,7 +9,7 @@ check(glb.body[:4] == b"glTF", f"teapot within 0.01: error bound {glb.header('X-
 again = client.patch_sample("teapot", tolerance=0.01, etag=glb.header("ETag"))
 check(again.status == 304, "unchanged sample answers 304 Not Modified")
 
-net = client.patch_sample("teapot", format="json").json
+net = client.patch_sample("teapot", format="patches").json
 check(len(net["patches"]) == 32, "teapot control points: 32 bicubic patches")
 original = client.patch_sample("teapot", segments=4, format="obj")
 net["patches"][0]["points"][5][2] += 0.5   # lift one interior control point of the first patch

@@ -333,7 +333,7 @@ class Client:
                   creases: Optional[Sequence[Crease]] = None, corners: Optional[Sequence[Corner]] = None,
                   holes: Optional[Sequence[int]] = None, output: Optional[Output] = None,
                   format: OutputFormat = "glb", compression: Compression = "draco", quantize_position: int = 14,
-                  normals: bool = False) -> Result:
+                  normals: bool = True) -> Result:
         """POST /subdivide: Catmull-Clark or Loop subdivision.
 
         Input: ``mesh`` (JSON), or ``data``, the bytes of an OBJ (with OpenSubdiv ``t`` tags), OFF, PLY, STL, GLB or
@@ -354,10 +354,11 @@ class Client:
         :param corners: JSON only: ``[{"vertex": i, "sharpness": s}]``.
         :param holes: JSON only: indices of faces that are holes.
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"`` or ``"json"`` (mesh and stats).
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"`` (mesh and stats), ``"stl"``
+            (binary) or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..24 (default 14).
-        :param normals: write vertex normals (default False).
+        :param normals: write vertex normals (default True; not with stl or off).
         """
         return self._operation("/subdivide", locals(), Client.subdivide.__kwdefaults__, payload="mesh", data=data,
                                content_type=content_type)
@@ -368,7 +369,7 @@ class Client:
                  lock_border: bool = False, restore_volume: float = 0, threads: int = 1, report_error: bool = False,
                  locked_vertices: Optional[Sequence[int]] = None, repair: RepairMode = "auto",
                  output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
-                 quantize_position: int = 14, normals: bool = False) -> Result:
+                 quantize_position: int = 14, normals: bool = True) -> Result:
         """POST /simplify: Garland-Heckbert quadric edge-collapse simplification. At least one of target_faces,
         ratio, max_error; it stops at whichever is reached first.
 
@@ -385,10 +386,10 @@ class Client:
         :param repair: ``"auto"`` (default: repair a mesh that is not a clean manifold; X-Repairs) or ``"none"``
             (refuse it with 422 non_manifold).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"`` or ``"json"``.
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..24 (default 14).
-        :param normals: write vertex normals (default False).
+        :param normals: write vertex normals (default True; not with stl or off).
         """
         return self._operation("/simplify", locals(), Client.simplify.__kwdefaults__, payload="mesh", data=data,
                                content_type=content_type)
@@ -398,7 +399,7 @@ class Client:
                edge_length: Optional[float] = None, iterations: int = 10, feature_angle: float = 60,
                lock_border: bool = True, smoothing: RemeshSmoothing = "tangential", repair: RepairMode = "auto",
                output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
-               quantize_position: int = 14, normals: bool = False) -> Result:
+               quantize_position: int = 14, normals: bool = True) -> Result:
         """POST /remesh: Botsch-Kobbelt isotropic remeshing to one edge length. Quality before and after comes in
         the X-Min-Angle-*, X-Below-30-* headers (and ``stats`` of the JSON form), what repair did in X-Repairs.
 
@@ -413,10 +414,10 @@ class Client:
         :param smoothing: ``"tangential"`` (default), ``"laplacian"`` or ``"none"``.
         :param repair: ``"auto"`` (default) or ``"none"``, as for :meth:`simplify`.
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"`` or ``"json"``.
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..24 (default 14).
-        :param normals: write vertex normals (default False).
+        :param normals: write vertex normals (default True; not with stl or off).
         """
         return self._operation("/remesh", locals(), Client.remesh.__kwdefaults__, payload="mesh", data=data,
                                content_type=content_type)
@@ -425,7 +426,7 @@ class Client:
                content_type: Optional[str] = None,
                weld_tolerance: float = 0, orient: bool = True, min_component_faces: int = 0, max_hole_edges: int = 0,
                output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
-               quantize_position: int = 14, normals: bool = False) -> Result:
+               quantize_position: int = 14, normals: bool = True) -> Result:
         """POST /repair: weld, drop degenerate and duplicate faces, cut non-manifold edges and vertices apart,
         orient, optionally drop small components and fill small holes. The report: header X-Repairs and
         ``stats["repairs"]`` of the JSON form.
@@ -437,10 +438,10 @@ class Client:
         :param min_component_faces: drop components with fewer faces (default 0: keep all).
         :param max_hole_edges: fill holes of at most this many edges, 0..10000 (default 0: none).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"`` or ``"json"``.
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..24 (default 14).
-        :param normals: write vertex normals (default False).
+        :param normals: write vertex normals (default True; not with stl or off).
         """
         return self._operation("/repair", locals(), Client.repair.__kwdefaults__, payload="mesh", data=data,
                                content_type=content_type)
@@ -461,10 +462,10 @@ class Client:
             segments).
         :param segments: segments along each direction of every patch, 1..256 (default 8).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"obj"`` or ``"ply"``.
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..30 (default 14).
-        :param normals: write vertex normals (default True).
+        :param normals: write vertex normals (default True; not with stl or off).
         """
         args = dict(locals())
         if bez is not None:
@@ -478,16 +479,17 @@ class Client:
     def patch_sample(self, name: str = "teapot", *, etag: Optional[str] = None, tolerance: Optional[float] = None,
                      segments: int = 8, format: PatchSampleFormat = "glb", compression: Compression = "draco",
                      quantize_position: int = 14, normals: bool = True) -> Result:
-        """GET /patches/{name}: a built-in sample (``teapot``) tessellated, or with ``format="json"`` its control
+        """GET /patches/{name}: a built-in sample (``teapot``) tessellated, or with ``format="patches"`` its control
         points (``{"patches": [...]}``, the JSON form :meth:`tessellate` takes; no other option applies then).
 
         :param etag: the ETag of an earlier answer: an unchanged one is a Result with status 304.
         :param tolerance: guaranteed maximum distance between triangles and surface (excludes segments).
         :param segments: segments along each direction of every patch, 1..256 (default 8).
-        :param format: ``"glb"`` (default), ``"obj"``, ``"ply"`` or ``"json"``.
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"`` (the JSON mesh), ``"stl"``,
+            ``"off"``, or ``"patches"`` (the control points).
         :param compression: GLB: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..30 (default 14).
-        :param normals: write vertex normals (default True).
+        :param normals: write vertex normals (default True; not with stl or off).
         """
         query = _options(locals(), Client.patch_sample.__kwdefaults__, skip=("name", "etag"))
         headers = {"If-None-Match": etag} if etag else None
@@ -552,8 +554,9 @@ class Client:
         :param simplify_tolerance: adaptive mode: QEM-simplify to this Hausdorff distance (default 0: none).
         :param crease_angle: GLB/glTF with normals: split normals where faces meet at more than this many degrees,
             0..180 (default 40).
-        :param output: ``{"format": "glb" (default) | "gltf" | "obj" | "ply" | "json", "compression": "draco"
-            (default) | "none", "quantize_position": 1..24 (default 14), "normals": bool (default False)}``.
+        :param output: ``{"format": "glb" (default) | "gltf" | "obj" | "ply" | "json" | "stl" | "off", "compression":
+            "draco" (default) | "none", "quantize_position": 1..24 (default 14), "normals": bool (default True; not
+            with stl or off)}``.
         """
         body = {"scene": scene, "bounds": bounds,
                 **_options(locals(), Client.implicit_mesh.__kwdefaults__, skip=("scene", "bounds"))}
@@ -579,7 +582,8 @@ class Client:
             (default False); ``{"k": n}`` also sets k.
         :param k: neighbours for normal estimation, 3..256 (default 16).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default, one POINTS primitive), ``"ply"`` or ``"json"``.
+        :param format: ``"glb"`` (default, one POINTS primitive), ``"gltf"`` (the same as glTF JSON), ``"ply"`` or
+            ``"json"``.
         :param compression: GLB: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..24 (default 14).
         """

@@ -32,14 +32,14 @@ CreaseMethod = Literal["uniform", "chaikin"]
 TriangleRule = Literal["catmark", "smooth"]
 UvInterpolation = Literal["none", "corners-only", "corners-plus1", "corners-plus2", "boundaries", "all"]
 LoopWeights = Literal["loop", "warren"]
-OutputFormat = Literal["glb", "gltf", "obj", "ply", "json"]
+OutputFormat = Literal["glb", "gltf", "obj", "ply", "json", "stl", "off"]
 Compression = Literal["draco", "none"]
 RepairMode = Literal["auto", "none"]
 RemeshSmoothing = Literal["tangential", "laplacian", "none"]
 ImplicitMode = Literal["uniform", "adaptive"]
-TessellateFormat = Literal["glb", "obj", "ply"]
-PatchSampleFormat = Literal["glb", "obj", "ply", "json"]
-PointcloudFormat = Literal["glb", "ply", "json"]
+TessellateFormat = OutputFormat
+PatchSampleFormat = Literal["glb", "gltf", "obj", "ply", "json", "stl", "off", "patches"]
+PointcloudFormat = Literal["glb", "gltf", "ply", "json"]
 CurvesFormat = Literal["json", "glb", "gltf"]
 KnotVector = Literal["clamped", "uniform", "closed"]
 
@@ -50,8 +50,9 @@ class _MeshRequired(TypedDict):
 
 
 class Mesh(_MeshRequired, total=False):
-    """A polygon mesh: positions, faces (vertex indices, 3 or more per face), optional UVs with one UV index per
-    face corner."""
+    """A polygon mesh: positions, faces (vertex indices, 3 or more per face), optional vertex normals (one per
+    position, as the JSON output writes them), optional UVs with one UV index per face corner."""
+    normals: Sequence[Vec3]
     uvs: Sequence[Vec2]
     uv_faces: Sequence[Sequence[int]]
 

@@ -79,14 +79,14 @@ export class PatchesView {
                                 : { segments: Math.round(Number($('patch-segments').value)) };
   }
 
-  /** GET /patches/{name}: the tessellated sample (Draco GLB) and its control points (format=json). */
+  /** GET /patches/{name}: the tessellated sample (Draco GLB) and its control points (format=patches). */
   async loadSample(name) {
     this.app.clearError();
     try {
       const q = new URLSearchParams(Object.entries(this.tessellationQuery()).map(([k, v]) => [k, String(v)]));
       const [mesh, net] = await Promise.all([
         call('GET', `/patches/${encodeURIComponent(name)}?${q}`),
-        call('GET', `/patches/${encodeURIComponent(name)}?format=json`),
+        call('GET', `/patches/${encodeURIComponent(name)}?format=patches`),
       ]);
       this.zUp = true;
       this.viewer.setUpAxis(true);

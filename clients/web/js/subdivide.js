@@ -6,12 +6,13 @@ import { builtins } from './meshes.js';
 const $ = (id) => document.getElementById(id);
 
 /**
- * Any mesh file the service reads, as the service's JSON mesh: POST /subdivide with levels=0 and format=json parses
+ * Any mesh file the service reads, as the service's JSON mesh: POST /subdivide with levels=0, format=json and
+ * normals=false parses
  * it on the server (errors name the file line) and returns it unchanged.
  */
 export async function uploadToJsonMesh(file) {
   const bytes = await file.arrayBuffer();
-  const result = await call('POST', '/subdivide?levels=0&format=json', { body: bytes, contentType: meshMediaType(file.name) });
+  const result = await call('POST', '/subdivide?levels=0&format=json&normals=false', { body: bytes, contentType: meshMediaType(file.name) });
   return result.json.mesh;
 }
 
