@@ -305,7 +305,10 @@ TEST(AcceptHeader, TessellateAndImplicitMeshFollowIt) {
     tessellate.headers.emplace("accept", "application/ply");
     EXPECT_EQ(operations::tessellate(tessellate, context_with()).content_type, "application/ply");
     tessellate.headers.clear();
-    tessellate.headers.emplace("accept", "application/json");  // not among /tessellate's formats (glb, obj, ply)
+    tessellate.headers.emplace("accept", "application/json");  // the JSON mesh
+    EXPECT_EQ(operations::tessellate(tessellate, context_with()).content_type, "application/json");
+    tessellate.headers.clear();
+    tessellate.headers.emplace("accept", "text/html");  // not among /tessellate's formats
     EXPECT_EQ(operations::tessellate(tessellate, context_with()).status, 406);
 
     const std::string scene = R"({"scene":{"op":"sphere","radius":1},"bounds":[[-1.5,-1.5,-1.5],[1.5,1.5,1.5]],)"

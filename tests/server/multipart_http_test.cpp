@@ -175,8 +175,9 @@ TEST_F(MultipartHttp, AcceptPicksTheFormatAnExplicitOneWins) {
     const Json points = expect_http_problem(
         client().Post("/pointcloud", {{"Accept", "model/obj"}}, "0 0 0\n1 0 0\n0 1 0\n", "text/x-xyz"), 406,
         "not_acceptable");
-    EXPECT_NE(points.value("detail", "").find("with: model/gltf-binary, application/ply, application/json"),
-              std::string::npos)
+    EXPECT_NE(
+        points.value("detail", "").find("with: model/gltf-binary, model/gltf+json, application/ply, application/json"),
+        std::string::npos)
         << points.dump();
     // a JSON-only answer is unaffected
     auto curves = client().Post("/curves", {{"Accept", "text/html"}},
