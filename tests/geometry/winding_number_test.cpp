@@ -64,14 +64,14 @@ TEST(WindingNumber, SolidAngleOfKnownTriangles) {
 }
 
 TEST(WindingNumber, HierarchicalWithinItsBoundOfExactSum) {
-    const PolygonMesh bunny = testing::spatial_bunny();
+    const PolygonMesh& bunny = testing::spatial_bunny();
     ASSERT_GT(bunny.face_count(), 0u);
     const Solid s = solid(bunny);
     std::mt19937_64 rng(1);
     const Box3 box = bunny.bounds();
     for (double accuracy : {1.5, 2.0, 3.0}) {
         double worst = 0, worst_bound = 0;
-        for (int i = 0; i < 40; ++i) {
+        for (int i = 0; i < 20; ++i) {
             const Vec3 q = testing::random_point(rng, box, 0.1);
             WindingNumberOptions options;
             options.accuracy = accuracy;
@@ -143,7 +143,7 @@ TEST(WindingNumber, InsideOutsideOfSphere) {
 TEST(WindingNumber, InsideOutsideOfBunny) {
     // Points just in front of and behind the middle of faces that are away from the scan's holes: the bunny is
     // closed there, so outside (w ~ 0) and inside (w ~ 1) are known. Offsets are small against the ears' thickness.
-    const PolygonMesh bunny = testing::spatial_bunny();
+    const PolygonMesh& bunny = testing::spatial_bunny();
     ASSERT_GT(bunny.face_count(), 0u);
     const Solid s = solid(bunny);
     const double eps = 1e-4 * bunny.bounds().diagonal();
@@ -224,11 +224,11 @@ TEST(WindingNumber, RightWhereRayParityIsWrong) {
 }
 
 TEST(WindingNumber, SignedDistanceMatchesBruteForce) {
-    const PolygonMesh bunny = testing::spatial_bunny();
+    const PolygonMesh& bunny = testing::spatial_bunny();
     ASSERT_GT(bunny.face_count(), 0u);
     const Solid s = solid(bunny);
     std::mt19937_64 rng(4);
-    for (int i = 0; i < 30; ++i) {
+    for (int i = 0; i < 12; ++i) {
         const Vec3 q = testing::random_point(rng, bunny.bounds(), 0.1);
         const auto sd = signed_distance(s.bvh, s.tree, q);
         ASSERT_TRUE(sd.ok());

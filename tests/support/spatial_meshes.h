@@ -20,14 +20,16 @@ namespace surfaced::testing {
 // Debian's glmark2-data package (scripts/install-deps.sh): the Stanford bunny, 34835 vertices, 69666 triangles.
 inline constexpr const char* kSpatialBunnyPath = "/usr/share/glmark2/models/bunny.obj";
 
-inline PolygonMesh spatial_bunny() {
-    if (!std::filesystem::exists(kSpatialBunnyPath)) {
-        ADD_FAILURE() << kSpatialBunnyPath << " is missing: install the Debian package glmark2-data";
-        return {};
-    }
-    auto mesh = read_obj(read_file(kSpatialBunnyPath));
-    EXPECT_TRUE(mesh.ok()) << (mesh.ok() ? "" : mesh.error().message);
-    return mesh.ok() ? std::move(mesh.value()) : PolygonMesh{};
+//! Read once per test binary (several tests use it).
+inline const PolygonMesh& spatial_bunny() {
+    static const PolygonMesh bunny = [] {
+        if (!std::filesystem::exists(kSpatialBunnyPath)) return PolygonMesh{};
+        auto mesh = read_obj(read_file(kSpatialBunnyPath));
+        return mesh.ok() ? std::move(mesh.value()) : PolygonMesh{};
+    }();
+    if (bunny.face_count() == 0)
+        ADD_FAILURE() << kSpatialBunnyPath << " is missing or unreadable: install the Debian package glmark2-data";
+    return bunny;
 }
 
 //! Uniform point in the box grown by `margin` times its diagonal on every side.
