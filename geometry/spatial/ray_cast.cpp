@@ -28,6 +28,7 @@ struct PreparedRay {
     double sx = 0, sy = 0, sz = 0;
     Vec3 inv;                                  //!< 1 / direction (0 where the direction is 0)
     bool parallel[3] = {false, false, false};  //!< direction component exactly 0
+    bool negative[3] = {false, false, false};  //!< direction component < 0: the box's max plane is met first
     double t_min = 0, t_max = 0;
 };
 
@@ -53,6 +54,7 @@ bool prepare(const Ray& ray, PreparedRay& out) {
     for (int k = 0; k < 3; ++k) {
         const double c = component(d, k);
         out.parallel[k] = c == 0;
+        out.negative[k] = c < 0;
         (k == 0 ? out.inv.x : (k == 1 ? out.inv.y : out.inv.z)) = c == 0 ? 0.0 : 1.0 / c;
     }
     out.t_min = ray.t_min;
@@ -60,26 +62,29 @@ bool prepare(const Ray& ray, PreparedRay& out) {
     return true;
 }
 
-//! One slab of the box test: narrows [lo, hi] to where the ray is between the two planes. An axis the ray is
-//! parallel to is all or nothing (a division would make 0 * inf = NaN when the origin is on a plane).
-inline bool slab(double box_min, double box_max, double origin, double inv, bool parallel, double& lo, double& hi) {
+//! One slab of the box test: narrows [lo, hi] to where the ray is between the two planes (near and far chosen once
+//! per ray by the direction's sign). An axis the ray is parallel to is all or nothing (a division would make
+//! 0 * inf = NaN when the origin is on a plane).
+inline bool slab(double box_min, double box_max, double origin, double inv, bool negative, bool parallel, double& lo,
+                 double& hi) {
     constexpr double kEps = std::numeric_limits<double>::epsilon() * 0.5;
-    constexpr double kGrow = 2.0 * (3 * kEps) / (1 - 3 * kEps);  // Ize's 2 gamma(3)
+    constexpr double kGrow = 1.0 + 2.0 * (3 * kEps) / (1 - 3 * kEps);  // Ize's 1 + 2 gamma(3)
     if (parallel) return origin >= box_min && origin <= box_max;
-    double t0 = (box_min - origin) * inv, t1 = (box_max - origin) * inv;
-    if (t0 > t1) std::swap(t0, t1);
-    t1 += std::fabs(t1) * kGrow;
+    const double t0 = ((negative ? box_max : box_min) - origin) * inv;
+    const double t1 = ((negative ? box_min : box_max) - origin) * inv;
+    // t1 < 0 means the box is behind: growing it towards 0 would only be less conservative, and it is culled anyway
+    const double far = t1 * kGrow;
     lo = t0 > lo ? t0 : lo;
-    hi = t1 < hi ? t1 : hi;
+    hi = far < hi ? far : hi;
     return true;
 }
 
 //! Entry distance of the ray into the box, or +infinity when it misses it within [t_min, t_max].
-double box_entry(const Box3& b, const PreparedRay& r, double t_max) {
+inline double box_entry(const Box3& b, const PreparedRay& r, double t_max) {
     double lo = r.t_min, hi = t_max;
-    if (!slab(b.min.x, b.max.x, r.origin.x, r.inv.x, r.parallel[0], lo, hi) ||
-        !slab(b.min.y, b.max.y, r.origin.y, r.inv.y, r.parallel[1], lo, hi) ||
-        !slab(b.min.z, b.max.z, r.origin.z, r.inv.z, r.parallel[2], lo, hi))
+    if (!slab(b.min.x, b.max.x, r.origin.x, r.inv.x, r.negative[0], r.parallel[0], lo, hi) ||
+        !slab(b.min.y, b.max.y, r.origin.y, r.inv.y, r.negative[1], r.parallel[1], lo, hi) ||
+        !slab(b.min.z, b.max.z, r.origin.z, r.inv.z, r.negative[2], r.parallel[2], lo, hi))
         return std::numeric_limits<double>::infinity();
     return lo <= hi ? lo : std::numeric_limits<double>::infinity();
 }
