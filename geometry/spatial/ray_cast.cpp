@@ -1,9 +1,10 @@
 // Rays are transformed once so that the triangle test is 2D: the axis the direction is largest along becomes z, and
 // a shear maps the direction to (0, 0, 1). Each vertex is then transformed the same way in every triangle it belongs
 // to, and the edge functions U, V, W of two triangles sharing an edge are exact negatives of each other, so a ray
-// through the edge is inside (or on) one of them. Edge functions that come out exactly zero are recomputed in long
+// through the edge is inside (or on) one of them. An edge function that comes out exactly zero is recomputed in long
 // double, which decides between "on the edge" and "just outside" when double rounding cannot (Woop et al. fall back
-// from float to double the same way).
+// from float to double the same way). The fallback is per edge, not per triangle, so that both triangles of an edge
+// always use the same precision for it.
 //
 // The box test is the slab test with the far distance enlarged by 2 gamma(3) relative (Ize 2013), so that rounding
 // in the slab distances never culls a box the ray touches; an axis the ray is parallel to is a containment test.
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <cmath>
+#include <cstring>
 
 #include "geometry/spatial/traversal_stack.h"
 
@@ -89,22 +91,35 @@ inline double box_entry(const Box3& b, const PreparedRay& r, double t_max) {
     return lo <= hi ? lo : std::numeric_limits<double>::infinity();
 }
 
+//! The edge function of the 2D edge (p, q) at the origin; a zero is recomputed in long double. The value depends only
+//! on the edge's two transformed vertices and is negated exactly when they are swapped, so two triangles sharing the
+//! edge always see opposite signs (or both zero).
+inline double edge_function(double px, double py, double qx, double qy) {
+    const double e = px * qy - py * qx;
+    if (e != 0) return e;
+    using L = long double;
+    return static_cast<double>(L(px) * L(qy) - L(py) * L(qx));
+}
+
 //! The watertight test; t in [t_min, t_max].
-bool intersect(const PreparedRay& r, const Vec3& a, const Vec3& b, const Vec3& c, double t_max, RayTriangleHit& hit) {
-    const Vec3 A = a - r.origin, B = b - r.origin, C = c - r.origin;
-    const double az = component(A, r.kz), bz = component(B, r.kz), cz = component(C, r.kz);
-    const double ax = component(A, r.kx) - r.sx * az, ay = component(A, r.ky) - r.sy * az;
-    const double bx = component(B, r.kx) - r.sx * bz, by = component(B, r.ky) - r.sy * bz;
-    const double cx = component(C, r.kx) - r.sx * cz, cy = component(C, r.ky) - r.sy * cz;
-    double u = cx * by - cy * bx;
-    double v = ax * cy - ay * cx;
-    double w = bx * ay - by * ax;
-    if (u == 0 || v == 0 || w == 0) {
-        using L = long double;
-        u = static_cast<double>(L(cx) * L(by) - L(cy) * L(bx));
-        v = static_cast<double>(L(ax) * L(cy) - L(ay) * L(cx));
-        w = static_cast<double>(L(bx) * L(ay) - L(by) * L(ax));
-    }
+inline bool intersect(const PreparedRay& r, const Vec3& a, const Vec3& b, const Vec3& c, double t_max,
+                      RayTriangleHit& hit) {
+    // vertices relative to the origin as arrays, so the per-ray axis permutation is an index (memcpy: Vec3 is three
+    // doubles, and this is the defined way to view it as an array)
+    double A[3], B[3], C[3];
+    const Vec3 da = a - r.origin, db = b - r.origin, dc = c - r.origin;
+    static_assert(sizeof(Vec3) == sizeof A);
+    std::memcpy(A, &da, sizeof A);
+    std::memcpy(B, &db, sizeof B);
+    std::memcpy(C, &dc, sizeof C);
+    const double az = A[r.kz], bz = B[r.kz], cz = C[r.kz];
+    const double ax = A[r.kx] - r.sx * az, ay = A[r.ky] - r.sy * az;
+    const double bx = B[r.kx] - r.sx * bz, by = B[r.ky] - r.sy * bz;
+    const double cx = C[r.kx] - r.sx * cz, cy = C[r.ky] - r.sy * cz;
+    const double u = edge_function(cx, cy, bx, by);  // edge b-c, weight of a
+    const double v = edge_function(ax, ay, cx, cy);  // edge c-a, weight of b
+    if ((u < 0 && v > 0) || (u > 0 && v < 0)) return false;
+    const double w = edge_function(bx, by, ax, ay);  // edge a-b, weight of c
     if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return false;
     const double det = u + v + w;
     if (det == 0) return false;
