@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the benchmark-only peers, builds the benchmarks and runs them: ours against the reference in one process
-# each (OpenSubdiv for subdivision, meshoptimizer and CGAL for simplification), plus implicit meshing, patch
-# tessellation and mesh repair against the simplification it precedes. Debian 12, as root for the installs. The peers are never linked into the service.
+# each (OpenSubdiv for subdivision, meshoptimizer and CGAL for simplification, CGAL's AABB_tree and Embree 3 for
+# spatial queries), plus implicit meshing, patch tessellation and mesh repair against the simplification it precedes.
+# Debian 12, as root for the installs. The peers are never linked into the service.
 #   scripts/bench.sh                       every benchmark, full size (the 1M-triangle simplifications take minutes)
 #   scripts/bench.sh --quick               smaller meshes only
-#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate repair
+#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate repair spatial
 # Each output also goes to build/bench-results/NAME.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,18 +15,18 @@ selected=()
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=(--quick) ;;
-    subdivide|simplify|implicit|tessellate|repair) selected+=("$arg") ;;
-    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate|repair]..." >&2; exit 2 ;;
+    subdivide|simplify|implicit|tessellate|repair|spatial) selected+=("$arg") ;;
+    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate|repair|spatial]..." >&2; exit 2 ;;
   esac
 done
-[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate repair)
+[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate repair spatial)
 
 # The build dependencies come from scripts/install-deps.sh (run it first on a fresh machine); here only the bench-only
 # peers: meshoptimizer, CGAL (header-only; pulls Boost, GMP, MPFR) and Eigen (CGAL's Garland-Heckbert policies use
-# it), and glmark2-data for the scanned bunny.
+# it), Embree 3 (the spatial queries' ray peer), and glmark2-data for the scanned bunny.
 command -v cmake >/dev/null && dpkg-query -W libosd-dev >/dev/null 2>&1 ||
   { echo "run scripts/install-deps.sh first (build dependencies)" >&2; exit 1; }
-bench_packages=(libmeshoptimizer-dev libcgal-dev libeigen3-dev glmark2-data)
+bench_packages=(libmeshoptimizer-dev libcgal-dev libeigen3-dev libembree-dev glmark2-data)
 missing=()
 for p in "${bench_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -36,9 +37,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# A build tree configured before CGAL was installed does not know bench_simplify_cgal yet: configure again (under the
-# build lock that scripts/dev-build.sh takes, so as not to disturb a build in progress).
-if [ -f build/build.ninja ] && ! grep -q bench_simplify_cgal build/build.ninja; then
+# A build tree configured before CGAL or Embree was installed does not know their targets yet: configure again (under
+# the build lock that scripts/dev-build.sh takes, so as not to disturb a build in progress).
+if [ -f build/build.ninja ] &&
+  ! { grep -q bench_simplify_cgal build/build.ninja && grep -q bench_spatial_peers build/build.ninja; }; then
   flock /tmp/surfaced-build.lock cmake -S . -B build >/dev/null
 fi
 
@@ -46,6 +48,7 @@ targets=()
 for name in "${selected[@]}"; do
   case "$name" in
     simplify) targets+=(bench_simplify_cgal) ;;
+    spatial) targets+=(bench_spatial_peers) ;;
     tessellate) [ -f bench/tessellate_bench.cpp ] && targets+=(bench_tessellate) ;;
     *) targets+=("bench_$name") ;;
   esac
@@ -56,6 +59,7 @@ mkdir -p build/bench-results
 for name in "${selected[@]}"; do
   binary=build/bench/bench_$name
   [ "$name" = simplify ] && binary=build/bench/bench_simplify_cgal
+  [ "$name" = spatial ] && binary=build/bench/bench_spatial_peers
   if [ ! -x "$binary" ]; then
     echo "== $name: $binary not built, skipped" >&2
     continue

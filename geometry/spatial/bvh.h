@@ -1,0 +1,81 @@
+// Bounding volume hierarchy over the triangles of a mesh: the one acceleration structure that closest-point, ray,
+// winding-number and signed-distance queries share. Built once (binned surface area heuristic), immutable afterwards,
+// so any number of threads may query it at once.
+//
+// References: I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT 2007 (binned SAH).
+//             T. Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013 (the conservative slab test, ray_cast.cpp).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "geometry/core/cancel.h"
+#include "geometry/core/result.h"
+#include "geometry/core/types.h"
+#include "geometry/mesh/polygon_mesh.h"
+
+namespace surfaced {
+
+struct BvhOptions {
+    //! A node with at most this many triangles becomes a leaf when the SAH says splitting does not pay; nodes with
+    //! more are always split. 1..64.
+    int max_leaf_size = 4;
+    //! Centroid bins per axis for the SAH sweep. 2..256.
+    int bins = 16;
+    //! Polygons with more than three vertices are triangulated (geometry/mesh/triangulate.h); false refuses them
+    //! with NotTriangleMesh.
+    bool triangulate = true;
+    Cancel cancel;
+};
+
+//! One node of the flat, depth-first node array. An inner node's left child is the next node in the array and its
+//! right child is `index`; a leaf's triangles are `index .. index + count` of TriangleBvh::triangles.
+struct BvhNode {
+    Box3 bounds;
+    Index index = 0;
+    Index count = 0;  //!< 0 for an inner node
+    bool is_leaf() const { return count != 0; }
+};
+
+//! A triangle in leaf order: its corners' positions (copied, so that a leaf is read from one place), the vertex
+//! indices of the mesh they come from, and the mesh face it is part of (a polygon's triangles share its face).
+struct BvhTriangle {
+    std::array<Vec3, 3> p;
+    std::array<Index, 3> vertices;
+    Index face = 0;
+};
+
+struct TriangleBvh {
+    std::vector<BvhNode> nodes;  //!< nodes[0] is the root; empty for a mesh without faces
+    std::vector<BvhTriangle> triangles;
+    std::size_t face_count = 0;  //!< faces of the input mesh
+    bool triangulated = false;   //!< the input had polygons that were split into triangles
+    std::size_t depth = 0;       //!< levels from the root to the deepest leaf (1 for a single leaf)
+
+    bool empty() const { return nodes.empty(); }
+    const Box3& bounds() const { return nodes.front().bounds; }
+    //! Bytes held by the node and triangle arrays.
+    std::size_t memory_bytes() const {
+        return nodes.capacity() * sizeof(BvhNode) + triangles.capacity() * sizeof(BvhTriangle);
+    }
+};
+
+//! Builds the hierarchy over the mesh's triangles. The mesh must pass validate() (finite coordinates, indices in
+//! range); polygons are triangulated unless options.triangulate is false (NotTriangleMesh then). A mesh without
+//! faces gives an empty hierarchy, which every query treats as "nothing there". O(F log F) time, O(F) memory
+//! (nodes <= 2F - 1). InvalidArgument for options out of range; Cancelled when options.cancel fires.
+Result<TriangleBvh> build_bvh(const PolygonMesh& mesh, const BvhOptions& options = {});
+
+//! Squared distance from p to the box (0 inside).
+inline double squared_distance(const Box3& box, const Vec3& p) {
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double below = box.min[i] - p[i], above = p[i] - box.max[i];
+        const double d = below > 0 ? below : (above > 0 ? above : 0.0);
+        d2 += d * d;
+    }
+    return d2;
+}
+
+}  // namespace surfaced
