@@ -43,8 +43,8 @@ struct SubdivideParams {
     LoopWeights loop_weights = LoopWeights::Loop;
     //! Choose the largest level (up to `levels` when given, else the server's maximum) whose output stays within
     //! this many faces.
-    std::optional<std::int64_t> max_faces;
-    bool levels_given = false;  //!< whether "levels" was sent (it bounds the level chosen for max_faces)
+    std::optional<std::int64_t> target_faces;
+    bool levels_given = false;  //!< whether "levels" was sent (it bounds the level chosen for target_faces)
     OutputOptions output;
 };
 
@@ -53,6 +53,8 @@ struct SubdivideStats {
     std::size_t output_vertices = 0, output_faces = 0;
     SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;
     int levels = 0;
+    std::optional<std::int64_t> target_faces;  //!< as requested; with it, whether the output is within it
+    bool target_met = true;
     double elapsed_ms = 0;  //!< decode + budget checks + subdivision (encoding the response is not included)
 };
 

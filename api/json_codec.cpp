@@ -380,6 +380,13 @@ std::string encode_mesh_response(const PolygonMesh& mesh, const SubdivideStats& 
     out += enum_name(kSchemeNames, stats.scheme);
     out += "\",\"levels\":";
     append_number(out, static_cast<std::uint64_t>(stats.levels < 0 ? 0 : stats.levels));
+    if (stats.target_faces) {
+        out += ",\"target_faces\":";
+        append_number(out, static_cast<std::uint64_t>(*stats.target_faces));
+        out += ",\"achieved_faces\":";
+        append_number(out, static_cast<std::uint64_t>(stats.output_faces));
+        out += stats.target_met ? ",\"target_met\":true" : ",\"target_met\":false";
+    }
     out += ",\"elapsed_ms\":";
     append_number(out, stats.elapsed_ms);
     out += "}}";

@@ -33,7 +33,7 @@ struct SubdivideJsonRequest {
 };
 
 //! Decodes {"mesh": {...}, "scheme": ..., "levels": N, "boundary": ..., "crease_method": ..., "triangle_rule": ...,
-//! "limit_surface": bool, "max_faces": N, "creases": [{"edge": [a, b], "sharpness": s}], "corners": [{"vertex": v,
+//! "limit_surface": bool, "target_faces": N, "creases": [{"edge": [a, b], "sharpness": s}], "corners": [{"vertex": v,
 //! "sharpness": s}], "holes": [f, ...], "output": {"format", "compression", "quantize_position", "normals"}}. Only "mesh" is required. Option *ranges* (levels vs. budget, quantization bits)
 //! are checked by the operation, which also handles the same options coming from query parameters.
 ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, const Limits& limits);

@@ -63,20 +63,18 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         return predicted_face_count(input, scheme, levels + limit_extra_levels(input, options));
     };
     int levels = static_cast<int>(params.levels);  // range-checked above
-    if (params.max_faces) {
-        // the largest level whose output fits max_faces (and whose work fits the server's budget)
+    bool target_met = true;
+    if (params.target_faces) {
+        // the largest level whose output fits target_faces (and whose work fits the server's budget); an input that
+        // already has more faces is answered as it is (level 0), reported as a target not met, as /simplify does
         const int upper = params.levels_given ? levels : limits.max_levels;
-        const auto cap = static_cast<std::uint64_t>(*params.max_faces);
-        int chosen = -1;
-        for (int l = 0; l <= upper; ++l) {
+        const auto cap = static_cast<std::uint64_t>(*params.target_faces);
+        int chosen = 0;
+        for (int l = 1; l <= upper; ++l) {
             if (predicted_face_count(mesh, params.scheme, l) > cap || work_faces(l) > limits.max_output_faces) break;
             chosen = l;
         }
-        if (chosen < 0)
-            return error_response(make_problem(Problem::BudgetExceeded,
-                                               "the input already has " + std::to_string(mesh.face_count()) +
-                                                   " faces, more than max_faces " + std::to_string(*params.max_faces),
-                                               "max_faces"));
+        target_met = predicted_face_count(mesh, params.scheme, chosen) <= cap;
         levels = chosen;
     }
     const std::uint64_t predicted = work_faces(levels);
@@ -114,12 +112,19 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     stats.output_faces = result.face_count();
     stats.scheme = params.scheme;
     stats.levels = levels;
+    stats.target_faces = params.target_faces;
+    stats.target_met = target_met;
     stats.elapsed_ms = ms_between(t_start, t_refined);
 
     // 6. encode
     Headers headers =
         mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces);
     append_read_headers(headers, read_report);
+    if (stats.target_faces) {
+        headers.emplace_back("X-Target-Faces", std::to_string(*stats.target_faces));
+        headers.emplace_back("X-Achieved-Faces", std::to_string(stats.output_faces));
+        headers.emplace_back("X-Target-Met", stats.target_met ? "true" : "false");
+    }
     return mesh_response(
         result, params.output, source, [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); },
         std::move(headers), Timing{t_start, {{"decode", t_decoded}, {"subdivide", t_refined}}});

@@ -83,6 +83,7 @@ constexpr OptionSpec kRepairOption{
 constexpr std::string_view kMeshInput[] = {"mesh"};
 constexpr std::string_view kSubdivideInputs[] = {"mesh", "creases", "corners", "holes"};
 
+constexpr std::string_view kTargetFacesAliases[] = {"max_faces"};  // its name before /simplify's was used
 constexpr OptionSpec kSubdivide[] = {
     {.name = "scheme",
      .type = OptionType::Enum,
@@ -96,10 +97,12 @@ constexpr OptionSpec kSubdivide[] = {
      .max_is_limit = true,  // Limits::max_levels
      .default_json = "1",
      .description = "Subdivision levels; each multiplies the face count by about 4"},
-    {.name = "max_faces",
+    {.name = "target_faces",
      .type = OptionType::Integer,
      .min = at_least(1),
-     .description = "Use the largest level (up to levels, if given) whose output has at most this many faces"},
+     .description = "Use the largest level (up to levels, if given) whose output has at most this many faces (level "
+                    "0 when the input has more: X-Target-Met false)",
+     .aliases = kTargetFacesAliases},
     {.name = "boundary",
      .type = OptionType::Enum,
      .description = "Boundary interpolation; unset: the mesh's own tag, else edge-only",

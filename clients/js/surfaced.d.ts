@@ -138,8 +138,8 @@ export interface SubdivideOptions extends MeshInput, OutputOptions<OutputFormat>
   scheme?: Scheme;
   /** 0..8. @default 1 */
   levels?: number;
-  /** refuse (422) a predicted output above this many faces */
-  max_faces?: number;
+  /** the largest level (up to levels, if given) whose output has at most this many faces */
+  target_faces?: number;
   /** default: the OBJ `t interpolateboundary` tag, else 'edge-only' */
   boundary?: Boundary;
   /** @default 'uniform' */

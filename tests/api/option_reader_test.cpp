@@ -62,7 +62,7 @@ TEST(OptionReader, ReadsEachTypeFromEitherTransport) {
         values->get_output(out);
         EXPECT_EQ(out.format, OutputFormat::Obj);
         EXPECT_EQ(out.quantize_position, 20);
-        EXPECT_FALSE(values->has("max_faces"));
+        EXPECT_FALSE(values->has("target_faces"));
     }
 }
 
@@ -77,7 +77,7 @@ TEST(OptionReader, OutOfRangeIs400NamingTheOptionWithRangeAndValue) {
     EXPECT_EQ(body.code, "invalid_field");
     EXPECT_EQ(body.field, "output.quantize_position");
     EXPECT_EQ(body.detail, "output.quantize_position must be in [1, 24] (bits), got 25");
-    EXPECT_EQ(query_error({{"max_faces", "0"}}).detail, "max_faces must be >= 1, got 0");
+    EXPECT_EQ(query_error({{"target_faces", "0"}}).detail, "target_faces must be >= 1, got 0");
     EXPECT_EQ(json_error(R"({"levels":-1})").field, "levels");
 }
 

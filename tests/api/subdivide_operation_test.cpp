@@ -448,21 +448,34 @@ TEST(SubdivideSharpFeatures, LimitSurfaceGivesLimitNormalsInObj) {
     EXPECT_NE(response.body.find("\nvn "), std::string::npos);
 }
 
-TEST(SubdivideSharpFeatures, MaxFacesChoosesTheLargestLevelWithinBudget) {
+TEST(SubdivideSharpFeatures, TargetFacesChoosesTheLargestLevelWithinIt) {
     // cube: 24, 96, 384, 1536 faces at levels 1..4
     auto response =
-        call("application/json", json_request(shapes::cube(), R"(,"max_faces":400,"output":{"format":"json"})"));
+        call("application/json", json_request(shapes::cube(), R"(,"target_faces":400,"output":{"format":"json"})"));
     ASSERT_EQ(response.status, 200) << response.body;
     auto json = nlohmann::json::parse(response.body);
     EXPECT_EQ(json["stats"]["levels"], 3);
     EXPECT_EQ(json["stats"]["output_faces"], 384);
+    EXPECT_EQ(json["stats"]["target_faces"], 400);
+    EXPECT_EQ(json["stats"]["achieved_faces"], 384);
+    EXPECT_EQ(json["stats"]["target_met"], true);
     // "levels" bounds the choice
     response = call("application/json",
-                    json_request(shapes::cube(), R"(,"levels":2,"max_faces":100000,"output":{"format":"json"})"));
+                    json_request(shapes::cube(), R"(,"levels":2,"target_faces":100000,"output":{"format":"json"})"));
     json = nlohmann::json::parse(response.body);
     EXPECT_EQ(json["stats"]["levels"], 2);
-    // a budget below the input
-    expect_problem(call("application/json", json_request(shapes::cube(), R"(,"max_faces":5)")), 422, "budget_exceeded");
+    // a target below the input: the input as it is (level 0), reported as not met, as /simplify reports it
+    response = call("model/obj", kCubeObj, {{"target_faces", "5"}, {"format", "obj"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(header(response, "X-Target-Faces"), "5");
+    EXPECT_EQ(header(response, "X-Achieved-Faces"), "6");
+    EXPECT_EQ(header(response, "X-Target-Met"), "false");
+    EXPECT_EQ(read_obj(response.body)->face_count(), 6u);
+    // the name it had before is a deprecated alias; both at once is a 400
+    response = call("model/obj", kCubeObj, {{"max_faces", "30"}, {"format", "obj"}});
+    ASSERT_EQ(response.status, 200) << response.body;
+    EXPECT_EQ(header(response, "X-Achieved-Faces"), "24");
+    expect_problem(call("model/obj", kCubeObj, {{"max_faces", "30"}, {"target_faces", "30"}}), 400, "invalid_field");
 }
 
 TEST(SubdivideSharpFeatures, LimitBudgetCountsTheInternalLevels) {

@@ -165,11 +165,6 @@ const knownGaps = [
       'subdivides the tetrahedron with loop',
   },
   {
-    op: 'POST /subdivide', option: 'max_faces', kind: 'min', transport: 'query', status: 422, code: 'budget_exceeded',
-    reason: 'max_faces 1 is in range, but the tetrahedron already has 4 faces (422 budget_exceeded); the JSON walk ' +
-      'sends it with the one-quad example',
-  },
-  {
     op: 'POST /pointcloud', option: 'sample.count', kind: 'min', transport: 'json',
     status: 422, code: 'invalid_argument',
     reason: 'sample.count 1 is in range, but the example also estimates normals, which needs at least 3 points',
