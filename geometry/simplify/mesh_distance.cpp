@@ -19,23 +19,17 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
     const double d3 = dot(ab, bp), d4 = dot(ac, bp);
     if (d3 >= 0 && d4 <= d3) return b;
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double denom = d1 - d3;
-        return denom > 0 ? a + ab * (d1 / denom) : a;
-    }
+    // (an edge region only when the edge has a length: with a == b, d1 - d3 = |ab|^2 = 0 and the point belongs to
+    // edge ac or bc, found below)
+    if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) return a + ab * (d1 / (d1 - d3));
     const Vec3 cp = p - c;
     const double d5 = dot(ab, cp), d6 = dot(ac, cp);
     if (d6 >= 0 && d5 <= d6) return c;
     const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double denom = d2 - d6;
-        return denom > 0 ? a + ac * (d2 / denom) : a;
-    }
+    if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0) return a + ac * (d2 / (d2 - d6));
     const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const double denom = (d4 - d3) + (d5 - d6);
-        return denom > 0 ? b + (c - b) * ((d4 - d3) / denom) : b;
-    }
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0 && (d4 - d3) + (d5 - d6) > 0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     const double sum = va + vb + vc;
     if (!(sum > 0)) {
         // Collinear corners that the region tests did not catch (rounding): nearest of the three edges.

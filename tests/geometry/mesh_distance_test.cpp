@@ -2,6 +2,7 @@
 // with known answers (identity, symmetry, offset planes, concentric spheres).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -36,6 +37,12 @@ TEST(PointTriangleDistance, DegenerateTriangles) {
     EXPECT_NEAR(point_triangle_distance({1, 1, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 1, 1e-15);
     EXPECT_NEAR(point_triangle_distance({3, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 1, 1e-15);
     EXPECT_NEAR(point_triangle_distance({0, 3, 4}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}), 5, 1e-15);
+    // two corners at one position: a segment from them to the third, whichever two they are; the point lies 1 above
+    // the segment's middle, so the answer is 1 (not the distance to the repeated corner, sqrt(2))
+    const Vec3 o{0, 0, 0}, e{2, 0, 0}, p{1, 1, 0};
+    for (const auto& [a, b, c] : {std::array{o, o, e}, std::array{o, e, o}, std::array{e, o, o}, std::array{e, e, o},
+                                  std::array{e, o, e}, std::array{o, e, e}})
+        EXPECT_NEAR(point_triangle_distance(p, a, b, c), 1, 1e-15) << a.x << b.x << c.x;
 }
 
 TEST(SurfaceDistance, MatchesBruteForce) {
