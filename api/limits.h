@@ -34,6 +34,10 @@ struct Limits {
     std::uint64_t max_level_set_samples = std::uint64_t{256} * 256 * 256;  //!< uploaded level-set grid values
     std::uint64_t max_query_points = 1'000'000;                            //!< points + rays in one /implicit/query
     int max_ray_steps = 10'000;                                            //!< sphere-tracing steps per ray
+    //! POST /mesh/query: points + rays in one request, and the point-triangle terms of exact winding numbers
+    //! (points x triangles with winding.exact; the hierarchy needs ~log F per point and has no such bound).
+    std::uint64_t max_mesh_queries = 1'000'000;
+    std::uint64_t max_exact_winding_work = 1'000'000'000;
     //! Points in one point cloud (input or sampled output). Normal orientation keeps a kNN graph of ~190 bytes a point
     //! (k = 16), so 2M points stay under ~400 MB.
     std::uint64_t max_points = 2'000'000;

@@ -8,6 +8,7 @@
 #include "api/operations/curves.h"
 #include "api/operations/tessellate.h"
 #include "api/operations/implicit_query.h"
+#include "api/operations/mesh_query.h"
 #include "api/operations/pointcloud.h"
 #include "api/operations/implicit_mesh.h"
 
@@ -42,6 +43,9 @@ constexpr Route kRoutes[] = {
      "Bezier curve queries (evaluate, derivatives, split, elevate, length, closest point, tessellate) -> JSON"},
     {"POST", "/implicit/query", &operations::implicit_query,
      "Implicit scene queries: points inside/on/outside, value and gradient; rays by sphere tracing -> JSON"},
+    {"POST", "/mesh/query", &operations::mesh_query,
+     "Mesh queries (BVH): inside (generalized winding number), signed distance, closest point and face; first ray "
+     "hits -> JSON"},
     {"POST", "/pointcloud", &operations::pointcloud,
      "Point clouds: convert PLY/OBJ/XYZ/JSON points, sample a mesh or implicit scene, estimate oriented normals "
      "(kNN PCA) -> GLB POINTS (Draco)/glTF/PLY/JSON"},

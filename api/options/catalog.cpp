@@ -392,6 +392,25 @@ constexpr OptionSpec kPointCloudOutput[] = {
     format_of(kPointFormats, "Encoding of the points: binary or text glTF, PLY or JSON"), kCompressionOption,
     kQuantizeOption, kPointNormalsOption};
 
+// ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---
+// "want" is an array of names, read by the operation itself.
+constexpr std::string_view kMeshQueryInputs[] = {"mesh", "points", "rays", "want"};
+constexpr OptionSpec kMeshQuery[] = {
+    {.name = "exact",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Winding numbers by the exact sum over every triangle instead of the hierarchy",
+     .transports = kJson,
+     .json_object = "winding"},
+    {.name = "accuracy",
+     .type = OptionType::Number,
+     .min = above(1),
+     .default_json = "2",
+     .description = "Hierarchy's beta: larger is more accurate and slower (about 5e-3 at 2, below 1e-3 at 3)",
+     .transports = kJson,
+     .json_object = "winding"},
+};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
@@ -403,6 +422,7 @@ constexpr OperationOptions kOperations[] = {
     {"curves", "/curves", "post", {}, kCurvesOutput, kCurvesInputs},
     {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
     {"implicit_query", "/implicit/query", "post", kImplicitQuery, {}, kImplicitQueryInputs},
+    {"mesh_query", "/mesh/query", "post", kMeshQuery, {}, kMeshQueryInputs},
 };
 
 }  // namespace
