@@ -16,5 +16,6 @@ int repair(Args& args);
 int implicit(Args& args);
 int pointcloud(Args& args);
 int curve(Args& args);
+int query(Args& args);
 
 }  // namespace surfaced::cli

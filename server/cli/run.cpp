@@ -30,6 +30,7 @@ Usage:
   surfaced implicit SCENE.json -o OUT [opts]  mesh an implicit scene (dual marching cubes, closed)
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
+  surfaced query MESH --points P.json [opts]  inside, signed distance, closest point; ray hits on a mesh (JSON)
   surfaced <command> --help                   options of a command (those of its operation, as the API names them)
   surfaced --help | --version
 
@@ -45,8 +46,9 @@ Exit codes (the same in every command):
      applicable to the output format, whether the command line or the operation notices it
 )";
 
-const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
-                                                 "remesh", "repair",      "implicit",  "pointcloud", "curve"};
+const std::vector<std::string_view> kCommands = {"serve",      "healthcheck", "subdivide", "tessellate",
+                                                 "simplify",   "remesh",      "repair",    "implicit",
+                                                 "pointcloud", "curve",       "query"};
 
 }  // namespace
 
@@ -76,12 +78,13 @@ int run(int argc, char** argv) {
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
         if (command == "curve") return curve(args);
+        if (command == "query") return query(args);
         std::string message = "unknown command \"" + command + "\" (";
         if (const auto match = closest_match(command, kCommands))
             message += "did you mean " + std::string(*match) + "? ";
         message +=
             "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
-            "curve; see surfaced --help)";
+            "curve, query; see surfaced --help)";
         throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

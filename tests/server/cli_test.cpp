@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "api/options/option_spec.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
@@ -193,7 +195,7 @@ const std::vector<TableCommand>& table_commands() {
         {"subdivide", "subdivide", kQuery},   {"simplify", "simplify", kQuery},
         {"remesh", "remesh", kQuery},         {"repair", "repair", kQuery},
         {"tessellate", "tessellate", kQuery}, {"pointcloud", "pointcloud", kQuery},
-        {"implicit", "implicit_mesh", kJson},
+        {"implicit", "implicit_mesh", kJson}, {"query", "mesh_query", kJson},
     };
     return commands;
 }
@@ -273,8 +275,9 @@ TEST_F(SurfacedCli, EveryTableOptionIsAFlagInTheHelp) {
             }
         }
         // and every flag of the Options section is a table option, or one of the hand-written ones
-        const std::vector<std::string> hand_written = {"--output",           "--format", "--input-format",  "--help",
-                                                       "--max-output-faces", "--bounds", "--max-grid-cells"};
+        const std::vector<std::string> hand_written = {
+            "--output", "--format",         "--input-format", "--help", "--max-output-faces",
+            "--bounds", "--max-grid-cells", "--points",       "--rays", "--want"};
         const std::vector<std::pair<std::string, std::string>> deprecated = {{"--no-draco", "compression"},
                                                                              {"--free-boundary", "keep_boundary"}};
         const std::string options = help.out.substr(help.out.find("\nOptions:\n"));
@@ -297,6 +300,46 @@ TEST_F(SurfacedCli, EveryTableOptionIsAFlagInTheHelp) {
                 << flag << " in the help of " << command.command << " is no option of " << command.operation;
         }
     }
+}
+
+TEST_F(SurfacedCli, QueryAnswersPointsAndRaysOfAMeshFile) {
+    std::ofstream(dir_ / "points.json") << "[[0, 0, 0], [2, 0, 0], [0.1, 0.2, -1]]";
+    std::ofstream(dir_ / "rays.json") << R"({"rays": [[-5, 0, 0, 2, 0, 0], [0, 5, 0, 0, 1, 0]]})";
+    // No -o: the answer goes to standard output, the summary to stderr.
+    const CliRun r = run("query " + path("cube.obj") + " --points " + path("points.json") + " --rays " +
+                         path("rays.json") + " --want inside,distance,closest --exact");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "3 points, 2 rays")) << r.err;
+    const auto out = nlohmann::json::parse(r.out);
+    EXPECT_EQ(out["points"]["inside"], nlohmann::json::array({true, false, false}));
+    EXPECT_EQ(out["points"]["distance"], nlohmann::json::array({-0.5, 1.5, 0.5}));  // the cube is [-0.5, 0.5]^3
+    EXPECT_NEAR(out["points"]["closest"][2][0].get<double>(), 0.1, 1e-12);
+    EXPECT_NEAR(out["points"]["closest"][2][1].get<double>(), 0.2, 1e-12);
+    EXPECT_EQ(out["points"]["closest"][2][2], -0.5);
+    EXPECT_FALSE(out["points"].contains("winding_number"));
+    EXPECT_EQ(out["rays"]["hit"], nlohmann::json::array({true, false}));
+    EXPECT_EQ(out["rays"]["t"][0], 2.25);
+    EXPECT_TRUE(out["rays"]["t"][1].is_null());
+
+    // The points from standard input, the answer to a file.
+    const CliRun piped = run("query " + path("cube.obj") + " --points - -o " + path("answer.json"), "points.json");
+    ASSERT_EQ(piped.exit_code, 0) << piped.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "answer.json"))["points"]["face"].size(), 3u);
+
+    // Usage errors exit 2 naming the flag; a mesh without faces is the operation's failure, exit 1.
+    const CliRun want = run("query " + path("cube.obj") + " --points " + path("points.json") + " --want insde");
+    EXPECT_EQ(want.exit_code, 2);
+    EXPECT_TRUE(contains(want.err, "did you mean \"inside\"")) << want.err;
+    EXPECT_EQ(run("query " + path("cube.obj")).exit_code, 2);
+    EXPECT_EQ(run("query " + path("cube.obj") + " --points " + path("points.json") + " --accuracy 1").exit_code, 2);
+    std::ofstream(dir_ / "zero.json") << "[[0, 0, 0, 0, 0, 0]]";
+    const CliRun zero = run("query " + path("cube.obj") + " --rays " + path("zero.json"));
+    EXPECT_EQ(zero.exit_code, 2);
+    EXPECT_TRUE(contains(zero.err, "rays[0]")) << zero.err;
+    std::ofstream(dir_ / "empty.json") << R"({"positions": [[0, 0, 0]], "faces": []})";
+    const CliRun empty = run("query " + path("empty.json") + " --points " + path("points.json"));
+    EXPECT_EQ(empty.exit_code, 1);
+    EXPECT_TRUE(contains(empty.err, "mesh.faces")) << empty.err;
 }
 
 TEST_F(SurfacedCli, ATableOfMistakesExitsAlikeInEveryCommand) {

@@ -1,4 +1,4 @@
-// POST /remesh, /implicit/mesh, /implicit/query and /pointcloud through the real server on an ephemeral loopback
+// POST /remesh, /implicit/mesh, /implicit/query, /mesh/query and /pointcloud through the real server on an ephemeral loopback
 // port: status, media type, a decoded-body invariant, and one problem+json naming its field for each. And every JSON
 // request example of the OpenAPI document (`example` and named `examples`) sent to the live server.
 #include <gtest/gtest.h>
@@ -120,6 +120,36 @@ TEST_F(GeometryHttp, ImplicitQueryUnitSphere) {
     const Json problem =
         expect_http_problem(client().Post("/implicit/query", bad, "application/json"), 400, "invalid_field");
     EXPECT_EQ(problem.value("field", "").rfind("points[1]", 0), 0u) << problem.dump();
+}
+
+TEST_F(GeometryHttp, MeshQueryCubeSignedDistanceAndRays) {
+    const std::string body =
+        R"({"mesh": {"positions": [[-0.5,-0.5,-0.5],[0.5,-0.5,-0.5],[0.5,0.5,-0.5],[-0.5,0.5,-0.5],)"
+        R"([-0.5,-0.5,0.5],[0.5,-0.5,0.5],[0.5,0.5,0.5],[-0.5,0.5,0.5]],)"
+        R"( "faces": [[0,3,2,1],[4,5,6,7],[0,1,5,4],[2,3,7,6],[1,2,6,5],[0,4,7,3]]},)"
+        R"( "points": [[0,0,0],[2,0,0],[1.5,1.5,0]], "want": ["inside", "distance", "closest"],)"
+        R"( "rays": [[-5,0,0.25,1,0,0],[0,5,0,0,1,0]]})";
+    auto res = client().Post("/mesh/query", body, "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "application/json");
+    const Json out = Json::parse(res->body);
+    const Json& points = out["points"];
+    EXPECT_EQ(points["inside"], Json::array({true, false, false}));
+    EXPECT_DOUBLE_EQ(points["distance"][0].get<double>(), -0.5);
+    EXPECT_DOUBLE_EQ(points["distance"][1].get<double>(), 1.5);
+    EXPECT_DOUBLE_EQ(points["distance"][2].get<double>(), std::sqrt(2.0));  // to the edge x = y = 0.5
+    EXPECT_EQ(points["closest"][2], Json::array({0.5, 0.5, 0}));
+    EXPECT_FALSE(points.contains("winding_number"));
+    const Json& rays = out["rays"];
+    EXPECT_EQ(rays["hit"], Json::array({true, false}));
+    EXPECT_DOUBLE_EQ(rays["t"][0].get<double>(), 4.5);
+    EXPECT_EQ(rays["face"][0], 5);
+    EXPECT_TRUE(rays["point"][1].is_null());
+
+    const std::string bad = R"({"mesh": {"positions": [[0,0,0],[1,0,0],[0,1,0]], "faces": [[0,1,2]]},)"
+                            R"( "rays": [[0,0,1,0,0,-1],[0,0,1,0,0,0]]})";
+    expect_http_problem(client().Post("/mesh/query", bad, "application/json"), 422, "invalid_argument", "rays[1]");
 }
 
 TEST_F(GeometryHttp, PointcloudSampledSphereWithOutwardNormals) {

@@ -1,0 +1,185 @@
+// `surfaced query`: points and rays asked of a mesh file through POST /mesh/query; the answers as its JSON.
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/io/mesh_io.h"
+#include "server/cli/commands.h"
+#include "server/cli/requests.h"
+#include "server/cli/table_options.h"
+
+namespace surfaced::cli {
+namespace {
+
+constexpr std::string_view kQueryHelp =
+    R"(Usage: surfaced query MESH_FILE --points FILE.json|- [--rays FILE.json|-] [--want LIST] [-o OUT.json|-]
+
+Asks questions of the surface in MESH_FILE through the same operation as POST /mesh/query: for each point whether it
+is inside (generalized winding number >= 1/2, robust on meshes with holes), its winding number, its signed distance
+(negative inside) and the closest surface point with its face; for each ray the first hit (t, face, point, normal).
+  MESH_FILE: .obj .off .ply .stl .glb .gltf, or .json (a mesh object, or a body with "mesh"); - reads standard input
+  --points FILE: a JSON array of [x, y, z] (or an object with "points"); --rays FILE: a JSON array of
+  [ox, oy, oz, dx, dy, dz] (or an object with "rays"). OUT (default -: standard output) is the JSON answer.
+
+)";
+
+constexpr std::string_view kWantNames[] = {"inside", "winding_number", "distance", "closest"};
+
+//! --want: a comma-separated list of kWantNames.
+std::string checked_want(std::string_view option, const std::string& text) {
+    const std::vector<std::string_view> allowed(std::begin(kWantNames), std::end(kWantNames));
+    std::istringstream in(text);
+    std::size_t count = 0;
+    for (std::string item; std::getline(in, item, ',');) {
+        if (std::find(allowed.begin(), allowed.end(), item) == allowed.end())
+            throw unknown_value(option, item, allowed);
+        ++count;
+    }
+    if (count == 0 || text.ends_with(",")) throw unknown_value(option, text, allowed);
+    return text;
+}
+
+//! Reads a JSON file; nullopt (and why, printed) when it cannot be read or is not JSON.
+std::optional<nlohmann::json> read_json_file(const std::string& path) {
+    const auto bytes = read_input(path);
+    if (!bytes) return std::nullopt;
+    nlohmann::json doc = nlohmann::json::parse(*bytes, nullptr, false);
+    if (doc.is_discarded()) {
+        std::cerr << "surfaced: " << (path == "-" ? "standard input" : path) << ": not valid JSON\n";
+        return std::nullopt;
+    }
+    return doc;
+}
+
+//! `member` of a file that is either the array itself or an object holding it.
+nlohmann::json member_or_self(nlohmann::json doc, const char* member) {
+    if (doc.is_object() && doc.contains(member)) return std::move(doc[member]);
+    return doc;
+}
+
+//! The mesh of MESH_FILE as the JSON mesh object; nullopt (and why, printed) when it cannot be read.
+std::optional<nlohmann::json> mesh_object(const Parsed& parsed) {
+    const bool json_file = lower_extension(parsed.input) == ".json";
+    const auto bytes = read_input(parsed.input);
+    if (!bytes) return std::nullopt;
+    const bool looks_json = parsed.from_stdin() && bytes->find_first_not_of(" \t\r\n") != std::string::npos &&
+                            (*bytes)[bytes->find_first_not_of(" \t\r\n")] == '{';
+    if (json_file || looks_json) {
+        nlohmann::json doc = nlohmann::json::parse(*bytes, nullptr, false);
+        if (doc.is_discarded()) {
+            std::cerr << "surfaced: " << parsed.input_label() << ": not valid JSON\n";
+            return std::nullopt;
+        }
+        return member_or_self(std::move(doc), "mesh");
+    }
+    const MeshFormat format = parsed.from_stdin() ? sniff_mesh_format(*bytes) : *mesh_input_format(parsed);
+    auto mesh = read_mesh(*bytes, format);
+    if (!mesh) {
+        std::cerr << "surfaced: " << parsed.input_label() << ": " << mesh.error().message << "\n";
+        return std::nullopt;
+    }
+    nlohmann::json positions = nlohmann::json::array(), faces = nlohmann::json::array();
+    for (const Vec3& p : mesh->positions) positions.push_back({p.x, p.y, p.z});
+    for (std::size_t f = 0; f < mesh->face_count(); ++f) {
+        const auto face = mesh->face(f);
+        faces.push_back(std::vector<Index>(face.begin(), face.end()));
+    }
+    return nlohmann::json{{"positions", std::move(positions)}, {"faces", std::move(faces)}};
+}
+
+//! The arguments with "-o -" added when no output was named (the answer then goes to standard output).
+std::vector<std::string> with_default_output(Args& args) {
+    std::vector<std::string> out;
+    bool output = false;
+    while (!args.done()) {
+        out.push_back(args.next());
+        const std::string& arg = out.back();
+        if (arg == "-o" || arg == "--output" || arg.starts_with("--output=") || arg == "-h" || arg == "--help")
+            output = true;
+    }
+    if (!output) {
+        out.emplace_back("-o");
+        out.emplace_back("-");
+    }
+    return out;
+}
+
+}  // namespace
+
+int query(Args& sent) {
+    api::ApiContext context = file_context();
+    const api::options::OperationOptions& operation = *api::options::operation_options("mesh_query");
+    std::vector<Option> options = table_options(operation, api::options::kJson);
+    options.push_back(Option{.name = "--points",
+                             .check = [](std::string_view, const std::string& text) { return text; },
+                             .synopsis = "--points FILE.json",
+                             .description = "the query points, a JSON array of [x, y, z] (- : standard input)"});
+    options.push_back(Option{.name = "--rays",
+                             .check = [](std::string_view, const std::string& text) { return text; },
+                             .synopsis = "--rays FILE.json",
+                             .description = "the rays, a JSON array of [ox, oy, oz, dx, dy, dz] (- : standard input)"});
+    options.push_back(Option{.name = "--want",
+                             .check = checked_want,
+                             .synopsis = "--want LIST",
+                             .description = "point answers, comma-separated: inside, winding_number, distance, "
+                                            "closest (default: all)"});
+    std::vector<std::string> words = with_default_output(sent);
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    Args args(static_cast<int>(argv.size()), argv.data(), 0);
+    const auto parsed = parse_file_command(args, "query", std::string(kQueryHelp) + options_help(operation, options),
+                                           options, "MESH_FILE");
+    if (!parsed) return kExitOk;
+    if (parsed->has("--format")) throw UsageError{"query: the answer is JSON; --format does not apply"};
+    if (!parsed->has("--points") && !parsed->has("--rays"))
+        throw UsageError{"query: give --points FILE or --rays FILE"};
+    const int from_stdin = (parsed->from_stdin() ? 1 : 0) +
+                           (parsed->has("--points") && parsed->value("--points") == "-") +
+                           (parsed->has("--rays") && parsed->value("--rays") == "-");
+    if (from_stdin > 1) throw UsageError{"query: only one of MESH_FILE, --points and --rays can be standard input"};
+
+    nlohmann::json body;
+    const auto mesh = mesh_object(*parsed);
+    if (!mesh) return kExitFailed;
+    body["mesh"] = *mesh;
+    if (parsed->has("--points")) {
+        const auto points = read_json_file(parsed->value("--points"));
+        if (!points) return kExitFailed;
+        body["points"] = member_or_self(*points, "points");
+    }
+    if (parsed->has("--rays")) {
+        const auto rays = read_json_file(parsed->value("--rays"));
+        if (!rays) return kExitFailed;
+        body["rays"] = member_or_self(*rays, "rays");
+    }
+    if (parsed->has("--want")) {
+        nlohmann::json want = nlohmann::json::array();
+        std::istringstream in(parsed->value("--want"));
+        for (std::string item; std::getline(in, item, ',');) want.push_back(item);
+        body["want"] = std::move(want);
+    }
+    for (const auto& [name, text] : parsed->params) {
+        const api::options::OptionSpec& spec = table_option(operation, name);
+        nlohmann::json& container = spec.json_object.empty() ? body : body[std::string(spec.json_object)];
+        if (spec.type == api::options::OptionType::Bool)
+            container[name] = text == "true";
+        else
+            container[name] = std::stod(text);
+    }
+    return finish(
+        api::dispatch(upload_request("/mesh/query", "application/json", body.dump(), {}), context), *parsed,
+        [&](const api::ApiResponse&) {
+            const std::size_t points = body.contains("points") && body["points"].is_array() ? body["points"].size() : 0;
+            const std::size_t rays = body.contains("rays") && body["rays"].is_array() ? body["rays"].size() : 0;
+            parsed->report() << "wrote " << parsed->output_label() << ": " << points << " points, " << rays
+                             << " rays answered\n";
+        },
+        ProblemStyle{.field = true, .line = false, .offset = false});
+}
+
+}  // namespace surfaced::cli
