@@ -271,6 +271,16 @@ export interface ImplicitQueryOptions {
   max_steps?: number;
 }
 
+export interface MeshQueryOptions {
+  mesh: Mesh;
+  points?: Vec3[];
+  /** [ox, oy, oz, dx, dy, dz]: origin, then a non-zero direction */
+  rays?: number[][];
+  /** the point answers; absent: all four */
+  want?: ('inside' | 'winding_number' | 'distance' | 'closest')[];
+  winding?: { exact?: boolean; accuracy?: number };
+}
+
 export interface ImplicitMeshOptions {
   scene: ImplicitScene;
   bounds: Bounds;
@@ -352,6 +362,13 @@ export interface ImplicitQueryAnswer {
   rays?: { hit: boolean; t?: number; point?: number[]; normal?: number[]; steps: number }[];
 }
 
+/** Only the answers asked for; a ray that misses has hit false and null for the rest. */
+export interface MeshQueryAnswer {
+  points?: { inside?: boolean[]; winding_number?: number[]; distance?: number[]; closest?: number[][]; face?: number[] };
+  rays?: { hit: boolean[]; t: (number | null)[]; face: (number | null)[]; point: (number[] | null)[];
+    normal: (number[] | null)[] };
+}
+
 /** One member per query asked (evaluate, length, ...); an svg answers per subpath in `subpaths`. */
 export type CurvesAnswer = Record<string, unknown>;
 
@@ -418,6 +435,7 @@ export declare class Client {
   patchSample(name?: string, options?: PatchSampleOptions): Promise<Result<PatchesAnswer>>;
   curves(options: CurvesOptions): Promise<Result<CurvesAnswer>>;
   implicitQuery(options: ImplicitQueryOptions): Promise<Result<ImplicitQueryAnswer>>;
+  meshQuery(options: MeshQueryOptions): Promise<Result<MeshQueryAnswer>>;
   implicitMesh(options: ImplicitMeshOptions): Promise<Result<MeshAnswer>>;
   pointcloud(options: PointcloudOptions): Promise<Result<PointcloudAnswer>>;
 }

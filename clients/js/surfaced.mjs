@@ -210,6 +210,9 @@ export class Client {
   /** POST /implicit/query: {scene, points, rays, tolerance, max_distance, max_steps}; the answer's document in .json */
   implicitQuery(request) { return this.request('POST', '/implicit/query', { json: request }); }
 
+  /** POST /mesh/query: {mesh, points, rays, want, winding}; the answer's document in .json */
+  meshQuery(request) { return this.request('POST', '/mesh/query', { json: request }); }
+
   /** POST /implicit/mesh: {scene, bounds, resolution | cell_size, mode, simplify_tolerance, crease_angle, output}
    *  -> a closed mesh */
   implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }

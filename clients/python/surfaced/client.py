@@ -542,6 +542,21 @@ class Client:
         body = {"scene": scene, **_options(locals(), Client.implicit_query.__kwdefaults__, skip=("scene",))}
         return self.request("POST", "/implicit/query", json_body=body)
 
+    # -- mesh queries ----------------------------------------------------------------------------------------------
+    def mesh_query(self, mesh: Mesh, *, points: Optional[Sequence[Vec3]] = None,
+                   rays: Optional[Sequence[Sequence[float]]] = None, want: Optional[Sequence[str]] = None,
+                   winding: Optional[Dict[str, Any]] = None) -> Result:
+        """POST /mesh/query: for ``points``, inside (winding number >= 1/2), winding number, signed distance (negative
+        inside) and closest point with its face; for ``rays`` (``[ox, oy, oz, dx, dy, dz]``), the first hit. The
+        answer is JSON (``result.json``).
+
+        :param want: the point answers, some of ``"inside"``, ``"winding_number"``, ``"distance"``, ``"closest"``
+            (default: all four).
+        :param winding: ``{"exact": bool (default False), "accuracy": beta > 1 (default 2)}``.
+        """
+        body = {"mesh": mesh, **_options(locals(), Client.mesh_query.__kwdefaults__, skip=("mesh",))}
+        return self.request("POST", "/mesh/query", json_body=body)
+
     def implicit_mesh(self, scene: ImplicitScene, bounds: Bounds, *, resolution: int = 64,
                       cell_size: Optional[float] = None, mode: ImplicitMode = "uniform",
                       simplify_tolerance: float = 0, crease_angle: float = 40,
