@@ -64,10 +64,12 @@ nlohmann::json member_or_self(nlohmann::json doc, const char* member) {
 
 //! The mesh of MESH_FILE as the JSON mesh object; nullopt (and why, printed) when it cannot be read.
 std::optional<nlohmann::json> mesh_object(const Parsed& parsed) {
-    const bool json_file = lower_extension(parsed.input) == ".json";
+    const bool json_file = parsed.has("--input-format") ? parsed.value("--input-format") == "json"
+                                                        : lower_extension(parsed.input) == ".json";
     const auto bytes = read_input(parsed.input);
     if (!bytes) return std::nullopt;
-    const bool looks_json = parsed.from_stdin() && bytes->find_first_not_of(" \t\r\n") != std::string::npos &&
+    const bool looks_json = parsed.from_stdin() && !parsed.has("--input-format") &&
+                            bytes->find_first_not_of(" \t\r\n") != std::string::npos &&
                             (*bytes)[bytes->find_first_not_of(" \t\r\n")] == '{';
     if (json_file || looks_json) {
         nlohmann::json doc = nlohmann::json::parse(*bytes, nullptr, false);
@@ -77,7 +79,8 @@ std::optional<nlohmann::json> mesh_object(const Parsed& parsed) {
         }
         return member_or_self(std::move(doc), "mesh");
     }
-    const MeshFormat format = parsed.from_stdin() ? sniff_mesh_format(*bytes) : *mesh_input_format(parsed);
+    const auto named = mesh_input_format(parsed);
+    const MeshFormat format = named ? *named : sniff_mesh_format(*bytes);
     auto mesh = read_mesh(*bytes, format);
     if (!mesh) {
         std::cerr << "surfaced: " << parsed.input_label() << ": " << mesh.error().message << "\n";
@@ -115,6 +118,12 @@ int query(Args& sent) {
     api::ApiContext context = file_context();
     const api::options::OperationOptions& operation = *api::options::operation_options("mesh_query");
     std::vector<Option> options = table_options(operation, api::options::kJson);
+    options.push_back(Option{.name = "--input-format",
+                             .check = one_of_names({"obj", "off", "ply", "stl", "glb", "gltf", "json"}),
+                             .synopsis = "--input-format NAME",
+                             .description =
+                                 "MESH_FILE's format instead of its extension: obj off ply stl glb gltf json "
+                                 "(MESH_FILE -: from the bytes)"});
     options.push_back(Option{.name = "--points",
                              .check = [](std::string_view, const std::string& text) { return text; },
                              .synopsis = "--points FILE.json",

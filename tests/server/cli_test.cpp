@@ -326,6 +326,12 @@ TEST_F(SurfacedCli, QueryAnswersPointsAndRaysOfAMeshFile) {
     ASSERT_EQ(piped.exit_code, 0) << piped.err;
     EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "answer.json"))["points"]["face"].size(), 3u);
 
+    // The mesh from standard input, its format named.
+    const CliRun mesh_in =
+        run("query - --input-format obj --points " + path("points.json") + " --want inside", "cube.obj");
+    ASSERT_EQ(mesh_in.exit_code, 0) << mesh_in.err;
+    EXPECT_EQ(nlohmann::json::parse(mesh_in.out)["points"]["inside"], nlohmann::json::array({true, false, false}));
+
     // Usage errors exit 2 naming the flag; a mesh without faces is the operation's failure, exit 1.
     const CliRun want = run("query " + path("cube.obj") + " --points " + path("points.json") + " --want insde");
     EXPECT_EQ(want.exit_code, 2);

@@ -141,7 +141,7 @@ TEST_F(IntakeHttp, BodyWithoutContentTypeIs415WithTheEndpointsTypes) {
 // empty_body, and the connection serves the next request.
 TEST_F(IntakeHttp, PostWithoutBodyOrLengthIsAnsweredAtOnce) {
     for (const char* path : {"/subdivide", "/simplify", "/remesh", "/repair", "/tessellate", "/curves",
-                             "/implicit/query", "/pointcloud", "/implicit/mesh"}) {
+                             "/implicit/query", "/mesh/query", "/pointcloud", "/implicit/mesh"}) {
         SCOPED_TRACE(path);
         const int fd = connect_to(port());
         ASSERT_GE(fd, 0);
@@ -248,7 +248,8 @@ TEST_F(IntakeHttp, JsonNumberOutOfRangeIs400WithItsPosition) {
         expect_http_problem(client().Post("/curves", curve, "application/json"), 400, "number_out_of_range");
     EXPECT_EQ(curves.value("offset", -1), static_cast<int>(curve.find("-1e400"))) << curves.dump();
 
-    for (const char* path : {"/subdivide", "/curves", "/implicit/query", "/pointcloud", "/tessellate", "/repair"}) {
+    for (const char* path :
+         {"/subdivide", "/curves", "/implicit/query", "/mesh/query", "/pointcloud", "/tessellate", "/repair"}) {
         for (const char* body : {R"({"a": 1e400})", R"({"a": x})", R"({"a": [1, 2)", "[1e999999999]"}) {
             SCOPED_TRACE(std::string(path) + " " + body);
             auto res = client().Post(path, body, "application/json");
