@@ -143,6 +143,38 @@ TEST(MeshQueryOperation, WantSelectsMembersAndRaysHitWhereTheCubeIs) {
     EXPECT_EQ(rays["face"][3], 3);  // +y
 }
 
+TEST(MeshQueryOperation, TorusAgreesWithBruteForceAndTheAnalyticInside) {
+    // A deeper hierarchy (1152 triangles): the closest point against every triangle, and inside against the smooth
+    // torus (sqrt(x^2 + y^2) - R)^2 + z^2 < r^2 away from its surface, where the polygonal one may differ.
+    const double R = 1.0, r = 0.35;
+    const PolygonMesh torus = shapes::torus(24, 12, R, r);
+    std::vector<Vec3> points;
+    for (double x = -1.6; x <= 1.6; x += 0.2)
+        for (double y = -1.5; y <= 1.5; y += 0.3)
+            for (double z = -0.5; z <= 0.5; z += 0.25) points.push_back({x, y, z});
+    const ApiResponse response = post(json_request(torus, R"(, "points": )" + points_json(points)));
+    ASSERT_EQ(response.status, 200) << response.body;
+    const Json answers = Json::parse(response.body)["points"];
+    int checked_inside = 0, checked_outside = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Vec3& p = points[i];
+        SCOPED_TRACE(i);
+        const double brute = brute_distance(torus, p);
+        const Vec3 c = point_of(answers["closest"][i]);
+        EXPECT_NEAR(norm(c - p), brute, 1e-12);
+        EXPECT_NEAR(std::abs(answers["distance"][i].get<double>()), brute, 1e-12);
+        EXPECT_NEAR(face_distance(torus, answers["face"][i].get<std::size_t>(), c), 0.0, 1e-12);
+        const double smooth = std::hypot(std::hypot(p.x, p.y) - R, p.z) - r;
+        if (std::abs(smooth) < 0.05) continue;
+        const bool inside = smooth < 0;
+        EXPECT_EQ(answers["inside"][i].get<bool>(), inside);
+        EXPECT_EQ(answers["distance"][i].get<double>() < 0, inside);
+        (inside ? checked_inside : checked_outside)++;
+    }
+    EXPECT_GT(checked_inside, 20);
+    EXPECT_GT(checked_outside, 200);
+}
+
 TEST(MeshQueryOperation, OpenBoxWindingNumberIsTheSolidAngleOfItsFaces) {
     // Without its +z face, the box still covers 5/6 of the view from its centre: inside (w >= 1/2), where ray
     // parity would depend on the direction.
@@ -203,6 +235,7 @@ TEST(MeshQueryOperation, BadRequestsNameTheirField) {
                    "winding.accuracy");
     expect_problem(with(R"(, "points": [[0, 0, 0]], "winding": {"exact": 1})"), 400, "invalid_field", "winding.exact");
     expect_problem(with(R"(, "points": [[0, 0, 0]], "winding": {"exakt": true})"), 400, "unknown_field", "");
+    expect_problem(with(R"(, "points": [[0, 0, 0]], "winding": 3)"), 400, "invalid_field", "winding");
     expect_problem(with(R"(, "points": [[0, 0, 0]], "point": [[0, 0, 0]])"), 400, "unknown_field", "");
     expect_problem(post(R"({"points": [[0, 0, 0]]})"), 400, "invalid_field", "mesh");
     expect_problem(post(R"({"mesh": {"positions": [[0, 0, 0]], "faces": []}, "points": [[0, 0, 0]]})"), 422,
