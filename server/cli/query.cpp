@@ -141,8 +141,12 @@ int query(Args& sent) {
     std::vector<char*> argv;
     for (std::string& word : words) argv.push_back(word.data());
     Args args(static_cast<int>(argv.size()), argv.data(), 0);
-    const auto parsed = parse_file_command(args, "query", std::string(kQueryHelp) + options_help(operation, options),
-                                           options, "MESH_FILE");
+    // OUT is optional here (with_default_output): the shared help's "(required)" does not apply.
+    std::string help = std::string(kQueryHelp) + options_help(operation, options);
+    constexpr std::string_view kRequired = "output file (required); - for standard output";
+    if (const auto at = help.find(kRequired); at != std::string::npos)
+        help.replace(at, kRequired.size(), "the JSON answer; - (the default) for standard output");
+    const auto parsed = parse_file_command(args, "query", help, options, "MESH_FILE");
     if (!parsed) return kExitOk;
     if (parsed->has("--format")) throw UsageError{"query: the answer is JSON; --format does not apply"};
     if (!parsed->has("--points") && !parsed->has("--rays"))
