@@ -157,6 +157,19 @@ ApiResult<bool> read_bool(const Json& value, const std::string& field) {
     return value.get<bool>();
 }
 
+ApiResult<Vec3> read_vec3(const Json& value, const std::string& field) {
+    if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be [x, y, z]");
+    Vec3 p;
+    for (std::size_t c = 0; c < 3; ++c) {
+        auto x = read_number(value[c], index_path(field, c));
+        if (!x) return std::move(x.error());
+        p[static_cast<int>(c)] = x.value();
+    }
+    return p;
+}
+
+Json vec3_json(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
+
 ApiResult<double> read_number(const Json& value, const std::string& field) {
     if (!value.is_number() || !std::isfinite(value.get<double>()))
         return invalid(field, field + " must be a finite number");

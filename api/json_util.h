@@ -44,6 +44,8 @@ std::optional<ApiError> check_members(const Json& object, std::string_view path,
 ApiResult<std::int64_t> read_integer(const Json& value, const std::string& field);  //!< no fraction or exponent
 ApiResult<double> read_number(const Json& value, const std::string& field);         //!< finite
 ApiResult<bool> read_bool(const Json& value, const std::string& field);
+ApiResult<Vec3> read_vec3(const Json& value, const std::string& field);  //!< [x, y, z], each finite
+Json vec3_json(const Vec3& v);                                           //!< [x, y, z]
 template <class E, std::size_t N>
 ApiResult<E> read_enum(const Json& value, const std::string& field, const EnumName<E> (&table)[N]) {
     if (!value.is_string()) return invalid(field, field + " must be a string, one of " + enum_names(table));

@@ -45,7 +45,8 @@ ApiError budget(const std::string& field, const std::string& detail) {
     return make_problem(Problem::BudgetExceeded, detail, field);
 }
 
-ApiResult<Vec3> read_vec3(const Json& value, const std::string& field) {
+//! A scene's [x, y, z] (json::read_vec3 with the scene language's wording)
+ApiResult<Vec3> read_scene_vec3(const Json& value, const std::string& field) {
     if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be an array of 3 numbers");
     Vec3 v;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -156,7 +157,7 @@ private:
     ApiResult<Vec3> vec3(const Json& v, const std::string& path, const char* name) {
         auto m = member(v, path, name);
         if (!m) return std::move(m.error());
-        return read_vec3(*m.value(), member_path(path, name));
+        return read_scene_vec3(*m.value(), member_path(path, name));
     }
 
     ApiResult<Vec3> positive_vec3(const Json& v, const std::string& path, const char* name) {
@@ -586,9 +587,9 @@ ApiResult<std::shared_ptr<const implicit::Field>> parse_scene(const json::Json& 
 ApiResult<Box3> parse_bounds(const json::Json& value, const std::string& path) {
     if (!value.is_array() || value.size() != 2)
         return json::invalid(path, path + " must be [[xmin, ymin, zmin], [xmax, ymax, zmax]]");
-    auto lo = read_vec3(value[0], json::index_path(path, 0));
+    auto lo = read_scene_vec3(value[0], json::index_path(path, 0));
     if (!lo) return std::move(lo.error());
-    auto hi = read_vec3(value[1], json::index_path(path, 1));
+    auto hi = read_scene_vec3(value[1], json::index_path(path, 1));
     if (!hi) return std::move(hi.error());
     Box3 box;
     box.min = lo.value();

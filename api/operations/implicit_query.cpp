@@ -20,19 +20,6 @@ namespace {
 
 using namespace json;  // the shared readers (api/json_util.h)
 
-ApiResult<Vec3> read_point(const Json& value, const std::string& field) {
-    if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be [x, y, z]");
-    Vec3 p;
-    for (std::size_t c = 0; c < 3; ++c) {
-        auto x = read_number(value[c], index_path(field, c));
-        if (!x) return std::move(x.error());
-        p[static_cast<int>(c)] = x.value();
-    }
-    return p;
-}
-
-Json vec(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
-
 const char* kind_name(implicit::FieldKind kind) {
     switch (kind) {
         case implicit::FieldKind::ExactDistance: return "exact_distance";
@@ -70,9 +57,9 @@ std::optional<ApiError> read_rays(const Json& list, std::vector<implicit::Ray>& 
         if (auto error = check_members(r, path, {"origin", "direction"})) return error;
         if (!r.contains("origin")) return invalid(path + ".origin", path + ".origin is required");
         if (!r.contains("direction")) return invalid(path + ".direction", path + ".direction is required");
-        auto o = read_point(r["origin"], path + ".origin");
+        auto o = read_vec3(r["origin"], path + ".origin");
         if (!o) return std::move(o.error());
-        auto d = read_point(r["direction"], path + ".direction");
+        auto d = read_vec3(r["direction"], path + ".direction");
         if (!d) return std::move(d.error());
         const double n = norm(d.value());
         if (!(n > 0) || !std::isfinite(n))
@@ -88,7 +75,7 @@ Json encode_samples(const std::vector<implicit::PointSample>& samples) {
     for (const auto& s : samples) {
         Json item = {{"class", implicit::to_string(s.cls)}};
         item["value"] = std::isfinite(s.value) ? Json(s.value) : Json(nullptr);
-        item["gradient"] = is_finite(s.gradient) ? vec(s.gradient) : Json(nullptr);
+        item["gradient"] = is_finite(s.gradient) ? vec3_json(s.gradient) : Json(nullptr);
         list.push_back(std::move(item));
     }
     return list;
@@ -100,8 +87,8 @@ Json encode_hits(const std::vector<implicit::RayHit>& hits) {
         Json item = {{"hit", h.hit}};
         if (h.hit) {
             item["t"] = h.t;
-            item["point"] = vec(h.point);
-            item["normal"] = vec(h.normal);
+            item["point"] = vec3_json(h.point);
+            item["normal"] = vec3_json(h.normal);
         }
         item["steps"] = h.steps;
         list.push_back(std::move(item));
@@ -149,7 +136,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     std::vector<Vec3> points;
     points.reserve(point_count);
     for (std::size_t i = 0; i < point_count; ++i) {
-        auto p = read_point((*points_it)[i], index_path("points", i));
+        auto p = read_vec3((*points_it)[i], index_path("points", i));
         if (!p) return error_response(std::move(p.error()));
         points.push_back(p.value());
     }

@@ -34,17 +34,6 @@ struct Want {
     bool needs_winding() const { return inside || winding_number || distance; }
 };
 
-ApiResult<Vec3> read_point(const Json& value, const std::string& field) {
-    if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be [x, y, z]");
-    Vec3 p;
-    for (std::size_t c = 0; c < 3; ++c) {
-        auto x = read_number(value[c], index_path(field, c));
-        if (!x) return std::move(x.error());
-        p[static_cast<int>(c)] = x.value();
-    }
-    return p;
-}
-
 //! [ox, oy, oz, dx, dy, dz] with a non-zero direction.
 ApiResult<Ray> read_ray(const Json& value, const std::string& field) {
     if (!value.is_array() || value.size() != 6)
@@ -88,8 +77,6 @@ ApiResult<Want> read_want(const Json& value) {
     }
     return want;
 }
-
-Json vec(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
 
 std::optional<ApiError> deadline_passed(const Cancel& cancel) {
     if (!cancel.requested()) return std::nullopt;
@@ -138,7 +125,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     std::vector<Vec3> points;
     points.reserve(point_count);
     for (std::size_t i = 0; i < point_count; ++i) {
-        auto p = read_point((*points_it)[i], index_path("points", i));
+        auto p = read_vec3((*points_it)[i], index_path("points", i));
         if (!p) return error_response(std::move(p.error()));
         points.push_back(p.value());
     }
@@ -209,7 +196,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
             if (want.winding_number) number.push_back(w->value);
             if (want.distance) distance.push_back(signed_value);
             if (want.closest) {
-                closest.push_back(near ? vec(near->point) : Json(nullptr));
+                closest.push_back(near ? vec3_json(near->point) : Json(nullptr));
                 face.push_back(near ? Json(near->face) : Json(nullptr));
             }
         }
@@ -233,8 +220,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
             hit.push_back(h.has_value());
             t.push_back(h ? Json(h->t) : Json(nullptr));
             face.push_back(h ? Json(h->face) : Json(nullptr));
-            point.push_back(h ? vec(h->point) : Json(nullptr));
-            normal.push_back(h ? vec(h->normal) : Json(nullptr));
+            point.push_back(h ? vec3_json(h->point) : Json(nullptr));
+            normal.push_back(h ? vec3_json(h->normal) : Json(nullptr));
         }
         out["rays"] = {{"hit", std::move(hit)},
                        {"t", std::move(t)},

@@ -48,17 +48,6 @@ std::optional<ApiError> check_output(const OutputOptions& out, Source source) {
     return check_output_options(out, source);
 }
 
-ApiResult<Vec3> read_vec3(const Json& value, const std::string& field) {
-    if (!value.is_array() || value.size() != 3) return invalid(field, field + " must be [x, y, z]");
-    Vec3 p;
-    for (std::size_t c = 0; c < 3; ++c) {
-        auto x = read_number(value[c], index_path(field, c));
-        if (!x) return std::move(x.error());
-        p[static_cast<int>(c)] = x.value();
-    }
-    return p;
-}
-
 //! "points", "normals", "colors" of a JSON request.
 ApiResult<PointCloud> decode_points(const Json& root, const Limits& limits) {
     const Json& points = root["points"];

@@ -25,23 +25,10 @@ namespace {
 
 using nlohmann::json;
 
-class FormatsHttp : public ::testing::Test {
+class FormatsHttp : public testing::SharedServerTest<FormatsHttp> {
 protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
-        server_ = new testing::LoopbackServer(config);
-    }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    httplib::Client client() const { return server_->client(60); }
-    static testing::LoopbackServer* server_;
+    static httplib::Client client() { return server_->client(60); }
 };
-
-testing::LoopbackServer* FormatsHttp::server_ = nullptr;
 
 struct Format {
     const char* name;

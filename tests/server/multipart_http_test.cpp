@@ -24,23 +24,17 @@ constexpr const char* kCubeObj =
 
 constexpr std::size_t kBodyLimit = 1 << 20;
 
-class MultipartHttp : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
+class MultipartHttp : public testing::SharedServerTest<MultipartHttp> {
+public:
+    static ServerConfig suite_config() {
+        ServerConfig config = SharedServerTest::suite_config();
         config.limits.max_body_bytes = kBodyLimit;
-        server_ = new testing::LoopbackServer(config);
+        return config;
     }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
+
+protected:
     static httplib::Client client() { return server_->client(20); }
-    static testing::LoopbackServer* server_;
 };
-testing::LoopbackServer* MultipartHttp::server_ = nullptr;
 
 //! The cube as the file part, as curl -F file=@cube.obj sends it (curl does not know .obj: octet-stream).
 httplib::MultipartFormDataItems cube_form(httplib::MultipartFormDataItems fields = {}) {

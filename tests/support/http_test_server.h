@@ -155,6 +155,29 @@ private:
     bool started_ = false;
 };
 
+//! A fixture whose test suite shares one LoopbackServer, started before its first test and stopped after its last.
+//! `Suite` (the fixture deriving from this) may declare `static server::ServerConfig suite_config()` to change the
+//! configuration (two threads, no web root by default); every suite gets its own server.
+template <class Suite>
+class SharedServerTest : public ::testing::Test {
+public:
+    static server::ServerConfig suite_config() {
+        server::ServerConfig config;
+        config.threads = 2;
+        config.web_root = "";
+        return config;
+    }
+
+protected:
+    static void SetUpTestSuite() { server_ = new LoopbackServer(Suite::suite_config()); }
+    static void TearDownTestSuite() {
+        delete server_;  // stops and joins
+        server_ = nullptr;
+    }
+    static httplib::Client client(int read_timeout_seconds = 30) { return server_->client(read_timeout_seconds); }
+    static inline LoopbackServer* server_ = nullptr;
+};
+
 //! Status, the problem+json media type, the envelope's status/code (and field, unless empty); the parsed envelope.
 inline nlohmann::json expect_http_problem(const httplib::Result& res, int status, const std::string& code,
                                           const std::string& field = {}) {
