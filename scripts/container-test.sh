@@ -36,9 +36,9 @@ echo "== container image built in $(( $(date +%s) - t0 )) s ($(podman image insp
 # ---- image metadata: non-root user, health check, port
 [ "$(podman image inspect -f '{{.Config.User}}' "$image")" != "" ] || fail "image has no USER"
 case "$(podman image inspect -f '{{.Config.User}}' "$image")" in 0|0:*|root|root:*) fail "image USER is root";; esac
-podman image inspect -f '{{.Config.Healthcheck.Test}}' "$image" | grep -q 'surfaced healthcheck' ||
+podman image inspect -f '{{.Config.Healthcheck.Test}}' "$image" | grep 'surfaced healthcheck' >/dev/null ||
   fail "image has no HEALTHCHECK (built without --format docker?)"
-podman image inspect -f '{{json .Config.ExposedPorts}}' "$image" | grep -q '"8080/tcp"' || fail "image does not expose 8080"
+podman image inspect -f '{{json .Config.ExposedPorts}}' "$image" | grep '"8080/tcp"' >/dev/null || fail "image does not expose 8080"
 
 # ---- run on a free loopback port
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
@@ -55,7 +55,9 @@ done
 echo "   healthy: $(podman inspect -f '{{.State.Health.Status}}' "$name") after $(( $(date +%s) - t0 )) s since build start"
 curl -fsS "http://127.0.0.1:$port/livez" >/dev/null || fail "GET /livez from the host"
 # the web client and its vendored three.js are in the image
-curl -fsS "http://127.0.0.1:$port/" | grep -qi '<html' || fail "GET / does not serve the web client"
+# (to a file, then grep: `curl | grep -q` under pipefail fails when grep exits before curl has written everything)
+curl -fsS -o "$work/index.html" "http://127.0.0.1:$port/" || fail "GET / from the host"
+grep -qi '<html' "$work/index.html" || fail "GET / does not serve the web client"
 curl -fsS -o /dev/null "http://127.0.0.1:$port/vendor/three/three.module.js" || fail "the web client's three.js is not served"
 
 # ---- a real request: a cube, Catmull-Clark level 2, Draco GLB back; the Khronos validator must report no errors
