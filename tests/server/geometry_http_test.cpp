@@ -31,22 +31,10 @@ constexpr const char* kCubeObj =
 
 constexpr const char* kUnitSphere = R"({"op": "sphere", "radius": 1})";
 
-class GeometryHttp : public ::testing::Test {
+class GeometryHttp : public testing::SharedServerTest<GeometryHttp> {
 protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
-        server_ = new testing::LoopbackServer(config);
-    }
-    static void TearDownTestSuite() {
-        delete server_;  // stops and joins
-        server_ = nullptr;
-    }
-    static httplib::Client client() { return server_->client(60); }
-    static testing::LoopbackServer* server_;
+    static httplib::Client client() { return SharedServerTest::client(60); }
 };
-testing::LoopbackServer* GeometryHttp::server_ = nullptr;
 
 double length(const Vec3& p) { return std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z); }
 

@@ -40,29 +40,21 @@ std::string obj_of_size(std::size_t bytes) {
     return out;
 }
 
-class IntakeHttp : public ::testing::Test {
+class IntakeHttp : public testing::SharedServerTest<IntakeHttp> {
 public:
     static int port() { return server_->port(); }
-
-protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
+    static ServerConfig suite_config() {
+        ServerConfig config = SharedServerTest::suite_config();
         config.limits.max_body_bytes = 1 << 20;
         // Far beyond the tests' read bounds (10 s): an answer that waits for a body that never comes fails them.
         config.body_timeout_seconds = 120;
         config.read_timeout_seconds = 120;
-        server_ = new testing::LoopbackServer(config);
+        return config;
     }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    static httplib::Client client() { return server_->client(20); }
-    static testing::LoopbackServer* server_;
+
+protected:
+    static httplib::Client client() { return SharedServerTest::client(20); }
 };
-testing::LoopbackServer* IntakeHttp::server_ = nullptr;
 
 //! Sends `head` (request line and headers, without the blank line) and `body` on a new connection; the response.
 std::string exchange(const std::string& head, const std::string& body = {}) {

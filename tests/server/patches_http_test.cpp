@@ -25,23 +25,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class PatchesHttp : public ::testing::Test {
+class PatchesHttp : public testing::SharedServerTest<PatchesHttp> {
 protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
-        server_ = new testing::LoopbackServer(config);
-    }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    httplib::Client client() const { return server_->client(30); }
-    static testing::LoopbackServer* server_;
+    static httplib::Client client() { return SharedServerTest::client(30); }
 };
-
-testing::LoopbackServer* PatchesHttp::server_ = nullptr;
 
 TEST_F(PatchesHttp, TeapotGlbThenNotModified) {
     auto res = client().Get("/patches/teapot?tolerance=0.01");

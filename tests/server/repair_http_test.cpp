@@ -54,22 +54,10 @@ PolygonMesh json_mesh(const Json& body) {
     return mesh;
 }
 
-class RepairHttp : public ::testing::Test {
+class RepairHttp : public testing::SharedServerTest<RepairHttp> {
 protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
-        server_ = new testing::LoopbackServer(config);
-    }
-    static void TearDownTestSuite() {
-        delete server_;  // stops and joins
-        server_ = nullptr;
-    }
-    static httplib::Client client() { return server_->client(60); }
-    static testing::LoopbackServer* server_;
+    static httplib::Client client() { return SharedServerTest::client(60); }
 };
-testing::LoopbackServer* RepairHttp::server_ = nullptr;
 
 TEST_F(RepairHttp, BinaryStlSoupComesBackManifoldWithItsReport) {
     // The STL reader welds the corners it stores per triangle (26 distinct of 144), so repair itself welds nothing.

@@ -30,23 +30,17 @@ std::string header_of(const httplib::Result& res, const char* name) {
     return res && res->has_header(name) ? res->get_header_value(name) : std::string();
 }
 
-class SimplifyHttp : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        ServerConfig config;
-        config.threads = 2;
-        config.web_root = "";
+class SimplifyHttp : public testing::SharedServerTest<SimplifyHttp> {
+public:
+    static ServerConfig suite_config() {
+        ServerConfig config = SharedServerTest::suite_config();
         config.limits.max_body_bytes = 4 << 20;
-        server_ = new testing::LoopbackServer(config);
+        return config;
     }
-    static void TearDownTestSuite() {
-        delete server_;
-        server_ = nullptr;
-    }
-    httplib::Client client() const { return server_->client(60); }
-    static testing::LoopbackServer* server_;
+
+protected:
+    static httplib::Client client() { return SharedServerTest::client(60); }
 };
-testing::LoopbackServer* SimplifyHttp::server_ = nullptr;
 
 TEST_F(SimplifyHttp, ObjUploadToValidGlbWithErrorHeaders) {
     const PolygonMesh sphere = testing::icosphere(4);
