@@ -1,6 +1,7 @@
 // Request budgets. Checked in api/ before any geometry work starts (STYLE d.3: never trust input sizes):
 // subdivision multiplies the face count by 4 per level, so a 2-face mesh at level 12 is already 33M faces.
-// The server fills these from its command line (`surfaced serve --max-body-mb ... --max-output-faces ...`).
+// The server fills these from its command line (`surfaced serve --max-body-mb ... --max-grid-cells ...`; the budget
+// flags are in server/cli/limit_flags.cpp).
 #pragma once
 
 #include <cstddef>

@@ -2,6 +2,7 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include "api/routes.h"
 #include "server/cli/commands.h"
 #include "server/cli/files.h"
+#include "server/cli/limit_flags.h"
 #include "server/http_server.h"
 
 #ifndef SURFACED_VERSION
@@ -54,7 +56,11 @@ Options:
   --max-body-mb N        largest request body in MiB; larger ones get 413 (default 64)
   --max-levels N         largest subdivision levels accepted (default 8)
   --max-output-faces N   largest predicted output face count accepted (default 4000000)
-  -h, --help             this text
+)";
+
+constexpr std::string_view kServeHelpEnd = R"(  -h, --help             this text
+
+Every budget is checked before the work it bounds starts; a request over one gets 422 budget_exceeded.
 
 Endpoints:
 )";
@@ -72,7 +78,7 @@ bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::s
                         ServeOptions& options) {
     server::ServerConfig& config = options.config;
     if (arg == "-h" || arg == "--help") {
-        std::cout << kServeHelp;
+        std::cout << kServeHelp << limit_flags_help() << kServeHelpEnd;
         for (const api::Route& route : api::routes())
             std::cout << "  " << route.method << " " << route.path << "  " << route.description << "\n";
         return false;
@@ -93,6 +99,8 @@ bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::s
     } else if (arg == "--max-output-faces") {
         config.limits.max_output_faces =
             static_cast<std::uint64_t>(parse_number(arg, args.value(arg, inline_value), 1, 4'000'000'000LL));
+    } else if (std::ranges::count(limit_flag_names(), arg) > 0) {
+        apply_limit_flag(arg, args.value(arg, inline_value), config.limits);  // a budget of api/limits.h
     } else if (arg == "--queue") {
         config.queue_capacity = static_cast<int>(parse_number(arg, args.value(arg, inline_value), 1, 1 << 20));
     } else if (arg == "--deadline-ms") {
@@ -130,27 +138,28 @@ bool apply_serve_option(Args& args, const std::string& arg, std::optional<std::s
         config.cors_origins.push_back(origin);
     } else {
         if (!arg.starts_with("-")) throw UsageError{"serve: unexpected argument \"" + arg + "\""};
-        throw unknown_option("serve", arg,
-                             {"--host",
-                              "--port",
-                              "--threads",
-                              "--queue",
-                              "--deadline-ms",
-                              "--keep-alive-max",
-                              "--keep-alive-timeout",
-                              "--header-timeout",
-                              "--body-timeout",
-                              "--body-min-rate",
-                              "--drain-timeout",
-                              "--drain-delay-ms",
-                              "--access-log",
-                              "--auth-token-file",
-                              "--cors-origin",
-                              "--web-root",
-                              "--max-body-mb",
-                              "--max-levels",
-                              "--max-output-faces",
-                              "--help"});
+        std::vector<std::string_view> known = {"--host",
+                                               "--port",
+                                               "--threads",
+                                               "--queue",
+                                               "--deadline-ms",
+                                               "--keep-alive-max",
+                                               "--keep-alive-timeout",
+                                               "--header-timeout",
+                                               "--body-timeout",
+                                               "--body-min-rate",
+                                               "--drain-timeout",
+                                               "--drain-delay-ms",
+                                               "--access-log",
+                                               "--auth-token-file",
+                                               "--cors-origin",
+                                               "--web-root",
+                                               "--max-body-mb",
+                                               "--max-levels",
+                                               "--max-output-faces",
+                                               "--help"};
+        for (std::string_view flag : limit_flag_names()) known.push_back(flag);
+        throw unknown_option("serve", arg, known);
     }
     return true;
 }

@@ -113,6 +113,32 @@ TEST_F(SurfacedCli, TheSameMistakeExitsTheSameInEveryCommand) {
     EXPECT_EQ(run("remesh " + path("torus.obj") + " -o " + path("x.obj") + " --quantize-position 12").exit_code, 2);
 }
 
+// Every `serve` flag in its --help is accepted with a valid value, refused (2) out of range, and documented in
+// docs/operations.md; the budget flags cover api/limits.h (their effect on requests: production_test).
+TEST_F(SurfacedCli, ServeFlagsAreDocumentedAndRangeChecked) {
+    const CliRun help = run("serve --help");
+    ASSERT_EQ(help.exit_code, 0) << help.err;
+    std::ifstream docs_file(std::string(SURFACED_SOURCE_DIR) + "/docs/operations.md");
+    std::stringstream docs;
+    docs << docs_file.rdbuf();
+    std::vector<std::string> budget_flags;
+    std::istringstream lines(help.out);
+    for (std::string line; std::getline(lines, line);) {
+        if (!line.starts_with("  --")) continue;
+        const std::string flag = line.substr(2, line.find(' ', 2) - 2);
+        EXPECT_TRUE(contains(docs.str(), "`" + flag)) << flag << " is not in docs/operations.md";
+        if (flag.starts_with("--max-")) budget_flags.push_back(flag);
+    }
+    EXPECT_EQ(budget_flags.size(), 18u);  // every budget of api/limits.h but the deadline (--deadline-ms)
+    for (const std::string& flag : budget_flags) {
+        EXPECT_EQ(run("serve " + flag + " 8 --help").exit_code, 0) << flag;
+        const CliRun negative = run("serve " + flag + "=-1 --help");
+        EXPECT_EQ(negative.exit_code, 2) << flag;
+        EXPECT_TRUE(contains(negative.err, flag + " must be between")) << negative.err;
+        EXPECT_EQ(run("serve " + flag + " many --help").exit_code, 2) << flag;
+    }
+}
+
 TEST_F(SurfacedCli, MisspeltOptionsAndValuesGetASuggestion) {
     const CliRun option = run("subdivide " + path("cube.obj") + " -o " + path("x.obj") + " --levle 2");
     EXPECT_EQ(option.exit_code, 2);

@@ -22,6 +22,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -565,28 +566,94 @@ TEST(Production, HealthcheckCommand) {
     EXPECT_EQ(run_cli("healthcheck --bogus"), 2);
 }
 
-TEST(Production, SigtermFinishesTheRequestInFlightAndExitsZero) {
+//! `surfaced serve --port 0 --threads 2 --access-log off EXTRA...` in a child process, and the port it announced on
+//! its first line (0 when it did not start).
+struct ServeProcess {
+    pid_t pid = -1;
+    int port = 0;
+    int out = -1;  //!< the read end of its standard output
+    std::string first_line;
+};
+
+ServeProcess spawn_serve(const std::vector<std::string>& extra = {}) {
+    ServeProcess p;
     int out_pipe[2];
-    ASSERT_EQ(pipe(out_pipe), 0);
-    const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
+    if (pipe(out_pipe) != 0) return p;
+    std::vector<std::string> args = {SURFACED_CLI_PATH, "serve", "--port",       "0",
+                                     "--threads",       "2",     "--access-log", "off"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    p.pid = fork();
+    if (p.pid == 0) {
         dup2(out_pipe[1], STDOUT_FILENO);
         close(out_pipe[0]);
         close(out_pipe[1]);
-        execl(SURFACED_CLI_PATH, SURFACED_CLI_PATH, "serve", "--port", "0", "--threads", "2", "--access-log", "off",
-              static_cast<char*>(nullptr));
+        execv(SURFACED_CLI_PATH, argv.data());
         _exit(127);
     }
     close(out_pipe[1]);
-    std::string line;
+    p.out = out_pipe[0];
     char c = 0;
-    pollfd pfd{out_pipe[0], POLLIN, 0};
-    while (line.find('\n') == std::string::npos && poll(&pfd, 1, 10'000) > 0 && read(out_pipe[0], &c, 1) == 1)
-        line += c;
-    const auto at = line.find("http://127.0.0.1:");
-    const int port = at == std::string::npos ? 0 : std::atoi(line.c_str() + at + 17);
-    ASSERT_GT(port, 0) << line;
+    pollfd pfd{p.out, POLLIN, 0};
+    while (p.first_line.find('\n') == std::string::npos && poll(&pfd, 1, 10'000) > 0 && read(p.out, &c, 1) == 1)
+        p.first_line += c;
+    const auto at = p.first_line.find("http://127.0.0.1:");
+    p.port = at == std::string::npos ? 0 : std::atoi(p.first_line.c_str() + at + 17);
+    return p;
+}
+
+//! SIGTERM, then the exit status (-1 when it was killed by a signal).
+int stop_serve(ServeProcess& p) {
+    kill(p.pid, SIGTERM);
+    int status = 0;
+    if (waitpid(p.pid, &status, 0) != p.pid) return -1;
+    close(p.out);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// The budget flags of `serve` reach the operations: each request below is within the default budgets and over the
+// one given on the command line.
+TEST(Production, ServeBudgetFlagsApplyToRequests) {
+    ServeProcess p = spawn_serve(
+        {"--max-grid-cells", "1000", "--max-mesh-queries", "2", "--max-input-faces", "5", "--max-scene-nodes", "2"});
+    ASSERT_GT(p.port, 0) << p.first_line;
+    httplib::Client cl("127.0.0.1", p.port);
+    cl.set_read_timeout(60, 0);
+    const std::string cube = R"({"positions":[[0,0,0],[1,0,0],[1,1,0],[0,1,0],[0,0,1],[1,0,1],[1,1,1],[0,1,1]],)"
+                             R"("faces":[[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]})";
+    auto expect_budget = [](const httplib::Result& res, const std::string& what) {
+        ASSERT_TRUE(res) << what;
+        EXPECT_EQ(res->status, 422) << what << ": " << res->body;
+        EXPECT_NE(res->body.find("budget_exceeded"), std::string::npos) << what << ": " << res->body;
+    };
+    expect_budget(cl.Post("/implicit/mesh",
+                          R"({"scene":{"op":"sphere","radius":1},"bounds":[[-2,-2,-2],[2,2,2]],"resolution":16})",
+                          "application/json"),
+                  "grid cells");
+    expect_budget(cl.Post("/implicit/query",
+                          R"({"scene":{"op":"union","args":[{"op":"sphere","radius":1},{"op":"sphere","radius":2}]},)"
+                          R"("points":[[0,0,0]]})",
+                          "application/json"),
+                  "scene nodes");
+    expect_budget(
+        cl.Post("/mesh/query", R"({"mesh":)" + cube + R"(,"points":[[0,0,0],[1,1,1],[2,2,2]]})", "application/json"),
+        "mesh queries");
+    expect_budget(cl.Post("/subdivide", R"({"mesh":)" + cube + R"(,"levels":1})", "application/json"), "input faces");
+    // within them: answered
+    auto small = cl.Post("/implicit/mesh",
+                         R"({"scene":{"op":"sphere","radius":1},"bounds":[[-2,-2,-2],[2,2,2]],"resolution":8})",
+                         "application/json");
+    ASSERT_TRUE(small);
+    EXPECT_EQ(small->status, 200) << small->body;
+    EXPECT_EQ(stop_serve(p), 0);
+}
+
+TEST(Production, SigtermFinishesTheRequestInFlightAndExitsZero) {
+    ServeProcess p = spawn_serve();
+    const int port = p.port;
+    ASSERT_GT(port, 0) << p.first_line;
 
     // A request that takes a while (10k quads to level 3, 640k faces, Draco-encoded).
     int slow_status = -1;
@@ -613,20 +680,20 @@ TEST(Production, SigtermFinishesTheRequestInFlightAndExitsZero) {
                std::stoi(m[1]) >= 2;
     });
     EXPECT_TRUE(in_flight);
-    kill(pid, SIGTERM);
+    kill(p.pid, SIGTERM);
     client.join();
     EXPECT_EQ(slow_status, 200) << slow_error;
     EXPECT_EQ(slow_faces, "640000");
     EXPECT_EQ(slow_magic, "glTF");
     int status = 0;
-    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_EQ(waitpid(p.pid, &status, 0), p.pid);
     EXPECT_TRUE(WIFEXITED(status)) << "killed by a signal instead of stopping cleanly";
     EXPECT_EQ(WEXITSTATUS(status), 0);
     // and it no longer listens
     httplib::Client after("127.0.0.1", port);
     after.set_connection_timeout(1, 0);
     EXPECT_FALSE(after.Get("/livez"));
-    close(out_pipe[0]);
+    close(p.out);
 }
 
 }  // namespace
