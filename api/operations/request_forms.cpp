@@ -155,6 +155,8 @@ namespace {
 //! The media type of the file part: its own when the endpoint reads it (the generic application/octet-stream and
 //! text/plain, which browsers and curl send for files they do not know, give way to a known extension), else the
 //! extension's, else application/octet-stream (the format then sniffed where the endpoint does so).
+}  // namespace
+
 std::string file_part_media_type(const MultipartPart& part, ReadsMediaType reads) {
     const std::string declared = media_type_of(part.content_type);
     const bool generic = declared == "application/octet-stream" || declared == "text/plain";
@@ -164,8 +166,6 @@ std::string file_part_media_type(const MultipartPart& part, ReadsMediaType reads
     if (!declared.empty()) return declared;
     return "application/octet-stream";
 }
-
-}  // namespace
 
 std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& limits, std::string_view accepted,
                                      ReadsMediaType reads, Upload& out) {

@@ -17,6 +17,7 @@
 
 #include "api/dto.h"
 #include "api/errors.h"
+#include "api/multipart.h"
 #include "api/operation.h"
 #include "geometry/core/cancel.h"
 #include "geometry/core/result.h"
@@ -75,6 +76,11 @@ std::string media_type_for_filename(std::string_view filename);
 bool reads_mesh_media_type(std::string_view media_type);
 //! ", multipart/form-data (...)": the tail every upload endpoint's list of accepted media types ends with.
 std::string_view multipart_media_type_note();
+
+//! The media type of a multipart file part: its Content-Type when `reads` takes it (application/octet-stream and
+//! text/plain only when the file name's extension names no type `reads` takes), else its extension's type, else
+//! application/octet-stream.
+std::string file_part_media_type(const MultipartPart& part, ReadsMediaType reads);
 
 //! The request an upload endpoint reads: the request itself, or for a multipart/form-data body the raw-file request
 //! it stands for (held in `form`, whose body is a view into the original body).

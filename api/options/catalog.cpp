@@ -394,6 +394,7 @@ constexpr OptionSpec kPointCloudOutput[] = {
 
 // ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---
 // "want" is an array of names, read by the operation itself.
+constexpr std::string_view kMeshQueryEncodings[] = {"json", "float32", "float64"};
 constexpr std::string_view kMeshQueryInputs[] = {"mesh", "points", "rays", "want"};
 constexpr OptionSpec kMeshQuery[] = {
     {.name = "exact",
@@ -409,6 +410,13 @@ constexpr OptionSpec kMeshQuery[] = {
      .description = "Hierarchy's beta: larger is more accurate and slower (about 5e-3 at 2, below 1e-3 at 3)",
      .transports = kJson,
      .json_object = "winding"},
+    {.name = "encoding",
+     .type = OptionType::Enum,
+     .default_json = "\"json\"",
+     .description = "How the answers' arrays are written: JSON numbers, or base64 of packed little-endian float32 or "
+                    "float64 (booleans uint8, faces int32, -1 and NaN for none)",
+     .values = kMeshQueryEncodings,
+     .transports = kJson},
 };
 
 constexpr OperationOptions kOperations[] = {

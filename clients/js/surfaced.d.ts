@@ -271,14 +271,19 @@ export interface ImplicitQueryOptions {
   max_steps?: number;
 }
 
+/** base64 of packed little-endian numbers, the items one after another */
+export type PackedNumbers = { float32: string } | { float64: string };
+
 export interface MeshQueryOptions {
   mesh: Mesh;
-  points?: Vec3[];
+  points?: Vec3[] | PackedNumbers;
   /** [ox, oy, oz, dx, dy, dz]: origin, then a non-zero direction */
-  rays?: number[][];
+  rays?: number[][] | PackedNumbers;
   /** the point answers; absent: all four */
   want?: ('inside' | 'winding_number' | 'distance' | 'closest')[];
   winding?: { exact?: boolean; accuracy?: number };
+  /** answers as JSON numbers, or every array as base64 of packed little-endian values. @default 'json' */
+  encoding?: 'json' | 'float32' | 'float64';
 }
 
 export interface ImplicitMeshOptions {
@@ -363,10 +368,13 @@ export interface ImplicitQueryAnswer {
 }
 
 /** Only the answers asked for; a ray that misses has hit false and null for the rest. */
+/** With `encoding` float32 or float64 every array below is instead a base64 string of packed values. */
 export interface MeshQueryAnswer {
-  points?: { inside?: boolean[]; winding_number?: number[]; distance?: number[]; closest?: number[][]; face?: number[] };
-  rays?: { hit: boolean[]; t: (number | null)[]; face: (number | null)[]; point: (number[] | null)[];
-    normal: (number[] | null)[] };
+  encoding?: 'float32' | 'float64';
+  points?: { inside?: boolean[] | string; winding_number?: number[] | string; distance?: number[] | string;
+    closest?: number[][] | string; face?: number[] | string };
+  rays?: { hit: boolean[] | string; t: (number | null)[] | string; face: (number | null)[] | string;
+    point: (number[] | null)[] | string; normal: (number[] | null)[] | string };
 }
 
 /** One member per query asked (evaluate, length, ...); an svg answers per subpath in `subpaths`. */

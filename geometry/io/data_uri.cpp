@@ -1,24 +1,14 @@
 // Base64 data: URIs: see data_uri.h.
 #include "geometry/io/data_uri.h"
 
-#include <array>
+#include "geometry/io/base64.h"
+
 #include <cstdint>
 #include <string>
 
 namespace surfaced::io_detail {
 
 namespace {
-
-constexpr unsigned char kInvalid = 0xff;
-
-constexpr std::array<unsigned char, 256> make_table() {
-    std::array<unsigned char, 256> table{};
-    table.fill(kInvalid);
-    constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    for (unsigned char i = 0; i < 64; ++i) table[static_cast<unsigned char>(kAlphabet[i])] = i;
-    return table;
-}
-constexpr std::array<unsigned char, 256> kTable = make_table();
 
 bool iequals_ascii(std::string_view a, std::string_view b) {
     if (a.size() != b.size()) return false;
@@ -31,53 +21,9 @@ bool iequals_ascii(std::string_view a, std::string_view b) {
     return true;
 }
 
-//! A character for an error message: itself when printable, else its code.
-std::string describe(char c) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u >= 0x21 && u < 0x7f) return std::string("'") + c + "'";
-    static constexpr char kHex[] = "0123456789abcdef";
-    return std::string("byte 0x") + kHex[u >> 4] + kHex[u & 15];
-}
-
 }  // namespace
 
 bool is_data_uri(std::string_view uri) { return uri.size() >= 5 && iequals_ascii(uri.substr(0, 5), "data:"); }
-
-Result<std::vector<unsigned char>> decode_base64(std::string_view text) {
-    if (text.size() % 4 != 0)
-        return make_error(ErrorCode::ParseError, "base64 data of " + std::to_string(text.size()) +
-                                                     " characters is not padded to a multiple of 4 with '='");
-    std::size_t padding = 0;
-    if (!text.empty() && text.back() == '=') ++padding;
-    if (text.size() >= 2 && text[text.size() - 2] == '=') ++padding;
-    std::vector<unsigned char> out;
-    out.reserve(text.size() / 4 * 3);
-    std::uint32_t group = 0;
-    for (std::size_t i = 0; i < text.size() - padding; ++i) {
-        const unsigned char value = kTable[static_cast<unsigned char>(text[i])];
-        if (value == kInvalid)
-            return make_error(ErrorCode::ParseError, "base64 data has " + describe(text[i]) + " at character " +
-                                                         std::to_string(i) +
-                                                         (text[i] == '=' ? " (padding before the end)" : ""));
-        group = (group << 6) | value;
-        if (i % 4 == 3) {
-            out.push_back(static_cast<unsigned char>(group >> 16));
-            out.push_back(static_cast<unsigned char>(group >> 8));
-            out.push_back(static_cast<unsigned char>(group));
-            group = 0;
-        }
-    }
-    // The last group: "xx==" holds one byte, "xxx=" two; the bits the padding leaves over must be zero.
-    if (padding == 2) {
-        if ((group & 0xf) != 0) return make_error(ErrorCode::ParseError, "base64 data has stray bits before its '=='");
-        out.push_back(static_cast<unsigned char>(group >> 4));
-    } else if (padding == 1) {
-        if ((group & 0x3) != 0) return make_error(ErrorCode::ParseError, "base64 data has stray bits before its '='");
-        out.push_back(static_cast<unsigned char>(group >> 10));
-        out.push_back(static_cast<unsigned char>(group >> 2));
-    }
-    return out;
-}
 
 Result<std::vector<unsigned char>> decode_data_uri(std::string_view uri,
                                                    std::initializer_list<std::string_view> media_types) {
@@ -97,7 +43,7 @@ Result<std::vector<unsigned char>> decode_data_uri(std::string_view uri,
         return make_error(ErrorCode::Unsupported, "data: URI has media type \"" + std::string(header.substr(0, 100)) +
                                                       "\" (expected " + expected + ")");
     }
-    return decode_base64(uri.substr(comma + 1));
+    return surfaced::decode_base64(uri.substr(comma + 1));
 }
 
 }  // namespace surfaced::io_detail

@@ -6,36 +6,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geometry/io/base64.h"
 #include "geometry/io/gltf.h"
 #include "geometry/io/json_text.h"
 
 namespace surfaced {
 
 namespace {
-
-std::string base64(std::string_view bytes) {
-    static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    out.reserve((bytes.size() + 2) / 3 * 4);
-    std::size_t i = 0;
-    for (; i + 2 < bytes.size(); i += 3) {
-        const std::uint32_t n = (std::uint32_t(std::uint8_t(bytes[i])) << 16) |
-                                (std::uint32_t(std::uint8_t(bytes[i + 1])) << 8) | std::uint8_t(bytes[i + 2]);
-        out += kAlphabet[(n >> 18) & 63];
-        out += kAlphabet[(n >> 12) & 63];
-        out += kAlphabet[(n >> 6) & 63];
-        out += kAlphabet[n & 63];
-    }
-    if (i < bytes.size()) {
-        std::uint32_t n = std::uint32_t(std::uint8_t(bytes[i])) << 16;
-        if (i + 1 < bytes.size()) n |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
-        out += kAlphabet[(n >> 18) & 63];
-        out += kAlphabet[(n >> 12) & 63];
-        out += i + 1 < bytes.size() ? kAlphabet[(n >> 6) & 63] : '=';
-        out += '=';
-    }
-    return out;
-}
 
 std::uint32_t read_u32(std::string_view bytes, std::size_t at) {
     std::uint32_t v;
@@ -70,7 +47,8 @@ Result<std::string> gltf_from_glb(std::string_view bytes) {
         const auto byte_length = buffer.value("byteLength", std::uint64_t{0});
         if (byte_length > bin_length) return make_error(ErrorCode::Internal, "GLB buffer longer than its BIN chunk");
         // the BIN chunk is padded to 4 bytes; the buffer is byteLength long
-        buffer["uri"] = "data:application/octet-stream;base64," + base64(bytes.substr(bin_header + 8, byte_length));
+        buffer["uri"] =
+            "data:application/octet-stream;base64," + encode_base64(bytes.substr(bin_header + 8, byte_length));
     }
     return json_text(document);  // numbers (accessor min/max) as every text output prints them
 }

@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -13,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "api/routes.h"
+#include "geometry/io/base64.h"
+#include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/spatial/closest_point.h"
 #include "tests/support/api_request.h"
@@ -281,6 +287,207 @@ TEST(MeshQueryOperation, APassedDeadlineIs503) {
     cancel.deadline = Cancel::Clock::now() - std::chrono::seconds(1);
     expect_problem(post(json_request(shapes::cube(), R"(, "points": [[0, 0, 0]])"), context_with({}, cancel)), 503,
                    "cancelled", "");
+}
+
+// ---- packed batches and answers ------------------------------------------------------------------------------
+
+//! base64 of the little-endian float32 (or float64) values.
+template <class T>
+std::string pack(const std::vector<double>& values) {
+    std::string bytes;
+    for (const double v : values) {
+        const auto bits = std::bit_cast<std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>(T(v));
+        for (std::size_t b = 0; b < sizeof(T); ++b) bytes += static_cast<char>((bits >> (8 * b)) & 0xff);
+    }
+    return encode_base64(bytes);
+}
+
+//! The little-endian values of type T in base64 `text`.
+template <class T>
+std::vector<T> unpack(const Json& text) {
+    EXPECT_TRUE(text.is_string()) << text.dump();
+    if (!text.is_string()) return {};
+    auto bytes = decode_base64(text.get<std::string>());
+    EXPECT_TRUE(bytes) << bytes.error().message;
+    if (!bytes) return {};
+    EXPECT_EQ(bytes->size() % sizeof(T), 0u);
+    std::vector<T> out(bytes->size() / sizeof(T));
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        std::conditional_t<sizeof(T) == 1, std::uint8_t,
+                           std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>
+            bits = 0;
+        for (std::size_t b = 0; b < sizeof(T); ++b)
+            bits |= static_cast<decltype(bits)>(static_cast<decltype(bits)>((*bytes)[i * sizeof(T) + b]) << (8 * b));
+        out[i] = std::bit_cast<T>(bits);
+    }
+    return out;
+}
+
+// The same questions asked as JSON arrays and as packed float64 batches with packed answers: the same answers, to
+// the last bit for float64, and to float32 rounding for float32; misses are NaN and -1.
+TEST(MeshQueryOperation, PackedBatchesAndAnswersAgreeWithJson) {
+    const PolygonMesh torus = shapes::torus(24, 12);
+    const std::vector<Vec3> points = {{0, 0, 0}, {1, 0, 0}, {1.2, 0.1, 0.05}, {0, 2, 0.3}, {3, -1, 2}};
+    std::vector<double> flat_points;
+    for (const Vec3& p : points) flat_points.insert(flat_points.end(), {p.x, p.y, p.z});
+    const std::vector<double> flat_rays = {-3, 0, 0, 1, 0, 0, 0, 0, 5, 0, 0, -1, 5, 5, 5, 1, 1, 1};
+    Json rays_json = Json::array();
+    for (std::size_t i = 0; i < flat_rays.size(); i += 6)
+        rays_json.push_back(std::vector<double>(flat_rays.begin() + i, flat_rays.begin() + i + 6));
+
+    const ApiResponse plain =
+        post(json_request(torus, R"(,"points":)" + points_json(points) + R"(,"rays":)" + rays_json.dump()));
+    ASSERT_EQ(plain.status, 200) << plain.body;
+    const Json a = Json::parse(plain.body);
+    for (const std::string encoding : {"float64", "float32"}) {
+        SCOPED_TRACE(encoding);
+        const bool single = encoding == "float32";
+        const std::string batches = single ? R"(,"points":{"float32":")" + pack<float>(flat_points) +
+                                                 R"("},"rays":{"float32":")" + pack<float>(flat_rays) + R"("})"
+                                           : R"(,"points":{"float64":")" + pack<double>(flat_points) +
+                                                 R"("},"rays":{"float64":")" + pack<double>(flat_rays) + R"("})";
+        const ApiResponse packed = post(json_request(torus, batches + R"(,"encoding":")" + encoding + "\""));
+        ASSERT_EQ(packed.status, 200) << packed.body;
+        const Json b = Json::parse(packed.body);
+        EXPECT_EQ(b["encoding"], encoding);
+        auto reals = [&](const Json& text) {
+            std::vector<double> out;
+            if (single)
+                for (float x : unpack<float>(text)) out.push_back(x);
+            else
+                out = unpack<double>(text);
+            return out;
+        };
+        const double tolerance = single ? 1e-6 : 0;  // the float32 inputs are exact in these points and rays
+        const auto inside = unpack<std::uint8_t>(b["points"]["inside"]);
+        const auto distance = reals(b["points"]["distance"]);
+        const auto winding = reals(b["points"]["winding_number"]);
+        const auto closest = reals(b["points"]["closest"]);
+        const auto face = unpack<std::int32_t>(b["points"]["face"]);
+        ASSERT_EQ(inside.size(), points.size());
+        ASSERT_EQ(distance.size(), points.size());
+        ASSERT_EQ(closest.size(), 3 * points.size());
+        ASSERT_EQ(face.size(), points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            EXPECT_EQ(inside[i] == 1, a["points"]["inside"][i].get<bool>()) << i;
+            EXPECT_NEAR(distance[i], a["points"]["distance"][i].get<double>(), tolerance) << i;
+            EXPECT_NEAR(winding[i], a["points"]["winding_number"][i].get<double>(), tolerance) << i;
+            for (int k = 0; k < 3; ++k)
+                EXPECT_NEAR(closest[3 * i + k], a["points"]["closest"][i][k].get<double>(), tolerance) << i;
+            EXPECT_EQ(face[i], a["points"]["face"][i].get<int>()) << i;
+        }
+        const auto hit = unpack<std::uint8_t>(b["rays"]["hit"]);
+        const auto t = reals(b["rays"]["t"]);
+        const auto ray_face = unpack<std::int32_t>(b["rays"]["face"]);
+        const auto hit_point = reals(b["rays"]["point"]);
+        ASSERT_EQ(hit.size(), 3u);
+        ASSERT_EQ(hit_point.size(), 9u);
+        for (std::size_t i = 0; i < 3; ++i) {
+            EXPECT_EQ(hit[i] == 1, a["rays"]["hit"][i].get<bool>()) << i;
+            if (hit[i]) {
+                EXPECT_NEAR(t[i], a["rays"]["t"][i].get<double>(), tolerance) << i;
+                EXPECT_EQ(ray_face[i], a["rays"]["face"][i].get<int>()) << i;
+            } else {
+                EXPECT_TRUE(std::isnan(t[i]) && std::isnan(hit_point[3 * i])) << i;
+                EXPECT_EQ(ray_face[i], -1) << i;
+            }
+        }
+        EXPECT_FALSE(hit[2]);  // the ray from (5, 5, 5) away from the torus
+    }
+}
+
+TEST(MeshQueryOperation, BadPackedBatchesNameTheirField) {
+    const PolygonMesh cube = shapes::cube();
+    // 8 bytes: not a whole [x, y, z] of float32 (12 bytes)
+    expect_problem(post(json_request(cube, R"(,"points":{"float32":")" + pack<float>({1, 2}) + R"("})")), 400,
+                   "invalid_field", "points.float32");
+    // rays: 6 numbers each
+    expect_problem(post(json_request(cube, R"(,"rays":{"float64":")" + pack<double>({0, 0, 0}) + R"("})")), 400,
+                   "invalid_field", "rays.float64");
+    expect_problem(post(json_request(cube, R"(,"points":{"float32":"AAAA*AAA"})")), 400, "invalid_field",
+                   "points.float32");
+    expect_problem(post(json_request(cube, R"(,"points":{"int32":"AAAA"})")), 400, "invalid_field", "points");
+    expect_problem(post(json_request(cube, R"(,"points":{"float32":")" +
+                                               pack<float>({0, std::numeric_limits<double>::infinity(), 0}) + R"("})")),
+                   400, "invalid_field", "points.float32");
+    expect_problem(post(json_request(cube, R"(,"points":[[0,0,0]],"encoding":"float16")")), 400, "invalid_field",
+                   "encoding");
+    // the budget counts packed items before decoding them
+    Limits limits;
+    limits.max_mesh_queries = 2;
+    expect_problem(
+        post(json_request(cube, R"(,"points":{"float32":")" + pack<float>(std::vector<double>(9, 0.0)) + R"("})"),
+             context_with(limits)),
+        422, "budget_exceeded", "points");
+}
+
+// ---- multipart: the mesh as a file, the rest as a JSON part ---------------------------------------------------
+
+std::string form(const std::vector<std::array<std::string, 4>>& parts) {  // name, filename, content type, body
+    std::string body;
+    for (const auto& [name, filename, type, content] : parts) {
+        body += "--B0undary\r\nContent-Disposition: form-data; name=\"" + name + "\"";
+        if (!filename.empty()) body += "; filename=\"" + filename + "\"";
+        body += "\r\n";
+        if (!type.empty()) body += "Content-Type: " + type + "\r\n";
+        body += "\r\n" + content + "\r\n";
+    }
+    return body + "--B0undary--\r\n";
+}
+
+ApiResponse post_form(const std::string& body) {
+    return dispatch(make_request("POST", "/mesh/query", "multipart/form-data; boundary=B0undary", body), {});
+}
+
+TEST(MeshQueryOperation, MultipartMeshFileGivesTheSameAnswersAsJson) {
+    const PolygonMesh cube = shapes::cube();
+    const std::string query = R"({"points":[[0,0,0],[1,0.2,0.1]],"rays":[[-2,0.1,0.2,1,0,0]]})";
+    const ApiResponse plain =
+        post(json_request(cube, R"(,"points":[[0,0,0],[1,0.2,0.1]],"rays":[[-2,0.1,0.2,1,0,0]])"));
+    ASSERT_EQ(plain.status, 200) << plain.body;
+    const std::string obj = write_obj(cube);
+    for (const auto& [filename, type] : std::vector<std::pair<std::string, std::string>>{
+             {"cube.obj", ""}, {"cube.bin", "model/obj"}, {"cube.obj", "application/octet-stream"}}) {
+        SCOPED_TRACE(filename + " " + type);
+        const std::string body =
+            form({{"file", filename, type, obj}, {"request", "q.json", "application/json", query}});
+        const ApiResponse packed = post_form(body);
+        ASSERT_EQ(packed.status, 200) << packed.body;
+        EXPECT_EQ(Json::parse(packed.body), Json::parse(plain.body));
+    }
+    // a JSON mesh file too
+    const std::string json_mesh = mesh_json(cube);
+    const std::string body = form({{"file", "cube.json", "", json_mesh}, {"request", "", "", query}});
+    const ApiResponse from_json = post_form(body);
+    ASSERT_EQ(from_json.status, 200) << from_json.body;
+    EXPECT_EQ(Json::parse(from_json.body), Json::parse(plain.body));
+}
+
+TEST(MeshQueryOperation, MultipartMistakesAreNamed) {
+    const std::string obj = write_obj(shapes::cube());
+    const std::string query = R"({"points":[[0,0,0]]})";
+    const std::string no_request = form({{"file", "cube.obj", "", obj}});
+    expect_problem(post_form(no_request), 400, "malformed_multipart");
+    const std::string no_file = form({{"request", "", "", query}});
+    expect_problem(post_form(no_file), 400, "malformed_multipart");
+    const std::string stray = form({{"file", "cube.obj", "", obj}, {"request", "", "", query}, {"extra", "", "", "1"}});
+    expect_problem(post_form(stray), 400, "malformed_multipart");
+    const std::string twice =
+        form({{"file", "cube.obj", "", obj}, {"request", "", "", query}, {"request", "", "", query}});
+    expect_problem(post_form(twice), 400, "malformed_multipart");
+    const std::string mesh_too =
+        form({{"file", "cube.obj", "", obj},
+              {"request", "", "", R"({"mesh":{"positions":[],"faces":[]},"points":[[0,0,0]]})"}});
+    expect_problem(post_form(mesh_too), 400, "invalid_field", "mesh");
+    const std::string bad_point = form({{"file", "cube.obj", "", obj}, {"request", "", "", R"({"points":[[0,0]]})"}});
+    expect_problem(post_form(bad_point), 400, "invalid_field", "points[0]");
+    // a broken OBJ names its line
+    const std::string broken =
+        form({{"file", "cube.obj", "", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"}, {"request", "", "", query}});
+    const Json problem = expect_problem(post_form(broken), 422, "index_out_of_range");
+    EXPECT_EQ(problem.value("line", 0), 4) << problem.dump();
+    // another media type entirely
+    expect_problem(dispatch(make_request("POST", "/mesh/query", "model/obj", obj), {}), 415, "unsupported_media_type");
 }
 
 }  // namespace

@@ -410,9 +410,12 @@ function objectOf(schema) {
 }
 // An object whose scalar members are options: all its members are scalars (`output`) and it needs none or the example
 // has it; or it is a closed object (additionalProperties false) the example has and whose required members are
-// scalars (`sample`: count and seed beside the mesh). A scene node is neither (its members depend on its op).
+// scalars (`sample`: count and seed beside the mesh). A scene node is neither (its members depend on its op), nor is
+// the object alternative of a member the example gives in another form.
 function optionsObject(object, inExample) {
   const present = typeof inExample === 'object' && inExample !== null && !Array.isArray(inExample);
+  // the example took another alternative of a oneOf (points as arrays, not the packed object): not options
+  if (inExample !== undefined && !present) return false;
   if (Object.values(object.properties).every(isScalar)) return present || !(object.required ?? []).length;
   // an object that requires a non-scalar member is an input (bspline: degree and points), not options
   const requiresInput = (object.required ?? []).some((name) => !isScalar(object.properties[name] ?? {}));

@@ -543,9 +543,10 @@ class Client:
         return self.request("POST", "/implicit/query", json_body=body)
 
     # -- mesh queries ----------------------------------------------------------------------------------------------
-    def mesh_query(self, mesh: Mesh, *, points: Optional[Sequence[Vec3]] = None,
-                   rays: Optional[Sequence[Sequence[float]]] = None, want: Optional[Sequence[str]] = None,
-                   winding: Optional[Dict[str, Any]] = None) -> Result:
+    def mesh_query(self, mesh: Mesh, *, points: Optional[Union[Sequence[Vec3], Dict[str, str]]] = None,
+                   rays: Optional[Union[Sequence[Sequence[float]], Dict[str, str]]] = None,
+                   want: Optional[Sequence[str]] = None, winding: Optional[Dict[str, Any]] = None,
+                   encoding: str = "json") -> Result:
         """POST /mesh/query: for ``points``, inside (winding number >= 1/2), winding number, signed distance (negative
         inside) and closest point with its face; for ``rays`` (``[ox, oy, oz, dx, dy, dz]``), the first hit. The
         answer is JSON (``result.json``).
@@ -553,6 +554,10 @@ class Client:
         :param want: the point answers, some of ``"inside"``, ``"winding_number"``, ``"distance"``, ``"closest"``
             (default: all four).
         :param winding: ``{"exact": bool (default False), "accuracy": beta > 1 (default 2)}``.
+        :param encoding: ``"json"`` (default), or ``"float32"`` / ``"float64"``: every answer array comes as base64 of
+            packed little-endian values (booleans uint8, faces int32; -1 and NaN for none), e.g.
+            ``numpy.frombuffer(base64.b64decode(s), "<f4")``. ``points`` and ``rays`` may be packed the same way:
+            ``{"float32": base64}``.
         """
         body = {"mesh": mesh, **_options(locals(), Client.mesh_query.__kwdefaults__, skip=("mesh",))}
         return self.request("POST", "/mesh/query", json_body=body)
