@@ -4,9 +4,11 @@
 // hole; errors with the node's field paths; the triangle and vertex budgets over all mesh nodes, before any is built.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -50,13 +52,14 @@ std::string mesh_node(const PolygonMesh& mesh, const std::string& extra = "") {
     return R"({"op": "mesh", "mesh": )" + mesh_json(mesh) + extra + "}";
 }
 
-//! POST /implicit/mesh of `scene` in the cube [-h, h]^3 at `resolution`, JSON out; the mesh decoded.
-PolygonMesh mesh_scene(const std::string& scene, double h, int resolution) {
+//! POST /implicit/mesh of `scene` in the cube [-h, h]^3 at `resolution` in `mode`, JSON out; the mesh decoded.
+PolygonMesh mesh_scene(const std::string& scene, double h, int resolution, const std::string& mode = "uniform") {
     const std::string bounds = "[[" + std::to_string(-h) + "," + std::to_string(-h) + "," + std::to_string(-h) + "],[" +
                                std::to_string(h) + "," + std::to_string(h) + "," + std::to_string(h) + "]]";
     const ApiResponse response =
         post("/implicit/mesh", R"({"scene": )" + scene + R"(, "bounds": )" + bounds + R"(, "resolution": )" +
-                                   std::to_string(resolution) + R"(, "output": {"format": "json"}})");
+                                   std::to_string(resolution) + R"(, "mode": ")" + mode +
+                                   R"(", "output": {"format": "json"}})");
     EXPECT_EQ(response.status, 200) << response.body;
     PolygonMesh mesh;
     if (response.status != 200) return mesh;
@@ -89,6 +92,18 @@ TEST(ImplicitMeshNode, CubeMeshMinusSphere) {
     expect_closed_manifold(mesh);
     const double volume = 8.0 - 2.0 / 3.0 * std::numbers::pi * 0.125;
     EXPECT_NEAR(testing::signed_volume(mesh) / volume, 1.0, 0.005);
+    // the closed mesh is an exact distance: the adaptive mode culls by it and gives the same mesh
+    const PolygonMesh adaptive =
+        mesh_scene(R"({"op": "difference", "args": [)" + mesh_node(cube_mesh()) + ", " + kSphereOnTop + "]}", h,
+                   resolution, "adaptive");
+    EXPECT_EQ(adaptive.face_count(), mesh.face_count());
+    const auto sorted = [](std::vector<Vec3> points) {
+        std::sort(points.begin(), points.end(), [](const Vec3& a, const Vec3& b) {
+            return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+        });
+        return points;
+    };
+    EXPECT_TRUE(sorted(adaptive.positions) == sorted(mesh.positions));  // the same vertices, in another order
     // vertices within half a cell of one of the cube's 12 edge lines lie on it (the edges are not rounded off)
     const double cell = 2 * h / resolution;
     double worst_edge = 0;
@@ -154,12 +169,23 @@ TEST(ImplicitMeshNode, MeshWithAHoleGivesAClosedSolid) {
     ASSERT_EQ(without_top.face_count(), 10u);
     const double h = 1.25;
     const int resolution = 48;
-    const PolygonMesh mesh = mesh_scene(mesh_node(without_top), h, resolution);
-    expect_closed_manifold(mesh);
-    // the cap lies on the jump of the field across z = 1 (within its row of cells; measured 7.9993 at 48), the rest
-    // on the cube
-    EXPECT_NEAR(testing::signed_volume(mesh), 8.0, 0.01 * 8.0);
-    for (const Vec3& p : mesh.positions) ASSERT_LT(p.z, 1 + 2 * h / resolution);
+    for (const char* mode : {"uniform", "adaptive"}) {
+        SCOPED_TRACE(mode);
+        const PolygonMesh mesh = mesh_scene(mesh_node(without_top), h, resolution, mode);
+        expect_closed_manifold(mesh);
+        // the cap lies on the jump of the field across z = 1 (within its row of cells; measured 7.9993 at 48), the
+        // rest on the cube
+        EXPECT_NEAR(testing::signed_volume(mesh), 8.0, 0.01 * 8.0);
+        for (const Vec3& p : mesh.positions) ASSERT_LT(p.z, 1 + 2 * h / resolution);
+    }
+    // the field is not a distance bound across the cap: it says so
+    const ApiResponse query =
+        post("/implicit/query", R"({"scene": )" + mesh_node(without_top) + R"(, "points": [[0, 0, 0.5]]})");
+    ASSERT_EQ(query.status, 200) << query.body;
+    const Json out = Json::parse(query.body);
+    EXPECT_EQ(out["kind"], "general");
+    EXPECT_TRUE(out["lipschitz"].is_null());
+    EXPECT_EQ(out["points"][0]["class"], "inside");
 }
 
 TEST(ImplicitMeshNode, QueryGivesTheSignedDistance) {

@@ -102,11 +102,53 @@ void expect_matches_reference(const PolygonMesh& mesh, int points, std::uint64_t
 }
 
 TEST(TriangleMeshField, KindAndLipschitz) {
+    // closed: an exact distance
     const FieldPtr field = field_of(cube_mesh());
     ASSERT_TRUE(field);
     EXPECT_EQ(field->kind(), FieldKind::ExactDistance);
     EXPECT_EQ(field->lipschitz(), 1.0);
     EXPECT_EQ(dynamic_cast<const TriangleMeshField&>(*field).triangle_count(), 12u);
+    // closed as well: unwelded (every triangle its own corners, as STL stores them), quads, two overlapping shells,
+    // inward-facing triangles
+    PolygonMesh soup;
+    const PolygonMesh cube = cube_mesh();
+    for (std::size_t f = 0; f < cube.face_count(); ++f) {
+        const auto t = cube.face(f);
+        const auto base = static_cast<Index>(soup.positions.size());
+        for (Index v : t) soup.positions.push_back(cube.positions[v]);
+        soup.add_face({base, base + 1, base + 2});
+    }
+    PolygonMesh two = testing::icosphere(1);
+    const auto n = static_cast<Index>(two.positions.size());
+    for (Index v = 0; v < n; ++v) two.positions.push_back(two.positions[v] + Vec3{0.5, 0, 0});
+    for (std::size_t f = 0, count = two.face_count(); f < count; ++f) {
+        const auto t = two.face(f);
+        two.add_face({t[0] + n, t[1] + n, t[2] + n});
+    }
+    PolygonMesh inward = cube_mesh();
+    for (std::size_t f = 0; f < inward.face_count(); ++f)
+        std::swap(inward.face_indices[inward.face_offsets[f] + 1], inward.face_indices[inward.face_offsets[f] + 2]);
+    for (const PolygonMesh& closed : {soup, shapes::cube(), two, inward}) {
+        const FieldPtr f = field_of(closed);
+        ASSERT_TRUE(f);
+        EXPECT_EQ(f->kind(), FieldKind::ExactDistance);
+        EXPECT_TRUE(dynamic_cast<const TriangleMeshField&>(*f).closed());
+    }
+    EXPECT_GT(field_of(inward)->value({0, 0, 0}), 0);  // inward-facing: all outside
+    // a hole (the top face removed) or a single triangle: the value jumps across the sheet that closes it
+    PolygonMesh open;
+    open.positions = cube.positions;
+    for (std::size_t f = 0; f + 2 < cube.face_count(); ++f) open.add_face(cube.face(f));
+    PolygonMesh triangle;
+    triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    triangle.add_face({0, 1, 2});
+    for (const PolygonMesh& mesh : {open, triangle}) {
+        const FieldPtr f = field_of(mesh);
+        ASSERT_TRUE(f);
+        EXPECT_EQ(f->kind(), FieldKind::General);
+        EXPECT_EQ(f->lipschitz(), std::numeric_limits<double>::infinity());
+        EXPECT_FALSE(dynamic_cast<const TriangleMeshField&>(*f).closed());
+    }
 }
 
 TEST(TriangleMeshField, CubeMeshIsTheBoxPrimitive) {
