@@ -18,7 +18,6 @@
 //   {"ref": "id"}                   reuses the node with that id
 #include "api/scene_codec.h"
 
-#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -41,8 +40,8 @@ using implicit::FieldPtr;
 
 //! Nesting depth of scene nodes (a guard on recursion, not a budget anyone should meet).
 constexpr int kMaxSceneDepth = 100;
-//! Largest winding accuracy (beta) of a mesh node: its cost per evaluation grows with beta^3 or so, towards the
-//! exact O(triangles) sum, and a meshing grid evaluates the field up to max_grid_cells times.
+//! Largest winding accuracy (beta) of a mesh node: the hierarchy opens more nodes as beta grows, towards the exact
+//! O(triangles) sum per evaluation, and a meshing grid evaluates the field up to max_grid_cells times.
 constexpr double kMaxMeshWindingAccuracy = 10;
 
 ApiError range_error(const std::string& field, const std::string& detail) {
