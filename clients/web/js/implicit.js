@@ -22,10 +22,23 @@ export function geometryFromJsonMesh(mesh) {
   return g;
 }
 
-/** Indented JSON with arrays of numbers kept on one line ([1, 1, 1]). */
-function compactJson(value) {
-  return JSON.stringify(value, null, 2)
-    .replace(/\[\s*(-?[\d.eE+-]+(?:,\s*-?[\d.eE+-]+)*)\s*\]/g, (_, inner) => `[${inner.split(/,\s*/).join(', ')}]`);
+/** JSON on one line with a space after each comma and colon. */
+function oneLine(value) {
+  if (value === null || typeof value !== 'object') return JSON.stringify(value) ?? 'null';
+  if (Array.isArray(value)) return `[${value.map(oneLine).join(', ')}]`;
+  return `{${Object.entries(value).filter(([, v]) => v !== undefined).map(([k, v]) => `${JSON.stringify(k)}: ${oneLine(v)}`).join(', ')}}`;
+}
+
+/** Indented JSON where arrays of numbers ([1, 1, 1]) and objects or arrays of at most 44 characters stay on one
+ *  line, so that a short node such as {"op": "sphere", "radius": 0.5} reads as one. */
+function compactJson(value, indent = '') {
+  const flat = oneLine(value);
+  if (value === null || typeof value !== 'object' || flat.length <= 44 ||
+      (Array.isArray(value) && value.every((v) => typeof v === 'number'))) return flat;
+  const inner = `${indent}  `;
+  const items = Array.isArray(value) ? value.map((v) => inner + compactJson(v, inner))
+    : Object.entries(value).filter(([, v]) => v !== undefined).map(([k, v]) => `${inner}${JSON.stringify(k)}: ${compactJson(v, inner)}`);
+  return Array.isArray(value) ? `[\n${items.join(',\n')}\n${indent}]` : `{\n${items.join(',\n')}\n${indent}}`;
 }
 
 /** A box with a spherical bite, when the server's document has no example. */
@@ -141,7 +154,8 @@ export class ImplicitView {
   constructor(app, example, features = {}) {
     this.app = app;
     this.viewer = app.viewer;
-    this.uploads = new Map();   // label in the editor -> {mesh: {positions, faces}, box, triangles, repair: [lines]}
+    // label in the editor -> {mesh: {positions, faces}, box, triangles, repair: [lines], boundsBefore, boundsAfter}
+    this.uploads = new Map();
     const initial = { ...(example ?? DEFAULT_REQUEST) };
     delete initial.output;   // the preview asks for GLB itself
     $('imp-scene').value = compactJson(initial);
@@ -268,7 +282,8 @@ export class ImplicitView {
     this.uploads.set(label, upload);
     const node = { op: 'mesh', mesh: { [UPLOAD_KEY]: label } };
     request.scene = combine(request.scene, node, $('imp-combine').value, Number($('imp-smooth-k').value));
-    request.bounds = growBounds(request.bounds, upload.box);
+    upload.boundsBefore = request.bounds;
+    request.bounds = upload.boundsAfter = growBounds(request.bounds, upload.box);
     $('imp-scene').value = compactJson(request);
     this.listUploads();
     await this.run(true);
@@ -291,6 +306,10 @@ export class ImplicitView {
         return;
       }
       request.scene = scene;
+      // the bounds this upload grew go back to what they were, unless they have been edited or grown again since
+      const upload = this.uploads.get(label);
+      if (upload && upload.boundsBefore !== undefined && JSON.stringify(request.bounds) === JSON.stringify(upload.boundsAfter))
+        request.bounds = upload.boundsBefore;
       $('imp-scene').value = compactJson(request);
     }
     this.uploads.delete(label);
@@ -348,6 +367,18 @@ export class ImplicitView {
     return { size: Math.max(box.getSize(new THREE.Vector3()).length(), 1e-9), centre: box.getCenter(new THREE.Vector3()) };
   }
 
+  /** The meshing cell of the editor's request: its cell_size, else the bounds' longest side / resolution (64 when
+   *  not given); from the drawn extent when the request cannot be read. */
+  cellSize(extent) {
+    try {
+      const r = this.editorRequest();
+      if (Number(r.cell_size) > 0) return Number(r.cell_size);
+      const side = Math.max(...[0, 1, 2].map((k) => r.bounds[1][k] - r.bounds[0][k]));
+      if (side > 0) return side / (Number(r.resolution) || 64);
+    } catch { /* below */ }
+    return extent.size / Math.sqrt(3) / 64;
+  }
+
   /** The probe point under the pointer, in the scene's frame: just past the drawn surface where the ray meets it (a
    *  fraction of a meshing cell, so inside the solid), else on the plane through the centre facing the camera. */
   probePoint(pointer, extent) {
@@ -359,9 +390,7 @@ export class ImplicitView {
     if (this.viewer.result) {
       const hit = this.raycaster.intersectObject(this.viewer.result, false)[0];
       if (hit) {
-        let cells = 64;
-        try { cells = Number(this.editorRequest().resolution) || 64; } catch { /* the default resolution */ }
-        point = hit.point.clone().addScaledVector(ray.direction, 0.25 * extent.size / Math.sqrt(3) / cells);
+        point = hit.point.clone().addScaledVector(ray.direction, 0.25 * this.cellSize(extent));
         onSurface = true;
       }
     }
