@@ -245,6 +245,10 @@ export class ImplicitView {
       const objRequest = { ...scene, output: { ...(scene.output ?? {}), format: 'obj' } };
       this.app.setDownloads({ glb: result.json ? null : result.bytes,
                               obj: async () => (await call('POST', '/implicit/mesh', { body: objRequest })).bytes, name: 'implicit' });
+      if (this.probeOn && this.pointer) {   // the probe answers for the scene now shown, at the same pointer position
+        this.probePending = true;
+        this.probeNext();
+      }
     } catch (e) {
       this.app.showError(e);
     }
