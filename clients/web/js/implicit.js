@@ -118,16 +118,28 @@ function boxOf(positions) {
   return [lo, hi];
 }
 
+const validBounds = (b) => Array.isArray(b) && b.length === 2 &&
+  b.every((c) => Array.isArray(c) && c.length === 3 && c.every(Number.isFinite)) && [0, 1, 2].every((k) => b[0][k] < b[1][k]);
+
+/** `node` (with box `box`) scaled uniformly and moved so that its box is centred in `bounds` with its longest side
+ *  three quarters of theirs (4 significant digits); the transformed node and its box. */
+function fitted(node, box, bounds) {
+  const longest = (b) => Math.max(...[0, 1, 2].map((k) => b[1][k] - b[0][k]));
+  const round = (v) => Number(v.toPrecision(4));
+  const factor = round(0.75 * longest(bounds) / Math.max(longest(box), 1e-12));
+  const offset = [0, 1, 2].map((k) => round((bounds[0][k] + bounds[1][k]) / 2 - factor * (box[0][k] + box[1][k]) / 2));
+  return { node: { op: 'translate', offset, arg: { op: 'scale', factor, arg: node } },
+           box: box.map((corner) => corner.map((v, k) => factor * v + offset[k])) };
+}
+
 /** `bounds` grown to hold `box` with a margin of a tenth of the box's longest side, rounded outward to 3 digits. */
 function growBounds(bounds, box) {
   const extent = Math.max(...[0, 1, 2].map((k) => box[1][k] - box[0][k]), 1e-9);
   const margin = 0.1 * extent;
   const step = 10 ** (Math.floor(Math.log10(extent)) - 2);
   const round = (v, dir) => Number(((dir < 0 ? Math.floor(v / step) : Math.ceil(v / step)) * step).toPrecision(12));
-  const valid = Array.isArray(bounds) && bounds.length === 2 && bounds.every((c) => Array.isArray(c) && c.length === 3 &&
-                                                                                   c.every(Number.isFinite));
   const lo = [0, 1, 2].map((k) => round(box[0][k] - margin, -1)), hi = [0, 1, 2].map((k) => round(box[1][k] + margin, 1));
-  if (!valid) return [lo, hi];
+  if (!validBounds(bounds)) return [lo, hi];
   return [lo.map((v, k) => Math.min(v, bounds[0][k])), hi.map((v, k) => Math.max(v, bounds[1][k]))];
 }
 
@@ -284,10 +296,11 @@ export class ImplicitView {
     let label = `${file.name} (${upload.triangles.toLocaleString('en-US')} triangles)`;
     for (let n = 2; this.uploads.has(label); ++n) label = `${file.name} #${n} (${upload.triangles.toLocaleString('en-US')} triangles)`;
     this.uploads.set(label, upload);
-    const node = { op: 'mesh', mesh: { [UPLOAD_KEY]: label } };
+    let node = { op: 'mesh', mesh: { [UPLOAD_KEY]: label } }, box = upload.box;
+    if ($('imp-fit').checked && validBounds(request.bounds)) ({ node, box } = fitted(node, box, request.bounds));
     request.scene = combine(request.scene, node, $('imp-combine').value, Number($('imp-smooth-k').value));
     upload.boundsBefore = request.bounds;
-    request.bounds = upload.boundsAfter = growBounds(request.bounds, upload.box);
+    request.bounds = upload.boundsAfter = growBounds(request.bounds, box);
     $('imp-scene').value = compactJson(request);
     this.listUploads();
     await this.run(true);
