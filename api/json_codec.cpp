@@ -339,6 +339,10 @@ ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& lim
     return decode_mesh_value(root, path, limits);
 }
 
+ApiResult<PolygonMesh> decode_mesh_json(const nlohmann::json& value, const Limits& limits, std::string_view path) {
+    return decode_mesh_value(value, path, limits);
+}
+
 ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, const Limits& limits) {
     Json root;
     if (auto error = parse(body, root)) return std::move(*error);

@@ -20,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "api/dto.h"
 #include "api/errors.h"
 #include "api/limits.h"
@@ -40,6 +42,8 @@ ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, 
 
 //! Decodes a mesh object on its own (`path` prefixes field paths in errors, e.g. "mesh").
 ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& limits, std::string_view path = "mesh");
+//! The same, for a mesh object inside a document already parsed (a scene's mesh node), without printing it again.
+ApiResult<PolygonMesh> decode_mesh_json(const nlohmann::json& value, const Limits& limits, std::string_view path);
 
 //! {"mesh": {"positions": [...], "faces": [...], "normals": [...] (when the mesh has them)}, "stats": {...}}. Numbers
 //! are written as geometry/io/number_text.h prints them (shortest round trip, no -0).

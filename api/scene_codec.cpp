@@ -14,19 +14,24 @@
 //   offset {arg, distance}          shell {arg, thickness}
 //   expression {expr}               level_set {dims, origin, spacing: h | [hx, hy, hz], values}
 //   mandelbulb {power = 8, iterations = 16, bailout = 2}          menger {iterations, half_size = 1}
+//   mesh {mesh: {positions, faces} (the JSON mesh of every endpoint), winding = {accuracy = 2}}: signed distance
 //   {"ref": "id"}                   reuses the node with that id
 #include "api/scene_codec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <utility>
 #include <vector>
 
+#include "api/json_codec.h"
 #include "geometry/implicit/expression.h"
 #include "geometry/implicit/fractals.h"
 #include "geometry/implicit/level_set.h"
 #include "geometry/implicit/operators.h"
+#include "geometry/implicit/triangle_mesh_field.h"
+#include "geometry/io/number_text.h"
 
 namespace surfaced::api {
 namespace {
@@ -36,6 +41,9 @@ using implicit::FieldPtr;
 
 //! Nesting depth of scene nodes (a guard on recursion, not a budget anyone should meet).
 constexpr int kMaxSceneDepth = 100;
+//! Largest winding accuracy (beta) of a mesh node: its cost per evaluation grows with beta^3 or so, towards the
+//! exact O(triangles) sum, and a meshing grid evaluates the field up to max_grid_cells times.
+constexpr double kMaxMeshWindingAccuracy = 10;
 
 ApiError range_error(const std::string& field, const std::string& detail) {
     return geometry_error(ErrorCode::InvalidArgument, field, detail);
@@ -84,11 +92,33 @@ private:
             if (auto [prev, inserted] = declared_.emplace(id, Declared{&v, path}); !inserted)
                 return invalid(field, "id \"" + id + "\" is used twice (first at " + prev->second.path + ")");
         }
+        if (auto it = v.find("op"); it != v.end() && it->is_string() && it->get_ref<const std::string&>() == "mesh")
+            if (auto error = count_mesh(v, path)) return error;
         if (auto it = v.find("arg"); it != v.end())
             if (auto error = collect(*it, member_path(path, "arg"), depth + 1)) return error;
         if (auto it = v.find("args"); it != v.end() && it->is_array())
             for (std::size_t i = 0; i < it->size(); ++i)
                 if (auto error = collect((*it)[i], index_path(member_path(path, "args"), i), depth + 1)) return error;
+        return std::nullopt;
+    }
+
+    //! Pass 1, for a mesh node: its triangles and vertices added to the scene's totals, which must stay within
+    //! max_input_faces and max_input_vertices (a node reused by ref counts once: it is built once). Malformed
+    //! members count as nothing here; pass 2 reports them.
+    std::optional<ApiError> count_mesh(const Json& v, const std::string& path) {
+        const auto mesh = v.find("mesh");
+        if (mesh == v.end() || !mesh->is_object()) return std::nullopt;
+        if (const auto positions = mesh->find("positions"); positions != mesh->end() && positions->is_array())
+            mesh_vertices_ += positions->size();
+        if (const auto faces = mesh->find("faces"); faces != mesh->end() && faces->is_array())
+            for (const Json& face : *faces)
+                if (face.is_array() && face.size() >= 3) mesh_triangles_ += face.size() - 2;
+        if (mesh_triangles_ > limits_.max_input_faces)
+            return budget(path, "the scene's mesh nodes have " + std::to_string(mesh_triangles_) + " triangles up to " +
+                                    path + "; the limit is " + std::to_string(limits_.max_input_faces));
+        if (mesh_vertices_ > limits_.max_input_vertices)
+            return budget(path, "the scene's mesh nodes have " + std::to_string(mesh_vertices_) + " vertices up to " +
+                                    path + "; the limit is " + std::to_string(limits_.max_input_vertices));
         return std::nullopt;
     }
 
@@ -472,6 +502,44 @@ private:
         return implicit::menger_sponge(n.value(), h.value());
     }
 
+    //! mesh: the signed distance to a triangle mesh (polygons triangulated), its sign by the winding number
+    [[gnu::noinline]] ApiResult<FieldPtr> build_mesh(const Json& v, const std::string& path, [[maybe_unused]] int depth,
+                                                     [[maybe_unused]] const std::string& name) {
+        SURFACED_MEMBERS("mesh", "winding");
+        const std::string mesh_field = member_path(path, "mesh");
+        SURFACED_TRY(m, member(v, path, "mesh"));
+        implicit::TriangleMeshFieldOptions options;
+        if (auto it = v.find("winding"); it != v.end()) {
+            const std::string winding_field = member_path(path, "winding");
+            if (!it->is_object())
+                return invalid(winding_field, winding_field + R"( must be an object {"accuracy": 2})");
+            if (auto error = check_members(*it, winding_field, {"accuracy"})) return std::move(*error);
+            SURFACED_TRY(beta, number(*it, winding_field, "accuracy", options.winding.accuracy));
+            if (!(beta.value() > 1) || beta.value() > kMaxMeshWindingAccuracy) {
+                const std::string field = member_path(winding_field, "accuracy");
+                return range_error(field, field + " must be in (1, " + number_text(kMaxMeshWindingAccuracy) +
+                                              "], got " + number_text(beta.value()));
+            }
+            options.winding.accuracy = beta.value();
+        }
+        SURFACED_TRY(mesh, decode_mesh_json(*m.value(), limits_, mesh_field));
+        if (mesh.value().face_count() == 0) {
+            const std::string field = member_path(mesh_field, "faces");
+            return range_error(field, field + " is empty: a mesh node needs at least one face");
+        }
+        auto built = implicit::triangle_mesh_field(mesh.value(), options);
+        if (!built) {
+            const GeoError& e = built.error();
+            std::string field = mesh_field;
+            if (e.element >= 0 && e.element_kind == ElementKind::Face)
+                field = index_path(member_path(mesh_field, "faces"), static_cast<std::size_t>(e.element));
+            else if (e.element >= 0 && e.element_kind == ElementKind::Vertex)
+                field = index_path(member_path(mesh_field, "positions"), static_cast<std::size_t>(e.element));
+            return geometry_error(e.code, field, field + ": " + e.message);
+        }
+        return std::move(built.value());
+    }
+
     ApiResult<FieldPtr> op(const Json& v, const std::string& path, int depth) {
         const std::string op_field = member_path(path, "op");
         auto it = v.find("op");
@@ -501,11 +569,12 @@ private:
         if (name == "mandelbulb") return build_mandelbulb(v, path, depth, name);
         if (name == "menger") return build_menger(v, path, depth, name);
         if (name == "level_set") return level_set(v, path);
+        if (name == "mesh") return build_mesh(v, path, depth, name);
         return invalid(op_field, op_field + ": unknown op \"" + name +
                                      "\" (sphere, box, rounded_box, torus, cylinder, cone, capsule, plane, ellipsoid, "
                                      "translate, rotate, scale, union, intersection, difference, blend, smooth_union, "
                                      "smooth_intersection, smooth_difference, offset, shell, expression, level_set, "
-                                     "mandelbulb, menger)");
+                                     "mandelbulb, menger, mesh)");
     }
 #undef SURFACED_MEMBERS
 #undef SURFACED_TRY
@@ -574,6 +643,7 @@ private:
     std::map<std::string, FieldPtr> built_;
     std::set<std::string> in_progress_;
     std::uint64_t count_ = 0;
+    std::uint64_t mesh_triangles_ = 0, mesh_vertices_ = 0;  //!< over every mesh node (pass 1)
 };
 
 }  // namespace

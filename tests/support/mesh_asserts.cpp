@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <vector>
 
 namespace surfaced::testing {
 
@@ -79,6 +80,51 @@ double signed_volume(const PolygonMesh& mesh) {
             v += dot(a, cross(mesh.positions[face[j]], mesh.positions[face[j + 1]])) / 6.0;
     }
     return v;
+}
+
+std::size_t non_manifold_vertices(const PolygonMesh& mesh) {
+    std::vector<std::vector<std::size_t>> faces_of(mesh.vertex_count());
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        for (Index v : mesh.face(f)) faces_of[v].push_back(f);
+    std::size_t bad = 0;
+    for (Index v = 0; v < mesh.vertex_count(); ++v) {
+        const auto& around = faces_of[v];
+        if (around.empty()) {
+            ++bad;
+            continue;
+        }
+        // the face after each one around v: the face whose edge (v, next) is this one's (previous, v)
+        std::map<Index, std::size_t> by_next;
+        std::size_t start = around[0];
+        for (std::size_t f : around) {
+            const auto t = mesh.face(f);
+            for (std::size_t j = 0; j < t.size(); ++j)
+                if (t[j] == v) by_next[t[(j + 1) % t.size()]] = f;
+        }
+        // an open fan (at a boundary) is walked from its first face: the one no other face leads to, whose edge
+        // (v, next) is no face's (previous, v)
+        std::map<Index, std::size_t> by_previous;
+        for (std::size_t f : around) {
+            const auto t = mesh.face(f);
+            for (std::size_t j = 0; j < t.size(); ++j)
+                if (t[j] == v) by_previous[t[(j + t.size() - 1) % t.size()]] = f;
+        }
+        for (const auto& [next, f] : by_next)
+            if (!by_previous.count(next)) start = f;
+        std::size_t f = start, steps = 0;
+        do {
+            ++steps;
+            const auto t = mesh.face(f);
+            Index previous = kInvalidIndex;
+            for (std::size_t j = 0; j < t.size(); ++j)
+                if (t[j] == v) previous = t[(j + t.size() - 1) % t.size()];
+            const auto it = by_next.find(previous);
+            if (it == by_next.end()) break;
+            f = it->second;
+        } while (f != start && steps <= around.size());
+        if (steps != around.size()) ++bad;
+    }
+    return bad;
 }
 
 std::string read_file(const std::string& path) {

@@ -24,6 +24,9 @@ std::size_t boundary_loop_count(const PolygonMesh& mesh);
 bool is_watertight(const PolygonMesh& mesh);
 //! Signed volume by the divergence theorem (fan-triangulated faces).
 double signed_volume(const PolygonMesh& mesh);
+//! Vertices of a triangle mesh whose faces do not form a single fan (the faces around the vertex, joined across the
+//! edges at it, are not one cycle or open chain), plus vertices no face uses. 0 for a manifold mesh.
+std::size_t non_manifold_vertices(const PolygonMesh& mesh);
 //! Reads a file into a string (binary); fails the test (ADD_FAILURE) and returns "" when missing.
 std::string read_file(const std::string& path);
 
