@@ -422,12 +422,48 @@ try {
               (overBite.cls === 'inside') === (overBite.value < 0),
               `probe over the mesh scene: ${JSON.stringify(overBite.text.split('\n').slice(0, 3).join('; '))} (${await shot('07e-mesh-probe')})`);
       }
+      // the mesh alone is an exact distance: the probe's f and closest point are the cube's, analytically
+      if (await page.isVisible('#imp-probe')) {
+        const combined = await page.inputValue('#imp-scene');
+        const k0 = await statsUpdates();
+        await page.fill('#imp-scene', JSON.stringify({ ...edited, scene: edited.scene.args[1] }));
+        await page.click('#imp-run');
+        await page.waitForFunction((k) => Number(document.getElementById('stats').dataset.updates) > k, k0, { timeout: 60000 });
+        const classes = new Set();
+        for (const [fx, fy] of [[0.5, 0.5], [0.9, 0.15], [0.02, 0.95]]) {   // the last one misses the cube
+          const r = await probeAt(fx, fy);
+          const p = r.point;
+          const inside = p.every((v) => v > c0 && v < c1);
+          classes.add(r.cls);
+          let f, q;
+          if (inside) {   // the nearest face
+            let best = null;
+            for (let k = 0; k < 3; ++k)
+              for (const face of [c0, c1]) if (!best || Math.abs(p[k] - face) < best.d) best = { d: Math.abs(p[k] - face), k, face };
+            f = -best.d;
+            q = p.map((v, k) => (k === best.k ? best.face : v));
+          } else {
+            q = p.map((v) => Math.min(Math.max(v, c0), c1));
+            f = Math.hypot(...p.map((v, k) => v - q[k]));
+          }
+          check(r.cls === (inside ? 'inside' : 'outside') && Math.abs(r.value - f) < 1e-9 && r.closest !== null &&
+                r.closest.every((v, k) => Math.abs(v - q[k]) < 1e-9) && /exact_distance/.test(r.text),
+                `probe on the cube mesh alone at ${JSON.stringify(p.map((v) => Number(v.toFixed(3))))}: ${r.cls}, ` +
+                `f = ${r.value.toFixed(6)} (analytic ${f.toFixed(6)}), closest point on the cube's ${inside ? 'nearest face' : 'surface'}`);
+        }
+        check(classes.has('inside') && classes.has('outside'), `the cube was probed inside and outside (${await shot('07e-mesh-alone-probe')})`);
+        const k1 = await statsUpdates();
+        await page.fill('#imp-scene', combined);
+        await page.click('#imp-run');
+        await page.waitForFunction((k) => Number(document.getElementById('stats').dataset.updates) > k, k1, { timeout: 60000 });
+      }
       const m = await statsUpdates();
       await page.click('#imp-meshes button');
       await page.waitForFunction((k) => Number(document.getElementById('stats').dataset.updates) > k, m, { timeout: 60000 });
       const restored = JSON.parse(await page.inputValue('#imp-scene'));
-      check(restored.scene.op === 'sphere' && !(await page.isVisible('#error')) &&
-            (await page.$$('#imp-meshes li')).length === 0, `"remove" takes the mesh out of the scene (${await shot('07f-mesh-removed')})`);
+      check(restored.scene.op === 'sphere' && JSON.stringify(restored.bounds) === JSON.stringify([[-2, -2, -2], [2, 2, 2]]) &&
+            !(await page.isVisible('#error')) &&
+            (await page.$$('#imp-meshes li')).length === 0, `"remove" takes the mesh out of the scene and the bounds back (${await shot('07f-mesh-removed')})`);
       page.off('request', onMesh);
     }
   } else {
