@@ -4,7 +4,8 @@
 // that node (the same Field object is shared, never copied). Every problem is a 400/422 naming the field path
 // (`scene.args[1].arg.radius`); expression syntax errors add the 0-based character offset in the detail.
 // Budgets (Limits::max_scene_nodes, max_expression_nodes/depth, max_fractal_iterations, max_level_set_samples) are
-// checked while parsing, before anything is evaluated. The ops and their members are listed in scene_codec.cpp and
+// checked while parsing, before anything is evaluated; the triangles and vertices of all mesh nodes together
+// (max_input_faces, max_input_vertices) before any mesh is decoded. The ops and their members are listed in scene_codec.cpp and
 // in api/openapi.json (schema ImplicitScene).
 #pragma once
 
