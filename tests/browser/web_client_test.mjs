@@ -396,8 +396,8 @@ try {
             `${errorShown ? ', error: ' + (await page.textContent('#error')).replace(/\s+/g, ' ') : ''} (${await shot('07d-mesh-difference')})`);
       check(edited.scene.op === 'difference' && edited.scene.args[0].op === 'sphere' &&
             edited.scene.args[1].mesh?.ref_upload === 'cube.obj (12 triangles)' && editor.length < 2000 &&
-            edited.bounds[1].every((v) => v >= c1 + 0.2) && edited.bounds[0].every((v) => v <= -2),
-            `the editor shows the mesh as a label, bounds grown to ${JSON.stringify(edited.bounds)}`);
+            edited.bounds[1].every((v) => v >= c1 + 0.2) && edited.bounds[0].every((v) => v <= -2) && edited.mode === 'adaptive',
+            `the editor shows the mesh as a label, bounds grown to ${JSON.stringify(edited.bounds)}, mode ${edited.mode}`);
       const sent = meshRequests.length ? JSON.parse(meshRequests.at(-1)) : null;
       check(sent?.scene?.args?.[1]?.mesh?.positions?.length === 8 && sent.scene.args[1].mesh.faces.length >= 6 &&
             !JSON.stringify(sent).includes('ref_upload'),

@@ -301,6 +301,8 @@ export class ImplicitView {
     request.scene = combine(request.scene, node, $('imp-combine').value, Number($('imp-smooth-k').value));
     upload.boundsBefore = request.bounds;
     request.bounds = upload.boundsAfter = growBounds(request.bounds, box);
+    // a mesh node costs a BVH descent per evaluation: the octree skips the cells far from the surface
+    if (request.mode === undefined) request.mode = 'adaptive';
     $('imp-scene').value = compactJson(request);
     this.listUploads();
     await this.run(true);
