@@ -33,7 +33,9 @@ class App {
       const op = doc?.paths?.['/implicit/mesh']?.post;
       if (op) {
         const example = op.requestBody?.content?.['application/json']?.example;
-        this.views.implicit = new ImplicitView(this, example);
+        const ops = doc?.components?.schemas?.ImplicitScene?.properties?.op?.enum ?? [];
+        this.views.implicit = new ImplicitView(this, example, { meshNodes: ops.includes('mesh'),
+                                                               query: !!doc?.paths?.['/implicit/query']?.post });
         document.querySelector('#tabs button[data-view=implicit]').hidden = false;
       }
     } catch (e) {
