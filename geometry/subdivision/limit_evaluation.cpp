@@ -51,10 +51,10 @@ Piece extract(const Piece& src, const std::vector<Index>& vf_offsets, const std:
         }
         std::sort(next.begin(), next.end());
         next.erase(std::unique(next.begin(), next.end()), next.end());
-        next.erase(std::remove(next.begin(), next.end(), face), next.end());
-        faces.resize(1);
-        faces.insert(faces.end(), next.begin(), next.end());
+        faces.swap(next);
     }
+    // faces keep their source order (which decides, as in build_base_level, which instance of a repeated edge is
+    // found first)
     // vertices: the face's distinct corners first (in face order), then the rest in source order
     std::vector<Index> order;
     for (Index s = L.face_offsets[face]; s < L.face_offsets[face + 1]; ++s)
@@ -101,6 +101,7 @@ Piece extract(const Piece& src, const std::vector<Index>& vf_offsets, const std:
             out.sharp.edge[out.level.face_edges[out.level.face_offsets[i] + k]] =
                 src.sharp.edge[L.face_edges[L.face_offsets[f] + k]];
     }
+    out.target = static_cast<Index>(std::lower_bound(faces.begin(), faces.end(), face) - faces.begin());
     if (!src.sharp.hole.empty()) {
         out.sharp.hole.resize(faces.size());
         for (Index i = 0; i < faces.size(); ++i) out.sharp.hole[i] = src.sharp.hole[faces[i]];
@@ -404,7 +405,7 @@ Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& m
         const Piece piece = extract(e.base_, e.vf_offsets_, e.vf_faces_, f);
         const Adjacency adj(piece.level);
         std::array<Vec3, 16> grid;
-        if (regular_patch(piece, adj, 0, grid)) {
+        if (regular_patch(piece, adj, piece.target, grid)) {
             e.patch_of_face_[f] = static_cast<std::int32_t>(e.patches_.size());
             e.patches_.push_back(grid);
         }
@@ -427,6 +428,14 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
                              "face " + std::to_string(face) + " is a hole: it has no limit surface", ElementKind::Face,
                              static_cast<std::int64_t>(face));
     const Index n = base_.level.face_offsets[f + 1] - base_.level.face_offsets[f];
+    for (Index a = 0; a < n; ++a)
+        for (Index b = a + 1; b < n; ++b)
+            if (base_.level.face_verts[base_.level.face_offsets[f] + a] ==
+                base_.level.face_verts[base_.level.face_offsets[f] + b])
+                return element_error(ErrorCode::Unsupported,
+                                     "face " + std::to_string(face) +
+                                         " uses a vertex twice: limit evaluation does not support such faces",
+                                     ElementKind::Face, static_cast<std::int64_t>(face));
     int subface = -1;
     double s = u, t = v;
     if (n == 4) {
@@ -460,7 +469,7 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
         if (at_quad) {
             const Adjacency adj(piece.level);
             std::array<Vec3, 16> grid;
-            if (regular_patch(piece, adj, 0, grid)) {
+            if (regular_patch(piece, adj, piece.target, grid)) {
                 LimitSample out = evaluate_patch(grid, s, t, scale, second);
                 out.level = level;
                 return out;
@@ -470,9 +479,10 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
             const int corner = corner_at(s, t);
             if (corner >= 0) {
                 bool sharp_edge[4], semi = false;
-                sharp_edges_of(piece, 0, sharp_edge);
-                at_irregular_vertex = !corner_regular(piece, adj, 0, corner, sharp_edge, &semi) && !semi &&
-                                      all_quads_at(piece, adj, piece.level.face_verts[corner]);
+                sharp_edges_of(piece, piece.target, sharp_edge);
+                at_irregular_vertex =
+                    !corner_regular(piece, adj, piece.target, corner, sharp_edge, &semi) && !semi &&
+                    all_quads_at(piece, adj, piece.level.face_verts[piece.level.face_offsets[piece.target] + corner]);
             }
             if (at_irregular_vertex || level >= max_level_) {
                 // the limit positions at the face's corners (the piece's first vertices), blended bilinearly
@@ -481,8 +491,8 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
                 subdivision::evaluate_limit(piece.level, piece.sharp.edge, piece.sharp.vertex, false, false,
                                             piece.points.data(), count, limit_p, limit_n);
                 for (int k = 0; k < 4; ++k) {
-                    lp[k] = limit_p[piece.level.face_verts[k]];
-                    ln[k] = limit_n[piece.level.face_verts[k]];
+                    lp[k] = limit_p[piece.level.face_verts[piece.level.face_offsets[piece.target] + k]];
+                    ln[k] = limit_n[piece.level.face_verts[piece.level.face_offsets[piece.target] + k]];
                 }
                 LimitSample out;
                 out.position = (1 - s) * (1 - t) * lp[0] + s * (1 - t) * lp[1] + s * t * lp[2] + (1 - s) * t * lp[3];
@@ -500,11 +510,11 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
         if (at_quad) {
             const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
             static constexpr int kCorner[2][2] = {{0, 1}, {3, 2}};
-            child_face = piece.level.face_offsets[0] + static_cast<Index>(kCorner[row][col]);
+            child_face = piece.level.face_offsets[piece.target] + static_cast<Index>(kCorner[row][col]);
             s = 2.0 * s - col;
             t = 2.0 * t - row;
         } else {
-            child_face = piece.level.face_offsets[0] + static_cast<Index>(subface);
+            child_face = piece.level.face_offsets[piece.target] + static_cast<Index>(subface);
             subface = -1;
         }
         scale *= 2.0;

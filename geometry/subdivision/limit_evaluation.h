@@ -37,7 +37,9 @@
 // Elsewhere: one local refinement of a few dozen faces per level descended; a random point on a face next to an
 // extraordinary vertex needs about two levels on average, a point at distance d from it about log2(1/d).
 //
-// Catmull-Clark only (Loop is Unsupported). Thread-safe: evaluate() is const and keeps no state between calls.
+// Catmull-Clark only (Loop is Unsupported). Any mesh subdivide() takes, non-manifold edges and vertices included;
+// a face that uses a vertex twice cannot be evaluated (Unsupported), its neighbours can. Thread-safe: evaluate() is
+// const and keeps no state between calls.
 #pragma once
 
 #include <array>
@@ -77,7 +79,8 @@ public:
                                                 const LimitEvaluationOptions& evaluation = {});
 
     //! The limit surface at (u, v) of base face `face`. IndexOutOfRange (face), NonFinite (u or v), InvalidArgument
-    //! ((u, v) outside the face's domain, or the face is a hole: holes have no limit surface).
+    //! ((u, v) outside the face's domain, or the face is a hole: holes have no limit surface), Unsupported (the face
+    //! uses a vertex twice).
     Result<LimitSample> evaluate(std::size_t face, double u, double v, bool second_derivatives = false) const;
 
     std::size_t face_count() const { return base_.level.face_count(); }
@@ -87,6 +90,7 @@ public:
         subdivision::Level level;
         subdivision::Sharpness sharp;
         std::vector<Vec3> points;
+        Index target = 0;  //!< the face the piece was cut around
     };
 
 private:

@@ -95,9 +95,10 @@ struct Case {
     std::string name;
     PolygonMesh mesh;
     SubdivisionOptions options;
-    //! Bfr's surface is not the exact limit here (see BfrApproximatesChaikinCreasesFarDoesNot): compared with Far
-    //! at dyadic points only
-    bool bfr_approximates = false;
+    //! Bfr's surface differs from Far's uniform refinement here (Chaikin creases: see
+    //! BfrApproximatesChaikinCreasesFarDoesNot; edges with more than two faces): compared with Far at dyadic points
+    //! only
+    bool bfr_differs = false;
 };
 
 std::vector<Case> cases() {
@@ -130,11 +131,23 @@ std::vector<Case> cases() {
     chaikin.crease_method = CreaseMethod::Chaikin;
     add("catmark_chaikin0 (chaikin)", load_shape("catmark_chaikin0"), chaikin);
     add("catmark_chaikin1 (chaikin)", load_shape("catmark_chaikin1"), chaikin);
-    out[out.size() - 1].bfr_approximates = out[out.size() - 2].bfr_approximates = true;
+    out[out.size() - 1].bfr_differs = out[out.size() - 2].bfr_differs = true;
+    for (const char* name :
+         {"catmark_nonman_quadpole8", "catmark_nonman_quadpole64", "catmark_nonman_verts", "catmark_nonman_edges"})
+        add(name, load_shape(name));
     SubdivisionOptions smooth_tris;
     smooth_tris.triangle_rule = TriangleRule::Smooth;
     add("catmark_smoothtris0 (smooth triangles)", load_shape("catmark_smoothtris0"), smooth_tris);
     return out;
+}
+
+//! Whether face f uses a vertex twice (the evaluator does not take such faces: Unsupported).
+bool repeats_vertex(const PolygonMesh& mesh, std::size_t f) {
+    auto face = mesh.face(f);
+    for (std::size_t i = 0; i < face.size(); ++i)
+        for (std::size_t j = i + 1; j < face.size(); ++j)
+            if (face[i] == face[j]) return true;
+    return false;
 }
 
 bool is_hole(const PolygonMesh& mesh, std::size_t f) {
@@ -144,7 +157,7 @@ bool is_hole(const PolygonMesh& mesh, std::size_t f) {
 TEST(LimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
     std::mt19937_64 rng(20240611);
     for (const Case& c : cases()) {
-        if (c.bfr_approximates) continue;
+        if (c.bfr_differs) continue;
         auto evaluator = LimitSurfaceEvaluator::create(c.mesh, c.options);
         ASSERT_TRUE(evaluator.ok()) << c.name << ": " << evaluator.error().message;
         BfrReference bfr(c.mesh, c.options);
@@ -155,6 +168,10 @@ TEST(LimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
             const std::size_t f = rng() % c.mesh.face_count();
             if (is_hole(c.mesh, f)) continue;
             const auto [u, v] = random_uv(c.mesh, f, rng);
+            if (repeats_vertex(c.mesh, f)) {
+                EXPECT_EQ(evaluator->evaluate(f, u, v).error().code, ErrorCode::Unsupported) << c.name;
+                continue;
+            }
             Reference ref;
             if (!bfr.evaluate(f, u, v, ref)) continue;
             auto ours = evaluator->evaluate(f, u, v, true);
@@ -178,7 +195,7 @@ TEST(LimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
             }
             ++compared;
         }
-        EXPECT_GT(compared, 150) << c.name;
+        EXPECT_GT(compared, 100) << c.name;
         EXPECT_EQ(inexact, 0) << c.name;
         std::printf("[limit-eval] %-40s %3d points, deepest level %2d: |dP| %.2g |dD| %.2g |dDD| %.2g (rel. diag)\n",
                     c.name.c_str(), compared, deepest, worst_p / diag, worst_d / diag, worst_dd / diag);
@@ -209,6 +226,7 @@ TEST(LimitEvaluation, MatchesFarLimitMasksAtDyadicPoints) {
         for (int i = 0; i < 100; ++i) {
             const std::size_t f = rng() % c.mesh.face_count();
             const std::size_t n = c.mesh.face_size(f);
+            if (repeats_vertex(c.mesh, f)) continue;
             std::size_t face = c.mesh.face_offsets[f];  // level-1 child index
             double u = 0, v = 0, size = 1;
             if (n == 4) {
