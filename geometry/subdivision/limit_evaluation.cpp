@@ -413,7 +413,7 @@ Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& m
     return e;
 }
 
-Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, double v, bool second) const {
+Result<LimitSurfaceEvaluator::Start> LimitSurfaceEvaluator::locate(std::size_t face, double u, double v) const {
     if (face >= face_count())
         return element_error(
             ErrorCode::IndexOutOfRange,
@@ -458,6 +458,15 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
         s = 2.0 * (u - x);
         t = 2.0 * (v - y);
     }
+    return Start{subface, s, t};
+}
+
+Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, double v, bool second) const {
+    auto start = locate(face, u, v);
+    if (!start) return start.error();
+    const Index f = static_cast<Index>(face);
+    int subface = start->subface;
+    double s = start->s, t = start->t;
     if (subface < 0 && patch_of_face_[f] >= 0) return evaluate_patch(patches_[patch_of_face_[f]], s, t, 1.0, second);
 
     // local refinement: `piece` holds the current face (index 0) with its 2-ring; (s, t) are its local coordinates
@@ -520,6 +529,99 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
         scale *= 2.0;
         vertex_faces(child.level, offsets, faces);
         piece = extract(child, offsets, faces, child_face);
+    }
+}
+
+namespace {
+
+//! The patch tree below `piece`'s target face (a quad), at `level` refinements below the base face: a node per
+//! sub-face, a leaf with a patch where the sub-face is regular, a leaf without one where `level` reaches `levels`.
+void build_tree(const Piece& piece, const SubdivisionOptions& options, int level, int levels, std::size_t node,
+                std::vector<LimitFaceSurface::Node>& nodes, std::vector<std::array<Vec3, 16>>& patches) {
+    const Adjacency adj(piece.level);
+    std::array<Vec3, 16> grid;
+    if (regular_patch(piece, adj, piece.target, grid)) {
+        nodes[node].patch = static_cast<std::int32_t>(patches.size());
+        patches.push_back(grid);
+        return;
+    }
+    if (level >= levels) return;
+    const Piece child = refine(piece, options, level == 0);
+    std::vector<Index> offsets, faces;
+    vertex_faces(child.level, offsets, faces);
+    const std::size_t first = nodes.size();
+    nodes[node].first_child = static_cast<std::int32_t>(first);
+    nodes.resize(first + 4);
+    for (Index j = 0; j < 4; ++j)
+        build_tree(extract(child, offsets, faces, piece.level.face_offsets[piece.target] + j), options, level + 1,
+                   levels, first + j, nodes, patches);
+}
+
+}  // namespace
+
+Result<LimitFaceSurface> LimitSurfaceEvaluator::face_surface(std::size_t face, int levels) const {
+    if (levels < 0 || levels > max_level_)
+        return make_error(ErrorCode::InvalidArgument,
+                          "levels must be in [0, " + std::to_string(max_level_) + "], got " + std::to_string(levels));
+    // the domain check of a point inside the face (its first sub-face for N-gons) checks the face itself
+    auto start = locate(face, 0.0, 0.0);
+    if (!start) return start.error();
+    LimitFaceSurface out;
+    out.owner_ = this;
+    out.face_ = face;
+    const Index f = static_cast<Index>(face);
+    const Index n = base_.level.face_offsets[f + 1] - base_.level.face_offsets[f];
+    out.nodes_.resize(1);
+    if (n == 4 && patch_of_face_[f] >= 0) {
+        out.nodes_[0].patch = 0;
+        out.patches_.push_back(patches_[patch_of_face_[f]]);
+        return out;
+    }
+    const Piece piece = extract(base_, vf_offsets_, vf_faces_, f);
+    if (n == 4) {
+        build_tree(piece, options_, 0, levels, 0, out.nodes_, out.patches_);
+        return out;
+    }
+    if (levels == 0) return out;
+    // an N-gon: its children are its sub-faces, in corner order
+    const Piece child = refine(piece, options_, true);
+    std::vector<Index> offsets, faces;
+    vertex_faces(child.level, offsets, faces);
+    out.nodes_[0].first_child = 1;
+    out.nodes_.resize(1 + n);
+    for (Index j = 0; j < n; ++j)
+        build_tree(extract(child, offsets, faces, piece.level.face_offsets[piece.target] + j), options_, 1, levels,
+                   1 + j, out.nodes_, out.patches_);
+    return out;
+}
+
+Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_derivatives) const {
+    auto start = owner_->locate(face_, u, v);
+    if (!start) return start.error();
+    double s = start->s, t = start->t, scale = 1.0;
+    std::size_t node = 0;
+    int level = 0;
+    if (start->subface >= 0) {
+        if (nodes_[0].first_child < 0) return owner_->evaluate(face_, u, v, second_derivatives);
+        node = static_cast<std::size_t>(nodes_[0].first_child + start->subface);
+        scale = 2.0;
+        level = 1;
+    }
+    for (;;) {
+        const Node& current = nodes_[node];
+        if (current.patch >= 0) {
+            LimitSample out = evaluate_patch(patches_[current.patch], s, t, scale, second_derivatives);
+            out.level = level;
+            return out;
+        }
+        if (current.first_child < 0) return owner_->evaluate(face_, u, v, second_derivatives);
+        const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
+        static constexpr int kCorner[2][2] = {{0, 1}, {3, 2}};
+        node = static_cast<std::size_t>(current.first_child + kCorner[row][col]);
+        s = 2.0 * s - col;
+        t = 2.0 * t - row;
+        scale *= 2.0;
+        ++level;
     }
 }
 

@@ -44,6 +44,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "geometry/core/result.h"
@@ -70,6 +71,31 @@ struct LimitEvaluationOptions {
     int max_level = 24;
 };
 
+class LimitSurfaceEvaluator;
+
+//! The limit surface over one base face, prepared for many evaluations (Bfr::Surface's role): the bicubic patches of
+//! its regular sub-faces down to a number of local refinements, so that evaluating a point there is one patch
+//! evaluation. A point closer to an irregular vertex than the prepared levels reach is handed to the evaluator's
+//! descent; results are the evaluator's either way. Refers to its evaluator, which must outlive it.
+class LimitFaceSurface {
+public:
+    //! As LimitSurfaceEvaluator::evaluate on this face.
+    Result<LimitSample> evaluate(double u, double v, bool second_derivatives = false) const;
+    std::size_t patch_count() const { return patches_.size(); }
+
+    struct Node {
+        std::int32_t patch = -1;        //!< a regular sub-face: index into patches_
+        std::int32_t first_child = -1;  //!< its sub-faces' nodes (4; the face's size for an N-gon's root)
+    };
+
+private:
+    friend class LimitSurfaceEvaluator;
+    const LimitSurfaceEvaluator* owner_ = nullptr;
+    std::size_t face_ = 0;
+    std::vector<Node> nodes_;  //!< node 0: the face
+    std::vector<std::array<Vec3, 16>> patches_;
+};
+
 //! The Catmull-Clark limit surface of one mesh under one SubdivisionOptions (scheme, boundary mode, crease method,
 //! triangle rule, use of the mesh tags; `levels`, `limit_surface` and the UV options do not matter here).
 class LimitSurfaceEvaluator {
@@ -83,6 +109,10 @@ public:
     //! uses a vertex twice).
     Result<LimitSample> evaluate(std::size_t face, double u, double v, bool second_derivatives = false) const;
 
+    //! The surface over `face` prepared to `levels` local refinements (0..max_level; 6 leaves about 4^-6 of the
+    //! face's area per irregular corner to the descent). Errors as evaluate() for the face.
+    Result<LimitFaceSurface> face_surface(std::size_t face, int levels = 6) const;
+
     std::size_t face_count() const { return base_.level.face_count(); }
 
     //! A piece of one refinement level: topology, sharpness and points (internal).
@@ -94,7 +124,15 @@ public:
     };
 
 private:
+    friend class LimitFaceSurface;
     LimitSurfaceEvaluator() = default;
+    //! Checks (face, u, v) and returns where the descent starts: the N-gon's sub-face (or -1 for a quad) and the
+    //! local coordinates in it.
+    struct Start {
+        int subface;
+        double s, t;
+    };
+    Result<Start> locate(std::size_t face, double u, double v) const;
 
     SubdivisionOptions options_;
     int max_level_ = 24;

@@ -373,6 +373,41 @@ TEST(LimitEvaluation, RejectsBadInput) {
     EXPECT_EQ(with_holes->evaluate(holed.tags.holes[0], 0.5, 0.5).error().code, ErrorCode::InvalidArgument);
 }
 
+// A face surface (the face's regular sub-faces prepared as patches) answers as the evaluator does, at random points
+// and at points nearer an extraordinary vertex than its prepared levels reach.
+TEST(LimitEvaluation, FaceSurfacesAnswerAsTheEvaluator) {
+    std::mt19937_64 rng(99);
+    for (const Case& c : cases()) {
+        auto evaluator = LimitSurfaceEvaluator::create(c.mesh, c.options);
+        ASSERT_TRUE(evaluator.ok()) << c.name;
+        const double diag = c.mesh.bounds().diagonal();
+        for (std::size_t f = 0; f < c.mesh.face_count(); f += 1 + c.mesh.face_count() / 8) {
+            if (is_hole(c.mesh, f) || repeats_vertex(c.mesh, f)) {
+                EXPECT_FALSE(evaluator->face_surface(f).ok()) << c.name;
+                continue;
+            }
+            auto surface = evaluator->face_surface(f, 3);
+            ASSERT_TRUE(surface.ok()) << c.name << ": " << surface.error().message;
+            for (int i = 0; i < 40; ++i) {
+                auto [u, v] = random_uv(c.mesh, f, rng);
+                if (i % 4 == 0) {  // within 2^-3 of the domain's first corner
+                    u = std::floor(u) + (u - std::floor(u)) * 0.01;
+                    v = std::floor(v) + (v - std::floor(v)) * 0.01;
+                }
+                auto a = surface->evaluate(u, v, true);
+                auto b = evaluator->evaluate(f, u, v, true);
+                ASSERT_TRUE(a.ok() && b.ok()) << c.name;
+                EXPECT_LE(norm(a->position - b->position), 1e-15 * diag) << c.name << " face " << f;
+                EXPECT_LE(norm(a->du - b->du) + norm(a->dv - b->dv), 1e-13 * diag) << c.name << " face " << f;
+                EXPECT_LE(norm(a->duu - b->duu) + norm(a->dvv - b->dvv) + norm(a->duv - b->duv), 1e-10 * diag)
+                    << c.name << " face " << f;
+                EXPECT_EQ(a->exact, b->exact);
+            }
+            EXPECT_EQ(surface->evaluate(2.0, 0.5).error().code, ErrorCode::InvalidArgument);
+        }
+    }
+}
+
 // Near an irregular vertex the descent goes as deep as the point is close; past max_level the answer is flagged
 // and still within the stated error of the exact one.
 TEST(LimitEvaluation, ConvergesOnExtraordinaryVertices) {
