@@ -403,7 +403,7 @@ TEST(LimitEvaluation, FaceSurfacesAnswerAsTheEvaluator) {
                     << c.name << " face " << f;
                 EXPECT_EQ(a->exact, b->exact);
             }
-            EXPECT_EQ(surface->evaluate(2.0, 0.5).error().code, ErrorCode::InvalidArgument);
+            EXPECT_EQ(surface->evaluate(-0.25, 0.25).error().code, ErrorCode::InvalidArgument);
         }
     }
 }
