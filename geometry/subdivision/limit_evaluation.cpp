@@ -38,53 +38,85 @@ void vertex_faces(const Level& level, std::vector<Index>& offsets, std::vector<I
 //! copied, not recomputed, so that the piece's cut edges keep their true (usually smooth) rule.
 Piece extract(const Piece& src, const std::vector<Index>& vf_offsets, const std::vector<Index>& vf_faces, Index face) {
     const Level& L = src.level;
+    // a local piece is small: marks per face and vertex; the base mesh may be large: sorted lists
+    const bool dense = L.face_count() <= 4096;
     std::vector<Index> faces{face};
-    for (int ring = 0; ring < 2; ++ring) {
-        const std::size_t count = faces.size();
-        std::vector<Index> next;
-        for (std::size_t i = 0; i < count; ++i) {
-            const Index f = faces[i];
-            for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) {
-                const Index v = L.face_verts[s];
-                next.insert(next.end(), vf_faces.begin() + vf_offsets[v], vf_faces.begin() + vf_offsets[v + 1]);
-            }
+    if (dense) {
+        std::vector<std::uint8_t> in(L.face_count(), 0);
+        in[face] = 1;
+        for (int ring = 0; ring < 2; ++ring) {
+            const std::size_t count = faces.size();
+            for (std::size_t i = 0; i < count; ++i)
+                for (Index s = L.face_offsets[faces[i]]; s < L.face_offsets[faces[i] + 1]; ++s) {
+                    const Index v = L.face_verts[s];
+                    for (Index k = vf_offsets[v]; k < vf_offsets[v + 1]; ++k)
+                        if (!in[vf_faces[k]]) {
+                            in[vf_faces[k]] = 1;
+                            faces.push_back(vf_faces[k]);
+                        }
+                }
         }
-        std::sort(next.begin(), next.end());
-        next.erase(std::unique(next.begin(), next.end()), next.end());
-        faces.swap(next);
+        std::sort(faces.begin(), faces.end());
+    } else {
+        for (int ring = 0; ring < 2; ++ring) {
+            const std::size_t count = faces.size();
+            std::vector<Index> next;
+            for (std::size_t i = 0; i < count; ++i) {
+                const Index f = faces[i];
+                for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) {
+                    const Index v = L.face_verts[s];
+                    next.insert(next.end(), vf_faces.begin() + vf_offsets[v], vf_faces.begin() + vf_offsets[v + 1]);
+                }
+            }
+            std::sort(next.begin(), next.end());
+            next.erase(std::unique(next.begin(), next.end()), next.end());
+            faces.swap(next);
+        }
     }
     // faces keep their source order (which decides, as in build_base_level, which instance of a repeated edge is
-    // found first)
-    // vertices: the face's distinct corners first (in face order), then the rest in source order
+    // found first); vertices: the face's distinct corners first (in face order), then the rest
     std::vector<Index> order;
     for (Index s = L.face_offsets[face]; s < L.face_offsets[face + 1]; ++s)
         if (std::find(order.begin(), order.end(), L.face_verts[s]) == order.end()) order.push_back(L.face_verts[s]);
-    const std::size_t corner_count = order.size();
-    std::vector<Index> rest;
-    for (Index f : faces)
-        for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) rest.push_back(L.face_verts[s]);
-    std::sort(rest.begin(), rest.end());
-    rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
-    for (Index v : rest)
-        if (std::find(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corner_count), v) ==
-            order.begin() + static_cast<std::ptrdiff_t>(corner_count))
-            order.push_back(v);
+    std::vector<Index> dense_local;
     std::vector<std::pair<Index, Index>> map;  // (source, local), sorted by source
-    map.reserve(order.size());
-    for (Index i = 0; i < order.size(); ++i) map.push_back({order[i], i});
-    std::sort(map.begin(), map.end());
+    if (dense) {
+        dense_local.assign(L.vertex_count, kInvalidIndex);
+        for (Index i = 0; i < order.size(); ++i) dense_local[order[i]] = i;
+        for (Index f : faces)
+            for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s)
+                if (dense_local[L.face_verts[s]] == kInvalidIndex) {
+                    dense_local[L.face_verts[s]] = static_cast<Index>(order.size());
+                    order.push_back(L.face_verts[s]);
+                }
+    } else {
+        const std::size_t corner_count = order.size();
+        std::vector<Index> rest;
+        for (Index f : faces)
+            for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) rest.push_back(L.face_verts[s]);
+        std::sort(rest.begin(), rest.end());
+        rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
+        for (Index v : rest)
+            if (std::find(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corner_count), v) ==
+                order.begin() + static_cast<std::ptrdiff_t>(corner_count))
+                order.push_back(v);
+        map.reserve(order.size());
+        for (Index i = 0; i < order.size(); ++i) map.push_back({order[i], i});
+        std::sort(map.begin(), map.end());
+    }
     auto local = [&](Index v) {
+        if (dense) return dense_local[v];
         return std::lower_bound(map.begin(), map.end(), std::pair<Index, Index>{v, 0})->second;
     };
 
     PolygonMesh mesh;
-    mesh.positions.resize(map.size());
+    mesh.positions.resize(order.size());
     Piece out;
-    out.points.resize(map.size());
-    out.sharp.vertex.resize(map.size());
-    for (const auto& [s, l] : map) {
-        out.points[l] = src.points[s];
-        out.sharp.vertex[l] = src.sharp.vertex[s];
+    out.points.resize(order.size());
+    out.sharp.vertex.resize(order.size());
+    for (Index l = 0; l < order.size(); ++l) {
+        out.points[l] = src.points[order[l]];
+        out.sharp.vertex[l] = src.sharp.vertex[order[l]];
     }
     std::vector<Index> corner_ids;
     for (Index f : faces) {
