@@ -30,12 +30,15 @@
 // itself and off by O(4^-max_level) times the surface's curvature elsewhere; first derivatives are the last face's
 // corner differences scaled to (u, v) (the parametric derivative of a subdivision surface is not defined at an
 // extraordinary vertex: it vanishes or diverges with the valence), second derivatives zero, and the normal at the
-// vertex itself is the limit-mask normal.
+// vertex itself is the limit-mask normal. A point exactly at an irregular vertex is answered that way as soon as the
+// vertex's sharpness has decayed, without descending further: exact position and normal, `exact` false.
 //
 // Cost. Creation: one pass over the mesh (topology, sharpness, vertex-face lists) and the 16 control points of every
 // regular base face. Evaluation on a regular base face: one bicubic evaluation (about a hundred multiply-adds).
-// Elsewhere: one local refinement of a few dozen faces per level descended; a random point on a face next to an
-// extraordinary vertex needs about two levels on average, a point at distance d from it about log2(1/d).
+// Elsewhere: one local refinement of a few dozen faces per level descended (about ten microseconds); a random point
+// on a face next to an extraordinary vertex needs about two levels on average, a point at distance d from it about
+// log2(1/d). For many points on one face, face_surface() prepares the patches of its regular sub-faces once
+// (LimitFaceSurface, the role of OpenSubdiv's Bfr::Surface), after which nearly every point is one patch evaluation.
 //
 // Catmull-Clark only (Loop is Unsupported). Any mesh subdivide() takes, non-manifold edges and vertices included;
 // a face that uses a vertex twice cannot be evaluated (Unsupported), its neighbours can. Thread-safe: evaluate() is
