@@ -5,11 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <utility>
 
+#include "geometry/subdivision/creases.h"
 #include "geometry/subdivision/interpolate.h"
 #include "geometry/subdivision/limit.h"
+#include "geometry/subdivision/topology.h"
 
 namespace surfaced {
 
@@ -19,7 +22,13 @@ using subdivision::is_infinite;
 using subdivision::is_semi_sharp;
 using subdivision::is_sharp;
 using subdivision::Level;
-using Piece = LimitSurfaceEvaluator::Piece;
+//! A piece of one refinement level: topology, sharpness and points, cut around one face.
+struct Piece {
+    Level level;
+    subdivision::Sharpness sharp;
+    std::vector<Vec3> points;
+    Index target = 0;  //!< the face the piece was cut around
+};
 
 //! Vertex -> faces lists of a level.
 void vertex_faces(const Level& level, std::vector<Index>& offsets, std::vector<Index>& faces) {
@@ -410,6 +419,19 @@ int subface_columns(Index n) {
 
 }  // namespace
 
+//! What an evaluator shares with its copies and its face surfaces: the base level, its sharpness and points, its
+//! vertex-face lists and the patches of its regular faces.
+struct LimitSurfaceEvaluator::Data {
+    SubdivisionOptions options;
+    int max_level = 24;
+    Piece base;
+    std::vector<Index> vf_offsets, vf_faces;
+    std::vector<std::int32_t> patch_of_face;  //!< index into patches, -1 when the face is not regular
+    std::vector<std::array<Vec3, 16>> patches;
+};
+
+std::size_t LimitSurfaceEvaluator::face_count() const { return data_->base.level.face_count(); }
+
 Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& mesh, const SubdivisionOptions& options,
                                                             const LimitEvaluationOptions& evaluation) {
     if (options.scheme != SubdivisionScheme::CatmullClark)
@@ -418,30 +440,33 @@ Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& m
         return make_error(ErrorCode::InvalidArgument,
                           "max_level must be in [12, 40], got " + std::to_string(evaluation.max_level));
     if (Status valid = validate_for_subdivision(mesh); !valid) return valid.error();
-    LimitSurfaceEvaluator e;
-    e.options_ = options;
-    e.max_level_ = evaluation.max_level;
+    auto data = std::make_shared<Data>();
+    Data& d = *data;
+    d.options = options;
+    d.max_level = evaluation.max_level;
     const BoundaryInterpolation boundary =
         options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
-    e.base_.level = subdivision::build_base_level(mesh);
-    auto sharp = subdivision::base_sharpness(mesh, e.base_.level, boundary, options.use_mesh_tags);
+    d.base.level = subdivision::build_base_level(mesh);
+    auto sharp = subdivision::base_sharpness(mesh, d.base.level, boundary, options.use_mesh_tags);
     if (!sharp) return sharp.error();
-    e.base_.sharp = std::move(sharp).value();
-    e.base_.points = mesh.positions;
-    vertex_faces(e.base_.level, e.vf_offsets_, e.vf_faces_);
+    d.base.sharp = std::move(sharp).value();
+    d.base.points = mesh.positions;
+    vertex_faces(d.base.level, d.vf_offsets, d.vf_faces);
     // regular base faces keep their patch
-    const Index nf = e.base_.level.face_count();
-    e.patch_of_face_.assign(nf, -1);
+    const Index nf = d.base.level.face_count();
+    d.patch_of_face.assign(nf, -1);
     for (Index f = 0; f < nf; ++f) {
-        if (e.base_.level.face_offsets[f + 1] - e.base_.level.face_offsets[f] != 4) continue;
-        const Piece piece = extract(e.base_, e.vf_offsets_, e.vf_faces_, f);
+        if (d.base.level.face_offsets[f + 1] - d.base.level.face_offsets[f] != 4) continue;
+        const Piece piece = extract(d.base, d.vf_offsets, d.vf_faces, f);
         const Adjacency adj(piece.level);
         std::array<Vec3, 16> grid;
         if (regular_patch(piece, adj, piece.target, grid)) {
-            e.patch_of_face_[f] = static_cast<std::int32_t>(e.patches_.size());
-            e.patches_.push_back(grid);
+            d.patch_of_face[f] = static_cast<std::int32_t>(d.patches.size());
+            d.patches.push_back(grid);
         }
     }
+    LimitSurfaceEvaluator e;
+    e.data_ = std::move(data);
     return e;
 }
 
@@ -455,15 +480,15 @@ Result<LimitSurfaceEvaluator::Start> LimitSurfaceEvaluator::locate(std::size_t f
         return element_error(ErrorCode::NonFinite, "(u, v) must be finite", ElementKind::Face,
                              static_cast<std::int64_t>(face));
     const Index f = static_cast<Index>(face);
-    if (!base_.sharp.hole.empty() && base_.sharp.hole[f])
+    if (!data_->base.sharp.hole.empty() && data_->base.sharp.hole[f])
         return element_error(ErrorCode::InvalidArgument,
                              "face " + std::to_string(face) + " is a hole: it has no limit surface", ElementKind::Face,
                              static_cast<std::int64_t>(face));
-    const Index n = base_.level.face_offsets[f + 1] - base_.level.face_offsets[f];
+    const Index n = data_->base.level.face_offsets[f + 1] - data_->base.level.face_offsets[f];
     for (Index a = 0; a < n; ++a)
         for (Index b = a + 1; b < n; ++b)
-            if (base_.level.face_verts[base_.level.face_offsets[f] + a] ==
-                base_.level.face_verts[base_.level.face_offsets[f] + b])
+            if (data_->base.level.face_verts[data_->base.level.face_offsets[f] + a] ==
+                data_->base.level.face_verts[data_->base.level.face_offsets[f] + b])
                 return element_error(ErrorCode::Unsupported,
                                      "face " + std::to_string(face) +
                                          " uses a vertex twice: limit evaluation does not support such faces",
@@ -499,10 +524,11 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
     const Index f = static_cast<Index>(face);
     int subface = start->subface;
     double s = start->s, t = start->t;
-    if (subface < 0 && patch_of_face_[f] >= 0) return evaluate_patch(patches_[patch_of_face_[f]], s, t, 1.0, second);
+    if (subface < 0 && data_->patch_of_face[f] >= 0)
+        return evaluate_patch(data_->patches[data_->patch_of_face[f]], s, t, 1.0, second);
 
     // local refinement: `piece` holds the current face (index 0) with its 2-ring; (s, t) are its local coordinates
-    Piece piece = extract(base_, vf_offsets_, vf_faces_, f);
+    Piece piece = extract(data_->base, data_->vf_offsets, data_->vf_faces, f);
     double scale = 1.0;
     std::vector<Index> offsets, faces;
     for (int level = 0;; ++level) {
@@ -525,7 +551,7 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
                     !corner_regular(piece, adj, piece.target, corner, sharp_edge, &semi) && !semi &&
                     all_quads_at(piece, adj, piece.level.face_verts[piece.level.face_offsets[piece.target] + corner]);
             }
-            if (at_irregular_vertex || level >= max_level_) {
+            if (at_irregular_vertex || level >= data_->max_level) {
                 // the limit positions at the face's corners (the piece's first vertices), blended bilinearly
                 Vec3 limit_p[4], limit_n[4], lp[4], ln[4];
                 const Index count = std::min<Index>(4, piece.level.vertex_count);
@@ -546,7 +572,7 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
                 return out;
             }
         }
-        const Piece child = refine(piece, options_, level == 0);
+        const Piece child = refine(piece, data_->options, level == 0);
         Index child_face;
         if (at_quad) {
             const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
@@ -592,49 +618,49 @@ void build_tree(const Piece& piece, const SubdivisionOptions& options, int level
 }  // namespace
 
 Result<LimitFaceSurface> LimitSurfaceEvaluator::face_surface(std::size_t face, int levels) const {
-    if (levels < 0 || levels > max_level_)
-        return make_error(ErrorCode::InvalidArgument,
-                          "levels must be in [0, " + std::to_string(max_level_) + "], got " + std::to_string(levels));
+    if (levels < 0 || levels > data_->max_level)
+        return make_error(ErrorCode::InvalidArgument, "levels must be in [0, " + std::to_string(data_->max_level) +
+                                                          "], got " + std::to_string(levels));
     // the domain check of a point inside the face (its first sub-face for N-gons) checks the face itself
     auto start = locate(face, 0.0, 0.0);
     if (!start) return start.error();
     LimitFaceSurface out;
-    out.owner_ = this;
+    out.owner_ = *this;
     out.face_ = face;
     const Index f = static_cast<Index>(face);
-    const Index n = base_.level.face_offsets[f + 1] - base_.level.face_offsets[f];
+    const Index n = data_->base.level.face_offsets[f + 1] - data_->base.level.face_offsets[f];
     out.nodes_.resize(1);
-    if (n == 4 && patch_of_face_[f] >= 0) {
+    if (n == 4 && data_->patch_of_face[f] >= 0) {
         out.nodes_[0].patch = 0;
-        out.patches_.push_back(patches_[patch_of_face_[f]]);
+        out.patches_.push_back(data_->patches[data_->patch_of_face[f]]);
         return out;
     }
-    const Piece piece = extract(base_, vf_offsets_, vf_faces_, f);
+    const Piece piece = extract(data_->base, data_->vf_offsets, data_->vf_faces, f);
     if (n == 4) {
-        build_tree(piece, options_, 0, levels, 0, out.nodes_, out.patches_);
+        build_tree(piece, data_->options, 0, levels, 0, out.nodes_, out.patches_);
         return out;
     }
     if (levels == 0) return out;
     // an N-gon: its children are its sub-faces, in corner order
-    const Piece child = refine(piece, options_, true);
+    const Piece child = refine(piece, data_->options, true);
     std::vector<Index> offsets, faces;
     vertex_faces(child.level, offsets, faces);
     out.nodes_[0].first_child = 1;
     out.nodes_.resize(1 + n);
     for (Index j = 0; j < n; ++j)
-        build_tree(extract(child, offsets, faces, piece.level.face_offsets[piece.target] + j), options_, 1, levels,
-                   1 + j, out.nodes_, out.patches_);
+        build_tree(extract(child, offsets, faces, piece.level.face_offsets[piece.target] + j), data_->options, 1,
+                   levels, 1 + j, out.nodes_, out.patches_);
     return out;
 }
 
 Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_derivatives) const {
-    auto start = owner_->locate(face_, u, v);
+    auto start = owner_.locate(face_, u, v);
     if (!start) return start.error();
     double s = start->s, t = start->t, scale = 1.0;
     std::size_t node = 0;
     int level = 0;
     if (start->subface >= 0) {
-        if (nodes_[0].first_child < 0) return owner_->evaluate(face_, u, v, second_derivatives);
+        if (nodes_[0].first_child < 0) return owner_.evaluate(face_, u, v, second_derivatives);
         node = static_cast<std::size_t>(nodes_[0].first_child + start->subface);
         scale = 2.0;
         level = 1;
@@ -646,7 +672,7 @@ Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_d
             out.level = level;
             return out;
         }
-        if (current.first_child < 0) return owner_->evaluate(face_, u, v, second_derivatives);
+        if (current.first_child < 0) return owner_.evaluate(face_, u, v, second_derivatives);
         const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
         static constexpr int kCorner[2][2] = {{0, 1}, {3, 2}};
         node = static_cast<std::size_t>(current.first_child + kCorner[row][col]);

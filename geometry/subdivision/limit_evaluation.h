@@ -48,14 +48,13 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry/core/result.h"
 #include "geometry/core/types.h"
 #include "geometry/mesh/polygon_mesh.h"
-#include "geometry/subdivision/creases.h"
 #include "geometry/subdivision/subdivide.h"
-#include "geometry/subdivision/topology.h"
 
 namespace surfaced {
 
@@ -74,33 +73,11 @@ struct LimitEvaluationOptions {
     int max_level = 24;
 };
 
-class LimitSurfaceEvaluator;
-
-//! The limit surface over one base face, prepared for many evaluations (Bfr::Surface's role): the bicubic patches of
-//! its regular sub-faces down to a number of local refinements, so that evaluating a point there is one patch
-//! evaluation. A point closer to an irregular vertex than the prepared levels reach is handed to the evaluator's
-//! descent; results are the evaluator's either way. Refers to its evaluator, which must outlive it.
-class LimitFaceSurface {
-public:
-    //! As LimitSurfaceEvaluator::evaluate on this face.
-    Result<LimitSample> evaluate(double u, double v, bool second_derivatives = false) const;
-    std::size_t patch_count() const { return patches_.size(); }
-
-    struct Node {
-        std::int32_t patch = -1;        //!< a regular sub-face: index into patches_
-        std::int32_t first_child = -1;  //!< its sub-faces' nodes (4; the face's size for an N-gon's root)
-    };
-
-private:
-    friend class LimitSurfaceEvaluator;
-    const LimitSurfaceEvaluator* owner_ = nullptr;
-    std::size_t face_ = 0;
-    std::vector<Node> nodes_;  //!< node 0: the face
-    std::vector<std::array<Vec3, 16>> patches_;
-};
+class LimitFaceSurface;
 
 //! The Catmull-Clark limit surface of one mesh under one SubdivisionOptions (scheme, boundary mode, crease method,
-//! triangle rule, use of the mesh tags; `levels`, `limit_surface` and the UV options do not matter here).
+//! triangle rule, use of the mesh tags; `levels`, `limit_surface` and the UV options do not matter here). Copies share
+//! the prepared data (immutable).
 class LimitSurfaceEvaluator {
 public:
     //! Validates the mesh as subdivide() does; Unsupported for Loop; InvalidArgument for max_level out of range.
@@ -116,15 +93,9 @@ public:
     //! face's area per irregular corner to the descent). Errors as evaluate() for the face.
     Result<LimitFaceSurface> face_surface(std::size_t face, int levels = 6) const;
 
-    std::size_t face_count() const { return base_.level.face_count(); }
+    std::size_t face_count() const;
 
-    //! A piece of one refinement level: topology, sharpness and points (internal).
-    struct Piece {
-        subdivision::Level level;
-        subdivision::Sharpness sharp;
-        std::vector<Vec3> points;
-        Index target = 0;  //!< the face the piece was cut around
-    };
+    struct Data;  //!< the base level, its sharpness, vertex-face lists and regular patches (limit_evaluation.cpp)
 
 private:
     friend class LimitFaceSurface;
@@ -137,12 +108,30 @@ private:
     };
     Result<Start> locate(std::size_t face, double u, double v) const;
 
-    SubdivisionOptions options_;
-    int max_level_ = 24;
-    Piece base_;
-    std::vector<Index> vf_offsets_, vf_faces_;   //!< base vertex -> faces
-    std::vector<std::int32_t> patch_of_face_;    //!< index into patches_, -1 when the face is not regular
-    std::vector<std::array<Vec3, 16>> patches_;  //!< row-major 4x4 control points (row = v, column = u)
+    std::shared_ptr<const Data> data_;
+};
+
+//! The limit surface over one base face, prepared for many evaluations (Bfr::Surface's role): the bicubic patches of
+//! its regular sub-faces down to a number of local refinements, so that evaluating a point there is one patch
+//! evaluation. A point closer to an irregular vertex than the prepared levels reach is handed to the evaluator's
+//! descent; results are the evaluator's either way. Shares its evaluator's data.
+class LimitFaceSurface {
+public:
+    //! As LimitSurfaceEvaluator::evaluate on this face.
+    Result<LimitSample> evaluate(double u, double v, bool second_derivatives = false) const;
+    std::size_t patch_count() const { return patches_.size(); }
+
+    struct Node {
+        std::int32_t patch = -1;        //!< a regular sub-face: index into patches_
+        std::int32_t first_child = -1;  //!< its sub-faces' nodes (4; the face's size for an N-gon's root)
+    };
+
+private:
+    friend class LimitSurfaceEvaluator;
+    LimitSurfaceEvaluator owner_;
+    std::size_t face_ = 0;
+    std::vector<Node> nodes_;  //!< node 0: the face
+    std::vector<std::array<Vec3, 16>> patches_;
 };
 
 }  // namespace surfaced

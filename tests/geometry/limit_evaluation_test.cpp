@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -406,6 +407,28 @@ TEST(LimitEvaluation, FaceSurfacesAnswerAsTheEvaluator) {
             EXPECT_EQ(surface->evaluate(-0.25, 0.25).error().code, ErrorCode::InvalidArgument);
         }
     }
+}
+
+// A face surface shares its evaluator's data: it still answers, deeper than its prepared levels too, once the
+// evaluator it came from is gone.
+TEST(LimitEvaluation, FaceSurfaceOutlivesItsEvaluator) {
+    std::optional<LimitFaceSurface> surface;
+    LimitSample near_corner, inside;
+    {
+        auto evaluator = LimitSurfaceEvaluator::create(shapes::cube(), {});
+        ASSERT_TRUE(evaluator.ok());
+        auto prepared = evaluator->face_surface(2, 2);
+        ASSERT_TRUE(prepared.ok());
+        surface.emplace(*prepared);
+        near_corner = *evaluator->evaluate(2, 1e-3, 2e-3);
+        inside = *evaluator->evaluate(2, 0.4, 0.7);
+    }
+    auto a = surface->evaluate(1e-3, 2e-3);
+    auto b = surface->evaluate(0.4, 0.7);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(norm(a->position - near_corner.position), 0.0);
+    EXPECT_EQ(norm(b->position - inside.position), 0.0);
+    EXPECT_GT(a->level, 2);  // answered by the evaluator's descent, past the prepared levels
 }
 
 // Near an irregular vertex the descent goes as deep as the point is close; past max_level the answer is flagged
