@@ -452,15 +452,14 @@ Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& m
     d.base.sharp = std::move(sharp).value();
     d.base.points = mesh.positions;
     vertex_faces(d.base.level, d.vf_offsets, d.vf_faces);
-    // regular base faces keep their patch
+    // regular base faces keep their patch (the base level holds every face's neighbourhood: no piece is cut)
     const Index nf = d.base.level.face_count();
     d.patch_of_face.assign(nf, -1);
+    const Adjacency adj(d.base.level);
     for (Index f = 0; f < nf; ++f) {
         if (d.base.level.face_offsets[f + 1] - d.base.level.face_offsets[f] != 4) continue;
-        const Piece piece = extract(d.base, d.vf_offsets, d.vf_faces, f);
-        const Adjacency adj(piece.level);
         std::array<Vec3, 16> grid;
-        if (regular_patch(piece, adj, piece.target, grid)) {
+        if (regular_patch(d.base, adj, f, grid)) {
             d.patch_of_face[f] = static_cast<std::int32_t>(d.patches.size());
             d.patches.push_back(grid);
         }

@@ -65,7 +65,7 @@ struct LimitSample {
     Vec3 normal;         //!< normalize(du x dv); the limit-mask normal exactly at an irregular vertex; 0 if degenerate
     Vec3 duu, duv, dvv;  //!< only when asked for (zero otherwise, and when exact is false)
     int level = 0;       //!< local refinement levels descended to reach the point's patch
-    bool exact = true;   //!< false: the point is within 2^-max_level of an irregular vertex (see the header)
+    bool exact = true;   //!< false: at an irregular vertex or within 2^-max_level of one (see the header)
 };
 
 struct LimitEvaluationOptions {
