@@ -431,6 +431,33 @@ TEST(LimitEvaluation, FaceSurfaceOutlivesItsEvaluator) {
     EXPECT_GT(a->level, 2);  // answered by the evaluator's descent, past the prepared levels
 }
 
+// On a regular mesh a semi-sharp crease is isolated for ceil(sharpness) levels, no more: a torus (valence 4
+// everywhere) with one edge loop of sharpness 2.5 reaches a regular patch within 3 levels at every point, and
+// matches Bfr there.
+TEST(LimitEvaluation, SemiSharpIsolationEndsWhenTheSharpnessHasDecayed) {
+    PolygonMesh torus = shapes::torus(8, 6);
+    // the loop of edges around the tube's first ring: vertices 0..5 (ring 0 of the 8 x 6 grid)
+    for (Index j = 0; j < 6; ++j) torus.tags.creases.push_back({j, static_cast<Index>((j + 1) % 6), 2.5});
+    auto evaluator = LimitSurfaceEvaluator::create(torus, {});
+    ASSERT_TRUE(evaluator.ok());
+    BfrReference bfr(torus, {});
+    const double diag = torus.bounds().diagonal();
+    std::mt19937_64 rng(3);
+    int deepest = 0;
+    for (int i = 0; i < 400; ++i) {
+        const std::size_t f = rng() % torus.face_count();
+        const auto [u, v] = random_uv(torus, f, rng);
+        auto ours = evaluator->evaluate(f, u, v);
+        ASSERT_TRUE(ours.ok());
+        EXPECT_TRUE(ours->exact);
+        deepest = std::max(deepest, ours->level);
+        Reference ref;
+        ASSERT_TRUE(bfr.evaluate(f, u, v, ref));
+        EXPECT_LE(norm(ours->position - ref.p), 1e-9 * diag);
+    }
+    EXPECT_EQ(deepest, 3);
+}
+
 // Near an irregular vertex the descent goes as deep as the point is close; past max_level the answer is flagged
 // and still within the stated error of the exact one.
 TEST(LimitEvaluation, ConvergesOnExtraordinaryVertices) {
