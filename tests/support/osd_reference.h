@@ -2,12 +2,20 @@
 // PrimvarRefinerReal<double>. Tests and benchmarks only; the service never links OpenSubdiv.
 #pragma once
 
+#include <memory>
 #include <vector>
+
+#include <opensubdiv/far/topologyRefiner.h>
 
 #include "geometry/mesh/polygon_mesh.h"
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::testing {
+
+//! The unrefined Far::TopologyRefiner of `mesh` under `options` (scheme, boundary, creasing, triangle rule, tags,
+//! UVs as face-varying channel 0); null when OpenSubdiv rejects the mesh.
+std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh,
+                                                               const SubdivisionOptions& options);
 
 //! Uniformly refines `mesh` with OpenSubdiv Far and returns the last level (positions in double precision).
 PolygonMesh osd_subdivide(const PolygonMesh& mesh, const SubdivisionOptions& options);

@@ -1,0 +1,137 @@
+// Exact evaluation of the Catmull-Clark limit surface at any parametric point (face, u, v) of the base mesh.
+//
+// Method. The limit surface over a quad whose corners are regular is a bicubic uniform B-spline patch of its 16
+// surrounding points (Stam 1998 for the smooth case). "Regular" here: every corner is either
+//  * smooth: interior, four quads, no sharp edge, no vertex sharpness;
+//  * on a crease: the face has exactly one of its two edges at the corner infinitely sharp (a boundary edge, or an
+//    infinitely sharp crease), the corner has exactly two sharp edges, both infinite, and the face's side of the
+//    crease holds two quads; the points beyond the sharp edge are phantoms, 2 P(crease) - P(inner), so that the
+//    patch is the boundary B-spline (the crease rules are the B-spline rules with those phantoms);
+//  * a corner: both of the face's edges at it infinitely sharp and the vertex follows the corner rule (infinite
+//    vertex sharpness, or three or more infinitely sharp edges): phantoms on both sides.
+// Anywhere else (extraordinary vertices, non-quads, semi-sharp features, darts, crease vertices with other
+// sectors) the face's 2-ring is refined locally with the same rules and options as subdivide() (interpolate.h,
+// creases.h: one Catmull-Clark step, so the child faces' 2-rings are exact), the child face containing the point is
+// taken with its re-mapped parameter, and this repeats until the child is regular. Semi-sharp sharpness decays by
+// at least one per level, so isolation ends after ceil(sharpness) levels near it; only a point converging on an
+// irregular vertex descends further, up to `max_level`.
+//
+// Parameterization (OpenSubdiv Bfr's, so that (face, u, v) names the same point as Bfr::Surface::Evaluate):
+//  * quads: the unit square, corner 0 at (0, 0), corner 1 at (1, 0), corner 2 at (1, 1), corner 3 at (0, 1);
+//  * N-gons (N != 4): Bfr's quad sub-faces. Sub-face i (the Catmull-Clark child at corner i) is the tile
+//    [x, x + 1/2] x [y, y + 1/2] with x = i % D, y = i / D, D = (N < 10 ? 2 + (N > 4) : 1 + floor(sqrt(N - 1)));
+//    corner i sits at (x, y), the midpoint of edge i (towards corner i + 1) at (x + 1/2, y), the face centre at
+//    (x + 1/2, y + 1/2) and the midpoint of edge i - 1 at (x, y + 1/2). Derivatives are with respect to (u, v).
+//
+// Exactness. Wherever the descent reaches a regular patch (everywhere except within 2^-max_level of an irregular
+// vertex) the result is the exact limit position and exact first and second derivatives, up to rounding. Within
+// 2^-max_level of an irregular vertex (LimitSample::exact false) the position is the bilinear blend of the limit
+// positions (OpenSubdiv's limit masks, limit.h) at the corners of the last face, which is exact at the vertex
+// itself and off by O(4^-max_level) times the surface's curvature elsewhere; first derivatives are the last face's
+// corner differences scaled to (u, v) (the parametric derivative of a subdivision surface is not defined at an
+// extraordinary vertex: it vanishes or diverges with the valence), second derivatives zero, and the normal at the
+// vertex itself is the limit-mask normal. A point exactly at an irregular vertex is answered that way as soon as the
+// vertex's sharpness has decayed, without descending further: exact position and normal, `exact` false.
+//
+// Cost. Creation: one pass over the mesh (topology, sharpness, vertex-face lists) and the 16 control points of every
+// regular base face. Evaluation on a regular base face: one bicubic evaluation (about a hundred multiply-adds).
+// Elsewhere: one local refinement of a few dozen faces per level descended (about ten microseconds); a random point
+// on a face next to an extraordinary vertex needs about two levels on average, a point at distance d from it about
+// log2(1/d). For many points on one face, face_surface() prepares the patches of its regular sub-faces once
+// (LimitFaceSurface, the role of OpenSubdiv's Bfr::Surface), after which nearly every point is one patch evaluation.
+//
+// Catmull-Clark only (Loop is Unsupported). Any mesh subdivide() takes, non-manifold edges and vertices included;
+// a face that uses a vertex twice cannot be evaluated (Unsupported), its neighbours can. Thread-safe: evaluate() is
+// const and keeps no state between calls.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "geometry/core/result.h"
+#include "geometry/core/types.h"
+#include "geometry/mesh/polygon_mesh.h"
+#include "geometry/subdivision/subdivide.h"
+
+namespace surfaced {
+
+//! One point of the limit surface and its derivatives with respect to the face's (u, v).
+struct LimitSample {
+    Vec3 position;
+    Vec3 du, dv;
+    Vec3 normal;         //!< normalize(du x dv); the limit-mask normal exactly at an irregular vertex; 0 if degenerate
+    Vec3 duu, duv, dvv;  //!< only when asked for (zero otherwise, and when exact is false)
+    int level = 0;       //!< local refinement levels descended to reach the point's patch
+    bool exact = true;   //!< false: at an irregular vertex or within 2^-max_level of one (see the header)
+};
+
+struct LimitEvaluationOptions {
+    //! Deepest local refinement; >= 12 (every semi-sharp feature has decayed by then) and <= 40.
+    int max_level = 24;
+};
+
+class LimitFaceSurface;
+
+//! The Catmull-Clark limit surface of one mesh under one SubdivisionOptions (scheme, boundary mode, crease method,
+//! triangle rule, use of the mesh tags; `levels`, `limit_surface` and the UV options do not matter here). Copies share
+//! the prepared data (immutable).
+class LimitSurfaceEvaluator {
+public:
+    //! Validates the mesh as subdivide() does; Unsupported for Loop; InvalidArgument for max_level out of range.
+    static Result<LimitSurfaceEvaluator> create(const PolygonMesh& mesh, const SubdivisionOptions& options,
+                                                const LimitEvaluationOptions& evaluation = {});
+
+    //! The limit surface at (u, v) of base face `face`. IndexOutOfRange (face), NonFinite (u or v), InvalidArgument
+    //! ((u, v) outside the face's domain, or the face is a hole: holes have no limit surface), Unsupported (the face
+    //! uses a vertex twice).
+    Result<LimitSample> evaluate(std::size_t face, double u, double v, bool second_derivatives = false) const;
+
+    //! The surface over `face` prepared to `levels` local refinements (0..max_level; 6 leaves about 4^-6 of the
+    //! face's area per irregular corner to the descent). Errors as evaluate() for the face.
+    Result<LimitFaceSurface> face_surface(std::size_t face, int levels = 6) const;
+
+    std::size_t face_count() const;
+
+    struct Data;  //!< the base level, its sharpness, vertex-face lists and regular patches (limit_evaluation.cpp)
+
+private:
+    friend class LimitFaceSurface;
+    LimitSurfaceEvaluator() = default;
+    //! Checks (face, u, v) and returns where the descent starts: the N-gon's sub-face (or -1 for a quad) and the
+    //! local coordinates in it.
+    struct Start {
+        int subface;
+        double s, t;
+    };
+    Result<Start> locate(std::size_t face, double u, double v) const;
+
+    std::shared_ptr<const Data> data_;
+};
+
+//! The limit surface over one base face, prepared for many evaluations (Bfr::Surface's role): the bicubic patches of
+//! its regular sub-faces down to a number of local refinements, so that evaluating a point there is one patch
+//! evaluation. A point closer to an irregular vertex than the prepared levels reach is handed to the evaluator's
+//! descent; results are the evaluator's either way. Shares its evaluator's data.
+class LimitFaceSurface {
+public:
+    //! As LimitSurfaceEvaluator::evaluate on this face.
+    Result<LimitSample> evaluate(double u, double v, bool second_derivatives = false) const;
+    std::size_t patch_count() const { return patches_.size(); }
+
+    struct Node {
+        std::int32_t patch = -1;        //!< a regular sub-face: index into patches_
+        std::int32_t first_child = -1;  //!< its sub-faces' nodes (4; the face's size for an N-gon's root)
+    };
+
+private:
+    friend class LimitSurfaceEvaluator;
+    LimitSurfaceEvaluator owner_;
+    std::size_t face_ = 0;
+    std::vector<Node> nodes_;  //!< node 0: the face
+    std::vector<std::array<Vec3, 16>> patches_;
+};
+
+}  // namespace surfaced
