@@ -1,0 +1,368 @@
+// Mesh -> narrow-band signed distance grid (see distance_grid.h): per-triangle distance scatter, crossing marks,
+// signs by connected components and winding numbers.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "geometry/implicit/distance_grid.h"
+#include "geometry/spatial/bvh.h"
+#include "geometry/spatial/closest_point.h"
+
+namespace surfaced::implicit {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+//! Triangles scattered between two looks at the Cancel.
+constexpr std::size_t kTriangleBatch = 256;
+//! Nodes popped by the flood fill between two looks at the Cancel.
+constexpr std::size_t kFillBatch = std::size_t{1} << 16;
+
+struct Grid {
+    std::size_t n[3];
+    std::size_t stride[3];
+    Vec3 origin;
+    double h;
+    std::size_t nodes;
+
+    Vec3 position(std::size_t i, std::size_t j, std::size_t k) const {
+        return {origin.x + static_cast<double>(i) * h, origin.y + static_cast<double>(j) * h,
+                origin.z + static_cast<double>(k) * h};
+    }
+    //! Node index range [lo, hi] along axis a covering coordinates [from, to]; false when empty.
+    bool range(int a, double from, double to, std::size_t& lo, std::size_t& hi) const {
+        const double last = static_cast<double>(n[a] - 1);
+        const double l = std::max(0.0, std::ceil((from - origin[a]) / h));
+        const double u = std::min(last, std::floor((to - origin[a]) / h));
+        if (!(l <= u)) return false;
+        lo = static_cast<std::size_t>(l);
+        hi = static_cast<std::size_t>(u);
+        return true;
+    }
+};
+
+//! Squared distance from p to triangle (a, b, c).
+inline double triangle_distance2(const Vec3& p, const BvhTriangle& t) {
+    const Vec3 q = triangle_closest_point(p, t.p[0], t.p[1], t.p[2]).point - p;
+    return dot(q, q);
+}
+
+//! Keeps, per node, the minimum squared distance to the triangle over the nodes within `radius` of it: the nodes of
+//! its box grown by radius, and along the axis its normal is closest to only those within radius of its plane.
+void scatter_triangle(const Grid& g, const BvhTriangle& t, double radius, double* d2) {
+    Box3 box;
+    for (const Vec3& p : t.p) box.add(p);
+    const double r2 = radius * radius;
+    std::size_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a)
+        if (!g.range(a, box.min[a] - radius, box.max[a] + radius, lo[a], hi[a])) return;
+    const Vec3 normal = cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+    const double length = norm(normal);
+    // m: the innermost axis, restricted to the plane's slab when the triangle has a usable normal
+    int m = 0;
+    for (int a = 1; a < 3; ++a)
+        if (std::abs(normal[a]) > std::abs(normal[m])) m = a;
+    const int u = (m + 1) % 3, v = (m + 2) % 3;
+    const bool slab = length > 0 && std::isfinite(length) && std::abs(normal[m]) > 1e-3 * length;
+    const Vec3 n = slab ? normal * (1.0 / length) : Vec3{};
+    const double plane = dot(n, t.p[0]);
+    // widened by a little so that rounding in the interval never drops a node the box test would keep
+    const double reach = (radius + 1e-9 * (radius + box.diagonal())) / (slab ? std::abs(n[m]) : 1.0);
+    for (std::size_t b = lo[v]; b <= hi[v]; ++b) {
+        for (std::size_t c = lo[u]; c <= hi[u]; ++c) {
+            std::size_t first = lo[m], last = hi[m];
+            Vec3 p;
+            p[u] = g.origin[u] + static_cast<double>(c) * g.h;
+            p[v] = g.origin[v] + static_cast<double>(b) * g.h;
+            if (slab) {
+                // n . p = plane +- radius solved for p[m]
+                const double centre = (plane - n[u] * p[u] - n[v] * p[v]) / n[m];
+                std::size_t l, h;
+                if (!g.range(m, centre - reach, centre + reach, l, h)) continue;
+                first = std::max(first, l);
+                last = std::min(last, h);
+                if (first > last) continue;
+            }
+            std::size_t index = c * g.stride[u] + b * g.stride[v] + first * g.stride[m];
+            for (std::size_t a = first; a <= last; ++a, index += g.stride[m]) {
+                p[m] = g.origin[m] + static_cast<double>(a) * g.h;
+                const double dist2 = triangle_distance2(p, t);
+                if (dist2 <= r2 && dist2 < d2[index]) d2[index] = dist2;
+            }
+        }
+    }
+}
+
+//! Marks, in bit a of blocked[node], the grid edges from node to node + 1 along a that the triangle crosses. The
+//! test is inclusive with a tolerance, and a crossing within rounding of an edge's end blocks the edges on both
+//! sides of that node, so a crossing is never missed (blocking more edges only makes more components).
+void mark_crossings(const Grid& g, const BvhTriangle& t, std::uint8_t* blocked) {
+    const Vec3 normal = cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+    const double plane = dot(normal, t.p[0]);
+    for (int a = 0; a < 3; ++a) {
+        const int u = (a + 1) % 3, v = (a + 2) % 3;
+        if (normal[a] == 0) continue;  // parallel to the lines along a: its neighbours' crossings close it
+        // the triangle projected along a, as 2D points (u, v), counter-clockwise or not
+        double pu[3], pv[3], umin = kInf, umax = -kInf, vmin = kInf, vmax = -kInf, scale = 0;
+        for (int k = 0; k < 3; ++k) {
+            pu[k] = t.p[k][u];
+            pv[k] = t.p[k][v];
+            umin = std::min(umin, pu[k]);
+            umax = std::max(umax, pu[k]);
+            vmin = std::min(vmin, pv[k]);
+            vmax = std::max(vmax, pv[k]);
+        }
+        scale = std::max(umax - umin, vmax - vmin);
+        const double tolerance = 1e-9 * scale;
+        std::size_t ulo, uhi, vlo, vhi;
+        if (!g.range(u, umin - tolerance, umax + tolerance, ulo, uhi)) continue;
+        if (!g.range(v, vmin - tolerance, vmax + tolerance, vlo, vhi)) continue;
+        const double area_tolerance = 1e-9 * scale * scale;
+        for (std::size_t jv = vlo; jv <= vhi; ++jv) {
+            const double qv = g.origin[v] + static_cast<double>(jv) * g.h;
+            for (std::size_t ju = ulo; ju <= uhi; ++ju) {
+                const double qu = g.origin[u] + static_cast<double>(ju) * g.h;
+                double e[3];
+                for (int k = 0; k < 3; ++k) {
+                    const int l = (k + 1) % 3;
+                    e[k] = (pu[l] - pu[k]) * (qv - pv[k]) - (pv[l] - pv[k]) * (qu - pu[k]);
+                }
+                const bool inside = (e[0] >= -area_tolerance && e[1] >= -area_tolerance && e[2] >= -area_tolerance) ||
+                                    (e[0] <= area_tolerance && e[1] <= area_tolerance && e[2] <= area_tolerance);
+                if (!inside) continue;
+                // where the line meets the plane, in node units along a
+                const double at = (plane - normal[u] * qu - normal[v] * qv) / normal[a];
+                const double s = (at - g.origin[a]) / g.h;
+                const double last = static_cast<double>(g.n[a] - 1);
+                constexpr double kEnd = 1e-7;  // node units: a crossing this close to a node touches both its edges
+                if (!(s >= -kEnd && s <= last + kEnd)) continue;
+                const std::size_t base = ju * g.stride[u] + jv * g.stride[v];
+                const double cell = std::clamp(std::floor(s), 0.0, last);
+                const auto i = static_cast<std::size_t>(cell);
+                const auto bit = static_cast<std::uint8_t>(1u << a);
+                if (i + 1 < g.n[a]) blocked[base + i * g.stride[a]] |= bit;
+                const double frac = s - cell;
+                if (frac < kEnd && i > 0) blocked[base + (i - 1) * g.stride[a]] |= bit;
+                if (frac > 1 - kEnd && i + 2 < g.n[a]) blocked[base + (i + 1) * g.stride[a]] |= bit;
+            }
+        }
+    }
+}
+
+//! True when every directed edge of the triangles is matched by its reverse as often, vertices at equal positions
+//! counting as one: the surface has no boundary, so its winding number is constant off it on each region.
+bool is_closed(const TriangleBvh& bvh) {
+    struct PositionHash {
+        std::size_t operator()(const Vec3& p) const {
+            const std::hash<double> h;
+            return h(p.x) ^ (h(p.y) * 0x9e3779b97f4a7c15ULL) ^ (h(p.z) * 0xc2b2ae3d27d4eb4fULL);
+        }
+    };
+    std::unordered_map<Vec3, std::uint32_t, PositionHash> ids;
+    ids.reserve(bvh.triangles.size());
+    auto id = [&](const Vec3& p) {
+        const Vec3 key{p.x + 0.0, p.y + 0.0, p.z + 0.0};  // -0 and 0 as one
+        return ids.try_emplace(key, static_cast<std::uint32_t>(ids.size())).first->second;
+    };
+    // balance per undirected edge: +1 for (lo -> hi), -1 for (hi -> lo)
+    std::unordered_map<std::uint64_t, int> balance;
+    balance.reserve(bvh.triangles.size() * 2);
+    for (const BvhTriangle& t : bvh.triangles) {
+        const std::uint32_t v[3] = {id(t.p[0]), id(t.p[1]), id(t.p[2])};
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+            if (a == b) continue;
+            const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+            balance[key] += a < b ? 1 : -1;
+        }
+    }
+    return std::all_of(balance.begin(), balance.end(), [](const auto& entry) { return entry.second == 0; });
+}
+
+GeoError cancelled() { return GeoError{ErrorCode::Cancelled, "cancelled while building the distance grid"}; }
+
+}  // namespace
+
+Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceGridOptions& options,
+                                        DistanceGridStats* stats) {
+    if (options.band < 1 || options.band > kMaxDistanceBand)
+        return GeoError{ErrorCode::InvalidArgument,
+                        "band must be in 1.." + std::to_string(kMaxDistanceBand) + " voxels"};
+    if (!(options.voxel_size > 0) || !std::isfinite(options.voxel_size))
+        return GeoError{ErrorCode::InvalidArgument, "voxel_size must be a positive finite number"};
+    if (mesh.face_count() == 0)
+        return GeoError{ErrorCode::InvalidArgument, "a mesh without faces has no surface to measure distances to"};
+    const Box3 bounds = options.bounds ? *options.bounds
+                                       : default_distance_grid_bounds(mesh.bounds(), options.voxel_size, options.band);
+    auto layout = distance_grid_layout(bounds, options.voxel_size, options.max_nodes);
+    if (!layout) return layout.error();
+    const DistanceGridLayout& lay = layout.value();
+
+    BvhOptions bvh_options;
+    bvh_options.cancel = options.cancel;
+    auto built = build_bvh(mesh, bvh_options);
+    if (!built) return built.error();
+    const TriangleBvh& bvh = built.value();
+    const WindingTree tree = build_winding_tree(bvh);
+    if (options.cancel.requested()) return cancelled();
+
+    Grid g{{lay.dims[0], lay.dims[1], lay.dims[2]},
+           {1, lay.dims[0], lay.dims[0] * lay.dims[1]},
+           lay.origin,
+           lay.spacing,
+           static_cast<std::size_t>(lay.nodes)};
+    const double radius = options.band * g.h, radius2 = radius * radius;
+
+    // 1. unsigned squared distances within the band (kInf beyond it)
+    LevelSetGrid out;
+    out.dims = lay.dims;
+    out.origin = lay.origin;
+    out.spacing = {g.h, g.h, g.h};
+    out.values.assign(g.nodes, kInf);
+    double* d2 = out.values.data();
+    for (std::size_t t = 0; t < bvh.triangles.size(); ++t) {
+        if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
+        scatter_triangle(g, bvh.triangles[t], radius, d2);
+    }
+
+    // 2. signs: +1 / -1 per node (0 not known yet)
+    std::vector<std::int8_t> sign(g.nodes, 0);
+    std::uint64_t queries = 0, components = 0;
+    auto inside_at = [&](std::size_t node) -> Result<bool> {
+        const std::size_t i = node % g.n[0], j = (node / g.n[0]) % g.n[1], k = node / (g.n[0] * g.n[1]);
+        auto w = winding_number(bvh, tree, g.position(i, j, k), options.winding);
+        if (!w) return w.error();
+        ++queries;
+        return w->value >= 0.5;
+    };
+    const bool closed = is_closed(bvh);
+    std::vector<std::uint8_t> blocked;
+    if (closed) {
+        blocked.assign(g.nodes, 0);
+        for (std::size_t t = 0; t < bvh.triangles.size(); ++t) {
+            if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
+            mark_crossings(g, bvh.triangles[t], blocked.data());
+        }
+    } else {
+        // open surface: every band node asks the winding number itself
+        for (std::size_t k = 0; k < g.n[2]; ++k) {
+            if (options.cancel.requested()) return cancelled();
+            for (std::size_t node = k * g.stride[2]; node < (k + 1) * g.stride[2]; ++node) {
+                if (!(d2[node] <= radius2)) continue;
+                auto inside = inside_at(node);
+                if (!inside) return inside.error();
+                sign[node] = inside.value() ? -1 : 1;
+            }
+        }
+    }
+    if (closed) {
+        // Flood fill over unblocked edges; each component is signed by one query at its node farthest from the
+        // surface.
+        std::vector<std::size_t> members, stack;
+        std::size_t popped = 0;
+        for (std::size_t seed = 0; seed < g.nodes; ++seed) {
+            if (sign[seed] != 0) continue;
+            members.clear();
+            stack.clear();
+            stack.push_back(seed);
+            sign[seed] = 2;  // visited, not yet signed
+            std::size_t best = seed;
+            while (!stack.empty()) {
+                if (++popped % kFillBatch == 0 && options.cancel.requested()) return cancelled();
+                const std::size_t node = stack.back();
+                stack.pop_back();
+                members.push_back(node);
+                if (d2[node] > d2[best]) best = node;
+                const std::size_t c[3] = {node % g.n[0], (node / g.n[0]) % g.n[1], node / (g.n[0] * g.n[1])};
+                for (int a = 0; a < 3; ++a) {
+                    const auto bit = static_cast<std::uint8_t>(1u << a);
+                    if (c[a] + 1 < g.n[a] && !(blocked[node] & bit) && sign[node + g.stride[a]] == 0) {
+                        sign[node + g.stride[a]] = 2;
+                        stack.push_back(node + g.stride[a]);
+                    }
+                    if (c[a] > 0 && !(blocked[node - g.stride[a]] & bit) && sign[node - g.stride[a]] == 0) {
+                        sign[node - g.stride[a]] = 2;
+                        stack.push_back(node - g.stride[a]);
+                    }
+                }
+            }
+            auto inside = inside_at(best);
+            if (!inside) return inside.error();
+            ++components;
+            const std::int8_t s = inside.value() ? -1 : 1;
+            for (const std::size_t node : members) sign[node] = s;
+        }
+    } else {
+        // Runs of nodes beyond the band along x: no grid edge touching them crosses the surface, and the winding
+        // number varies smoothly there, so a run whose two ends agree takes their sign; where they differ, the
+        // middle is asked until the change is found between two neighbouring nodes.
+        struct Span {
+            std::size_t lo, hi;
+            std::int8_t slo, shi;
+        };
+        std::vector<Span> pending;
+        for (std::size_t row = 0; row < g.n[1] * g.n[2]; ++row) {
+            if (row % g.n[1] == 0 && options.cancel.requested()) return cancelled();
+            const std::size_t base = row * g.n[0];
+            for (std::size_t i = 0; i < g.n[0];) {
+                if (sign[base + i] != 0) {
+                    ++i;
+                    continue;
+                }
+                std::size_t end = i;
+                while (end + 1 < g.n[0] && sign[base + end + 1] == 0) ++end;
+                ++components;
+                auto first = inside_at(base + i);
+                if (!first) return first.error();
+                const std::int8_t s0 = first.value() ? -1 : 1;
+                sign[base + i] = s0;
+                if (end > i) {
+                    auto last = inside_at(base + end);
+                    if (!last) return last.error();
+                    sign[base + end] = last.value() ? -1 : 1;
+                    pending.push_back({base + i, base + end, s0, sign[base + end]});
+                }
+                while (!pending.empty()) {
+                    const Span span = pending.back();
+                    pending.pop_back();
+                    if (span.hi - span.lo < 2) continue;
+                    if (span.slo == span.shi) {
+                        std::fill(sign.begin() + static_cast<std::ptrdiff_t>(span.lo + 1),
+                                  sign.begin() + static_cast<std::ptrdiff_t>(span.hi), span.slo);
+                        continue;
+                    }
+                    const std::size_t mid = span.lo + (span.hi - span.lo) / 2;
+                    auto inside = inside_at(mid);
+                    if (!inside) return inside.error();
+                    sign[mid] = inside.value() ? -1 : 1;
+                    pending.push_back({span.lo, mid, span.slo, sign[mid]});
+                    pending.push_back({mid, span.hi, sign[mid], span.shi});
+                }
+                i = end + 1;
+            }
+        }
+    }
+
+    // 3. values: signed distance in the band, +-radius beyond it
+    std::uint64_t band_nodes = 0;
+    for (std::size_t node = 0; node < g.nodes; ++node) {
+        const bool in_band = d2[node] <= radius2;
+        band_nodes += in_band;
+        const double d = in_band ? std::sqrt(d2[node]) : radius;
+        d2[node] = sign[node] < 0 ? -d : d;
+    }
+    if (stats) {
+        *stats = DistanceGridStats{};
+        stats->layout = lay;
+        stats->band_nodes = band_nodes;
+        stats->winding_queries = queries;
+        stats->components = components;
+        stats->closed = closed;
+    }
+    return out;
+}
+
+}  // namespace surfaced::implicit
