@@ -6,14 +6,17 @@
 // the generalized winding number's (inside <=> w >= 1/2, geometry/spatial/winding_number.h), so meshes with holes,
 // self-intersections and overlapping shells get a sensible sign:
 //  * distances: each triangle visits the nodes of its bounding box grown by the band, restricted to the slab of its
-//    plane's band, and keeps the minimum squared distance per node (the band is thin, so this touches each band node
-//    a few times; a closest-point query per node would walk the hierarchy for every node instead);
+//    plane's band and to the columns within the band of its projection, and keeps the minimum squared distance per
+//    node; a node whose distance to the triangle's plane or bounding sphere already exceeds its best skips the exact
+//    test (the band is thin, so this touches each band node a few times; a closest-point query per node would walk
+//    a hierarchy for every node instead);
 //  * signs on a closed mesh (every directed edge matched by its reverse once vertices at equal positions are merged,
 //    which self-intersecting and overlapping closed shells also satisfy): the winding number is constant on each
 //    connected region of space the surface leaves, so the grid edges that cross a triangle are marked (conservatively:
 //    a crossing within rounding of an edge's end blocks the edges on both sides) and each connected component of
-//    nodes over unmarked edges takes the sign of one hierarchical winding-number query at its node farthest from the
-//    surface (usually two components: inside and outside);
+//    nodes over unmarked edges takes the sign of one winding-number query at its node farthest from the surface
+//    (usually two components: inside and outside; the first few queries are exact sums over the triangles, the
+//    hierarchy is built only when more are needed);
 //  * signs on any other mesh (holes, flipped faces): one winding-number query per band node; beyond the band, where
 //    no grid edge crosses the surface and the winding number varies smoothly, each run of nodes along x is asked at
 //    its two ends, and where they disagree at its middle, recursively, until the change lies between two nodes.

@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "geometry/implicit/distance_grid.h"
 #include "geometry/spatial/bvh.h"
+#include "geometry/mesh/triangulate.h"
 #include "geometry/spatial/closest_point.h"
 
 namespace surfaced::implicit {
@@ -20,6 +23,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kTriangleBatch = 256;
 //! Nodes popped by the flood fill between two looks at the Cancel.
 constexpr std::size_t kFillBatch = std::size_t{1} << 16;
+//! Winding numbers summed directly over the triangles before the hierarchy is built for the rest.
+constexpr std::uint64_t kDirectQueries = 16;
 
 struct Grid {
     std::size_t n[3];
@@ -44,10 +49,59 @@ struct Grid {
     }
 };
 
-//! Squared distance from p to triangle (a, b, c).
+//! Squared distance from p to triangle t: triangle_closest_point's regions (Ericson) inlined, with its fallback for
+//! the degenerate cases, so that the values equal its answers.
 inline double triangle_distance2(const Vec3& p, const BvhTriangle& t) {
-    const Vec3 q = triangle_closest_point(p, t.p[0], t.p[1], t.p[2]).point - p;
-    return dot(q, q);
+    const Vec3 &a = t.p[0], &b = t.p[1], &c = t.p[2];
+    const auto general = [&] {
+        const Vec3 q = triangle_closest_point(p, a, b, c).point - p;
+        return dot(q, q);
+    };
+    const auto d2 = [&](const Vec3& q) { return dot(q - p, q - p); };
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = dot(ab, ap), e2 = dot(ac, ap);
+    if (d1 <= 0 && e2 <= 0) return d2(a);
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return d2(b);
+    const double vc = d1 * d4 - d3 * e2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        if (!(d1 - d3 > 0)) return general();
+        return d2(a + ab * (d1 / (d1 - d3)));
+    }
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return d2(c);
+    const double vb = d5 * e2 - d1 * d6;
+    if (vb <= 0 && e2 >= 0 && d6 <= 0) {
+        if (!(e2 - d6 > 0)) return general();
+        return d2(a + ac * (e2 / (e2 - d6)));
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        const double den = (d4 - d3) + (d5 - d6);
+        if (!(den > 0)) return general();
+        return d2(b + (c - b) * ((d4 - d3) / den));
+    }
+    const double sum = va + vb + vc;
+    if (!(sum > 1e-12 * dot(ab, ab) * dot(ac, ac)) || !std::isfinite(sum)) return general();
+    return d2(a + ab * (vb / sum) + ac * (vc / sum));
+}
+
+//! Squared distance from (qu, qv) to the 2D triangle (pu[k], pv[k]): 0 inside, else to the nearest edge.
+inline double triangle_distance2_2d(double qu, double qv, const double* pu, const double* pv) {
+    double e[3], best = kInf;
+    for (int k = 0; k < 3; ++k) {
+        const int l = k == 2 ? 0 : k + 1;
+        const double eu = pu[l] - pu[k], ev = pv[l] - pv[k], wu = qu - pu[k], wv = qv - pv[k];
+        e[k] = eu * wv - ev * wu;
+        const double len2 = eu * eu + ev * ev;
+        const double s = len2 > 0 ? std::clamp((eu * wu + ev * wv) / len2, 0.0, 1.0) : 0.0;
+        const double du = wu - s * eu, dv = wv - s * ev;
+        best = std::min(best, du * du + dv * dv);
+    }
+    if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0)) return 0;
+    return best;
 }
 
 //! Keeps, per node, the minimum squared distance to the triangle over the nodes within `radius` of it: the nodes of
@@ -69,19 +123,26 @@ void scatter_triangle(const Grid& g, const BvhTriangle& t, double radius, double
     const bool slab = length > 0 && std::isfinite(length) && std::abs(normal[m]) > 1e-3 * length;
     const Vec3 n = slab ? normal * (1.0 / length) : Vec3{};
     const double plane = dot(n, t.p[0]);
+    const Vec3 centre = (box.min + box.max) * 0.5;
+    const double sphere = std::max({norm(t.p[0] - centre), norm(t.p[1] - centre), norm(t.p[2] - centre)});
     // widened by a little so that rounding in the interval never drops a node the box test would keep
     const double reach = (radius + 1e-9 * (radius + box.diagonal())) / (slab ? std::abs(n[m]) : 1.0);
+    // the triangle projected along m: a column farther than radius from it (projection never lengthens a
+    // distance) has no node within radius; the test is widened like `reach`
+    const double pu[3] = {t.p[0][u], t.p[1][u], t.p[2][u]}, pv[3] = {t.p[0][v], t.p[1][v], t.p[2][v]};
+    const double column_reach2 = r2 * (1 + 1e-9) + 1e-18 * box.diagonal() * box.diagonal();
     for (std::size_t b = lo[v]; b <= hi[v]; ++b) {
         for (std::size_t c = lo[u]; c <= hi[u]; ++c) {
             std::size_t first = lo[m], last = hi[m];
             Vec3 p;
             p[u] = g.origin[u] + static_cast<double>(c) * g.h;
             p[v] = g.origin[v] + static_cast<double>(b) * g.h;
+            if (triangle_distance2_2d(p[u], p[v], pu, pv) > column_reach2) continue;
             if (slab) {
                 // n . p = plane +- radius solved for p[m]
-                const double centre = (plane - n[u] * p[u] - n[v] * p[v]) / n[m];
+                const double middle = (plane - n[u] * p[u] - n[v] * p[v]) / n[m];
                 std::size_t l, h;
-                if (!g.range(m, centre - reach, centre + reach, l, h)) continue;
+                if (!g.range(m, middle - reach, middle + reach, l, h)) continue;
                 first = std::max(first, l);
                 last = std::min(last, h);
                 if (first > last) continue;
@@ -89,6 +150,15 @@ void scatter_triangle(const Grid& g, const BvhTriangle& t, double radius, double
             std::size_t index = c * g.stride[u] + b * g.stride[v] + first * g.stride[m];
             for (std::size_t a = first; a <= last; ++a, index += g.stride[m]) {
                 p[m] = g.origin[m] + static_cast<double>(a) * g.h;
+                const double best = std::min(d2[index], r2);
+                // lower bounds first: the distance to the plane, then to the triangle's bounding sphere (scaled
+                // down a little so that rounding never skips a node the exact distance would lower)
+                if (slab) {
+                    const double plane_distance = dot(n, p) - plane;
+                    if (plane_distance * plane_distance * (1 - 1e-9) > best) continue;
+                }
+                const double centre_distance = norm(p - centre) - sphere;
+                if (centre_distance > 0 && centre_distance * centre_distance * (1 - 1e-9) > best) continue;
                 const double dist2 = triangle_distance2(p, t);
                 if (dist2 <= r2 && dist2 < d2[index]) d2[index] = dist2;
             }
@@ -154,7 +224,7 @@ void mark_crossings(const Grid& g, const BvhTriangle& t, std::uint8_t* blocked) 
 
 //! True when every directed edge of the triangles is matched by its reverse as often, vertices at equal positions
 //! counting as one: the surface has no boundary, so its winding number is constant off it on each region.
-bool is_closed(const TriangleBvh& bvh) {
+bool is_closed(const std::vector<BvhTriangle>& triangles) {
     struct PositionHash {
         std::size_t operator()(const Vec3& p) const {
             const std::hash<double> h;
@@ -162,15 +232,15 @@ bool is_closed(const TriangleBvh& bvh) {
         }
     };
     std::unordered_map<Vec3, std::uint32_t, PositionHash> ids;
-    ids.reserve(bvh.triangles.size());
+    ids.reserve(triangles.size());
     auto id = [&](const Vec3& p) {
         const Vec3 key{p.x + 0.0, p.y + 0.0, p.z + 0.0};  // -0 and 0 as one
         return ids.try_emplace(key, static_cast<std::uint32_t>(ids.size())).first->second;
     };
     // balance per undirected edge: +1 for (lo -> hi), -1 for (hi -> lo)
     std::unordered_map<std::uint64_t, int> balance;
-    balance.reserve(bvh.triangles.size() * 2);
-    for (const BvhTriangle& t : bvh.triangles) {
+    balance.reserve(triangles.size() * 2);
+    for (const BvhTriangle& t : triangles) {
         const std::uint32_t v[3] = {id(t.p[0]), id(t.p[1]), id(t.p[2])};
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = v[k], b = v[(k + 1) % 3];
@@ -201,12 +271,28 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
     if (!layout) return layout.error();
     const DistanceGridLayout& lay = layout.value();
 
-    BvhOptions bvh_options;
-    bvh_options.cancel = options.cancel;
-    auto built = build_bvh(mesh, bvh_options);
-    if (!built) return built.error();
-    const TriangleBvh& bvh = built.value();
-    const WindingTree tree = build_winding_tree(bvh);
+    // the triangles (polygons triangulated); the hierarchy only when many winding numbers are asked
+    std::vector<BvhTriangle> triangles;
+    {
+        const PolygonMesh triangulated = mesh.is_triangle_mesh() ? PolygonMesh{} : triangulate(mesh);
+        const PolygonMesh& tm = mesh.is_triangle_mesh() ? mesh : triangulated;
+        triangles.resize(tm.face_count());
+        for (std::size_t f = 0; f < tm.face_count(); ++f) {
+            const auto face = tm.face(f);
+            for (int k = 0; k < 3; ++k) triangles[f].p[static_cast<std::size_t>(k)] = tm.positions[face[k]];
+        }
+    }
+    std::optional<TriangleBvh> bvh;
+    WindingTree tree;
+    auto build_hierarchy = [&]() -> Status {
+        BvhOptions bvh_options;
+        bvh_options.cancel = options.cancel;
+        auto built = build_bvh(mesh, bvh_options);
+        if (!built) return built.error();
+        bvh = std::move(built.value());
+        tree = build_winding_tree(*bvh);
+        return Ok{};
+    };
     if (options.cancel.requested()) return cancelled();
 
     Grid g{{lay.dims[0], lay.dims[1], lay.dims[2]},
@@ -223,28 +309,38 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
     out.spacing = {g.h, g.h, g.h};
     out.values.assign(g.nodes, kInf);
     double* d2 = out.values.data();
-    for (std::size_t t = 0; t < bvh.triangles.size(); ++t) {
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
         if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
-        scatter_triangle(g, bvh.triangles[t], radius, d2);
+        scatter_triangle(g, triangles[t], radius, d2);
     }
 
     // 2. signs: +1 / -1 per node (0 not known yet)
     std::vector<std::int8_t> sign(g.nodes, 0);
     std::uint64_t queries = 0, components = 0;
+    // The first few winding numbers (a closed mesh needs about two) are exact sums over the triangles; past
+    // kDirectQueries the hierarchy is built and used as options.winding says.
     auto inside_at = [&](std::size_t node) -> Result<bool> {
         const std::size_t i = node % g.n[0], j = (node / g.n[0]) % g.n[1], k = node / (g.n[0] * g.n[1]);
-        auto w = winding_number(bvh, tree, g.position(i, j, k), options.winding);
-        if (!w) return w.error();
+        const Vec3 p = g.position(i, j, k);
         ++queries;
+        if (!bvh && (queries <= kDirectQueries || options.winding.exact)) {
+            double sum = 0;
+            for (const BvhTriangle& t : triangles) sum += triangle_solid_angle(p, t.p[0], t.p[1], t.p[2]);
+            return sum / (4 * std::numbers::pi) >= 0.5;
+        }
+        if (!bvh)
+            if (auto built = build_hierarchy(); !built) return built.error();
+        auto w = winding_number(*bvh, tree, p, options.winding);
+        if (!w) return w.error();
         return w->value >= 0.5;
     };
-    const bool closed = is_closed(bvh);
+    const bool closed = is_closed(triangles);
     std::vector<std::uint8_t> blocked;
     if (closed) {
         blocked.assign(g.nodes, 0);
-        for (std::size_t t = 0; t < bvh.triangles.size(); ++t) {
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
             if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
-            mark_crossings(g, bvh.triangles[t], blocked.data());
+            mark_crossings(g, triangles[t], blocked.data());
         }
     } else {
         // open surface: every band node asks the winding number itself
