@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <new>
+#include <numbers>
 #include <utility>
 #include <sstream>
 #include <string>
@@ -30,6 +31,7 @@
 #include "geometry/mesh/triangulate.h"
 #include "geometry/subdivision/subdivide.h"
 #include "geometry/spatial/closest_point.h"
+#include "geometry/spatial/winding_number.h"
 #if SURFACED_BENCH_OPENVDB
 #include "bench/grid_peers.h"
 #endif
@@ -156,8 +158,9 @@ void run(const std::string& name, const PolygonMesh& input, int cells, int band)
                 static_cast<unsigned long long>(stats.band_nodes), ours.seconds * 1e3, ours.peak_mib,
                 static_cast<unsigned long long>(stats.winding_queries));
 #if SURFACED_BENCH_OPENVDB
-    // every node inside both bands: the largest difference (and within one voxel of the surface), the signs that
-    // differ; then the 8 nodes that differ most against brute force (the minimum over every triangle)
+    // every node inside both bands: the largest difference where the signs agree (and within one voxel of the
+    // surface), the signs that differ; then the 8 nodes that differ most against brute force (the minimum distance
+    // over every triangle, the sign of the exact winding-number sum)
     const double limit = band * h;
     double max_difference = 0, near_difference = 0;
     std::size_t compared = 0, signs = 0, ours_only = 0;
@@ -173,9 +176,12 @@ void run(const std::string& name, const PolygonMesh& input, int cells, int band)
                 if (!in_a || !in_b) continue;
                 ++compared;
                 const double difference = std::abs(a - b);
-                max_difference = std::max(max_difference, difference);
-                if (std::abs(a) <= h) near_difference = std::max(near_difference, difference);
-                signs += (a < 0) != (b < 0) && std::abs(a) > 1e-6 * h;
+                const bool flipped = (a < 0) != (b < 0) && std::abs(a) > 1e-6 * h;
+                signs += flipped;
+                if (!flipped) {
+                    max_difference = std::max(max_difference, difference);
+                    if (std::abs(a) <= h) near_difference = std::max(near_difference, difference);
+                }
                 worst.emplace_back(difference, node);
                 if (worst.size() > 64) {
                     std::nth_element(worst.begin(), worst.begin() + 8, worst.end(), std::greater<>());
@@ -185,6 +191,7 @@ void run(const std::string& name, const PolygonMesh& input, int cells, int band)
     std::sort(worst.begin(), worst.end(), std::greater<>());
     worst.resize(std::min<std::size_t>(worst.size(), 8));
     double ours_vs_brute = 0, vdb_vs_brute = 0;
+    std::size_t ours_wrong_sign = 0, vdb_wrong_sign = 0;
     for (const auto& [difference, node] : worst) {
         const std::size_t i = node % grid.dims[0], j = (node / grid.dims[0]) % grid.dims[1],
                           k = node / (grid.dims[0] * grid.dims[1]);
@@ -196,16 +203,27 @@ void run(const std::string& name, const PolygonMesh& input, int cells, int band)
                 triangle_closest_point(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).point;
             best = std::min(best, norm(q - p));
         }
+        double angles = 0;  // the exact winding number's sign: inside where w >= 1/2
+        for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+            const auto t = mesh.face(f);
+            angles += triangle_solid_angle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+        }
+        const bool inside = angles / (4 * std::numbers::pi) >= 0.5;
         const double b = vdb->value(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+        if (best > 1e-6 * h) {
+            ours_wrong_sign += (grid.values[node] < 0) != inside;
+            vdb_wrong_sign += (b < 0) != inside;
+        }
         ours_vs_brute = std::max(ours_vs_brute, std::abs(std::abs(grid.values[node]) - best));
         vdb_vs_brute = std::max(vdb_vs_brute, std::abs(std::abs(b) - best));
     }
     std::printf(
-        " %.1f | %.0f (grid %.0f) | %llu | **%.2f** | %.2g h (%.2g h within h) | %.2g h / %.2g h | %zu of %zu "
-        "| %zu |\n",
+        " %.1f | %.0f (grid %.0f) | %llu | **%.2f** | %.2g h (%.2g h within h) | %.2g h, %zu / %.2g h, %zu "
+        "| %zu of %zu | %zu |\n",
         theirs.seconds * 1e3, theirs.peak_mib, static_cast<double>(vdb->memory_bytes()) / (1024.0 * 1024.0),
         static_cast<unsigned long long>(vdb->active_voxels()), ours.seconds / theirs.seconds, max_difference / h,
-        near_difference / h, ours_vs_brute / h, vdb_vs_brute / h, signs, compared, ours_only);
+        near_difference / h, ours_vs_brute / h, ours_wrong_sign, vdb_vs_brute / h, vdb_wrong_sign, signs, compared,
+        ours_only);
 #else
     std::printf("\n");
 #endif
@@ -228,7 +246,8 @@ int main(int argc, char** argv) {
     std::printf(
         "| mesh | triangles | voxel size | grid | band nodes | ours ms | ours peak MiB | winding queries | "
         "OpenVDB ms | OpenVDB peak MiB | OpenVDB active voxels | ours / OpenVDB | max difference | "
-        "brute force vs ours / OpenVDB at the 8 worst | signs differ | ours in band, OpenVDB not |\n");
+        "vs brute force at the 8 worst: ours, wrong signs / OpenVDB, wrong signs | signs differ | ours in band, "
+        "OpenVDB not |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 #else
     std::printf("one thread; band %d voxels; fastest of %d\n\n", band, g_rounds);

@@ -355,33 +355,57 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         }
     }
     if (closed) {
-        // Flood fill over unblocked edges; each component is signed by one query at its node farthest from the
+        // Scanline flood fill over unblocked edges: runs of nodes joined along x, grown into the neighbouring rows
+        // (y and z) through unblocked edges. Each component is signed by one query at its node farthest from the
         // surface.
-        std::vector<std::size_t> members, stack;
+        struct Run {
+            std::size_t row, x0, x1;  // row = j + ny k; nodes row * nx + x0 .. row * nx + x1
+        };
+        const std::size_t nx = g.n[0];
+        std::vector<Run> members, stack;
+        // marks the run of unvisited nodes through (row, x) joined along unblocked x-edges, and queues it
+        auto open_run = [&](std::size_t row, std::size_t x) {
+            const std::size_t base = row * nx;
+            std::size_t x0 = x, x1 = x;
+            while (x0 > 0 && sign[base + x0 - 1] == 0 && !(blocked[base + x0 - 1] & 1u)) --x0;
+            while (x1 + 1 < nx && sign[base + x1 + 1] == 0 && !(blocked[base + x1] & 1u)) ++x1;
+            std::fill(sign.begin() + static_cast<std::ptrdiff_t>(base + x0),
+                      sign.begin() + static_cast<std::ptrdiff_t>(base + x1 + 1), std::int8_t{2});
+            stack.push_back({row, x0, x1});
+        };
         std::size_t popped = 0;
         for (std::size_t seed = 0; seed < g.nodes; ++seed) {
             if (sign[seed] != 0) continue;
             members.clear();
             stack.clear();
-            stack.push_back(seed);
-            sign[seed] = 2;  // visited, not yet signed
+            open_run(seed / nx, seed % nx);
             std::size_t best = seed;
             while (!stack.empty()) {
                 if (++popped % kFillBatch == 0 && options.cancel.requested()) return cancelled();
-                const std::size_t node = stack.back();
+                const Run run = stack.back();
                 stack.pop_back();
-                members.push_back(node);
-                if (d2[node] > d2[best]) best = node;
-                const std::size_t c[3] = {node % g.n[0], (node / g.n[0]) % g.n[1], node / (g.n[0] * g.n[1])};
-                for (int a = 0; a < 3; ++a) {
-                    const auto bit = static_cast<std::uint8_t>(1u << a);
-                    if (c[a] + 1 < g.n[a] && !(blocked[node] & bit) && sign[node + g.stride[a]] == 0) {
-                        sign[node + g.stride[a]] = 2;
-                        stack.push_back(node + g.stride[a]);
-                    }
-                    if (c[a] > 0 && !(blocked[node - g.stride[a]] & bit) && sign[node - g.stride[a]] == 0) {
-                        sign[node - g.stride[a]] = 2;
-                        stack.push_back(node - g.stride[a]);
+                members.push_back(run);
+                const std::size_t base = run.row * nx;
+                for (std::size_t x = run.x0; x <= run.x1; ++x)
+                    if (d2[base + x] > d2[best]) best = base + x;
+                const std::size_t j = run.row % g.n[1], k = run.row / g.n[1];
+                // the four neighbouring rows: its index, the axis bit of the edges to it, whether it exists, and
+                // whether those edges' bits are this row's (towards +y, +z) or the other's
+                const struct {
+                    std::size_t row;
+                    std::uint8_t bit;
+                    bool exists, forward;
+                } next[4] = {{run.row + 1, 2, j + 1 < g.n[1], true},
+                             {run.row - 1, 2, j > 0, false},
+                             {run.row + g.n[1], 4, k + 1 < g.n[2], true},
+                             {run.row - g.n[1], 4, k > 0, false}};
+                for (const auto& n : next) {
+                    if (!n.exists) continue;
+                    const std::size_t other = n.row * nx;
+                    for (std::size_t x = run.x0; x <= run.x1; ++x) {
+                        if (sign[other + x] != 0) continue;
+                        const std::uint8_t edge = n.forward ? blocked[base + x] : blocked[other + x];
+                        if (!(edge & n.bit)) open_run(n.row, x);
                     }
                 }
             }
@@ -389,7 +413,9 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
             if (!inside) return inside.error();
             ++components;
             const std::int8_t s = inside.value() ? -1 : 1;
-            for (const std::size_t node : members) sign[node] = s;
+            for (const Run& run : members)
+                std::fill(sign.begin() + static_cast<std::ptrdiff_t>(run.row * nx + run.x0),
+                          sign.begin() + static_cast<std::ptrdiff_t>(run.row * nx + run.x1 + 1), s);
         }
     } else {
         // Runs of nodes beyond the band along x: no grid edge touching them crosses the surface, and the winding
