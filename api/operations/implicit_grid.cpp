@@ -146,10 +146,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         {"X-Grid-Nodes", std::to_string(stats.layout.nodes)},
         {"X-Band-Nodes", std::to_string(stats.band_nodes)},
     };
-    if (req.mesh)
-        response.headers.emplace_back("X-Winding-Queries", std::to_string(stats.winding_queries));
-    else
-        response.headers.emplace_back("X-Field-Evaluations", std::to_string(stats.field_evaluations));
+    response.headers.emplace_back("X-Winding-Queries", std::to_string(stats.winding_queries));
+    response.headers.emplace_back("X-Field-Evaluations", std::to_string(stats.field_evaluations));
     response.headers.emplace_back("X-Elapsed-Ms", format_ms(ms_between(t_start, t_encoded)));
     response.headers.emplace_back("Server-Timing", "decode;dur=" + format_ms(ms_between(t_start, t_decoded)) +
                                                        ", grid;dur=" + format_ms(ms_between(t_decoded, t_sampled)) +

@@ -16,7 +16,7 @@
 // the node count of its default bounds (422, "voxel_size"), then the work; a fired compute deadline is 503.
 // Response: application/json, {"op": "level_set", "dims": [nx, ny, nz], "origin": [x, y, z], "spacing": h,
 // "values": [...]} (x fastest, numbers shortest round-trip). Headers: X-Grid (nx x ny x nz), X-Grid-Nodes,
-// X-Band-Nodes, X-Winding-Queries (mesh), X-Field-Evaluations (scene), X-Elapsed-Ms, Server-Timing.
+// X-Band-Nodes, X-Winding-Queries (0 for a scene), X-Field-Evaluations (0 for a mesh), X-Elapsed-Ms, Server-Timing.
 #pragma once
 
 #include "api/operation.h"
