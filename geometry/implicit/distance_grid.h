@@ -17,9 +17,11 @@
 //    nodes over unmarked edges takes the sign of one winding-number query at its node farthest from the surface
 //    (usually two components: inside and outside; the first few queries are exact sums over the triangles, the
 //    hierarchy is built only when more are needed);
-//  * signs on any other mesh (holes, flipped faces): one winding-number query per band node; beyond the band, where
-//    no grid edge crosses the surface and the winding number varies smoothly, each run of nodes along x is asked at
-//    its two ends, and where they disagree at its middle, recursively, until the change lies between two nodes.
+//  * signs on any other mesh (holes, flipped faces): the winding number is smooth off the surface but not constant.
+//    Each row of nodes is split into runs at the x-edges that cross a triangle; a run's two ends are asked, and the
+//    nodes between take their side when both are at least 1/4 from 1/2 on one side and none of them is within the
+//    band of a boundary edge (where w turns fast); otherwise its middle is asked and each half is treated alike,
+//    down to neighbouring nodes. Every node near a hole's rim is thus asked itself.
 //
 // Field (field_distance_grid): f sampled at every node and clamped to +-band * voxel_size. For a field that bounds
 // the distance (FieldKind::ExactDistance or DistanceBound with Lipschitz constant L), after a sample with
@@ -72,7 +74,7 @@ struct DistanceGridStats {
     DistanceGridLayout layout;
     std::uint64_t band_nodes = 0;       //!< nodes with |value| < band * h (mesh: within the band; field: not clamped)
     std::uint64_t winding_queries = 0;  //!< hierarchical winding numbers evaluated (mesh)
-    //! closed mesh: connected components signed by one query each; other meshes: runs of nodes beyond the band
+    //! closed mesh: connected components signed by one query each; other meshes: runs of nodes between crossings
     std::uint64_t components = 0;
     std::uint64_t field_evaluations = 0;  //!< (field)
     bool closed = false;                  //!< the mesh is closed: signs came from components over the whole grid (mesh)

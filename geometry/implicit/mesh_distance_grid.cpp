@@ -1,6 +1,7 @@
 // Mesh -> narrow-band signed distance grid (see distance_grid.h): per-triangle distance scatter, crossing marks,
 // signs by connected components and winding numbers.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -25,6 +26,10 @@ constexpr std::size_t kTriangleBatch = 256;
 constexpr std::size_t kFillBatch = std::size_t{1} << 16;
 //! Winding numbers summed directly over the triangles before the hierarchy is built for the rest.
 constexpr std::uint64_t kDirectQueries = 16;
+//! Open meshes: a run whose two ends have winding numbers at least this far from 1/2, on one side, takes that side.
+constexpr double kConfident = 0.25;
+//! Bit of the per-node marks (beside the three crossing bits): within the band of a boundary edge.
+constexpr std::uint8_t kNearBoundary = 8;
 
 struct Grid {
     std::size_t n[3];
@@ -222,9 +227,9 @@ void mark_crossings(const Grid& g, const BvhTriangle& t, std::uint8_t* blocked) 
     }
 }
 
-//! True when every directed edge of the triangles is matched by its reverse as often, vertices at equal positions
-//! counting as one: the surface has no boundary, so its winding number is constant off it on each region.
-bool is_closed(const std::vector<BvhTriangle>& triangles) {
+//! The edges where the surface has a boundary: those not matched by their reverse as often (vertices at equal
+//! positions counting as one). None for a closed surface, whose winding number is constant off it on each region.
+std::vector<std::array<Vec3, 2>> boundary_edges(const std::vector<BvhTriangle>& triangles) {
     struct PositionHash {
         std::size_t operator()(const Vec3& p) const {
             const std::hash<double> h;
@@ -232,10 +237,13 @@ bool is_closed(const std::vector<BvhTriangle>& triangles) {
         }
     };
     std::unordered_map<Vec3, std::uint32_t, PositionHash> ids;
+    std::vector<Vec3> positions;
     ids.reserve(triangles.size());
     auto id = [&](const Vec3& p) {
         const Vec3 key{p.x + 0.0, p.y + 0.0, p.z + 0.0};  // -0 and 0 as one
-        return ids.try_emplace(key, static_cast<std::uint32_t>(ids.size())).first->second;
+        const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
+        if (added) positions.push_back(key);
+        return it->second;
     };
     // balance per undirected edge: +1 for (lo -> hi), -1 for (hi -> lo)
     std::unordered_map<std::uint64_t, int> balance;
@@ -249,7 +257,30 @@ bool is_closed(const std::vector<BvhTriangle>& triangles) {
             balance[key] += a < b ? 1 : -1;
         }
     }
-    return std::all_of(balance.begin(), balance.end(), [](const auto& entry) { return entry.second == 0; });
+    std::vector<std::array<Vec3, 2>> out;
+    for (const auto& [key, count] : balance)
+        if (count != 0) out.push_back({positions[key >> 32], positions[key & 0xffffffffu]});
+    return out;
+}
+
+//! Sets bit 3 of flags[node] for the nodes within `radius` of segment [a, b].
+void mark_near_segment(const Grid& g, const Vec3& a, const Vec3& b, double radius, std::uint8_t* flags) {
+    Box3 box;
+    box.add(a);
+    box.add(b);
+    std::size_t lo[3], hi[3];
+    for (int k = 0; k < 3; ++k)
+        if (!g.range(k, box.min[k] - radius, box.max[k] + radius, lo[k], hi[k])) return;
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab), r2 = radius * radius * (1 + 1e-9);
+    for (std::size_t k = lo[2]; k <= hi[2]; ++k)
+        for (std::size_t j = lo[1]; j <= hi[1]; ++j)
+            for (std::size_t i = lo[0]; i <= hi[0]; ++i) {
+                const Vec3 p = g.position(i, j, k);
+                const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+                const Vec3 d = p - (a + ab * s);
+                if (dot(d, d) <= r2) flags[i * g.stride[0] + j * g.stride[1] + k * g.stride[2]] |= kNearBoundary;
+            }
 }
 
 GeoError cancelled() { return GeoError{ErrorCode::Cancelled, "cancelled while building the distance grid"}; }
@@ -319,41 +350,34 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
     std::uint64_t queries = 0, components = 0;
     // The first few winding numbers (a closed mesh needs about two) are exact sums over the triangles; past
     // kDirectQueries the hierarchy is built and used as options.winding says.
-    auto inside_at = [&](std::size_t node) -> Result<bool> {
+    auto winding_at = [&](std::size_t node) -> Result<double> {
         const std::size_t i = node % g.n[0], j = (node / g.n[0]) % g.n[1], k = node / (g.n[0] * g.n[1]);
         const Vec3 p = g.position(i, j, k);
         ++queries;
         if (!bvh && (queries <= kDirectQueries || options.winding.exact)) {
             double sum = 0;
             for (const BvhTriangle& t : triangles) sum += triangle_solid_angle(p, t.p[0], t.p[1], t.p[2]);
-            return sum / (4 * std::numbers::pi) >= 0.5;
+            return sum / (4 * std::numbers::pi);
         }
         if (!bvh)
             if (auto built = build_hierarchy(); !built) return built.error();
         auto w = winding_number(*bvh, tree, p, options.winding);
         if (!w) return w.error();
-        return w->value >= 0.5;
+        return w->value;
     };
-    const bool closed = is_closed(triangles);
-    std::vector<std::uint8_t> blocked;
-    if (closed) {
-        blocked.assign(g.nodes, 0);
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
-            if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
-            mark_crossings(g, triangles[t], blocked.data());
-        }
-    } else {
-        // open surface: every band node asks the winding number itself
-        for (std::size_t k = 0; k < g.n[2]; ++k) {
-            if (options.cancel.requested()) return cancelled();
-            for (std::size_t node = k * g.stride[2]; node < (k + 1) * g.stride[2]; ++node) {
-                if (!(d2[node] <= radius2)) continue;
-                auto inside = inside_at(node);
-                if (!inside) return inside.error();
-                sign[node] = inside.value() ? -1 : 1;
-            }
-        }
+    auto inside_at = [&](std::size_t node) -> Result<bool> {
+        auto w = winding_at(node);
+        if (!w) return w.error();
+        return w.value() >= 0.5;
+    };
+    const std::vector<std::array<Vec3, 2>> boundary = boundary_edges(triangles);
+    const bool closed = boundary.empty();
+    std::vector<std::uint8_t> blocked(g.nodes, 0);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
+        mark_crossings(g, triangles[t], blocked.data());
     }
+    for (const auto& [a, b] : boundary) mark_near_segment(g, a, b, radius, blocked.data());
     if (closed) {
         // Scanline flood fill over unblocked edges: runs of nodes joined along x, grown into the neighbouring rows
         // (y and z) through unblocked edges. Each component is signed by one query at its node farthest from the
@@ -418,50 +442,54 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                           sign.begin() + static_cast<std::ptrdiff_t>(run.row * nx + run.x1 + 1), s);
         }
     } else {
-        // Runs of nodes beyond the band along x: no grid edge touching them crosses the surface, and the winding
-        // number varies smoothly there, so a run whose two ends agree takes their sign; where they differ, the
-        // middle is asked until the change is found between two neighbouring nodes.
+        // Rows split into runs at the x-edges that cross a triangle: no run crosses the surface, and the winding
+        // number varies smoothly along it. A run's two ends are asked; where both are on one side of 1/2 by at
+        // least kConfident and no node between is within the band of a boundary edge (where w turns fast around
+        // the edge), the nodes between take that side; otherwise the middle is asked and each half is treated the
+        // same way, down to neighbouring nodes.
         struct Span {
             std::size_t lo, hi;
-            std::int8_t slo, shi;
+            double wlo, whi;
+        };
+        const auto side = [](double w) { return w >= 0.5 ? std::int8_t{-1} : std::int8_t{1}; };
+        const auto confident = [&](const Span& span) {
+            return side(span.wlo) == side(span.whi) && std::abs(span.wlo - 0.5) >= kConfident &&
+                   std::abs(span.whi - 0.5) >= kConfident;
         };
         std::vector<Span> pending;
         for (std::size_t row = 0; row < g.n[1] * g.n[2]; ++row) {
             if (row % g.n[1] == 0 && options.cancel.requested()) return cancelled();
             const std::size_t base = row * g.n[0];
             for (std::size_t i = 0; i < g.n[0];) {
-                if (sign[base + i] != 0) {
-                    ++i;
-                    continue;
-                }
                 std::size_t end = i;
-                while (end + 1 < g.n[0] && sign[base + end + 1] == 0) ++end;
+                while (end + 1 < g.n[0] && !(blocked[base + end] & 1u)) ++end;
                 ++components;
-                auto first = inside_at(base + i);
+                auto first = winding_at(base + i);
                 if (!first) return first.error();
-                const std::int8_t s0 = first.value() ? -1 : 1;
-                sign[base + i] = s0;
+                sign[base + i] = side(first.value());
                 if (end > i) {
-                    auto last = inside_at(base + end);
+                    auto last = winding_at(base + end);
                     if (!last) return last.error();
-                    sign[base + end] = last.value() ? -1 : 1;
-                    pending.push_back({base + i, base + end, s0, sign[base + end]});
+                    sign[base + end] = side(last.value());
+                    pending.push_back({base + i, base + end, first.value(), last.value()});
                 }
                 while (!pending.empty()) {
                     const Span span = pending.back();
                     pending.pop_back();
                     if (span.hi - span.lo < 2) continue;
-                    if (span.slo == span.shi) {
+                    if (confident(span) && std::none_of(blocked.begin() + static_cast<std::ptrdiff_t>(span.lo + 1),
+                                                        blocked.begin() + static_cast<std::ptrdiff_t>(span.hi),
+                                                        [](std::uint8_t m) { return (m & kNearBoundary) != 0; })) {
                         std::fill(sign.begin() + static_cast<std::ptrdiff_t>(span.lo + 1),
-                                  sign.begin() + static_cast<std::ptrdiff_t>(span.hi), span.slo);
+                                  sign.begin() + static_cast<std::ptrdiff_t>(span.hi), side(span.wlo));
                         continue;
                     }
                     const std::size_t mid = span.lo + (span.hi - span.lo) / 2;
-                    auto inside = inside_at(mid);
-                    if (!inside) return inside.error();
-                    sign[mid] = inside.value() ? -1 : 1;
-                    pending.push_back({span.lo, mid, span.slo, sign[mid]});
-                    pending.push_back({mid, span.hi, sign[mid], span.shi});
+                    auto w = winding_at(mid);
+                    if (!w) return w.error();
+                    sign[mid] = side(w.value());
+                    pending.push_back({span.lo, mid, span.wlo, w.value()});
+                    pending.push_back({mid, span.hi, w.value(), span.whi});
                 }
                 i = end + 1;
             }
