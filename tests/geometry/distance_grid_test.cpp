@@ -139,6 +139,34 @@ TEST(DistanceGrid, MeshWithHolesSignedByWindingNumber) {
     EXPECT_LT(grid->values[c], 0);
 }
 
+TEST(DistanceGrid, TorusWithHolesAndAFlippedFaceSignedByWindingNumber) {
+    // holes on the outer rim and a face turned around: open, the runs between crossings carry the signs
+    PolygonMesh open = testing::without_faces(shapes::torus(24, 12, 1.0, 0.35),
+                                              [](const Vec3& c) { return c.x > 1.2 && std::abs(c.y) < 0.3; });
+    std::vector<Index> face(open.face(3).begin(), open.face(3).end());
+    std::reverse(face.begin(), face.end());
+    PolygonMesh flipped;
+    flipped.positions = open.positions;
+    for (std::size_t f = 0; f < open.face_count(); ++f) {
+        if (f == 3)
+            flipped.add_face(face);
+        else
+            flipped.add_face(open.face(f));
+    }
+    DistanceGridOptions options;
+    options.voxel_size = 0.09;
+    options.band = 2;
+    DistanceGridStats stats;
+    const auto grid = mesh_distance_grid(flipped, options, &stats);
+    ASSERT_TRUE(grid.ok()) << grid.error().message;
+    EXPECT_FALSE(stats.closed);
+    EXPECT_LT(stats.winding_queries, grid->values.size() / 2);
+    const Mismatches m = compare_with_brute_force(flipped, grid.value(), options.band, 0.05);
+    EXPECT_LT(m.max_distance_error, 1e-12);
+    EXPECT_GT(m.checked_signs, 0.8 * static_cast<double>(grid->values.size()));
+    EXPECT_EQ(m.wrong_signs, 0u);
+}
+
 TEST(DistanceGrid, SphereRoundTripsThroughTheLevelSetField) {
     // the grid as a level_set field, meshed: the volume of the original mesh to within 1%
     const PolygonMesh sphere = testing::icosphere(4, 1.0);
