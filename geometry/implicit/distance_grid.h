@@ -28,7 +28,8 @@
 // |f| > band * h the next floor((|f| - band * h) / (L h)) nodes along x are known to clamp to the same value and are
 // not evaluated.
 //
-// Both are O(nodes) memory (the output itself) plus, for the mesh, one byte per node and the components' node lists;
+// Both are O(nodes) memory (the output itself, 8 bytes a node) plus, for the mesh, two bytes a node (crossing marks,
+// signs) and the runs of the flood fill;
 // the node count is known from the bounds and voxel size before any work (distance_grid_layout), checked against
 // options.max_nodes, and options.cancel is polled between slabs of nodes and batches of triangles.
 #pragma once
