@@ -11,6 +11,7 @@
 #include "api/operations/mesh_query.h"
 #include "api/operations/pointcloud.h"
 #include "api/operations/implicit_mesh.h"
+#include "api/operations/implicit_grid.h"
 
 namespace surfaced::api {
 namespace {
@@ -52,6 +53,9 @@ constexpr Route kRoutes[] = {
     {"POST", "/implicit/mesh", &operations::implicit_mesh,
      "Implicit scene meshed in bounds (dual marching cubes, QEF vertices; closed, manifold, sharp) -> "
      "GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
+    {"POST", "/implicit/grid", &operations::implicit_grid,
+     "Mesh (exact distances, winding-number signs) or implicit scene as a narrow-band signed distance grid -> a "
+     "level_set scene node (JSON)"},
 };
 
 }  // namespace

@@ -419,6 +419,26 @@ constexpr OptionSpec kMeshQuery[] = {
      .transports = kJson},
 };
 
+// ---- POST /implicit/grid: a JSON body (a mesh or a scene, the grid's bounds, voxel size and band) -----------------
+// voxel_size has no default: the operation refuses a body without it.
+constexpr std::string_view kImplicitGridInputs[] = {"mesh", "scene", "bounds"};
+constexpr OptionSpec kImplicitGrid[] = {
+    {.name = "voxel_size",
+     .type = OptionType::Number,
+     .min = above(0),
+     .units = "model units",
+     .description = "Grid spacing (required); the node count is checked against the level-set sample limit",
+     .transports = kJson},
+    {.name = "band",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(64),  // implicit::kMaxDistanceBand
+     .default_json = "3",
+     .units = "voxels",
+     .description = "Nodes within this many voxels of the surface get exact distances, the others +-band * voxel_size",
+     .transports = kJson},
+};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
@@ -431,6 +451,7 @@ constexpr OperationOptions kOperations[] = {
     {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
     {"implicit_query", "/implicit/query", "post", kImplicitQuery, {}, kImplicitQueryInputs},
     {"mesh_query", "/mesh/query", "post", kMeshQuery, {}, kMeshQueryInputs},
+    {"implicit_grid", "/implicit/grid", "post", kImplicitGrid, {}, kImplicitGridInputs},
 };
 
 }  // namespace

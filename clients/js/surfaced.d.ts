@@ -286,6 +286,27 @@ export interface MeshQueryOptions {
   encoding?: 'json' | 'float32' | 'float64';
 }
 
+export interface ImplicitGridOptions {
+  /** exactly one of mesh and scene */
+  mesh?: Mesh;
+  scene?: ImplicitScene;
+  /** the grid spacing, > 0 */
+  voxel_size: number;
+  /** voxels, 1..64; nodes beyond hold +-band * voxel_size. @default 3 */
+  band?: number;
+  /** required with a scene; a mesh's box grown by band + 1 voxels when absent */
+  bounds?: Bounds;
+}
+
+/** A level_set scene node: values[i + nx (j + ny k)] at origin + (i, j, k) * spacing. */
+export interface LevelSetNode {
+  op: 'level_set';
+  dims: [number, number, number];
+  origin: Vec3;
+  spacing: number;
+  values: number[];
+}
+
 export interface ImplicitMeshOptions {
   scene: ImplicitScene;
   bounds: Bounds;
@@ -444,6 +465,7 @@ export declare class Client {
   curves(options: CurvesOptions): Promise<Result<CurvesAnswer>>;
   implicitQuery(options: ImplicitQueryOptions): Promise<Result<ImplicitQueryAnswer>>;
   meshQuery(options: MeshQueryOptions): Promise<Result<MeshQueryAnswer>>;
+  implicitGrid(options: ImplicitGridOptions): Promise<Result<LevelSetNode>>;
   implicitMesh(options: ImplicitMeshOptions): Promise<Result<MeshAnswer>>;
   pointcloud(options: PointcloudOptions): Promise<Result<PointcloudAnswer>>;
 }

@@ -213,6 +213,9 @@ export class Client {
   /** POST /mesh/query: {mesh, points, rays, want, winding}; the answer's document in .json */
   meshQuery(request) { return this.request('POST', '/mesh/query', { json: request }); }
 
+  /** POST /implicit/grid: {mesh | scene, voxel_size, band, bounds}; a level_set scene node in .json */
+  implicitGrid(request) { return this.request('POST', '/implicit/grid', { json: request }); }
+
   /** POST /implicit/mesh: {scene, bounds, resolution | cell_size, mode, simplify_tolerance, crease_angle, output}
    *  -> a closed mesh */
   implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }

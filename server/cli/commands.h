@@ -17,5 +17,6 @@ int implicit(Args& args);
 int pointcloud(Args& args);
 int curve(Args& args);
 int query(Args& args);
+int grid(Args& args);
 
 }  // namespace surfaced::cli

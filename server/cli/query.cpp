@@ -1,4 +1,6 @@
 // `surfaced query`: points and rays asked of a mesh file through POST /mesh/query; the answers as its JSON.
+// `surfaced grid`: a mesh file or a scene as a narrow-band signed distance grid through POST /implicit/grid; the
+// level_set scene node it answers as JSON. Both read a mesh file the same way (mesh_object).
 #include <algorithm>
 #include <iostream>
 #include <sstream>
@@ -25,6 +27,18 @@ is inside (generalized winding number >= 1/2, robust on meshes with holes), its 
   MESH_FILE: .obj .off .ply .stl .glb .gltf, or .json (a mesh object, or a body with "mesh"); - reads standard input
   --points FILE: a JSON array of [x, y, z] (or an object with "points"); --rays FILE: a JSON array of
   [ox, oy, oz, dx, dy, dz] (or an object with "rays"). OUT (default -: standard output) is the JSON answer.
+
+)";
+
+constexpr std::string_view kGridHelp =
+    R"(Usage: surfaced grid IN --voxel-size H [--band W] [--bounds B] [-o OUT.json|-]
+
+Samples a narrow-band signed distance grid through the same operation as POST /implicit/grid: for a mesh, the exact
+distance to the nearest triangle at every node within W voxels of the surface, signed by the generalized winding
+number (negative inside; robust on meshes with holes), and +-W * H beyond; for a scene, its value clamped to +-W * H.
+  IN: a mesh file (.obj .off .ply .stl .glb .gltf), or .json: a mesh object, a scene ({"op": ...}, needs --bounds),
+  or a request body with "mesh" or "scene"; - reads standard input. OUT (default -: standard output) is the
+  level_set scene node, usable as a scene (or part of one) by surfaced implicit.
 
 )";
 
@@ -191,6 +205,89 @@ int query(Args& sent) {
             const std::size_t rays = body.contains("rays") && body["rays"].is_array() ? body["rays"].size() : 0;
             parsed->report() << "wrote " << parsed->output_label() << ": " << points << " points, " << rays
                              << " rays answered\n";
+        },
+        ProblemStyle{.field = true, .line = false, .offset = false});
+}
+
+int grid(Args& sent) {
+    api::ApiContext context = file_context();
+    const api::options::OperationOptions& operation = *api::options::operation_options("implicit_grid");
+    std::vector<Option> options = table_options(operation, api::options::kJson);
+    options.push_back(Option{.name = "--input-format",
+                             .check = one_of_names({"obj", "off", "ply", "stl", "glb", "gltf", "json"}),
+                             .synopsis = "--input-format NAME",
+                             .description = "IN's format instead of its extension: obj off ply stl glb gltf json "
+                                            "(IN -: from the bytes)"});
+    options.push_back(Option{.name = "--bounds",
+                             .check =
+                                 [](std::string_view option, const std::string& text) {
+                                     std::istringstream in(text);
+                                     std::size_t count = 0;
+                                     for (std::string number; std::getline(in, number, ',');) {
+                                         checked_real(option, number);
+                                         ++count;
+                                     }
+                                     if (count != 6 || text.ends_with(","))
+                                         throw UsageError{std::string(option) +
+                                                          " needs six numbers xmin,ymin,zmin,xmax,ymax,zmax, got \"" +
+                                                          text + "\""};
+                                     return text;
+                                 },
+                             .synopsis = "--bounds X0,Y0,Z0,X1,Y1,Z1",
+                             .description = "the grid's box (required for a scene; a mesh's default: its box grown "
+                                            "by band + 1 voxels)"});
+    std::vector<std::string> words = with_default_output(sent);
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    Args args(static_cast<int>(argv.size()), argv.data(), 0);
+    std::string help = std::string(kGridHelp) + options_help(operation, options);
+    constexpr std::string_view kRequired = "output file (required); - for standard output";
+    if (const auto at = help.find(kRequired); at != std::string::npos)
+        help.replace(at, kRequired.size(), "the level_set node; - (the default) for standard output");
+    const auto parsed = parse_file_command(args, "grid", help, options, "IN");
+    if (!parsed) return kExitOk;
+    if (parsed->has("--format")) throw UsageError{"grid: the answer is JSON; --format does not apply"};
+    if (!parsed->param("voxel_size")) throw UsageError{"grid: give --voxel-size H"};
+
+    // the request body: a JSON file as it is (a body, a scene or a mesh), any other file as its mesh
+    nlohmann::json body = nlohmann::json::object();
+    const bool json_file = parsed->has("--input-format") ? parsed->value("--input-format") == "json"
+                                                         : lower_extension(parsed->input) == ".json";
+    if (json_file) {
+        const auto doc = read_json_file(parsed->input);
+        if (!doc) return kExitFailed;
+        if (doc->is_object() && (doc->contains("mesh") || doc->contains("scene")))
+            body = *doc;
+        else if (doc->is_object() && doc->contains("op"))
+            body["scene"] = *doc;
+        else
+            body["mesh"] = *doc;
+    } else {
+        const auto mesh = mesh_object(*parsed);
+        if (!mesh) return kExitFailed;
+        body["mesh"] = *mesh;
+    }
+    if (parsed->has("--bounds")) {
+        std::vector<double> v;
+        std::istringstream in(parsed->value("--bounds"));
+        for (std::string number; std::getline(in, number, ',');) v.push_back(std::stod(number));
+        body["bounds"] = nlohmann::json::array({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
+    }
+    if (body.contains("scene") && !body.contains("bounds"))
+        throw UsageError{"grid: " + parsed->input_label() + " is a scene: give --bounds xmin,ymin,zmin,xmax,ymax,zmax"};
+    for (const auto& [name, text] : parsed->params) {
+        const api::options::OptionSpec& spec = table_option(operation, name);
+        if (spec.type == api::options::OptionType::Integer)
+            body[name] = std::stoll(text);
+        else
+            body[name] = std::stod(text);
+    }
+    return finish(
+        api::dispatch(upload_request("/implicit/grid", "application/json", body.dump(), {}), context), *parsed,
+        [&](const api::ApiResponse& response) {
+            parsed->report() << "wrote " << parsed->output_label() << ": grid " << header(response, "X-Grid") << ", "
+                             << header(response, "X-Band-Nodes") << " nodes in the band, in "
+                             << header(response, "X-Elapsed-Ms") << " ms\n";
         },
         ProblemStyle{.field = true, .line = false, .offset = false});
 }

@@ -31,6 +31,7 @@ Usage:
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
   surfaced query MESH --points P.json [opts]  inside, signed distance, closest point; ray hits on a mesh (JSON)
+  surfaced grid IN --voxel-size H [opts]      narrow-band signed distance grid of a mesh or scene (JSON)
   surfaced <command> --help                   options of a command (those of its operation, as the API names them)
   surfaced --help | --version
 
@@ -48,7 +49,7 @@ Exit codes (the same in every command):
 
 const std::vector<std::string_view> kCommands = {"serve",      "healthcheck", "subdivide", "tessellate",
                                                  "simplify",   "remesh",      "repair",    "implicit",
-                                                 "pointcloud", "curve",       "query"};
+                                                 "pointcloud", "curve",       "query",     "grid"};
 
 }  // namespace
 
@@ -79,12 +80,13 @@ int run(int argc, char** argv) {
         if (command == "pointcloud") return pointcloud(args);
         if (command == "curve") return curve(args);
         if (command == "query") return query(args);
+        if (command == "grid") return grid(args);
         std::string message = "unknown command \"" + command + "\" (";
         if (const auto match = closest_match(command, kCommands))
             message += "did you mean " + std::string(*match) + "? ";
         message +=
             "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
-            "curve, query; see surfaced --help)";
+            "curve, query, grid; see surfaced --help)";
         throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

@@ -148,6 +148,7 @@ const cheapInside = {
   'tolerance': 0.05,   // a chord tolerance of 1e-6 needs more segments than the server allows
   'edge_length': 0.5,  // a target edge of 1e-6 on a unit mesh is millions of faces
   'cell_size': 0.25,   // likewise a grid of 1e-6 cells
+  'voxel_size': 0.25,  // and a distance grid of 1e-6 voxels
 };
 
 // Cases whose documented expectation the server does not meet as written, each with its reason and the answer it

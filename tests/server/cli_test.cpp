@@ -222,6 +222,7 @@ const std::vector<TableCommand>& table_commands() {
         {"remesh", "remesh", kQuery},         {"repair", "repair", kQuery},
         {"tessellate", "tessellate", kQuery}, {"pointcloud", "pointcloud", kQuery},
         {"implicit", "implicit_mesh", kJson}, {"query", "mesh_query", kJson},
+        {"grid", "implicit_grid", kJson},
     };
     return commands;
 }
@@ -372,6 +373,34 @@ TEST_F(SurfacedCli, QueryAnswersPointsAndRaysOfAMeshFile) {
     const CliRun empty = run("query " + path("empty.json") + " --points " + path("points.json"));
     EXPECT_EQ(empty.exit_code, 1);
     EXPECT_TRUE(contains(empty.err, "mesh.faces")) << empty.err;
+}
+
+TEST_F(SurfacedCli, GridWritesTheLevelSetNodeOfAMeshOrScene) {
+    // cube.obj is [-0.5, 0.5]^3: with h 0.25 and band 1 the default bounds are [-1, 1]^3, 9 nodes per axis
+    const CliRun r = run("grid " + path("cube.obj") + " --voxel-size 0.25 --band 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "grid 9x9x9")) << r.err;
+    const auto node = nlohmann::json::parse(r.out);
+    EXPECT_EQ(node["op"], "level_set");
+    EXPECT_EQ(node["dims"], nlohmann::json::array({9, 9, 9}));
+    EXPECT_EQ(node["values"][4 + 9 * (4 + 9 * 4)], -0.25);  // the centre: 0.5 deep, clamped to the band
+    EXPECT_EQ(node["values"][6 + 9 * (4 + 9 * 4)], 0);      // (0.5, 0, 0): on the surface
+
+    // a scene alone needs bounds; with them, to a file
+    std::ofstream(dir_ / "ball.json") << R"({"op": "sphere", "radius": 0.5})";
+    EXPECT_EQ(run("grid " + path("ball.json") + " --voxel-size 0.25").exit_code, 2);
+    const CliRun scene =
+        run("grid " + path("ball.json") + " --voxel-size 0.5 --bounds -1,-1,-1,1,1,1 -o " + path("ball_grid.json"));
+    ASSERT_EQ(scene.exit_code, 0) << scene.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "ball_grid.json"))["values"].size(), 125u);
+
+    // usage errors exit 2; a budget is the operation's failure, exit 1, naming voxel_size
+    EXPECT_EQ(run("grid " + path("cube.obj")).exit_code, 2);
+    EXPECT_EQ(run("grid " + path("cube.obj") + " --voxel-size 0").exit_code, 2);
+    EXPECT_EQ(run("grid " + path("cube.obj") + " --voxel-size 0.1 --band 65").exit_code, 2);
+    const CliRun budget = run("grid " + path("cube.obj") + " --voxel-size 1e-4");
+    EXPECT_EQ(budget.exit_code, 1);
+    EXPECT_TRUE(contains(budget.err, "voxel_size")) << budget.err;
 }
 
 TEST_F(SurfacedCli, ATableOfMistakesExitsAlikeInEveryCommand) {

@@ -562,6 +562,20 @@ class Client:
         body = {"mesh": mesh, **_options(locals(), Client.mesh_query.__kwdefaults__, skip=("mesh",))}
         return self.request("POST", "/mesh/query", json_body=body)
 
+    def implicit_grid(self, *, mesh: Optional[Mesh] = None, scene: Optional[ImplicitScene] = None,
+                      voxel_size: float, band: int = 3, bounds: Optional[Bounds] = None) -> Result:
+        """POST /implicit/grid: a narrow-band signed distance grid of ``mesh`` (exact distances within ``band`` voxels,
+        signed by the generalized winding number) or of ``scene`` (its values clamped), exactly one of the two. The
+        answer (``result.json``) is a level_set scene node, usable as ``scene`` in implicit_mesh and implicit_query.
+
+        :param voxel_size: the grid spacing, > 0 (required).
+        :param band: voxels, 1..64 (default 3); nodes beyond it hold +-band * voxel_size.
+        :param bounds: ``[[x0, y0, z0], [x1, y1, z1]]``; required with a scene, a mesh's box grown by band + 1
+            voxels when absent.
+        """
+        body = _options(locals(), Client.implicit_grid.__kwdefaults__, skip=())
+        return self.request("POST", "/implicit/grid", json_body=body)
+
     def implicit_mesh(self, scene: ImplicitScene, bounds: Bounds, *, resolution: int = 64,
                       cell_size: Optional[float] = None, mode: ImplicitMode = "uniform",
                       simplify_tolerance: float = 0, crease_angle: float = 40,
