@@ -242,6 +242,43 @@ Vec3 normalized(const Vec3& v) {
     return length > 0 ? v * (1.0 / length) : Vec3{};
 }
 
+//! Relative difference below which two seam edges count as one edge computed twice (by de Boor at the two ends of a
+//! periodic knot vector, from different knot values): far above the rounding of the extraction, far below any
+//! geometric feature.
+constexpr double kSeamTolerance = 1e-12;
+
+//! Where the first and the last patch column (u seam) or row (v seam) have edges that agree to within
+//! kSeamTolerance -- the surface closes there, as a periodic (unclamped, wrapped) net does -- the last edge is made a
+//! copy of the first, so that the tessellator welds the seam. Clamped closed nets already agree bit for bit.
+void close_seams(SurfaceBezierPatches& out, const BSplineSurface& s) {
+    double size = 0, wmax = 0;
+    for (const Vec3& p : s.points) size = std::max(size, norm(p));
+    for (double w : s.weights) wmax = std::max(wmax, w);
+    const std::size_t nu = out.breaks_u.size() - 1, nv = out.breaks_v.size() - 1;
+    const int p = s.degree_u, q = s.degree_v;
+    // first and last patch of each row (u seam: columns 0 and p) or column (v seam: rows 0 and q)
+    const auto close = [&](BezierPatch& first, BezierPatch& last, bool u_seam) {
+        const int count = u_seam ? q : p;
+        const auto index = [&](const BezierPatch& patch, int k, bool at_end) {
+            const int i = u_seam ? (at_end ? p : 0) : k, j = u_seam ? k : (at_end ? q : 0);
+            return static_cast<std::size_t>(j) * static_cast<std::size_t>(patch.degree_u + 1) +
+                   static_cast<std::size_t>(i);
+        };
+        for (int k = 0; k <= count; ++k) {
+            const std::size_t a = index(first, k, false), b = index(last, k, true);
+            if (norm(first.points[a] - last.points[b]) > kSeamTolerance * size) return;
+            if (s.rational() && std::fabs(first.weights[a] - last.weights[b]) > kSeamTolerance * wmax) return;
+        }
+        for (int k = 0; k <= count; ++k) {
+            const std::size_t a = index(first, k, false), b = index(last, k, true);
+            last.points[b] = first.points[a];
+            if (s.rational()) last.weights[b] = first.weights[a];
+        }
+    };
+    for (std::size_t b = 0; b < nv; ++b) close(out.patches[b * nu], out.patches[b * nu + nu - 1], true);
+    for (std::size_t a = 0; a < nu; ++a) close(out.patches[a], out.patches[(nv - 1) * nu + a], false);
+}
+
 }  // namespace
 
 Status validate(const BSplineSurface& s) {
@@ -474,6 +511,7 @@ Result<SurfaceBezierPatches> to_bezier(const BSplineSurface& s, const Cancel& ca
         }
         ++a;
     }
+    close_seams(out, s);
     return out;
 }
 

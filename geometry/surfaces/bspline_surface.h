@@ -129,8 +129,11 @@ struct SurfaceBezierPatches {
 //! their edge's control points and weights bit for bit (the shared column or row is computed once and copied), so the
 //! tessellator welds them; an edge on a row of identical control points (a pole) is a collapsed patch edge exactly;
 //! the outer edges of a clamped knot vector are the net's own boundary rows and columns, so where the net is closed
-//! (first and last column identical, as in the NURBS sphere and torus) the seam welds too. Unclamped (periodic) nets
-//! close only up to rounding: their seam is not welded. Work O(patches (p + 1) (q + 1) (p + q)), memory
+//! (first and last column identical, as in the NURBS sphere and torus) the seam welds too. A periodic net (unclamped
+//! uniform knots, the first p columns repeated at the end) closes only up to rounding, its seam being computed at two
+//! different knot values: where the first and the last patch column (or row) have edges whose control points agree to
+//! 1e-12 of the largest |control point| (and weights to 1e-12 of the largest weight), the last edge is set to a copy
+//! of the first, so those seams weld as well. Work O(patches (p + 1) (q + 1) (p + q)), memory
 //! O(patches (p + 1) (q + 1)); polls `cancel` between knot spans. Errors: validate(), Cancelled.
 Result<SurfaceBezierPatches> to_bezier(const BSplineSurface& surface, const Cancel& cancel = Cancel{});
 

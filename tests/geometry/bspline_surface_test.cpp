@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/curves/bspline.h"
 #include "geometry/surfaces/bspline_surface.h"
 #include "tests/support/mesh_asserts.h"
 
@@ -569,6 +570,57 @@ TEST(BSplineSurface, TorusTessellationIsClosed) {
     EXPECT_TRUE(testing::is_watertight(result->mesh));
     EXPECT_EQ(testing::euler_characteristic(result->mesh), 0);
     EXPECT_EQ(result->face_patches.size(), result->mesh.face_count());
+}
+
+//! A periodic cubic torus-like surface: an 8 x 6 ring of points on a torus, the first 3 columns and rows repeated at
+//! the end, uniform (unclamped) knots; optionally with weights periodic like the points.
+BSplineSurface periodic_torus(bool rational) {
+    constexpr int n = 8, m = 6, p = 3;
+    BSplineSurface s;
+    s.degree_u = s.degree_v = p;
+    s.count_u = n + p;
+    s.count_v = m + p;
+    s.knots_u = *uniform_knots(static_cast<std::size_t>(s.count_u), p);
+    s.knots_v = *uniform_knots(static_cast<std::size_t>(s.count_v), p);
+    for (int j = 0; j < s.count_v; ++j)
+        for (int i = 0; i < s.count_u; ++i) {
+            const double theta = 2 * std::numbers::pi * (i % n) / n, phi = 2 * std::numbers::pi * (j % m) / m;
+            const double rho = 3 + std::cos(phi);
+            s.points.push_back({rho * std::cos(theta), rho * std::sin(theta), std::sin(phi)});
+            if (rational) s.weights.push_back(1 + 0.3 * (i % n % 3) + 0.2 * (j % m % 2));
+        }
+    return s;
+}
+
+TEST(BSplineSurface, PeriodicSeamsAreWelded) {
+    for (bool rational : {false, true}) {
+        const BSplineSurface s = periodic_torus(rational);
+        ASSERT_TRUE(validate(s).ok()) << validate(s).error().message;
+        auto bezier = to_bezier(s);
+        ASSERT_TRUE(bezier.ok());
+        const std::size_t nu = bezier->breaks_u.size() - 1, nv = bezier->breaks_v.size() - 1;
+        for (std::size_t b = 0; b < nv; ++b)
+            for (int j = 0; j <= 3; ++j) {
+                EXPECT_EQ(bezier->patches[b * nu].at(0, j), bezier->patches[b * nu + nu - 1].at(3, j));
+                EXPECT_EQ(bezier->patches[b * nu].weight(0, j), bezier->patches[b * nu + nu - 1].weight(3, j));
+            }
+        // still the surface: the seam moved by rounding only
+        for (std::size_t b = 0; b < nv; ++b)
+            for (double y : {0.0, 0.3, 1.0}) {
+                const double v = bezier->breaks_v[b] + y * (bezier->breaks_v[b + 1] - bezier->breaks_v[b]);
+                expect_close(evaluate(bezier->patches[b * nu + nu - 1], 1, y), *evaluate(s, 1, std::min(v, 1.0)), 1e-13,
+                             "seam");
+            }
+        TessellationOptions options;
+        options.tolerance = 0.01;
+        auto result = tessellate(s, options);
+        ASSERT_TRUE(result.ok()) << result.error().message;
+        const testing::EdgeStats stats = testing::edge_stats(result->mesh);
+        EXPECT_EQ(stats.boundary_edges, 0u) << (rational ? "rational" : "polynomial");
+        EXPECT_EQ(stats.non_manifold_edges, 0u);
+        EXPECT_TRUE(testing::is_watertight(result->mesh));
+        EXPECT_EQ(testing::euler_characteristic(result->mesh), 0);
+    }
 }
 
 TEST(BSplineSurface, TessellationOfRandomSurfacesKeepsTheTolerance) {
