@@ -370,13 +370,17 @@ Result<Vec3> unit_normal(const BSplineSurface& s, double u, double v) {
     const PatchDerivatives d = derivatives(s, u, v, 2);
     const auto [u0, u1] = domain_u(s);
     const auto [v0, v1] = domain_v(s);
-    double size = 0;  // the net's size, for the floor of "vanishes" when both first derivatives vanish
-    {
-        Box3 box;
-        for (const Vec3& p : s.points) box.add(p);
-        size = box.diagonal();
-    }
-    const double floor = (size / (u1 - u0)) * (size / (v1 - v0));
+    // The floor of "vanishes" when both first derivatives vanish: the size of the local net times the degree over the
+    // span length, per direction (the order of magnitude of a first derivative there), multiplied.
+    const std::size_t ku = find_span(s.knots_u, s.degree_u, static_cast<std::size_t>(s.count_u), u);
+    const std::size_t kv = find_span(s.knots_v, s.degree_v, static_cast<std::size_t>(s.count_v), v);
+    Box3 box;
+    for (int j = 0; j <= s.degree_v; ++j)
+        for (int i = 0; i <= s.degree_u; ++i)
+            box.add(s.at(static_cast<int>(ku) - s.degree_u + i, static_cast<int>(kv) - s.degree_v + j));
+    const double size = box.diagonal();
+    const double floor = (size * s.degree_u / (s.knots_u[ku + 1] - s.knots_u[ku])) *
+                         (size * s.degree_v / (s.knots_v[kv + 1] - s.knots_v[kv]));
     const double scale = std::max(dot(d.du, d.du) + dot(d.dv, d.dv), floor);
     constexpr double kVanishing = 1e-12;
     const Vec3 n0 = cross(d.du, d.dv);

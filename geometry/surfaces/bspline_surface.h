@@ -94,9 +94,9 @@ Result<PatchDerivatives> evaluate_derivatives(const BSplineSurface& surface, dou
 //! (su, sv) pointing into the domain (+1 in the lower half of a direction's domain, -1 in the upper half),
 //! su (S_uu x S_v + S_u x S_uv) + sv (S_uv x S_v + S_u x S_vv), which at a pole with S_u = S_uu = 0 is sv S_uv x S_v.
 //! Only if that vanishes too (a higher-order degeneracy) it takes S_u x S_v at offsets 1e-3, 1e-5, 1e-7 of the domain
-//! lengths into the domain. "Vanishes" means below 1e-12 of |S_u|^2 + |S_v|^2 (or of the net's size over the domain
-//! lengths, squared, when both derivatives vanish). Returns (0, 0, 0) only for a surface degenerate around (u, v).
-//! Same errors as evaluate().
+//! lengths into the domain. "Vanishes" means below 1e-12 of |S_u|^2 + |S_v|^2, or, when both derivatives vanish, of
+//! the product over both directions of (local net size x degree / knot span length). Returns (0, 0, 0) only for a
+//! surface degenerate around (u, v). Same errors as evaluate(); O(p^2 + q^2 + p q) in the common case.
 Result<Vec3> unit_normal(const BSplineSurface& surface, double u, double v);
 
 //! Boehm's knot insertion of t into the knot vector of `direction`, `times` times: every row (direction U) or column

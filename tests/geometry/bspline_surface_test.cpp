@@ -369,6 +369,23 @@ TEST(BSplineSurface, CylinderIsExact) {
         "cylinder");
 }
 
+TEST(BSplineSurface, ConeApexNormalIsTheLimitAlongEachGenerator) {
+    // a cone of base radius r at z = 0 and apex at z = h: the row v = 1 collapses; the surface has no tangent plane
+    // there, and the normal returned is the limit along the generator of fixed u
+    const Vec3 c{1, 0, -1};
+    const double r = 2, h = 3;
+    const BSplineSurface cone = revolve(c, {r, 0}, {0, h}, {1, 1}, {0, 0, 1, 1}, 1);
+    ASSERT_TRUE(validate(cone).ok());
+    for (double u : {0.0, 0.1, 0.3, 0.55, 0.8, 1.0}) {
+        const Vec3 below = *evaluate(cone, u, 0.5) - c;
+        const double theta = std::atan2(below.y, below.x);
+        const Vec3 expected = Vec3{h * std::cos(theta), h * std::sin(theta), r} * (1 / std::hypot(h, r));
+        expect_close(*evaluate(cone, u, 1), c + Vec3{0, 0, h}, 1e-15, "apex");
+        expect_close(*unit_normal(cone, u, 1), expected, 1e-12, "apex normal at u " + std::to_string(u));
+        expect_close(*unit_normal(cone, u, 0.5), expected, 1e-12, "normal at u " + std::to_string(u));
+    }
+}
+
 TEST(BSplineSurface, OutOfDomainIsInvalidArgument) {
     const BSplineSurface s = sphere({}, 1);
     for (auto [u, v] :
