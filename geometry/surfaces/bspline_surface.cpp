@@ -492,6 +492,8 @@ Result<SurfaceBezierPatches> to_bezier(const BSplineSurface& s, const Cancel& ca
         std::vector<std::vector<Node>> column_last(ps + 1);
         for (std::size_t kv = qs; kv < nv; ++kv) {
             if (!(s.knots_v[kv] < s.knots_v[kv + 1])) continue;
+            if (cancel.requested())
+                return make_error(ErrorCode::Cancelled, "cancelled while converting to Bézier form");
             BezierPatch& patch = out.patches[b * patches_u + a];
             patch.degree_u = p;
             patch.degree_v = q;

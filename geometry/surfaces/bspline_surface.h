@@ -134,7 +134,7 @@ struct SurfaceBezierPatches {
 //! different knot values: where the first and the last patch column (or row) have edges whose control points agree to
 //! 1e-12 of the largest |control point| (and weights to 1e-12 of the largest weight), the last edge is set to a copy
 //! of the first, so those seams weld as well. Work O(patches (p + 1) (q + 1) (p + q)), memory
-//! O(patches (p + 1) (q + 1)); polls `cancel` between knot spans. Errors: validate(), Cancelled.
+//! O(patches (p + 1) (q + 1)); polls `cancel` before each patch. Errors: validate(), Cancelled.
 Result<SurfaceBezierPatches> to_bezier(const BSplineSurface& surface, const Cancel& cancel = Cancel{});
 
 //! Tessellation within a chord tolerance (options.tolerance) or a fixed number of segments per Bézier patch: to_bezier,

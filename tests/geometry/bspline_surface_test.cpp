@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -771,7 +772,7 @@ TEST(BSplineSurface, ValidationErrors) {
     expect_error(s, ErrorCode::InvalidArgument, "knots_v: the domain [knots_v[2], knots_v[3]] = [1, 1] is empty", 3);
 }
 
-TEST(BSplineSurface, InsertKnotErrors) {
+TEST(BSplineSurface, InsertKnotDecompositionAndTessellationErrors) {
     const BSplineSurface s = sphere({}, 1);
     auto outside = insert_knot(s, SurfaceDirection::V, 1.5);
     ASSERT_FALSE(outside.ok());
@@ -785,6 +786,16 @@ TEST(BSplineSurface, InsertKnotErrors) {
     auto negative = insert_knot(s, SurfaceDirection::U, 0.3, -1);
     ASSERT_FALSE(negative.ok());
     EXPECT_NE(negative.error().message.find("times must be >= 0"), std::string::npos);
+    std::atomic<bool> stop{true};
+    Cancel cancel;
+    cancel.flag = &stop;
+    EXPECT_EQ(to_bezier(s, cancel).error().code, ErrorCode::Cancelled);
+    TessellationOptions cancelled;
+    cancelled.cancel.flag = &stop;
+    EXPECT_EQ(tessellate(s, cancelled).error().code, ErrorCode::Cancelled);
+    TessellationOptions budget;
+    budget.tolerance = 1e-9;
+    EXPECT_EQ(tessellate(s, budget).error().code, ErrorCode::BudgetExceeded);
     BSplineSurface broken = s;
     broken.degree_u = 0;
     EXPECT_FALSE(insert_knot(broken, SurfaceDirection::U, 0.3).ok());
