@@ -70,7 +70,7 @@ enum class SurfaceDirection { U, V };
 //!    degree + 1 times and any other at most degree times, and a non-empty domain U[p] < U[nu].
 //! Messages name the knot vector and knot index, or the control point index with its (i, j). GeoError::element is the
 //! control point index with ElementKind::Vertex for a point or weight, the knot index with ElementKind::None for a knot,
-//! -1 for a count or size mismatch. Error code InvalidArgument unless said otherwise. O(nu nv + |U| + |V|).
+//! -1 for a count or size mismatch and the weight ratio. Error code InvalidArgument unless said otherwise. O(nu nv + |U| + |V|).
 Status validate(const BSplineSurface& surface);
 
 //! The parameter domains [U[p], U[nu]] and [V[q], V[nv]].
