@@ -11,12 +11,18 @@
 #include "geometry/spatial/ray_cast.h"
 
 #include <algorithm>
-#include <cstdint>
-#include <limits>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include "geometry/spatial/traversal_stack.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#define SURFACED_RAY_SIMD 1
+#endif
 
 namespace surfaced {
 
@@ -148,6 +154,275 @@ struct StackEntry {
     double t;
 };
 
+//! Every hit through the binary double-precision nodes (rays the float layout does not take, or no layout).
+void binary_all_hits(const TriangleBvh& bvh, const PreparedRay& r, std::vector<RayHit>& hits) {
+    constexpr double kMiss = std::numeric_limits<double>::infinity();
+    spatial_detail::TraversalStack<Index> stack;
+    if (box_entry(bvh.nodes[0].bounds, r, r.t_max) == kMiss) return;
+    stack.push(0);
+    while (!stack.empty()) {
+        const BvhNode& node = bvh.nodes[stack.pop()];
+        if (node.is_leaf()) {
+            for (Index i = node.index; i < node.index + node.count; ++i) {
+                const BvhTriangle& tri = bvh.triangles[i];
+                RayTriangleHit hit;
+                if (intersect(r, tri.p[0], tri.p[1], tri.p[2], r.t_max, hit)) hits.push_back(make_hit(r, tri, hit));
+            }
+            continue;
+        }
+        const Index self = static_cast<Index>(&node - bvh.nodes.data());
+        if (box_entry(bvh.nodes[self + 1].bounds, r, r.t_max) != kMiss) stack.push(self + 1);
+        if (box_entry(bvh.nodes[node.index].bounds, r, r.t_max) != kMiss) stack.push(node.index);
+    }
+}
+
+#if SURFACED_RAY_SIMD
+// ---- the 4-wide float layout (TriangleBvh::ray_nodes) ----------------------------------------------------------
+//
+// Four child boxes are tested at once, in float. Each slab distance is computed as (plane - origin) * (1 / d): the
+// planes were rounded outward when the nodes were built, the origin is rounded towards the far side of each plane
+// (up for a near plane, down for a far plane, swapped when d < 0), and the three roundings that remain (the
+// subtraction, 1 / d to float, the product) are relative, at most 3 u (u = 2^-24) in all. So each computed distance
+// is within a factor 1 +- 3u of the distance to the rounded box (or of the same sign and larger when it overflows to
+// infinity). After taking the largest entry and the smallest exit over the three axes and the ray's [t_min, t_max],
+// the entry is moved down and the exit up by 2^-21 relative (8u, which covers the product's own rounding) and 2^-100
+// absolute (products that fall into the subnormal range): the computed [entry, exit] then contains the true one, and
+// a box the ray touches is never culled. An axis the ray is parallel to (d = +-0, 1 / d = +-inf) gives +-inf, or NaN
+// (0 * inf) when the origin is on a plane: a NaN is dropped by taking max(t, acc) and min(t, acc) in that order
+// (SSE returns the second operand when either is NaN), which is the containment test the double path does.
+// Unused child slots have min = +inf and max = -inf: their entry is +inf and their exit -inf, never a hit.
+//
+// Leaves run the exact double-precision test above, so hits, t and barycentrics are those of the binary path.
+
+//! Rays whose origin or direction is outside these magnitudes take the double path (no float overflow of the
+//! origin, 1 / d within float range for the largest component).
+constexpr double kWideOriginLimit = 0x1p100;
+constexpr double kWideDirectionMin = 0x1p-100, kWideDirectionMax = 0x1p100;
+
+//! The next float above (below) a finite f, by its bits: no library call on the hot path.
+inline float float_up(float f) {
+    if (f == 0) return std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>(f > 0 ? bits + 1 : bits - 1);
+}
+//! The float at or below x (at or above for round_up).
+inline float round_down(double x) {
+    const float f = static_cast<float>(x);
+    return static_cast<double>(f) > x ? -float_up(-f) : f;
+}
+inline float round_up(double x) {
+    const float f = static_cast<float>(x);
+    return static_cast<double>(f) < x ? float_up(f) : f;
+}
+
+struct WideRay {
+    __m128 origin_near[3], origin_far[3], inv[3];
+    int near_plane[3], far_plane[3];  //!< rows of RayNode::box met first and last along each axis
+    float t_lo = 0;                   //!< t_min rounded down
+    // the triangle filter: the origin relative to TriangleBvh::ray_centre in the order kx, ky, kz, the shear, and the
+    // constants of the error bound
+    int axis[3];
+    __m128 origin[3], sx, sy, bound_linear, bound_square, bound_floor, eps;
+};
+
+bool prepare_wide(const PreparedRay& r, const Vec3& bvh_centre, double bvh_extent, WideRay& w) {
+    const double o[3] = {r.origin.x, r.origin.y, r.origin.z};
+    const double d[3] = {r.direction.x, r.direction.y, r.direction.z};
+    const double largest = std::max({std::fabs(d[0]), std::fabs(d[1]), std::fabs(d[2])});
+    if (!(largest >= kWideDirectionMin && largest <= kWideDirectionMax)) return false;
+    for (int k = 0; k < 3; ++k) {
+        if (!(std::fabs(o[k]) <= kWideOriginLimit)) return false;
+        const bool negative = std::signbit(d[k]);
+        constexpr float kInf = std::numeric_limits<float>::infinity();
+        const float inv = d[k] == 0 ? (negative ? -kInf : kInf) : static_cast<float>(1.0 / d[k]);
+        const float lo = round_down(o[k]), hi = round_up(o[k]);
+        w.near_plane[k] = negative ? 3 + k : k;
+        w.far_plane[k] = negative ? k : 3 + k;
+        w.origin_near[k] = _mm_set1_ps(negative ? lo : hi);
+        w.origin_far[k] = _mm_set1_ps(negative ? hi : lo);
+        w.inv[k] = _mm_set1_ps(inv);
+    }
+    w.t_lo = round_down(r.t_min);
+
+    const double c[3] = {bvh_centre.x, bvh_centre.y, bvh_centre.z};
+    const int axis[3] = {r.kx, r.ky, r.kz};
+    double origin_extent = 0;
+    for (int k = 0; k < 3; ++k) {
+        w.axis[k] = axis[k];
+        w.origin[k] = _mm_set1_ps(static_cast<float>(o[axis[k]] - c[axis[k]]));
+        origin_extent = std::max(origin_extent, std::fabs(o[k] - c[k]));
+    }
+    w.sx = _mm_set1_ps(static_cast<float>(r.sx));
+    w.sy = _mm_set1_ps(static_cast<float>(r.sy));
+    // absolute error of each sheared float coordinate (see filter_triangles), and the bound's constants
+    constexpr double u = 0x1p-24;
+    const float eps = round_up(8.5 * u * (bvh_extent + origin_extent) + 0x1p-140);
+    w.eps = _mm_set1_ps(eps);
+    w.bound_linear = _mm_set1_ps(round_up(4.5 * static_cast<double>(eps)));
+    w.bound_square = _mm_set1_ps(static_cast<float>(4.5 * u));
+    w.bound_floor = _mm_set1_ps(0x1p-120f);
+    return true;
+}
+
+//! The lanes of a block of four triangles that the exact test might hit: a bit per lane.
+//!
+//! The edge functions U, V, W are computed as the exact test computes them, in float from the float corners (relative
+//! to ray_centre) and the float origin. Each sheared coordinate is then within eps = 8.5 u D of the exact one (u =
+//! 2^-24, D = ray_extent + the origin's largest |coordinate - ray_centre|: the corners' and the origin's roundings,
+//! two relative to D; the subtraction, the shear's rounding, the product and the difference, about 6 more), and the
+//! double computation is within 8.5 2^-53 D of it. With m' the largest |sheared coordinate| of the triangle plus eps,
+//! an edge function from either computation is within 4 m' eps + 4 u m'^2 of the exact one (two products of
+//! coordinates each off by eps, and three roundings), so each is within E = 4.5 m' eps + 4.5 u m'^2 (+ 2^-120 for
+//! subnormal products) of the other. A lane is discarded only when one edge function is below -E and another above
+//! E: the exact test's values then have those signs too, and it rejects the triangle. Infinite or NaN values (meshes
+//! beyond the float range) fail both comparisons, so the lane is kept.
+inline int filter_triangles(const RayTriangles& block, const WideRay& w) {
+    __m128 x[3], y[3];
+    __m128 m = _mm_setzero_ps();
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    for (int c = 0; c < 3; ++c) {
+        const __m128 az = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[2]]), w.origin[2]);
+        const __m128 ax = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[0]]), w.origin[0]);
+        const __m128 ay = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[1]]), w.origin[1]);
+        x[c] = _mm_sub_ps(ax, _mm_mul_ps(w.sx, az));
+        y[c] = _mm_sub_ps(ay, _mm_mul_ps(w.sy, az));
+        m = _mm_max_ps(m, _mm_max_ps(_mm_and_ps(x[c], abs_mask), _mm_and_ps(y[c], abs_mask)));
+    }
+    const __m128 u = _mm_sub_ps(_mm_mul_ps(x[2], y[1]), _mm_mul_ps(y[2], x[1]));
+    const __m128 v = _mm_sub_ps(_mm_mul_ps(x[0], y[2]), _mm_mul_ps(y[0], x[2]));
+    const __m128 t = _mm_sub_ps(_mm_mul_ps(x[1], y[0]), _mm_mul_ps(y[1], x[0]));
+    m = _mm_add_ps(m, w.eps);
+    const __m128 e =
+        _mm_add_ps(_mm_mul_ps(m, _mm_add_ps(w.bound_linear, _mm_mul_ps(w.bound_square, m))), w.bound_floor);
+    const __m128 ne = _mm_sub_ps(_mm_setzero_ps(), e);
+    const __m128 below = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, ne), _mm_cmplt_ps(v, ne)), _mm_cmplt_ps(t, ne));
+    const __m128 above = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, e), _mm_cmpgt_ps(v, e)), _mm_cmpgt_ps(t, e));
+    return _mm_movemask_ps(_mm_andnot_ps(_mm_and_ps(below, above), _mm_castsi128_ps(_mm_set1_epi32(-1))));
+}
+
+//! The children of `node` the ray enters within [t_lo, t_hi]: a bit per child, and each child's entry distance (a
+//! lower bound) in `entry`.
+inline int enter_children(const RayNode& node, const WideRay& w, float t_hi, float entry[4]) {
+    __m128 lo = _mm_set1_ps(w.t_lo), hi = _mm_set1_ps(t_hi);
+    for (int k = 0; k < 3; ++k) {
+        const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.near_plane[k]]), w.origin_near[k]), w.inv[k]);
+        const __m128 tf = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.far_plane[k]]), w.origin_far[k]), w.inv[k]);
+        lo = _mm_max_ps(tn, lo);  // NaN in tn: lo
+        hi = _mm_min_ps(tf, hi);
+    }
+    const __m128 down = _mm_set1_ps(1.0f - 0x1p-21f), up = _mm_set1_ps(1.0f + 0x1p-21f), tiny = _mm_set1_ps(0x1p-100f);
+    lo = _mm_sub_ps(_mm_min_ps(_mm_mul_ps(lo, down), _mm_mul_ps(lo, up)), tiny);
+    hi = _mm_add_ps(_mm_max_ps(_mm_mul_ps(hi, down), _mm_mul_ps(hi, up)), tiny);
+    _mm_storeu_ps(entry, lo);
+    return _mm_movemask_ps(_mm_cmple_ps(lo, hi));
+}
+
+struct WideEntry {
+    Index child;
+    Index count;  //!< 0: a ray node; otherwise a leaf of `count` triangles from `child`
+    float t;      //!< entry distance, a lower bound
+};
+
+//! Starts loading what a pushed entry will read, while the nearer children are walked.
+inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
+    const char* p = e.count == 0 ? reinterpret_cast<const char*>(&bvh.ray_nodes[e.child])
+                                 : reinterpret_cast<const char*>(&bvh.ray_triangles[e.child]);
+    _mm_prefetch(p, _MM_HINT_T0);
+    _mm_prefetch(p + 64, _MM_HINT_T0);
+    _mm_prefetch(p + 127, _MM_HINT_T0);
+}
+
+std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w) {
+    double best_t = r.t_max;
+    float best_f = round_up(best_t);
+    std::size_t best = SIZE_MAX;
+    RayTriangleHit best_hit;
+    spatial_detail::TraversalStack<WideEntry> stack;
+    stack.push({0, 0, -std::numeric_limits<float>::infinity()});
+    while (!stack.empty()) {
+        WideEntry entry = stack.pop();
+        if (entry.t > best_f) continue;
+        for (;;) {
+            if (entry.count != 0) {
+                for (Index b = entry.child, left = entry.count;; ++b, left -= 4) {
+                    const RayTriangles& block = bvh.ray_triangles[b];
+                    int lanes = filter_triangles(block, w) & (left >= 4 ? 0xf : (1 << left) - 1);
+                    while (lanes != 0) {
+                        const Index i = block.first + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
+                        lanes &= lanes - 1;
+                        const BvhTriangle& tri = bvh.triangles[i];
+                        RayTriangleHit hit;
+                        if (intersect(r, tri.p[0], tri.p[1], tri.p[2], best_t, hit) &&
+                            (best == SIZE_MAX || hit.t < best_t)) {
+                            best_t = hit.t;
+                            best = i;
+                            best_hit = hit;
+                            best_f = round_up(best_t);
+                        }
+                    }
+                    if (left <= 4) break;
+                }
+                break;
+            }
+            const RayNode& node = bvh.ray_nodes[entry.child];
+            float t[4];
+            int mask = enter_children(node, w, best_f, t);
+            if (mask == 0) break;
+            // the entered children nearest first: the nearest is walked now, the others pushed farthest first
+            WideEntry hits[4];
+            int size = 0;
+            while (mask != 0) {
+                const int k = __builtin_ctz(static_cast<unsigned>(mask));
+                mask &= mask - 1;
+                WideEntry e{node.child[k], node.count[k], t[k]};
+                int j = size++;
+                for (; j > 0 && hits[j - 1].t < e.t; --j) hits[j] = hits[j - 1];
+                hits[j] = e;
+            }
+            for (int j = 0; j < size - 1; ++j) {
+                prefetch(bvh, hits[j]);
+                stack.push(hits[j]);
+            }
+            entry = hits[size - 1];
+        }
+    }
+    if (best == SIZE_MAX) return std::nullopt;
+    return make_hit(r, bvh.triangles[best], best_hit);
+}
+
+void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w, std::vector<RayHit>& hits) {
+    const float t_hi = round_up(r.t_max);
+    spatial_detail::TraversalStack<WideEntry> stack;
+    stack.push({0, 0, 0});
+    while (!stack.empty()) {
+        const WideEntry entry = stack.pop();
+        if (entry.count != 0) {
+            for (Index b = entry.child, left = entry.count;; ++b, left -= 4) {
+                const RayTriangles& block = bvh.ray_triangles[b];
+                int lanes = filter_triangles(block, w) & (left >= 4 ? 0xf : (1 << left) - 1);
+                while (lanes != 0) {
+                    const Index i = block.first + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
+                    lanes &= lanes - 1;
+                    const BvhTriangle& tri = bvh.triangles[i];
+                    RayTriangleHit hit;
+                    if (intersect(r, tri.p[0], tri.p[1], tri.p[2], r.t_max, hit)) hits.push_back(make_hit(r, tri, hit));
+                }
+                if (left <= 4) break;
+            }
+            continue;
+        }
+        const RayNode& node = bvh.ray_nodes[entry.child];
+        float t[4];
+        int mask = enter_children(node, w, t_hi, t);
+        while (mask != 0) {
+            const int k = __builtin_ctz(static_cast<unsigned>(mask));
+            mask &= mask - 1;
+            stack.push({node.child[k], node.count[k], t[k]});
+        }
+    }
+}
+#endif
+
 }  // namespace
 
 std::optional<RayTriangleHit> ray_triangle(const Ray& ray, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -161,6 +436,10 @@ std::optional<RayTriangleHit> ray_triangle(const Ray& ray, const Vec3& a, const 
 std::optional<RayHit> ray_first_hit(const TriangleBvh& bvh, const Ray& ray) {
     PreparedRay r;
     if (bvh.empty() || !prepare(ray, r)) return std::nullopt;
+#if SURFACED_RAY_SIMD
+    if (WideRay w; !bvh.ray_nodes.empty() && prepare_wide(r, bvh.ray_centre, bvh.ray_extent, w))
+        return wide_first_hit(bvh, r, w);
+#endif
     double best_t = r.t_max;
     std::size_t best = SIZE_MAX;
     RayTriangleHit best_hit;
@@ -209,24 +488,14 @@ std::vector<RayHit> ray_all_hits(const TriangleBvh& bvh, const Ray& ray) {
     std::vector<RayHit> hits;
     PreparedRay r;
     if (bvh.empty() || !prepare(ray, r)) return hits;
-    constexpr double kMiss = std::numeric_limits<double>::infinity();
-    spatial_detail::TraversalStack<Index> stack;
-    if (box_entry(bvh.nodes[0].bounds, r, r.t_max) == kMiss) return hits;
-    stack.push(0);
-    while (!stack.empty()) {
-        const BvhNode& node = bvh.nodes[stack.pop()];
-        if (node.is_leaf()) {
-            for (Index i = node.index; i < node.index + node.count; ++i) {
-                const BvhTriangle& tri = bvh.triangles[i];
-                RayTriangleHit hit;
-                if (intersect(r, tri.p[0], tri.p[1], tri.p[2], r.t_max, hit)) hits.push_back(make_hit(r, tri, hit));
-            }
-            continue;
-        }
-        const Index self = static_cast<Index>(&node - bvh.nodes.data());
-        if (box_entry(bvh.nodes[self + 1].bounds, r, r.t_max) != kMiss) stack.push(self + 1);
-        if (box_entry(bvh.nodes[node.index].bounds, r, r.t_max) != kMiss) stack.push(node.index);
-    }
+#if SURFACED_RAY_SIMD
+    if (WideRay w; !bvh.ray_nodes.empty() && prepare_wide(r, bvh.ray_centre, bvh.ray_extent, w))
+        wide_all_hits(bvh, r, w, hits);
+    else
+        binary_all_hits(bvh, r, hits);
+#else
+    binary_all_hits(bvh, r, hits);
+#endif
     std::sort(hits.begin(), hits.end(),
               [](const RayHit& x, const RayHit& y) { return x.t < y.t || (x.t == y.t && x.face < y.face); });
     return hits;
