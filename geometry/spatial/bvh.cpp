@@ -51,7 +51,7 @@ int bin_of(double c, double lo, double scale, int bins) {
 }
 
 //! Subtrees with at most this many triangles become one leaf of the ray layout.
-constexpr Index kRayLeafTriangles = 4;
+constexpr Index kRayLeafTriangles = 8;
 
 //! The float at or below x (at or above for round_up): boxes rounded outward still contain what they held.
 float round_down(double x) {
@@ -118,14 +118,14 @@ void build_ray_nodes(TriangleBvh& bvh) {
     while (!stack.empty()) {
         const Pending p = stack.back();
         stack.pop_back();
-        Index children[4];
+        Index children[kRayNodeWidth];
         int size = 0;
         if (ray_leaf(p.binary)) {
             children[size++] = p.binary;  // the root alone
         } else {
             children[size++] = p.binary + 1;
             children[size++] = bvh.nodes[p.binary].index;
-            while (size < 4) {
+            while (size < kRayNodeWidth) {
                 int open = -1;
                 double open_area = -1;
                 for (int k = 0; k < size; ++k) {
@@ -142,7 +142,7 @@ void build_ray_nodes(TriangleBvh& bvh) {
                 children[size++] = bvh.nodes[b].index;
             }
         }
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < kRayNodeWidth; ++k) {
             Index child = 0, leaf_count = 0;
             Box3 box;  // empty: +inf min, -inf max
             if (k < size) {

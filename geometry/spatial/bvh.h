@@ -55,18 +55,20 @@ struct BvhTriangle {
 //! A child is an inner node (count 0, `child` its index in TriangleBvh::ray_nodes), a leaf (count > 0 triangles,
 //! whose float copies are blocks `child ..` of TriangleBvh::ray_triangles, four triangles a block), or an unused slot
 //! (count 0 and an empty box, min > max, that no ray enters). Boxes are stored by plane then child: box[0..2] the min x, y, z planes, box[3..5] the max planes.
+inline constexpr int kRayNodeWidth = 8;
 struct alignas(64) RayNode {
-    float box[6][4];
-    std::uint32_t child[4];
-    std::uint8_t count[4];
+    float box[6][kRayNodeWidth];
+    std::uint32_t child[kRayNodeWidth];
+    std::uint8_t count[kRayNodeWidth];
 };
 
 //! Up to four consecutive triangles of TriangleBvh::triangles (from `first`) in float, relative to
 //! TriangleBvh::ray_centre, by coordinate then triangle: p[3 * corner + axis][lane]. Ray casting tests the four at
 //! once to discard those the ray surely misses; the others get the exact double-precision test.
-struct alignas(16) RayTriangles {
+struct alignas(32) RayTriangles {
+    Index first = 0;  //!< first, so that it shares a cache line with p
+    Index unused[3] = {0, 0, 0};
     float p[9][4];
-    Index first = 0;
 };
 
 struct TriangleBvh {

@@ -22,6 +22,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #define SURFACED_RAY_SIMD 1
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define SURFACED_RAY_AVX 1  // an AVX box test, chosen at run time when the processor has it
+#endif
 #endif
 
 namespace surfaced {
@@ -214,6 +218,14 @@ inline float round_up(double x) {
     const float f = static_cast<float>(x);
     return static_cast<double>(f) < x ? float_up(f) : f;
 }
+//! A float at or above a finite x within the float range, without a branch (the per-ray constants, whose rounding
+//! direction is random, would mispredict): adding |f| 2^-23 + 2^-126 to the nearest float f moves it at least one
+//! float up, so the sum is at or above x.
+inline float bound_up(double x) {
+    const float f = static_cast<float>(x);
+    return f + (std::fabs(f) * 0x1p-23f + 0x1p-126f);
+}
+inline float bound_down(double x) { return -bound_up(-x); }
 
 struct WideRay {
     __m128 origin_near[3], origin_far[3], inv[3];
@@ -234,8 +246,8 @@ bool prepare_wide(const PreparedRay& r, const Vec3& bvh_centre, double bvh_exten
         if (!(std::fabs(o[k]) <= kWideOriginLimit)) return false;
         const bool negative = std::signbit(d[k]);
         constexpr float kInf = std::numeric_limits<float>::infinity();
-        const float inv = d[k] == 0 ? (negative ? -kInf : kInf) : static_cast<float>(1.0 / d[k]);
-        const float lo = round_down(o[k]), hi = round_up(o[k]);
+        const float inv = d[k] == 0 ? (negative ? -kInf : kInf) : static_cast<float>(r.inv[k]);
+        const float lo = bound_down(o[k]), hi = bound_up(o[k]);
         w.near_plane[k] = negative ? 3 + k : k;
         w.far_plane[k] = negative ? k : 3 + k;
         w.origin_near[k] = _mm_set1_ps(negative ? lo : hi);
@@ -256,9 +268,9 @@ bool prepare_wide(const PreparedRay& r, const Vec3& bvh_centre, double bvh_exten
     w.sy = _mm_set1_ps(static_cast<float>(r.sy));
     // absolute error of each sheared float coordinate (see filter_triangles), and the bound's constants
     constexpr double u = 0x1p-24;
-    const float eps = round_up(8.5 * u * (bvh_extent + origin_extent) + 0x1p-140);
+    const float eps = bound_up(8.5 * u * (bvh_extent + origin_extent) + 0x1p-140);
     w.eps = _mm_set1_ps(eps);
-    w.bound_linear = _mm_set1_ps(round_up(4.5 * static_cast<double>(eps)));
+    w.bound_linear = _mm_set1_ps(bound_up(4.5 * static_cast<double>(eps)));
     w.bound_square = _mm_set1_ps(static_cast<float>(4.5 * u));
     w.bound_floor = _mm_set1_ps(0x1p-120f);
     return true;
@@ -302,19 +314,25 @@ inline int filter_triangles(const RayTriangles& block, const WideRay& w) {
 
 //! The children of `node` the ray enters within [t_lo, t_hi]: a bit per child, and each child's entry distance (a
 //! lower bound) in `entry`.
-inline int enter_children(const RayNode& node, const WideRay& w, float t_hi, float entry[4]) {
-    __m128 lo = _mm_set1_ps(w.t_lo), hi = _mm_set1_ps(t_hi);
-    for (int k = 0; k < 3; ++k) {
-        const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.near_plane[k]]), w.origin_near[k]), w.inv[k]);
-        const __m128 tf = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.far_plane[k]]), w.origin_far[k]), w.inv[k]);
-        lo = _mm_max_ps(tn, lo);  // NaN in tn: lo
-        hi = _mm_min_ps(tf, hi);
-    }
+inline int enter_children(const RayNode& node, const WideRay& w, float t_hi, float entry[kRayNodeWidth]) {
+    int mask = 0;
     const __m128 down = _mm_set1_ps(1.0f - 0x1p-21f), up = _mm_set1_ps(1.0f + 0x1p-21f), tiny = _mm_set1_ps(0x1p-100f);
-    lo = _mm_sub_ps(_mm_min_ps(_mm_mul_ps(lo, down), _mm_mul_ps(lo, up)), tiny);
-    hi = _mm_add_ps(_mm_max_ps(_mm_mul_ps(hi, down), _mm_mul_ps(hi, up)), tiny);
-    _mm_storeu_ps(entry, lo);
-    return _mm_movemask_ps(_mm_cmple_ps(lo, hi));
+    for (int h = 0; h < kRayNodeWidth; h += 4) {
+        __m128 lo = _mm_set1_ps(w.t_lo), hi = _mm_set1_ps(t_hi);
+        for (int k = 0; k < 3; ++k) {
+            const __m128 tn =
+                _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.near_plane[k]] + h), w.origin_near[k]), w.inv[k]);
+            const __m128 tf =
+                _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.far_plane[k]] + h), w.origin_far[k]), w.inv[k]);
+            lo = _mm_max_ps(tn, lo);  // NaN in tn: lo
+            hi = _mm_min_ps(tf, hi);
+        }
+        lo = _mm_sub_ps(_mm_min_ps(_mm_mul_ps(lo, down), _mm_mul_ps(lo, up)), tiny);
+        hi = _mm_add_ps(_mm_max_ps(_mm_mul_ps(hi, down), _mm_mul_ps(hi, up)), tiny);
+        _mm_storeu_ps(entry + h, lo);
+        mask |= _mm_movemask_ps(_mm_cmple_ps(lo, hi)) << h;
+    }
+    return mask;
 }
 
 struct WideEntry {
@@ -327,12 +345,46 @@ struct WideEntry {
 inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
     const char* p = e.count == 0 ? reinterpret_cast<const char*>(&bvh.ray_nodes[e.child])
                                  : reinterpret_cast<const char*>(&bvh.ray_triangles[e.child]);
-    _mm_prefetch(p, _MM_HINT_T0);
-    _mm_prefetch(p + 64, _MM_HINT_T0);
-    _mm_prefetch(p + 127, _MM_HINT_T0);
+    for (std::size_t offset = 0; offset < sizeof(RayNode); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
 }
 
-std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w) {
+//! The SSE box test, as a parameter of the traversals.
+struct EnterSse {
+    int operator()(const RayNode& node, const WideRay& w, float t_hi, float entry[kRayNodeWidth]) const {
+        return enter_children(node, w, t_hi, entry);
+    }
+};
+
+#if SURFACED_RAY_AVX
+//! enter_children with the eight children in one AVX register: the same operations in the same order, so the same
+//! bounds.
+struct EnterAvx {
+    __attribute__((target("avx"))) int operator()(const RayNode& node, const WideRay& w, float t_hi,
+                                                  float entry[kRayNodeWidth]) const {
+        static_assert(kRayNodeWidth == 8);
+        __m256 lo = _mm256_set1_ps(w.t_lo), hi = _mm256_set1_ps(t_hi);
+        for (int k = 0; k < 3; ++k) {
+            const __m256 tn = _mm256_mul_ps(
+                _mm256_sub_ps(_mm256_load_ps(node.box[w.near_plane[k]]), _mm256_broadcast_ps(&w.origin_near[k])),
+                _mm256_broadcast_ps(&w.inv[k]));
+            const __m256 tf = _mm256_mul_ps(
+                _mm256_sub_ps(_mm256_load_ps(node.box[w.far_plane[k]]), _mm256_broadcast_ps(&w.origin_far[k])),
+                _mm256_broadcast_ps(&w.inv[k]));
+            lo = _mm256_max_ps(tn, lo);  // NaN in tn: lo
+            hi = _mm256_min_ps(tf, hi);
+        }
+        const __m256 down = _mm256_set1_ps(1.0f - 0x1p-21f), up = _mm256_set1_ps(1.0f + 0x1p-21f),
+                     tiny = _mm256_set1_ps(0x1p-100f);
+        lo = _mm256_sub_ps(_mm256_min_ps(_mm256_mul_ps(lo, down), _mm256_mul_ps(lo, up)), tiny);
+        hi = _mm256_add_ps(_mm256_max_ps(_mm256_mul_ps(hi, down), _mm256_mul_ps(hi, up)), tiny);
+        _mm256_storeu_ps(entry, lo);
+        return _mm256_movemask_ps(_mm256_cmp_ps(lo, hi, _CMP_LE_OQ));
+    }
+};
+#endif
+
+template <class Enter>
+std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w, Enter enter) {
     double best_t = r.t_max;
     float best_f = round_up(best_t);
     std::size_t best = SIZE_MAX;
@@ -346,6 +398,12 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
             if (entry.count != 0) {
                 for (Index b = entry.child, left = entry.count;; ++b, left -= 4) {
                     const RayTriangles& block = bvh.ray_triangles[b];
+                    // the exact test's data, loading while the filter runs
+                    for (Index j = 0; j < std::min<Index>(left, 4); ++j) {
+                        const char* p = reinterpret_cast<const char*>(&bvh.triangles[block.first + j]);
+                        _mm_prefetch(p, _MM_HINT_T0);
+                        _mm_prefetch(p + sizeof(BvhTriangle) - 1, _MM_HINT_T0);
+                    }
                     int lanes = filter_triangles(block, w) & (left >= 4 ? 0xf : (1 << left) - 1);
                     while (lanes != 0) {
                         const Index i = block.first + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
@@ -365,11 +423,11 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
                 break;
             }
             const RayNode& node = bvh.ray_nodes[entry.child];
-            float t[4];
-            int mask = enter_children(node, w, best_f, t);
+            float t[kRayNodeWidth];
+            int mask = enter(node, w, best_f, t);
             if (mask == 0) break;
             // the entered children nearest first: the nearest is walked now, the others pushed farthest first
-            WideEntry hits[4];
+            WideEntry hits[kRayNodeWidth];
             int size = 0;
             while (mask != 0) {
                 const int k = __builtin_ctz(static_cast<unsigned>(mask));
@@ -390,7 +448,9 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
     return make_hit(r, bvh.triangles[best], best_hit);
 }
 
-void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w, std::vector<RayHit>& hits) {
+template <class Enter>
+void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w, Enter enter,
+                   std::vector<RayHit>& hits) {
     const float t_hi = round_up(r.t_max);
     spatial_detail::TraversalStack<WideEntry> stack;
     stack.push({0, 0, 0});
@@ -412,14 +472,44 @@ void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& 
             continue;
         }
         const RayNode& node = bvh.ray_nodes[entry.child];
-        float t[4];
-        int mask = enter_children(node, w, t_hi, t);
+        float t[kRayNodeWidth];
+        int mask = enter(node, w, t_hi, t);
         while (mask != 0) {
             const int k = __builtin_ctz(static_cast<unsigned>(mask));
             mask &= mask - 1;
             stack.push({node.child[k], node.count[k], t[k]});
         }
     }
+}
+
+#if SURFACED_RAY_AVX
+// The traversals compiled for AVX (flatten inlines them and the box test into these bodies), and the choice.
+__attribute__((target("avx"), flatten)) std::optional<RayHit> wide_first_hit_avx(const TriangleBvh& bvh,
+                                                                                 const PreparedRay& r,
+                                                                                 const WideRay& w) {
+    return wide_first_hit(bvh, r, w, EnterAvx{});
+}
+__attribute__((target("avx"), flatten)) void wide_all_hits_avx(const TriangleBvh& bvh, const PreparedRay& r,
+                                                               const WideRay& w, std::vector<RayHit>& hits) {
+    wide_all_hits(bvh, r, w, EnterAvx{}, hits);
+}
+bool has_avx() {
+    static const bool avx = __builtin_cpu_supports("avx");
+    return avx;
+}
+#endif
+
+std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w) {
+#if SURFACED_RAY_AVX
+    if (has_avx()) return wide_first_hit_avx(bvh, r, w);
+#endif
+    return wide_first_hit(bvh, r, w, EnterSse{});
+}
+void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& w, std::vector<RayHit>& hits) {
+#if SURFACED_RAY_AVX
+    if (has_avx()) return wide_all_hits_avx(bvh, r, w, hits);
+#endif
+    wide_all_hits(bvh, r, w, EnterSse{}, hits);
 }
 #endif
 
