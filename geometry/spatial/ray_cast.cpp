@@ -44,8 +44,6 @@ struct PreparedRay {
     double t_min = 0, t_max = 0;
 };
 
-double component(const Vec3& v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
-
 bool prepare(const Ray& ray, PreparedRay& out) {
     if (!is_finite(ray.origin) || !is_finite(ray.direction)) return false;
     if (std::isnan(ray.t_min) || std::isnan(ray.t_max) || ray.t_min > ray.t_max) return false;
@@ -54,17 +52,21 @@ bool prepare(const Ray& ray, PreparedRay& out) {
     if (!(ax > 0 || ay > 0 || az > 0)) return false;
     out.origin = ray.origin;
     out.direction = d;
-    out.kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
-    out.kx = (out.kz + 1) % 3;
-    out.ky = (out.kx + 1) % 3;
+    // selects rather than branches: the direction's signs and largest axis are random from one ray to the next
+    const double dv[3] = {d.x, d.y, d.z};
+    const int kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
+    const int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
     // keep the triangles' orientation: swap the 2D axes when the direction points down the new z
-    if (component(d, out.kz) < 0) std::swap(out.kx, out.ky);
-    const double dz = component(d, out.kz);
-    out.sx = component(d, out.kx) / dz;
-    out.sy = component(d, out.ky) / dz;
+    const bool flip = dv[kz] < 0;
+    out.kz = kz;
+    out.kx = flip ? ky : kx;
+    out.ky = flip ? kx : ky;
+    const double dz = dv[kz];
+    out.sx = dv[out.kx] / dz;
+    out.sy = dv[out.ky] / dz;
     out.sz = 1.0 / dz;
     for (int k = 0; k < 3; ++k) {
-        const double c = component(d, k);
+        const double c = dv[k];
         out.parallel[k] = c == 0;
         out.negative[k] = c < 0;
         (k == 0 ? out.inv.x : (k == 1 ? out.inv.y : out.inv.z)) = c == 0 ? 0.0 : 1.0 / c;
@@ -244,14 +246,15 @@ bool prepare_wide(const PreparedRay& r, const Vec3& bvh_centre, double bvh_exten
     if (!(largest >= kWideDirectionMin && largest <= kWideDirectionMax)) return false;
     for (int k = 0; k < 3; ++k) {
         if (!(std::fabs(o[k]) <= kWideOriginLimit)) return false;
-        const bool negative = std::signbit(d[k]);
+        // indices rather than branches on the sign, which is random from one ray to the next
+        const int negative = std::signbit(d[k]) ? 1 : 0;
         constexpr float kInf = std::numeric_limits<float>::infinity();
-        const float inv = d[k] == 0 ? (negative ? -kInf : kInf) : static_cast<float>(r.inv[k]);
-        const float lo = bound_down(o[k]), hi = bound_up(o[k]);
-        w.near_plane[k] = negative ? 3 + k : k;
-        w.far_plane[k] = negative ? k : 3 + k;
-        w.origin_near[k] = _mm_set1_ps(negative ? lo : hi);
-        w.origin_far[k] = _mm_set1_ps(negative ? hi : lo);
+        const float inv = d[k] == 0 ? std::copysign(kInf, static_cast<float>(d[k])) : static_cast<float>(r.inv[k]);
+        const float bound[2] = {bound_up(o[k]), bound_down(o[k])};
+        w.near_plane[k] = k + 3 * negative;
+        w.far_plane[k] = k + 3 - 3 * negative;
+        w.origin_near[k] = _mm_set1_ps(bound[negative]);
+        w.origin_far[k] = _mm_set1_ps(bound[1 - negative]);
         w.inv[k] = _mm_set1_ps(inv);
     }
     w.t_lo = round_down(r.t_min);
@@ -399,11 +402,7 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
                 for (Index b = entry.child, left = entry.count;; ++b, left -= 4) {
                     const RayTriangles& block = bvh.ray_triangles[b];
                     // the exact test's data, loading while the filter runs
-                    for (Index j = 0; j < std::min<Index>(left, 4); ++j) {
-                        const char* p = reinterpret_cast<const char*>(&bvh.triangles[block.first + j]);
-                        _mm_prefetch(p, _MM_HINT_T0);
-                        _mm_prefetch(p + sizeof(BvhTriangle) - 1, _MM_HINT_T0);
-                    }
+
                     int lanes = filter_triangles(block, w) & (left >= 4 ? 0xf : (1 << left) - 1);
                     while (lanes != 0) {
                         const Index i = block.first + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
@@ -433,14 +432,12 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
                 const int k = __builtin_ctz(static_cast<unsigned>(mask));
                 mask &= mask - 1;
                 WideEntry e{node.child[k], node.count[k], t[k]};
+                prefetch(bvh, e);
                 int j = size++;
                 for (; j > 0 && hits[j - 1].t < e.t; --j) hits[j] = hits[j - 1];
                 hits[j] = e;
             }
-            for (int j = 0; j < size - 1; ++j) {
-                prefetch(bvh, hits[j]);
-                stack.push(hits[j]);
-            }
+            for (int j = 0; j < size - 1; ++j) stack.push(hits[j]);
             entry = hits[size - 1];
         }
     }
