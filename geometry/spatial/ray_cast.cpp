@@ -17,6 +17,7 @@
 #include <cstring>
 #include <limits>
 
+#include "geometry/spatial/ray_dispatch.h"
 #include "geometry/spatial/traversal_stack.h"
 
 #if defined(__SSE2__)
@@ -29,6 +30,8 @@
 #endif
 
 namespace surfaced {
+
+std::atomic<bool> spatial_detail::ray_avx_disabled{false};
 
 namespace {
 
@@ -492,7 +495,7 @@ __attribute__((target("avx"), flatten)) void wide_all_hits_avx(const TriangleBvh
 }
 bool has_avx() {
     static const bool avx = __builtin_cpu_supports("avx");
-    return avx;
+    return avx && !spatial_detail::ray_avx_disabled.load(std::memory_order_relaxed);
 }
 #endif
 
