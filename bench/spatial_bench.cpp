@@ -235,6 +235,33 @@ void run(const std::string& name, const PolygonMesh& input, std::size_t point_qu
     g_rows.push_back({name, "ray, first hit", "brute force", n, rays.size() / ray.seconds, brute_n / ray_brute.seconds,
                       std::to_string(100 * hits / std::max<std::size_t>(1, rays.size())) + "% of rays hit; " +
                           std::to_string(ray_differ) + " of " + std::to_string(brute_n) + " differ from brute force"});
+    {
+        // the same rays through the binary double-precision nodes alone (BvhOptions::ray_nodes false), in turn
+        BvhOptions binary_only;
+        binary_only.ray_nodes = false;
+        const TriangleBvh binary = build_bvh(mesh, binary_only).value();
+        std::size_t differ = 0;
+        const auto layout_rays = [&] {
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const auto hit = ray_first_hit(bvh, {rays[i].origin, rays[i].direction});
+                ours_t[i] = hit ? hit->t : -1.0;
+            }
+        };
+        const auto binary_rays = [&] {
+            differ = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const auto hit = ray_first_hit(binary, {rays[i].origin, rays[i].direction});
+                differ += (hit ? hit->t : -1.0) != ours_t[i];
+            }
+        };
+        Timing with_layout, without;
+        for (int r = 0; r < g_rounds; ++r) {
+            with_layout.seconds = std::min(with_layout.seconds, time_best(layout_rays, 1).seconds);
+            without.seconds = std::min(without.seconds, time_best(binary_rays, 1).seconds);
+        }
+        g_rows.push_back({name, "ray, first hit", "ours, binary double nodes", n, rays.size() / with_layout.seconds,
+                          rays.size() / without.seconds, std::to_string(differ) + " t differ"});
+    }
 
     // winding numbers: the fast ones on every point, the exact sum on the first exact_queries
     if (!g_rays_only) {

@@ -65,8 +65,8 @@ float round_up(double x) {
     return f;
 }
 
-//! Collapses the binary hierarchy into 4-wide ray nodes: each ray node takes a binary node's two children and keeps
-//! opening the largest (by surface area) of its children that is not a ray leaf until it has four. A binary subtree
+//! Collapses the binary hierarchy into 8-wide ray nodes: each ray node takes a binary node's two children and keeps
+//! opening the largest (by surface area) of its children that is not a ray leaf until it has eight. A binary subtree
 //! of at most kRayLeafTriangles triangles is a ray leaf (its triangles are contiguous, the tree being depth-first).
 void build_ray_nodes(TriangleBvh& bvh) {
     const std::size_t n = bvh.nodes.size();

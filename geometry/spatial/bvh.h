@@ -1,6 +1,9 @@
 // Bounding volume hierarchy over the triangles of a mesh: the one acceleration structure that closest-point, ray,
 // winding-number and signed-distance queries share. Built once (binned surface area heuristic), immutable afterwards,
-// so any number of threads may query it at once.
+// so any number of threads may query it at once. Rays walk a second layout of the same tree, built with it
+// (BvhOptions::ray_nodes): the binary nodes collapsed into 8-wide nodes with float boxes rounded outward, and each
+// ray leaf's triangles in float blocks of four, which a ray tests together before the exact double-precision test.
+// On the Stanford bunny (69,666 triangles) the binary nodes and triangles take 9.9 MiB, the ray layout 4.2 MiB more.
 //
 // References: I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT 2007 (binned SAH).
 //             T. Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013 (the conservative slab test, ray_cast.cpp).
@@ -27,8 +30,9 @@ struct BvhOptions {
     //! Polygons with more than three vertices are triangulated (geometry/mesh/triangulate.h); false refuses them
     //! with NotTriangleMesh.
     bool triangulate = true;
-    //! Also build the 4-wide float node layout that ray casting traverses (TriangleBvh::ray_nodes). Without it rays
-    //! walk the binary double-precision nodes, about twice as slowly; closest points and winding numbers never use it.
+    //! Also build the 8-wide float layout that ray casting traverses (TriangleBvh::ray_nodes, ray_triangles), about
+    //! 40% more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer rays per
+    //! second (see docs/benchmarks.md); closest points and winding numbers never use it.
     bool ray_nodes = true;
     Cancel cancel;
 };
@@ -50,7 +54,7 @@ struct BvhTriangle {
     Index face = 0;
 };
 
-//! One node of the ray layout: up to four children whose boxes are tested at once (SIMD), in float, each box the
+//! One node of the ray layout: up to eight children whose boxes are tested at once (SIMD), in float, each box the
 //! double box of a node of the binary hierarchy rounded outward, so that it still contains every triangle below it.
 //! A child is an inner node (count 0, `child` its index in TriangleBvh::ray_nodes), a leaf (count > 0 triangles,
 //! whose float copies are blocks `child ..` of TriangleBvh::ray_triangles, four triangles a block), or an unused slot
@@ -74,8 +78,9 @@ struct alignas(32) RayTriangles {
 struct TriangleBvh {
     std::vector<BvhNode> nodes;  //!< nodes[0] is the root; empty for a mesh without faces
     std::vector<BvhTriangle> triangles;
-    //! The same hierarchy for rays (BvhOptions::ray_nodes): the binary tree collapsed into 4-wide nodes, subtrees of
-    //! at most four triangles made leaves; ray_nodes[0] is the root. Empty when not built: rays then walk `nodes`.
+    //! The same hierarchy for rays (BvhOptions::ray_nodes): the binary tree collapsed into 8-wide nodes, subtrees of
+    //! at most eight triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
+    //! rays then walk `nodes`.
     std::vector<RayNode> ray_nodes;
     std::vector<RayTriangles> ray_triangles;  //!< the ray leaves' triangles in float, in ray-leaf order
     Vec3 ray_centre;                          //!< the root box's centre, which ray_triangles are relative to

@@ -6,8 +6,16 @@
 // from float to double the same way). The fallback is per edge, not per triangle, so that both triangles of an edge
 // always use the same precision for it.
 //
-// The box test is the slab test with the far distance enlarged by 2 gamma(3) relative (Ize 2013), so that rounding
-// in the slab distances never culls a box the ray touches; an axis the ray is parallel to is a containment test.
+// Rays walk the 8-wide float ray nodes (TriangleBvh::ray_nodes) nearest child first, their boxes tested together
+// (AVX when the processor has it, SSE otherwise) with margins that cover every rounding, and each leaf's triangles
+// first go through a float filter that discards only triangles the exact test would reject; the exact test then
+// decides, so hits, t and barycentrics are the same as without the layout (see the comments at enter_children and
+// filter_triangles). Without the layout, and for rays outside the float layout's range (an origin beyond 2^100, a
+// direction whose largest component is outside [2^-100, 2^100]), rays walk the binary double-precision nodes.
+//
+// The double box test is the slab test with the far distance enlarged by 2 gamma(3) relative (Ize 2013), so that
+// rounding in the slab distances never culls a box the ray touches; an axis the ray is parallel to is a containment
+// test.
 #include "geometry/spatial/ray_cast.h"
 
 #include <algorithm>
@@ -186,11 +194,12 @@ void binary_all_hits(const TriangleBvh& bvh, const PreparedRay& r, std::vector<R
 }
 
 #if SURFACED_RAY_SIMD
-// ---- the 4-wide float layout (TriangleBvh::ray_nodes) ----------------------------------------------------------
+// ---- the 8-wide float layout (TriangleBvh::ray_nodes) ----------------------------------------------------------
 //
-// Four child boxes are tested at once, in float. Each slab distance is computed as (plane - origin) * (1 / d): the
-// planes were rounded outward when the nodes were built, the origin is rounded towards the far side of each plane
-// (up for a near plane, down for a far plane, swapped when d < 0), and the three roundings that remain (the
+// The eight child boxes of a node are tested at once (one AVX register, or two SSE halves), in float. Each slab
+// distance is computed as (plane - origin) * (1 / d): the planes were rounded outward when the nodes were built, the
+// origin is rounded towards the far side of each plane (up for a near plane, down for a far plane, swapped when
+// d < 0), and the three roundings that remain (the
 // subtraction, 1 / d to float, the product) are relative, at most 3 u (u = 2^-24) in all. So each computed distance
 // is within a factor 1 +- 3u of the distance to the rounded box (or of the same sign and larger when it overflows to
 // infinity). After taking the largest entry and the smallest exit over the three axes and the ray's [t_min, t_max],
@@ -201,7 +210,8 @@ void binary_all_hits(const TriangleBvh& bvh, const PreparedRay& r, std::vector<R
 // (SSE returns the second operand when either is NaN), which is the containment test the double path does.
 // Unused child slots have min = +inf and max = -inf: their entry is +inf and their exit -inf, never a hit.
 //
-// Leaves run the exact double-precision test above, so hits, t and barycentrics are those of the binary path.
+// A leaf's triangles go through filter_triangles, four at a time, and those it keeps through the exact
+// double-precision test above, so hits, t and barycentrics are those of the binary path.
 
 //! Rays whose origin or direction is outside these magnitudes take the double path (no float overflow of the
 //! origin, 1 / d within float range for the largest component).
