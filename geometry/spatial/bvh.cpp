@@ -52,6 +52,8 @@ int bin_of(double c, double lo, double scale, int bins) {
 
 //! Subtrees with at most this many triangles become one leaf of the ray layout.
 constexpr Index kRayLeafTriangles = 8;
+//! A ray leaf with more triangles than this is split when its node has a free slot.
+constexpr Index kRayLeafSplit = 4;
 
 //! The float at or below x (at or above for round_up): boxes rounded outward still contain what they held.
 float round_down(double x) {
@@ -126,16 +128,22 @@ void build_ray_nodes(TriangleBvh& bvh) {
             children[size++] = p.binary + 1;
             children[size++] = bvh.nodes[p.binary].index;
             while (size < kRayNodeWidth) {
+                // the largest inner child; when there is none, the largest leaf that fills more than one block of
+                // four (its halves take no more blocks, and the node's free slots test their boxes at no extra cost)
                 int open = -1;
                 double open_area = -1;
-                for (int k = 0; k < size; ++k) {
-                    if (ray_leaf(children[k])) continue;
-                    const double area = half_area(bvh.nodes[children[k]].bounds);
-                    if (area > open_area) {
-                        open_area = area;
-                        open = k;
+                for (int pass = 0; pass < 2 && open < 0; ++pass)
+                    for (int k = 0; k < size; ++k) {
+                        const Index c = children[k];
+                        const bool candidate =
+                            pass == 0 ? !ray_leaf(c) : !bvh.nodes[c].is_leaf() && count[c] > kRayLeafSplit;
+                        if (!candidate) continue;
+                        const double area = half_area(bvh.nodes[c].bounds);
+                        if (area > open_area) {
+                            open_area = area;
+                            open = k;
+                        }
                     }
-                }
                 if (open < 0) break;
                 const Index b = children[open];
                 children[open] = b + 1;
