@@ -88,29 +88,18 @@ void build_ray_nodes(TriangleBvh& bvh) {
 
     bvh.ray_nodes.clear();
     bvh.ray_nodes.reserve(n / 4 + 1);
-    bvh.ray_triangles.clear();
-    bvh.ray_triangles.reserve(n / 2 + 1);
     const Box3& root = bvh.nodes[0].bounds;
     bvh.ray_centre = (root.min + root.max) * 0.5;
     bvh.ray_extent = 0;
     for (int a = 0; a < 3; ++a)
         bvh.ray_extent = std::max({bvh.ray_extent, root.max[a] - bvh.ray_centre[a], bvh.ray_centre[a] - root.min[a]});
-    // a leaf's triangles as float blocks of four, unused lanes zero
-    auto add_blocks = [&](Index begin, Index size) {
-        const auto block = static_cast<Index>(bvh.ray_triangles.size());
-        for (Index j = 0; j < size; j += 4) {
-            RayTriangles& out = bvh.ray_triangles.emplace_back();
-            out.first = begin + j;
-            for (Index lane = 0; lane < 4; ++lane)
-                for (int c = 0; c < 3; ++c)
-                    for (int a = 0; a < 3; ++a)
-                        out.p[3 * c + a][lane] =
-                            j + lane < size
-                                ? static_cast<float>(bvh.triangles[begin + j + lane].p[c][a] - bvh.ray_centre[a])
-                                : 0.0f;
-        }
-        return block;
-    };
+    // every triangle in float, four a block in the order of `triangles` (the last block's unused lanes zero)
+    bvh.ray_triangles.resize((bvh.triangles.size() + 3) / 4);
+    for (std::size_t t = 0; t < bvh.triangles.size(); ++t)
+        for (std::size_t c = 0; c < 3; ++c)
+            for (int a = 0; a < 3; ++a)
+                bvh.ray_triangles[t / 4].p[3 * c + static_cast<std::size_t>(a)][t % 4] =
+                    static_cast<float>(bvh.triangles[t].p[c][a] - bvh.ray_centre[a]);
     struct Pending {
         Index binary, ray;
     };
@@ -157,7 +146,7 @@ void build_ray_nodes(TriangleBvh& bvh) {
                 const Index b = children[k];
                 box = bvh.nodes[b].bounds;
                 if (ray_leaf(b)) {
-                    child = add_blocks(first[b], count[b]);
+                    child = first[b];
                     leaf_count = count[b];
                 } else {
                     child = static_cast<Index>(bvh.ray_nodes.size());
@@ -176,7 +165,6 @@ void build_ray_nodes(TriangleBvh& bvh) {
         }
     }
     bvh.ray_nodes.shrink_to_fit();
-    bvh.ray_triangles.shrink_to_fit();
 }
 
 }  // namespace

@@ -3,7 +3,7 @@
 // so any number of threads may query it at once. Rays walk a second layout of the same tree, built with it
 // (BvhOptions::ray_nodes): the binary nodes collapsed into 8-wide nodes with float boxes rounded outward, and each
 // ray leaf's triangles in float blocks of four, which a ray tests together before the exact double-precision test.
-// On the Stanford bunny (69,666 triangles) the binary nodes and triangles take 9.9 MiB, the ray layout 4.2 MiB more.
+// On the Stanford bunny (69,666 triangles) the binary nodes and triangles take 9.9 MiB, the ray layout 3.4 MiB more.
 //
 // References: I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT 2007 (binned SAH).
 //             T. Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013 (the conservative slab test, ray_cast.cpp).
@@ -31,7 +31,7 @@ struct BvhOptions {
     //! with NotTriangleMesh.
     bool triangulate = true;
     //! Also build the 8-wide float layout that ray casting traverses (TriangleBvh::ray_nodes, ray_triangles), about
-    //! 40% more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer rays per
+    //! a third more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer rays per
     //! second (see docs/benchmarks.md); closest points and winding numbers never use it.
     bool ray_nodes = true;
     Cancel cancel;
@@ -56,8 +56,8 @@ struct BvhTriangle {
 
 //! One node of the ray layout: up to eight children whose boxes are tested at once (SIMD), in float, each box the
 //! double box of a node of the binary hierarchy rounded outward, so that it still contains every triangle below it.
-//! A child is an inner node (count 0, `child` its index in TriangleBvh::ray_nodes), a leaf (count > 0 triangles,
-//! whose float copies are blocks `child ..` of TriangleBvh::ray_triangles, four triangles a block), or an unused slot
+//! A child is an inner node (count 0, `child` its index in TriangleBvh::ray_nodes), a leaf (count > 0: triangles
+//! `child .. child + count` of TriangleBvh::triangles, in float in TriangleBvh::ray_triangles), or an unused slot
 //! (count 0 and an empty box, min > max, that no ray enters). Boxes are stored by plane then child: box[0..2] the min x, y, z planes, box[3..5] the max planes.
 inline constexpr int kRayNodeWidth = 8;
 struct alignas(64) RayNode {
@@ -66,13 +66,11 @@ struct alignas(64) RayNode {
     std::uint8_t count[kRayNodeWidth];
 };
 
-//! Up to four consecutive triangles of TriangleBvh::triangles (from `first`) in float, relative to
-//! TriangleBvh::ray_centre, by coordinate then triangle: p[3 * corner + axis][lane]. Ray casting tests the four at
-//! once to discard those the ray surely misses; the others get the exact double-precision test.
-struct alignas(32) RayTriangles {
-    Index first = 0;  //!< first, so that it shares a cache line with p
-    Index unused[3] = {0, 0, 0};
-    float p[9][4];
+//! Four consecutive triangles of TriangleBvh::triangles (block b holds 4b .. 4b + 3) in float, relative to
+//! TriangleBvh::ray_centre, by coordinate then triangle: p[3 * corner + axis][lane]. Ray casting tests a leaf's
+//! triangles four at once to discard those the ray surely misses; the others get the exact double-precision test.
+struct alignas(16) RayTriangles {
+    float p[9][4] = {};
 };
 
 struct TriangleBvh {
@@ -82,7 +80,7 @@ struct TriangleBvh {
     //! at most eight triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
     //! rays then walk `nodes`.
     std::vector<RayNode> ray_nodes;
-    std::vector<RayTriangles> ray_triangles;  //!< the ray leaves' triangles in float, in ray-leaf order
+    std::vector<RayTriangles> ray_triangles;  //!< `triangles` in float, four a block
     Vec3 ray_centre;                          //!< the root box's centre, which ray_triangles are relative to
     double ray_extent = 0;                    //!< largest |coordinate - ray_centre| of any triangle corner
     std::size_t face_count = 0;               //!< faces of the input mesh

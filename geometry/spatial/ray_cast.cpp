@@ -357,11 +357,38 @@ struct WideEntry {
     float t;      //!< entry distance, a lower bound
 };
 
-//! Starts loading what a pushed entry will read, while the nearer children are walked.
+//! Starts loading what an entered child will read (a node; a leaf's float blocks and the exact test's triangles),
+//! while its parent's other children are sorted and pushed, or the nearer ones walked.
 inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
-    const char* p = e.count == 0 ? reinterpret_cast<const char*>(&bvh.ray_nodes[e.child])
-                                 : reinterpret_cast<const char*>(&bvh.ray_triangles[e.child]);
-    for (std::size_t offset = 0; offset < sizeof(RayNode); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
+    if (e.count == 0) {
+        const char* p = reinterpret_cast<const char*>(&bvh.ray_nodes[e.child]);
+        for (std::size_t offset = 0; offset < sizeof(RayNode); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
+        return;
+    }
+    const Index n = std::min<Index>(e.count, 8);
+    const char* blocks = reinterpret_cast<const char*>(&bvh.ray_triangles[e.child / 4]);
+    const char* blocks_end = reinterpret_cast<const char*>(&bvh.ray_triangles[(e.child + n - 1) / 4] + 1);
+    for (const char* p = blocks; p < blocks_end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
+    _mm_prefetch(blocks_end - 1, _MM_HINT_T0);
+    const char* tris = reinterpret_cast<const char*>(&bvh.triangles[e.child]);
+    const char* tris_end = reinterpret_cast<const char*>(&bvh.triangles[e.child + n - 1] + 1);
+    for (const char* p = tris; p < tris_end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
+    _mm_prefetch(tris_end - 1, _MM_HINT_T0);
+}
+
+//! Calls hit(i) for each triangle i of the leaf (triangles first .. first + count) that the filter keeps.
+template <class Hit>
+inline void for_leaf_candidates(const TriangleBvh& bvh, const WideRay& w, Index first, Index count, Hit&& hit) {
+    const Index end = first + count;
+    for (Index t = first; t < end;) {
+        const Index block = t / 4, lane = t % 4, lanes_end = std::min<Index>(4, lane + (end - t));
+        int lanes = filter_triangles(bvh.ray_triangles[block], w) & ((1 << lanes_end) - (1 << lane));
+        while (lanes != 0) {
+            hit(4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes))));
+            lanes &= lanes - 1;
+        }
+        t = 4 * block + 4;
+    }
 }
 
 //! The SSE box test, as a parameter of the traversals.
@@ -412,26 +439,17 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
         if (entry.t > best_f) continue;
         for (;;) {
             if (entry.count != 0) {
-                for (Index b = entry.child, left = entry.count;; ++b, left -= 4) {
-                    const RayTriangles& block = bvh.ray_triangles[b];
-                    // the exact test's data, loading while the filter runs
-
-                    int lanes = filter_triangles(block, w) & (left >= 4 ? 0xf : (1 << left) - 1);
-                    while (lanes != 0) {
-                        const Index i = block.first + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
-                        lanes &= lanes - 1;
-                        const BvhTriangle& tri = bvh.triangles[i];
-                        RayTriangleHit hit;
-                        if (intersect(r, tri.p[0], tri.p[1], tri.p[2], best_t, hit) &&
-                            (best == SIZE_MAX || hit.t < best_t)) {
-                            best_t = hit.t;
-                            best = i;
-                            best_hit = hit;
-                            best_f = round_up(best_t);
-                        }
+                for_leaf_candidates(bvh, w, entry.child, entry.count, [&](Index i) {
+                    const BvhTriangle& tri = bvh.triangles[i];
+                    RayTriangleHit hit;
+                    if (intersect(r, tri.p[0], tri.p[1], tri.p[2], best_t, hit) &&
+                        (best == SIZE_MAX || hit.t < best_t)) {
+                        best_t = hit.t;
+                        best = i;
+                        best_hit = hit;
+                        best_f = round_up(best_t);
                     }
-                    if (left <= 4) break;
-                }
+                });
                 break;
             }
             const RayNode& node = bvh.ray_nodes[entry.child];
@@ -467,18 +485,11 @@ void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& 
     while (!stack.empty()) {
         const WideEntry entry = stack.pop();
         if (entry.count != 0) {
-            for (Index b = entry.child, left = entry.count;; ++b, left -= 4) {
-                const RayTriangles& block = bvh.ray_triangles[b];
-                int lanes = filter_triangles(block, w) & (left >= 4 ? 0xf : (1 << left) - 1);
-                while (lanes != 0) {
-                    const Index i = block.first + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
-                    lanes &= lanes - 1;
-                    const BvhTriangle& tri = bvh.triangles[i];
-                    RayTriangleHit hit;
-                    if (intersect(r, tri.p[0], tri.p[1], tri.p[2], r.t_max, hit)) hits.push_back(make_hit(r, tri, hit));
-                }
-                if (left <= 4) break;
-            }
+            for_leaf_candidates(bvh, w, entry.child, entry.count, [&](Index i) {
+                const BvhTriangle& tri = bvh.triangles[i];
+                RayTriangleHit hit;
+                if (intersect(r, tri.p[0], tri.p[1], tri.p[2], r.t_max, hit)) hits.push_back(make_hit(r, tri, hit));
+            });
             continue;
         }
         const RayNode& node = bvh.ray_nodes[entry.child];

@@ -161,8 +161,8 @@ TEST(Bvh, CancelledBuildReportsCancelled) {
     EXPECT_EQ(out.error().code, ErrorCode::Cancelled);
 }
 
-//! Walks the ray layout from its root: every slot used is a node reached once or a leaf whose float blocks hold its
-//! triangles, every box (float) contains what is below it in double, unused slots have empty boxes; returns how often
+//! Walks the ray layout from its root: every slot used is a node reached once or a leaf of triangles whose float
+//! copies are in the blocks, every box (float) contains what is below it in double, unused slots have empty boxes; returns how often
 //! each triangle is reached.
 std::vector<int> check_ray_nodes(const TriangleBvh& bvh) {
     std::vector<int> seen(bvh.triangles.size(), 0);
@@ -172,18 +172,18 @@ std::vector<int> check_ray_nodes(const TriangleBvh& bvh) {
     std::function<Box3(Index, Index)> below = [&](Index child, Index count) {
         Box3 box;
         if (count > 0) {
-            for (Index i = 0; i < count; ++i) {
-                const RayTriangles& block = bvh.ray_triangles[child + i / 4];
-                const Index lane = i % 4, t = block.first + lane;
+            for (Index t = child; t < child + count; ++t) {
                 EXPECT_LT(t, bvh.triangles.size());
                 if (t >= bvh.triangles.size()) return box;
-                EXPECT_EQ(t, bvh.ray_triangles[child].first + i) << "a leaf's triangles are consecutive";
                 ++seen[t];
+                const RayTriangles& block = bvh.ray_triangles[t / 4];
                 for (int k = 0; k < 3; ++k) {
                     const Vec3& p = bvh.triangles[t].p[k];
                     box.add(p);
-                    for (int a = 0; a < 3; ++a) EXPECT_EQ(block.p[3 * k + a][lane], static_cast<float>(p[a] - c[a]));
-                    for (int a = 0; a < 3; ++a) EXPECT_LE(std::fabs(p[a] - c[a]), bvh.ray_extent * (1 + 1e-15));
+                    for (int a = 0; a < 3; ++a) {
+                        EXPECT_EQ(block.p[3 * k + a][t % 4], static_cast<float>(p[a] - c[a]));
+                        EXPECT_LE(std::fabs(p[a] - c[a]), bvh.ray_extent * (1 + 1e-15));
+                    }
                 }
             }
             return box;
@@ -231,6 +231,7 @@ TEST(Bvh, RayNodesContainTheirTrianglesOnce) {
             const auto seen = check_ray_nodes(*bvh);
             for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
             EXPECT_LE(bvh->ray_nodes.size(), bvh->nodes.size());
+            EXPECT_EQ(bvh->ray_triangles.size(), (bvh->triangles.size() + 3) / 4);
             EXPECT_EQ(bvh->memory_bytes(), bvh->nodes.capacity() * sizeof(BvhNode) +
                                                bvh->triangles.capacity() * sizeof(BvhTriangle) +
                                                bvh->ray_nodes.capacity() * sizeof(RayNode) +
