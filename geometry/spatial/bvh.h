@@ -31,8 +31,8 @@ struct BvhOptions {
     //! with NotTriangleMesh.
     bool triangulate = true;
     //! Also build the 8-wide float layout that ray casting traverses (TriangleBvh::ray_nodes, ray_triangles), about
-    //! a third more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer rays per
-    //! second (see docs/benchmarks.md); closest points and winding numbers never use it.
+    //! a third more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer
+    //! rays per second (see docs/benchmarks.md); closest points and winding numbers never use it.
     bool ray_nodes = true;
     Cancel cancel;
 };
@@ -58,7 +58,8 @@ struct BvhTriangle {
 //! double box of a node of the binary hierarchy rounded outward, so that it still contains every triangle below it.
 //! A child is an inner node (count 0, `child` its index in TriangleBvh::ray_nodes), a leaf (count > 0: triangles
 //! `child .. child + count` of TriangleBvh::triangles, in float in TriangleBvh::ray_triangles), or an unused slot
-//! (count 0 and an empty box, min > max, that no ray enters). Boxes are stored by plane then child: box[0..2] the min x, y, z planes, box[3..5] the max planes.
+//! (count 0 and an empty box, min > max, that no ray enters). Boxes are stored by plane then child: box[0..2] the
+//! min x, y, z planes, box[3..5] the max planes.
 inline constexpr int kRayNodeWidth = 8;
 struct alignas(64) RayNode {
     float box[6][kRayNodeWidth];

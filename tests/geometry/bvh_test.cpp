@@ -162,8 +162,8 @@ TEST(Bvh, CancelledBuildReportsCancelled) {
 }
 
 //! Walks the ray layout from its root: every slot used is a node reached once or a leaf of triangles whose float
-//! copies are in the blocks, every box (float) contains what is below it in double, unused slots have empty boxes; returns how often
-//! each triangle is reached.
+//! copies are in the blocks; every box (float) contains what is below it in double; unused slots have empty boxes.
+//! Returns how often each triangle is reached.
 std::vector<int> check_ray_nodes(const TriangleBvh& bvh) {
     std::vector<int> seen(bvh.triangles.size(), 0);
     std::vector<int> visits(bvh.ray_nodes.size(), 0);
