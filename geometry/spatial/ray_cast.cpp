@@ -200,9 +200,8 @@ void binary_all_hits(const TriangleBvh& bvh, const PreparedRay& r, std::vector<R
 // distance is computed as (plane - origin) * (1 / d): the planes were rounded outward when the nodes were built, the
 // origin is rounded towards the far side of each plane (up for a near plane, down for a far plane, swapped when
 // d < 0), and the three roundings that remain (the subtraction, 1 / d to float, the product) are relative, at most
-// 3 u (u = 2^-24) in all. So each computed distance
-// is within a factor 1 +- 3u of the distance to the rounded box (or of the same sign and larger when it overflows to
-// infinity). After taking the largest entry and the smallest exit over the three axes and the ray's [t_min, t_max],
+// 3 u (u = 2^-24) in all. So each computed distance is within a factor 1 +- 3u of the distance to the rounded box
+// (or of the same sign and larger when it overflows to infinity). After taking the largest entry and the smallest exit over the three axes and the ray's [t_min, t_max],
 // the entry is moved down and the exit up by 2^-21 relative (8u, which covers the product's own rounding) and 2^-100
 // absolute (products that fall into the subnormal range): the computed [entry, exit] then contains the true one, and
 // a box the ray touches is never culled. An axis the ray is parallel to (d = +-0, 1 / d = +-inf) gives +-inf, or NaN
