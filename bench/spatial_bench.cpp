@@ -6,8 +6,8 @@
 // new below (Embree allocates its own memory and is not counted). Against a peer, the two sides are timed in turn,
 // round by round. Bench only, never linked into the service.
 //
-// Usage: bench_spatial [--quick] [--rounds N]   (quick: the bunny only and fewer queries; rounds: each measurement's
-// fastest of N runs, default 3)
+// Usage: bench_spatial [--quick] [--rounds N] [--rays]   (quick: the bunny only and fewer queries; rounds: each
+// measurement's fastest of N runs, default 3; rays: the builds and the ray rows only)
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -62,6 +62,24 @@ void operator delete(void* p) noexcept {
     std::free(base);
 }
 void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+void* operator new(std::size_t n, std::align_val_t a) {
+    // the block starts `a` (at least 16) bytes in; the size sits just before it
+    const auto align = std::max<std::size_t>(static_cast<std::size_t>(a), 16);
+    void* p = std::aligned_alloc(align, (n + 2 * align - 1) / align * align);
+    if (!p) throw std::bad_alloc();
+    char* user = static_cast<char*>(p) + align;
+    reinterpret_cast<std::size_t*>(user)[-1] = n;
+    reinterpret_cast<std::size_t*>(user)[-2] = align;
+    note_alloc(static_cast<long long>(n));
+    return user;
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+    if (!p) return;
+    char* user = static_cast<char*>(p);
+    g_live.fetch_sub(static_cast<long long>(reinterpret_cast<std::size_t*>(user)[-1]));
+    std::free(user - reinterpret_cast<std::size_t*>(user)[-2]);
+}
+void operator delete(void* p, std::size_t, std::align_val_t a) noexcept { operator delete(p, a); }
 void* operator new[](std::size_t n) { return operator new(n); }
 void operator delete[](void* p) noexcept { operator delete(p); }
 void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
@@ -72,6 +90,7 @@ using namespace surfaced;
 using Clock = std::chrono::steady_clock;
 
 int g_rounds = 3;
+bool g_rays_only = false;
 
 //! Fastest of g_rounds runs, in seconds, and the live-heap peak above the start of the last run, in MiB.
 struct Timing {
@@ -167,25 +186,28 @@ void run(const std::string& name, const PolygonMesh& input, std::size_t point_qu
 
     // closest points
     std::vector<double> ours_distance(points.size());
-    const Timing cp = time_best([&] {
-        for (std::size_t i = 0; i < points.size(); ++i) ours_distance[i] = closest_point(bvh, points[i])->distance;
-    });
     const std::size_t brute_n = std::min<std::size_t>(points.size(), std::max<std::size_t>(20, 20'000'000 / n));
-    std::size_t brute_differ = 0;
-    const Timing cp_brute = time_best(
-        [&] {
-            for (std::size_t i = 0; i < brute_n; ++i) {
-                double best = 1e300;
-                for (const BvhTriangle& t : bvh.triangles) {
-                    const Vec3 d = triangle_closest_point(points[i], t.p[0], t.p[1], t.p[2]).point - points[i];
-                    best = std::min(best, dot(d, d));
+    if (!g_rays_only) {
+        const Timing cp = time_best([&] {
+            for (std::size_t i = 0; i < points.size(); ++i) ours_distance[i] = closest_point(bvh, points[i])->distance;
+        });
+        std::size_t brute_differ = 0;
+        const Timing cp_brute = time_best(
+            [&] {
+                for (std::size_t i = 0; i < brute_n; ++i) {
+                    double best = 1e300;
+                    for (const BvhTriangle& t : bvh.triangles) {
+                        const Vec3 d = triangle_closest_point(points[i], t.p[0], t.p[1], t.p[2]).point - points[i];
+                        best = std::min(best, dot(d, d));
+                    }
+                    brute_differ += std::fabs(std::sqrt(best) - ours_distance[i]) > 1e-12 * box.diagonal();
                 }
-                brute_differ += std::fabs(std::sqrt(best) - ours_distance[i]) > 1e-12 * box.diagonal();
-            }
-        },
-        1);
-    g_rows.push_back({name, "closest point", "brute force", n, points.size() / cp.seconds, brute_n / cp_brute.seconds,
-                      std::to_string(brute_differ) + " of " + std::to_string(brute_n) + " distances differ"});
+            },
+            1);
+        g_rows.push_back({name, "closest point", "brute force", n, points.size() / cp.seconds,
+                          brute_n / cp_brute.seconds,
+                          std::to_string(brute_differ) + " of " + std::to_string(brute_n) + " distances differ"});
+    }
 
     // rays
     std::vector<double> ours_t(rays.size());
@@ -213,47 +235,76 @@ void run(const std::string& name, const PolygonMesh& input, std::size_t point_qu
     g_rows.push_back({name, "ray, first hit", "brute force", n, rays.size() / ray.seconds, brute_n / ray_brute.seconds,
                       std::to_string(100 * hits / std::max<std::size_t>(1, rays.size())) + "% of rays hit; " +
                           std::to_string(ray_differ) + " of " + std::to_string(brute_n) + " differ from brute force"});
-
-    // winding numbers: the fast ones on every point, the exact sum on the first exact_queries
-    WindingNumberOptions exact_options;
-    exact_options.exact = true;
-    const std::size_t exact_n = std::min(exact_queries, points.size());
-    std::vector<double> exact(exact_n);
-    const Timing wn_exact = time_best(
-        [&] {
-            for (std::size_t i = 0; i < exact_n; ++i)
-                exact[i] = winding_number(bvh, tree, points[i], exact_options)->value;
-        },
-        1);
-    for (double accuracy : {2.0, 3.0}) {
-        WindingNumberOptions options;
-        options.accuracy = accuracy;
-        std::vector<double> fast(points.size()), bound(points.size());
-        const Timing wn = time_best([&] {
-            for (std::size_t i = 0; i < points.size(); ++i) {
-                const auto w = winding_number(bvh, tree, points[i], options).value();
-                fast[i] = w.value;
-                bound[i] = w.error_bound;
+    {
+        // the same rays through the binary double-precision nodes alone (BvhOptions::ray_nodes false), in turn
+        BvhOptions binary_only;
+        binary_only.ray_nodes = false;
+        const TriangleBvh binary = build_bvh(mesh, binary_only).value();
+        std::size_t differ = 0;
+        const auto layout_rays = [&] {
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const auto hit = ray_first_hit(bvh, {rays[i].origin, rays[i].direction});
+                ours_t[i] = hit ? hit->t : -1.0;
             }
-        });
-        double worst = 0, worst_bound = 0;
-        for (std::size_t i = 0; i < exact_n; ++i) {
-            worst = std::max(worst, std::fabs(exact[i] - fast[i]));
-            worst_bound = std::max(worst_bound, bound[i]);
+        };
+        const auto binary_rays = [&] {
+            differ = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const auto hit = ray_first_hit(binary, {rays[i].origin, rays[i].direction});
+                differ += (hit ? hit->t : -1.0) != ours_t[i];
+            }
+        };
+        Timing with_layout, without;
+        for (int r = 0; r < g_rounds; ++r) {
+            with_layout.seconds = std::min(with_layout.seconds, time_best(layout_rays, 1).seconds);
+            without.seconds = std::min(without.seconds, time_best(binary_rays, 1).seconds);
         }
-        char note[128];
-        std::snprintf(note, sizeof note, "largest error %.1e over %zu points (largest bound %.1e)", worst, exact_n,
-                      worst_bound);
-        char query[64];
-        std::snprintf(query, sizeof query, "winding number, accuracy %.0f", accuracy);
-        g_rows.push_back(
-            {name, query, "exact direct sum", n, points.size() / wn.seconds, exact_n / wn_exact.seconds, note});
+        g_rows.push_back({name, "ray, first hit", "ours, binary double nodes", n, rays.size() / with_layout.seconds,
+                          rays.size() / without.seconds, std::to_string(differ) + " t differ"});
     }
 
-    const Timing sd = time_best([&] {
-        for (const Vec3& p : points) (void)signed_distance(bvh, tree, p)->distance;
-    });
-    g_rows.push_back({name, "signed distance", "-", n, points.size() / sd.seconds, 0, ""});
+    // winding numbers: the fast ones on every point, the exact sum on the first exact_queries
+    if (!g_rays_only) {
+        WindingNumberOptions exact_options;
+        exact_options.exact = true;
+        const std::size_t exact_n = std::min(exact_queries, points.size());
+        std::vector<double> exact(exact_n);
+        const Timing wn_exact = time_best(
+            [&] {
+                for (std::size_t i = 0; i < exact_n; ++i)
+                    exact[i] = winding_number(bvh, tree, points[i], exact_options)->value;
+            },
+            1);
+        for (double accuracy : {2.0, 3.0}) {
+            WindingNumberOptions options;
+            options.accuracy = accuracy;
+            std::vector<double> fast(points.size()), bound(points.size());
+            const Timing wn = time_best([&] {
+                for (std::size_t i = 0; i < points.size(); ++i) {
+                    const auto w = winding_number(bvh, tree, points[i], options).value();
+                    fast[i] = w.value;
+                    bound[i] = w.error_bound;
+                }
+            });
+            double worst = 0, worst_bound = 0;
+            for (std::size_t i = 0; i < exact_n; ++i) {
+                worst = std::max(worst, std::fabs(exact[i] - fast[i]));
+                worst_bound = std::max(worst_bound, bound[i]);
+            }
+            char note[128];
+            std::snprintf(note, sizeof note, "largest error %.1e over %zu points (largest bound %.1e)", worst, exact_n,
+                          worst_bound);
+            char query[64];
+            std::snprintf(query, sizeof query, "winding number, accuracy %.0f", accuracy);
+            g_rows.push_back(
+                {name, query, "exact direct sum", n, points.size() / wn.seconds, exact_n / wn_exact.seconds, note});
+        }
+
+        const Timing sd = time_best([&] {
+            for (const Vec3& p : points) (void)signed_distance(bvh, tree, p)->distance;
+        });
+        g_rows.push_back({name, "signed distance", "-", n, points.size() / sd.seconds, 0, ""});
+    }
 
 #if SURFACED_BENCH_PEERS
     std::vector<double> positions, queries, out, ray_values, embree_t;
@@ -266,25 +317,28 @@ void run(const std::string& name, const PolygonMesh& input, std::size_t point_qu
                           {r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z});
 
     std::unique_ptr<bench::CgalTree> cgal;
-    const Timing cgal_build = time_best([&] {
-        cgal.reset();
-        cgal = std::make_unique<bench::CgalTree>(positions, triangles);
-    });
-    build.cgal_ms = 1e3 * cgal_build.seconds;
-    build.cgal_mib = cgal_build.peak_mib;
-    const auto [cp_ours, cgal_cp] = interleaved(
-        [&] {
-            for (std::size_t i = 0; i < points.size(); ++i) ours_distance[i] = closest_point(bvh, points[i])->distance;
-        },
-        [&] { cgal->closest_points(queries, out); });
-    std::size_t disagree = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const double d = norm(Vec3{out[3 * i], out[3 * i + 1], out[3 * i + 2]} - points[i]);
-        disagree += std::fabs(d - ours_distance[i]) > 1e-9 * box.diagonal();
+    if (!g_rays_only) {
+        const Timing cgal_build = time_best([&] {
+            cgal.reset();
+            cgal = std::make_unique<bench::CgalTree>(positions, triangles);
+        });
+        build.cgal_ms = 1e3 * cgal_build.seconds;
+        build.cgal_mib = cgal_build.peak_mib;
+        const auto [cp_ours, cgal_cp] = interleaved(
+            [&] {
+                for (std::size_t i = 0; i < points.size(); ++i)
+                    ours_distance[i] = closest_point(bvh, points[i])->distance;
+            },
+            [&] { cgal->closest_points(queries, out); });
+        std::size_t disagree = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const double d = norm(Vec3{out[3 * i], out[3 * i + 1], out[3 * i + 2]} - points[i]);
+            disagree += std::fabs(d - ours_distance[i]) > 1e-9 * box.diagonal();
+        }
+        g_rows.push_back({name, "closest point", "CGAL AABB_tree " + bench::cgal_version(), n,
+                          points.size() / cp_ours.seconds, points.size() / cgal_cp.seconds,
+                          std::to_string(disagree) + " distances differ by > 1e-9 diagonal"});
     }
-    g_rows.push_back({name, "closest point", "CGAL AABB_tree " + bench::cgal_version(), n,
-                      points.size() / cp_ours.seconds, points.size() / cgal_cp.seconds,
-                      std::to_string(disagree) + " distances differ by > 1e-9 diagonal"});
 
     std::unique_ptr<bench::EmbreeScene> embree;
     const Timing embree_build = time_best([&] {
@@ -335,6 +389,7 @@ int main(int argc, char** argv) {
     bool quick = false;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        if (std::strcmp(argv[i], "--rays") == 0) g_rays_only = true;
         if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) g_rounds = std::max(1, std::atoi(argv[++i]));
     }
     const std::size_t queries = quick ? 20'000 : 100'000;

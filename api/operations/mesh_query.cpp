@@ -373,6 +373,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 
     BvhOptions bvh_options;
     bvh_options.cancel = context.cancel;
+    bvh_options.ray_nodes = ray_count > 0;  // the ray layout serves rays only
     auto bvh = build_bvh(mesh.value(), bvh_options);
     if (!bvh) return error_response(geometry_error(bvh.error(), source));
     WindingTree tree;

@@ -4,6 +4,7 @@
 #include "geometry/spatial/bvh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -47,6 +48,123 @@ int bin_of(double c, double lo, double scale, int bins) {
     if (!(t > 0)) return 0;
     if (t >= bins - 1) return bins - 1;
     return static_cast<int>(t);
+}
+
+//! Subtrees with at most this many triangles become one leaf of the ray layout.
+constexpr Index kRayLeafTriangles = 8;
+//! A ray leaf with more triangles than this is split when its node has a free slot.
+constexpr Index kRayLeafSplit = 4;
+
+//! The float at or below x (at or above for round_up): boxes rounded outward still contain what they held.
+float round_down(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float round_up(double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+//! Collapses the binary hierarchy into 8-wide ray nodes: each ray node takes a binary node's two children and keeps
+//! opening the largest (by surface area) of its children that is not a ray leaf until it has eight. A binary subtree
+//! of at most kRayLeafTriangles triangles is a ray leaf (its triangles are contiguous, the tree being depth-first).
+void build_ray_nodes(TriangleBvh& bvh) {
+    const std::size_t n = bvh.nodes.size();
+    // each binary node's triangle range, children after their parent in the array
+    std::vector<Index> first(n), count(n);
+    for (std::size_t i = n; i-- > 0;) {
+        const BvhNode& node = bvh.nodes[i];
+        if (node.is_leaf()) {
+            first[i] = node.index;
+            count[i] = node.count;
+        } else {
+            first[i] = first[i + 1];
+            count[i] = count[i + 1] + count[node.index];
+        }
+    }
+    auto ray_leaf = [&](Index b) { return bvh.nodes[b].is_leaf() || count[b] <= kRayLeafTriangles; };
+
+    bvh.ray_nodes.clear();
+    bvh.ray_nodes.reserve(n / 4 + 1);
+    const Box3& root = bvh.nodes[0].bounds;
+    bvh.ray_centre = (root.min + root.max) * 0.5;
+    bvh.ray_extent = 0;
+    for (int a = 0; a < 3; ++a)
+        bvh.ray_extent = std::max({bvh.ray_extent, root.max[a] - bvh.ray_centre[a], bvh.ray_centre[a] - root.min[a]});
+    // every triangle in float, four a block in the order of `triangles` (the last block's unused lanes zero)
+    bvh.ray_triangles.resize((bvh.triangles.size() + 3) / 4);
+    for (std::size_t t = 0; t < bvh.triangles.size(); ++t)
+        for (std::size_t c = 0; c < 3; ++c)
+            for (int a = 0; a < 3; ++a)
+                bvh.ray_triangles[t / 4].p[3 * c + static_cast<std::size_t>(a)][t % 4] =
+                    static_cast<float>(bvh.triangles[t].p[c][a] - bvh.ray_centre[a]);
+    struct Pending {
+        Index binary, ray;
+    };
+    std::vector<Pending> stack;
+    bvh.ray_nodes.emplace_back();
+    stack.push_back({0, 0});
+    while (!stack.empty()) {
+        const Pending p = stack.back();
+        stack.pop_back();
+        Index children[kRayNodeWidth];
+        int size = 0;
+        if (ray_leaf(p.binary)) {
+            children[size++] = p.binary;  // the root alone
+        } else {
+            children[size++] = p.binary + 1;
+            children[size++] = bvh.nodes[p.binary].index;
+            while (size < kRayNodeWidth) {
+                // the largest inner child; when there is none, the largest leaf that fills more than one block of
+                // four (its halves take no more blocks, and the node's free slots test their boxes at no extra cost)
+                int open = -1;
+                double open_area = -1;
+                for (int pass = 0; pass < 2 && open < 0; ++pass)
+                    for (int k = 0; k < size; ++k) {
+                        const Index c = children[k];
+                        const bool candidate =
+                            pass == 0 ? !ray_leaf(c) : !bvh.nodes[c].is_leaf() && count[c] > kRayLeafSplit;
+                        if (!candidate) continue;
+                        const double area = half_area(bvh.nodes[c].bounds);
+                        if (area > open_area) {
+                            open_area = area;
+                            open = k;
+                        }
+                    }
+                if (open < 0) break;
+                const Index b = children[open];
+                children[open] = b + 1;
+                children[size++] = bvh.nodes[b].index;
+            }
+        }
+        for (int k = 0; k < kRayNodeWidth; ++k) {
+            Index child = 0, leaf_count = 0;
+            Box3 box;  // empty: +inf min, -inf max
+            if (k < size) {
+                const Index b = children[k];
+                box = bvh.nodes[b].bounds;
+                if (ray_leaf(b)) {
+                    child = first[b];
+                    leaf_count = count[b];
+                } else {
+                    child = static_cast<Index>(bvh.ray_nodes.size());
+                    bvh.ray_nodes.emplace_back();
+                    stack.push_back({b, child});
+                }
+            }
+            RayNode& node = bvh.ray_nodes[p.ray];
+            const double lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};
+            for (int a = 0; a < 3; ++a) {
+                node.box[a][k] = k < size ? round_down(lo[a]) : std::numeric_limits<float>::infinity();
+                node.box[3 + a][k] = k < size ? round_up(hi[a]) : -std::numeric_limits<float>::infinity();
+            }
+            node.child[k] = child;
+            node.count[k] = static_cast<std::uint8_t>(leaf_count);
+        }
+    }
+    bvh.ray_nodes.shrink_to_fit();
 }
 
 }  // namespace
@@ -205,6 +323,8 @@ Result<TriangleBvh> build_bvh(const PolygonMesh& input, const BvhOptions& option
         out.face = source_face[t];
     }
     bvh.nodes.shrink_to_fit();
+    // leaf sizes fit the ray nodes' 8-bit counts (max_leaf_size <= 64)
+    if (options.ray_nodes) build_ray_nodes(bvh);
     return bvh;
 }
 

@@ -1,6 +1,8 @@
 // Ray casting against a triangle mesh: the first hit (distance, face, barycentric coordinates, normal) or every hit.
 // The ray-triangle test is watertight: a ray through an edge or a vertex shared by several triangles hits at least
-// one of them, never slips between.
+// one of them, never slips between. Rays walk the hierarchy's 8-wide float ray layout when it was built
+// (BvhOptions::ray_nodes, the default), with rounding margins that never lose a hit, and every hit is decided by the
+// same double-precision test, so the answers do not depend on the layout.
 //
 // Reference: S. Woop, C. Benthin, I. Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013.
 #pragma once

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
 #include <algorithm>
 #include <array>
 #include <map>
@@ -156,6 +159,101 @@ TEST(Bvh, CancelledBuildReportsCancelled) {
     auto out = build_bvh(testing::icosphere(5), options);  // 20480 triangles, more nodes than the polling interval
     ASSERT_FALSE(out.ok());
     EXPECT_EQ(out.error().code, ErrorCode::Cancelled);
+}
+
+//! Walks the ray layout from its root: every slot used is a node reached once or a leaf of triangles whose float
+//! copies are in the blocks; every box (float) contains what is below it in double; unused slots have empty boxes.
+//! Returns how often each triangle is reached.
+std::vector<int> check_ray_nodes(const TriangleBvh& bvh) {
+    std::vector<int> seen(bvh.triangles.size(), 0);
+    std::vector<int> visits(bvh.ray_nodes.size(), 0);
+    const Vec3 c = bvh.ray_centre;
+    // the double box of what is below a slot
+    std::function<Box3(Index, Index)> below = [&](Index child, Index count) {
+        Box3 box;
+        if (count > 0) {
+            for (Index t = child; t < child + count; ++t) {
+                EXPECT_LT(t, bvh.triangles.size());
+                if (t >= bvh.triangles.size()) return box;
+                ++seen[t];
+                const RayTriangles& block = bvh.ray_triangles[t / 4];
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3& p = bvh.triangles[t].p[k];
+                    box.add(p);
+                    for (int a = 0; a < 3; ++a) {
+                        EXPECT_EQ(block.p[3 * k + a][t % 4], static_cast<float>(p[a] - c[a]));
+                        EXPECT_LE(std::fabs(p[a] - c[a]), bvh.ray_extent * (1 + 1e-15));
+                    }
+                }
+            }
+            return box;
+        }
+        EXPECT_LT(child, bvh.ray_nodes.size());
+        if (child >= bvh.ray_nodes.size()) return box;
+        ++visits[child];
+        const RayNode& node = bvh.ray_nodes[child];
+        for (int k = 0; k < kRayNodeWidth; ++k) {
+            const bool unused = node.count[k] == 0 && node.box[0][k] > node.box[3][k];
+            if (unused) {
+                for (int a = 0; a < 3; ++a) {
+                    EXPECT_EQ(node.box[a][k], std::numeric_limits<float>::infinity());
+                    EXPECT_EQ(node.box[3 + a][k], -std::numeric_limits<float>::infinity());
+                }
+                continue;
+            }
+            const Box3 inner = below(node.child[k], node.count[k]);
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_LE(static_cast<double>(node.box[a][k]), inner.min[a]) << "node " << child << " slot " << k;
+                EXPECT_GE(static_cast<double>(node.box[3 + a][k]), inner.max[a]) << "node " << child << " slot " << k;
+                // rounded outward by at most one float step
+                EXPECT_GE(static_cast<double>(std::nextafter(node.box[a][k], std::numeric_limits<float>::infinity())),
+                          inner.min[a]);
+            }
+            box.add(inner.min);
+            box.add(inner.max);
+        }
+        return box;
+    };
+    below(0, 0);
+    for (std::size_t k = 0; k < visits.size(); ++k) EXPECT_EQ(visits[k], 1) << "ray node " << k;
+    return seen;
+}
+
+TEST(Bvh, RayNodesContainTheirTrianglesOnce) {
+    for (int max_leaf : {1, 4, 64}) {
+        for (const PolygonMesh& mesh :
+             {testing::icosphere(4), testing::translated(shapes::torus(40, 30), {1e6, -3e5, 2.5}), shapes::cube()}) {
+            BvhOptions options;
+            options.max_leaf_size = max_leaf;
+            auto bvh = build_bvh(mesh, options);
+            ASSERT_TRUE(bvh.ok());
+            ASSERT_FALSE(bvh->ray_nodes.empty());
+            const auto seen = check_ray_nodes(*bvh);
+            for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
+            EXPECT_LE(bvh->ray_nodes.size(), bvh->nodes.size());
+            EXPECT_EQ(bvh->ray_triangles.size(), (bvh->triangles.size() + 3) / 4);
+            EXPECT_EQ(bvh->memory_bytes(), bvh->nodes.capacity() * sizeof(BvhNode) +
+                                               bvh->triangles.capacity() * sizeof(BvhTriangle) +
+                                               bvh->ray_nodes.capacity() * sizeof(RayNode) +
+                                               bvh->ray_triangles.capacity() * sizeof(RayTriangles));
+        }
+    }
+    // a single triangle: the root is one leaf in an otherwise unused node
+    PolygonMesh one;
+    one.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    one.add_face({0, 1, 2});
+    auto bvh = build_bvh(one);
+    ASSERT_TRUE(bvh.ok());
+    ASSERT_EQ(bvh->ray_nodes.size(), 1u);
+    EXPECT_EQ(bvh->ray_nodes[0].count[0], 1);
+    EXPECT_EQ(check_ray_nodes(*bvh), std::vector<int>{1});
+    // not asked for: none
+    BvhOptions without;
+    without.ray_nodes = false;
+    auto plain = build_bvh(testing::icosphere(2), without);
+    ASSERT_TRUE(plain.ok());
+    EXPECT_TRUE(plain->ray_nodes.empty());
+    EXPECT_TRUE(plain->ray_triangles.empty());
 }
 
 }  // namespace

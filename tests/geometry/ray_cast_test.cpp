@@ -7,9 +7,13 @@
 #include <map>
 #include <limits>
 #include <random>
+#include <string>
+#include <tuple>
 
 #include "geometry/mesh/shapes.h"
+#include "geometry/mesh/triangulate.h"
 #include "geometry/spatial/ray_cast.h"
+#include "geometry/spatial/ray_dispatch.h"
 #include "tests/support/spatial_meshes.h"
 
 namespace surfaced {
@@ -219,6 +223,196 @@ TEST(RayCast, ParityOnClosedSphereAndRayLimits) {
     EXPECT_FALSE(ray_first_hit(*bvh, {{0, 0, 0}, {0, 0, 0}}).has_value());
     const double inf = std::numeric_limits<double>::infinity();
     EXPECT_FALSE(ray_first_hit(*bvh, {{0, 0, 0}, {inf, 0, 0}}).has_value());
+}
+
+// ---- the float ray layout (TriangleBvh::ray_nodes) against the binary double path and brute force --------------
+
+//! Every hit by brute force with the same triangle test, as (t, face, corners) by increasing t then face.
+std::vector<std::tuple<double, Index, std::array<Index, 3>>> brute_force_all(const PolygonMesh& mesh, const Ray& ray) {
+    std::vector<std::tuple<double, Index, std::array<Index, 3>>> out;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto t = mesh.face(f);
+        if (const auto hit = ray_triangle(ray, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]))
+            out.emplace_back(hit->t, static_cast<Index>(f), std::array<Index, 3>{t[0], t[1], t[2]});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+//! ray_all_hits equals brute force hit for hit (t exactly, face and corners), and ray_first_hit is its first.
+void expect_all_hits_equal_brute_force(const TriangleBvh& bvh, const PolygonMesh& mesh, const Ray& ray,
+                                       const std::string& what) {
+    const auto expected = brute_force_all(mesh, ray);
+    auto all = ray_all_hits(bvh, ray);
+    std::sort(all.begin(), all.end(), [](const RayHit& a, const RayHit& b) {
+        return std::tie(a.t, a.face, a.vertices) < std::tie(b.t, b.face, b.vertices);
+    });
+    ASSERT_EQ(all.size(), expected.size()) << what;
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        EXPECT_EQ(all[k].t, std::get<0>(expected[k])) << what;
+        EXPECT_EQ(all[k].face, std::get<1>(expected[k])) << what;
+        EXPECT_EQ(all[k].vertices, std::get<2>(expected[k])) << what;
+    }
+    const auto first = ray_first_hit(bvh, ray);
+    ASSERT_EQ(first.has_value(), !expected.empty()) << what;
+    if (first) {
+        EXPECT_EQ(first->t, std::get<0>(expected.front())) << what;
+    }
+}
+
+TEST(RayCast, EveryHitOnGridVerticesAndEdgesEqualsBruteForce) {
+    // rays through the vertices and edges of a grid split into triangles, at random heights and angles, straight
+    // down (two direction components exactly 0), lying in the grid's plane along its lines (edge on), and with
+    // t_min beyond the grid: hit for hit what every triangle says alone
+    const PolygonMesh grid = shapes::grid(10, 10, true);
+    auto bvh = build_bvh(grid);
+    ASSERT_TRUE(bvh.ok());
+    ASSERT_FALSE(bvh->ray_nodes.empty());
+    std::mt19937_64 rng(21);
+    std::uniform_int_distribution<int> cell(0, 20);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    int rays = 0;
+    for (int i = 0; i < 3000; ++i) {
+        // a vertex (even, even), an axis edge's midpoint or a diagonal's midpoint
+        const Vec3 target{cell(rng) / 20.0, cell(rng) / 20.0, 0.0};
+        Ray ray;
+        switch (i % 5) {
+            case 0: ray = ray_towards({u(rng), u(rng), 1.5}, target); break;
+            case 1: ray = ray_towards({u(rng), u(rng), -1.5}, target); break;
+            case 2: ray = {target + Vec3{0, 0, 1}, {0, 0, -1}}; break;
+            case 3: ray = {target + Vec3{-1, 0, 0}, {1, 0, 0}}; break;             // in the plane, along a grid line
+            default: ray = {target + Vec3{0, 0, 1}, {0, 0, -1}, 1.0, 3.0}; break;  // t_min exactly at the plane
+        }
+        ++rays;
+        expect_all_hits_equal_brute_force(*bvh, grid, ray, "ray " + std::to_string(i));
+    }
+    EXPECT_EQ(rays, 3000);
+}
+
+TEST(RayCast, FloatLayoutGivesTheDoublePathsAnswers) {
+    // the same rays through the float layout and through the binary double nodes alone (ray_nodes = false): the
+    // same first face, t, barycentrics and point, and the same every-hit list
+    BvhOptions binary_only;
+    binary_only.ray_nodes = false;
+    std::mt19937_64 rng(23);
+    int compared = 0, hits = 0;
+    for (const PolygonMesh& mesh : {testing::icosphere(3), testing::spatial_bunny(), shapes::torus(60, 40),
+                                    testing::translated(shapes::torus(60, 40), {1e5, 2e5, -3e5})}) {
+        ASSERT_GT(mesh.face_count(), 0u);
+        const PolygonMesh triangles = mesh.is_triangle_mesh() ? mesh : triangulate(mesh);
+        auto wide = build_bvh(triangles);
+        auto binary = build_bvh(triangles, binary_only);
+        ASSERT_TRUE(wide.ok() && binary.ok());
+        ASSERT_FALSE(wide->ray_nodes.empty());
+        ASSERT_TRUE(binary->ray_nodes.empty());
+        const Box3 box = triangles.bounds();
+        for (int i = 0; i < 1000; ++i) {
+            const Ray ray = ray_towards(testing::random_point(rng, box, 0.5), testing::random_point(rng, box, 0.0));
+            const auto a = ray_first_hit(*wide, ray), b = ray_first_hit(*binary, ray);
+            ++compared;
+            ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << i;
+            if (a) {
+                ++hits;
+                EXPECT_EQ(a->face, b->face) << "ray " << i;
+                EXPECT_EQ(a->t, b->t) << "ray " << i;
+                EXPECT_EQ(a->barycentric, b->barycentric) << "ray " << i;
+                EXPECT_EQ(a->point, b->point) << "ray " << i;
+                EXPECT_EQ(a->normal, b->normal) << "ray " << i;
+            }
+            if (i % 10 == 0) {
+                const auto all_a = ray_all_hits(*wide, ray), all_b = ray_all_hits(*binary, ray);
+                ASSERT_EQ(all_a.size(), all_b.size()) << "ray " << i;
+                for (std::size_t k = 0; k < all_a.size(); ++k) {
+                    EXPECT_EQ(all_a[k].t, all_b[k].t);
+                    EXPECT_EQ(all_a[k].face, all_b[k].face);
+                }
+            }
+        }
+    }
+    EXPECT_EQ(compared, 4000);
+    EXPECT_GT(hits, 1500);
+}
+
+TEST(RayCast, FloatLayoutAtTheEdgesOfTheFloatRange) {
+    // meshes far from the origin, tiny (products in float's subnormal range), huge (corners beyond float), and rays
+    // the float layout hands to the double path (origin beyond 2^100, a direction of 1e-200): hit for hit brute force
+    std::mt19937_64 rng(29);
+    const PolygonMesh sphere = testing::icosphere(2);
+    auto scaled = [](PolygonMesh m, double s, const Vec3& offset) {
+        for (Vec3& p : m.positions) p = p * s + offset;
+        return m;
+    };
+    for (const PolygonMesh& mesh :
+         {scaled(sphere, 1.0, {3e7, -1e7, 5e6}), scaled(sphere, 1e-25, {0, 0, 0}), scaled(sphere, 1e-25, {1e-20, 0, 0}),
+          scaled(sphere, 1e200, {0, 0, 0}), scaled(sphere, 1e35, {2e35, 0, 0})}) {
+        auto bvh = build_bvh(mesh);
+        ASSERT_TRUE(bvh.ok());
+        const Box3 box = mesh.bounds();
+        std::uniform_int_distribution<std::size_t> pick(0, mesh.positions.size() - 1);
+        for (int i = 0; i < 300; ++i) {
+            Ray ray;
+            if (i % 3 == 0) {
+                ray = ray_towards(testing::random_point(rng, box, 0.5), testing::random_point(rng, box, 0.0));
+            } else {
+                // at a vertex, or at the midpoint of two (often an edge)
+                const Vec3 a = mesh.positions[pick(rng)], b = mesh.positions[pick(rng)];
+                ray = ray_towards(testing::random_point(rng, box, 0.5), i % 3 == 1 ? a : (a + b) * 0.5);
+            }
+            expect_all_hits_equal_brute_force(*bvh, mesh, ray, "ray " + std::to_string(i));
+        }
+    }
+    // rays the float layout does not take
+    const PolygonMesh unit = testing::icosphere(2);
+    auto bvh = build_bvh(unit);
+    ASSERT_TRUE(bvh.ok());
+    for (int i = 0; i < 100; ++i) {
+        const Vec3 d = testing::random_unit(rng);
+        expect_all_hits_equal_brute_force(*bvh, unit, {d * -0x1p101, d}, "far origin");
+        expect_all_hits_equal_brute_force(*bvh, unit, {d * -3.0, d * 1e-200}, "tiny direction");
+        expect_all_hits_equal_brute_force(*bvh, unit, {d * -3.0, d * 1e200}, "huge direction");
+    }
+}
+
+TEST(RayCast, LargeLeavesUseSeveralFloatBlocks) {
+    // leaves of up to 64 triangles (several blocks of four per leaf)
+    BvhOptions options;
+    options.max_leaf_size = 64;
+    const PolygonMesh sphere = testing::icosphere(3);
+    auto bvh = build_bvh(sphere, options);
+    ASSERT_TRUE(bvh.ok());
+    std::mt19937_64 rng(31);
+    const Box3 box = sphere.bounds();
+    for (int i = 0; i < 300; ++i)
+        expect_all_hits_equal_brute_force(
+            *bvh, sphere, ray_towards(testing::random_point(rng, box, 0.5), testing::random_point(rng, box, 0.0)),
+            "ray " + std::to_string(i));
+}
+
+TEST(RayCast, SsePathGivesTheSameAnswers) {
+    // the tests above run the AVX box test where the processor has it; these run the SSE one
+    spatial_detail::ray_avx_disabled = true;
+    const PolygonMesh grid = shapes::grid(10, 10, true);
+    auto bvh = build_bvh(grid);
+    ASSERT_TRUE(bvh.ok());
+    std::mt19937_64 rng(37);
+    std::uniform_int_distribution<int> cell(0, 20);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3 target{cell(rng) / 20.0, cell(rng) / 20.0, 0.0};
+        const Ray ray =
+            i % 2 == 0 ? ray_towards({u(rng), u(rng), 1.5}, target) : Ray{target + Vec3{0, 0, 1}, {0, 0, -1}};
+        expect_all_hits_equal_brute_force(*bvh, grid, ray, "ray " + std::to_string(i));
+    }
+    const PolygonMesh far = testing::translated(testing::icosphere(3), {3e7, -1e7, 5e6});
+    auto far_bvh = build_bvh(far);
+    ASSERT_TRUE(far_bvh.ok());
+    const Box3 box = far.bounds();
+    std::uniform_int_distribution<std::size_t> pick(0, far.positions.size() - 1);
+    for (int i = 0; i < 500; ++i)
+        expect_all_hits_equal_brute_force(*far_bvh, far,
+                                          ray_towards(testing::random_point(rng, box, 0.5), far.positions[pick(rng)]),
+                                          "ray " + std::to_string(i));
+    spatial_detail::ray_avx_disabled = false;
 }
 
 }  // namespace
