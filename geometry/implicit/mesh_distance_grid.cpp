@@ -26,10 +26,15 @@ constexpr std::size_t kTriangleBatch = 256;
 constexpr std::size_t kFillBatch = std::size_t{1} << 16;
 //! Winding numbers summed directly over the triangles before the hierarchy is built for the rest.
 constexpr std::uint64_t kDirectQueries = 16;
+//! Open meshes: allowance for the hierarchy's error in a winding number (about 5e-3 at most at accuracy 2) when a
+//! bound on how far w can drift along a run is compared with its distance from 1/2.
+constexpr double kWindingMargin = 0.02;
 //! Open meshes: a run whose two ends have winding numbers at least this far from 1/2, on one side, takes that side.
 constexpr double kConfident = 0.25;
 //! Bit of the per-node marks (beside the three crossing bits): within the band of a boundary edge.
 constexpr std::uint8_t kNearBoundary = 8;
+//! Boundary edges per cluster of the drift bound.
+constexpr std::size_t kClusterEdges = 8;
 
 struct Grid {
     std::size_t n[3];
@@ -228,7 +233,8 @@ void mark_crossings(const Grid& g, const BvhTriangle& t, std::uint8_t* blocked) 
 }
 
 //! The edges where the surface has a boundary: those not matched by their reverse as often (vertices at equal
-//! positions counting as one). None for a closed surface, whose winding number is constant off it on each region.
+//! positions counting as one), each as many times as it is unmatched. None for a closed surface, whose winding
+//! number is constant off it on each region.
 std::vector<std::array<Vec3, 2>> boundary_edges(const std::vector<BvhTriangle>& triangles) {
     struct PositionHash {
         std::size_t operator()(const Vec3& p) const {
@@ -259,9 +265,129 @@ std::vector<std::array<Vec3, 2>> boundary_edges(const std::vector<BvhTriangle>& 
     }
     std::vector<std::array<Vec3, 2>> out;
     for (const auto& [key, count] : balance)
-        if (count != 0) out.push_back({positions[key >> 32], positions[key & 0xffffffffu]});
+        for (int c = std::abs(count); c > 0; --c) out.push_back({positions[key >> 32], positions[key & 0xffffffffu]});
     return out;
 }
+
+//! Bounds how much the winding number can change along a segment that crosses no triangle. Off the surface the
+//! gradient of a triangle's solid angle is the Biot-Savart integral over its edges, and over the whole surface the
+//! edges matched by their reverse cancel, so |grad w(p)| <= 1/(4 pi) * sum over boundary edges e of
+//! length(e) / distance(p, e)^2. Along a segment of length L, w changes by at most L times the largest of that.
+//! The edges are kept in clusters (a ball holding them and their total length) so that far ones cost one test.
+class DriftBound {
+public:
+    explicit DriftBound(std::vector<std::array<Vec3, 2>> edges) : edges_(std::move(edges)) {
+        // clusters of spatially close edges: sorted along the longest axis of their box, recursively halved
+        std::vector<std::size_t> order(edges_.size());
+        for (std::size_t e = 0; e < order.size(); ++e) order[e] = e;
+        split(order, 0, order.size());
+        std::vector<std::array<Vec3, 2>> sorted(edges_.size());
+        for (std::size_t e = 0; e < order.size(); ++e) sorted[e] = edges_[order[e]];
+        edges_ = std::move(sorted);
+        for (std::size_t first = 0; first < edges_.size(); first += kClusterEdges) {
+            const std::size_t last = std::min(edges_.size(), first + kClusterEdges);
+            Box3 box;
+            Cluster c{{}, 0, 0, first, last};
+            for (std::size_t e = first; e < last; ++e) {
+                box.add(edges_[e][0]);
+                box.add(edges_[e][1]);
+                c.length += norm(edges_[e][1] - edges_[e][0]);
+            }
+            c.centre = (box.min + box.max) * 0.5;
+            for (std::size_t e = first; e < last; ++e)
+                c.radius = std::max({c.radius, norm(edges_[e][0] - c.centre), norm(edges_[e][1] - c.centre)});
+            clusters_.push_back(c);
+        }
+    }
+
+    //! An upper bound on |w(x) - w(y)| for x, y on the segment [p, q], given that it crosses no triangle; stops adding
+    //! once past `limit` (then any value above it).
+    double along(const Vec3& p, const Vec3& q, double limit) const {
+        const Vec3 pq = q - p;
+        const double length2 = dot(pq, pq), length = std::sqrt(length2);
+        if (length == 0) return 0;
+        const auto distance_to_segment = [&](const Vec3& c) {
+            const double s = std::clamp(dot(c - p, pq) / length2, 0.0, 1.0);
+            return norm(c - (p + pq * s));
+        };
+        double sum = 0;
+        limit *= 4 * std::numbers::pi / length;
+        for (const Cluster& c : clusters_) {
+            const double gap = distance_to_segment(c.centre) - c.radius;
+            if (gap > c.radius) {
+                sum += c.length / (gap * gap);
+            } else {
+                for (std::size_t e = c.first; e < c.last; ++e) {
+                    const Vec3 &a = edges_[e][0], &b = edges_[e][1];
+                    const Vec3 middle = (a + b) * 0.5;
+                    const double half = 0.5 * norm(b - a);
+                    const double edge_gap = distance_to_segment(middle) - half;
+                    if (!(edge_gap > 0)) return kInf;
+                    sum += 2 * half / (edge_gap * edge_gap);
+                }
+            }
+            if (sum > limit) break;
+        }
+        // widened a little for rounding
+        return sum * length / (4 * std::numbers::pi) * (1 + 1e-9);
+    }
+
+    //! An upper bound on |grad w| over the box (the same sum with the distances to the box); stops adding once past
+    //! `limit` (then any value above it).
+    double gradient(const Box3& box, double limit) const {
+        const auto distance_to_box = [&](const Vec3& c) {
+            const Vec3 d{c.x - std::clamp(c.x, box.min.x, box.max.x), c.y - std::clamp(c.y, box.min.y, box.max.y),
+                         c.z - std::clamp(c.z, box.min.z, box.max.z)};
+            return norm(d);
+        };
+        double sum = 0;
+        limit *= 4 * std::numbers::pi;
+        for (const Cluster& c : clusters_) {
+            const double gap = distance_to_box(c.centre) - c.radius;
+            if (gap > c.radius) {
+                sum += c.length / (gap * gap);
+            } else {
+                for (std::size_t e = c.first; e < c.last; ++e) {
+                    const Vec3 &a = edges_[e][0], &b = edges_[e][1];
+                    const Vec3 middle = (a + b) * 0.5;
+                    const double half = 0.5 * norm(b - a);
+                    const double edge_gap = distance_to_box(middle) - half;
+                    if (!(edge_gap > 0)) return kInf;
+                    sum += 2 * half / (edge_gap * edge_gap);
+                }
+            }
+            if (sum > limit) break;
+        }
+        return sum / (4 * std::numbers::pi) * (1 + 1e-9);
+    }
+
+private:
+    struct Cluster {
+        Vec3 centre;
+        double radius, length;
+        std::size_t first, last;
+    };
+
+    void split(std::vector<std::size_t>& order, std::size_t first, std::size_t last) {
+        if (last - first <= kClusterEdges) return;
+        Box3 box;
+        for (std::size_t e = first; e < last; ++e) box.add((edges_[order[e]][0] + edges_[order[e]][1]) * 0.5);
+        const Vec3 extent = box.max - box.min;
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        // halves on a multiple of the cluster size, so that every cluster but the last is full
+        const std::size_t half = first + ((last - first) / 2 + kClusterEdges - 1) / kClusterEdges * kClusterEdges;
+        const auto key = [&](std::size_t e) { return edges_[e][0][axis] + edges_[e][1][axis]; };
+        std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(first),
+                         order.begin() + static_cast<std::ptrdiff_t>(half),
+                         order.begin() + static_cast<std::ptrdiff_t>(last),
+                         [&](std::size_t l, std::size_t r) { return key(l) < key(r); });
+        split(order, first, half);
+        split(order, half, last);
+    }
+
+    std::vector<std::array<Vec3, 2>> edges_;
+    std::vector<Cluster> clusters_;
+};
 
 //! Sets bit 3 of flags[node] for the nodes within `radius` of segment [a, b].
 void mark_near_segment(const Grid& g, const Vec3& a, const Vec3& b, double radius, std::uint8_t* flags) {
@@ -370,7 +496,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         if (!w) return w.error();
         return w.value() >= 0.5;
     };
-    const std::vector<std::array<Vec3, 2>> boundary = boundary_edges(triangles);
+    std::vector<std::array<Vec3, 2>> boundary = boundary_edges(triangles);
     const bool closed = boundary.empty();
     std::vector<std::uint8_t> blocked(g.nodes, 0);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -442,54 +568,160 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                           sign.begin() + static_cast<std::ptrdiff_t>(run.row * nx + run.x1 + 1), s);
         }
     } else {
-        // Rows split into runs at the x-edges that cross a triangle: no run crosses the surface, and the winding
-        // number varies smoothly along it. A run's two ends are asked; where both are on one side of 1/2 by at
-        // least kConfident and no node between is within the band of a boundary edge (where w turns fast around
-        // the edge), the nodes between take that side; otherwise the middle is asked and each half is treated the
-        // same way, down to neighbouring nodes.
+        // Rows split into runs at the x-edges that cross a triangle: no run crosses the surface, so along it w
+        // changes by no more than the drift bound. Row by row, each node first inherits what is proven of w at its
+        // neighbours before it along y and z and along its run (an interval grown by one step of the gradient
+        // bound); a node whose interval lies on one side of 1/2 takes that side. Each stretch of the others is
+        // asked at its ends (or bounded by the proven nodes beside it) and halved at asked nodes until each part
+        // is on one side: proven by the drift bound, or both ends at least kConfident from 1/2 on one side with
+        // no node between within the band of a boundary edge (where w turns fast), down to neighbouring nodes.
+        const DriftBound drift(std::move(boundary));
         struct Span {
             std::size_t lo, hi;
             double wlo, whi;
+            double slo, shi;  // w at lo and hi within these of wlo and whi
         };
         const auto side = [](double w) { return w >= 0.5 ? std::int8_t{-1} : std::int8_t{1}; };
+        const auto at = [&](std::size_t node) {
+            return g.position(node % g.n[0], (node / g.n[0]) % g.n[1], node / (g.n[0] * g.n[1]));
+        };
+        // the side of w at `from` when it provably holds from node `from` to node `to` of the same row
+        const auto holds = [&](std::size_t from, double w, double slack, std::size_t to) {
+            const double room = std::abs(w - 0.5) - slack;
+            if (!(room > 0)) return false;
+            return drift.along(at(from), at(to), room) < room;
+        };
         const auto confident = [&](const Span& span) {
             return side(span.wlo) == side(span.whi) && std::abs(span.wlo - 0.5) >= kConfident &&
                    std::abs(span.whi - 0.5) >= kConfident;
         };
+        const auto fill = [&](std::size_t lo, std::size_t hi, std::int8_t s) {
+            std::fill(sign.begin() + static_cast<std::ptrdiff_t>(lo),
+                      sign.begin() + static_cast<std::ptrdiff_t>(hi + 1), s);
+        };
+        // What is known of w at the nodes of the last ny rows (the rows before along y and z), by row modulo ny:
+        // w lies within `slack` of `w` (NaN: nothing known). Queried nodes get the hierarchy's margin.
+        struct Known {
+            float w, slack;
+        };
+        const std::size_t nx = g.n[0];
+        std::vector<Known> known(nx * g.n[1], Known{std::numeric_limits<float>::quiet_NaN(), 0.0f}), candidate(nx);
+        const auto remember = [&](std::size_t node, double w, double slack) {
+            known[(node / nx) % g.n[1] * nx + node % nx] = {static_cast<float>(w), static_cast<float>(slack)};
+        };
+        const float nan = std::numeric_limits<float>::quiet_NaN();
+        const auto room = [](const Known& c) { return std::abs(double{c.w} - 0.5) - double{c.slack}; };
+        // c, or what `from` proves one step away when that leaves more room
+        const auto better = [&](Known& c, const Known& from, double step) {
+            const Known next{from.w, static_cast<float>(double{from.slack} + step + 1e-6)};
+            if (!(room(next) <= room(c))) c = next;  // a NaN room loses
+        };
         std::vector<Span> pending;
         for (std::size_t row = 0; row < g.n[1] * g.n[2]; ++row) {
             if (row % g.n[1] == 0 && options.cancel.requested()) return cancelled();
-            const std::size_t base = row * g.n[0];
-            for (std::size_t i = 0; i < g.n[0];) {
+            const std::size_t base = row * nx;
+            const std::size_t j = row % g.n[1], k = row / g.n[1];
+            Known* line = known.data() + j * nx;
+            for (std::size_t i = 0; i < nx;) {
                 std::size_t end = i;
-                while (end + 1 < g.n[0] && !(blocked[base + end] & 1u)) ++end;
+                while (end + 1 < nx && !(blocked[base + end] & 1u)) ++end;
                 ++components;
-                auto first = winding_at(base + i);
-                if (!first) return first.error();
-                sign[base + i] = side(first.value());
-                if (end > i) {
-                    auto last = winding_at(base + end);
-                    if (!last) return last.error();
-                    sign[base + end] = side(last.value());
-                    pending.push_back({base + i, base + end, first.value(), last.value()});
+                // one step of the gradient bound over the run and the nodes before it along y and z
+                Box3 box;
+                box.add(at(base + i));
+                box.add(at(base + end) - Vec3{0, j > 0 ? g.h : 0, k > 0 ? g.h : 0});
+                const double step = g.h * drift.gradient(box, 0.5 / g.h);
+                // what the nodes before along y and z, and along the run both ways, prove of each node's w (the
+                // row before along z is the one this row replaces in `known`, so it is read before any write)
+                for (std::size_t x = i; x <= end; ++x) {
+                    Known c{nan, 0.0f};
+                    if (step < 0.5) {
+                        if (j > 0 && !(blocked[base - nx + x] & 2u)) better(c, known[(j - 1) * nx + x], step);
+                        if (k > 0 && !(blocked[base - nx * g.n[1] + x] & 4u)) better(c, line[x], step);
+                        if (x > i) better(c, candidate[x - 1], step);
+                    }
+                    candidate[x] = c;
                 }
-                while (!pending.empty()) {
-                    const Span span = pending.back();
-                    pending.pop_back();
-                    if (span.hi - span.lo < 2) continue;
-                    if (confident(span) && std::none_of(blocked.begin() + static_cast<std::ptrdiff_t>(span.lo + 1),
-                                                        blocked.begin() + static_cast<std::ptrdiff_t>(span.hi),
-                                                        [](std::uint8_t m) { return (m & kNearBoundary) != 0; })) {
-                        std::fill(sign.begin() + static_cast<std::ptrdiff_t>(span.lo + 1),
-                                  sign.begin() + static_cast<std::ptrdiff_t>(span.hi), side(span.wlo));
+                if (step < 0.5)
+                    for (std::size_t x = end; x > i; --x) better(candidate[x - 1], candidate[x], step);
+                std::copy(candidate.begin() + static_cast<std::ptrdiff_t>(i),
+                          candidate.begin() + static_cast<std::ptrdiff_t>(end + 1),
+                          line + static_cast<std::ptrdiff_t>(i));
+                // the nodes so proven take their side; each stretch of the others is asked at its ends and halved
+                for (std::size_t a = i; a <= end;) {
+                    if (room(line[a]) > 0) {
+                        sign[base + a] = side(line[a].w);
+                        ++a;
                         continue;
                     }
-                    const std::size_t mid = span.lo + (span.hi - span.lo) / 2;
-                    auto w = winding_at(mid);
-                    if (!w) return w.error();
-                    sign[mid] = side(w.value());
-                    pending.push_back({span.lo, mid, span.wlo, w.value()});
-                    pending.push_back({mid, span.hi, w.value(), span.whi});
+                    std::size_t b = a;
+                    while (b < end && !(room(line[b + 1]) > 0)) ++b;
+                    // the stretch's ends: the proven nodes beside it, else its own end nodes asked
+                    Span stretch{a, b, 0, 0, kWindingMargin, kWindingMargin};
+                    if (a > i) {
+                        stretch = {a - 1, b, line[a - 1].w, 0, line[a - 1].slack, kWindingMargin};
+                    } else {
+                        auto w = winding_at(base + a);
+                        if (!w) return w.error();
+                        sign[base + a] = side(w.value());
+                        remember(base + a, w.value(), kWindingMargin);
+                        stretch.wlo = w.value();
+                    }
+                    stretch.lo += base;
+                    if (b < end) {
+                        stretch.hi = base + b + 1;
+                        stretch.whi = line[b + 1].w;
+                        stretch.shi = line[b + 1].slack;
+                    } else if (stretch.lo != base + b) {
+                        stretch.hi = base + b;
+                        if (holds(stretch.lo, stretch.wlo, stretch.slo, stretch.hi)) {
+                            fill(stretch.lo + 1, stretch.hi, side(stretch.wlo));
+                            a = b + 1;
+                            continue;
+                        }
+                        auto w = winding_at(base + b);
+                        if (!w) return w.error();
+                        sign[base + b] = side(w.value());
+                        remember(base + b, w.value(), kWindingMargin);
+                        stretch.whi = w.value();
+                    } else {
+                        stretch.hi = stretch.lo;
+                    }
+                    pending.push_back(stretch);
+                    while (!pending.empty()) {
+                        const Span span = pending.back();
+                        pending.pop_back();
+                        if (span.hi - span.lo < 2) continue;
+                        if (confident(span) && std::none_of(blocked.begin() + static_cast<std::ptrdiff_t>(span.lo + 1),
+                                                            blocked.begin() + static_cast<std::ptrdiff_t>(span.hi),
+                                                            [](std::uint8_t m) { return (m & kNearBoundary) != 0; })) {
+                            fill(span.lo + 1, span.hi - 1, side(span.wlo));
+                            continue;
+                        }
+                        if (holds(span.lo, span.wlo, span.slo, span.hi)) {
+                            fill(span.lo + 1, span.hi - 1, side(span.wlo));
+                            continue;
+                        }
+                        if (holds(span.hi, span.whi, span.shi, span.lo)) {
+                            fill(span.lo + 1, span.hi - 1, side(span.whi));
+                            continue;
+                        }
+                        const std::size_t mid = span.lo + (span.hi - span.lo) / 2;
+                        auto w = winding_at(mid);
+                        if (!w) return w.error();
+                        sign[mid] = side(w.value());
+                        remember(mid, w.value(), kWindingMargin);
+                        pending.push_back({span.lo, mid, span.wlo, w.value(), span.slo, kWindingMargin});
+                        pending.push_back({mid, span.hi, w.value(), span.whi, kWindingMargin, span.shi});
+                    }
+                    a = b + 1;
+                }
+                // what the queries prove along the run, for the rows after (and over the kConfident guesses)
+                if (step < 0.5) {
+                    for (std::size_t x = i + 1; x <= end; ++x) better(line[x], line[x - 1], step);
+                    for (std::size_t x = end; x > i; --x) better(line[x - 1], line[x], step);
+                    for (std::size_t x = i; x <= end; ++x)
+                        if (room(line[x]) > 0) sign[base + x] = side(line[x].w);
                 }
                 i = end + 1;
             }
