@@ -585,7 +585,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         const auto at = [&](std::size_t node) {
             return g.position(node % g.n[0], (node / g.n[0]) % g.n[1], node / (g.n[0] * g.n[1]));
         };
-        // the side of w at `from` when it provably holds from node `from` to node `to` of the same row
+        // whether w (known within `slack` of w at node `from`) provably stays on its side of 1/2 up to node `to`
         const auto holds = [&](std::size_t from, double w, double slack, std::size_t to) {
             const double room = std::abs(w - 0.5) - slack;
             if (!(room > 0)) return false;
