@@ -78,7 +78,7 @@ struct TriangleBvh {
     std::vector<BvhNode> nodes;  //!< nodes[0] is the root; empty for a mesh without faces
     std::vector<BvhTriangle> triangles;
     //! The same hierarchy for rays (BvhOptions::ray_nodes): the binary tree collapsed into 8-wide nodes, subtrees of
-    //! at most eight triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
+    //! at most sixteen triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
     //! rays then walk `nodes`.
     std::vector<RayNode> ray_nodes;
     std::vector<RayTriangles> ray_triangles;  //!< `triangles` in float, four a block
