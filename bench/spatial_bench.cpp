@@ -90,6 +90,13 @@ using namespace surfaced;
 using Clock = std::chrono::steady_clock;
 
 int g_rounds = 3;
+
+//! Bytes in MiB with one decimal.
+std::string mib(std::size_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", static_cast<double>(bytes) / (1024.0 * 1024.0));
+    return text;
+}
 bool g_rays_only = false;
 
 //! Fastest of g_rounds runs, in seconds, and the live-heap peak above the start of the last run, in MiB.
@@ -259,8 +266,13 @@ void run(const std::string& name, const PolygonMesh& input, std::size_t point_qu
             with_layout.seconds = std::min(with_layout.seconds, time_best(layout_rays, 1).seconds);
             without.seconds = std::min(without.seconds, time_best(binary_rays, 1).seconds);
         }
-        g_rows.push_back({name, "ray, first hit", "ours, binary double nodes", n, rays.size() / with_layout.seconds,
-                          rays.size() / without.seconds, std::to_string(differ) + " t differ"});
+        g_rows.push_back(
+            {name, "ray, first hit", "ours, binary double nodes", n, rays.size() / with_layout.seconds,
+             rays.size() / without.seconds,
+             std::to_string(differ) + " t differ; memory_bytes " + mib(bvh.memory_bytes()) +
+                 " MiB, of which the layout " +
+                 mib(bvh.ray_nodes.capacity() * sizeof(RayNode) + bvh.ray_triangles.capacity() * sizeof(RayTriangles)) +
+                 " MiB"});
     }
 
     // winding numbers: the fast ones on every point, the exact sum on the first exact_queries

@@ -50,8 +50,10 @@ int bin_of(double c, double lo, double scale, int bins) {
     return static_cast<int>(t);
 }
 
-//! Subtrees with at most this many triangles become one leaf of the ray layout.
-constexpr Index kRayLeafTriangles = 8;
+//! Subtrees with at most this many triangles become one leaf of the ray layout. Sixteen rather than eight: the
+//! filter runs through a larger leaf's consecutive blocks faster than a ray takes the extra level of nodes that
+//! smaller leaves need (docs/benchmarks.md).
+constexpr Index kRayLeafTriangles = 16;
 //! A ray leaf with more triangles than this is split when its node has a free slot.
 constexpr Index kRayLeafSplit = 4;
 

@@ -3,7 +3,7 @@
 // so any number of threads may query it at once. Rays walk a second layout of the same tree, built with it
 // (BvhOptions::ray_nodes): the binary nodes collapsed into 8-wide nodes with float boxes rounded outward, and each
 // ray leaf's triangles in float blocks of four, which a ray tests together before the exact double-precision test.
-// On the Stanford bunny (69,666 triangles) the binary nodes and triangles take 9.9 MiB, the ray layout 3.4 MiB more.
+// On the Stanford bunny (69,666 triangles) the binary nodes and triangles take 9.9 MiB, the ray layout 3.0 MiB more.
 //
 // References: I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT 2007 (binned SAH).
 //             T. Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013 (the conservative slab test, ray_cast.cpp).
@@ -31,7 +31,7 @@ struct BvhOptions {
     //! with NotTriangleMesh.
     bool triangulate = true;
     //! Also build the 8-wide float layout that ray casting traverses (TriangleBvh::ray_nodes, ray_triangles), about
-    //! a third more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer
+    //! 30% more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer
     //! rays per second (see docs/benchmarks.md); closest points and winding numbers never use it.
     bool ray_nodes = true;
     Cancel cancel;
@@ -78,7 +78,7 @@ struct TriangleBvh {
     std::vector<BvhNode> nodes;  //!< nodes[0] is the root; empty for a mesh without faces
     std::vector<BvhTriangle> triangles;
     //! The same hierarchy for rays (BvhOptions::ray_nodes): the binary tree collapsed into 8-wide nodes, subtrees of
-    //! at most eight triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
+    //! at most sixteen triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
     //! rays then walk `nodes`.
     std::vector<RayNode> ray_nodes;
     std::vector<RayTriangles> ray_triangles;  //!< `triangles` in float, four a block

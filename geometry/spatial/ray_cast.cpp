@@ -356,8 +356,8 @@ struct WideEntry {
     float t;      //!< entry distance, a lower bound
 };
 
-//! Starts loading what an entered child will read (a node; a leaf's float blocks and the exact test's triangles),
-//! while its parent's other children are sorted and pushed, or the nearer ones walked.
+//! Starts loading what an entered child will read (a node; for a leaf, the float blocks and the exact test's copies
+//! of its first eight triangles), while its parent's other children are sorted and pushed, or the nearer ones walked.
 inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
     if (e.count == 0) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_nodes[e.child]);
