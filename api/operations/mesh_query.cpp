@@ -67,7 +67,10 @@ ApiResult<Batch> batch_shape(const Json& value, const std::string& field, std::s
     const std::string usage = field + " must be an array of " + std::string(what) +
                               R"(, or {"float32": base64} / {"float64": base64} of packed little-endian numbers)";
     if (!value.is_object() || value.size() != 1) return invalid(field, usage);
-    const auto& [key, text] = *value.items().begin();
+    // (the object's own iterator: items() yields proxies that do not outlive the statement)
+    const auto member = value.begin();
+    const std::string& key = member.key();
+    const Json& text = member.value();
     const auto encoding = enum_from_name(kEncodingNames, key);
     if (!encoding || *encoding == Encoding::Json || !text.is_string()) return invalid(field, usage);
     const std::size_t item_bytes = components * bytes_per_value(*encoding);
@@ -84,7 +87,10 @@ ApiResult<Batch> batch_shape(const Json& value, const std::string& field, std::s
 std::optional<ApiError> decode_packed(const Json& value, const std::string& field, std::size_t components,
                                       Batch& batch) {
     if (batch.array) return std::nullopt;
-    const auto& [key, text] = *value.items().begin();
+    // (the object's own iterator: items() yields proxies that do not outlive the statement)
+    const auto member = value.begin();
+    const std::string& key = member.key();
+    const Json& text = member.value();
     const std::string path = member_path(field, key);
     auto bytes = decode_base64(text.get_ref<const std::string&>());
     if (!bytes) return invalid(path, path + ": " + bytes.error().message);
