@@ -66,7 +66,7 @@ ApiResult<Vec3> read_scene_vec3(const Json& value, const std::string& field) {
 
 class SceneParser {
 public:
-    explicit SceneParser(const Limits& limits) : limits_(limits) {}
+    SceneParser(const Limits& limits, const Cancel& cancel) : limits_(limits), cancel_(cancel) {}
 
     ApiResult<FieldPtr> run(const Json& root, const std::string& path) {
         if (auto error = collect(root, path, 0)) return std::move(*error);
@@ -526,6 +526,7 @@ private:
             const std::string field = member_path(mesh_field, "faces");
             return range_error(field, field + " is empty: a mesh node needs at least one face");
         }
+        options.bvh.cancel = cancel_;
         auto built = implicit::triangle_mesh_field(mesh.value(), options);
         if (!built) {
             const GeoError& e = built.error();
@@ -638,6 +639,7 @@ private:
     }
 
     const Limits& limits_;
+    Cancel cancel_;
     std::map<std::string, Declared> declared_;
     std::map<std::string, FieldPtr> built_;
     std::set<std::string> in_progress_;
@@ -648,8 +650,8 @@ private:
 }  // namespace
 
 ApiResult<std::shared_ptr<const implicit::Field>> parse_scene(const json::Json& node, const Limits& limits,
-                                                              const std::string& path) {
-    SceneParser parser(limits);
+                                                              const std::string& path, const Cancel& cancel) {
+    SceneParser parser(limits, cancel);
     return parser.run(node, path);
 }
 

@@ -14,14 +14,17 @@
 
 #include "api/json_util.h"
 #include "api/limits.h"
+#include "geometry/core/cancel.h"
 #include "geometry/core/types.h"
 #include "geometry/implicit/field.h"
 
 namespace surfaced::api {
 
-//! Parses a scene node (the value of the request's "scene" member); errors name paths under `path`.
+//! Parses a scene node (the value of the request's "scene" member); errors name paths under `path`. `cancel` is
+//! polled while mesh nodes index their triangles (the one costly step of building a scene): 503 when it fires.
 ApiResult<std::shared_ptr<const implicit::Field>> parse_scene(const json::Json& node, const Limits& limits,
-                                                              const std::string& path = "scene");
+                                                              const std::string& path = "scene",
+                                                              const Cancel& cancel = {});
 //! "bounds": [[xmin,ymin,zmin],[xmax,ymax,zmax]] with min < max on every axis.
 ApiResult<Box3> parse_bounds(const json::Json& value, const std::string& path = "bounds");
 

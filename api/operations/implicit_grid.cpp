@@ -31,7 +31,7 @@ ApiError node_budget(const GeoError& error) {
     return out;
 }
 
-ApiResult<GridRequest> decode(const ApiRequest& request, const Limits& limits) {
+ApiResult<GridRequest> decode(const ApiRequest& request, const Limits& limits, const Cancel& cancel) {
     Json root;
     if (auto error = json::parse(request.body, root)) return std::move(*error);
     if (!root.is_object()) return json::invalid("", "the body must be a JSON object");
@@ -64,7 +64,7 @@ ApiResult<GridRequest> decode(const ApiRequest& request, const Limits& limits) {
     }
 
     if (has_scene) {
-        auto field = parse_scene(root["scene"], limits, "scene");
+        auto field = parse_scene(root["scene"], limits, "scene", cancel);
         if (!field) return std::move(field.error());
         out.field = std::move(field.value());
         return out;
@@ -116,7 +116,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_start = Clock::now();
     if (auto error = check_json_only_body(request, limits, "POST /implicit/grid"))
         return error_response(std::move(*error));
-    auto decoded = decode(request, limits);
+    auto decoded = decode(request, limits, context.cancel);
     if (!decoded) return error_response(std::move(decoded.error()));
     GridRequest& req = decoded.value();
     req.options.cancel = context.cancel;

@@ -47,7 +47,7 @@ std::string encode_json(const PolygonMesh& mesh, const implicit::MeshFieldStats&
     return encode_mesh_with_stats(mesh, json_text(stats_json));
 }
 
-ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
+ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits, const Cancel& cancel) {
     Json root;
     if (auto error = json::parse(request.body, root)) return std::move(*error);
     if (!root.is_object()) return json::invalid("", "the body must be a JSON object");
@@ -92,7 +92,7 @@ ApiResult<MeshRequest> decode(const ApiRequest& request, const Limits& limits) {
         return error;
     }
 
-    auto field = parse_scene(root["scene"], limits, "scene");
+    auto field = parse_scene(root["scene"], limits, "scene", cancel);
     if (!field) return std::move(field.error());
     out.field = std::move(field.value());
     return out;
@@ -103,7 +103,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const auto t_start = Clock::now();
     if (auto error = check_json_only_body(request, limits, "POST /implicit/mesh"))
         return error_response(std::move(*error));
-    auto decoded = decode(request, limits);
+    auto decoded = decode(request, limits, context.cancel);
     if (!decoded) return error_response(std::move(decoded.error()));
     MeshRequest& req = decoded.value();
     req.options.cancel = context.cancel;

@@ -146,7 +146,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
 
     const auto scene_it = root.find("scene");
     if (scene_it == root.end()) return error_response(invalid("scene", "scene is required (a scene node)"));
-    auto scene = parse_scene(*scene_it, limits, "scene");
+    auto scene = parse_scene(*scene_it, limits, "scene", context.cancel);
     if (!scene) return error_response(std::move(scene.error()));
     const implicit::Field& field = *scene.value();
 

@@ -157,7 +157,7 @@ ApiResult<PointCloud> run_sampling(const Json& sample, const ApiContext& context
         return invalid("sample.bounds", "sample.bounds [[xmin,ymin,zmin],[xmax,ymax,zmax]] is required with a scene");
     auto bounds = parse_bounds(sample["bounds"], "sample.bounds");
     if (!bounds) return std::move(bounds.error());
-    auto field = parse_scene(sample["scene"], limits, "sample.scene");
+    auto field = parse_scene(sample["scene"], limits, "sample.scene", context.cancel);
     if (!field) return std::move(field.error());
     FieldSamplingOptions options;
     options.count = static_cast<std::size_t>(count.value());
