@@ -179,41 +179,6 @@ double surface_area(const PolygonMesh& mesh) {
     return area;
 }
 
-// Every vertex has a single fan: the faces around it, joined across the edges at it, form one cycle.
-std::size_t non_manifold_vertices(const PolygonMesh& mesh) {
-    std::vector<std::vector<std::size_t>> faces_of(mesh.vertex_count());
-    for (std::size_t f = 0; f < mesh.face_count(); ++f)
-        for (Index v : mesh.face(f)) faces_of[v].push_back(f);
-    std::size_t bad = 0;
-    for (Index v = 0; v < mesh.vertex_count(); ++v) {
-        const auto& around = faces_of[v];
-        if (around.empty()) {
-            ++bad;
-            continue;
-        }  // unreferenced vertex
-        // next vertex after v in each face -> face; walk the fan
-        std::map<Index, std::size_t> by_next;
-        for (std::size_t f : around) {
-            const auto t = mesh.face(f);
-            for (int j = 0; j < 3; ++j)
-                if (t[j] == v) by_next[t[(j + 1) % 3]] = f;
-        }
-        std::size_t f = around[0], steps = 0;
-        do {
-            const auto t = mesh.face(f);
-            Index previous = kInvalidIndex;
-            for (int j = 0; j < 3; ++j)
-                if (t[j] == v) previous = t[(j + 2) % 3];
-            auto it = by_next.find(previous);
-            if (it == by_next.end()) break;
-            f = it->second;
-            ++steps;
-        } while (f != around[0] && steps <= around.size());
-        if (steps != around.size()) ++bad;
-    }
-    return bad;
-}
-
 struct Invariants {
     std::size_t boundary_edges = 0, non_manifold_edges = 0, inconsistent_edges = 0, non_manifold_vertices = 0;
     std::size_t zero_area = 0, outside_bounds = 0;
@@ -226,7 +191,7 @@ Invariants check(const PolygonMesh& mesh, const Box3& bounds) {
     r.boundary_edges = e.boundary_edges;
     r.non_manifold_edges = e.non_manifold_edges;
     r.inconsistent_edges = e.inconsistent_edges;
-    r.non_manifold_vertices = non_manifold_vertices(mesh);
+    r.non_manifold_vertices = testing::non_manifold_vertices(mesh);  // one fan per vertex
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const auto t = mesh.face(f);
         const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
