@@ -36,18 +36,6 @@ void expect_problem(const ApiResponse& response, int status, const std::string& 
     EXPECT_EQ(response.error->field.value_or("<none>"), field) << response.body;
 }
 
-//! The cube [-1, 1]^3 as 12 outward triangles.
-PolygonMesh cube_mesh() {
-    PolygonMesh mesh;
-    for (int i = 0; i < 8; ++i) mesh.positions.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
-    const Index quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    for (const auto& q : quads) {
-        mesh.add_face({q[0], q[1], q[2]});
-        mesh.add_face({q[0], q[2], q[3]});
-    }
-    return mesh;
-}
-
 //! {"op": "mesh", "mesh": ...} of `mesh`, with `extra` members.
 std::string mesh_node(const PolygonMesh& mesh, const std::string& extra = "") {
     return R"({"op": "mesh", "mesh": )" + mesh_json(mesh) + extra + "}";
@@ -89,14 +77,15 @@ TEST(ImplicitMeshNode, CubeMeshMinusSphere) {
     const double h = 1.25;
     const int resolution = 64;
     const PolygonMesh mesh = mesh_scene(
-        R"({"op": "difference", "args": [)" + mesh_node(cube_mesh()) + ", " + kSphereOnTop + "]}", h, resolution);
+        R"({"op": "difference", "args": [)" + mesh_node(testing::triangle_cube()) + ", " + kSphereOnTop + "]}", h,
+        resolution);
     expect_closed_manifold(mesh);
     const double volume = 8.0 - 2.0 / 3.0 * std::numbers::pi * 0.125;
     EXPECT_NEAR(testing::signed_volume(mesh) / volume, 1.0, 0.005);
     // the closed mesh is an exact distance: the adaptive mode culls by it and gives the same mesh
-    const PolygonMesh adaptive =
-        mesh_scene(R"({"op": "difference", "args": [)" + mesh_node(cube_mesh()) + ", " + kSphereOnTop + "]}", h,
-                   resolution, "adaptive");
+    const PolygonMesh adaptive = mesh_scene(
+        R"({"op": "difference", "args": [)" + mesh_node(testing::triangle_cube()) + ", " + kSphereOnTop + "]}", h,
+        resolution, "adaptive");
     EXPECT_EQ(adaptive.face_count(), mesh.face_count());
     const auto sorted = [](std::vector<Vec3> points) {
         std::sort(points.begin(), points.end(), [](const Vec3& a, const Vec3& b) {
@@ -135,7 +124,7 @@ TEST(ImplicitMeshNode, CubeMeshMinusSphere) {
 TEST(ImplicitMeshNode, OffsetCubeMesh) {
     const double a = 2, r = 0.2;
     const PolygonMesh mesh =
-        mesh_scene(R"({"op": "offset", "distance": 0.2, "arg": )" + mesh_node(cube_mesh()) + "}", 1.5, 64);
+        mesh_scene(R"({"op": "offset", "distance": 0.2, "arg": )" + mesh_node(testing::triangle_cube()) + "}", 1.5, 64);
     expect_closed_manifold(mesh);
     const double volume =
         a * a * a + 6 * a * a * r + 3 * std::numbers::pi * a * r * r + 4.0 / 3 * std::numbers::pi * r * r * r;
@@ -159,7 +148,7 @@ TEST(ImplicitMeshNode, SmoothUnionOfMeshSphereAndBox) {
 // (d) the cube mesh without its top face: the winding number closes the hole (its w = 1/2 sheet is the missing face's
 // square), so the output is closed and holds about the cube's volume.
 TEST(ImplicitMeshNode, MeshWithAHoleGivesAClosedSolid) {
-    PolygonMesh open = cube_mesh();
+    PolygonMesh open = testing::triangle_cube();
     PolygonMesh without_top;
     without_top.positions = open.positions;
     for (std::size_t f = 0; f < open.face_count(); ++f) {
@@ -191,7 +180,7 @@ TEST(ImplicitMeshNode, MeshWithAHoleGivesAClosedSolid) {
 
 TEST(ImplicitMeshNode, QueryGivesTheSignedDistance) {
     const ApiResponse response =
-        post("/implicit/query", R"({"scene": )" + mesh_node(cube_mesh()) +
+        post("/implicit/query", R"({"scene": )" + mesh_node(testing::triangle_cube()) +
                                     R"(, "points": [[0, 0, 0], [0, 0, 3], [2, 2, 2], [1, 0.5, 0.25]],
                                    "rays": [{"origin": [0, 0, 5], "direction": [0, 0, -1]}]})");
     ASSERT_EQ(response.status, 200) << response.body;
@@ -210,9 +199,9 @@ TEST(ImplicitMeshNode, QueryGivesTheSignedDistance) {
 }
 
 TEST(ImplicitMeshNode, WindingAccuracyIsAccepted) {
-    const ApiResponse response =
-        post("/implicit/query", R"({"scene": )" + mesh_node(cube_mesh(), R"(, "winding": {"accuracy": 3})") +
-                                    R"(, "points": [[0, 0, 0]]})");
+    const ApiResponse response = post(
+        "/implicit/query", R"({"scene": )" + mesh_node(testing::triangle_cube(), R"(, "winding": {"accuracy": 3})") +
+                               R"(, "points": [[0, 0, 0]]})");
     ASSERT_EQ(response.status, 200) << response.body;
     EXPECT_NEAR(Json::parse(response.body)["points"][0]["value"].get<double>(), -1.0, 1e-12);
 }
@@ -273,8 +262,8 @@ TEST(ImplicitMeshNode, APassedDeadlineStopsTheMeshNodesBuild) {
 }
 
 TEST(ImplicitMeshNode, BudgetsCountEveryMeshNodeOnceBeforeAnyIsBuilt) {
-    const std::string cube = mesh_node(cube_mesh());      // 12 triangles, 8 vertices
-    const std::string quads = mesh_node(shapes::cube());  // 6 quads: 12 triangles, 8 vertices
+    const std::string cube = mesh_node(testing::triangle_cube());  // 12 triangles, 8 vertices
+    const std::string quads = mesh_node(shapes::cube());           // 6 quads: 12 triangles, 8 vertices
     const auto query = [](const std::string& scene, const ApiContext& context) {
         return post("/implicit/query", R"({"scene": )" + scene + R"(, "points": [[0, 0, 0]]})", context);
     };

@@ -22,18 +22,6 @@
 namespace surfaced::implicit {
 namespace {
 
-//! The cube [-1, 1]^3 as 12 outward triangles.
-PolygonMesh cube_mesh() {
-    PolygonMesh mesh;
-    for (int i = 0; i < 8; ++i) mesh.positions.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
-    const Index quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    for (const auto& q : quads) {
-        mesh.add_face({q[0], q[1], q[2]});
-        mesh.add_face({q[0], q[2], q[3]});
-    }
-    return mesh;
-}
-
 //! Brute force over the mesh's triangles (polygons split as the field splits them).
 struct Reference {
     PolygonMesh triangles;
@@ -103,7 +91,7 @@ void expect_matches_reference(const PolygonMesh& mesh, int points, std::uint64_t
 
 TEST(TriangleMeshField, KindAndLipschitz) {
     // closed: an exact distance
-    const FieldPtr field = field_of(cube_mesh());
+    const FieldPtr field = field_of(testing::triangle_cube());
     ASSERT_TRUE(field);
     EXPECT_EQ(field->kind(), FieldKind::ExactDistance);
     EXPECT_EQ(field->lipschitz(), 1.0);
@@ -111,7 +99,7 @@ TEST(TriangleMeshField, KindAndLipschitz) {
     // closed as well: unwelded (every triangle its own corners, as STL stores them), quads, two overlapping shells,
     // inward-facing triangles
     PolygonMesh soup;
-    const PolygonMesh cube = cube_mesh();
+    const PolygonMesh cube = testing::triangle_cube();
     for (std::size_t f = 0; f < cube.face_count(); ++f) {
         const auto t = cube.face(f);
         const auto base = static_cast<Index>(soup.positions.size());
@@ -125,7 +113,7 @@ TEST(TriangleMeshField, KindAndLipschitz) {
         const auto t = two.face(f);
         two.add_face({t[0] + n, t[1] + n, t[2] + n});
     }
-    PolygonMesh inward = cube_mesh();
+    PolygonMesh inward = testing::triangle_cube();
     for (std::size_t f = 0; f < inward.face_count(); ++f)
         std::swap(inward.face_indices[inward.face_offsets[f] + 1], inward.face_indices[inward.face_offsets[f] + 2]);
     for (const PolygonMesh& closed : {soup, shapes::cube(), two, inward}) {
@@ -152,7 +140,7 @@ TEST(TriangleMeshField, KindAndLipschitz) {
 }
 
 TEST(TriangleMeshField, CubeMeshIsTheBoxPrimitive) {
-    const FieldPtr mesh = field_of(cube_mesh());
+    const FieldPtr mesh = field_of(testing::triangle_cube());
     const FieldPtr box = implicit::box({1, 1, 1});
     ASSERT_TRUE(mesh);
     std::mt19937_64 rng(5);
@@ -171,7 +159,7 @@ TEST(TriangleMeshField, CubeMeshIsTheBoxPrimitive) {
 
 TEST(TriangleMeshField, MatchesBruteForceOnClosedMeshes) {
     expect_matches_reference(testing::icosphere(3), 400, 11);
-    expect_matches_reference(cube_mesh(), 400, 12);
+    expect_matches_reference(testing::triangle_cube(), 400, 12);
 }
 
 TEST(TriangleMeshField, PolygonsAreTriangulated) {
@@ -214,7 +202,7 @@ TEST(TriangleMeshField, OverlappingShellsAreOneSolid) {
 }
 
 TEST(TriangleMeshField, GradientMatchesFiniteDifferences) {
-    for (const PolygonMesh& mesh : {testing::icosphere(3), cube_mesh(), shapes::torus(24, 12)}) {
+    for (const PolygonMesh& mesh : {testing::icosphere(3), testing::triangle_cube(), shapes::torus(24, 12)}) {
         const FieldPtr field = field_of(mesh);
         ASSERT_TRUE(field);
         std::mt19937_64 rng(21);
@@ -241,7 +229,7 @@ TEST(TriangleMeshField, GradientMatchesFiniteDifferences) {
 }
 
 TEST(TriangleMeshField, GradientOnTheSurfaceIsTheOutwardFaceNormal) {
-    const FieldPtr field = field_of(cube_mesh());
+    const FieldPtr field = field_of(testing::triangle_cube());
     ASSERT_TRUE(field);
     const auto expect_vec = [](const Vec3& a, const Vec3& b) {
         EXPECT_NEAR(a.x, b.x, 1e-12);
@@ -265,7 +253,7 @@ TEST(TriangleMeshField, FactoryErrors) {
     ASSERT_FALSE(none.ok());
     EXPECT_EQ(none.error().code, ErrorCode::InvalidArgument);
 
-    PolygonMesh nan = cube_mesh();
+    PolygonMesh nan = testing::triangle_cube();
     nan.positions[5].y = std::numeric_limits<double>::quiet_NaN();
     auto non_finite = triangle_mesh_field(nan);
     ASSERT_FALSE(non_finite.ok());
@@ -273,7 +261,7 @@ TEST(TriangleMeshField, FactoryErrors) {
     EXPECT_EQ(non_finite.error().element_kind, ElementKind::Vertex);
     EXPECT_EQ(non_finite.error().element, 5);
 
-    PolygonMesh repeated = cube_mesh();
+    PolygonMesh repeated = testing::triangle_cube();
     repeated.add_face({0, 1, 1});
     auto degenerate = triangle_mesh_field(repeated);
     ASSERT_FALSE(degenerate.ok());
@@ -283,17 +271,17 @@ TEST(TriangleMeshField, FactoryErrors) {
     TriangleMeshFieldOptions options;
     for (double beta : {1.0, 0.5, std::numeric_limits<double>::infinity()}) {
         options.winding.accuracy = beta;
-        auto bad = triangle_mesh_field(cube_mesh(), options);
+        auto bad = triangle_mesh_field(testing::triangle_cube(), options);
         ASSERT_FALSE(bad.ok()) << beta;
         EXPECT_EQ(bad.error().code, ErrorCode::InvalidArgument);
     }
     // the exact sum needs no accuracy
     options.winding.exact = true;
-    EXPECT_TRUE(triangle_mesh_field(cube_mesh(), options).ok());
+    EXPECT_TRUE(triangle_mesh_field(testing::triangle_cube(), options).ok());
 }
 
 TEST(TriangleMeshField, NonFiniteQueryIsNaN) {
-    const FieldPtr field = field_of(cube_mesh());
+    const FieldPtr field = field_of(testing::triangle_cube());
     ASSERT_TRUE(field);
     EXPECT_TRUE(std::isnan(field->value({std::numeric_limits<double>::quiet_NaN(), 0, 0})));
     EXPECT_TRUE(std::isnan(field->gradient({0, std::numeric_limits<double>::infinity(), 0}).x));

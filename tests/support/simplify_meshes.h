@@ -1,4 +1,4 @@
-// Meshes and output checks shared by the simplification tests (geometry, api, server). Header-only on purpose:
+// Meshes and output checks shared by the simplification and mesh-as-solid tests (geometry, api, server). Header-only on purpose:
 // test_support stays as it is and each test binary compiles only what it uses.
 #pragma once
 
@@ -17,6 +17,18 @@
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::testing {
+
+//! The cube [-1, 1]^3 as 12 outward triangles (volume 8; the mesh-as-solid tests' analytic reference).
+inline PolygonMesh triangle_cube() {
+    PolygonMesh mesh;
+    for (int i = 0; i < 8; ++i) mesh.positions.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
+    const Index quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) {
+        mesh.add_face({q[0], q[1], q[2]});
+        mesh.add_face({q[0], q[2], q[3]});
+    }
+    return mesh;
+}
 
 //! Icosahedron Loop-subdivided `levels` times, vertices projected onto the sphere of `radius`: 20 * 4^levels faces.
 inline PolygonMesh icosphere(int levels, double radius = 1.0) {
