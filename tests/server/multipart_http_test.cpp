@@ -193,5 +193,18 @@ TEST_F(MultipartHttp, PatchSampleFollowsAcceptAndSaysSo) {
     EXPECT_NE(glb->get_header_value("ETag"), obj->get_header_value("ETag"));
 }
 
+// POST /mesh/query over HTTP with the mesh as a file part and the rest of the body as the JSON part "request": the
+// answer of the same question sent as one JSON body; a missing part is named.
+TEST_F(MultipartHttp, MeshQueryTakesTheMeshAsAFilePart) {
+    const std::string request = R"({"points": [[0, 0, 0], [2, 0, 0]], "want": ["inside", "distance"]})";
+    auto form = client().Post("/mesh/query", cube_form({{"request", request, "query.json", "application/json"}}));
+    ASSERT_TRUE(form) << httplib::to_string(form.error());
+    ASSERT_EQ(form->status, 200) << form->body;
+    const auto answer = nlohmann::json::parse(form->body);
+    EXPECT_EQ(answer["points"]["inside"], nlohmann::json::parse("[true, false]"));
+    EXPECT_EQ(answer["points"]["distance"], nlohmann::json::parse("[-0.5, 1.5]"));
+    expect_http_problem(client().Post("/mesh/query", cube_form()), 400, "malformed_multipart");
+}
+
 }  // namespace
 }  // namespace surfaced::server
