@@ -167,12 +167,17 @@ struct Encoder {
 
 // ---- output --------------------------------------------------------------------------------------------------------
 
-//! "output": {"format": "json" | "glb" | "gltf", "compression": "none"} by the option table; json when absent.
-ApiResult<OutputFormat> read_output(const Json& root) {
+//! "output": {"format": "json" | "glb" | "gltf", "compression": "none"} by the option table; when the body names no
+//! format, the one the Accept header prefers (json on a tie or without Accept; 406 when Accept takes none of them).
+ApiResult<OutputFormat> read_output(const Json& root, const ApiRequest& request) {
     auto values = options::read_json(*options::operation_options("curves"), root);
     if (!values) return std::move(values.error());
-    OutputFormat format = OutputFormat::Json;
-    values->get("format", kOutputFormatNames, format);
+    OutputOptions output;
+    output.format = OutputFormat::Json;
+    output.format_given = values->has("format");
+    values->get("format", kOutputFormatNames, output.format);
+    if (auto error = negotiate_output_format(request, output)) return std::move(*error);
+    const OutputFormat format = output.format;
     if (values->has("compression") && format == OutputFormat::Json)
         return invalid("output.compression", "output.compression applies to glb/gltf output only");
     return format;
@@ -944,7 +949,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         return error_response(invalid("points",
                                       "a curve is required: \"points\" (one Bézier curve: [[x, y], ...] or "
                                       "[[x, y, z], ...]), \"chain\", \"svg\" or \"bspline\""));
-    auto format = read_output(root);
+    auto format = read_output(root, request);
     if (!format) return error_response(std::move(format.error()));
 
     if (forms[0] == "points") return run_single(root, limits, format.value());

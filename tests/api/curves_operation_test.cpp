@@ -84,6 +84,41 @@ TEST(CurvesOperation, SingleCurveAnswersAsBefore) {
     EXPECT_TRUE(r1.headers.empty());
 }
 
+TEST(CurvesOperation, AcceptPicksTheFormatTheBodyDoesNotName) {
+    const std::string body = R"({"points": [[0,0],[1,2],[3,2],[4,0]], "tessellate": {"tolerance": 0.01}})";
+    const auto with_accept = [&](const std::string& accept, const std::string& request_body) {
+        ApiRequest request = make_request("POST", "/curves", "application/json", request_body);
+        request.headers.emplace("accept", accept);
+        return operations::curves(request, ApiContext{});
+    };
+    // the same bytes as output.format glb
+    const ApiResponse named = post(R"({"points": [[0,0],[1,2],[3,2],[4,0]], "tessellate": {"tolerance": 0.01},)"
+                                   R"( "output": {"format": "glb"}})");
+    const ApiResponse glb = with_accept("model/gltf-binary", body);
+    ASSERT_EQ(glb.status, 200) << glb.body;
+    EXPECT_EQ(glb.content_type, "model/gltf-binary");
+    EXPECT_EQ(glb.body, named.body);
+    EXPECT_EQ(with_accept("model/gltf+json;q=0.9, application/json;q=0.5", body).content_type, "model/gltf+json");
+    // a tie, or anything: json, the default
+    EXPECT_EQ(with_accept("*/*", body).content_type, "application/json");
+    EXPECT_EQ(with_accept("application/json, model/gltf-binary", body).content_type, "application/json");
+    // a format named in the body wins over Accept
+    const ApiResponse body_wins = with_accept(
+        "model/gltf-binary", R"({"points": [[0,0],[1,2]], "output": {"format": "json"}, "evaluate": [0.5]})");
+    EXPECT_EQ(body_wins.status, 200) << body_wins.body;
+    EXPECT_EQ(body_wins.content_type, "application/json");
+    // nothing acceptable: 406 naming the media types /curves answers with
+    const ApiResponse none = with_accept("image/png", body);
+    EXPECT_EQ(none.status, 406) << none.body;
+    EXPECT_NE(none.body.find("model/gltf-binary"), std::string::npos) << none.body;
+    EXPECT_NE(none.body.find("application/json"), std::string::npos) << none.body;
+    // glb chosen by Accept still needs the tessellation: the same 400 as output.format glb without it
+    const ApiResponse no_tessellation =
+        with_accept("model/gltf-binary", R"({"points": [[0,0],[1,2]], "evaluate": [0.5]})");
+    EXPECT_EQ(no_tessellation.status, 400) << no_tessellation.body;
+    EXPECT_NE(no_tessellation.body.find("\"field\":\"tessellate\""), std::string::npos) << no_tessellation.body;
+}
+
 TEST(CurvesOperation, SingleCurveTessellationAsGlbLineStrip) {
     const std::string base = R"({"points": [[0,0],[1,2],[3,2],[4,0]], "tessellate": {"tolerance": 0.01})";
     const json reference = ok_json(post(base + "}"));
