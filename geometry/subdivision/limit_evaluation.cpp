@@ -432,6 +432,10 @@ struct LimitSurfaceEvaluator::Data {
 
 std::size_t LimitSurfaceEvaluator::face_count() const { return data_->base.level.face_count(); }
 
+bool LimitSurfaceEvaluator::is_hole(std::size_t face) const {
+    return !data_->base.sharp.hole.empty() && data_->base.sharp.hole[static_cast<Index>(face)];
+}
+
 Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& mesh, const SubdivisionOptions& options,
                                                             const LimitEvaluationOptions& evaluation) {
     if (options.scheme != SubdivisionScheme::CatmullClark)
@@ -680,6 +684,51 @@ Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_d
         scale *= 2.0;
         ++level;
     }
+}
+
+std::vector<LimitFaceSurface::Leaf> LimitFaceSurface::leaves(int max_level) const {
+    std::vector<Leaf> out;
+    // (node, square) pairs still to visit; a node's four children are its corner quadrants in corner order
+    struct Pending {
+        std::size_t node;
+        Leaf square;
+    };
+    std::vector<Pending> stack;
+    const Index f = static_cast<Index>(face_);
+    const Index n = owner_.data_->base.level.face_offsets[f + 1] - owner_.data_->base.level.face_offsets[f];
+    if (n != 4 && nodes_[0].first_child >= 0 && max_level >= 1) {
+        const int columns = subface_columns(n);
+        for (Index j = n; j-- > 0;)
+            stack.push_back(
+                {static_cast<std::size_t>(nodes_[0].first_child) + j,
+                 Leaf{static_cast<double>(j % columns), static_cast<double>(j / columns), 0.5, 1, nullptr}});
+    } else if (n != 4) {
+        // an N-gon prepared to level 0: its sub-faces, none of them a patch
+        const int columns = subface_columns(n);
+        for (Index j = 0; j < n; ++j)
+            out.push_back(Leaf{static_cast<double>(j % columns), static_cast<double>(j / columns), 0.5, 1, nullptr});
+        return out;
+    } else {
+        stack.push_back({0, Leaf{}});
+    }
+    static constexpr double kColumn[4] = {0, 1, 1, 0}, kRow[4] = {0, 0, 1, 1};
+    while (!stack.empty()) {
+        const Pending current = stack.back();
+        stack.pop_back();
+        const Node& node = nodes_[current.node];
+        if (node.first_child < 0 || current.square.level >= max_level) {
+            Leaf leaf = current.square;
+            if (node.patch >= 0) leaf.bspline = &patches_[static_cast<std::size_t>(node.patch)];
+            out.push_back(leaf);
+            continue;
+        }
+        const double half = 0.5 * current.square.size;
+        for (int j = 3; j >= 0; --j)
+            stack.push_back({static_cast<std::size_t>(node.first_child) + static_cast<std::size_t>(j),
+                             Leaf{current.square.u0 + kColumn[j] * half, current.square.v0 + kRow[j] * half, half,
+                                  current.square.level + 1, nullptr}});
+    }
+    return out;
 }
 
 }  // namespace surfaced

@@ -94,6 +94,8 @@ public:
     Result<LimitFaceSurface> face_surface(std::size_t face, int levels = 6) const;
 
     std::size_t face_count() const;
+    //! Whether `face` (< face_count()) is a hole: it has no limit surface.
+    bool is_hole(std::size_t face) const;
 
     struct Data;  //!< the base level, its sharpness, vertex-face lists and regular patches (limit_evaluation.cpp)
 
@@ -120,6 +122,19 @@ public:
     //! As LimitSurfaceEvaluator::evaluate on this face.
     Result<LimitSample> evaluate(double u, double v, bool second_derivatives = false) const;
     std::size_t patch_count() const { return patches_.size(); }
+
+    //! A leaf of the prepared tree: the square [u0, u0 + size] x [v0, v0 + size] of the face's (u, v) domain, `level`
+    //! refinements below the base face, and the bicubic uniform B-spline control points of the limit surface over it
+    //! (4 x 4, u varying fastest, as evaluate_patch takes them), or null where the surface there is not one patch down
+    //! to the prepared levels (next to an irregular vertex or an undecayed semi-sharp feature).
+    struct Leaf {
+        double u0 = 0, v0 = 0, size = 1;
+        int level = 0;
+        const std::array<Vec3, 16>* bspline = nullptr;
+    };
+    //! Every leaf down to `max_level` (a node at max_level that has children is a leaf without a patch there),
+    //! covering the face's domain once (an N-gon's leaves lie in its quad sub-faces' tiles).
+    std::vector<Leaf> leaves(int max_level = 1 << 30) const;
 
     struct Node {
         std::int32_t patch = -1;        //!< a regular sub-face: index into patches_

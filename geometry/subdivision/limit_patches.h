@@ -1,0 +1,74 @@
+// The Catmull-Clark limit surface as bicubic Bézier patches a client can evaluate or tessellate itself (the role of
+// OpenSubdiv's Far::PatchTable, exported).
+//
+// Layout. Every base face is cut into the squares of one uniform isolation level L in its (u, v) domain (Bfr's
+// parameterization, limit_evaluation.h): a quad into 4^L squares, an N-gon's quad sub-faces into 4^(L-1) each, so that
+// along every edge both neighbours have 2^L pieces and patches meet edge to edge (no T-junctions; the patches form a
+// conforming quad layout that tessellate_patches() welds watertight).
+//  * Where the limit surface over a square is one bicubic B-spline patch (regular regions, infinitely sharp creases
+//    and corners) the square's patch is that B-spline converted to Bézier form and cut to the square: the exact limit
+//    surface, up to rounding.
+//  * The remaining squares (next to irregular vertices, and along semi-sharp features sharper than L) are
+//    approximated: the bicubic Bézier patch interpolating the exact limit surface on a 4 x 4 grid of the square
+//    (parameters 0, 1/3, 2/3, 1). Shared boundaries interpolate the same exact points, so neighbours agree; their
+//    error is measured against the exact evaluator on a 19 x 19 grid of every such square, graded towards its sides
+//    (`max_error`: a measurement, not a proof). It shrinks with L (about 4x per level near a smooth extraordinary
+//    vertex).
+// L is given, or chosen as the smallest in [L_min, max_levels] whose measured error is within `tolerance` (L_min is
+// 1 when the mesh has N-gons, else 0).
+//
+// Crack-free output. Corner points and shared boundary rows are computed in different faces (different rounding):
+// positions closer than 1e-9 of the bounding-box diagonal are made bit-identical, corners first, then each shared
+// edge's two inner control points, so that tessellate_patches() sees shared edges as shared.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "geometry/core/cancel.h"
+#include "geometry/core/result.h"
+#include "geometry/subdivision/limit_evaluation.h"
+#include "geometry/surfaces/bezier_patch.h"
+
+namespace surfaced {
+
+struct LimitPatchOptions {
+    //! The isolation level; unset: the smallest reaching `tolerance`.
+    std::optional<int> levels;
+    //! Largest allowed measured distance between an approximated patch and the limit surface (model units); used
+    //! when `levels` is unset. Must be finite and > 0 then.
+    double tolerance = 1e-3;
+    //! Highest level tried (and allowed); 0..10.
+    int max_levels = 6;
+    //! Ceiling on the number of patches; a level needing more is BudgetExceeded (before any patch is made).
+    std::uint64_t max_patches = 1'000'000;
+    Cancel cancel;
+};
+
+struct LimitPatchSet {
+    std::vector<BezierPatch> patches;            //!< bicubic, polynomial
+    std::vector<std::uint32_t> faces;            //!< the base face of each patch
+    std::vector<std::array<double, 3>> squares;  //!< (u0, v0, size): the patch's square in its face's (u, v)
+    std::vector<bool> exact;                     //!< true: the limit surface itself; false: an approximation
+    int levels = 0;                              //!< the isolation level used
+    std::size_t approximate_count = 0;           //!< patches with exact false
+    double max_error = 0;  //!< largest measured distance of an approximated patch to the limit surface
+};
+
+//! Number of patches at isolation level `levels`: 4^levels per quad, N 4^(levels-1) per N-gon (an upper bound: holes
+//! have none).
+std::uint64_t limit_patch_count(const PolygonMesh& mesh, int levels);
+
+//! The smallest isolation level the mesh allows: 1 when it has a face that is not a quad, else 0.
+int min_limit_patch_level(const PolygonMesh& mesh);
+
+//! The limit surface of `evaluator` (created from `mesh` with the request's subdivision options) as patches.
+//! Errors: InvalidArgument (levels outside [min level, max_levels], max_levels outside 0..10, tolerance not finite
+//! and > 0 when levels is unset), BudgetExceeded (max_patches; or no level up to max_levels reaches the tolerance),
+//! Cancelled, and the evaluator's errors.
+Result<LimitPatchSet> limit_patches(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& mesh,
+                                    const LimitPatchOptions& options);
+
+}  // namespace surfaced
