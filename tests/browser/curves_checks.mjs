@@ -1,7 +1,7 @@
 // The Curves view's part of the browser test (web_client_test.mjs runs it): dragging a control point changes the
 // server's tessellation, which lies on the dragged curve; de Casteljau / de Boor in the page agree with the server's
-// evaluate at the slider's parameter within 1e-9; the basis weights sum to 1; a joint made C1 is reported C1; SVG path
-// data is drawn as its pieces and a syntax error names its byte offset.
+// evaluate at the slider's parameter within 1e-9; the basis weights sum to 1; joints made C1 and G1 are reported so;
+// SVG path data is drawn as its pieces and a syntax error names its byte offset; B-spline knots are drawn as ticks.
 
 const TOLERANCE = 1e-9;
 const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
@@ -155,5 +155,16 @@ export async function checkCurvesView(page, { check, shot, expectRejection }) {
   await page.dispatchEvent('#crv-bs-weights', 'change');
   await settled();
   await checkParameter(0.58, 'de Boor on the NURBS');
+  // one more point: the knots become uniform clamped for 7 points, the new point weighs 1
+  await page.click('#crv-bs-add');
+  await page.waitForFunction(() => window.surfaced.views.curves.current()?.state.bspline.points.length === 7);
+  await settled();
+  const grown = await page.evaluate(() => ({
+    knots: window.surfaced.views.curves.bspline.knots, weights: document.getElementById('crv-bs-weights').value,
+    ticks: document.querySelectorAll('#curves-stage line.knot-tick').length, error: !document.getElementById('error').hidden,
+  }));
+  check(grown.knots.length === 11 && grown.ticks === 5 && grown.weights === '1, 3, 0.5, 1, 2, 1, 1' && !grown.error,
+        `a point added to the NURBS: ${grown.knots.length} knots, ${grown.ticks} ticks, weights ${grown.weights}`);
+  await checkParameter(0.58, 'de Boor on the NURBS of 7 points');
   await shot('08e-curves-nurbs');
 }

@@ -63,6 +63,7 @@ export class CurvesView {
     this.busy = false;             // one round of requests at a time...
     this.dirty = false;            // ...and the latest edit is sent when it returns
     this.roundTrips = 0;
+    this.chainAnswers = new Map();  // the last round's answer per chain request (JSON text), see askChain
     this.drag = null;
     this.stage = $('curves-stage');
     this.bindControls();
@@ -74,21 +75,23 @@ export class CurvesView {
 
   bindControls() {
     $('crv-mode').addEventListener('change', () => this.setMode($('crv-mode').value));
-    $('crv-add-point').addEventListener('click', () => this.addPoint(this.bezier.points));
-    $('crv-remove-point').addEventListener('click', () => this.removePoint(this.bezier.points, 2));
+    $('crv-add-point').addEventListener('click', () => { this.addPoint(this.bezier.points); this.afterEdit(); });
+    $('crv-remove-point').addEventListener('click', () => { this.removePoint(this.bezier.points, 2); this.afterEdit(); });
     $('crv-add-piece').addEventListener('click', () => this.addPiece());
     $('crv-remove-piece').addEventListener('click', () => this.removePiece());
     $('crv-make-c1').addEventListener('click', () => this.enforceJoint('C1'));
     $('crv-make-g1').addEventListener('click', () => this.enforceJoint('G1'));
     $('crv-svg-load').addEventListener('click', () => this.loadSvg($('crv-svg').value));
     $('crv-bs-degree').addEventListener('change', () => this.setDegree(Math.round(Number($('crv-bs-degree').value))));
-    $('crv-bs-add').addEventListener('click', () => { this.addPoint(this.bspline.points); this.resetKnots(); });
+    // a B-spline's knot vector follows its point count: back to uniform clamped
+    $('crv-bs-add').addEventListener('click', () => { this.addPoint(this.bspline.points); this.resetKnots(); this.afterEdit(); });
     $('crv-bs-remove').addEventListener('click', () => {
       this.removePoint(this.bspline.points, this.bspline.degree + 1);
       this.resetKnots();
+      this.afterEdit();
     });
     $('crv-knots').addEventListener('change', () => this.editKnots());
-    $('crv-knots-uniform').addEventListener('click', () => { this.resetKnots(); this.schedule(); });
+    $('crv-knots-uniform').addEventListener('click', () => { this.resetKnots(); this.afterEdit(); });
     $('crv-bs-weights').addEventListener('change', () => this.editWeights());
     $('crv-t').addEventListener('input', () => { this.draw(); this.schedule(); });
     $('crv-tolerance').addEventListener('change', () => this.schedule());
@@ -110,7 +113,7 @@ export class CurvesView {
     $('crv-construction-name').textContent = mode === 'bspline' ? 'de Boor' : 'de Casteljau';
     this.answers = null;
     this.updateSlider();
-    this.showKnots();
+    this.showPanelValues();
     this.fit();
     this.draw();
     this.schedule();
@@ -121,7 +124,10 @@ export class CurvesView {
     const slider = $('crv-t');
     let [lo, hi] = [0, 1];
     if (this.mode === 'chain') hi = this.chains[this.activeChain].pieces.length;
-    if (this.mode === 'bspline') [lo, hi] = domain(this.bspline.knots, this.bspline.points.length, this.bspline.degree);
+    if (this.mode === 'bspline') {
+      const [a, b] = domain(this.bspline.knots, this.bspline.points.length, this.bspline.degree);
+      if (a < b) [lo, hi] = [a, b];   // else the knots are wrong, and the server's answer says how
+    }
     const value = Math.min(Math.max(Number(slider.value), lo), hi);
     slider.min = String(lo);
     slider.max = String(hi);
@@ -136,12 +142,10 @@ export class CurvesView {
   addPoint(points) {
     const [a, b] = [points.at(-2), points.at(-1)];
     points.push([b[0] + (b[0] - a[0]) / 2 + 0.5, b[1] + (b[1] - a[1]) / 2]);
-    this.afterEdit();
   }
 
   removePoint(points, minimum) {
     if (points.length > minimum) points.pop();
-    this.afterEdit();
   }
 
   /** Appends a cubic to the active chain, leaving its last end with the mirrored handle (a C1 joint). */
@@ -164,7 +168,7 @@ export class CurvesView {
 
   afterEdit() {
     this.updateSlider();
-    this.showKnots();
+    this.showPanelValues();
     this.draw();
     this.schedule();
   }
@@ -185,12 +189,11 @@ export class CurvesView {
     const b = this.bspline;
     b.knots = clampedKnots(b.points.length, b.degree);
     if (b.weights && b.weights.length !== b.points.length)
-      b.weights = b.points.map((_, i) => b.weights[i] ?? 1);
-    this.updateSlider();
-    this.showKnots();
+      b.weights = b.points.map((_, i) => b.weights[i] ?? 1);   // new points weigh 1
   }
 
-  showKnots() {
+  /** The panel's fields from the model: the Bézier curve's degree, the B-spline's degree, knots and weights. */
+  showPanelValues() {
     const b = this.bspline;
     $('crv-knots').value = b.knots.join(', ');
     $('crv-bs-weights').value = b.weights ? b.weights.join(', ') : '';
@@ -227,7 +230,9 @@ export class CurvesView {
         this.dirty = false;
         const state = this.snapshot();
         try {
-          const answers = await this.ask(state);
+          const previous = this.chainAnswers;
+          this.chainAnswers = new Map();   // this round's, looked up in the previous round's first
+          const answers = await this.ask(state, previous);
           if (!this.active) break;
           this.answers = { state, ...answers };
           this.roundTrips++;
@@ -250,7 +255,8 @@ export class CurvesView {
              bezier: clone(this.bezier), chains: clone(this.chains), bspline: clone(this.bspline) };
   }
 
-  async ask(state) {
+  /** The answers about `state`; `previous` holds the last round's chain answers by request. */
+  async ask(state, previous) {
     const t0 = performance.now();
     const tessellate = { tolerance: state.tolerance };
     const length = { tolerance: RELATIVE_LENGTH_TOLERANCE * this.extent(state) };
@@ -260,15 +266,25 @@ export class CurvesView {
       out = { curves: [r.json] };
     } else if (state.mode === 'chain') {
       // one request per chain (a request holds one curve); only the active chain is evaluated
-      const rs = await Promise.all(state.chains.map((chain, i) => call('POST', '/curves', {
-        body: { chain, continuity: true, length, tessellate, ...(i === state.activeChain ? { evaluate: [state.t] } : {}) },
-      })));
-      out = { curves: rs.map((r) => r.json) };
+      out = { curves: await Promise.all(state.chains.map((chain, i) => this.askChain({
+        chain, continuity: true, length, tessellate, ...(i === state.activeChain ? { evaluate: [state.t] } : {}),
+      }, previous))) };
     } else {
       out = await this.askBspline(state, tessellate, length);
     }
     out.roundTripMs = performance.now() - t0;
     return out;
+  }
+
+  /**
+   * One chain's answer; a chain whose request is the same as last time (of many subpaths, all but the dragged one)
+   * is answered from the previous round instead of the server.
+   */
+  async askChain(body, previous) {
+    const key = JSON.stringify(body);
+    const json = previous?.get(key) ?? (await call('POST', '/curves', { body })).json;
+    this.chainAnswers.set(key, json);
+    return json;
   }
 
   /**
@@ -430,7 +446,6 @@ export class CurvesView {
       l.points.forEach((q, i) => { if (q[0] === p[0] && q[1] === p[1]) refs.push([l.points, i]); });
     }
     this.drag = { refs };
-    this.lastDragged = { list: Number(handle.dataset.list), index: Number(handle.dataset.index) };
     if (handle.dataset.joint !== undefined) this.selectJoint(Number(handle.dataset.chain), Number(handle.dataset.joint));
     else if (grabbed.chain !== undefined) this.setActiveChain(grabbed.chain);
     this.stage.setPointerCapture(e.pointerId);
