@@ -73,6 +73,25 @@ export async function checkCurvesView(page, { check, shot, expectRejection }) {
         `${dragged.trips - tripsBefore} round trips (${await shot('08-curves-bezier-dragged')})`);
   await checkParameter(0.37, 'de Casteljau on the Bézier curve');
   await checkParameter(0.8125, 'de Casteljau on the Bézier curve');
+  // a fifth point: degree 4, five Bernstein weights, still the server's point
+  await page.click('#crv-add-point');
+  await page.waitForFunction(() => window.surfaced.views.curves.current()?.state.bezier.points.length === 5);
+  await settled();
+  check(/^degree 4 /.test(await page.textContent('#crv-degree')), `"Add point" makes it ${await page.textContent('#crv-degree')}`);
+  await checkParameter(0.6, 'de Casteljau on the quartic');
+  await page.click('#crv-remove-point');
+  await page.waitForFunction(() => window.surfaced.views.curves.current()?.state.bezier.points.length === 4);
+  await settled();
+  // the construction, level by level: all intermediate polygons (3 and 2 points on a cubic), then only the first
+  const levels = () => page.$$eval('#curves-stage polyline.construction', (ls) => ls.map((l) => l.getAttribute('points').split(' ').length));
+  const allLevels = await levels();
+  await page.fill('#crv-levels', '1');
+  await page.dispatchEvent('#crv-levels', 'input');
+  const firstLevel = await levels();
+  await page.fill('#crv-levels', '2');
+  await page.dispatchEvent('#crv-levels', 'input');
+  check(JSON.stringify(allLevels) === '[3,2]' && JSON.stringify(firstLevel) === '[3]' && JSON.stringify(await levels()) === '[3,2]',
+        `de Casteljau's intermediate polygons drawn level by level: ${JSON.stringify(allLevels)} points, 1 level: ${JSON.stringify(firstLevel)}`);
   const length = await page.$eval('#crv-readout', (el) => el.textContent);
   check(/length: [0-9.]+ \(± /.test(length), `the length is shown: ${JSON.stringify(length.split('\n').at(-1))}`);
   // a finer tolerance: more segments, the server's bound within it

@@ -65,6 +65,7 @@ export class CurvesView {
     this.roundTrips = 0;
     this.chainAnswers = new Map();  // the last round's answer per chain request (JSON text), see askChain
     this.drag = null;
+    this.levelsShown = Infinity;   // intermediate construction levels drawn (all)
     this.stage = $('curves-stage');
     this.bindControls();
     this.bindStage();
@@ -96,6 +97,11 @@ export class CurvesView {
     $('crv-t').addEventListener('input', () => { this.draw(); this.schedule(); });
     $('crv-tolerance').addEventListener('change', () => this.schedule());
     $('crv-construction').addEventListener('change', () => this.draw());
+    $('crv-levels').addEventListener('input', () => {
+      const slider = $('crv-levels');
+      this.levelsShown = slider.value === slider.max ? Infinity : Number(slider.value);
+      this.draw();
+    });
     $('crv-fit').addEventListener('click', () => { this.fit(); this.draw(); });
   }
 
@@ -579,13 +585,29 @@ export class CurvesView {
 
   /** The intermediate polygons, level by level, and their points. */
   drawConstruction(local) {
+    const shown = this.showLevelsControl(local.levels.length - 2);
     local.levels.forEach((level, k) => {
-      if (k === 0 || k === local.levels.length - 1) return;   // the control polygon and the point are drawn apart
+      // the control polygon and the point are drawn apart; the levels control stops the construction early
+      if (k === 0 || k === local.levels.length - 1 || k > shown) return;
       const colour = LEVEL_COLOURS[k % LEVEL_COLOURS.length];
       const pts = level.map((p) => this.toScreen(p));
       svgEl(this.stage, 'polyline', { class: 'construction', stroke: colour, 'data-level': k, points: pts.map((p) => p.join(',')).join(' ') });
       for (const [x, y] of pts) svgEl(this.stage, 'circle', { class: 'construction-point', fill: colour, cx: x, cy: y, r: 3 });
     });
+  }
+
+  /**
+   * The levels control's range (the intermediate levels there are: the degree less one) and how many it shows:
+   * all of them while it is at its end, also when the degree changes.
+   */
+  showLevelsControl(count) {
+    const slider = $('crv-levels');
+    slider.max = String(Math.max(count, 1));
+    slider.value = String(Math.min(this.levelsShown, count));
+    slider.disabled = count < 1;
+    const shown = Math.min(this.levelsShown, count);
+    $('crv-levels-out').textContent = `${shown} of ${count}`;
+    return shown;
   }
 
   /** The local point (filled) and the server's evaluate at the same parameter (ring): they coincide. */
