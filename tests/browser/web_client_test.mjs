@@ -6,6 +6,7 @@ import { existsSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { startServer } from './serve.mjs';
+import { checkCurvesView } from './curves_checks.mjs';
 
 const [binary, webRoot, artifacts] = process.argv.slice(2);
 if (!binary || !webRoot || !artifacts) {
@@ -469,6 +470,12 @@ try {
   } else {
     console.log('     (this server does not document POST /implicit/mesh: no implicit view to test)');
   }
+
+  // 8. curves: the 2D editor on POST /curves (its checks are in curves_checks.mjs)
+  if (await page.isVisible('#tabs button[data-view=curves]'))
+    await checkCurvesView(page, { check, shot, expectRejection: (on) => { expectRejection = on; } });
+  else
+    console.log('     (this server does not document POST /curves: no curves view to test)');
 
   check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
 } catch (e) {

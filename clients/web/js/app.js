@@ -5,6 +5,7 @@ import { SubdivideView } from './subdivide.js';
 import { SimplifyView } from './simplify.js';
 import { ImplicitView } from './implicit.js';
 import { RemeshView } from './remesh.js';
+import { CurvesView } from './curves.js';
 import { call, ProblemError } from './api.js';
 
 const $ = (id) => document.getElementById(id);
@@ -22,7 +23,7 @@ class App {
     $('download-obj').addEventListener('click', () => this.download('obj'));
   }
 
-  /** Views for endpoints the server has (the document lists them): remesh and implicit appear when it serves them. */
+  /** Views for endpoints the server has (the document lists them): remesh, implicit and curves appear when it serves them. */
   async discover() {
     try {
       const doc = (await call('GET', '/openapi.json')).json;
@@ -37,6 +38,10 @@ class App {
         this.views.implicit = new ImplicitView(this, example, { meshNodes: ops.includes('mesh'),
                                                                query: !!doc?.paths?.['/implicit/query']?.post });
         document.querySelector('#tabs button[data-view=implicit]').hidden = false;
+      }
+      if (doc?.paths?.['/curves']?.post) {
+        this.views.curves = new CurvesView(this);
+        document.querySelector('#tabs button[data-view=curves]').hidden = false;
       }
     } catch (e) {
       this.showError(e, 'Could not read /openapi.json');
