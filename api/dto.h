@@ -46,6 +46,8 @@ struct SubdivideParams {
     std::optional<std::int64_t> target_faces;
     bool levels_given = false;  //!< whether "levels" was sent (it bounds the level chosen for target_faces)
     OutputOptions output;
+    //! format "patches": the limit surface as Bézier patches (`levels` given: the isolation level) instead of a mesh
+    bool patches = false;
 };
 
 struct SubdivideStats {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "geometry/io/number_text.h"
 
 namespace surfaced::api {
 namespace {
@@ -125,6 +126,29 @@ TessellateParams tessellate_params(const options::OptionValues& values) {
     values.get("segments", params.segments);
     values.get_output(params.output);
     return params;
+}
+
+//! {"patches":[{"degree":[m,n],"points":[[x,y,z],...]},...]}: the JSON form of POST /tessellate's body.
+std::string patch_set_json(const PatchSet& set) {
+    std::string out = "{\"patches\":[";
+    for (std::size_t p = 0; p < set.patches.size(); ++p) {
+        const BezierPatch& patch = set.patches[p];
+        out += (p ? ",{\"degree\":[" : "{\"degree\":[") + std::to_string(patch.degree_u) + "," +
+               std::to_string(patch.degree_v) + "],\"points\":[";
+        for (std::size_t i = 0; i < patch.points.size(); ++i) {
+            const Vec3& q = patch.points[i];
+            out += (i ? ",[" : "[") + number_text(q.x) + "," + number_text(q.y) + "," + number_text(q.z) + "]";
+        }
+        out += "]";
+        if (patch.rational()) {
+            out += ",\"weights\":[";
+            for (std::size_t i = 0; i < patch.weights.size(); ++i)
+                out += (i ? "," : "") + number_text(patch.weights[i]);
+            out += "]";
+        }
+        out += "}";
+    }
+    return out + "]}";
 }
 
 }  // namespace surfaced::api

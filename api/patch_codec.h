@@ -38,4 +38,8 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
 //! The params from option values read by the table of "tessellate" or "patches" (api/options).
 TessellateParams tessellate_params(const options::OptionValues& values);
 
+//! {"patches":[{"degree":[m,n],"points":[[x,y,z],...],"weights":[...]},...]}: the JSON form of POST /tessellate's
+//! body, numbers printed shortest-round-trip.
+std::string patch_set_json(const PatchSet& set);
+
 }  // namespace surfaced::api

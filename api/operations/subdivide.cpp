@@ -1,5 +1,6 @@
 #include "api/operations/subdivide.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -7,10 +8,16 @@
 #include "api/json_codec.h"
 #include "api/operations/request_forms.h"
 #include "api/options/mesh_params.h"
+#include "api/patch_codec.h"
+#include "geometry/subdivision/limit_patches.h"
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::api::operations {
 namespace {
+
+//! format "patches" without levels: the approximated patches' measured error allowed, relative to the bounding-box
+//! diagonal.
+constexpr double kPatchTolerance = 1e-3;
 
 //! Options of the raw-file form: the same names and values as the JSON form (output options unnested).
 ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, std::string>& query) {
@@ -27,7 +34,86 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
                             "levels is " + std::to_string(params.levels) + "; this server allows at most " +
                                 std::to_string(limits.max_levels),
                             "levels");
+    if (params.patches) {
+        // patches are control points, not a mesh: the mesh encoders' options and the mesh-size target do not apply
+        const auto refuse = [&](bool given, std::string_view name, bool output) -> std::optional<ApiError> {
+            if (!given) return std::nullopt;
+            const std::string field = (output && source == Source::Json ? "output." : "") + std::string(name);
+            return make_problem(Problem::InvalidField,
+                                field + " does not apply to format \"patches\" (control points, not a mesh)", field);
+        };
+        if (auto error = refuse(params.output.draco.has_value(), "compression", true)) return error;
+        if (auto error = refuse(params.output.quantize_position.has_value(), "quantize_position", true)) return error;
+        if (auto error = refuse(params.output.normals.has_value(), "normals", true)) return error;
+        if (auto error = refuse(params.target_faces.has_value(), "target_faces", false)) return error;
+        if (auto error = refuse(params.limit_surface, "limit_surface", false)) return error;
+        if (params.scheme != SubdivisionScheme::CatmullClark)
+            return make_problem(Problem::InvalidField,
+                                "format \"patches\" gives bicubic patches: scheme catmull-clark only", "scheme");
+        return std::nullopt;
+    }
     return check_output_options(params.output, source);
+}
+
+//! The bounding-box diagonal of the mesh's positions.
+double diagonal(const PolygonMesh& mesh) {
+    if (mesh.positions.empty()) return 0.0;
+    Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
+    for (const Vec3& p : mesh.positions)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+        }
+    return norm(hi - lo);
+}
+
+//! format "patches": the limit surface as bicubic Bézier patches (limit_patches.h), at isolation level `levels` when
+//! given, else at the smallest level whose approximated patches are within kPatchTolerance of the bounding diagonal.
+ApiResponse patches_response(const PolygonMesh& mesh, const SubdivideParams& params, const SubdivisionOptions& options,
+                             const Limits& limits, const Cancel& cancel, Source source, const ReadReport& read_report,
+                             Clock::time_point t_start, Clock::time_point t_decoded) {
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, options);
+    if (!evaluator) return error_response(geometry_error(evaluator.error(), source, read_report));
+    LimitPatchOptions patch_options;
+    if (params.levels_given) patch_options.levels = static_cast<int>(params.levels);
+    patch_options.tolerance = kPatchTolerance * diagonal(mesh);
+    if (!(patch_options.tolerance > 0)) patch_options.tolerance = kPatchTolerance;
+    patch_options.max_levels = std::min(limits.max_levels, 10);
+    patch_options.max_patches = limits.max_patches;
+    patch_options.cancel = cancel;
+    if (patch_options.levels && *patch_options.levels < min_limit_patch_level(mesh))
+        return error_response(make_problem(Problem::InvalidField,
+                                           "format \"patches\" needs levels >= 1 for a mesh with faces that are not "
+                                           "quads (their patches lie in the quad sub-faces)",
+                                           "levels"));
+    if (patch_options.levels && limit_patch_count(mesh, *patch_options.levels) > limits.max_patches)
+        return error_response(make_problem(Problem::BudgetExceeded,
+                                           "isolation level " + std::to_string(*patch_options.levels) + " makes " +
+                                               std::to_string(limit_patch_count(mesh, *patch_options.levels)) +
+                                               " patches; the limit is " + std::to_string(limits.max_patches) +
+                                               " (use fewer levels or a smaller mesh)",
+                                           "levels"));
+    auto set = limit_patches(evaluator.value(), mesh, patch_options);
+    if (!set) {
+        ApiError error = geometry_error(set.error(), source, read_report);
+        if (set.error().code == ErrorCode::BudgetExceeded) error.field = "levels";
+        return error_response(std::move(error));
+    }
+    if (auto error = check_deadline_before_encoding(cancel)) return error_response(std::move(*error));
+    const auto t_done = Clock::now();
+    ApiResponse response;
+    response.content_type = "application/json";
+    PatchSet patches;
+    patches.patches = std::move(set->patches);
+    response.body = patch_set_json(patches);
+    response.headers = {{"X-Input-Vertices", std::to_string(mesh.vertex_count())},
+                        {"X-Input-Faces", std::to_string(mesh.face_count())},
+                        {"X-Patches", std::to_string(patches.patches.size())},
+                        {"X-Isolation-Level", std::to_string(set->levels)},
+                        {"X-Approximate-Patches", std::to_string(set->approximate_count)},
+                        {"X-Max-Error", format_double(set->max_error)}};
+    append_timing_headers(response.headers, Timing{t_start, {{"decode", t_decoded}, {"patches", t_done}}});
+    return response;
 }
 
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
@@ -55,6 +141,8 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         options.boundary = *params.boundary;
         options.use_mesh_boundary_tag = false;  // an explicit request wins over the file's tag
     }
+    if (params.patches)
+        return patches_response(mesh, params, options, limits, context.cancel, source, read_report, t_start, t_decoded);
     // The work is that of refining to levels + limit_extra_levels (exact limits refine past semi-sharp creases);
     // the output is that of `levels`.
     // (init-captures: clang 14, which builds the fuzzers, cannot capture structured bindings)

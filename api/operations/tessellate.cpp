@@ -53,29 +53,6 @@ ApiResult<TessellateParams> params_from_query(std::string_view operation,
     return tessellate_params(values.value());
 }
 
-//! {"patches":[{"degree":[m,n],"points":[[x,y,z],...]},...]}: the JSON form of POST /tessellate's body.
-std::string patch_set_json(const PatchSet& set) {
-    std::string out = "{\"patches\":[";
-    for (std::size_t p = 0; p < set.patches.size(); ++p) {
-        const BezierPatch& patch = set.patches[p];
-        out += (p ? ",{\"degree\":[" : "{\"degree\":[") + std::to_string(patch.degree_u) + "," +
-               std::to_string(patch.degree_v) + "],\"points\":[";
-        for (std::size_t i = 0; i < patch.points.size(); ++i) {
-            const Vec3& q = patch.points[i];
-            out += (i ? ",[" : "[") + format_double(q.x) + "," + format_double(q.y) + "," + format_double(q.z) + "]";
-        }
-        out += "]";
-        if (patch.rational()) {
-            out += ",\"weights\":[";
-            for (std::size_t i = 0; i < patch.weights.size(); ++i)
-                out += (i ? "," : "") + format_double(patch.weights[i]);
-            out += "]";
-        }
-        out += "}";
-    }
-    return out + "]}";
-}
-
 //! What the option tables cannot say, for every request form, before any work: tolerance or segments, segments
 //! against this server's limit, output options that do not fit the format. Field names: the JSON path or the
 //! parameter name.

@@ -71,6 +71,19 @@ constexpr OptionSpec format_of(std::span<const std::string_view> values, std::st
     out.description = description;
     return out;
 }
+// Every mesh format, and patches: bicubic Bézier patches as JSON (the body POST /tessellate takes).
+constexpr auto kMeshAndPatchFormats = [] {
+    std::array<std::string_view, std::size(kOutputFormatNames) + 1> out{};
+    for (std::size_t i = 0; i < std::size(kOutputFormatNames); ++i) out[i] = kOutputFormatNames[i].name;
+    out.back() = "patches";
+    return out;
+}();
+// Subdivision: every mesh format, or the limit surface as patches.
+constexpr OptionSpec kSubdivideOutput[] = {
+    format_of(kMeshAndPatchFormats,
+              "Encoding of the result: binary or text glTF, OBJ, PLY, the JSON mesh, binary STL or OFF; or patches: "
+              "the limit surface as bicubic Bézier patches (the JSON POST /tessellate takes; Catmull-Clark)"),
+    kCompressionOption, kQuantizeOption, kNormalsOption};
 // Tessellated patches: every mesh format; the normals written are the patches' exact surface normals.
 constexpr OptionSpec kTessellateOutput[] = {kFormatOption, kCompressionOption, kQuantizeOption, kNormalsOption};
 constexpr OptionSpec kRepairOption{
@@ -255,15 +268,9 @@ constexpr OptionSpec query_only(OptionSpec option) {
     option.transports = kQuery;
     return option;
 }
-constexpr auto kPatchSampleFormats = [] {
-    std::array<std::string_view, std::size(kOutputFormatNames) + 1> out{};
-    for (std::size_t i = 0; i < std::size(kOutputFormatNames); ++i) out[i] = kOutputFormatNames[i].name;
-    out.back() = "patches";
-    return out;
-}();
 constexpr OptionSpec kPatchSample[] = {query_only(kTolerance), query_only(kSegments)};
 constexpr OptionSpec kPatchSampleOutput[] = {
-    query_only(format_of(kPatchSampleFormats,
+    query_only(format_of(kMeshAndPatchFormats,
                          "Encoding of the tessellated sample as on POST /tessellate, or patches: its "
                          "control points (the JSON POST /tessellate takes)")),
     query_only(kCompressionOption), query_only(kQuantizeOption), query_only(kNormalsOption)};
@@ -440,7 +447,7 @@ constexpr OptionSpec kImplicitGrid[] = {
 };
 
 constexpr OperationOptions kOperations[] = {
-    {"subdivide", "/subdivide", "post", kSubdivide, kMeshOutput, kSubdivideInputs},
+    {"subdivide", "/subdivide", "post", kSubdivide, kSubdivideOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
     {"remesh", "/remesh", "post", kRemesh, kMeshOutput, kMeshInput},
     {"repair", "/repair", "post", kRepair, kMeshOutput, kMeshInput},

@@ -56,6 +56,12 @@ public:
         if (it == values_.end()) return;
         if (auto value = enum_from_name(table, std::get<std::string>(it->second))) target = *value;
     }
+    //! Whether Enum option `name` was given as `value` (for a name outside the EnumName table it reads into).
+    bool given_as(std::string_view name, std::string_view value) const {
+        const auto it = values_.find(name);
+        return it != values_.end() && std::holds_alternative<std::string>(it->second) &&
+               std::get<std::string>(it->second) == value;
+    }
     //! format, compression, quantize_position, normals.
     void get_output(OutputOptions& out) const;
 

@@ -39,24 +39,6 @@ std::string checked_bounds(std::string_view option, const std::string& text) {
     return text;
 }
 
-//! The JSON value of a table option given on the command line as `text` (checked by its flag).
-nlohmann::json json_value(const api::options::OptionSpec& spec, const std::string& text) {
-    using api::options::OptionType;
-    switch (spec.type) {
-        case OptionType::Integer: return std::stoll(text);
-        case OptionType::Number: return std::stod(text);
-        case OptionType::Bool: return text == "true";
-        case OptionType::Enum: return text;
-        case OptionType::List: {
-            nlohmann::json items = nlohmann::json::array();
-            std::istringstream in(text);
-            for (std::string item; std::getline(in, item, ',');) items.push_back(std::stoll(item));
-            return items;
-        }
-    }
-    return text;
-}
-
 //! The POST /implicit/mesh body of SCENE.json with the command's options laid over it: a request body, or a scene
 //! alone (an object with "op" and no "scene") as the request's "scene"; --bounds replaces the file's bounds or gives
 //! a bare scene its own; --resolution and --cell-size replace both grid members; "output" is the command's (format
@@ -85,7 +67,7 @@ std::string implicit_request_body(const std::string& bytes, const Parsed& parsed
     for (const auto& [name, text] : parsed.params) {
         const api::options::OptionSpec& spec = table_option(operation, name);
         nlohmann::json& container = spec.json_object.empty() ? doc : doc[std::string(spec.json_object)];
-        container[name] = json_value(spec, text);
+        container[name] = option_json_value(spec, text);
     }
     return doc.dump();
 }

@@ -1,6 +1,7 @@
 // The mesh file commands: `surfaced subdivide`, `simplify`, `remesh` and `repair`, each the raw-file form of its
 // POST endpoint, with the options of the endpoint's table (table_options.h).
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,7 +22,9 @@ Subdivides the mesh in IN and writes it to OUT, through the same operation as PO
 Formats come from the file extensions (or --input-format, --format):
   IN:  .obj .off .ply .stl .glb .gltf
   OUT: a --format name (.gltf is one JSON file with the data embedded; glTF is Draco-compressed unless
-       --compression none; .json is {"mesh": ..., "stats": ...})
+       --compression none; .json is {"mesh": ..., "stats": ...}); --format patches writes the limit surface as
+       bicubic Bezier patches ({"patches": [...]}, what `surfaced tessellate` and POST /tessellate read), --levels
+       then being the isolation level
 
 )";
 
@@ -90,9 +93,26 @@ int subdivide(Args& args) {
     const auto parsed = parse_file_command(args, "subdivide", help_of(kSubdivideHelp, operation, options), options);
     if (!parsed) return kExitOk;
     const std::optional<MeshFormat> in_format = mesh_input_format(*parsed);
-    const api::OutputFormat out_format = output_format(*parsed, operation);
     if (parsed->has("--max-output-faces"))
         context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
+    if (parsed->has("--format") && parsed->value("--format") == "patches") {
+        // the limit surface as Bézier patches: JSON, whatever OUT's extension
+        const auto bytes = read_input(parsed->input);
+        if (!bytes) return kExitFailed;
+        std::multimap<std::string, std::string> query(parsed->params.begin(), parsed->params.end());
+        query.emplace("format", "patches");
+        const MeshFormat format = in_format ? *in_format : sniff_mesh_format(*bytes);
+        const api::ApiRequest request = upload_request(
+            "/subdivide", std::string(api::enum_name(api::kMeshMediaTypes, format)), *bytes, std::move(query));
+        return finish(api::dispatch(request, context), *parsed, [&](const api::ApiResponse& response) {
+            parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Patches")
+                             << " patches at isolation level " << header(response, "X-Isolation-Level") << " ("
+                             << header(response, "X-Approximate-Patches") << " approximate, max error "
+                             << header(response, "X-Max-Error") << ") in " << header(response, "X-Elapsed-Ms")
+                             << " ms\n";
+        });
+    }
+    const api::OutputFormat out_format = output_format(*parsed, operation);
 
     return upload_mesh("/subdivide", *parsed, in_format, out_format, context, [&](const api::ApiResponse& response) {
         parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Vertices")

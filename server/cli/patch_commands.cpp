@@ -6,6 +6,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "api/operations/curves.h"
 #include "server/cli/commands.h"
 #include "server/cli/requests.h"
@@ -19,9 +21,10 @@ using api::options::OperationOptions;
 constexpr std::string_view kTessellateHelp =
     R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
 
-Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, or
-sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
-operation as POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
+Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, a .json
+{"patches": [...]} as POST /tessellate takes it, e.g. from `surfaced subdivide --format patches`, or sample:teapot
+for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same operation as
+POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
 --compression none).
 
 )";
@@ -46,6 +49,22 @@ Options:
   -h, --help             this text
 )";
 
+//! The POST /tessellate JSON body of a {"patches": [...]} file with the command's options laid over it ("output" is
+//! the command's, format from OUT). A file that is not a JSON object goes to the operation unchanged, which reports
+//! where it breaks.
+std::string patches_request_body(const std::string& bytes, const Parsed& parsed, const OperationOptions& operation,
+                                 api::OutputFormat format) {
+    nlohmann::json doc = nlohmann::json::parse(bytes, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object()) return bytes;
+    doc["output"] = {{"format", std::string(api::enum_name(api::kOutputFormatNames, format))}};
+    for (const auto& [name, text] : parsed.params) {
+        const api::options::OptionSpec& spec = table_option(operation, name);
+        nlohmann::json& container = spec.json_object.empty() ? doc : doc[std::string(spec.json_object)];
+        container[name] = option_json_value(spec, text);
+    }
+    return doc.dump();
+}
+
 }  // namespace
 
 int tessellate(Args& args) {
@@ -54,10 +73,10 @@ int tessellate(Args& args) {
     std::vector<Option> options = table_options(operation, api::options::kQuery);
     options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
     options.push_back(Option{.name = "--input-format",
-                             .check = one_of_names({"bez", "obj"}),
+                             .check = one_of_names({"bez", "obj", "json"}),
                              .synopsis = "--input-format NAME",
-                             .description = "IN's format instead of its extension: bez obj (IN -: obj if it has "
-                                            "cstype lines)"});
+                             .description = "IN's format instead of its extension: bez obj json (IN -: json if it "
+                                            "starts with {, obj if it has cstype lines)"});
     options.push_back(Option{.name = "--max-output-faces",
                              .check = integer(1, 4'000'000'000LL),
                              .synopsis = "--max-output-faces N",
@@ -72,7 +91,7 @@ int tessellate(Args& args) {
         context.limits.max_output_faces = std::stoull(parsed->value("--max-output-faces"));
 
     // The request POST /tessellate (or GET /patches/NAME) would receive: one code path for CLI and service.
-    std::optional<std::string> bytes;
+    std::optional<std::string> bytes, json_body;
     api::ApiRequest request;
     if (parsed->input.starts_with("sample:")) {
         request.method = "GET";
@@ -81,12 +100,23 @@ int tessellate(Args& args) {
     } else {
         bytes = read_input(parsed->input);
         if (!bytes) return kExitFailed;
-        // free-form cstype bezier surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines
-        const bool obj = parsed->has("--input-format") ? parsed->value("--input-format") == "obj"
-                         : parsed->from_stdin()        ? bytes->find("cstype") != std::string::npos
-                                                       : lower_extension(parsed->input) == ".obj";
-        request = upload_request("/tessellate", obj ? "model/obj" : "application/x-geomview-bez", *bytes,
-                                 file_query(*parsed, format));
+        // free-form cstype bezier surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines and
+        // JSON by its opening brace
+        const std::string kind = parsed->has("--input-format") ? parsed->value("--input-format")
+                                 : parsed->from_stdin() ? (bytes->find_first_not_of(" \t\r\n") != std::string::npos &&
+                                                                   (*bytes)[bytes->find_first_not_of(" \t\r\n")] == '{'
+                                                               ? "json"
+                                                           : bytes->find("cstype") != std::string::npos ? "obj"
+                                                                                                        : "bez")
+                                                        : std::string(lower_extension(parsed->input)).erase(0, 1);
+        if (kind == "json") {
+            // the JSON body form: the file's patches with the command's options laid over it
+            json_body = patches_request_body(*bytes, *parsed, operation, format);
+            request = upload_request("/tessellate", "application/json", *json_body, {});
+        } else {
+            request = upload_request("/tessellate", kind == "obj" ? "model/obj" : "application/x-geomview-bez", *bytes,
+                                     file_query(*parsed, format));
+        }
     }
     return finish(
         api::dispatch(request, context), *parsed,

@@ -7,6 +7,10 @@
 #include <stdexcept>
 #include <system_error>
 
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
 #include "api/options/option_reader.h"
 
 namespace surfaced::cli {
@@ -246,6 +250,23 @@ std::string options_help(const OperationOptions& operation, const std::vector<Op
     if (!deprecated.empty())
         out += "\nDeprecated spellings, still accepted:\n" + help_entry("", joined(deprecated, ", "), 2);
     return out;
+}
+
+nlohmann::json option_json_value(const api::options::OptionSpec& spec, const std::string& text) {
+    using api::options::OptionType;
+    switch (spec.type) {
+        case OptionType::Integer: return std::stoll(text);
+        case OptionType::Number: return std::stod(text);
+        case OptionType::Bool: return text == "true";
+        case OptionType::Enum: return text;
+        case OptionType::List: {
+            nlohmann::json items = nlohmann::json::array();
+            std::istringstream in(text);
+            for (std::string item; std::getline(in, item, ',');) items.push_back(std::stoll(item));
+            return items;
+        }
+    }
+    return text;
 }
 
 }  // namespace surfaced::cli

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "api/options/option_spec.h"
 #include "server/cli/args.h"
 
@@ -32,6 +34,8 @@ Option deprecated_switch(const api::options::OperationOptions& operation, std::s
 //! The table row of `name` (or an alias) of `operation`; throws std::logic_error when the table has none (a
 //! programming error: the command names an option its operation lacks).
 const api::options::OptionSpec& table_option(const api::options::OperationOptions& operation, std::string_view name);
+//! The JSON value of a table option given on the command line as `text` (already checked by its flag).
+nlohmann::json option_json_value(const api::options::OptionSpec& spec, const std::string& text);
 
 //! The Options section of a command's help: -o, --format (the values and default of `operation`'s format row),
 //! the hand-written `options` that have a synopsis, the table's options with their description, values, range,

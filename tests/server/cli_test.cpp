@@ -200,6 +200,31 @@ TEST_F(SurfacedCli, FormatOverridesTheExtensionAndIsNeededForStandardOutput) {
     EXPECT_TRUE(contains(wrong.err, "--format: unknown value \"dae\"")) << wrong.err;
 }
 
+TEST_F(SurfacedCli, SubdividePatchesFeedTessellate) {
+    // the limit surface as patches (JSON whatever the extension), then tessellated from the file and from stdin
+    const CliRun patches =
+        run("subdivide " + path("cube.obj") + " -o " + path("cube.patches") + " --format patches --levels 1");
+    ASSERT_EQ(patches.exit_code, 0) << patches.err;
+    EXPECT_TRUE(contains(patches.out, "24 patches at isolation level 1 (24 approximate")) << patches.out;
+    const std::string text = slurp(dir_ / "cube.patches");
+    EXPECT_EQ(text.substr(0, 12), "{\"patches\":[");
+    const CliRun mesh = run("tessellate " + path("cube.patches") + " --input-format json -o " + path("cube.obj.out") +
+                            " --format obj --segments 2");
+    ASSERT_EQ(mesh.exit_code, 0) << mesh.err;
+    auto read = read_mesh(slurp(dir_ / "cube.obj.out"), MeshFormat::Obj);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->face_count(), 24u * 2u * 2u * 2u);  // 24 patches, 2 x 2 segments, 2 triangles each
+    EXPECT_TRUE(testing::is_watertight(read.value()));
+    const CliRun piped = run("tessellate - -o - --format obj --segments 2", "cube.patches");
+    ASSERT_EQ(piped.exit_code, 0) << piped.err;
+    EXPECT_EQ(piped.out, slurp(dir_ / "cube.obj.out"));
+    // options that do not apply to patches: the operation's 400, a usage error
+    const CliRun compression =
+        run("subdivide " + path("cube.obj") + " -o " + path("x.json") + " --format patches --compression none");
+    EXPECT_EQ(compression.exit_code, 2) << compression.err;
+    EXPECT_TRUE(contains(compression.err, "does not apply to format \"patches\"")) << compression.err;
+}
+
 TEST_F(SurfacedCli, HelpListsTheExitCodes) {
     const CliRun help = run("--help");
     EXPECT_EQ(help.exit_code, 0);
