@@ -192,6 +192,25 @@ try {
   check(picked.startsWith('1 edge'), `clicking a cage edge picks it (${picked})`);
   check(creased !== smooth, `a sharp edge changes the subdivided surface (${await shot('04-crease')})`);
 
+  // 3a. the creased cube's limit surface as patches, handed to the Patches view: 6 x 4^L patches at the isolation
+  // level the server chose, tessellated and drawn with their net
+  await page.click('#sub-patches');
+  await page.waitForFunction(() => document.body.dataset.view === 'patches' &&
+                             /isolation level/.test(document.getElementById('stats').textContent));
+  const limitStats = await page.$eval('#stats', (el) => el.textContent);
+  const level = Number(/isolation level (\d+)/.exec(limitStats)?.[1]);
+  const limitPatches = Number(/patches: (\d+)\n/.exec(limitStats)?.[1]);
+  const limitPixels = await canvasPixels();
+  check(level >= 1 && limitPatches === 6 * 4 ** level && limitPixels.n > 0.03 * limitPixels.total,
+        `limit patches of the creased cube in the Patches view: level ${level}, ${limitPatches} patches, ` +
+        `${limitPixels.n} pixels (${await shot('04a-limit-patches')})`);
+  const netPoints = await page.evaluate(() => window.surfaced.views.patches.positions.count);
+  // shared boundary control points are bit-identical, so the net has one point per distinct control point:
+  // (3 * 2^L)^2 per face's 4x4 grids joined along edges, 6 faces sharing edges and corners -> 6 * (3 * 2^L - 1)^2 + 12 * (3 * 2^L - 1) + 8
+  const m = 3 * 2 ** level - 1;
+  check(netPoints === 6 * m * m + 12 * m + 8, `limit patches share their edges' control points: ${netPoints} net points`);
+  await page.click('#tabs button[data-view=subdivide]');
+
   // 3b. a valid upload: a tetrahedron OBJ, read by the server, Catmull-Clark level 3: 4 x 3 x 4^2 = 192 quads
   await page.setInputFiles('#sub-file', { name: 'tetra.obj', mimeType: 'model/obj',
                                           buffer: Buffer.from('v 1 1 1\nv -1 -1 1\nv -1 1 -1\nv 1 -1 -1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n') });

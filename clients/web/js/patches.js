@@ -66,9 +66,35 @@ export class PatchesView {
 
   async activate() {
     this.active = true;
+    if (this.pending) {
+      const { set, info, name } = this.pending;
+      this.pending = null;
+      await this.loadPatchSet(set, { info, name });
+      return;
+    }
     this.viewer.setUpAxis(this.zUp);
     if (!this.patches) await this.loadSample('teapot');
     else this.show();
+  }
+
+  /** A patch set from another view ({patches: [...]}, e.g. a subdivision surface's limit patches), shown on activation. */
+  usePatchSet(set, { info, name }) { this.pending = { set, info, name }; }
+
+  /** Tessellates a patch set (y up, as mesh files are) and shows it with its net; `info` is an extra stats line. */
+  async loadPatchSet(set, { info, name } = {}) {
+    this.app.clearError();
+    try {
+      const result = await call('POST', '/tessellate', { body: { ...set, ...this.tessellationQuery(), output: { compression: 'none' } } });
+      this.info = info;
+      this.name = name;
+      this.setPatches({ patches: set.patches });
+      this.original = JSON.stringify({ patches: set.patches });
+      this.zUp = false;
+      this.viewer.setUpAxis(false);
+      await this.showResult(result, { fit: true });
+    } catch (e) {
+      this.app.showError(e);
+    }
   }
 
   deactivate() { this.active = false; this.onPointerUp(); }
@@ -90,6 +116,8 @@ export class PatchesView {
       ]);
       this.zUp = true;
       this.viewer.setUpAxis(true);
+      this.info = undefined;
+      this.name = undefined;
       this.setPatches(net.json);
       this.original = JSON.stringify(net.json);
       await this.showResult(mesh, { fit: true });
@@ -112,12 +140,7 @@ export class PatchesView {
         set = parseBez(text);
         if (!set) throw new Error(`${file.name}: the control net could not be read here (rational or unusual BEZ)`);
       }
-      const result = await call('POST', '/tessellate', { body: { ...set, ...this.tessellationQuery(), output: { compression: 'none' } } });
-      this.setPatches({ patches: set.patches });
-      this.original = JSON.stringify({ patches: set.patches });
-      this.zUp = false;
-      this.viewer.setUpAxis(false);
-      await this.showResult(result, { fit: true });
+      await this.loadPatchSet(set);
     } catch (e) {
       this.app.showError(e);
     }
@@ -184,6 +207,7 @@ export class PatchesView {
     if (this.drag && t0 !== undefined) this.roundTrips.push({ wire, shown });
     const trips = this.roundTrips;
     this.app.setStats([
+      ...(this.info ? [this.info] : []),
       `patches: ${this.patches?.patches.length ?? h.get('X-Patches')}`,
       `triangles: ${h.get('X-Output-Faces') ?? geometry.index?.count / 3}`,
       `error bound: ${h.get('X-Error-Bound')}`,
@@ -196,7 +220,7 @@ export class PatchesView {
     this.app.setDownloads({
       glb: result.bytes,
       obj: async () => (await call('POST', '/tessellate', { body: { ...body(), output: { format: 'obj' } } })).bytes,
-      name: 'patches',
+      name: this.name ?? 'patches',
     });
   }
 

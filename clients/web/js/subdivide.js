@@ -28,6 +28,7 @@ export class SubdivideView {
     for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness'])
       $(id).addEventListener('change', () => this.run());
     $('sub-run').addEventListener('click', () => this.run());
+    $('sub-patches').addEventListener('click', () => this.showPatches());
     $('sub-clear').addEventListener('click', () => { this.picked.clear(); this.drawCage(); this.run(); });
     const canvas = this.viewer.renderer.domElement;
     canvas.addEventListener('pointerdown', (e) => { this.down = [e.clientX, e.clientY]; });
@@ -125,6 +126,28 @@ export class SubdivideView {
       creases: [...this.picked].map((k) => ({ edge: k.split(',').map(Number), sharpness })),
       output: format === 'glb' ? { format: 'glb', normals: true } : { format },
     };
+  }
+
+  /**
+   * POST /subdivide format=patches: the limit surface as Bézier patches (the isolation level chosen by the server),
+   * handed to the Patches view, which tessellates and shows them with their control net.
+   */
+  async showPatches() {
+    if (!this.mesh) return;
+    this.app.clearError();
+    try {
+      const { mesh, scheme, boundary, creases } = this.request();
+      const result = await call('POST', '/subdivide', { body: { mesh, scheme, boundary, creases, output: { format: 'patches' } } });
+      const h = result.headers;
+      this.app.views.patches.usePatchSet(result.json, {
+        name: `${this.name}-limit`,
+        info: `limit patches of ${this.name}: isolation level ${h.get('X-Isolation-Level')}, ` +
+              `${h.get('X-Approximate-Patches')} approximate (max error ${Number(h.get('X-Max-Error')).toPrecision(3)})`,
+      });
+      await this.app.show('patches');
+    } catch (e) {
+      this.app.showError(e);
+    }
   }
 
   async run(fit = false) {
