@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -28,6 +29,8 @@ struct ApiRequest {
     std::map<std::string, std::string> path_params;
     //! Request headers the operations consult (If-None-Match, ...), names in lower case.
     std::multimap<std::string, std::string> headers;
+    //! The names in `query` that came from multipart/form-data fields (an upload's form), for errors that name them.
+    std::set<std::string> form_fields;
 
     //! First value of header `name` (lower case), or "" when absent.
     std::string header(std::string_view name) const {

@@ -295,10 +295,10 @@ std::optional<ApiError> decode_file_request(const ApiRequest& request, const Api
                   "application/json, application/ply, model/obj or text/x-xyz"
                 : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + std::string(kAcceptedMediaTypes));
     auto query_params = params_from_query(request.query);
-    if (!query_params) return std::move(query_params.error());
+    if (!query_params) return worded_for_form(request, std::move(query_params.error()));
     d.params = std::move(query_params.value());
     if (auto error = negotiate_output_format(request, d.params.output)) return error;
-    if (auto error = check_output(d.params.output, d.source)) return error;
+    if (auto error = check_output(d.params.output, d.source)) return worded_for_form(request, std::move(*error));
     PointReadOptions read_options;
     read_options.max_points = static_cast<std::size_t>(context.limits.max_points);
     auto read = read_points(request.body, *format, read_options);

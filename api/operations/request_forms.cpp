@@ -196,6 +196,7 @@ std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& li
                                 "option " + part.name + " is given both as a query parameter and as a form field",
                                 part.name);
         form.query.emplace(part.name, std::string(part.body));
+        form.form_fields.insert(part.name);
     }
     if (!file)
         return make_problem(Problem::MalformedMultipart,
@@ -212,6 +213,23 @@ std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& li
     form.content_type = out.media_type;
     out.request = &form;
     return std::nullopt;
+}
+
+ApiError worded_for_form(const ApiRequest& request, ApiError error) {
+    if (request.form_fields.empty() || !error.field) return error;
+    const std::string name = error.field->substr(0, error.field->find('['));
+    if (!request.form_fields.count(name)) return error;
+    const auto replace_all = [&](std::string_view from, std::string_view to) {
+        for (std::size_t at = error.detail.find(from); at != std::string::npos;
+             at = error.detail.find(from, at + to.size()))
+            error.detail.replace(at, from.size(), to);
+    };
+    replace_all("unknown query parameters ", "unknown form fields ");
+    replace_all("unknown query parameter ", "unknown form field ");
+    replace_all("query parameter " + name + " ", "form field " + name + " ");
+    replace_all("query parameter " + name + ":", "form field " + name + ":");
+    if (error.code == "unknown_parameter") error.title = "Unknown form field";
+    return error;
 }
 
 std::optional<ApiError> negotiate_output_format(const ApiRequest& request, OutputOptions& out) {

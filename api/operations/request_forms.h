@@ -102,6 +102,11 @@ struct Upload {
 std::optional<ApiError> check_upload(const ApiRequest& request, const Limits& limits, std::string_view accepted,
                                      ReadsMediaType reads, Upload& out);
 
+//! An option error about a field of a multipart form, worded as one ("form field levels ...", not "query parameter
+//! levels ..."): the option readers word errors for query parameters, which is what form fields are read as. Other
+//! errors unchanged.
+ApiError worded_for_form(const ApiRequest& request, ApiError error);
+
 // ---- the output format: `format`, else the Accept header ------------------------------------------------------------
 
 //! When the request named no format (`out.format_given`) and sent an Accept header: the format of the endpoint at
@@ -211,10 +216,10 @@ ApiResult<MeshRequest<Params>> decode_mesh_request(const ApiRequest& sent, const
     } else {
         if (auto error = refuse_unknown_mesh_format(request, media_type, limits)) return std::move(*error);
         auto query_params = params_from_query(request.query);
-        if (!query_params) return std::move(query_params.error());
+        if (!query_params) return worded_for_form(request, std::move(query_params.error()));
         out.params = std::move(query_params.value());
         if (auto error = negotiate()) return std::move(*error);
-        if (auto error = check_params(out.params, out.source)) return std::move(*error);
+        if (auto error = check_params(out.params, out.source)) return worded_for_form(request, std::move(*error));
         auto read = read_uploaded_mesh(request, media_type, limits, effective_rules(), &out.read);
         if (!read) return std::move(read.error());
         out.mesh = std::move(read.value());

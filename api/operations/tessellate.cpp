@@ -158,9 +158,10 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
                          "Content-Type \"" + media_type + "\" is not accepted; accepted: " + accepted_media_types()));
     // options first: a file is not parsed for a request we would refuse anyway
     auto params = params_from_query("tessellate", request.query);
-    if (!params) return error_response(std::move(params.error()));
+    if (!params) return error_response(worded_for_form(request, std::move(params.error())));
     if (auto error = negotiate_output_format(request, params->output)) return error_response(std::move(*error));
-    if (auto error = check_params(params.value(), limits, Source::File)) return error_response(std::move(*error));
+    if (auto error = check_params(params.value(), limits, Source::File))
+        return error_response(worded_for_form(request, std::move(*error)));
     Result<PatchSet> set = make_error(ErrorCode::Internal, "unread");
     if (obj) {
         ObjPatchReadOptions read_options;

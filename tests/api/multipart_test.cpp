@@ -212,7 +212,7 @@ TEST(FormUpload, FileTypeFromPartTypeThenExtensionThenContent) {
     EXPECT_NE(problem_of(png).value("detail", "").find("image/png"), std::string::npos);
 }
 
-TEST(FormUpload, FieldErrorsAreTheQueryParameterErrors) {
+TEST(FormUpload, FieldErrorsAreTheQueryParameterErrorsNamingTheField) {
     const std::string file = kCubeObj;
     const auto expect = [](const ApiResponse& response, const char* code, const char* field_name,
                            const char* in_detail) {
@@ -228,6 +228,15 @@ TEST(FormUpload, FieldErrorsAreTheQueryParameterErrors) {
     };
     expect(subdivide_form(with({{field("levels"), "-1"}})), "invalid_field", "levels", "in [0, 8], got -1");
     expect(subdivide_form(with({{field("levles"), "2"}})), "unknown_parameter", "levles", "did you mean \"levels\"");
+    // worded as the form fields they are; a query parameter of the same request stays one
+    expect(subdivide_form(with({{field("levles"), "2"}})), "unknown_parameter", "levles",
+           "unknown form field \"levles\"");
+    expect(subdivide_form(with({{field("levels"), "two"}})), "invalid_field", "levels",
+           "form field levels must be an integer");
+    expect(subdivide_form(with({{field("scheme"), "loops"}})), "invalid_field", "scheme", "form field scheme: unknown");
+    expect(subdivide_form(with({}), {{"levels", "two"}}), "invalid_field", "levels",
+           "query parameter levels must be an integer");
+    EXPECT_EQ(problem_of(subdivide_form(with({{field("levles"), "2"}}))).value("title", ""), "Unknown form field");
     expect(subdivide_form(with({{field("levels"), "1"}}), {{"levels", "1"}}), "invalid_field", "levels",
            "both as a query parameter and as a form field");
     expect(subdivide_form(with({{field("levels"), "1"}, {field("levels"), "2"}})), "invalid_field", "levels",

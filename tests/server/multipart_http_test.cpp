@@ -174,11 +174,23 @@ TEST_F(MultipartHttp, AcceptPicksTheFormatAnExplicitOneWins) {
         std::string::npos)
         << points.dump();
     // a JSON-only answer is unaffected
-    auto curves = client().Post("/curves", {{"Accept", "text/html"}},
-                                R"({"points":[[0,0],[1,2],[3,2],[4,0]],"evaluate":[0.5]})", "application/json");
-    ASSERT_TRUE(curves);
-    EXPECT_EQ(curves->status, 200) << curves->body;
-    EXPECT_EQ(curves->get_header_value("Content-Type"), "application/json");
+    auto query = client().Post("/implicit/query", {{"Accept", "text/html"}},
+                               R"({"scene":{"op":"sphere","radius":1},"points":[[0,0,0]]})", "application/json");
+    ASSERT_TRUE(query);
+    EXPECT_EQ(query->status, 200) << query->body;
+    EXPECT_EQ(query->get_header_value("Content-Type"), "application/json");
+    // /curves answers json, glb or gltf: Accept picks among them when the body names no output.format
+    const std::string curve = R"({"points":[[0,0],[1,2],[3,2],[4,0]],"tessellate":{"tolerance":0.01})";
+    auto glb = client().Post("/curves", {{"Accept", "model/gltf-binary"}}, curve + "}", "application/json");
+    ASSERT_TRUE(glb);
+    EXPECT_EQ(glb->status, 200) << glb->body;
+    EXPECT_EQ(glb->get_header_value("Content-Type"), "model/gltf-binary");
+    auto named_json = client().Post("/curves", {{"Accept", "model/gltf-binary"}},
+                                    curve + R"(,"output":{"format":"json"}})", "application/json");
+    ASSERT_TRUE(named_json);
+    EXPECT_EQ(named_json->get_header_value("Content-Type"), "application/json");
+    expect_http_problem(client().Post("/curves", {{"Accept", "text/html"}}, curve + "}", "application/json"), 406,
+                        "not_acceptable");
 }
 
 TEST_F(MultipartHttp, PatchSampleFollowsAcceptAndSaysSo) {
