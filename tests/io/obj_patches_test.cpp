@@ -131,8 +131,8 @@ TEST(ObjPatches, ErrorsNameTheLine) {
     std::string lines11 = header;
     for (int k = 5; k <= 11; ++k) lines11 += "# line " + std::to_string(k) + "\n";
     const BadCase cases[] = {
-        {lines11 + "cstype bspline\ndeg 1 1\n" + quad + "end\n", ErrorCode::Unsupported, 12,
-         "line 12: cstype bspline is not supported"},
+        {lines11 + "cstype cardinal\ndeg 1 1\n" + quad + "end\n", ErrorCode::Unsupported, 12,
+         "line 12: cstype cardinal is not supported"},
         {header + "cstype rat taylor\n", ErrorCode::Unsupported, 5, "cstype rat taylor is not supported"},
         {header + "cstype nurbs\n", ErrorCode::ParseError, 5, "unknown cstype"},
         {header + "cstype bezier\ndeg 1 1\n" + quad + "trim 0 1 1\nend\n", ErrorCode::Unsupported, 8, "trimming"},
