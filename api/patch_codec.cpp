@@ -107,13 +107,13 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
     const std::size_t patch_count = have_patches ? patches->size() : 0;
     const std::size_t surface_count = have_surfaces ? surfaces->size() : 0;
     if (patch_count + surface_count > limits.max_patches)
-        return make_problem(Problem::BudgetExceeded,
-                            (have_patches ? "patches has " + std::to_string(patch_count) + " patches" : std::string()) +
-                                (have_patches && have_surfaces ? " and " : "") +
-                                (have_surfaces ? "surfaces has " + std::to_string(surface_count) + " surfaces"
-                                               : std::string()) +
-                                "; the limit is " + std::to_string(limits.max_patches),
-                            have_patches ? "patches" : "surfaces");
+        return make_problem(
+            Problem::BudgetExceeded,
+            (have_patches ? "patches has " + std::to_string(patch_count) + " patches" : std::string()) +
+                (have_patches && have_surfaces ? " and " : "") +
+                (have_surfaces ? "surfaces has " + std::to_string(surface_count) + " surfaces" : std::string()) +
+                "; the limit is " + std::to_string(limits.max_patches),
+            have_patches ? "patches" : "surfaces");
     std::uint64_t total_points = 0;
     for (const auto* list : {have_patches ? &*patches : nullptr, have_surfaces ? &*surfaces : nullptr})
         if (list)

@@ -65,10 +65,10 @@ ApiResult<BSplineSurface> decode_surface(const Json& value, const std::string& p
                                    " needs at least " + std::to_string(least) + " (degree + 1 control points)");
         // the net's size follows from the knots: check it against the budget before reading anything large
         if (it->is_array() && it->size() - static_cast<std::size_t>(p) - 1 > max_points)
-            return make_problem(Problem::BudgetExceeded,
-                                field + " makes a net of more than " + std::to_string(max_points) +
-                                    " control points (the limit)",
-                                field);
+            return make_problem(
+                Problem::BudgetExceeded,
+                field + " makes a net of more than " + std::to_string(max_points) + " control points (the limit)",
+                field);
         auto knots = read_knots(*it, field);
         if (!knots) return std::move(knots.error());
         (along_u ? s.knots_u : s.knots_v) = std::move(knots.value());
@@ -86,11 +86,12 @@ ApiResult<BSplineSurface> decode_surface(const Json& value, const std::string& p
     if (points == value.end() || !points->is_array())
         return invalid(points_path, points_path + " is required: an array of [x, y, z], u varying fastest");
     if (points->size() != expected)
-        return rule(points_path, points_path + " has " + std::to_string(points->size()) + " points; the knot vectors (" +
-                                     std::to_string(s.knots_u.size()) + " and " + std::to_string(s.knots_v.size()) +
-                                     " values, degrees " + std::to_string(s.degree_u) + " and " +
-                                     std::to_string(s.degree_v) + ") make a net of " + std::to_string(s.count_u) +
-                                     " x " + std::to_string(s.count_v) + " = " + std::to_string(expected));
+        return rule(points_path, points_path + " has " + std::to_string(points->size()) +
+                                     " points; the knot vectors (" + std::to_string(s.knots_u.size()) + " and " +
+                                     std::to_string(s.knots_v.size()) + " values, degrees " +
+                                     std::to_string(s.degree_u) + " and " + std::to_string(s.degree_v) +
+                                     ") make a net of " + std::to_string(s.count_u) + " x " +
+                                     std::to_string(s.count_v) + " = " + std::to_string(expected));
     s.points.reserve(expected);
     for (std::size_t i = 0; i < points->size(); ++i) {
         auto p = read_vec3((*points)[i], at(points_path, i));

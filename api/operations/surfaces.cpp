@@ -51,9 +51,9 @@ ApiResult<std::vector<std::pair<double, double>>> read_parameters(const Json& va
             const double lo = c == 0 ? d.u0 : d.v0, hi = c == 0 ? d.u1 : d.v1;
             if (x.value() < lo || x.value() > hi)
                 return json::geometry_error(ErrorCode::InvalidArgument, at(item, c),
-                                      at(item, c) + " = " + format_double(x.value()) + " is outside the domain of " +
-                                          (c == 0 ? "u" : "v") + " [" + format_double(lo) + ", " + format_double(hi) +
-                                          "]");
+                                            at(item, c) + " = " + format_double(x.value()) +
+                                                " is outside the domain of " + (c == 0 ? "u" : "v") + " [" +
+                                                format_double(lo) + ", " + format_double(hi) + "]");
             uv[c] = x.value();
         }
         out.emplace_back(uv[0], uv[1]);
@@ -77,7 +77,7 @@ ApiResult<int> read_times(const Json& object, const std::string& path) {
     if (!k) return std::move(k.error());
     if (k.value() < 1 || k.value() > kMaxBSplineSurfaceDegree)
         return json::geometry_error(ErrorCode::InvalidArgument, path + ".times",
-                              path + ".times must be in 1.." + std::to_string(kMaxBSplineSurfaceDegree));
+                                    path + ".times must be in 1.." + std::to_string(kMaxBSplineSurfaceDegree));
     return static_cast<int>(k.value());
 }
 
@@ -113,8 +113,7 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
             if (!uvs) return std::move(uvs.error());
             (name[0] == 'e' ? q.evaluate : q.derivatives) = std::move(uvs.value());
         }
-    const std::size_t parameters =
-        (q.evaluate ? q.evaluate->size() : 0) + (q.derivatives ? q.derivatives->size() : 0);
+    const std::size_t parameters = (q.evaluate ? q.evaluate->size() : 0) + (q.derivatives ? q.derivatives->size() : 0);
     if (parameters > kMaxSurfaceQueries)
         return budget(std::to_string(parameters) + " parameters requested in evaluate and derivatives; the limit is " +
                           std::to_string(kMaxSurfaceQueries),
@@ -146,8 +145,9 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
         const double lo = along_u ? d.u0 : d.v0, hi = along_u ? d.u1 : d.v1;
         if (value.value() < lo || value.value() > hi)
             return json::geometry_error(ErrorCode::InvalidArgument, "insert_knot.value",
-                                  "insert_knot.value = " + format_double(value.value()) + " is outside the domain [" +
-                                      format_double(lo) + ", " + format_double(hi) + "]");
+                                        "insert_knot.value = " + format_double(value.value()) +
+                                            " is outside the domain [" + format_double(lo) + ", " + format_double(hi) +
+                                            "]");
         auto times = read_times(*it, "insert_knot");
         if (!times) return std::move(times.error());
         const std::uint64_t points = (along_u ? nu + static_cast<std::uint64_t>(times.value()) : nu) *
@@ -169,9 +169,9 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
         const int degree = along_u ? s.degree_u : s.degree_v;
         if (degree + times.value() > kMaxBSplineSurfaceDegree)
             return json::geometry_error(ErrorCode::InvalidArgument, "elevate.times",
-                                  "elevating degree " + std::to_string(degree) + " by " +
-                                      std::to_string(times.value()) + " would exceed the largest degree " +
-                                      std::to_string(kMaxBSplineSurfaceDegree));
+                                        "elevating degree " + std::to_string(degree) + " by " +
+                                            std::to_string(times.value()) + " would exceed the largest degree " +
+                                            std::to_string(kMaxBSplineSurfaceDegree));
         // clamping adds at most 2 p points, each step one per distinct knot span (at most count + 1)
         const std::uint64_t n = along_u ? nu : nv, other = along_u ? nv : nu;
         const auto t = static_cast<std::uint64_t>(times.value());
@@ -193,8 +193,8 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
         const std::uint64_t points = patches * static_cast<std::uint64_t>((s.degree_u + 1) * (s.degree_v + 1));
         const char* field = q.to_bezier ? "to_bezier" : q.bounding_box ? "bounding_box" : "closest";
         if (patches > limits.max_patches)
-            return budget("the surface decomposes into " + std::to_string(patches) +
-                              " Bézier patches; the limit is " + std::to_string(limits.max_patches),
+            return budget("the surface decomposes into " + std::to_string(patches) + " Bézier patches; the limit is " +
+                              std::to_string(limits.max_patches),
                           field);
         if (points > limits.max_input_vertices)
             return budget("the surface's Bézier patches would have " + std::to_string(points) +
@@ -223,9 +223,9 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     Json root;
     if (auto error = json::parse(request.body, root)) return error_response(std::move(*error));
     if (!root.is_object()) return error_response(invalid("", "the body must be a JSON object"));
-    if (auto error = check_members(root, "",
-                                   {"surface", "evaluate", "derivatives", "closest", "insert_knot", "elevate",
-                                    "to_bezier", "bounding_box"}))
+    if (auto error = check_members(
+            root, "",
+            {"surface", "evaluate", "derivatives", "closest", "insert_knot", "elevate", "to_bezier", "bounding_box"}))
         return error_response(std::move(*error));
     const auto surface_it = root.find("surface");
     if (surface_it == root.end())

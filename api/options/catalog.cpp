@@ -304,8 +304,8 @@ constexpr std::string_view kCurvesInputs[] = {"points",       "weights",     "ch
                                               "enforce_c1",   "to_bezier",   "insert_knot"};
 
 // ---- POST /surfaces: one B-spline/NURBS surface and the queries on it (JSON only, no options) ------------------
-constexpr std::string_view kSurfacesInputs[] = {"surface",   "evaluate", "derivatives", "closest",
-                                                "insert_knot", "elevate", "to_bezier",  "bounding_box"};
+constexpr std::string_view kSurfacesInputs[] = {"surface",     "evaluate", "derivatives", "closest",
+                                                "insert_knot", "elevate",  "to_bezier",   "bounding_box"};
 
 // ---- POST /implicit/mesh: a JSON body (the scene and its bounds, grid options, the mesh's output) ---------------
 constexpr auto kImplicitModes = names_of(operations::kImplicitMeshModeNames);

@@ -26,8 +26,8 @@ struct PendingSurface {
     bool rational = false;
     bool bspline = false;
     std::int64_t parm_line[2] = {0, 0};  // lines of parm u and parm v
-    double range[4] = {0, 1, 0, 1};  // u0 u1 v0 v1
-    std::vector<std::size_t> refs;   // 0-based vertex indices
+    double range[4] = {0, 1, 0, 1};      // u0 u1 v0 v1
+    std::vector<std::size_t> refs;       // 0-based vertex indices
     std::optional<std::vector<double>> parm_u, parm_v;
 };
 
@@ -270,9 +270,9 @@ private:
     std::optional<GeoError> end_bspline(const PendingSurface& s) {
         for (int k = 0; k < 2; ++k)
             if (!(k == 0 ? s.parm_u : s.parm_v))
-                return error_at_line(ErrorCode::ParseError, s.line,
-                                     std::string("a bspline surf needs parm ") + (k == 0 ? "u" : "v") +
-                                         " (its knot vector) before end");
+                return error_at_line(
+                    ErrorCode::ParseError, s.line,
+                    std::string("a bspline surf needs parm ") + (k == 0 ? "u" : "v") + " (its knot vector) before end");
         BSplineSurface b;
         b.degree_u = s.degree_u;
         b.degree_v = s.degree_v;
@@ -284,9 +284,8 @@ private:
             if (size < 2 * degree + 2)
                 return error_at_line(ErrorCode::InvalidArgument, s.parm_line[k],
                                      std::string("parm ") + (k == 0 ? "u" : "v") + " has " + std::to_string(size) +
-                                         " values; a bspline of degree " + std::to_string(degree) +
-                                         " needs at least " + std::to_string(2 * degree + 2) +
-                                         " (degree + 1 control points)");
+                                         " values; a bspline of degree " + std::to_string(degree) + " needs at least " +
+                                         std::to_string(2 * degree + 2) + " (degree + 1 control points)");
             (k == 0 ? b.count_u : b.count_v) = static_cast<int>(size - degree - 1);
         }
         // the counts are bounded by the lines' lengths, so the product cannot overflow

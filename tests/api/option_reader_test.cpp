@@ -38,9 +38,9 @@ TEST(OptionReader, MeshOperationsShareTheOutputOptions) {
     // every operation that encodes a result offers formats; /implicit/query, /mesh/query, /implicit/grid and
     // /surfaces answer in JSON only
     for (const auto& op : operations())
-        EXPECT_EQ(find_option(op, "format") != nullptr, op.operation != "implicit_query" &&
-                                                            op.operation != "mesh_query" &&
-                                                            op.operation != "implicit_grid" && op.operation != "surfaces")
+        EXPECT_EQ(find_option(op, "format") != nullptr,
+                  op.operation != "implicit_query" && op.operation != "mesh_query" && op.operation != "implicit_grid" &&
+                      op.operation != "surfaces")
             << op.operation;
     EXPECT_EQ(operation_options("no-such-operation"), nullptr);
 }
