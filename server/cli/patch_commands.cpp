@@ -1,5 +1,5 @@
-// The patch and curve file commands: `surfaced tessellate` (POST /tessellate, GET /patches/NAME) and
-// `surfaced curve` (POST /curves).
+// The patch, surface and curve file commands: `surfaced tessellate` (POST /tessellate, GET /patches/NAME),
+// `surfaced surfaces` (POST /surfaces) and `surfaced curve` (POST /curves).
 #include <iostream>
 #include <optional>
 #include <string>
@@ -19,11 +19,23 @@ using api::options::OperationOptions;
 constexpr std::string_view kTessellateHelp =
     R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
 
-Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, or
-sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
+Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype [rat] bezier or
+[rat] bspline surfaces, or sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
 operation as POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
 --compression none).
 
+)";
+
+constexpr std::string_view kSurfacesHelp =
+    R"(Usage: surfaced surfaces IN.json -o OUT.json
+
+Runs queries on the B-spline/NURBS surface in IN, a POST /surfaces body ({"surface": {...}, "evaluate": [[u, v]],
+"closest": [[x, y, z]], "elevate": {"direction": "u"}, ...}), through the same operation, and writes its JSON answer
+to OUT.
+
+Options:
+  -o, --output OUT       output file (required); - for standard output
+  -h, --help             this text
 )";
 
 constexpr std::string_view kCurveHelp =
@@ -98,6 +110,19 @@ int tessellate(Args& args) {
                              << header(response, "X-Elapsed-Ms") << " ms\n";
         },
         ProblemStyle{.line = true, .offset = false});
+}
+
+int surfaces(Args& args) {
+    api::ApiContext context = file_context();
+    const auto parsed = parse_file_command(args, "surfaces", kSurfacesHelp, {}, "IN.json");
+    if (!parsed) return kExitOk;
+    if (parsed->has("--format")) throw UsageError{"surfaces: the answer is JSON; --format does not apply"};
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    return finish(
+        api::dispatch(upload_request("/surfaces", "application/json", *bytes, {}), context), *parsed,
+        [&](const api::ApiResponse&) { parsed->report() << "wrote " << parsed->output_label() << "\n"; },
+        ProblemStyle{.field = true, .line = true, .offset = true});
 }
 
 int curve(Args& args) {
