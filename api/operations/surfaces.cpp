@@ -70,14 +70,14 @@ ApiResult<SurfaceDirection> read_direction(const Json& object, const std::string
     return it->get_ref<const std::string&>() == "u" ? SurfaceDirection::U : SurfaceDirection::V;
 }
 
-ApiResult<int> read_times(const Json& object, const std::string& path) {
+//! "times" in 1..most (400 outside: the documented range); what the surface allows is checked by the caller (422).
+ApiResult<int> read_times(const Json& object, const std::string& path, int most) {
     const auto it = object.find("times");
     if (it == object.end()) return 1;
     auto k = read_integer(*it, path + ".times");
     if (!k) return std::move(k.error());
-    if (k.value() < 1 || k.value() > kMaxBSplineSurfaceDegree)
-        return json::geometry_error(ErrorCode::InvalidArgument, path + ".times",
-                                    path + ".times must be in 1.." + std::to_string(kMaxBSplineSurfaceDegree));
+    if (k.value() < 1 || k.value() > most)
+        return invalid(path + ".times", path + ".times must be in 1.." + std::to_string(most));
     return static_cast<int>(k.value());
 }
 
@@ -148,7 +148,7 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
                                         "insert_knot.value = " + format_double(value.value()) +
                                             " is outside the domain [" + format_double(lo) + ", " + format_double(hi) +
                                             "]");
-        auto times = read_times(*it, "insert_knot");
+        auto times = read_times(*it, "insert_knot", kMaxBSplineSurfaceDegree);
         if (!times) return std::move(times.error());
         const std::uint64_t points = (along_u ? nu + static_cast<std::uint64_t>(times.value()) : nu) *
                                      (along_u ? nv : nv + static_cast<std::uint64_t>(times.value()));
@@ -163,7 +163,7 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
         if (auto error = check_members(*it, "elevate", {"direction", "times"})) return error;
         auto direction = read_direction(*it, "elevate");
         if (!direction) return std::move(direction.error());
-        auto times = read_times(*it, "elevate");
+        auto times = read_times(*it, "elevate", kMaxBSplineSurfaceDegree - 1);
         if (!times) return std::move(times.error());
         const bool along_u = direction.value() == SurfaceDirection::U;
         const int degree = along_u ? s.degree_u : s.degree_v;

@@ -93,7 +93,7 @@ int tessellate(Args& args) {
     } else {
         bytes = read_input(parsed->input);
         if (!bytes) return kExitFailed;
-        // free-form cstype bezier surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines
+        // free-form bezier or bspline surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines
         const bool obj = parsed->has("--input-format") ? parsed->value("--input-format") == "obj"
                          : parsed->from_stdin()        ? bytes->find("cstype") != std::string::npos
                                                        : lower_extension(parsed->input) == ".obj";

@@ -269,7 +269,9 @@ TEST(SurfacesOperation, ErrorsNameTheField) {
     expect_problem(ask({{"surface", sphere_json()}, {"insert_knot", {{"direction", "w"}, {"value", 0.5}}}}), 400,
                    "invalid_field", "insert_knot.direction");
     expect_problem(ask({{"surface", sphere_json()}, {"elevate", {{"direction", "v"}, {"times", 14}}}}), 422,
-                   "invalid_argument", "elevate.times");
+                   "invalid_argument", "elevate.times");  // degree 2 + 14
+    expect_problem(ask({{"surface", sphere_json()}, {"elevate", {{"direction", "v"}, {"times", 15}}}}), 400,
+                   "invalid_field", "elevate.times");  // outside the documented 1..14
     expect_problem(ask({{"surface", sphere_json()}}), 400, "invalid_field", "surface");
     expect_problem(ask({{"evaluate", {{0, 0}}}}), 400, "invalid_field", "surface");
     expect_problem(ask({{"surface", sphere_json()}, {"trim", true}}), 400, "unknown_field", "trim");
