@@ -325,6 +325,14 @@ private:
             return error_at_line(ErrorCode::BudgetExceeded, s.line,
                                  "more than max_patches (" + std::to_string(options_.max_patches) +
                                      ") patches: this bspline surface decomposes into " + std::to_string(count));
+        // the decomposition multiplies the net by up to (du + 1)(dv + 1): its control points count as vertices
+        const std::size_t points = count * static_cast<std::size_t>((b.degree_u + 1) * (b.degree_v + 1));
+        if (points > options_.max_vertices || decomposed_points_ + points > options_.max_vertices)
+            return error_at_line(ErrorCode::BudgetExceeded, s.line,
+                                 "more than max_vertices (" + std::to_string(options_.max_vertices) +
+                                     ") control points: this bspline surface's Bézier patches have " +
+                                     std::to_string(points));
+        decomposed_points_ += points;
         auto patches = to_bezier(b);
         if (!patches) return error_at_line(patches.error().code, s.line, "surf: " + patches.error().message);
         for (BezierPatch& patch : patches->patches) set_.patches.push_back(std::move(patch));
@@ -339,7 +347,8 @@ private:
     std::vector<Vec3> points_;
     std::vector<double> weights_;
     CsType cstype_ = CsType::None;
-    bool bspline_ = false;  // cstype [rat] bspline
+    bool bspline_ = false;               // cstype [rat] bspline
+    std::size_t decomposed_points_ = 0;  // control points of the bspline surfaces' Bézier patches so far
     int degree_u_ = 0, degree_v_ = 0;
     bool in_curve_ = false;
     std::optional<PendingSurface> surface_;

@@ -42,7 +42,8 @@ struct ObjPatchReadOptions {
 //! bad reference, wrong control point count, surf without end, no surfaces), NonFinite, Unsupported (another cstype,
 //! trimming, sub-ranges), InvalidArgument (degree out of range, weight <= 0, a B-spline's knot vector or net
 //! breaking bspline_surface.h's validate()), BudgetExceeded (max_patches, max_vertices; checked before the patches
-//! are allocated, for a B-spline surface from its knot vectors before decomposing it).
+//! are allocated, for a B-spline surface from its knot vectors before decomposing it, the control points of its
+//! Bézier patches then counting against max_vertices too).
 Result<PatchSet> read_obj_patches(std::string_view text, const ObjPatchReadOptions& options = {});
 
 }  // namespace surfaced

@@ -276,6 +276,14 @@ TEST(ObjBspline, ErrorsNameTheLine) {
     ASSERT_FALSE(budget.ok());
     EXPECT_EQ(budget.error().code, ErrorCode::BudgetExceeded);
     EXPECT_EQ(budget.error().line, 9);
+    // and their control points (2 x 4) against the vertex budget: the net has 6 vertices
+    ObjPatchReadOptions few;
+    few.max_vertices = 7;
+    auto points = read_obj_patches(file(u, v), few);
+    ASSERT_FALSE(points.ok());
+    EXPECT_EQ(points.error().code, ErrorCode::BudgetExceeded);
+    EXPECT_EQ(points.error().line, 9);
+    EXPECT_NE(points.error().message.find("Bézier patches have 8"), std::string::npos) << points.error().message;
 }
 
 }  // namespace
