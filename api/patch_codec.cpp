@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "api/surface_codec.h"
 #include "geometry/io/number_text.h"
 
 namespace surfaced::api {
@@ -92,29 +93,54 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
     TessellateJsonRequest request;
     request.params = tessellate_params(values.value());
     const auto patches = root.find("patches");
-    if (patches == root.end() || !patches->is_array() || patches->empty())
-        return invalid("patches", R"(patches is required: a non-empty array of {"degree": [m, n], "points": [...]})");
+    const auto surfaces = root.find("surfaces");
+    const bool have_patches = patches != root.end(), have_surfaces = surfaces != root.end();
+    if (!have_patches && !have_surfaces)
+        return invalid("patches", R"(patches or surfaces is required: a non-empty array of {"degree": [m, n], )"
+                                  R"("points": [...]} or of {"degree": [p, q], "knots_u": [...], "knots_v": [...], )"
+                                  R"("points": [...]})");
+    if (have_patches && (!patches->is_array() || (patches->empty() && !have_surfaces)))
+        return invalid("patches", R"(patches must be a non-empty array of {"degree": [m, n], "points": [...]})");
+    if (have_surfaces && (!surfaces->is_array() || (surfaces->empty() && !have_patches)))
+        return invalid("surfaces", R"(surfaces must be a non-empty array of {"degree": [p, q], "knots_u": [...], )"
+                                   R"("knots_v": [...], "points": [...]})");
     // Budgets first: nothing is copied out of the document for a request we would refuse anyway.
-    if (patches->size() > limits.max_patches)
-        return make_problem(Problem::BudgetExceeded,
-                            "patches has " + std::to_string(patches->size()) + " patches; the limit is " +
-                                std::to_string(limits.max_patches),
-                            "patches");
+    const std::size_t patch_count = have_patches ? patches->size() : 0;
+    const std::size_t surface_count = have_surfaces ? surfaces->size() : 0;
+    if (patch_count + surface_count > limits.max_patches)
+        return make_problem(
+            Problem::BudgetExceeded,
+            (have_patches ? "patches has " + std::to_string(patch_count) + " patches" : std::string()) +
+                (have_patches && have_surfaces ? " and " : "") +
+                (have_surfaces ? "surfaces has " + std::to_string(surface_count) + " surfaces" : std::string()) +
+                "; the limit is " + std::to_string(limits.max_patches),
+            have_patches ? "patches" : "surfaces");
     std::uint64_t total_points = 0;
-    for (const Json& patch : *patches)
-        if (patch.is_object())
-            if (auto points = patch.find("points"); points != patch.end() && points->is_array())
-                total_points += points->size();
+    for (const auto* list : {have_patches ? &*patches : nullptr, have_surfaces ? &*surfaces : nullptr})
+        if (list)
+            for (const Json& item : *list)
+                if (item.is_object())
+                    if (auto points = item.find("points"); points != item.end() && points->is_array())
+                        total_points += points->size();
     if (total_points > limits.max_input_vertices)
         return make_problem(Problem::BudgetExceeded,
-                            "the patches have " + std::to_string(total_points) + " control points; the limit is " +
+                            std::string(have_patches && have_surfaces ? "the patches and surfaces"
+                                        : have_patches                ? "the patches"
+                                                                      : "the surfaces") +
+                                " have " + std::to_string(total_points) + " control points; the limit is " +
                                 std::to_string(limits.max_input_vertices),
-                            "patches");
-    request.patches.patches.reserve(patches->size());
-    for (std::size_t i = 0; i < patches->size(); ++i) {
+                            have_patches ? "patches" : "surfaces");
+    request.patches.patches.reserve(patch_count);
+    for (std::size_t i = 0; i < patch_count; ++i) {
         auto patch = decode_patch((*patches)[i], at("patches", i));
         if (!patch) return std::move(patch.error());
         request.patches.patches.push_back(std::move(patch.value()));
+    }
+    request.surfaces.reserve(surface_count);
+    for (std::size_t i = 0; i < surface_count; ++i) {
+        auto surface = decode_surface((*surfaces)[i], at("surfaces", i), limits.max_input_vertices);
+        if (!surface) return std::move(surface.error());
+        request.surfaces.push_back(std::move(surface.value()));
     }
 
     return request;
@@ -125,6 +151,9 @@ TessellateParams tessellate_params(const options::OptionValues& values) {
     values.get("tolerance", params.tolerance);
     values.get("segments", params.segments);
     values.get_output(params.output);
+    std::string format;
+    values.get("format", format);
+    params.patches_format = format == "patches";
     return params;
 }
 

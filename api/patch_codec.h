@@ -4,9 +4,11 @@
 // Request form:
 //   {"patches": [{"degree": [m, n], "points": [[x, y, z], ...]}, ...],   (m+1)(n+1) points, u varying fastest
 //              optional per patch "weights": [w, ...] (one > 0 per point, same order): a rational patch
+//    "surfaces": [{"degree": [p, q], "knots_u": [...], "knots_v": [...], "points": [...], "weights"?: [...]}, ...],
+//              B-spline/NURBS surfaces (api/surface_codec.h), tessellated through their Bézier patches
 //    "tolerance": t | "segments": n,
 //    "output": {"format": "glb"|"obj"|"ply", "compression": "draco"|"none", "quantize_position": 14, "normals": true}}
-// Only "patches" is required. Errors name the field: "patches[2].points[7][1] must be a finite number",
+// "patches" or "surfaces" (or both) is required. Errors name the field: "patches[2].points[7][1] must be a finite number",
 // "patches[0].points has 15 points; degree [3, 3] needs 16", "tolerance must be a number". Budgets (number of
 // patches, total control points) are checked before the points are copied out of the document.
 #pragma once
@@ -14,12 +16,14 @@
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "api/dto.h"
 #include "api/options/option_reader.h"
 #include "api/errors.h"
 #include "api/limits.h"
 #include "geometry/surfaces/bezier_patch.h"
+#include "geometry/surfaces/bspline_surface.h"
 
 namespace surfaced::api {
 
@@ -27,10 +31,12 @@ struct TessellateParams {
     std::optional<double> tolerance;       //!< "tolerance" (model units), as sent; checked by the operation
     std::optional<std::int64_t> segments;  //!< "segments" per patch direction, as sent
     OutputOptions output;                  //!< normals default to true here (see operations/tessellate.h)
+    bool patches_format = false;           //!< format "patches": the Bézier patches as JSON instead of a mesh
 };
 
 struct TessellateJsonRequest {
     PatchSet patches;
+    std::vector<BSplineSurface> surfaces;  //!< validated; decomposed into patches by the operation
     TessellateParams params;
 };
 

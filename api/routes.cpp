@@ -6,6 +6,7 @@
 #include "api/operations/remesh.h"
 #include "api/operations/repair.h"
 #include "api/operations/curves.h"
+#include "api/operations/surfaces.h"
 #include "api/operations/tessellate.h"
 #include "api/operations/implicit_query.h"
 #include "api/operations/mesh_query.h"
@@ -42,6 +43,9 @@ constexpr Route kRoutes[] = {
      "ETag / If-None-Match -> 304"},
     {"POST", "/curves", &operations::curves,
      "Bezier curve queries (evaluate, derivatives, split, elevate, length, closest point, tessellate) -> JSON"},
+    {"POST", "/surfaces", &operations::surfaces,
+     "B-spline/NURBS surface queries (evaluate, derivatives, closest point, knot insertion, degree elevation, Bezier "
+     "patches, bounding box) -> JSON"},
     {"POST", "/implicit/query", &operations::implicit_query,
      "Implicit scene queries: points inside/on/outside, value and gradient; rays by sphere tracing -> JSON"},
     {"POST", "/mesh/query", &operations::mesh_query,

@@ -1,4 +1,4 @@
-// libFuzzer target: read_obj_patches (OBJ free-form cstype [rat] bezier surfaces). Accepted patch sets must pass
+// libFuzzer target: read_obj_patches (OBJ free-form cstype [rat] bezier and [rat] bspline surfaces). Accepted patch sets must pass
 // validate(); errors must carry a message and a line.
 #include <cstddef>
 #include <cstdint>

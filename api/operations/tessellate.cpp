@@ -18,13 +18,14 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/io/obj_patches.h"
 #include "geometry/surfaces/bezier_patch.h"
+#include "geometry/surfaces/bspline_surface.h"
 
 namespace surfaced::api::operations {
 namespace {
 
 constexpr std::int64_t kDefaultSegments = 8;
 constexpr std::string_view kBezMediaTypes[] = {"application/x-geomview-bez", "text/plain", "application/octet-stream"};
-constexpr std::string_view kObjMediaType = "model/obj";  // free-form cstype bezier surfaces
+constexpr std::string_view kObjMediaType = "model/obj";  // free-form cstype [rat] bezier / bspline surfaces
 //! GET /patches/{name}?format=patches: the sample's control points rather than a mesh (catalog.cpp lists it).
 constexpr std::string_view kPatchesFormat = "patches";
 
@@ -75,24 +76,87 @@ TessellationOptions tessellation_options(const TessellateParams& params, const L
     return options;
 }
 
+//! Where the patches of a JSON request came from: the first `direct` are "patches", then surface k's Bézier patches
+//! start at surface_start[k].
+struct PatchOrigins {
+    std::size_t direct = 0;
+    std::vector<std::size_t> surface_start;
+
+    std::string field(std::size_t patch) const {
+        if (patch < direct || surface_start.empty()) return "patches[" + std::to_string(patch) + "]";
+        const auto next = std::upper_bound(surface_start.begin(), surface_start.end(), patch);
+        return "surfaces[" + std::to_string(next - surface_start.begin() - 1) + "]";
+    }
+};
+
 //! A GeoError from patch validation or planning, with the field it is about.
-ApiError patch_error(const GeoError& error, const TessellateParams& params, Source source) {
+ApiError patch_error(const GeoError& error, const TessellateParams& params, Source source,
+                     const PatchOrigins& origins) {
     ApiError out = from_geo_error(error);
     if (error.code == ErrorCode::BudgetExceeded) {
         out.field = params.tolerance ? "tolerance" : "segments";
     } else if (error.element >= 0 && source == Source::Json) {
-        out.field = "patches[" + std::to_string(error.element) + "]";
+        out.field = origins.field(static_cast<std::size_t>(error.element));
     }
     return out;
 }
 
+//! The surfaces' Bézier patches appended to `set`, after checking what they will cost: the predicted patch count
+//! against max_patches and their control points against max_input_vertices (O(knots) per surface, no allocation).
+std::optional<ApiError> decompose_surfaces(const std::vector<BSplineSurface>& surfaces, const Limits& limits,
+                                           const Cancel& cancel, PatchSet& set, PatchOrigins& origins) {
+    origins.direct = set.patches.size();
+    std::uint64_t patches = set.patches.size(), points = 0;
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+        const BSplineSurface& s = surfaces[k];
+        const std::uint64_t count = bezier_patch_count(s);
+        patches += count;
+        points += count * static_cast<std::uint64_t>((s.degree_u + 1) * (s.degree_v + 1));
+        const std::string field = "surfaces[" + std::to_string(k) + "]";
+        if (patches > limits.max_patches)
+            return make_problem(Problem::BudgetExceeded,
+                                "the surfaces decompose into " + std::to_string(patches - set.patches.size()) +
+                                    " Bézier patches or more (with " + std::to_string(set.patches.size()) +
+                                    " given as patches); the limit is " + std::to_string(limits.max_patches),
+                                field);
+        if (points > limits.max_input_vertices)
+            return make_problem(Problem::BudgetExceeded,
+                                "the surfaces' Bézier patches would have " + std::to_string(points) +
+                                    " control points or more; the limit is " +
+                                    std::to_string(limits.max_input_vertices),
+                                field);
+    }
+    set.patches.reserve(static_cast<std::size_t>(patches));
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+        origins.surface_start.push_back(set.patches.size());
+        auto decomposed = to_bezier(surfaces[k], cancel);
+        if (!decomposed) {
+            ApiError error = from_geo_error(decomposed.error());
+            error.field = "surfaces[" + std::to_string(k) + "]";
+            return error;
+        }
+        for (BezierPatch& patch : decomposed->patches) set.patches.push_back(std::move(patch));
+    }
+    return std::nullopt;
+}
+
+//! format=patches: the patches as the JSON POST /tessellate takes (a B-spline surface's Bézier decomposition).
+ApiResponse patches_response(const PatchSet& set) {
+    ApiResponse response;
+    response.content_type = "application/json";
+    response.body = patch_set_json(set);
+    response.headers = {{"X-Patches", std::to_string(set.patches.size())}};
+    return response;
+}
+
 //! Plan (budgets) -> tessellate -> encode. `start` is when the request started, for the timing headers.
 ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& params, const Limits& limits,
-                                  Source source, Clock::time_point start, const Cancel& cancel) {
+                                  Source source, Clock::time_point start, const Cancel& cancel,
+                                  const PatchOrigins& origins = {}) {
     TessellationOptions options = tessellation_options(params, limits);
     options.cancel = cancel;  // polled between patches
     auto plan = plan_tessellation(set.patches, options);
-    if (!plan) return error_response(patch_error(plan.error(), params, source));
+    if (!plan) return error_response(patch_error(plan.error(), params, source, origins));
     if (plan->triangles > limits.max_output_faces)
         return error_response(
             make_problem(Problem::BudgetExceeded,
@@ -104,7 +168,7 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
     const auto t_planned = Clock::now();
 
     auto tessellated = tessellate_patches(set.patches, options);
-    if (!tessellated) return error_response(patch_error(tessellated.error(), params, source));
+    if (!tessellated) return error_response(patch_error(tessellated.error(), params, source, origins));
     PolygonMesh& mesh = tessellated->mesh;
     const auto t_tessellated = Clock::now();
 
@@ -149,7 +213,16 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
         if (auto error = negotiate_output_format(request, decoded->params.output))
             return error_response(std::move(*error));
         if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
-        return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start, context.cancel);
+        PatchOrigins origins;
+        if (auto error = decompose_surfaces(decoded->surfaces, limits, context.cancel, decoded->patches, origins))
+            return error_response(std::move(*error));
+        if (decoded->params.patches_format) {
+            if (auto valid = validate(decoded->patches.patches); !valid)
+                return error_response(patch_error(valid.error(), decoded->params, Source::Json, origins));
+            return patches_response(decoded->patches);
+        }
+        return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start, context.cancel,
+                                     origins);
     }
     const bool obj = media_type == kObjMediaType;
     if (!obj && std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
@@ -174,6 +247,7 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
         set = read_bez(request.body, read_options);
     }
     if (!set) return error_response(from_geo_error(set.error()));
+    if (params->patches_format) return patches_response(set.value());
     return tessellate_and_encode(set.value(), params.value(), limits, Source::File, start, context.cancel);
 }
 

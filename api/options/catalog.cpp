@@ -71,7 +71,7 @@ constexpr OptionSpec format_of(std::span<const std::string_view> values, std::st
     out.description = description;
     return out;
 }
-// Every mesh format, and patches: bicubic Bézier patches as JSON (the body POST /tessellate takes).
+// Every mesh format, and patches: Bézier patches as JSON (the body POST /tessellate takes).
 constexpr auto kMeshAndPatchFormats = [] {
     std::array<std::string_view, std::size(kOutputFormatNames) + 1> out{};
     for (std::size_t i = 0; i < std::size(kOutputFormatNames); ++i) out[i] = kOutputFormatNames[i].name;
@@ -84,8 +84,13 @@ constexpr OptionSpec kSubdivideOutput[] = {
               "Encoding of the result: binary or text glTF, OBJ, PLY, the JSON mesh, binary STL or OFF; or patches: "
               "the limit surface as bicubic Bézier patches (the JSON POST /tessellate takes; Catmull-Clark)"),
     kCompressionOption, kQuantizeOption, kNormalsOption};
-// Tessellated patches: every mesh format; the normals written are the patches' exact surface normals.
-constexpr OptionSpec kTessellateOutput[] = {kFormatOption, kCompressionOption, kQuantizeOption, kNormalsOption};
+// Tessellated patches: every mesh format; the normals written are the patches' exact surface normals. format
+// patches answers with the Bézier patches (a B-spline surface's decomposition) as the JSON POST /tessellate takes.
+constexpr OptionSpec kTessellateOutput[] = {
+    format_of(kMeshAndPatchFormats,
+              "Encoding of the tessellated mesh, or patches: the Bézier patches (surfaces decomposed) as the JSON "
+              "POST /tessellate takes"),
+    kCompressionOption, kQuantizeOption, kNormalsOption};
 constexpr OptionSpec kRepairOption{
     .name = "repair",
     .type = OptionType::Enum,
@@ -247,7 +252,7 @@ constexpr OptionSpec kRepair[] = {
 };
 
 // ---- Bezier patches: POST /tessellate (query or JSON) and GET /patches/{name} (query) -----------------------------
-constexpr std::string_view kPatchesInput[] = {"patches"};
+constexpr std::string_view kPatchesInput[] = {"patches", "surfaces"};
 constexpr OptionSpec kTolerance{.name = "tolerance",
                                 .type = OptionType::Number,
                                 .min = above(0),
@@ -298,6 +303,10 @@ constexpr std::string_view kCurvesInputs[] = {"points",       "weights",     "ch
                                               "evaluate",     "derivatives", "curvature",  "split",      "elevate",
                                               "bounding_box", "length",      "closest",    "tessellate", "continuity",
                                               "enforce_c1",   "to_bezier",   "insert_knot"};
+
+// ---- POST /surfaces: one B-spline/NURBS surface and the queries on it (JSON only, no options) ------------------
+constexpr std::string_view kSurfacesInputs[] = {"surface",     "evaluate", "derivatives", "closest",
+                                                "insert_knot", "elevate",  "to_bezier",   "bounding_box"};
 
 // ---- POST /implicit/mesh: a JSON body (the scene and its bounds, grid options, the mesh's output) ---------------
 constexpr auto kImplicitModes = names_of(operations::kImplicitMeshModeNames);
@@ -458,6 +467,7 @@ constexpr OperationOptions kOperations[] = {
     {"implicit_mesh", "/implicit/mesh", "post", kImplicitMesh, kImplicitMeshOutput, kImplicitMeshInputs},
     {"implicit_query", "/implicit/query", "post", kImplicitQuery, {}, kImplicitQueryInputs},
     {"mesh_query", "/mesh/query", "post", kMeshQuery, {}, kMeshQueryInputs},
+    {"surfaces", "/surfaces", "post", {}, {}, kSurfacesInputs},
     {"implicit_grid", "/implicit/grid", "post", kImplicitGrid, {}, kImplicitGridInputs},
 };
 

@@ -42,7 +42,7 @@ export type Compression = 'draco' | 'none';
 export type RepairMode = 'auto' | 'none';
 export type RemeshSmoothing = 'tangential' | 'laplacian' | 'none';
 export type ImplicitMode = 'uniform' | 'adaptive';
-export type TessellateFormat = OutputFormat;
+export type TessellateFormat = OutputFormat | 'patches';
 export type PatchSampleFormat = OutputFormat | 'patches';
 export type PointcloudFormat = 'glb' | 'gltf' | 'ply' | 'json';
 export type CurvesFormat = 'json' | 'glb' | 'gltf';
@@ -108,6 +108,16 @@ export interface BSpline {
 export interface Continuity { position_tolerance?: number; angle_tolerance?: number; derivative_tolerance?: number }
 export interface EnforceC1 { mode?: 'C1' | 'G1'; side?: 'left' | 'right' | 'both'; joints?: number[] }
 export interface InsertKnot { u: number; times?: number }
+/** A B-spline/NURBS surface: count_u = knots_u.length - p - 1 control points along u, u varying fastest. */
+export interface BSplineSurface {
+  /** [p, q]: degrees in u and v, 1..15 */
+  degree: [number, number] | number[];
+  knots_u: number[];
+  knots_v: number[];
+  points: number[][];
+  /** one weight > 0 per control point: a NURBS surface */
+  weights?: number[];
+}
 export interface CurvesOutput { format?: CurvesFormat; compression?: 'none' }
 
 // ---- option types, one per operation -------------------------------------------------------------------------------
@@ -208,9 +218,11 @@ export interface RepairOptions extends MeshInput, OutputOptions<OutputFormat> {
 
 export interface TessellateOptions extends OutputOptions<TessellateFormat> {
   patches?: Patch[];
+  /** B-spline/NURBS surfaces, tessellated through their Bezier patches */
+  surfaces?: BSplineSurface[];
   /** geomview BEZ/BBP text */
   bez?: string;
-  /** a BEZ file or an OBJ with free-form bezier surfaces */
+  /** a BEZ file or an OBJ with free-form bezier or bspline surfaces */
   data?: BodyData;
   contentType?: string;
   /** guaranteed chord tolerance, model units (excludes segments) */
@@ -257,6 +269,20 @@ export interface CurvesOptions {
   to_bezier?: boolean;
   insert_knot?: InsertKnot;
   output?: CurvesOutput;
+}
+
+export interface SurfacesOptions {
+  surface: BSplineSurface;
+  /** [u, v] in the domain: position, du, dv, normal */
+  evaluate?: number[][];
+  /** [u, v]: position and partial derivatives to order 2 */
+  derivatives?: number[][];
+  /** points: the global closest point on the surface to each */
+  closest?: number[][];
+  insert_knot?: { direction: 'u' | 'v'; value: number; times?: number };
+  elevate?: { direction: 'u' | 'v'; times?: number };
+  to_bezier?: boolean;
+  bounding_box?: boolean;
 }
 
 export interface ImplicitQueryOptions {
@@ -400,6 +426,8 @@ export interface MeshQueryAnswer {
 
 /** One member per query asked (evaluate, length, ...); an svg answers per subpath in `subpaths`. */
 export type CurvesAnswer = Record<string, unknown>;
+/** degree, rational, domain, and one member per query asked (evaluate, closest, elevate, ...). */
+export type SurfacesAnswer = Record<string, unknown>;
 
 export interface Problem {
   type?: string; title?: string; status?: number; detail?: string; code?: string; field?: string; line?: number;
@@ -463,6 +491,7 @@ export declare class Client {
   tessellate(options: TessellateOptions): Promise<Result<never>>;
   patchSample(name?: string, options?: PatchSampleOptions): Promise<Result<PatchesAnswer>>;
   curves(options: CurvesOptions): Promise<Result<CurvesAnswer>>;
+  surfaces(options: SurfacesOptions): Promise<Result<SurfacesAnswer>>;
   implicitQuery(options: ImplicitQueryOptions): Promise<Result<ImplicitQueryAnswer>>;
   meshQuery(options: MeshQueryOptions): Promise<Result<MeshQueryAnswer>>;
   implicitGrid(options: ImplicitGridOptions): Promise<Result<LevelSetNode>>;

@@ -139,12 +139,16 @@ export class Client {
   // A JSON request {[payload]: ..., options, output} or, with `data`, a file with the options in the query.
   operation(path, payload, { data, contentType, output, ...options }) {
     const [rest, out] = takeOutput(options, output);
+    // payload: the member (or members, of which the JSON form needs one) that carries the input
+    const payloads = Array.isArray(payload) ? payload : [payload];
+    const names = payloads.join(' or ');
+    const given = payloads.some((name) => rest[name] !== undefined);
     if (data === undefined) {
-      if (rest[payload] === undefined) throw new TypeError(`give either ${payload} (JSON) or data (file bytes) with contentType`);
+      if (!given) throw new TypeError(`give either ${names} (JSON) or data (file bytes) with contentType`);
       return this.request('POST', path, { json: jsonBody(rest, out) });
     }
-    if (rest[payload] !== undefined) throw new TypeError(`give either ${payload} (JSON) or data (file bytes), not both`);
-    delete rest[payload];
+    if (given) throw new TypeError(`give either ${names} (JSON) or data (file bytes), not both`);
+    for (const name of payloads) delete rest[name];
     return this.request('POST', path, { data, contentType: contentType ?? 'application/octet-stream', query: queryOf(rest, out) });
   }
 
@@ -189,13 +193,13 @@ export class Client {
    *  the report in X-Repairs and, in JSON output, stats.repairs */
   repair(options) { return this.operation('/repair', 'mesh', options); }
 
-  /** POST /tessellate: {patches | bez (BEZ text) | data + contentType, tolerance | segments, output} */
+  /** POST /tessellate: {patches and/or surfaces | bez (BEZ text) | data + contentType, tolerance | segments, output} */
   tessellate({ bez, ...options }) {
     if (bez !== undefined) {
       if (options.data !== undefined) throw new TypeError('give either bez (text) or data (bytes)');
-      return this.operation('/tessellate', 'patches', { ...options, data: bez, contentType: 'application/x-geomview-bez' });
+      return this.operation('/tessellate', ['patches', 'surfaces'], { ...options, data: bez, contentType: 'application/x-geomview-bez' });
     }
-    return this.operation('/tessellate', 'patches', options);
+    return this.operation('/tessellate', ['patches', 'surfaces'], options);
   }
 
   /** GET /patches/{name}: tessellated (tolerance | segments, format, ...), or format 'patches' for the control points.
@@ -206,6 +210,10 @@ export class Client {
 
   /** POST /curves: {points | chain | svg | bspline, queries..., output}; the answer's document in .json */
   curves(request) { return this.request('POST', '/curves', { json: request }); }
+
+  /** POST /surfaces: {surface, evaluate, derivatives, closest, insert_knot, elevate, to_bezier, bounding_box}; the
+   *  answer's document in .json */
+  surfaces(request) { return this.request('POST', '/surfaces', { json: request }); }
 
   /** POST /implicit/query: {scene, points, rays, tolerance, max_distance, max_steps}; the answer's document in .json */
   implicitQuery(request) { return this.request('POST', '/implicit/query', { json: request }); }

@@ -1,4 +1,4 @@
-// OBJ free-form Bézier surfaces (see obj_patches.h for what is read and what is refused).
+// OBJ free-form Bézier and B-spline surfaces (see obj_patches.h for what is read and what is refused).
 #include "geometry/io/obj_patches.h"
 
 #include <cmath>
@@ -9,6 +9,7 @@
 
 #include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
+#include "geometry/surfaces/bspline_surface.h"
 
 namespace surfaced {
 namespace {
@@ -23,8 +24,10 @@ struct PendingSurface {
     std::int64_t line = 0;
     int degree_u = 0, degree_v = 0;
     bool rational = false;
-    double range[4] = {0, 1, 0, 1};  // u0 u1 v0 v1
-    std::vector<std::size_t> refs;   // 0-based vertex indices
+    bool bspline = false;
+    std::int64_t parm_line[2] = {0, 0};  // lines of parm u and parm v
+    double range[4] = {0, 1, 0, 1};      // u0 u1 v0 v1
+    std::vector<std::size_t> refs;       // 0-based vertex indices
     std::optional<std::vector<double>> parm_u, parm_v;
 };
 
@@ -44,7 +47,7 @@ public:
         if (surface_) return error_at_line(ErrorCode::ParseError, surface_->line, "surf has no matching end");
         if (set_.patches.empty())
             return error_at_line(ErrorCode::ParseError, std::max<std::int64_t>(line_, 1),
-                                 "no free-form surfaces (cstype bezier, deg, surf ... end) in the file");
+                                 "no free-form surfaces (cstype bezier or bspline, deg, surf ... end) in the file");
         return std::move(set_);
     }
 
@@ -74,7 +77,7 @@ private:
                          std::string(keyword) + ": trimming curves and special points are not supported");
         if (keyword == "bmat" || keyword == "step")
             return error(ErrorCode::Unsupported,
-                         std::string(keyword) + " applies to cstype bmatrix/cardinal/bspline, which are not supported");
+                         std::string(keyword) + " applies to cstype bmatrix/cardinal/taylor, which are not supported");
         return std::nullopt;  // polygons, groups, materials, display attributes: not ours
     }
 
@@ -117,12 +120,13 @@ private:
             rational = true;
             if (!tokens.next(type)) return error(ErrorCode::ParseError, "cstype rat needs a type (bezier)");
         }
-        if (type == "bmatrix" || type == "bspline" || type == "cardinal" || type == "taylor")
+        if (type == "bmatrix" || type == "cardinal" || type == "taylor")
             return error(ErrorCode::Unsupported, "cstype " + std::string(rational ? "rat " : "") + std::string(type) +
-                                                     " is not supported (only bezier and rat bezier)");
-        if (type != "bezier") return error(ErrorCode::ParseError, "unknown cstype " + quote(type));
+                                                     " is not supported (only [rat] bezier and [rat] bspline)");
+        if (type != "bezier" && type != "bspline") return error(ErrorCode::ParseError, "unknown cstype " + quote(type));
         if (!tokens.empty()) return error(ErrorCode::ParseError, "cstype: unexpected text after the type");
         cstype_ = rational ? CsType::RationalBezier : CsType::Bezier;
+        bspline_ = type == "bspline";
         return std::nullopt;
     }
 
@@ -157,6 +161,7 @@ private:
         s.degree_u = degree_u_;
         s.degree_v = degree_v_;
         s.rational = cstype_ == CsType::RationalBezier;
+        s.bspline = bspline_;
         const char* names[4] = {"surf u0", "surf u1", "surf v0", "surf v1"};
         for (int k = 0; k < 4; ++k)
             if (auto e = number(tokens, names[k], s.range[k])) return e;
@@ -195,13 +200,15 @@ private:
             Tokens rest = tokens;
             if (!rest.next(probe)) break;
             if (auto e = number(tokens, "parm value", x)) return e;
-            if (!values.empty() && !(x > values.back()))
-                return error(ErrorCode::ParseError, "parm " + std::string(direction) + " values must increase");
+            if (!values.empty() && !(x > values.back()) && !(surface_->bspline && x == values.back()))
+                return error(ErrorCode::ParseError, "parm " + std::string(direction) + " values must " +
+                                                        (surface_->bspline ? "not decrease" : "increase"));
             values.push_back(x);
         }
         if (values.size() < 2)
             return error(ErrorCode::ParseError, "parm " + std::string(direction) + " needs at least two values");
         (direction == "u" ? surface_->parm_u : surface_->parm_v) = std::move(values);
+        surface_->parm_line[direction == "u" ? 0 : 1] = line_;
         return std::nullopt;
     }
 
@@ -213,6 +220,7 @@ private:
         if (!surface_) return error(ErrorCode::ParseError, "end without a surf");
         PendingSurface s = std::move(*surface_);
         surface_.reset();
+        if (s.bspline) return end_bspline(s);
         const std::vector<double> parm_u = s.parm_u.value_or(std::vector<double>{s.range[0], s.range[1]});
         const std::vector<double> parm_v = s.parm_v.value_or(std::vector<double>{s.range[2], s.range[3]});
         if (s.range[0] != parm_u.front() || s.range[1] != parm_u.back() || s.range[2] != parm_v.front() ||
@@ -258,6 +266,79 @@ private:
         return std::nullopt;
     }
 
+    //! A B-spline surface: its knot vectors are the parm statements; decomposed into Bézier patches.
+    std::optional<GeoError> end_bspline(const PendingSurface& s) {
+        for (int k = 0; k < 2; ++k)
+            if (!(k == 0 ? s.parm_u : s.parm_v))
+                return error_at_line(
+                    ErrorCode::ParseError, s.line,
+                    std::string("a bspline surf needs parm ") + (k == 0 ? "u" : "v") + " (its knot vector) before end");
+        BSplineSurface b;
+        b.degree_u = s.degree_u;
+        b.degree_v = s.degree_v;
+        b.knots_u = *s.parm_u;
+        b.knots_v = *s.parm_v;
+        for (int k = 0; k < 2; ++k) {
+            const std::size_t size = (k == 0 ? b.knots_u : b.knots_v).size();
+            const auto degree = static_cast<std::size_t>(k == 0 ? s.degree_u : s.degree_v);
+            if (size < 2 * degree + 2)
+                return error_at_line(ErrorCode::InvalidArgument, s.parm_line[k],
+                                     std::string("parm ") + (k == 0 ? "u" : "v") + " has " + std::to_string(size) +
+                                         " values; a bspline of degree " + std::to_string(degree) + " needs at least " +
+                                         std::to_string(2 * degree + 2) + " (degree + 1 control points)");
+            (k == 0 ? b.count_u : b.count_v) = static_cast<int>(size - degree - 1);
+        }
+        // the counts are bounded by the lines' lengths, so the product cannot overflow
+        const std::size_t expected = static_cast<std::size_t>(b.count_u) * static_cast<std::size_t>(b.count_v);
+        if (s.refs.size() != expected)
+            return error_at_line(ErrorCode::ParseError, s.line,
+                                 "surf has " + std::to_string(s.refs.size()) + " control points; the knot vectors (" +
+                                     std::to_string(b.knots_u.size()) + " and " + std::to_string(b.knots_v.size()) +
+                                     " values, degree " + std::to_string(b.degree_u) + "x" +
+                                     std::to_string(b.degree_v) + ") make a net of " + std::to_string(b.count_u) +
+                                     " x " + std::to_string(b.count_v) + " = " + std::to_string(expected));
+        for (std::size_t ref : s.refs) {
+            b.points.push_back(points_[ref]);
+            if (s.rational) b.weights.push_back(weights_[ref]);
+        }
+        if (Status valid = validate(b); !valid) {
+            const std::string& message = valid.error().message;
+            for (int k = 0; k < 2; ++k)
+                if (message.starts_with(k == 0 ? "knots_u" : "knots_v")) {
+                    // "knots_u[5] (0.2) is smaller than knots_u[4] ..." -> "parm u[5] (0.2) is smaller than ..."
+                    std::string what = message;
+                    const std::string from = k == 0 ? "knots_u" : "knots_v", to = k == 0 ? "parm u" : "parm v";
+                    for (std::size_t at = what.find(from); at != std::string::npos; at = what.find(from, at))
+                        what.replace(at, from.size(), to);
+                    return error_at_line(valid.error().code, s.parm_line[k], what + " (values counted from 0)");
+                }
+            return error_at_line(valid.error().code, s.line, "surf: " + message);
+        }
+        const auto [u0, u1] = domain_u(b);
+        const auto [v0, v1] = domain_v(b);
+        if (s.range[0] != u0 || s.range[1] != u1 || s.range[2] != v0 || s.range[3] != v1)
+            return error_at_line(ErrorCode::Unsupported, s.line,
+                                 "surf range differs from the knot vectors' domain (trimmed sub-ranges are not "
+                                 "supported)");
+        const std::size_t count = bezier_patch_count(b);
+        if (set_.patches.size() + count > options_.max_patches)
+            return error_at_line(ErrorCode::BudgetExceeded, s.line,
+                                 "more than max_patches (" + std::to_string(options_.max_patches) +
+                                     ") patches: this bspline surface decomposes into " + std::to_string(count));
+        // the decomposition multiplies the net by up to (du + 1)(dv + 1): its control points count as vertices
+        const std::size_t points = count * static_cast<std::size_t>((b.degree_u + 1) * (b.degree_v + 1));
+        if (points > options_.max_vertices || decomposed_points_ + points > options_.max_vertices)
+            return error_at_line(ErrorCode::BudgetExceeded, s.line,
+                                 "more than max_vertices (" + std::to_string(options_.max_vertices) +
+                                     ") control points: this bspline surface's Bézier patches have " +
+                                     std::to_string(points));
+        decomposed_points_ += points;
+        auto patches = to_bezier(b);
+        if (!patches) return error_at_line(patches.error().code, s.line, "surf: " + patches.error().message);
+        for (BezierPatch& patch : patches->patches) set_.patches.push_back(std::move(patch));
+        return std::nullopt;
+    }
+
     enum class CsType { None, Bezier, RationalBezier };
 
     std::string_view text_;
@@ -266,6 +347,8 @@ private:
     std::vector<Vec3> points_;
     std::vector<double> weights_;
     CsType cstype_ = CsType::None;
+    bool bspline_ = false;               // cstype [rat] bspline
+    std::size_t decomposed_points_ = 0;  // control points of the bspline surfaces' Bézier patches so far
     int degree_u_ = 0, degree_v_ = 0;
     bool in_curve_ = false;
     std::optional<PendingSurface> surface_;

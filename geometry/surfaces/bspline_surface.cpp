@@ -36,6 +36,8 @@ struct Node {
 };
 
 Node lerp(const Node& a, const Node& b, double alpha) {
+    if (alpha == 0.0) return a;  // exact at the ends (blossoms at repeated knots)
+    if (alpha == 1.0) return b;
     Node out;
     out.hp = (1.0 - alpha) * a.hp + alpha * b.hp;
     out.w = (1.0 - alpha) * a.w + alpha * b.w;
@@ -279,6 +281,81 @@ void close_seams(SurfaceBezierPatches& out, const BSplineSurface& s) {
     for (std::size_t a = 0; a < nu; ++a) close(out.patches[a], out.patches[(nv - 1) * nu + a], false);
 }
 
+//! The average of nodes, keeping the Euclidean position exact when they all share it.
+Node average(const Node* nodes, std::size_t count) {
+    Node out{Vec3{}, 0.0, nodes[0].e};
+    bool same = true;
+    for (std::size_t k = 0; k < count; ++k) {
+        out.hp += nodes[k].hp;
+        out.w += nodes[k].w;
+        same = same && nodes[k].e == nodes[0].e;
+    }
+    out.hp = out.hp * (1.0 / static_cast<double>(count));
+    out.w /= static_cast<double>(count);
+    if (!same) out.e = out.hp * (1.0 / out.w);
+    return out;
+}
+
+//! The knot vector of a degree-(p+1) elevation of a degree-p spline with knots U and n points: the p + 1 knots left
+//! of the domain (U[0..p]) and right of it (U[n..n+p]) each gain a copy of their outermost value, every distinct
+//! value of U[p+1..n-1] one more copy.
+std::vector<double> elevated_knots(const std::vector<double>& U, std::size_t p, std::size_t n) {
+    std::vector<double> out;
+    out.reserve(2 * U.size());
+    out.push_back(U[0]);
+    out.insert(out.end(), U.begin(), U.begin() + static_cast<std::ptrdiff_t>(p + 1));
+    for (std::size_t k = p + 1; k < n; ++k) {
+        out.push_back(U[k]);
+        if (k + 1 == n || U[k + 1] != U[k]) out.push_back(U[k]);
+    }
+    out.insert(out.end(), U.begin() + static_cast<std::ptrdiff_t>(n), U.end());
+    out.push_back(U.back());
+    return out;
+}
+
+//! One degree elevation of the curve (P, U) of degree p (blossoming, see elevate_degree in the header); T is
+//! elevated_knots(U). Returns the T.size() - p - 2 new points.
+std::vector<Node> elevate_curve(int p, const std::vector<Node>& P, const std::vector<double>& U,
+                                const std::vector<double>& T) {
+    const auto ps = static_cast<std::size_t>(p), d = ps + 1;
+    const std::size_t n = P.size(), m = T.size() - d - 1;  // new point count
+    std::vector<Node> out(m);
+    std::array<Node, kLocal + 1> terms;
+    std::array<Node, kLocal> level;
+    std::array<double, kLocal + 1> args;
+    for (std::size_t i = 0; i < m; ++i) {
+        // a non-empty span l of T inside the domain [T[d], T[m]] that point i's support covers (l in [i, i + d]),
+        // else the nearest non-empty domain span (point i then does not act on the domain)
+        const std::size_t lo = std::max(i, d), hi = std::min(i + d, m - 1);
+        std::size_t l = m;
+        for (std::size_t k = lo; k <= hi && l == m; ++k)
+            if (T[k] < T[k + 1]) l = k;
+        if (l == m) {
+            const double target = T[std::clamp(i, d, m - 1)];
+            for (std::size_t k = d; k < m; ++k)
+                if (T[k] < T[k + 1] && (l == m || std::abs(T[k] - target) < std::abs(T[l] - target))) l = k;
+        }
+        // the same span in U (its left end is inside the domain and below its right end)
+        const std::size_t span = find_span(U, p, n, T[l]);
+        for (std::size_t k = 0; k <= ps; ++k) {
+            std::size_t a = 0;
+            for (std::size_t r = 0; r <= ps; ++r)
+                if (r != k) args[a++] = T[i + 1 + r];
+            // de Boor with argument args[r - 1] at level r: the blossom of the span's polynomial
+            for (std::size_t r = 0; r <= ps; ++r) level[r] = P[span - ps + r];
+            for (std::size_t r = 1; r <= ps; ++r)
+                for (std::size_t j = ps; j >= r; --j) {
+                    const std::size_t g = span - ps + j;  // global index of level[j]
+                    const double alpha = (args[r - 1] - U[g]) / (U[g + ps + 1 - r] - U[g]);
+                    level[j] = lerp(level[j - 1], level[j], alpha);
+                }
+            terms[k] = level[ps];
+        }
+        out[i] = average(terms.data(), ps + 1);
+    }
+    return out;
+}
+
 }  // namespace
 
 Status validate(const BSplineSurface& s) {
@@ -441,6 +518,103 @@ Result<BSplineSurface> insert_knot(const BSplineSurface& s, SurfaceDirection dir
             if (s.rational()) out.weights[at] = P[k].w;
         }
         if (c == 0) (along_u ? out.knots_u : out.knots_v) = U;
+    }
+    return out;
+}
+
+//! The surface with the knot vector of `direction` clamped: the domain's ends inserted up to multiplicity p (Boehm),
+//! then the control points left of the start and right of the end dropped with their knots, the ends repeated
+//! p + 1 times. The surface is unchanged on its domain; a clamped vector is returned as it is.
+Result<BSplineSurface> clamp_direction(const BSplineSurface& s, SurfaceDirection direction) {
+    const bool along_u = direction == SurfaceDirection::U;
+    BSplineSurface out = s;
+    for (bool left : {true, false}) {
+        const std::vector<double>& U = along_u ? out.knots_u : out.knots_v;
+        const int p = along_u ? out.degree_u : out.degree_v;
+        const auto [a, b] = along_u ? domain_u(out) : domain_v(out);
+        const double end = left ? a : b;
+        const bool is_clamped =
+            left ? U[static_cast<std::size_t>(p)] == U.front() && std::count(U.begin(), U.end(), U.front()) == p + 1
+                 : U[U.size() - 1 - static_cast<std::size_t>(p)] == U.back() &&
+                       std::count(U.begin(), U.end(), U.back()) == p + 1;
+        if (is_clamped) continue;
+        const auto have = static_cast<int>(std::count(U.begin(), U.end(), end));
+        if (have < p) {
+            auto inserted = insert_knot(out, direction, end, p - have);
+            if (!inserted) return inserted.error();
+            out = std::move(inserted.value());
+        }
+        const std::vector<double>& V = along_u ? out.knots_u : out.knots_v;
+        const int n = along_u ? out.count_u : out.count_v;
+        // keep points [first, last] and knots [first, last + p + 1] with the ends extended to p + 1 copies
+        const auto first_of = static_cast<int>(std::find(V.begin(), V.end(), end) - V.begin());
+        const auto last_of = static_cast<int>(V.rend() - std::find(V.rbegin(), V.rend(), end)) - 1;
+        const int first = left ? first_of - 1 : 0, last = left ? n - 1 : last_of - p;
+        std::vector<double> knots;
+        if (left) knots.push_back(end);
+        knots.insert(knots.end(), V.begin() + first + (left ? 1 : 0), V.begin() + last + p + 1 + (left ? 1 : 0));
+        if (!left) knots.push_back(end);
+        BSplineSurface cut = out;
+        const int count = last - first + 1;
+        (along_u ? cut.count_u : cut.count_v) = count;
+        cut.points.clear();
+        cut.weights.clear();
+        for (int j = 0; j < cut.count_v; ++j)
+            for (int i = 0; i < cut.count_u; ++i) {
+                const int si = along_u ? i + first : i, sj = along_u ? j : j + first;
+                cut.points.push_back(out.at(si, sj));
+                if (out.rational()) cut.weights.push_back(out.weight(si, sj));
+            }
+        (along_u ? cut.knots_u : cut.knots_v) = std::move(knots);
+        out = std::move(cut);
+    }
+    return out;
+}
+
+Result<BSplineSurface> elevate_degree(const BSplineSurface& s, SurfaceDirection direction, int times) {
+    if (auto ok = validate(s); !ok) return ok.error();
+    const bool along_u = direction == SurfaceDirection::U;
+    const int degree = along_u ? s.degree_u : s.degree_v;
+    if (times < 0)
+        return make_error(ErrorCode::InvalidArgument, "times must be >= 0 (got " + std::to_string(times) + ")");
+    if (times > kMaxBSplineSurfaceDegree - degree)
+        return make_error(ErrorCode::InvalidArgument, std::string("elevating degree_") + (along_u ? "u" : "v") + " " +
+                                                          std::to_string(degree) + " by " + std::to_string(times) +
+                                                          " would exceed the largest degree " +
+                                                          std::to_string(kMaxBSplineSurfaceDegree));
+    if (times == 0) return s;
+    // an unclamped knot vector is clamped first (the domain's ends inserted up to multiplicity p, the control points
+    // outside dropped): the blossoms of the elevated points then stay inside the spans the points act on, and the
+    // weights stay positive
+    auto clamped = clamp_direction(s, direction);
+    if (!clamped) return clamped.error();
+    BSplineSurface out = std::move(clamped.value());
+    std::vector<Node> P;
+    for (int step = 0; step < times; ++step) {
+        const BSplineSurface in = out;
+        const int p = along_u ? in.degree_u : in.degree_v;
+        const int length = along_u ? in.count_u : in.count_v;
+        const int curves = along_u ? in.count_v : in.count_u;
+        const std::vector<double>& U = along_u ? in.knots_u : in.knots_v;
+        std::vector<double> T = elevated_knots(U, static_cast<std::size_t>(p), static_cast<std::size_t>(length));
+        const int new_length = static_cast<int>(T.size()) - p - 2;
+        (along_u ? out.degree_u : out.degree_v) = p + 1;
+        (along_u ? out.count_u : out.count_v) = new_length;
+        out.points.assign(static_cast<std::size_t>(out.count_u) * static_cast<std::size_t>(out.count_v), Vec3{});
+        if (in.rational()) out.weights.assign(out.points.size(), 0.0);
+        for (int c = 0; c < curves; ++c) {
+            P.clear();
+            for (int k = 0; k < length; ++k) P.push_back(along_u ? node(in, k, c) : node(in, c, k));
+            const std::vector<Node> Q = elevate_curve(p, P, U, T);
+            for (std::size_t k = 0; k < Q.size(); ++k) {
+                const std::size_t at = along_u
+                                           ? static_cast<std::size_t>(c) * static_cast<std::size_t>(out.count_u) + k
+                                           : k * static_cast<std::size_t>(out.count_u) + static_cast<std::size_t>(c);
+                out.points[at] = Q[k].e;
+                if (in.rational()) out.weights[at] = Q[k].w;
+            }
+        }
+        (along_u ? out.knots_u : out.knots_v) = std::move(T);
     }
     return out;
 }

@@ -1,6 +1,6 @@
 // Tensor-product B-spline and NURBS surfaces: validation, evaluation of the position and the partial derivatives up
-// to second order, unit normals (also where a row of control points collapses to a point), Boehm knot insertion per
-// direction, decomposition into Bézier patches, and tessellation to a chord tolerance through those patches.
+// to second order, unit normals (also where a row of control points collapses to a point), Boehm knot insertion and
+// degree elevation per direction, decomposition into Bézier patches, and tessellation to a chord tolerance through those patches.
 //
 // Conventions. Degrees p (along u) and q (along v); count_u = nu and count_v = nv control points per direction;
 // knot vectors U (nu + p + 1 non-decreasing values) and V (nv + q + 1). Control point (i, j) -- i along u, j along v --
@@ -19,7 +19,7 @@
 // References:
 //  - L. Piegl, W. Tiller, "The NURBS Book", 2nd ed.: A2.1 (span), A2.3 (basis function derivatives), A3.6
 //    (surface derivatives), A4.4 (rational surface derivatives by the quotient rule), A5.3 (surface knot insertion),
-//    A5.7 (decomposition into Bézier patches), ch. 7-8 (circles, surfaces of revolution: the sphere, torus and
+//    A5.7 (decomposition into Bézier patches), section 5.5 (degree elevation), ch. 7-8 (circles, surfaces of revolution: the sphere, torus and
 //    cylinder of the tests).
 //  - W. Boehm, "Inserting new knots into B-spline curves", CAD 12 (1980).
 #pragma once
@@ -106,6 +106,18 @@ Result<Vec3> unit_normal(const BSplineSurface& surface, double u, double v);
 //! t not finite or outside that direction's domain; times < 0; the multiplicity of t would exceed the degree.
 //! O(times (nu + times) nv) (direction U; V alike).
 Result<BSplineSurface> insert_knot(const BSplineSurface& surface, SurfaceDirection direction, double t, int times = 1);
+
+//! Degree elevation of `direction` by `times`: the same surface (shape and parametrisation) with the degree along
+//! that direction raised by `times` and every distinct knot value's multiplicity raised by one per step, so the
+//! continuity at every knot is kept. Each step elevates every row (U) or column (V) of the net as a curve, in
+//! homogeneous coordinates for a NURBS surface, by blossoming: the degree-(p+1) control point i is the average over
+//! k of the degree-p blossom at the p + 1 knots t^_{i+1..i+p+1} with t^_{i+k} left out, evaluated on a knot span its
+//! support covers (de Boor's algorithm with one argument per level; H. Prautzsch, "Degree elevation of B-spline
+//! curves", CAGD 1 (1984)). The knots outside the domain keep their values, with the outermost one repeated once
+//! more, so the domain is unchanged. A row of identical control points stays identical (a pole stays a pole).
+//! Errors (InvalidArgument): validate(); times < 0; the new degree above kMaxBSplineSurfaceDegree.
+//! O(times n (p + 1) p^2) per row or column.
+Result<BSplineSurface> elevate_degree(const BSplineSurface& surface, SurfaceDirection direction, int times = 1);
 
 //! The distinct knot values that bound the Bézier patches of to_bezier along u: U[p], every distinct knot value inside
 //! the domain, U[nu] (and along v alike). Precondition: validate() succeeded.

@@ -16,6 +16,7 @@ int repair(Args& args);
 int implicit(Args& args);
 int pointcloud(Args& args);
 int curve(Args& args);
+int surfaces(Args& args);
 int query(Args& args);
 int grid(Args& args);
 

@@ -1,5 +1,5 @@
-// The patch and curve file commands: `surfaced tessellate` (POST /tessellate, GET /patches/NAME) and
-// `surfaced curve` (POST /curves).
+// The patch, surface and curve file commands: `surfaced tessellate` (POST /tessellate, GET /patches/NAME),
+// `surfaced surfaces` (POST /surfaces) and `surfaced curve` (POST /curves).
 #include <iostream>
 #include <optional>
 #include <string>
@@ -21,12 +21,24 @@ using api::options::OperationOptions;
 constexpr std::string_view kTessellateHelp =
     R"(Usage: surfaced tessellate IN -o OUT (--tolerance T | --segments N) [options]
 
-Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype bezier surfaces, a .json
-{"patches": [...]} as POST /tessellate takes it, e.g. from `surfaced subdivide --format patches`, or sample:teapot
-for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same operation as
-POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
+Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cstype [rat] bezier or [rat] bspline
+surfaces, a .json {"patches": [...]} as POST /tessellate takes it, e.g. from `surfaced subdivide --format patches`,
+or sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
+operation as POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
 --compression none).
 
+)";
+
+constexpr std::string_view kSurfacesHelp =
+    R"(Usage: surfaced surfaces IN.json -o OUT.json
+
+Runs queries on the B-spline/NURBS surface in IN, a POST /surfaces body ({"surface": {...}, "evaluate": [[u, v]],
+"closest": [[x, y, z]], "elevate": {"direction": "u"}, ...}), through the same operation, and writes its JSON answer
+to OUT.
+
+Options:
+  -o, --output OUT       output file (required); - for standard output
+  -h, --help             this text
 )";
 
 constexpr std::string_view kCurveHelp =
@@ -100,7 +112,7 @@ int tessellate(Args& args) {
     } else {
         bytes = read_input(parsed->input);
         if (!bytes) return kExitFailed;
-        // free-form cstype bezier surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines and
+        // free-form bezier or bspline surfaces in an OBJ; from standard input, an OBJ is known by its cstype lines and
         // JSON by its opening brace
         const std::string kind = parsed->has("--input-format") ? parsed->value("--input-format")
                                  : parsed->from_stdin() ? (bytes->find_first_not_of(" \t\r\n") != std::string::npos &&
@@ -128,6 +140,19 @@ int tessellate(Args& args) {
                              << header(response, "X-Elapsed-Ms") << " ms\n";
         },
         ProblemStyle{.line = true, .offset = false});
+}
+
+int surfaces(Args& args) {
+    api::ApiContext context = file_context();
+    const auto parsed = parse_file_command(args, "surfaces", kSurfacesHelp, {}, "IN.json");
+    if (!parsed) return kExitOk;
+    if (parsed->has("--format")) throw UsageError{"surfaces: the answer is JSON; --format does not apply"};
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    return finish(
+        api::dispatch(upload_request("/surfaces", "application/json", *bytes, {}), context), *parsed,
+        [&](const api::ApiResponse&) { parsed->report() << "wrote " << parsed->output_label() << "\n"; },
+        ProblemStyle{.field = true, .line = true, .offset = true});
 }
 
 int curve(Args& args) {

@@ -23,13 +23,14 @@ Usage:
   surfaced serve [options]                    run the HTTP service
   surfaced healthcheck [options]              exit 0 when a running service answers GET /livez with 200
   surfaced subdivide IN -o OUT [options]      subdivide a mesh file
-  surfaced tessellate IN -o OUT [options]     tessellate Bezier patches (.bez/.bbp, sample:teapot)
+  surfaced tessellate IN -o OUT [options]     tessellate Bezier patches, B-spline surfaces (.bez/.bbp/.obj)
   surfaced simplify IN -o OUT [options]       simplify a mesh file (QEM edge collapse)
   surfaced remesh IN -o OUT [options]         isotropic remeshing to one edge length, quality report
   surfaced repair IN -o OUT [options]         repair a mesh (weld, orient, non-manifold cut apart), with a report
   surfaced implicit SCENE.json -o OUT [opts]  mesh an implicit scene (dual marching cubes, closed)
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
+  surfaced surfaces IN.json -o OUT.json       B-spline/NURBS surface queries (POST /surfaces body), JSON answer
   surfaced query MESH --points P.json [opts]  inside, signed distance, closest point; ray hits on a mesh (JSON)
   surfaced grid IN --voxel-size H [opts]      narrow-band signed distance grid of a mesh or scene (JSON)
   surfaced <command> --help                   options of a command (those of its operation, as the API names them)
@@ -47,9 +48,9 @@ Exit codes (the same in every command):
      applicable to the output format, whether the command line or the operation notices it
 )";
 
-const std::vector<std::string_view> kCommands = {"serve",      "healthcheck", "subdivide", "tessellate",
-                                                 "simplify",   "remesh",      "repair",    "implicit",
-                                                 "pointcloud", "curve",       "query",     "grid"};
+const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
+                                                 "remesh", "repair",      "implicit",  "pointcloud", "curve",
+                                                 "query",  "grid",        "surfaces"};
 
 }  // namespace
 
@@ -79,6 +80,7 @@ int run(int argc, char** argv) {
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
         if (command == "curve") return curve(args);
+        if (command == "surfaces") return surfaces(args);
         if (command == "query") return query(args);
         if (command == "grid") return grid(args);
         std::string message = "unknown command \"" + command + "\" (";
@@ -86,7 +88,7 @@ int run(int argc, char** argv) {
             message += "did you mean " + std::string(*match) + "? ";
         message +=
             "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
-            "curve, query, grid; see surfaced --help)";
+            "curve, query, grid, surfaces; see surfaced --help)";
         throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

@@ -158,12 +158,12 @@ TEST(TessellateOperation, ObjFreeFormSurfaces) {
     EXPECT_EQ(header(response, "X-Patches"), "1");
     EXPECT_EQ(header(response, "X-Output-Faces"), "50");
 
-    std::string bspline = obj;
-    bspline.replace(bspline.find("cstype bezier"), 13, "cstype bspline");
-    const ApiResponse refused = post_raw("model/obj", bspline);
+    std::string cardinal = obj;
+    cardinal.replace(cardinal.find("cstype bezier"), 13, "cstype cardinal");
+    const ApiResponse refused = post_raw("model/obj", cardinal);
     expect_problem(refused, 422, "unsupported", "");
     EXPECT_EQ(refused.error->line.value_or(-1), 5);
-    EXPECT_NE(refused.body.find("line 5: cstype bspline is not supported"), std::string::npos) << refused.body;
+    EXPECT_NE(refused.body.find("line 5: cstype cardinal is not supported"), std::string::npos) << refused.body;
 
     const ApiResponse bad = post_raw("model/obj", "v 0 0 0\ncstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 1 1 7\nend\n");
     expect_problem(bad, 400, "parse_error", "");

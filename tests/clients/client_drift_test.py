@@ -33,7 +33,7 @@ HEADER_NAMES = {"If-None-Match": "etag"}
 #: arguments of the clients that are no API option: an upload's bytes (or BEZ text) and their media type
 CLIENT_ONLY = {"python": {"data", "content_type", "bez"}, "js": {"data", "contentType", "bez"}}
 #: the request's payload may be passed positionally in Python
-PYTHON_POSITIONAL = {"mesh", "patches", "points", "scene", "bounds", "name"}
+PYTHON_POSITIONAL = {"mesh", "patches", "points", "scene", "bounds", "name", "surface"}
 #: options whose Python default is None on purpose although the API documents a default
 PYTHON_NONE_DEFAULT = {
     ("pointcloud", "normals"): "a list is the JSON input's normals, a bool the output option (query default true)",

@@ -16,9 +16,17 @@
 #include "geometry/curves/bspline.h"
 #include "geometry/surfaces/bspline_surface.h"
 #include "tests/support/mesh_asserts.h"
+#include "tests/support/nurbs_surfaces.h"
 
 namespace surfaced {
 namespace {
+
+using testing::cylinder;
+using testing::random_knots;
+using testing::random_surface;
+using testing::revolve;
+using testing::sphere;
+using testing::torus;
 
 // ---- the reference: Cox-de Boor by its recursive definition ----------------------------------------------------
 
@@ -91,47 +99,6 @@ Reference reference(const BSplineSurface& s, double u, double v) {
 }
 
 // ---- random surfaces ------------------------------------------------------------------------------------------
-
-//! Random knots for n points of degree p: steps in [0.2, 1], interior values repeated up to p times (often once),
-//! the ends p + 1 times when clamped.
-std::vector<double> random_knots(int n, int p, bool clamped, std::mt19937& rng) {
-    std::uniform_real_distribution<double> step(0.2, 1.0);
-    std::uniform_int_distribution<int> mult(1, p), coin(0, 3);
-    const auto m = static_cast<std::size_t>(n + p + 1), ps = static_cast<std::size_t>(p);
-    std::vector<double> knots;
-    double value = -0.7;
-    if (clamped) knots.assign(ps + 1, value);
-    const std::size_t interior_end = clamped ? m - ps - 1 : m;
-    while (knots.size() < interior_end) {
-        value += step(rng);
-        const std::size_t r = std::min<std::size_t>(coin(rng) == 0 ? static_cast<std::size_t>(mult(rng)) : 1,
-                                                    interior_end - knots.size());
-        knots.insert(knots.end(), r, value);
-    }
-    if (clamped) knots.insert(knots.end(), ps + 1, value + step(rng));
-    return knots;
-}
-
-BSplineSurface random_surface(unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_int_distribution<int> degree(1, 5), extra(0, 4), coin(0, 1);
-    std::uniform_real_distribution<double> coord(-3.0, 3.0), weight(0.3, 3.0);
-    for (;;) {
-        BSplineSurface s;
-        s.degree_u = degree(rng);
-        s.degree_v = degree(rng);
-        s.count_u = s.degree_u + 1 + extra(rng);
-        s.count_v = s.degree_v + 1 + extra(rng);
-        const bool rational = coin(rng) == 1;
-        for (int k = 0; k < s.count_u * s.count_v; ++k) {
-            s.points.push_back({coord(rng), coord(rng), coord(rng)});
-            if (rational) s.weights.push_back(weight(rng));
-        }
-        s.knots_u = random_knots(s.count_u, s.degree_u, coin(rng) == 1, rng);
-        s.knots_v = random_knots(s.count_v, s.degree_v, coin(rng) == 1, rng);
-        if (validate(s)) return s;  // an unclamped vector can have an empty domain: draw again
-    }
-}
 
 std::string describe(const BSplineSurface& s) {
     return "degrees " + std::to_string(s.degree_u) + "x" + std::to_string(s.degree_v) + " net " +
@@ -240,57 +207,6 @@ TEST(BSplineSurface, PolynomialDerivativesAboveTheDegreeAreZero) {
 }
 
 // ---- exact shapes -------------------------------------------------------------------------------------------------
-
-//! The 9-point rational quadratic circle (The NURBS Book, ex. 7.2): square corners with weight sqrt(2)/2.
-struct Circle {
-    double x[9] = {1, 1, 0, -1, -1, -1, 0, 1, 1};
-    double y[9] = {0, 1, 1, 1, 0, -1, -1, -1, 0};
-    double w[9] = {1, std::sqrt(0.5), 1, std::sqrt(0.5), 1, std::sqrt(0.5), 1, std::sqrt(0.5), 1};
-    std::vector<double> knots{0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
-};
-
-//! A surface of revolution about the z axis through `center`: u the 9-point circle, v the profile (radius, height)
-//! with its weights and knots, degree 2 along u.
-BSplineSurface revolve(const Vec3& center, const std::vector<double>& radius, const std::vector<double>& height,
-                       const std::vector<double>& profile_weights, const std::vector<double>& knots_v, int degree_v) {
-    const Circle c;
-    BSplineSurface s;
-    s.degree_u = 2;
-    s.degree_v = degree_v;
-    s.count_u = 9;
-    s.count_v = static_cast<int>(radius.size());
-    s.knots_u = c.knots;
-    s.knots_v = knots_v;
-    for (std::size_t j = 0; j < radius.size(); ++j)
-        for (int i = 0; i < 9; ++i) {
-            s.points.push_back(center + Vec3{radius[j] * c.x[i], radius[j] * c.y[i], height[j]});
-            s.weights.push_back(c.w[i] * profile_weights[j]);
-        }
-    return s;
-}
-
-//! The standard 9 x 5 NURBS sphere: the half circle from the south pole to the north pole, revolved.
-BSplineSurface sphere(const Vec3& center, double r) {
-    const double h = std::sqrt(0.5);
-    return revolve(center, {0, r, r, r, 0}, {-r, -r, 0, r, r}, {1, h, 1, h, 1}, {0, 0, 0, 0.5, 0.5, 1, 1, 1}, 2);
-}
-
-//! Torus of major radius R, minor radius r: the 9-point circle of radius r about (R, 0) in the (radius, z) plane.
-BSplineSurface torus(const Vec3& center, double R, double r) {
-    const Circle c;
-    std::vector<double> radius, height, weights;
-    for (int j = 0; j < 9; ++j) {
-        radius.push_back(R + r * c.x[j]);
-        height.push_back(r * c.y[j]);
-        weights.push_back(c.w[j]);
-    }
-    return revolve(center, radius, height, weights, c.knots, 2);
-}
-
-//! Cylinder of radius r from z = 0 to z = h, linear along v with an interior knot.
-BSplineSurface cylinder(const Vec3& center, double r, double h) {
-    return revolve(center, {r, r, r}, {0, 0.4 * h, h}, {1, 1, 1}, {0, 0, 0.4, 1, 1}, 1);
-}
 
 struct Analytic {
     double distance;  //!< from the analytic surface
@@ -452,6 +368,68 @@ TEST(BSplineSurface, KnotInsertionLeavesTheSurfaceUnchanged) {
         expect_same_surface(s, refined, describe(s) + " seed " + std::to_string(seed));
         if (::testing::Test::HasFailure()) return;
     }
+}
+
+TEST(BSplineSurface, DegreeElevationLeavesTheSurfaceUnchanged) {
+    for (unsigned seed = 1; seed <= 40; ++seed) {
+        const BSplineSurface s = random_surface(seed);
+        for (SurfaceDirection d : {SurfaceDirection::U, SurfaceDirection::V}) {
+            const bool along_u = d == SurfaceDirection::U;
+            const int times = 1 + static_cast<int>(seed % 3);
+            auto elevated = elevate_degree(s, d, times);
+            ASSERT_TRUE(elevated.ok()) << describe(s) << ": " << elevated.error().message;
+            ASSERT_TRUE(validate(*elevated).ok()) << describe(s) << ": " << validate(*elevated).error().message;
+            EXPECT_EQ(along_u ? elevated->degree_u : elevated->degree_v, (along_u ? s.degree_u : s.degree_v) + times);
+            EXPECT_EQ(domain_u(*elevated), domain_u(s));
+            EXPECT_EQ(domain_v(*elevated), domain_v(s));
+            // every distinct knot value gains `times` copies: the continuity is kept
+            const std::vector<double>& before = along_u ? s.knots_u : s.knots_v;
+            const std::vector<double>& after = along_u ? elevated->knots_u : elevated->knots_v;
+            const double lo = along_u ? domain_u(s).first : domain_v(s).first;
+            const double hi = along_u ? domain_u(s).second : domain_v(s).second;
+            for (double t : before) {
+                if (!(t > lo && t < hi)) continue;
+                EXPECT_EQ(std::count(after.begin(), after.end(), t),
+                          std::count(before.begin(), before.end(), t) + times)
+                    << describe(s) << " knot " << t;
+            }
+            expect_same_surface(s, *elevated,
+                                describe(s) + " elevated " + std::to_string(times) + " seed " + std::to_string(seed));
+            if (::testing::Test::HasFailure()) return;
+        }
+    }
+}
+
+TEST(BSplineSurface, DegreeElevationOfTheSphereKeepsItExactAndThePolesPoints) {
+    const BSplineSurface s = sphere({1, -2, 0.5}, 2.0);
+    auto elevated = elevate_degree(s, SurfaceDirection::V, 2);
+    ASSERT_TRUE(elevated.ok()) << elevated.error().message;
+    auto both = elevate_degree(*elevated, SurfaceDirection::U, 1);
+    ASSERT_TRUE(both.ok()) << both.error().message;
+    EXPECT_EQ(both->degree_u, 3);
+    EXPECT_EQ(both->degree_v, 4);
+    for (int j : {0, both->count_v - 1})
+        for (int i = 1; i < both->count_u; ++i) EXPECT_EQ(both->at(i, j), both->at(0, j)) << "pole row " << j;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> any(0.0, 1.0);
+    for (int k = 0; k < 200; ++k) {
+        const Vec3 x = *evaluate(*both, any(rng), any(rng));
+        EXPECT_NEAR(norm(x - Vec3{1, -2, 0.5}), 2.0, 1e-13);
+    }
+}
+
+TEST(BSplineSurface, DegreeElevationErrors) {
+    const BSplineSurface s = sphere({0, 0, 0}, 1.0);
+    EXPECT_EQ(elevate_degree(s, SurfaceDirection::U, -1).error().code, ErrorCode::InvalidArgument);
+    auto too_far = elevate_degree(s, SurfaceDirection::U, kMaxBSplineSurfaceDegree);
+    ASSERT_FALSE(too_far.ok());
+    EXPECT_NE(too_far.error().message.find("largest degree"), std::string::npos) << too_far.error().message;
+    auto top = elevate_degree(s, SurfaceDirection::U, kMaxBSplineSurfaceDegree - 2);
+    ASSERT_TRUE(top.ok()) << top.error().message;
+    EXPECT_EQ(top->degree_u, kMaxBSplineSurfaceDegree);
+    auto same = elevate_degree(s, SurfaceDirection::V, 0);
+    ASSERT_TRUE(same.ok());
+    EXPECT_EQ(same->points, s.points);
 }
 
 TEST(BSplineSurface, KnotInsertionKeepsThePoleAPoint) {

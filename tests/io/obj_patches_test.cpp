@@ -1,6 +1,7 @@
-// OBJ free-form Bézier surfaces (geometry/io/obj_patches.h): the teapot written as `cstype bezier` surfaces
-// tessellates exactly as its BEZ form; multi-segment surfaces split into patches sharing their boundary control
-// points; rational surfaces take the vertices' w; everything refused names its line.
+// OBJ free-form Bézier and B-spline surfaces (geometry/io/obj_patches.h): the teapot written as `cstype bezier`
+// surfaces tessellates exactly as its BEZ form; multi-segment surfaces split into patches sharing their boundary
+// control points; rational surfaces take the vertices' w; `cstype [rat] bspline` surfaces (the NURBS sphere, torus,
+// random surfaces) read as their Bézier decomposition; everything refused names its line.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +11,9 @@
 
 #include "geometry/io/bez.h"
 #include "geometry/io/obj_patches.h"
+#include "geometry/surfaces/bspline_surface.h"
 #include "tests/support/mesh_asserts.h"
+#include "tests/support/nurbs_surfaces.h"
 
 namespace surfaced {
 namespace {
@@ -131,8 +134,8 @@ TEST(ObjPatches, ErrorsNameTheLine) {
     std::string lines11 = header;
     for (int k = 5; k <= 11; ++k) lines11 += "# line " + std::to_string(k) + "\n";
     const BadCase cases[] = {
-        {lines11 + "cstype bspline\ndeg 1 1\n" + quad + "end\n", ErrorCode::Unsupported, 12,
-         "line 12: cstype bspline is not supported"},
+        {lines11 + "cstype cardinal\ndeg 1 1\n" + quad + "end\n", ErrorCode::Unsupported, 12,
+         "line 12: cstype cardinal is not supported"},
         {header + "cstype rat taylor\n", ErrorCode::Unsupported, 5, "cstype rat taylor is not supported"},
         {header + "cstype nurbs\n", ErrorCode::ParseError, 5, "unknown cstype"},
         {header + "cstype bezier\ndeg 1 1\n" + quad + "trim 0 1 1\nend\n", ErrorCode::Unsupported, 8, "trimming"},
@@ -184,6 +187,103 @@ TEST(ObjPatches, BudgetsBeforeAllocation) {
     ASSERT_FALSE(vertices.ok());
     EXPECT_EQ(vertices.error().code, ErrorCode::BudgetExceeded);
     EXPECT_EQ(vertices.error().line, 6);
+}
+
+//! A B-spline surface as an OBJ `cstype [rat] bspline` surface: its net as `v x y z w` lines, the knot vectors as
+//! `parm u` / `parm v`, the surf range its domain.
+std::string bspline_obj(const BSplineSurface& s) {
+    std::string out = "# a NURBS surface\n";
+    for (std::size_t k = 0; k < s.points.size(); ++k)
+        out += "v " + number(s.points[k].x) + " " + number(s.points[k].y) + " " + number(s.points[k].z) +
+               (s.rational() ? " " + number(s.weights[k]) : std::string()) + "\n";
+    out += s.rational() ? "cstype rat bspline\n" : "cstype bspline\n";
+    out += "deg " + std::to_string(s.degree_u) + " " + std::to_string(s.degree_v) + "\n";
+    const auto [u0, u1] = domain_u(s);
+    const auto [v0, v1] = domain_v(s);
+    out += "surf " + number(u0) + " " + number(u1) + " " + number(v0) + " " + number(v1);
+    for (std::size_t k = 0; k < s.points.size(); ++k) out += " " + std::to_string(k + 1);
+    out += "\nparm u";
+    for (double t : s.knots_u) out += " " + number(t);
+    out += "\nparm v";
+    for (double t : s.knots_v) out += " " + number(t);
+    return out + "\nend\n";
+}
+
+TEST(ObjBspline, SphereAndRandomSurfacesReadAsTheirBezierPatches) {
+    std::vector<BSplineSurface> surfaces = {testing::sphere({1, 2, 3}, 1.5), testing::torus({0, 0, 0}, 3, 1)};
+    for (unsigned seed = 1; seed <= 20; ++seed) surfaces.push_back(testing::random_surface(seed));
+    for (const BSplineSurface& s : surfaces) {
+        const std::string obj = bspline_obj(s);
+        auto read = read_obj_patches(obj);
+        ASSERT_TRUE(read.ok()) << read.error().message << "\n" << obj;
+        auto expected = to_bezier(s);
+        ASSERT_TRUE(expected.ok());
+        ASSERT_EQ(read->patches.size(), expected->patches.size());
+        for (std::size_t k = 0; k < read->patches.size(); ++k) {
+            EXPECT_EQ(read->patches[k].points, expected->patches[k].points) << "patch " << k;
+            EXPECT_EQ(read->patches[k].weights, expected->patches[k].weights) << "patch " << k;
+            ASSERT_TRUE(read->patches[k].corner_uvs && expected->patches[k].corner_uvs);
+            for (std::size_t c = 0; c < 4; ++c) {
+                EXPECT_EQ((*read->patches[k].corner_uvs)[c].x, (*expected->patches[k].corner_uvs)[c].x);
+                EXPECT_EQ((*read->patches[k].corner_uvs)[c].y, (*expected->patches[k].corner_uvs)[c].y);
+            }
+        }
+    }
+    // the sphere read from OBJ tessellates into a closed mesh on the sphere
+    auto sphere = read_obj_patches(bspline_obj(testing::sphere({1, 2, 3}, 1.5)));
+    ASSERT_TRUE(sphere.ok());
+    TessellationOptions options;
+    options.tolerance = 1e-3;
+    auto mesh = tessellate_patches(sphere->patches, options);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_TRUE(testing::is_watertight(mesh->mesh));
+    for (const Vec3& p : mesh->mesh.positions) EXPECT_NEAR(norm(p - Vec3{1, 2, 3}), 1.5, 1e-12);
+}
+
+TEST(ObjBspline, ErrorsNameTheLine) {
+    // lines 1-6: a 3 x 2 net; 7 cstype; 8 deg; 9 surf; 10 parm u; 11 parm v; 12 end
+    const std::string net = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 1\nv 2 1 0\n";
+    const std::string surf = "surf 0 2 0 1 1 2 3 4 5 6\n";
+    const auto file = [&](const std::string& parm_u, const std::string& parm_v, const std::string& head = "",
+                          const std::string& s = "") {
+        return net + (head.empty() ? "cstype bspline\ndeg 1 1\n" : head) + (s.empty() ? surf : s) + parm_u + parm_v +
+               "end\n";
+    };
+    const std::string u = "parm u 0 0 1 2 2\n", v = "parm v 0 0 1 1\n";
+    ASSERT_TRUE(read_obj_patches(file(u, v)).ok()) << read_obj_patches(file(u, v)).error().message;
+    const BadCase cases[] = {
+        {file("parm u 0 0 0 2 2\n", v), ErrorCode::InvalidArgument, 10, "parm u[2]: the value 0 is repeated 3 times"},
+        {file("parm u 0 1 0.5 2 2\n", v), ErrorCode::ParseError, 10, "parm u values must not decrease"},
+        {file("parm u 0 0 1 1.5 2 2\n", v), ErrorCode::ParseError, 9, "make a net of 4 x 2 = 8"},
+        {file("parm u 0 0 2\n", v), ErrorCode::InvalidArgument, 10, "needs at least 4"},
+        {file("", v), ErrorCode::ParseError, 9, "needs parm u"},
+        {file(u, v, "", "surf 0 1.5 0 1 1 2 3 4 5 6\n"), ErrorCode::Unsupported, 9, "knot vectors' domain"},
+        {file(u, v, "cstype rat bspline\ndeg 1 1\n").replace(0, 7, "v 0 0 0 -1"), ErrorCode::InvalidArgument, 9,
+         "weight 0 (i 0, j 0) must be a finite number > 0"},
+        {file(u, v, "cstype bspline\ndeg 1 1\n") + "trim 0 1 1\n", ErrorCode::Unsupported, 13, "trimming"},
+    };
+    for (const BadCase& c : cases) {
+        auto result = read_obj_patches(c.text);
+        ASSERT_FALSE(result.ok()) << c.text;
+        EXPECT_EQ(result.error().code, c.code) << c.text << " -> " << result.error().message;
+        EXPECT_EQ(result.error().line, c.line) << c.text << " -> " << result.error().message;
+        EXPECT_NE(result.error().message.find(c.message), std::string::npos) << result.error().message;
+    }
+    // the Bézier patch budget from the knot vectors, before decomposing: 2 patches
+    ObjPatchReadOptions options;
+    options.max_patches = 1;
+    auto budget = read_obj_patches(file(u, v), options);
+    ASSERT_FALSE(budget.ok());
+    EXPECT_EQ(budget.error().code, ErrorCode::BudgetExceeded);
+    EXPECT_EQ(budget.error().line, 9);
+    // and their control points (2 x 4) against the vertex budget: the net has 6 vertices
+    ObjPatchReadOptions few;
+    few.max_vertices = 7;
+    auto points = read_obj_patches(file(u, v), few);
+    ASSERT_FALSE(points.ok());
+    EXPECT_EQ(points.error().code, ErrorCode::BudgetExceeded);
+    EXPECT_EQ(points.error().line, 9);
+    EXPECT_NE(points.error().message.find("Bézier patches have 8"), std::string::npos) << points.error().message;
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// GET /patches/teapot, POST /tessellate, POST /curves and GET /openapi.json over real HTTP (ephemeral loopback
-// port), and `surfaced tessellate`.
+// GET /patches/teapot, POST /tessellate (patches and B-spline surfaces), POST /curves, POST /surfaces and
+// GET /openapi.json over real HTTP (ephemeral loopback port), and `surfaced tessellate` and `surfaced surfaces`.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -175,6 +175,67 @@ TEST_F(PatchesHttp, CurvesOverHttp) {
     EXPECT_EQ(bad->status, 400);
     EXPECT_EQ(bad->get_header_value("Content-Type"), "application/problem+json");
     EXPECT_EQ(nlohmann::json::parse(bad->body).value("field", ""), "points");
+}
+
+TEST_F(PatchesHttp, SurfacesOverHttp) {
+    // the plane z = 0 over [0, 2] x [0, 1] as a bilinear B-spline of two spans along u: S(u, v) = (u, v, 0)
+    const std::string surface = R"({"degree":[1,1],"knots_u":[0,0,1,2,2],"knots_v":[0,0,1,1],)"
+                                R"("points":[[0,0,0],[1,0,0],[2,0,0],[0,1,0],[1,1,0],[2,1,0]]})";
+    auto res = client().Post(
+        "/surfaces",
+        R"({"surface":)" + surface + R"(,"evaluate":[[1.5,0.25]],"closest":[[0.3,0.6,2]],"to_bezier":true})",
+        "application/json");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    const auto json = nlohmann::json::parse(res->body);
+    EXPECT_EQ(json["evaluate"][0]["position"], nlohmann::json::parse("[1.5, 0.25, 0]"));
+    EXPECT_EQ(json["evaluate"][0]["normal"], nlohmann::json::parse("[0, 0, 1]"));
+    EXPECT_NEAR(json["closest"][0]["distance"].get<double>(), 2.0, 1e-12);
+    EXPECT_NEAR(json["closest"][0]["uv"][0].get<double>(), 0.3, 1e-9);
+    EXPECT_NEAR(json["closest"][0]["uv"][1].get<double>(), 0.6, 1e-9);
+    EXPECT_EQ(json["to_bezier"]["patches"].size(), 2u);
+
+    auto bad = client().Post("/surfaces", R"({"surface":)" + surface + R"(,"evaluate":[[0.5,3]]})", "application/json");
+    ASSERT_TRUE(bad);
+    EXPECT_EQ(bad->status, 422);
+    EXPECT_EQ(bad->get_header_value("Content-Type"), "application/problem+json");
+    EXPECT_EQ(nlohmann::json::parse(bad->body).value("field", ""), "evaluate[0][1]");
+
+    auto mesh =
+        client().Post("/tessellate", R"({"surfaces":[)" + surface + R"(],"segments":2,"output":{"format":"json"}})",
+                      "application/json");
+    ASSERT_TRUE(mesh);
+    ASSERT_EQ(mesh->status, 200) << mesh->body;
+    EXPECT_EQ(mesh->get_header_value("X-Patches"), "2");
+    EXPECT_EQ(mesh->get_header_value("X-Output-Faces"), "16");
+    EXPECT_EQ(mesh->get_header_value("X-Output-Vertices"), "15");  // 5 x 3 grid, the shared column welded
+}
+
+TEST(SurfacesCli, ObjBsplineAndSurfaceQueries) {
+    std::random_device rd;
+    const fs::path dir = fs::temp_directory_path() / ("surfaced-surf-" + std::to_string(rd()));
+    fs::create_directories(dir);
+    const std::string cli = SURFACED_CLI_PATH;
+    const fs::path obj = dir / "plane.obj", out = dir / "plane-mesh.obj", request = dir / "request.json",
+                   answer = dir / "answer.json";
+    std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\ncstype bspline\ndeg 1 1\n"
+                          "surf 0 2 0 1 1 2 3 4 5 6\nparm u 0 0 1 2 2\nparm v 0 0 1 1\nend\n";
+    EXPECT_EQ(run(cli + " tessellate " + obj.string() + " -o " + out.string() + " --segments 2 > /dev/null"), 0);
+    EXPECT_GT(fs::file_size(out), 100u);
+    std::ofstream(request) << R"({"surface":{"degree":[1,1],"knots_u":[0,0,1,1],"knots_v":[0,0,1,1],)"
+                              R"("points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]]},"evaluate":[[0.5,0.5]]})";
+    EXPECT_EQ(run(cli + " surfaces " + request.string() + " -o " + answer.string() + " > /dev/null"), 0);
+    std::ifstream in(answer);
+    const auto json = nlohmann::json::parse(in, nullptr, false);
+    ASSERT_FALSE(json.is_discarded());
+    EXPECT_EQ(json["evaluate"][0]["position"], nlohmann::json::parse("[0.5, 0.5, 0.25]"));  // z = u v
+    // a parameter outside the domain is the operation's failure (exit 1), --format a usage error (exit 2)
+    std::ofstream(request) << R"({"surface":{"degree":[1,1],"knots_u":[0,0,1,1],"knots_v":[0,0,1,1],)"
+                              R"("points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]]},"evaluate":[[2,0.5]]})";
+    EXPECT_EQ(run(cli + " surfaces " + request.string() + " -o " + answer.string() + " 2> /dev/null"), 1);
+    EXPECT_EQ(run(cli + " surfaces " + request.string() + " -o - --format glb 2> /dev/null"), 2);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
 }
 
 TEST_F(PatchesHttp, OpenApiDocumentOverHttp) {

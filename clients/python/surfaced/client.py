@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any, Dict, Mapping, NamedTuple, Optional, Sequ
 
 from ._version import API_VERSION
 from .types import (
-    Boundary, BSpline, Bounds, Chain, Compression, Continuity, Corner, Crease, CreaseMethod, CurvesOutput,
-    Derivatives, EnforceC1, EstimateNormals, ImplicitMode, ImplicitScene, InsertKnot, LoopWeights, Mesh, Output,
-    OutputFormat, PatchSampleFormat, Patch, Point, PointcloudFormat, Ray, RemeshSmoothing, RepairMode, Sample, Scheme,
-    TessellateFormat, Tolerance, TriangleRule, UvInterpolation, Vec3,
+    Boundary, BSpline, BSplineSurface, Bounds, Chain, Compression, Continuity, Corner, Crease, CreaseMethod,
+    CurvesOutput, Derivatives, EnforceC1, EstimateNormals, ImplicitMode, ImplicitScene, InsertKnot, LoopWeights, Mesh,
+    Output, OutputFormat, PatchSampleFormat, Patch, Point, PointcloudFormat, Ray, RemeshSmoothing, RepairMode, Sample,
+    Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, Tolerance, TriangleRule, UvInterpolation, Vec2, Vec3,
 )
 
 if TYPE_CHECKING:  # numpy is optional: only the array helpers need it
@@ -270,21 +270,24 @@ class Client:
         except urllib.error.URLError as e:
             raise SurfacedError(0, {"title": "connection failed", "detail": f"{url}: {e.reason}"}) from None
 
-    def _operation(self, path: str, args: Mapping[str, Any], defaults: Mapping[str, Any], *, payload: str,
-                   data: Optional[bytes], content_type: Optional[str]) -> Result:
+    def _operation(self, path: str, args: Mapping[str, Any], defaults: Mapping[str, Any], *,
+                   payload: Union[str, Tuple[str, ...]], data: Optional[bytes], content_type: Optional[str]) -> Result:
         """POST a JSON request ({payload: ..., options..., output}) or, with ``data``, a file with the options as
-        query parameters."""
-        options = _options(args, defaults, skip=(payload, "data", "content_type", "output"))
+        query parameters. ``payload`` may name several members, of which the JSON form needs at least one."""
+        payloads = (payload,) if isinstance(payload, str) else payload
+        names = " or ".join(payloads)
+        options = _options(args, defaults, skip=(*payloads, "data", "content_type", "output"))
         output = _take_output(options, args.get("output"))
+        given = {name: args[name] for name in payloads if args.get(name) is not None}
         if data is None:
-            if args.get(payload) is None:
-                raise ValueError(f"give either {payload} (JSON) or data (file bytes) with content_type")
-            body = {payload: args[payload], **options}
+            if not given:
+                raise ValueError(f"give either {names} (JSON) or data (file bytes) with content_type")
+            body = {**given, **options}
             if output:
                 body["output"] = output
             return self.request("POST", path, json_body=body)
-        if args.get(payload) is not None:
-            raise ValueError(f"give either {payload} (JSON) or data (file bytes), not both")
+        if given:
+            raise ValueError(f"give either {names} (JSON) or data (file bytes), not both")
         return self.request("POST", path, data=data, content_type=content_type or "application/octet-stream",
                             query=_query(options, output))
 
@@ -448,22 +451,25 @@ class Client:
                                content_type=content_type)
 
     # -- patches and curves ----------------------------------------------------------------------------------------
-    def tessellate(self, patches: Optional[Sequence[Patch]] = None, *, bez: Optional[str] = None,
+    def tessellate(self, patches: Optional[Sequence[Patch]] = None, *,
+                   surfaces: Optional[Sequence[BSplineSurface]] = None, bez: Optional[str] = None,
                    data: Optional[bytes] = None, content_type: Optional[str] = None,
                    tolerance: Optional[float] = None, segments: int = 8, output: Optional[Output] = None,
                    format: TessellateFormat = "glb", compression: Compression = "draco",
                    quantize_position: int = 14, normals: bool = True) -> Result:
-        """POST /tessellate: Bezier patches to a crack-free triangle mesh.
+        """POST /tessellate: Bezier patches and B-spline/NURBS surfaces to a crack-free triangle mesh.
 
-        Input: JSON ``patches`` (``[{"degree": [m, n], "points": [...], "weights": [...]}]``), or ``bez``, the text of
-        a geomview BEZ/BBP file, or ``data``, the bytes of a BEZ file or an OBJ with free-form bezier surfaces, with
-        its ``content_type`` (``application/x-geomview-bez``, ``model/obj``).
+        Input: JSON ``patches`` (``[{"degree": [m, n], "points": [...], "weights": [...]}]``) and/or ``surfaces``
+        (``[{"degree": [p, q], "knots_u": [...], "knots_v": [...], "points": [...], "weights": [...]}]``), or ``bez``,
+        the text of a geomview BEZ/BBP file, or ``data``, the bytes of a BEZ file or an OBJ with free-form bezier or
+        bspline surfaces, with its ``content_type`` (``application/x-geomview-bez``, ``model/obj``).
 
         :param tolerance: guaranteed maximum distance between triangles and surface, model units (excludes
             segments).
         :param segments: segments along each direction of every patch, 1..256 (default 8).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
-        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"``, ``"off"``, or
+            ``"patches"``: the Bezier patches (surfaces decomposed) as JSON instead of a mesh.
         :param compression: GLB: ``"draco"`` (default) or ``"none"``.
         :param quantize_position: Draco position bits, 1..30 (default 14).
         :param normals: write vertex normals (default True; not with stl or off).
@@ -474,7 +480,7 @@ class Client:
                 raise ValueError("give either bez (text) or data (bytes)")
             args["data"], args["content_type"] = bez.encode(), "application/x-geomview-bez"
         args["bez"] = None
-        return self._operation("/tessellate", args, Client.tessellate.__kwdefaults__, payload="patches",
+        return self._operation("/tessellate", args, Client.tessellate.__kwdefaults__, payload=("patches", "surfaces"),
                                data=args["data"], content_type=args["content_type"])
 
     def patch_sample(self, name: str = "teapot", *, etag: Optional[str] = None, tolerance: Optional[float] = None,
@@ -527,6 +533,24 @@ class Client:
         """
         body = _options(locals(), {}, skip=())
         return self.request("POST", "/curves", json_body=body)
+
+    def surfaces(self, surface: BSplineSurface, *, evaluate: Optional[Sequence[Vec2]] = None,
+                 derivatives: Optional[Sequence[Vec2]] = None, closest: Optional[Sequence[Vec3]] = None,
+                 insert_knot: Optional[SurfaceInsertKnot] = None, elevate: Optional[SurfaceElevate] = None,
+                 to_bezier: Optional[bool] = None, bounding_box: Optional[bool] = None) -> Result:
+        """POST /surfaces: queries on one B-spline/NURBS surface (``{"degree": [p, q], "knots_u", "knots_v",
+        "points", "weights"}``); the answer is JSON (``result.json``) with one member per query.
+
+        :param evaluate: ``[u, v]`` in the domain: position, du, dv and the unit normal.
+        :param derivatives: ``[u, v]``: position and the partial derivatives to order 2.
+        :param closest: points: the global closest point on the surface to each (uv, point, distance).
+        :param insert_knot: ``{"direction": "u" | "v", "value": t, "times": k}``: the refined surface.
+        :param elevate: ``{"direction": "u" | "v", "times": k}``: the degree-elevated surface.
+        :param to_bezier: the Bezier patches (POST /tessellate's ``patches``) and their breaks.
+        :param bounding_box: the control hull's box and the tight box.
+        """
+        body = _options(locals(), {}, skip=())
+        return self.request("POST", "/surfaces", json_body=body)
 
     # -- implicit surfaces -----------------------------------------------------------------------------------------
     def implicit_query(self, scene: ImplicitScene, *, points: Optional[Sequence[Vec3]] = None,

@@ -15,6 +15,7 @@ __all__ = [
     "PointcloudFormat", "CurvesFormat", "KnotVector",
     "Mesh", "Output", "Crease", "Corner", "Patch", "Ray", "EstimateNormals", "Sample", "Derivatives", "Tolerance",
     "ChainPiece", "Chain", "BSpline", "Continuity", "EnforceC1", "InsertKnot", "CurvesOutput", "JsonValue",
+    "BSplineSurface", "SurfaceInsertKnot", "SurfaceElevate",
 ]
 
 Vec2 = Sequence[float]
@@ -37,7 +38,7 @@ Compression = Literal["draco", "none"]
 RepairMode = Literal["auto", "none"]
 RemeshSmoothing = Literal["tangential", "laplacian", "none"]
 ImplicitMode = Literal["uniform", "adaptive"]
-TessellateFormat = OutputFormat
+TessellateFormat = Literal["glb", "gltf", "obj", "ply", "json", "stl", "off", "patches"]
 PatchSampleFormat = Literal["glb", "gltf", "obj", "ply", "json", "stl", "off", "patches"]
 PointcloudFormat = Literal["glb", "gltf", "ply", "json"]
 CurvesFormat = Literal["json", "glb", "gltf"]
@@ -163,6 +164,36 @@ class _InsertKnotRequired(TypedDict):
 
 
 class InsertKnot(_InsertKnotRequired, total=False):
+    times: int
+
+
+class _BSplineSurfaceRequired(TypedDict):
+    degree: Sequence[int]
+    knots_u: Sequence[float]
+    knots_v: Sequence[float]
+    points: Sequence[Vec3]
+
+
+class BSplineSurface(_BSplineSurfaceRequired, total=False):
+    """A B-spline/NURBS surface: [p, q] degrees, knot vectors, count_u x count_v control points (u varying fastest),
+    optional weights."""
+    weights: Sequence[float]
+
+
+class _SurfaceInsertKnotRequired(TypedDict):
+    direction: Literal["u", "v"]
+    value: float
+
+
+class SurfaceInsertKnot(_SurfaceInsertKnotRequired, total=False):
+    times: int
+
+
+class _SurfaceElevateRequired(TypedDict):
+    direction: Literal["u", "v"]
+
+
+class SurfaceElevate(_SurfaceElevateRequired, total=False):
     times: int
 
 
