@@ -230,28 +230,20 @@ LimitSample evaluate_patch(const std::array<Vec3, 16>& grid, double s, double t,
     return out;
 }
 
-//! The Loop patch (12 points, kLoopPatchLattice order) at local (s, t), as evaluate_patch.
-LimitSample evaluate_loop_patch(const std::array<Vec3, 16>& points, double s, double t, double scale, bool second) {
-    double w[12], wu[12], wv[12], wuu[12], wuv[12], wvv[12];
-    subdivision::loop_patch_basis(s, t, w, wu, wv, second ? wuu : nullptr, wuv, wvv);
+//! The Loop patch (its polynomial, loop_patch.h) at local (s, t), as evaluate_patch.
+LimitSample evaluate_loop_patch(const std::array<Vec3, 16>& coefficients, double s, double t, double scale,
+                                bool second) {
+    Vec3 d[6];
+    subdivision::evaluate_loop_polynomial(coefficients, s, t, second, d);
     LimitSample out;
-    for (int i = 0; i < 12; ++i) {
-        out.position += w[i] * points[i];
-        out.du += wu[i] * points[i];
-        out.dv += wv[i] * points[i];
-        if (second) {
-            out.duu += wuu[i] * points[i];
-            out.duv += wuv[i] * points[i];
-            out.dvv += wvv[i] * points[i];
-        }
-    }
-    out.du = scale * out.du;
-    out.dv = scale * out.dv;
+    out.position = d[0];
+    out.du = scale * d[1];
+    out.dv = scale * d[2];
     out.normal = unit(cross(out.du, out.dv));
     if (second) {
-        out.duu = (scale * scale) * out.duu;
-        out.duv = (scale * scale) * out.duv;
-        out.dvv = (scale * scale) * out.dvv;
+        out.duu = (scale * scale) * d[3];
+        out.duv = (scale * scale) * d[4];
+        out.dvv = (scale * scale) * d[5];
     }
     return out;
 }
@@ -261,12 +253,13 @@ LimitSample evaluate_any(bool loop, const std::array<Vec3, 16>& points, double s
     return loop ? evaluate_loop_patch(points, s, t, scale, second) : evaluate_patch(points, s, t, scale, second);
 }
 
-//! The control points of face f of `p` when it is a regular patch of the scheme (Loop: the first 12).
+//! The patch of face f of `p` when it is regular under the scheme: Catmull-Clark's 16 control points, or Loop's
+//! polynomial coefficients (from its 12 control points, converted once so that each evaluation is cheap).
 bool regular(bool loop, const Piece& p, const Adjacency& adj, Index f, std::array<Vec3, 16>& points) {
     if (!loop) return regular_patch(p, adj, f, points);
     std::array<Vec3, 12> triangle;
     if (!subdivision::loop_regular_patch(p, adj, f, triangle)) return false;
-    std::copy(triangle.begin(), triangle.end(), points.begin());
+    subdivision::loop_patch_polynomial(triangle, points);
     return true;
 }
 
@@ -353,15 +346,15 @@ int subface_columns(Index n) {
 }  // namespace
 
 //! What an evaluator shares with its copies and its face surfaces: the base level, its sharpness and points, its
-//! vertex-face lists and the patches of its regular faces (Loop: the first 12 points of each).
+//! vertex-face lists and the patches of its regular faces.
 struct LimitSurfaceEvaluator::Data {
     SubdivisionOptions options;
     bool loop = false;
     int max_level = 24;
     Piece base;
     std::vector<Index> vf_offsets, vf_faces;
-    std::vector<std::int32_t> patch_of_face;  //!< index into patches, -1 when the face is not regular
-    std::vector<std::array<Vec3, 16>> patches;
+    std::vector<std::int32_t> patch_of_face;    //!< index into patches, -1 when the face is not regular
+    std::vector<std::array<Vec3, 16>> patches;  //!< Catmull-Clark: control points; Loop: polynomial coefficients
 };
 
 std::size_t LimitSurfaceEvaluator::face_count() const { return data_->base.level.face_count(); }

@@ -217,35 +217,42 @@ bool loop_regular_patch(const Piece& p, const Adjacency& adj, Index f, std::arra
     return true;
 }
 
-void loop_patch_basis(double u, double v, double w[12], double wu[12], double wv[12], double wuu[12], double wuv[12],
-                      double wvv[12]) {
-    double pu[5] = {1, u, u * u, u * u * u, u * u * u * u}, pv[5] = {1, v, v * v, v * v * v, v * v * v * v};
-    double m[15], mu[15], mv[15], muu[15], muv[15], mvv[15];
+void loop_patch_polynomial(const std::array<Vec3, 12>& points, std::array<Vec3, 16>& coefficients) {
+    for (int k = 0; k < 15; ++k) {
+        Vec3 sum{};
+        for (int i = 0; i < 12; ++i)
+            if (kBasis[i][k] != 0) sum += static_cast<double>(kBasis[i][k]) * points[i];
+        coefficients[k] = sum * (1.0 / 12.0);
+    }
+    coefficients[15] = Vec3{};
+}
+
+void evaluate_loop_polynomial(const std::array<Vec3, 16>& coefficients, double u, double v, bool second, Vec3 out[6]) {
+    // powers of u and v with their first and second derivatives: x^a, a x^(a-1), a (a-1) x^(a-2)
+    double pu[5], du[5], ddu[5], pv[5], dv[5], ddv[5];
+    pu[0] = pv[0] = 1.0;
+    for (int a = 1; a < 5; ++a) {
+        pu[a] = pu[a - 1] * u;
+        pv[a] = pv[a - 1] * v;
+    }
+    for (int a = 0; a < 5; ++a) {
+        du[a] = a > 0 ? a * pu[a - 1] : 0.0;
+        dv[a] = a > 0 ? a * pv[a - 1] : 0.0;
+        ddu[a] = a > 1 ? a * (a - 1) * pu[a - 2] : 0.0;
+        ddv[a] = a > 1 ? a * (a - 1) * pv[a - 2] : 0.0;
+    }
+    for (int j = 0; j < 6; ++j) out[j] = Vec3{};
     for (int k = 0; k < 15; ++k) {
         const int a = kMonomial[k][0], b = kMonomial[k][1];
-        m[k] = pu[a] * pv[b];
-        mu[k] = a > 0 ? a * pu[a - 1] * pv[b] : 0.0;
-        mv[k] = b > 0 ? b * pu[a] * pv[b - 1] : 0.0;
-        muu[k] = a > 1 ? a * (a - 1) * pu[a - 2] * pv[b] : 0.0;
-        muv[k] = a > 0 && b > 0 ? a * b * pu[a - 1] * pv[b - 1] : 0.0;
-        mvv[k] = b > 1 ? b * (b - 1) * pu[a] * pv[b - 2] : 0.0;
-    }
-    auto combine = [](const double* mono, double* out) {
-        for (int i = 0; i < 12; ++i) {
-            double sum = 0;
-            for (int k = 0; k < 15; ++k) sum += kBasis[i][k] * mono[k];
-            out[i] = sum / 12.0;
+        const Vec3& q = coefficients[k];
+        out[0] += (pu[a] * pv[b]) * q;
+        out[1] += (du[a] * pv[b]) * q;
+        out[2] += (pu[a] * dv[b]) * q;
+        if (second) {
+            out[3] += (ddu[a] * pv[b]) * q;
+            out[4] += (du[a] * dv[b]) * q;
+            out[5] += (pu[a] * ddv[b]) * q;
         }
-    };
-    combine(m, w);
-    if (wu) {
-        combine(mu, wu);
-        combine(mv, wv);
-    }
-    if (wuu) {
-        combine(muu, wuu);
-        combine(muv, wuv);
-        combine(mvv, wvv);
     }
 }
 

@@ -37,8 +37,10 @@ bool loop_corner_regular(const Piece& p, const Adjacency& adj, Index f, int j, b
 //! patch, false otherwise. Face f's corners must have all their faces in the piece.
 bool loop_regular_patch(const Piece& p, const Adjacency& adj, Index f, std::array<Vec3, 12>& points);
 
-//! The box-spline basis at (u, v) and its derivatives: w[12] always, the first and second derivatives when asked.
-void loop_patch_basis(double u, double v, double w[12], double wu[12], double wv[12], double wuu[12], double wuv[12],
-                      double wvv[12]);
+//! The patch as a polynomial: its coefficients of u^a v^b (15 of them; the 16th is zero), from its 12 points.
+void loop_patch_polynomial(const std::array<Vec3, 12>& points, std::array<Vec3, 16>& coefficients);
+
+//! The polynomial at (u, v): position, d/du, d/dv, and when `second` d2/du2, d2/dudv, d2/dv2 (zero otherwise).
+void evaluate_loop_polynomial(const std::array<Vec3, 16>& coefficients, double u, double v, bool second, Vec3 out[6]);
 
 }  // namespace surfaced::subdivision
