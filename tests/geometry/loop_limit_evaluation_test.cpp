@@ -41,6 +41,9 @@ struct Case {
     std::string name;
     PolygonMesh mesh;
     SubdivisionOptions options;
+    //! Bfr departs from Far's uniform refinement here (Chaikin creasing with unequal sharpness, as under
+    //! Catmull-Clark): the evaluator is held to Far (MatchesFarLimitMasksAtDyadicPoints)
+    bool bfr_differs = false;
 };
 
 SubdivisionOptions loop_options(BoundaryInterpolation boundary = BoundaryInterpolation::EdgeOnly,
@@ -119,7 +122,12 @@ std::pair<double, double> random_uv(std::mt19937_64& rng) {
 
 TEST(LoopLimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
     std::mt19937_64 rng(20251203);
-    for (const Case& c : cases()) {
+    std::vector<Case> all = cases();
+    for (const char* name : {"loop_chaikin0", "loop_chaikin1", "loop_icos_semisharp"})
+        all.push_back({std::string(name) + " (chaikin)", load_shape(name),
+                       loop_options(BoundaryInterpolation::EdgeOnly, CreaseMethod::Chaikin),
+                       std::string(name) != "loop_icos_semisharp"});
+    for (const Case& c : all) {
         auto evaluator = LimitSurfaceEvaluator::create(c.mesh, c.options);
         ASSERT_TRUE(evaluator.ok()) << c.name << ": " << evaluator.error().message;
         testing::BfrReference bfr(c.mesh, c.options);
@@ -154,9 +162,11 @@ TEST(LoopLimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
             worst_p = std::max(worst_p, dp);
             worst_d = std::max(worst_d, dd);
             worst_dd = std::max(worst_dd, d2);
-            EXPECT_LE(dp, 1e-9 * diag) << c.name << " face " << f << " (" << u << ", " << v << ")";
-            EXPECT_LE(dd, 1e-9 * diag) << c.name << " face " << f << " (" << u << ", " << v << ") du/dv";
-            EXPECT_LE(d2, 1e-7 * diag) << c.name << " face " << f << " (" << u << ", " << v << ") 2nd";
+            if (!c.bfr_differs) {
+                EXPECT_LE(dp, 1e-9 * diag) << c.name << " face " << f << " (" << u << ", " << v << ")";
+                EXPECT_LE(dd, 1e-9 * diag) << c.name << " face " << f << " (" << u << ", " << v << ") du/dv";
+                EXPECT_LE(d2, 1e-7 * diag) << c.name << " face " << f << " (" << u << ", " << v << ") 2nd";
+            }
             const Vec3 n = cross(ours->du, ours->dv);
             if (norm(n) > 1e-12 * diag * diag) {
                 EXPECT_LE(norm(ours->normal - n * (1.0 / norm(n))), 1e-12) << c.name;
@@ -165,6 +175,9 @@ TEST(LoopLimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
         }
         EXPECT_GT(compared, 100) << c.name;
         EXPECT_EQ(inexact, 0) << c.name;
+        if (c.bfr_differs) {
+            EXPECT_GT(worst_p, 1e-6 * diag) << c.name;  // a real difference, not rounding
+        }
         std::printf(
             "[loop-limit] %-44s %3d points (%3d on base patches), deepest level %2d: |dP| %.2g |dD| %.2g "
             "|dDD| %.2g (rel. diag; Bfr's sign flipped at %d)\n",
