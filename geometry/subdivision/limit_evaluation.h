@@ -37,7 +37,9 @@
 // on every regression shape (Loop and Catmull-Clark alike; tests/geometry/*limit_evaluation_test.cpp). Within
 // 2^-max_level of an irregular vertex (LimitSample::exact false) the position is the bilinear (Loop: linear) blend of
 // the limit positions (OpenSubdiv's limit masks, limit.h) at the corners of the last face, which is exact at the vertex
-// itself and off by O(4^-max_level) times the surface's curvature elsewhere; first derivatives are the last face's
+// itself and elsewhere off by up to a fraction of that face's size (the parameterization is not linear at an
+// extraordinary vertex; the face shrinks by the subdominant eigenvalue per level, about 0.45 at a valence-5 Loop
+// vertex: measured 5e-11 of the diagonal on the icosahedron with max_level 24); first derivatives are the last face's
 // corner differences scaled to (u, v) (the parametric derivative of a subdivision surface is not defined at an
 // extraordinary vertex: it vanishes or diverges with the valence), second derivatives zero, and the normal at the
 // vertex itself is the limit-mask normal. A point exactly at an irregular vertex is answered that way as soon as the
