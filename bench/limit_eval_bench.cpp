@@ -1,5 +1,6 @@
 // Limit surface evaluation at (face, u, v): ours (LimitSurfaceEvaluator) vs OpenSubdiv's Bfr::Surface on the same
-// random points, position and first derivatives, one thread. Points are grouped by face, as a tessellator would ask
+// random points, position and first derivatives, one thread; Catmull-Clark rows, then Loop rows ("loop ...", the
+// triangle meshes of the same shapes where they have them). Points are grouped by face, as a tessellator would ask
 // for them.
 //
 // Bfr's side is what a user of Bfr does: a RefinerSurfaceFactory over the Far::TopologyRefiner (approximation levels
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "geometry/mesh/shapes.h"
+#include "geometry/mesh/triangulate.h"
 #include "geometry/subdivision/limit_evaluation.h"
 
 namespace {
@@ -36,7 +38,7 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh) {
+std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh, bool loop) {
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     std::vector<int> sizes(mesh.face_count());
     for (std::size_t f = 0; f < mesh.face_count(); ++f) sizes[f] = static_cast<int>(mesh.face_size(f));
@@ -58,7 +60,8 @@ std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh) {
     desc.creaseWeights = weights.data();
     Sdc::Options sdc;
     sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    return std::unique_ptr<Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+    return std::unique_ptr<Far::TopologyRefiner>(
+        Factory::Create(desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, sdc)));
 }
 
 struct Point {
@@ -70,13 +73,20 @@ int subface_columns(std::size_t n) {
     return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
 }
 
-std::vector<Point> random_points(const PolygonMesh& mesh, std::size_t count, std::uint64_t seed) {
+std::vector<Point> random_points(const PolygonMesh& mesh, std::size_t count, std::uint64_t seed, bool loop) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<Point> points;
     for (std::size_t i = 0; i < count; ++i) {
         const std::size_t f = rng() % mesh.face_count(), n = mesh.face_size(f);
-        if (n == 4) {
+        if (loop) {  // the unit triangle
+            double u = unit(rng), v = unit(rng);
+            if (u + v > 1.0) {
+                u = 1.0 - u;
+                v = 1.0 - v;
+            }
+            points.push_back({f, u, v});
+        } else if (n == 4) {
             points.push_back({f, unit(rng), unit(rng)});
         } else {
             const int columns = subface_columns(n), sub = static_cast<int>(rng() % n);
@@ -87,14 +97,16 @@ std::vector<Point> random_points(const PolygonMesh& mesh, std::size_t count, std
     return points;
 }
 
-void run(const char* name, const PolygonMesh& mesh, std::size_t count) {
-    const std::vector<Point> points = random_points(mesh, count, 12345);
+void run(const char* name, const PolygonMesh& mesh, std::size_t count, bool loop = false) {
+    const std::vector<Point> points = random_points(mesh, count, 12345, loop);
 
+    SubdivisionOptions subdivision;
+    if (loop) subdivision.scheme = SubdivisionScheme::Loop;
     auto t0 = Clock::now();
-    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, subdivision);
     const double setup = seconds_since(t0);
     if (!evaluator) {
-        std::printf("%-22s create failed: %s\n", name, evaluator.error().message.c_str());
+        std::printf("%-26s create failed: %s\n", name, evaluator.error().message.c_str());
         return;
     }
     double checksum = 0;
@@ -117,7 +129,7 @@ void run(const char* name, const PolygonMesh& mesh, std::size_t count) {
     }
     const double prepared = seconds_since(t0);
 
-    std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(mesh);
+    std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(mesh, loop);
     Bfr::SurfaceFactory::Options options;
     options.SetApproxLevelSmooth(10);
     options.SetApproxLevelSharp(10);
@@ -144,7 +156,7 @@ void run(const char* name, const PolygonMesh& mesh, std::size_t count) {
     }
     const double bfr = seconds_since(t0);
     const double per_face = static_cast<double>(count) / static_cast<double>(mesh.face_count());
-    std::printf("%-22s %6zu %8.0f %8.3f %10.3g %10.3g %10.3g %10.3g   %.1e %.1e\n", name, mesh.face_count(), per_face,
+    std::printf("%-26s %6zu %8.0f %8.3f %10.3g %10.3g %10.3g %10.3g   %.1e %.1e\n", name, mesh.face_count(), per_face,
                 setup * 1e3, count / ours, count / prepared, count / bfr, count / eval_only,
                 std::abs(checksum - bfr_checksum) / std::max(1.0, std::abs(checksum)),
                 std::abs(checksum - prepared_checksum) / std::max(1.0, std::abs(checksum)));
@@ -156,7 +168,7 @@ int main(int argc, char** argv) {
     const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
     const std::size_t count = quick ? 20000 : 200000;
     std::printf("%zu random points per mesh, position + du + dv, one thread; points/s\n", count);
-    std::printf("%-22s %6s %8s %8s %10s %10s %10s %10s   %s\n", "mesh", "faces", "pts/face", "setup ms", "ours",
+    std::printf("%-26s %6s %8s %8s %10s %10s %10s %10s   %s\n", "mesh", "faces", "pts/face", "setup ms", "ours",
                 "ours/face", "bfr", "bfr eval", "checksum diff (bfr, ours/face)");
     run("torus 32x24 (regular)", shapes::torus(32, 24), count);
     run("irregular_torus", shapes::irregular_torus(), count);
@@ -168,5 +180,14 @@ int main(int argc, char** argv) {
     run("cube, creases 2.5", creased, count);
     PolygonMesh grid = shapes::grid(16, 16);
     run("grid 16x16 (boundary)", grid, count);
+    // Loop: the triangle meshes of the same shapes where they have them
+    run("loop torus 32x24 (reg.)", triangulate(shapes::torus(32, 24)), count, true);
+    run("loop irregular_torus", triangulate(shapes::irregular_torus()), count, true);
+    run("loop icosahedron (val. 5)", shapes::icosahedron(), count, true);
+    PolygonMesh loop_creased = triangulate(shapes::cube());
+    for (auto [a, b] : {std::pair<Index, Index>{4, 5}, {5, 6}, {6, 7}, {7, 4}})
+        loop_creased.tags.creases.push_back({a, b, 2.5});
+    run("loop cube, creases 2.5", loop_creased, count, true);
+    run("loop grid 16x16 (bound.)", shapes::grid(16, 16, true), count, true);
     return 0;
 }

@@ -12,192 +12,25 @@
 #include "geometry/subdivision/creases.h"
 #include "geometry/subdivision/interpolate.h"
 #include "geometry/subdivision/limit.h"
+#include "geometry/subdivision/limit_piece.h"
+#include "geometry/subdivision/loop_patch.h"
 #include "geometry/subdivision/topology.h"
 
 namespace surfaced {
 
 namespace {
 
+using subdivision::Adjacency;
+using subdivision::extract;
+using subdivision::face_vert;
 using subdivision::is_infinite;
 using subdivision::is_semi_sharp;
 using subdivision::is_sharp;
 using subdivision::Level;
-//! A piece of one refinement level: topology, sharpness and points, cut around one face.
-struct Piece {
-    Level level;
-    subdivision::Sharpness sharp;
-    std::vector<Vec3> points;
-    Index target = 0;  //!< the face the piece was cut around
-};
-
-//! Vertex -> faces lists of a level.
-void vertex_faces(const Level& level, std::vector<Index>& offsets, std::vector<Index>& faces) {
-    offsets.assign(static_cast<std::size_t>(level.vertex_count) + 1, 0);
-    for (Index v : level.face_verts) ++offsets[v + 1];
-    for (Index v = 0; v < level.vertex_count; ++v) offsets[v + 1] += offsets[v];
-    faces.resize(offsets[level.vertex_count]);
-    std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
-    for (Index f = 0; f < level.face_count(); ++f)
-        for (Index s = level.face_offsets[f]; s < level.face_offsets[f + 1]; ++s)
-            faces[fill[level.face_verts[s]]++] = f;
-}
-
-//! The faces of `src` within two vertex rings of `face` (face first, its corners first among the vertices): enough
-//! for one Catmull-Clark step to give exact points, sharpness and topology on the child faces' 2-rings. Sharpness is
-//! copied, not recomputed, so that the piece's cut edges keep their true (usually smooth) rule.
-Piece extract(const Piece& src, const std::vector<Index>& vf_offsets, const std::vector<Index>& vf_faces, Index face) {
-    const Level& L = src.level;
-    // a local piece is small: marks per face and vertex; the base mesh may be large: sorted lists
-    const bool dense = L.face_count() <= 4096;
-    std::vector<Index> faces{face};
-    if (dense) {
-        std::vector<std::uint8_t> in(L.face_count(), 0);
-        in[face] = 1;
-        for (int ring = 0; ring < 2; ++ring) {
-            const std::size_t count = faces.size();
-            for (std::size_t i = 0; i < count; ++i)
-                for (Index s = L.face_offsets[faces[i]]; s < L.face_offsets[faces[i] + 1]; ++s) {
-                    const Index v = L.face_verts[s];
-                    for (Index k = vf_offsets[v]; k < vf_offsets[v + 1]; ++k)
-                        if (!in[vf_faces[k]]) {
-                            in[vf_faces[k]] = 1;
-                            faces.push_back(vf_faces[k]);
-                        }
-                }
-        }
-        std::sort(faces.begin(), faces.end());
-    } else {
-        for (int ring = 0; ring < 2; ++ring) {
-            const std::size_t count = faces.size();
-            std::vector<Index> next;
-            for (std::size_t i = 0; i < count; ++i) {
-                const Index f = faces[i];
-                for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) {
-                    const Index v = L.face_verts[s];
-                    next.insert(next.end(), vf_faces.begin() + vf_offsets[v], vf_faces.begin() + vf_offsets[v + 1]);
-                }
-            }
-            std::sort(next.begin(), next.end());
-            next.erase(std::unique(next.begin(), next.end()), next.end());
-            faces.swap(next);
-        }
-    }
-    // faces keep their source order (which decides, as in build_base_level, which instance of a repeated edge is
-    // found first); vertices: the face's distinct corners first (in face order), then the rest
-    std::vector<Index> order;
-    for (Index s = L.face_offsets[face]; s < L.face_offsets[face + 1]; ++s)
-        if (std::find(order.begin(), order.end(), L.face_verts[s]) == order.end()) order.push_back(L.face_verts[s]);
-    std::vector<Index> dense_local;
-    std::vector<std::pair<Index, Index>> map;  // (source, local), sorted by source
-    if (dense) {
-        dense_local.assign(L.vertex_count, kInvalidIndex);
-        for (Index i = 0; i < order.size(); ++i) dense_local[order[i]] = i;
-        for (Index f : faces)
-            for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s)
-                if (dense_local[L.face_verts[s]] == kInvalidIndex) {
-                    dense_local[L.face_verts[s]] = static_cast<Index>(order.size());
-                    order.push_back(L.face_verts[s]);
-                }
-    } else {
-        const std::size_t corner_count = order.size();
-        std::vector<Index> rest;
-        for (Index f : faces)
-            for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) rest.push_back(L.face_verts[s]);
-        std::sort(rest.begin(), rest.end());
-        rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
-        for (Index v : rest)
-            if (std::find(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(corner_count), v) ==
-                order.begin() + static_cast<std::ptrdiff_t>(corner_count))
-                order.push_back(v);
-        map.reserve(order.size());
-        for (Index i = 0; i < order.size(); ++i) map.push_back({order[i], i});
-        std::sort(map.begin(), map.end());
-    }
-    auto local = [&](Index v) {
-        if (dense) return dense_local[v];
-        return std::lower_bound(map.begin(), map.end(), std::pair<Index, Index>{v, 0})->second;
-    };
-
-    PolygonMesh mesh;
-    mesh.positions.resize(order.size());
-    Piece out;
-    out.points.resize(order.size());
-    out.sharp.vertex.resize(order.size());
-    for (Index l = 0; l < order.size(); ++l) {
-        out.points[l] = src.points[order[l]];
-        out.sharp.vertex[l] = src.sharp.vertex[order[l]];
-    }
-    std::vector<Index> corner_ids;
-    for (Index f : faces) {
-        corner_ids.clear();
-        for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) corner_ids.push_back(local(L.face_verts[s]));
-        mesh.add_face(corner_ids);
-    }
-    out.level = subdivision::build_base_level(mesh);
-    out.sharp.edge.assign(out.level.edge_count(), 0.0f);
-    for (Index i = 0; i < faces.size(); ++i) {
-        const Index f = faces[i];
-        const Index n = L.face_offsets[f + 1] - L.face_offsets[f];
-        for (Index k = 0; k < n; ++k)
-            out.sharp.edge[out.level.face_edges[out.level.face_offsets[i] + k]] =
-                src.sharp.edge[L.face_edges[L.face_offsets[f] + k]];
-    }
-    out.target = static_cast<Index>(std::lower_bound(faces.begin(), faces.end(), face) - faces.begin());
-    if (!src.sharp.hole.empty()) {
-        out.sharp.hole.resize(faces.size());
-        for (Index i = 0; i < faces.size(); ++i) out.sharp.hole[i] = src.sharp.hole[faces[i]];
-    }
-    return out;
-}
-
-//! One Catmull-Clark step of a whole piece, with subdivide()'s rules.
-Piece refine(const Piece& p, const SubdivisionOptions& options, bool first_level) {
-    const subdivision::Neighbourhood n = subdivision::neighbourhood(p.level, p.sharp, options.crease_method);
-    Piece c;
-    c.level = subdivision::refine_quads(p.level, true, false);
-    c.points.assign(c.level.vertex_count, Vec3{});
-    const subdivision::LevelInput in{p.level,
-                                     p.sharp,
-                                     options.crease_method,
-                                     first_level ? options.triangle_rule : TriangleRule::Catmark,
-                                     options.loop_weights,
-                                     false};
-    subdivision::interpolate_catmark(in, n, p.points.data(), c.points.data());
-    c.sharp = subdivision::refine_sharpness(p.level, c.level, p.sharp, n, options.crease_method, false);
-    return c;
-}
-
-//! Edge -> faces (up to two recorded, and the count) and vertex -> edges of a small level.
-struct Adjacency {
-    std::vector<Index> edge_face0, edge_face1;
-    std::vector<std::uint32_t> edge_uses;
-    std::vector<Index> vf_offsets, vf_faces;
-    explicit Adjacency(const Level& L) {
-        const Index ne = L.edge_count();
-        edge_face0.assign(ne, kInvalidIndex);
-        edge_face1.assign(ne, kInvalidIndex);
-        edge_uses.assign(ne, 0);
-        for (Index f = 0; f < L.face_count(); ++f)
-            for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s) {
-                const Index e = L.face_edges[s];
-                (edge_uses[e] == 0 ? edge_face0 : edge_face1)[e] = f;
-                ++edge_uses[e];
-            }
-        vertex_faces(L, vf_offsets, vf_faces);
-    }
-    Index across(Index e, Index f) const { return edge_face0[e] == f ? edge_face1[e] : edge_face0[e]; }
-};
-
-Index slot_of(const Level& L, Index f, Index v) {
-    for (Index s = L.face_offsets[f]; s < L.face_offsets[f + 1]; ++s)
-        if (L.face_verts[s] == v) return s - L.face_offsets[f];
-    return kInvalidIndex;
-}
-
-Index face_vert(const Level& L, Index f, Index k) {
-    const Index n = L.face_offsets[f + 1] - L.face_offsets[f];
-    return L.face_verts[L.face_offsets[f] + k % n];
-}
+using subdivision::Piece;
+using subdivision::refine;
+using subdivision::slot_of;
+using subdivision::vertex_faces;
 
 //! Corner j of quad f: whether the limit surface over f near it is the tensor-product B-spline (smooth valence 4,
 //! a straight infinitely sharp crease or boundary with the face's side holding two quads, or a corner with the face
@@ -397,9 +230,43 @@ LimitSample evaluate_patch(const std::array<Vec3, 16>& grid, double s, double t,
     return out;
 }
 
-//! The corner of the unit square at (s, t), or -1.
-int corner_at(double s, double t) {
+//! The Loop patch (its polynomial, loop_patch.h) at local (s, t), as evaluate_patch.
+LimitSample evaluate_loop_patch(const std::array<Vec3, 16>& coefficients, double s, double t, double scale,
+                                bool second) {
+    Vec3 d[6];
+    subdivision::evaluate_loop_polynomial(coefficients, s, t, second, d);
+    LimitSample out;
+    out.position = d[0];
+    out.du = scale * d[1];
+    out.dv = scale * d[2];
+    out.normal = unit(cross(out.du, out.dv));
+    if (second) {
+        out.duu = (scale * scale) * d[3];
+        out.duv = (scale * scale) * d[4];
+        out.dvv = (scale * scale) * d[5];
+    }
+    return out;
+}
+
+//! A regular patch of either scheme at local (s, t).
+LimitSample evaluate_any(bool loop, const std::array<Vec3, 16>& points, double s, double t, double scale, bool second) {
+    return loop ? evaluate_loop_patch(points, s, t, scale, second) : evaluate_patch(points, s, t, scale, second);
+}
+
+//! The patch of face f of `p` when it is regular under the scheme: Catmull-Clark's 16 control points, or Loop's
+//! polynomial coefficients (from its 12 control points, converted once so that each evaluation is cheap).
+bool regular(bool loop, const Piece& p, const Adjacency& adj, Index f, std::array<Vec3, 16>& points) {
+    if (!loop) return regular_patch(p, adj, f, points);
+    std::array<Vec3, 12> triangle;
+    if (!subdivision::loop_regular_patch(p, adj, f, triangle)) return false;
+    subdivision::loop_patch_polynomial(triangle, points);
+    return true;
+}
+
+//! The corner of the domain (the unit square; Loop: the unit triangle) at (s, t), or -1.
+int corner_at(bool loop, double s, double t) {
     if ((s != 0.0 && s != 1.0) || (t != 0.0 && t != 1.0)) return -1;
+    if (loop) return s == 0.0 ? (t == 0.0 ? 0 : 2) : (t == 0.0 ? 1 : -1);
     return t == 0.0 ? (s == 0.0 ? 0 : 1) : (s == 0.0 ? 3 : 2);
 }
 
@@ -410,6 +277,65 @@ bool all_quads_at(const Piece& p, const Adjacency& adj, Index v) {
         if (p.level.face_offsets[g + 1] - p.level.face_offsets[g] != 4) return false;
     }
     return true;
+}
+
+//! Whether corner j of the piece's target face stays irregular under refinement: it is not regular, no semi-sharp
+//! feature at it is what prevents it, and the limit masks of limit.h apply there.
+bool irregular_for_good(bool loop, const Piece& p, const Adjacency& adj, int j) {
+    bool semi = false;
+    if (loop) return !subdivision::loop_corner_regular(p, adj, p.target, j, &semi) && !semi;
+    bool sharp_edge[4];
+    sharp_edges_of(p, p.target, sharp_edge);
+    return !corner_regular(p, adj, p.target, j, sharp_edge, &semi) && !semi &&
+           all_quads_at(p, adj, subdivision::face_vert(p.level, p.target, static_cast<Index>(j)));
+}
+
+//! One step down: the child of the face (quad or triangle) containing local (s, t), the point's coordinates in it,
+//! and d(child coordinates)/d(parent coordinates) (Loop's middle child is turned half round: -2).
+struct Step {
+    int child;
+    double s, t, factor;
+};
+Step descend(bool loop, double s, double t) {
+    if (loop) {
+        if (s >= 0.5) return {1, 2.0 * s - 1.0, 2.0 * t, 2.0};
+        if (t >= 0.5) return {2, 2.0 * s, 2.0 * t - 1.0, 2.0};
+        if (s + t <= 0.5) return {0, 2.0 * s, 2.0 * t, 2.0};
+        return {3, 1.0 - 2.0 * s, 1.0 - 2.0 * t, -2.0};
+    }
+    const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
+    static constexpr int kCorner[2][2] = {{0, 1}, {3, 2}};
+    return {kCorner[row][col], 2.0 * s - col, 2.0 * t - row, 2.0};
+}
+
+//! Near an irregular vertex: the limit positions (limit.h) at the corners of the piece's target face, blended
+//! bilinearly (Loop: linearly), with the limit normal exactly at a corner.
+LimitSample blend_corner_limits(bool loop, bool warren, const Piece& piece, double s, double t, double scale,
+                                int corner) {
+    const int n = loop ? 3 : 4;
+    Vec3 limit_p[4], limit_n[4], lp[4], ln[4];
+    const Index count = std::min<Index>(n, piece.level.vertex_count);
+    subdivision::evaluate_limit(piece.level, piece.sharp.edge, piece.sharp.vertex, loop, warren, piece.points.data(),
+                                count, limit_p, limit_n);
+    for (int k = 0; k < n; ++k) {
+        const Index v = subdivision::face_vert(piece.level, piece.target, static_cast<Index>(k));
+        lp[k] = limit_p[v];
+        ln[k] = limit_n[v];
+    }
+    LimitSample out;
+    if (loop) {
+        out.position = (1 - s - t) * lp[0] + s * lp[1] + t * lp[2];
+        out.du = scale * (lp[1] - lp[0]);
+        out.dv = scale * (lp[2] - lp[0]);
+    } else {
+        out.position = (1 - s) * (1 - t) * lp[0] + s * (1 - t) * lp[1] + s * t * lp[2] + (1 - s) * t * lp[3];
+        out.du = scale * ((1 - t) * (lp[1] - lp[0]) + t * (lp[2] - lp[3]));
+        out.dv = scale * ((1 - s) * (lp[3] - lp[0]) + s * (lp[2] - lp[1]));
+    }
+    out.normal = unit(cross(out.du, out.dv));
+    if (corner >= 0 && norm(ln[corner]) > 0) out.normal = ln[corner];
+    out.exact = false;
+    return out;
 }
 
 //! The quad sub-face tile width of an N-gon in Bfr's parameterization.
@@ -423,14 +349,17 @@ int subface_columns(Index n) {
 //! vertex-face lists and the patches of its regular faces.
 struct LimitSurfaceEvaluator::Data {
     SubdivisionOptions options;
+    bool loop = false;
     int max_level = 24;
     Piece base;
     std::vector<Index> vf_offsets, vf_faces;
-    std::vector<std::int32_t> patch_of_face;  //!< index into patches, -1 when the face is not regular
-    std::vector<std::array<Vec3, 16>> patches;
+    std::vector<std::int32_t> patch_of_face;    //!< index into patches, -1 when the face is not regular
+    std::vector<std::array<Vec3, 16>> patches;  //!< Catmull-Clark: control points; Loop: polynomial coefficients
 };
 
 std::size_t LimitSurfaceEvaluator::face_count() const { return data_->base.level.face_count(); }
+
+SubdivisionScheme LimitSurfaceEvaluator::scheme() const { return data_->options.scheme; }
 
 bool LimitSurfaceEvaluator::is_hole(std::size_t face) const {
     return !data_->base.sharp.hole.empty() && data_->base.sharp.hole[static_cast<Index>(face)];
@@ -438,15 +367,22 @@ bool LimitSurfaceEvaluator::is_hole(std::size_t face) const {
 
 Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& mesh, const SubdivisionOptions& options,
                                                             const LimitEvaluationOptions& evaluation) {
-    if (options.scheme != SubdivisionScheme::CatmullClark)
-        return make_error(ErrorCode::Unsupported, "limit evaluation supports the catmull-clark scheme only");
     if (evaluation.max_level < 12 || evaluation.max_level > 40)
         return make_error(ErrorCode::InvalidArgument,
                           "max_level must be in [12, 40], got " + std::to_string(evaluation.max_level));
     if (Status valid = validate_for_subdivision(mesh); !valid) return valid.error();
+    const bool loop = options.scheme == SubdivisionScheme::Loop;
+    if (loop)
+        for (std::size_t f = 0; f < mesh.face_count(); ++f)
+            if (mesh.face_size(f) != 3)
+                return element_error(ErrorCode::NotTriangleMesh,
+                                     "face " + std::to_string(f) + " has " + std::to_string(mesh.face_size(f)) +
+                                         " vertices; Loop subdivision needs triangles",
+                                     ElementKind::Face, static_cast<std::int64_t>(f));
     auto data = std::make_shared<Data>();
     Data& d = *data;
     d.options = options;
+    d.loop = loop;
     d.max_level = evaluation.max_level;
     const BoundaryInterpolation boundary =
         options.use_mesh_boundary_tag && mesh.tags.boundary ? *mesh.tags.boundary : options.boundary;
@@ -461,11 +397,11 @@ Result<LimitSurfaceEvaluator> LimitSurfaceEvaluator::create(const PolygonMesh& m
     d.patch_of_face.assign(nf, -1);
     const Adjacency adj(d.base.level);
     for (Index f = 0; f < nf; ++f) {
-        if (d.base.level.face_offsets[f + 1] - d.base.level.face_offsets[f] != 4) continue;
-        std::array<Vec3, 16> grid;
-        if (regular_patch(d.base, adj, f, grid)) {
+        if (d.base.level.face_offsets[f + 1] - d.base.level.face_offsets[f] != (loop ? 3 : 4)) continue;
+        std::array<Vec3, 16> points;
+        if (regular(loop, d.base, adj, f, points)) {
             d.patch_of_face[f] = static_cast<std::int32_t>(d.patches.size());
-            d.patches.push_back(grid);
+            d.patches.push_back(points);
         }
     }
     LimitSurfaceEvaluator e;
@@ -488,122 +424,92 @@ Result<LimitSurfaceEvaluator::Start> LimitSurfaceEvaluator::locate(std::size_t f
                              "face " + std::to_string(face) + " is a hole: it has no limit surface", ElementKind::Face,
                              static_cast<std::int64_t>(face));
     const Index n = data_->base.level.face_offsets[f + 1] - data_->base.level.face_offsets[f];
-    for (Index a = 0; a < n; ++a)
-        for (Index b = a + 1; b < n; ++b)
-            if (data_->base.level.face_verts[data_->base.level.face_offsets[f] + a] ==
-                data_->base.level.face_verts[data_->base.level.face_offsets[f] + b])
-                return element_error(ErrorCode::Unsupported,
-                                     "face " + std::to_string(face) +
-                                         " uses a vertex twice: limit evaluation does not support such faces",
-                                     ElementKind::Face, static_cast<std::int64_t>(face));
-    int subface = -1;
-    double s = u, t = v;
-    if (n == 4) {
-        if (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0)
-            return element_error(ErrorCode::InvalidArgument,
-                                 "(u, v) = (" + std::to_string(u) + ", " + std::to_string(v) +
-                                     ") is outside the quad's domain [0, 1] x [0, 1]",
-                                 ElementKind::Face, static_cast<std::int64_t>(face));
-    } else {
-        const int columns = subface_columns(n);
-        const double x = std::floor(u), y = std::floor(v);
-        const bool inside = u >= 0.0 && v >= 0.0 && x < columns && u - x <= 0.5 && v - y <= 0.5 &&
-                            static_cast<double>(y * columns + x) < static_cast<double>(n);
-        if (!inside)
-            return element_error(ErrorCode::InvalidArgument,
-                                 "(u, v) = (" + std::to_string(u) + ", " + std::to_string(v) + ") is outside the " +
-                                     std::to_string(n) + "-gon's domain (its quad sub-faces)",
-                                 ElementKind::Face, static_cast<std::int64_t>(face));
-        subface = static_cast<int>(y) * columns + static_cast<int>(x);
-        s = 2.0 * (u - x);
-        t = 2.0 * (v - y);
+    auto outside = [&](const std::string& domain) {
+        return element_error(ErrorCode::InvalidArgument,
+                             "(u, v) = (" + std::to_string(u) + ", " + std::to_string(v) + ") is outside the " + domain,
+                             ElementKind::Face, static_cast<std::int64_t>(face));
+    };
+    if (data_->loop) {
+        if (u < 0.0 || v < 0.0 || u + v > 1.0) return outside("triangle's domain u, v >= 0, u + v <= 1");
+        return Start{-1, u, v};
     }
-    return Start{subface, s, t};
+    if (n == 4) {
+        if (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0) return outside("quad's domain [0, 1] x [0, 1]");
+        return Start{-1, u, v};
+    }
+    const int columns = subface_columns(n);
+    const double x = std::floor(u), y = std::floor(v);
+    const bool inside = u >= 0.0 && v >= 0.0 && x < columns && u - x <= 0.5 && v - y <= 0.5 &&
+                        static_cast<double>(y * columns + x) < static_cast<double>(n);
+    if (!inside) return outside(std::to_string(n) + "-gon's domain (its quad sub-faces)");
+    return Start{static_cast<int>(y) * columns + static_cast<int>(x), 2.0 * (u - x), 2.0 * (v - y)};
 }
 
 Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, double v, bool second) const {
     auto start = locate(face, u, v);
     if (!start) return start.error();
+    const Data& d = *data_;
     const Index f = static_cast<Index>(face);
     int subface = start->subface;
     double s = start->s, t = start->t;
-    if (subface < 0 && data_->patch_of_face[f] >= 0)
-        return evaluate_patch(data_->patches[data_->patch_of_face[f]], s, t, 1.0, second);
+    if (subface < 0 && d.patch_of_face[f] >= 0)
+        return evaluate_any(d.loop, d.patches[d.patch_of_face[f]], s, t, 1.0, second);
 
-    // local refinement: `piece` holds the current face (index 0) with its 2-ring; (s, t) are its local coordinates
-    Piece piece = extract(data_->base, data_->vf_offsets, data_->vf_faces, f);
+    // local refinement: `piece` holds the current face with its 2-ring; (s, t) are its local coordinates
+    Piece piece = extract(d.base, d.vf_offsets, d.vf_faces, f);
     double scale = 1.0;
     std::vector<Index> offsets, faces;
     for (int level = 0;; ++level) {
-        const bool at_quad = subface < 0;
-        if (at_quad) {
+        const bool at_patch_shape = subface < 0;  // a quad (Loop: a triangle), not an N-gon
+        if (at_patch_shape) {
             const Adjacency adj(piece.level);
-            std::array<Vec3, 16> grid;
-            if (regular_patch(piece, adj, piece.target, grid)) {
-                LimitSample out = evaluate_patch(grid, s, t, scale, second);
+            std::array<Vec3, 16> points;
+            if (regular(d.loop, piece, adj, piece.target, points)) {
+                LimitSample out = evaluate_any(d.loop, points, s, t, scale, second);
                 out.level = level;
                 return out;
             }
             // exactly at an irregular vertex whose sharpness has decayed: refining changes nothing there
-            bool at_irregular_vertex = false;
-            const int corner = corner_at(s, t);
-            if (corner >= 0) {
-                bool sharp_edge[4], semi = false;
-                sharp_edges_of(piece, piece.target, sharp_edge);
-                at_irregular_vertex =
-                    !corner_regular(piece, adj, piece.target, corner, sharp_edge, &semi) && !semi &&
-                    all_quads_at(piece, adj, piece.level.face_verts[piece.level.face_offsets[piece.target] + corner]);
-            }
-            if (at_irregular_vertex || level >= data_->max_level) {
-                // the limit positions at the face's corners (the piece's first vertices), blended bilinearly
-                Vec3 limit_p[4], limit_n[4], lp[4], ln[4];
-                const Index count = std::min<Index>(4, piece.level.vertex_count);
-                subdivision::evaluate_limit(piece.level, piece.sharp.edge, piece.sharp.vertex, false, false,
-                                            piece.points.data(), count, limit_p, limit_n);
-                for (int k = 0; k < 4; ++k) {
-                    lp[k] = limit_p[piece.level.face_verts[piece.level.face_offsets[piece.target] + k]];
-                    ln[k] = limit_n[piece.level.face_verts[piece.level.face_offsets[piece.target] + k]];
-                }
-                LimitSample out;
-                out.position = (1 - s) * (1 - t) * lp[0] + s * (1 - t) * lp[1] + s * t * lp[2] + (1 - s) * t * lp[3];
-                out.du = scale * ((1 - t) * (lp[1] - lp[0]) + t * (lp[2] - lp[3]));
-                out.dv = scale * ((1 - s) * (lp[3] - lp[0]) + s * (lp[2] - lp[1]));
-                out.normal = unit(cross(out.du, out.dv));
-                if (corner >= 0 && norm(ln[corner]) > 0) out.normal = ln[corner];
+            const int corner = corner_at(d.loop, s, t);
+            const bool at_irregular_vertex = corner >= 0 && irregular_for_good(d.loop, piece, adj, corner);
+            if (at_irregular_vertex || level >= d.max_level) {
+                LimitSample out = blend_corner_limits(d.loop, d.options.loop_weights == LoopWeights::Warren, piece, s,
+                                                      t, scale, corner);
                 out.level = level;
-                out.exact = false;
                 return out;
             }
         }
-        const Piece child = refine(piece, data_->options, level == 0);
-        Index child_face;
-        if (at_quad) {
-            const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
-            static constexpr int kCorner[2][2] = {{0, 1}, {3, 2}};
-            child_face = piece.level.face_offsets[piece.target] + static_cast<Index>(kCorner[row][col]);
-            s = 2.0 * s - col;
-            t = 2.0 * t - row;
+        const Piece child = refine(piece, d.options, level == 0);
+        Index next;
+        if (at_patch_shape) {
+            const Step step = descend(d.loop, s, t);
+            next = subdivision::child_face(piece.level, piece.target, step.child, d.loop);
+            s = step.s;
+            t = step.t;
+            scale *= step.factor;
         } else {
-            child_face = piece.level.face_offsets[piece.target] + static_cast<Index>(subface);
+            next = subdivision::child_face(piece.level, piece.target, subface, false);
             subface = -1;
+            scale *= 2.0;
         }
-        scale *= 2.0;
         vertex_faces(child.level, offsets, faces);
-        piece = extract(child, offsets, faces, child_face);
+        piece = extract(child, offsets, faces, next);
     }
 }
 
 namespace {
 
-//! The patch tree below `piece`'s target face (a quad), at `level` refinements below the base face: a node per
-//! sub-face, a leaf with a patch where the sub-face is regular, a leaf without one where `level` reaches `levels`.
+//! The patch tree below `piece`'s target face (a quad, or a triangle under Loop), at `level` refinements below the
+//! base face: a node per sub-face, a leaf with a patch where the sub-face is regular, a leaf without one where
+//! `level` reaches `levels`.
 void build_tree(const Piece& piece, const SubdivisionOptions& options, int level, int levels, std::size_t node,
                 std::vector<LimitFaceSurface::Node>& nodes, std::vector<std::array<Vec3, 16>>& patches) {
+    const bool loop = options.scheme == SubdivisionScheme::Loop;
     const Adjacency adj(piece.level);
-    std::array<Vec3, 16> grid;
-    if (regular_patch(piece, adj, piece.target, grid)) {
+    std::array<Vec3, 16> points;
+    if (regular(loop, piece, adj, piece.target, points)) {
         nodes[node].patch = static_cast<std::int32_t>(patches.size());
-        patches.push_back(grid);
+        patches.push_back(points);
         return;
     }
     if (level >= levels) return;
@@ -613,9 +519,9 @@ void build_tree(const Piece& piece, const SubdivisionOptions& options, int level
     const std::size_t first = nodes.size();
     nodes[node].first_child = static_cast<std::int32_t>(first);
     nodes.resize(first + 4);
-    for (Index j = 0; j < 4; ++j)
-        build_tree(extract(child, offsets, faces, piece.level.face_offsets[piece.target] + j), options, level + 1,
-                   levels, first + j, nodes, patches);
+    for (int j = 0; j < 4; ++j)
+        build_tree(extract(child, offsets, faces, subdivision::child_face(piece.level, piece.target, j, loop)), options,
+                   level + 1, levels, first + static_cast<std::size_t>(j), nodes, patches);
 }
 
 }  // namespace
@@ -632,14 +538,15 @@ Result<LimitFaceSurface> LimitSurfaceEvaluator::face_surface(std::size_t face, i
     out.face_ = face;
     const Index f = static_cast<Index>(face);
     const Index n = data_->base.level.face_offsets[f + 1] - data_->base.level.face_offsets[f];
+    const bool patch_shape = n == (data_->loop ? 3 : 4);
     out.nodes_.resize(1);
-    if (n == 4 && data_->patch_of_face[f] >= 0) {
+    if (patch_shape && data_->patch_of_face[f] >= 0) {
         out.nodes_[0].patch = 0;
         out.patches_.push_back(data_->patches[data_->patch_of_face[f]]);
         return out;
     }
     const Piece piece = extract(data_->base, data_->vf_offsets, data_->vf_faces, f);
-    if (n == 4) {
+    if (patch_shape) {
         build_tree(piece, data_->options, 0, levels, 0, out.nodes_, out.patches_);
         return out;
     }
@@ -659,6 +566,7 @@ Result<LimitFaceSurface> LimitSurfaceEvaluator::face_surface(std::size_t face, i
 Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_derivatives) const {
     auto start = owner_.locate(face_, u, v);
     if (!start) return start.error();
+    const bool loop = owner_.data_->loop;
     double s = start->s, t = start->t, scale = 1.0;
     std::size_t node = 0;
     int level = 0;
@@ -671,23 +579,23 @@ Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_d
     for (;;) {
         const Node& current = nodes_[node];
         if (current.patch >= 0) {
-            LimitSample out = evaluate_patch(patches_[current.patch], s, t, scale, second_derivatives);
+            LimitSample out = evaluate_any(loop, patches_[current.patch], s, t, scale, second_derivatives);
             out.level = level;
             return out;
         }
         if (current.first_child < 0) return owner_.evaluate(face_, u, v, second_derivatives);
-        const int col = s > 0.5 ? 1 : 0, row = t > 0.5 ? 1 : 0;
-        static constexpr int kCorner[2][2] = {{0, 1}, {3, 2}};
-        node = static_cast<std::size_t>(current.first_child + kCorner[row][col]);
-        s = 2.0 * s - col;
-        t = 2.0 * t - row;
-        scale *= 2.0;
+        const Step step = descend(loop, s, t);
+        node = static_cast<std::size_t>(current.first_child + step.child);
+        s = step.s;
+        t = step.t;
+        scale *= step.factor;
         ++level;
     }
 }
 
 std::vector<LimitFaceSurface::Leaf> LimitFaceSurface::leaves(int max_level) const {
     std::vector<Leaf> out;
+    if (owner_.scheme() != SubdivisionScheme::CatmullClark) return out;
     // (node, square) pairs still to visit; a node's four children are its corner quadrants in corner order
     struct Pending {
         std::size_t node;

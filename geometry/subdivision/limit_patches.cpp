@@ -246,6 +246,8 @@ int min_limit_patch_level(const PolygonMesh& mesh) {
 
 Result<LimitPatchSet> limit_patches(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& mesh,
                                     const LimitPatchOptions& options) {
+    if (evaluator.scheme() != SubdivisionScheme::CatmullClark)
+        return make_error(ErrorCode::Unsupported, "limit patches are bicubic: Catmull-Clark surfaces only");
     if (options.max_levels < 0 || options.max_levels > 10)
         return make_error(ErrorCode::InvalidArgument,
                           "max_levels must be in [0, 10], got " + std::to_string(options.max_levels));

@@ -64,7 +64,8 @@ std::uint64_t limit_patch_count(const PolygonMesh& mesh, int levels);
 //! The smallest isolation level the mesh allows: 1 when it has a face that is not a quad, else 0.
 int min_limit_patch_level(const PolygonMesh& mesh);
 
-//! The limit surface of `evaluator` (created from `mesh` with the request's subdivision options) as patches.
+//! The limit surface of `evaluator` (Catmull-Clark; created from `mesh` with the request's subdivision options) as
+//! patches. Unsupported for a Loop evaluator (its patches are triangular box splines, not bicubic).
 //! Errors: InvalidArgument (levels outside [min level, max_levels], max_levels outside 0..10, tolerance not finite
 //! and > 0 when levels is unset), BudgetExceeded (max_patches; or no level up to max_levels reaches the tolerance),
 //! Cancelled, and the evaluator's errors.

@@ -188,6 +188,15 @@ TEST(LimitPatches, RefusesWhatItCannotDo) {
     ASSERT_FALSE(set.ok());
     EXPECT_EQ(set.error().code, ErrorCode::BudgetExceeded);
 
+    const PolygonMesh triangles = shapes::octahedron();
+    SubdivisionOptions loop;
+    loop.scheme = SubdivisionScheme::Loop;
+    auto loop_evaluator = LimitSurfaceEvaluator::create(triangles, loop);
+    ASSERT_TRUE(loop_evaluator.ok());
+    set = limit_patches(*loop_evaluator, triangles, LimitPatchOptions{});
+    ASSERT_FALSE(set.ok());
+    EXPECT_EQ(set.error().code, ErrorCode::Unsupported);
+
     LimitPatchOptions bad_tolerance;
     bad_tolerance.tolerance = -1;
     set = limit_patches(cube_evaluator, cube, bad_tolerance);
