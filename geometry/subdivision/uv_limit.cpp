@@ -80,11 +80,32 @@ Result<UvLimitEvaluator> UvLimitEvaluator::create(const PolygonMesh& mesh, const
     base.levels = 0;
     const subdivision::Channel channel = subdivision::refine_uvs(mesh, level, sharp.value(), base, false);
 
-    // faces using a value whose rule the value mesh cannot express
-    for (const subdivision::UvOverride& o : channel.overrides)
+    // OpenSubdiv's dependent sharpness (UvOverride): the value is a corner until its sibling's semi-sharp edges have
+    // decayed, then a crease with the fractional weight of the edges that decay last. When their sharpness at the
+    // sibling decays by one per level (uniform creasing, or Chaikin's with a single semi-sharp edge there) and one
+    // edge decays last, that is the value's vertex sharpness (the same last level, the same weight; measured equal
+    // to Bfr). Otherwise (Chaikin with several semi-sharp edges, several edges decaying last) the faces using the
+    // value are reported inexact.
+    subdivision::Channel tagged = channel;
+    for (const subdivision::UvOverride& o : channel.overrides) {
+        std::vector<float> semi;
+        for (Index e = 0; e < channel.level.edge_count(); ++e) {
+            const float s = channel.sharp.edge[e];
+            if ((channel.level.edge_verts[2 * e] == o.sibling || channel.level.edge_verts[2 * e + 1] == o.sibling) &&
+                subdivision::is_semi_sharp(s))
+                semi.push_back(s);
+        }
+        const float sharpest = semi.empty() ? 0.0f : *std::max_element(semi.begin(), semi.end());
+        const auto last =
+            std::count_if(semi.begin(), semi.end(), [&](float s) { return std::ceil(s) == std::ceil(sharpest); });
+        if (last == 1 && (options.crease_method == CreaseMethod::Uniform || semi.size() == 1)) {
+            tagged.sharp.vertex[o.value] = std::max(tagged.sharp.vertex[o.value], sharpest);
+            continue;
+        }
         for (std::size_t f = 0; f < mesh.face_count(); ++f)
             for (Index s = channel.level.face_offsets[f]; s < channel.level.face_offsets[f + 1]; ++s)
                 if (channel.level.face_verts[s] == o.value) out.approximated_[f] = 1;
+    }
 
     // the sharpness is all in the tags: edge-only adds nothing to the value mesh's own boundary edges, which are
     // tagged infinitely sharp already
@@ -92,7 +113,7 @@ Result<UvLimitEvaluator> UvLimitEvaluator::create(const PolygonMesh& mesh, const
     value_options.boundary = BoundaryInterpolation::EdgeOnly;
     value_options.use_mesh_boundary_tag = false;
     value_options.use_mesh_tags = true;
-    auto values = LimitSurfaceEvaluator::create(value_mesh(channel), value_options, evaluation);
+    auto values = LimitSurfaceEvaluator::create(value_mesh(tagged), value_options, evaluation);
     if (!values) return values.error();
     out.values_ = std::move(values).value();
     return out;

@@ -8,11 +8,17 @@
 // positions (exact, with the same exactness near irregular vertices). "all" is bilinear: the UVs at the face's corners
 // blended bilinearly on quads, and on each quad sub-face of an N-gon (corner, edge midpoints, centroid).
 //
-// Approximation. With corners-plus1 and corners-plus2, a UV at a vertex with two UV regions, exactly one of which
-// has semi-sharp edges inside it, follows OpenSubdiv's "dependent sharpness" (face_varying.h UvOverride): a corner
-// until its sibling's sharpness decays, then a crease with the sibling's fractional weight. A value mesh cannot
-// express that, so there it is evaluated as the value mesh's own rule (a smooth boundary value) and faces using such
-// a value are reported inexact (UvSample::exact false). Nothing else is approximated.
+// Dependent sharpness. With corners-plus1 and corners-plus2, a UV at a vertex with two UV regions, exactly one of
+// which has semi-sharp edges inside it, follows OpenSubdiv's "dependent sharpness" (face_varying.h UvOverride): a
+// corner until its sibling's edges have decayed, then a crease with their fractional weight. When one of those edges
+// decays last and its sharpness at the vertex drops by one per level (uniform creasing, or Chaikin's with a single
+// semi-sharp edge there), that is exactly a vertex sharpness of the value mesh, and it is evaluated so.
+//
+// Approximation. Otherwise (several edges decaying at the same last level, or Chaikin's with several semi-sharp
+// edges) the value is evaluated by the value mesh's own rule (a smooth boundary value) and the faces using it are
+// reported inexact (UvSample::exact false). Measured against Bfr's face-varying surface (tests/geometry/
+// uv_limit_test.cpp, UVs jittered by 0.05 on a fan of extent 1.5): at most 7e-3 in UV on those faces. Nothing else
+// is approximated: every mode matches Bfr to 1e-15 on OpenSubdiv's face-varying shapes.
 //
 // Catmull-Clark only, as LimitSurfaceEvaluator. Thread-safe (const, no state between calls).
 #pragma once
