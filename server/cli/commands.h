@@ -18,5 +18,6 @@ int pointcloud(Args& args);
 int curve(Args& args);
 int query(Args& args);
 int grid(Args& args);
+int limit(Args& args);
 
 }  // namespace surfaced::cli

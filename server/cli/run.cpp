@@ -32,6 +32,7 @@ Usage:
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
   surfaced query MESH --points P.json [opts]  inside, signed distance, closest point; ray hits on a mesh (JSON)
   surfaced grid IN --voxel-size H [opts]      narrow-band signed distance grid of a mesh or scene (JSON)
+  surfaced limit MESH --points P.json [opts]  exact limit surface at (face, u, v): position, derivatives, UVs (JSON)
   surfaced <command> --help                   options of a command (those of its operation, as the API names them)
   surfaced --help | --version
 
@@ -47,9 +48,9 @@ Exit codes (the same in every command):
      applicable to the output format, whether the command line or the operation notices it
 )";
 
-const std::vector<std::string_view> kCommands = {"serve",      "healthcheck", "subdivide", "tessellate",
-                                                 "simplify",   "remesh",      "repair",    "implicit",
-                                                 "pointcloud", "curve",       "query",     "grid"};
+const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
+                                                 "remesh", "repair",      "implicit",  "pointcloud", "curve",
+                                                 "query",  "grid",        "limit"};
 
 }  // namespace
 
@@ -81,12 +82,13 @@ int run(int argc, char** argv) {
         if (command == "curve") return curve(args);
         if (command == "query") return query(args);
         if (command == "grid") return grid(args);
+        if (command == "limit") return limit(args);
         std::string message = "unknown command \"" + command + "\" (";
         if (const auto match = closest_match(command, kCommands))
             message += "did you mean " + std::string(*match) + "? ";
         message +=
             "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
-            "curve, query, grid; see surfaced --help)";
+            "curve, query, grid, limit; see surfaced --help)";
         throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";
