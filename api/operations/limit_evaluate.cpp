@@ -26,8 +26,9 @@ using namespace json;  // the shared readers (api/json_util.h)
 //! Points answered between two looks at the deadline.
 constexpr std::size_t kBatch = 1024;
 //! A face with at least this many points is prepared once (face_surface) and its points evaluated on its patches;
-//! below it, preparing costs more than it saves (bench/limit_eval_bench.cpp measures both).
-constexpr std::size_t kFaceSurfacePoints = 8;
+//! below it, preparing costs more than it saves: bench_limit_api measures the break-even at about 12 points on a face
+//! with one extraordinary corner and about 40 on one with four (docs/benchmarks.md).
+constexpr std::size_t kFaceSurfacePoints = 32;
 
 constexpr std::string_view kPoint = R"({"face": f, "uv": [u, v]})";
 

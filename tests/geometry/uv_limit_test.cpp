@@ -128,14 +128,14 @@ TEST(UvLimit, MatchesBfrFaceVaryingSurfacesInEveryMode) {
                              "catmark_fvar_bound4", "catmark_fvar_project0"})
         meshes.emplace_back(name, load_shape(name));
     std::mt19937_64 rng(5);
-    for (const auto& [name, mesh] : meshes) {
+    for (const auto& named : meshes) {
+        const std::string& name = named.first;
+        const PolygonMesh& mesh = named.second;
         ASSERT_TRUE(mesh.has_uvs()) << name;
-        const double size = [&] {
-            Vec2 lo = mesh.uvs[0], hi = mesh.uvs[0];
-            for (const Vec2& uv : mesh.uvs)
-                lo = {std::min(lo.x, uv.x), std::min(lo.y, uv.y)}, hi = {std::max(hi.x, uv.x), std::max(hi.y, uv.y)};
-            return std::hypot(hi.x - lo.x, hi.y - lo.y);
-        }();
+        Vec2 lo = mesh.uvs[0], hi = mesh.uvs[0];
+        for (const Vec2& uv : mesh.uvs)
+            lo = {std::min(lo.x, uv.x), std::min(lo.y, uv.y)}, hi = {std::max(hi.x, uv.x), std::max(hi.y, uv.y)};
+        const double size = std::hypot(hi.x - lo.x, hi.y - lo.y);
         for (const UvInterpolation mode : kModes) {
             SubdivisionOptions options;
             options.uv_interpolation = mode;
