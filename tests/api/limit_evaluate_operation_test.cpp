@@ -156,10 +156,10 @@ TEST(LimitEvaluateOperation, AnswersAreTheEvaluators) {
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
-        // many points on some faces (prepared with face_surface), one on others
+        // many points on some faces (more than kFaceSurfacePoints: prepared with face_surface), one on others
         std::vector<Query> points;
         for (std::size_t f = 0; f < c.mesh.face_count(); ++f)
-            for (int k = 0; k < (f % 3 == 0 ? 20 : 1); ++k) points.push_back(random_point(c.mesh, f, rng));
+            for (int k = 0; k < (f % 3 == 0 ? 40 : 1); ++k) points.push_back(random_point(c.mesh, f, rng));
         std::shuffle(points.begin(), points.end(), rng);
         Json body = Json::parse("{" + c.options + "}");
         body["mesh"] = mesh_value(c.mesh);

@@ -35,11 +35,12 @@ TEST(OptionReader, MeshOperationsShareTheOutputOptions) {
         for (const char* name : {"format", "compression", "quantize_position", "normals"})
             EXPECT_NE(find_option(*op, name), nullptr) << operation << " " << name;
     }
-    // every operation that encodes a result offers formats; /implicit/query, /mesh/query and /implicit/grid answer
-    // in JSON only
+    // every operation that encodes a result offers formats; /implicit/query, /mesh/query, /implicit/grid and
+    // /limit/evaluate answer in JSON only
     for (const auto& op : operations())
         EXPECT_EQ(find_option(op, "format") != nullptr,
-                  op.operation != "implicit_query" && op.operation != "mesh_query" && op.operation != "implicit_grid")
+                  op.operation != "implicit_query" && op.operation != "mesh_query" && op.operation != "implicit_grid" &&
+                      op.operation != "limit_evaluate")
             << op.operation;
     EXPECT_EQ(operation_options("no-such-operation"), nullptr);
 }
