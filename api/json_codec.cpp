@@ -339,6 +339,10 @@ ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& lim
     return decode_mesh_value(root, path, limits);
 }
 
+std::optional<ApiError> decode_subdivision_tags(const nlohmann::json& body, PolygonMesh& mesh) {
+    return decode_tags(body, mesh);
+}
+
 ApiResult<PolygonMesh> decode_mesh_json(const nlohmann::json& value, const Limits& limits, std::string_view path) {
     return decode_mesh_value(value, path, limits);
 }

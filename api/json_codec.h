@@ -15,6 +15,7 @@
 //   422 budget_exceeded    more positions/faces than Limits allows (checked before they are decoded)
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -39,6 +40,10 @@ struct SubdivideJsonRequest {
 //! "sharpness": s}], "holes": [f, ...], "output": {"format", "compression", "quantize_position", "normals"}}. Only "mesh" is required. Option *ranges* (levels vs. budget, quantization bits)
 //! are checked by the operation, which also handles the same options coming from query parameters.
 ApiResult<SubdivideJsonRequest> decode_subdivide_request(std::string_view body, const Limits& limits);
+
+//! The subdivision tags of a request body into `mesh.tags`: "creases": [{"edge": [a, b], "sharpness": s}], "corners":
+//! [{"vertex": v, "sharpness": s}], "holes": [f, ...] (as POST /subdivide reads them), checked against the mesh.
+std::optional<ApiError> decode_subdivision_tags(const nlohmann::json& body, PolygonMesh& mesh);
 
 //! Decodes a mesh object on its own (`path` prefixes field paths in errors, e.g. "mesh").
 ApiResult<PolygonMesh> decode_mesh(std::string_view json_text, const Limits& limits, std::string_view path = "mesh");

@@ -42,6 +42,8 @@ struct Limits {
     //! Points in one point cloud (input or sampled output). Normal orientation keeps a kNN graph of ~190 bytes a point
     //! (k = 16), so 2M points stay under ~400 MB.
     std::uint64_t max_points = 2'000'000;
+    //! POST /limit/evaluate: (face, u, v) points in one request (each answer is about 10 vectors).
+    std::uint64_t max_limit_points = 1'000'000;
     //! Per-request compute deadline in milliseconds (0: none). Long work polls a surfaced::Cancel and stops with
     //! 503 when it passes.
     std::uint64_t compute_deadline_ms = 0;

@@ -13,6 +13,7 @@
 #include "api/operations/pointcloud.h"
 #include "api/operations/implicit_mesh.h"
 #include "api/operations/implicit_grid.h"
+#include "api/operations/limit_evaluate.h"
 
 namespace surfaced::api {
 namespace {
@@ -60,6 +61,8 @@ constexpr Route kRoutes[] = {
     {"POST", "/implicit/grid", &operations::implicit_grid,
      "Mesh (exact distances, winding-number signs) or implicit scene as a narrow-band signed distance grid -> a "
      "level_set scene node (JSON)"},
+    {"POST", "/limit/evaluate", &operations::limit_evaluate,
+     "Exact Catmull-Clark limit surface at (face, u, v) points: position, derivatives, normal, limit UVs -> JSON"},
 };
 
 }  // namespace

@@ -455,6 +455,40 @@ constexpr OptionSpec kImplicitGrid[] = {
      .transports = kJson},
 };
 
+// ---- POST /limit/evaluate: a JSON body (the mesh, its tags, (face, u, v) points), the surface's /subdivide options -
+// "points" is read by the operation itself; the subdivide rows are /subdivide's own, JSON only.
+constexpr OptionSpec json_row_of(std::span<const OptionSpec> table, std::string_view name) {
+    for (const OptionSpec& option : table)
+        if (option.name == name) {
+            OptionSpec out = option;
+            out.transports = kJson;
+            return out;
+        }
+    return OptionSpec{};
+}
+constexpr std::string_view kLimitEvaluateInputs[] = {"mesh", "points", "creases", "corners", "holes"};
+constexpr OptionSpec kLimitEvaluate[] = {
+    json_row_of(kSubdivide, "scheme"),
+    json_row_of(kSubdivide, "boundary"),
+    json_row_of(kSubdivide, "crease_method"),
+    json_row_of(kSubdivide, "triangle_rule"),
+    json_row_of(kSubdivide, "uv_interpolation"),
+    {.name = "derivatives",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(2),
+     .default_json = "1",
+     .description = "Highest derivative order answered: 1 (du, dv, normal) or 2 (also duu, duv, dvv)",
+     .transports = kJson},
+    {.name = "encoding",
+     .type = OptionType::Enum,
+     .default_json = "\"json\"",
+     .description = "How the answers are written: one JSON object per point, or base64 of packed little-endian "
+                    "float32 or float64 arrays per member (exact as uint8)",
+     .values = kMeshQueryEncodings,
+     .transports = kJson},
+};
+
 constexpr OperationOptions kOperations[] = {
     {"subdivide", "/subdivide", "post", kSubdivide, kSubdivideOutput, kSubdivideInputs},
     {"simplify", "/simplify", "post", kSimplify, kMeshOutput, kMeshInput},
@@ -469,6 +503,7 @@ constexpr OperationOptions kOperations[] = {
     {"mesh_query", "/mesh/query", "post", kMeshQuery, {}, kMeshQueryInputs},
     {"surfaces", "/surfaces", "post", {}, {}, kSurfacesInputs},
     {"implicit_grid", "/implicit/grid", "post", kImplicitGrid, {}, kImplicitGridInputs},
+    {"limit_evaluate", "/limit/evaluate", "post", kLimitEvaluate, {}, kLimitEvaluateInputs},
 };
 
 }  // namespace

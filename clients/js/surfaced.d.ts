@@ -312,6 +312,49 @@ export interface MeshQueryOptions {
   encoding?: 'json' | 'float32' | 'float64';
 }
 
+/** A parametric point: a base face and (u, v) in its domain (Bfr's: [0, 1]^2 on a quad; an N-gon's N quad sub-face
+ *  tiles [x, x + 1/2] x [y, y + 1/2]). */
+export interface LimitPoint { face: number; uv: [number, number] | number[] }
+
+export interface LimitEvaluateOptions {
+  mesh: Mesh;
+  /** or packed: base64 of (face, u, v) triples */
+  points: LimitPoint[] | PackedNumbers;
+  /** @default 'catmull-clark' */
+  scheme?: Scheme;
+  /** default: 'edge-only' */
+  boundary?: Boundary;
+  /** @default 'uniform' */
+  crease_method?: CreaseMethod;
+  /** @default 'catmark' */
+  triangle_rule?: TriangleRule;
+  /** @default 'corners-plus1' */
+  uv_interpolation?: UvInterpolation;
+  creases?: Crease[];
+  corners?: Corner[];
+  /** indices of faces that are holes */
+  holes?: number[];
+  /** 1, or 2 for duu, duv, dvv too. @default 1 */
+  derivatives?: number;
+  /** answers as JSON, or each member as one base64 array of packed little-endian values. @default 'json' */
+  encoding?: 'json' | 'float32' | 'float64';
+}
+
+export interface LimitPointAnswer {
+  position: number[]; du: number[]; dv: number[]; normal: number[];
+  duu?: number[]; duv?: number[]; dvv?: number[];
+  /** the limit of the mesh's texture coordinates, when it has them */
+  uv?: number[];
+  /** false within 2^-24 of an extraordinary vertex */
+  exact: boolean;
+}
+
+/** With `encoding` float32 or float64, `points` is one base64 string per member instead. */
+export interface LimitEvaluateAnswer {
+  encoding?: 'float32' | 'float64';
+  points: LimitPointAnswer[] | Record<string, string>;
+}
+
 export interface ImplicitGridOptions {
   /** exactly one of mesh and scene */
   mesh?: Mesh;
@@ -494,6 +537,7 @@ export declare class Client {
   surfaces(options: SurfacesOptions): Promise<Result<SurfacesAnswer>>;
   implicitQuery(options: ImplicitQueryOptions): Promise<Result<ImplicitQueryAnswer>>;
   meshQuery(options: MeshQueryOptions): Promise<Result<MeshQueryAnswer>>;
+  limitEvaluate(options: LimitEvaluateOptions): Promise<Result<LimitEvaluateAnswer>>;
   implicitGrid(options: ImplicitGridOptions): Promise<Result<LevelSetNode>>;
   implicitMesh(options: ImplicitMeshOptions): Promise<Result<MeshAnswer>>;
   pointcloud(options: PointcloudOptions): Promise<Result<PointcloudAnswer>>;

@@ -221,6 +221,10 @@ export class Client {
   /** POST /mesh/query: {mesh, points, rays, want, winding}; the answer's document in .json */
   meshQuery(request) { return this.request('POST', '/mesh/query', { json: request }); }
 
+  /** POST /limit/evaluate: {mesh, points: [{face, uv: [u, v]}], scheme, boundary, crease_method, triangle_rule,
+   *  uv_interpolation, creases, corners, holes, derivatives, encoding}; the limit points in .json */
+  limitEvaluate(request) { return this.request('POST', '/limit/evaluate', { json: request }); }
+
   /** POST /implicit/grid: {mesh | scene, voxel_size, band, bounds}; a level_set scene node in .json */
   implicitGrid(request) { return this.request('POST', '/implicit/grid', { json: request }); }
 

@@ -19,5 +19,6 @@ int curve(Args& args);
 int surfaces(Args& args);
 int query(Args& args);
 int grid(Args& args);
+int limit(Args& args);
 
 }  // namespace surfaced::cli

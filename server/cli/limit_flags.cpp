@@ -35,6 +35,7 @@ const LimitFlag kLimitFlags[] = {
     {"--max-exact-winding-work", &api::Limits::max_exact_winding_work, 1, kMany,
      "points x triangles of exact winding numbers in one /mesh/query"},
     {"--max-points", &api::Limits::max_points, 1, kMany, "points in one point cloud (input or sampled)"},
+    {"--max-limit-points", &api::Limits::max_limit_points, 1, kMany, "points in one /limit/evaluate"},
 };
 
 }  // namespace

@@ -1,6 +1,8 @@
 // `surfaced query`: points and rays asked of a mesh file through POST /mesh/query; the answers as its JSON.
 // `surfaced grid`: a mesh file or a scene as a narrow-band signed distance grid through POST /implicit/grid; the
 // level_set scene node it answers as JSON. Both read a mesh file the same way (mesh_object).
+// `surfaced limit`: the exact limit surface of a mesh file at (face, u, v) points through POST /limit/evaluate; the
+// mesh goes as the multipart file part, so that OBJ subdivision tags and UVs reach the operation as they are.
 #include <algorithm>
 #include <iostream>
 #include <sstream>
@@ -39,6 +41,26 @@ number (negative inside; robust on meshes with holes), and +-W * H beyond; for a
   IN: a mesh file (.obj .off .ply .stl .glb .gltf), or .json: a mesh object, a scene ({"op": ...}, needs --bounds),
   or a request body with "mesh" or "scene"; - reads standard input. OUT (default -: standard output) is the
   level_set scene node, usable as a scene (or part of one) by surfaced implicit.
+
+)";
+
+constexpr std::string_view kLimitHelp =
+    R"(Usage: surfaced limit MESH_FILE --points FILE.json|- [options] [--derivatives 2] [-o OUT.json|-]
+
+Evaluates the exact Catmull-Clark limit surface of MESH_FILE (the surface surfaced subdivide converges to with the
+same options and the file's subdivision tags) through the same operation as POST /limit/evaluate: per point its
+position, derivatives du and dv with respect to (u, v), unit normal, with --derivatives 2 also duu, duv, dvv, the
+limit of the mesh's UVs when it has them, and whether the answer is exact (false only within 2^-24 of an
+extraordinary vertex).
+  MESH_FILE: .obj (with its t crease/corner/hole/interpolateboundary tags and vt UVs) .off .ply .stl .glb .gltf, or
+  .json (a mesh object, or a request body with "mesh"); - reads standard input (format from --input-format, else
+  from the bytes).
+  --points FILE: a JSON array of {"face": f, "uv": [u, v]} (or an object with "points"). (face, u, v) is OpenSubdiv
+  Bfr's parameterization: [0, 1]^2 on a quad; an N-gon is N tiles [x, x + 1/2] x [y, y + 1/2] (docs/subdivision.md).
+  OUT (default -: standard output) is the JSON answer, {"points": [{"position": ..., ...}, ...]}.
+Exit codes: 0 answered; 1 the operation failed (the mesh's geometry or format, a budget, a file that cannot be
+read); 2 bad usage, including a point the operation refuses (a face out of range or a hole, (u, v) outside the
+face's domain: printed with its field, points[k].face or points[k].uv) and a scheme it does not evaluate.
 
 )";
 
@@ -126,7 +148,113 @@ std::vector<std::string> with_default_output(Args& args) {
     return out;
 }
 
+//! A multipart/form-data body with the parts `file` (`bytes`, of `media_type`) and `request` (JSON), and its
+//! boundary: one that does not occur in either part.
+std::pair<std::string, std::string> form_body(std::string_view bytes, std::string_view media_type,
+                                              const std::string& request) {
+    std::string boundary = "surfaced-limit-form";
+    while (bytes.find(boundary) != std::string_view::npos || request.find(boundary) != std::string::npos)
+        boundary += "-x";
+    std::string body = "--" + boundary +
+                       "\r\nContent-Disposition: form-data; name=\"file\"; filename=\"mesh\"\r\nContent-Type: " +
+                       std::string(media_type) + "\r\n\r\n";
+    body += bytes;
+    body += "\r\n--" + boundary +
+            "\r\nContent-Disposition: form-data; name=\"request\"\r\nContent-Type: application/json\r\n\r\n" + request +
+            "\r\n--" + boundary + "--\r\n";
+    return {std::move(body), std::move(boundary)};
+}
+
 }  // namespace
+
+int limit(Args& sent) {
+    api::ApiContext context = file_context();
+    const api::options::OperationOptions& operation = *api::options::operation_options("limit_evaluate");
+    std::vector<Option> options = table_options(operation, api::options::kJson);
+    options.push_back(Option{.name = "--input-format",
+                             .check = one_of_names({"obj", "off", "ply", "stl", "glb", "gltf", "json"}),
+                             .synopsis = "--input-format NAME",
+                             .description =
+                                 "MESH_FILE's format instead of its extension: obj off ply stl glb gltf json "
+                                 "(MESH_FILE -: from the bytes)"});
+    options.push_back(Option{.name = "--points",
+                             .check = [](std::string_view, const std::string& text) { return text; },
+                             .synopsis = "--points FILE.json",
+                             .description = "the points, a JSON array of {\"face\": f, \"uv\": [u, v]} (- : standard "
+                                            "input)"});
+    std::vector<std::string> words = with_default_output(sent);
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    Args args(static_cast<int>(argv.size()), argv.data(), 0);
+    std::string help = std::string(kLimitHelp) + options_help(operation, options);
+    constexpr std::string_view kRequired = "output file (required); - for standard output";
+    if (const auto at = help.find(kRequired); at != std::string::npos)
+        help.replace(at, kRequired.size(), "the JSON answer; - (the default) for standard output");
+    const auto parsed = parse_file_command(args, "limit", help, options, "MESH_FILE");
+    if (!parsed) return kExitOk;
+    if (parsed->has("--format")) throw UsageError{"limit: the answer is JSON; --format does not apply"};
+    if (!parsed->has("--points")) throw UsageError{"limit: give --points FILE"};
+    if (parsed->from_stdin() && parsed->value("--points") == "-")
+        throw UsageError{"limit: only one of MESH_FILE and --points can be standard input"};
+
+    // the request: the options and points, with the mesh in it (a JSON file) or as the file part (any other)
+    nlohmann::json body = nlohmann::json::object();
+    const auto points = read_json_file(parsed->value("--points"));
+    if (!points) return kExitFailed;
+    for (const auto& [name, text] : parsed->params) {
+        const api::options::OptionSpec& spec = table_option(operation, name);
+        if (spec.type == api::options::OptionType::Integer)
+            body[name] = std::stoll(text);
+        else if (spec.type == api::options::OptionType::Number)
+            body[name] = std::stod(text);
+        else if (spec.type == api::options::OptionType::Bool)
+            body[name] = text == "true";
+        else
+            body[name] = text;
+    }
+    const auto bytes = read_input(parsed->input);
+    if (!bytes) return kExitFailed;
+    const bool json_file = parsed->has("--input-format") ? parsed->value("--input-format") == "json"
+                           : parsed->from_stdin()        ? bytes->find_first_not_of(" \t\r\n") != std::string::npos &&
+                                                        (*bytes)[bytes->find_first_not_of(" \t\r\n")] == '{'
+                                                  : lower_extension(parsed->input) == ".json";
+    api::ApiRequest request;
+    std::string form;
+    std::string json_text;
+    if (json_file) {
+        nlohmann::json doc = nlohmann::json::parse(*bytes, nullptr, false);
+        if (doc.is_discarded()) {
+            std::cerr << "surfaced: " << parsed->input_label() << ": not valid JSON\n";
+            return kExitFailed;
+        }
+        // a request body keeps its own members (tags, options); the command line's win
+        if (doc.is_object() && doc.contains("mesh")) {
+            for (auto it = body.begin(); it != body.end(); ++it) doc[it.key()] = it.value();
+            body = std::move(doc);
+        } else {
+            body["mesh"] = std::move(doc);
+        }
+        body["points"] = member_or_self(*points, "points");
+        json_text = body.dump();
+        request = upload_request("/limit/evaluate", "application/json", json_text, {});
+    } else {
+        body["points"] = member_or_self(*points, "points");
+        const auto named = mesh_input_format(*parsed);
+        // from standard input without --input-format the operation sniffs the bytes
+        const std::string media_type =
+            named ? std::string(api::enum_name(api::kMeshMediaTypes, *named)) : "application/octet-stream";
+        auto [text, boundary] = form_body(*bytes, media_type, body.dump());
+        form = std::move(text);
+        request = upload_request("/limit/evaluate", "multipart/form-data; boundary=" + boundary, form, {});
+    }
+    return finish(
+        api::dispatch(request, context), *parsed,
+        [&](const api::ApiResponse&) {
+            const std::size_t count = body["points"].is_array() ? body["points"].size() : 0;
+            parsed->report() << "wrote " << parsed->output_label() << ": " << count << " limit points\n";
+        },
+        ProblemStyle{.field = true, .line = false, .offset = false});
+}
 
 int query(Args& sent) {
     api::ApiContext context = file_context();

@@ -33,6 +33,7 @@ Usage:
   surfaced surfaces IN.json -o OUT.json       B-spline/NURBS surface queries (POST /surfaces body), JSON answer
   surfaced query MESH --points P.json [opts]  inside, signed distance, closest point; ray hits on a mesh (JSON)
   surfaced grid IN --voxel-size H [opts]      narrow-band signed distance grid of a mesh or scene (JSON)
+  surfaced limit MESH --points P.json [opts]  exact limit surface at (face, u, v): position, derivatives, UVs (JSON)
   surfaced <command> --help                   options of a command (those of its operation, as the API names them)
   surfaced --help | --version
 
@@ -50,7 +51,7 @@ Exit codes (the same in every command):
 
 const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
                                                  "remesh", "repair",      "implicit",  "pointcloud", "curve",
-                                                 "query",  "grid",        "surfaces"};
+                                                 "query",  "grid",        "surfaces", "limit"};
 
 }  // namespace
 
@@ -83,12 +84,13 @@ int run(int argc, char** argv) {
         if (command == "surfaces") return surfaces(args);
         if (command == "query") return query(args);
         if (command == "grid") return grid(args);
+        if (command == "limit") return limit(args);
         std::string message = "unknown command \"" + command + "\" (";
         if (const auto match = closest_match(command, kCommands))
             message += "did you mean " + std::string(*match) + "? ";
         message +=
             "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
-            "curve, query, grid, surfaces; see surfaced --help)";
+            "curve, query, grid, surfaces, limit; see surfaced --help)";
         throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

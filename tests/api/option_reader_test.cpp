@@ -36,11 +36,11 @@ TEST(OptionReader, MeshOperationsShareTheOutputOptions) {
             EXPECT_NE(find_option(*op, name), nullptr) << operation << " " << name;
     }
     // every operation that encodes a result offers formats; /implicit/query, /mesh/query, /implicit/grid and
-    // /surfaces answer in JSON only
+    // /surfaces and /limit/evaluate answer in JSON only
     for (const auto& op : operations())
         EXPECT_EQ(find_option(op, "format") != nullptr,
                   op.operation != "implicit_query" && op.operation != "mesh_query" && op.operation != "implicit_grid" &&
-                      op.operation != "surfaces")
+                      op.operation != "surfaces" && op.operation != "limit_evaluate")
             << op.operation;
     EXPECT_EQ(operation_options("no-such-operation"), nullptr);
 }

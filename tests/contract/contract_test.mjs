@@ -166,6 +166,11 @@ const knownGaps = [
       'subdivides the tetrahedron with loop',
   },
   {
+    op: 'POST /limit/evaluate', option: 'scheme', kind: 'enum loop', transport: 'json',
+    status: 422, code: 'not_triangle_mesh',
+    reason: 'the JSON example is a cube of quads and Loop needs triangles (422 not_triangle_mesh naming the face)',
+  },
+  {
     op: 'POST /pointcloud', option: 'sample.count', kind: 'min', transport: 'json',
     status: 422, code: 'invalid_argument',
     reason: 'sample.count 1 is in range, but the example also estimates normals, which needs at least 3 points',

@@ -22,6 +22,8 @@
 #include "api/options/option_spec.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
+#include "geometry/subdivision/limit_evaluation.h"
+#include "geometry/subdivision/uv_limit.h"
 #include "tests/support/mesh_asserts.h"
 
 namespace surfaced {
@@ -129,7 +131,7 @@ TEST_F(SurfacedCli, ServeFlagsAreDocumentedAndRangeChecked) {
         EXPECT_TRUE(contains(docs.str(), "`" + flag)) << flag << " is not in docs/operations.md";
         if (flag.starts_with("--max-")) budget_flags.push_back(flag);
     }
-    EXPECT_EQ(budget_flags.size(), 18u);  // every budget of api/limits.h but the deadline (--deadline-ms)
+    EXPECT_EQ(budget_flags.size(), 19u);  // every budget of api/limits.h but the deadline (--deadline-ms)
     for (const std::string& flag : budget_flags) {
         EXPECT_EQ(run("serve " + flag + " 8 --help").exit_code, 0) << flag;
         const CliRun negative = run("serve " + flag + "=-1 --help");
@@ -247,7 +249,7 @@ const std::vector<TableCommand>& table_commands() {
         {"remesh", "remesh", kQuery},         {"repair", "repair", kQuery},
         {"tessellate", "tessellate", kQuery}, {"pointcloud", "pointcloud", kQuery},
         {"implicit", "implicit_mesh", kJson}, {"query", "mesh_query", kJson},
-        {"grid", "implicit_grid", kJson},
+        {"grid", "implicit_grid", kJson},     {"limit", "limit_evaluate", kJson},
     };
     return commands;
 }
@@ -398,6 +400,81 @@ TEST_F(SurfacedCli, QueryAnswersPointsAndRaysOfAMeshFile) {
     const CliRun empty = run("query " + path("empty.json") + " --points " + path("points.json"));
     EXPECT_EQ(empty.exit_code, 1);
     EXPECT_TRUE(contains(empty.err, "mesh.faces")) << empty.err;
+}
+
+TEST_F(SurfacedCli, LimitEvaluatesPointsOfAMeshFile) {
+    std::ofstream(dir_ / "points.json") << R"([{"face": 0, "uv": [0.5, 0.5]}, {"face": 2, "uv": [0.1, 0.7]}])";
+    const PolygonMesh cube = shapes::cube();
+    const auto evaluator = LimitSurfaceEvaluator::create(cube, {});
+    ASSERT_TRUE(evaluator.ok());
+    const auto expect_answers = [&](const nlohmann::json& out, bool second) {
+        ASSERT_EQ(out["points"].size(), 2u) << out.dump();
+        const double uv[2][2] = {{0.5, 0.5}, {0.1, 0.7}};
+        for (std::size_t k = 0; k < 2; ++k) {
+            const auto s = evaluator->evaluate(k == 0 ? 0 : 2, uv[k][0], uv[k][1], second);
+            ASSERT_TRUE(s.ok());
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(out["points"][k]["position"][c].get<double>(), (&s->position.x)[c], 1e-12);
+                EXPECT_NEAR(out["points"][k]["normal"][c].get<double>(), (&s->normal.x)[c], 1e-12);
+            }
+            EXPECT_EQ(out["points"][k].contains("duv"), second);
+        }
+    };
+    // No -o: the answer goes to standard output, the summary to stderr.
+    const CliRun r = run("limit " + path("cube.obj") + " --points " + path("points.json"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "2 limit points")) << r.err;
+    expect_answers(nlohmann::json::parse(r.out), false);
+
+    // The points from standard input, the answer to a file, second derivatives.
+    const CliRun piped =
+        run("limit " + path("cube.obj") + " --points - --derivatives 2 -o " + path("answer.json"), "points.json");
+    ASSERT_EQ(piped.exit_code, 0) << piped.err;
+    expect_answers(nlohmann::json::parse(slurp(dir_ / "answer.json")), true);
+
+    // The mesh from standard input (its format from the bytes).
+    const CliRun mesh_in = run("limit - --points " + path("points.json"), "cube.obj");
+    ASSERT_EQ(mesh_in.exit_code, 0) << mesh_in.err;
+    expect_answers(nlohmann::json::parse(mesh_in.out), false);
+
+    // An OBJ's texture coordinates reach the operation: their limit is answered, as the UV evaluator gives it.
+    PolygonMesh quad;
+    quad.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5}, {0, 1, 0}};
+    quad.add_face({0, 1, 2, 3});
+    quad.uvs = {{0, 0}, {1, 0}, {0.8, 0.9}, {0, 1}};
+    quad.uv_indices = {0, 1, 2, 3};
+    std::ofstream(dir_ / "quad.obj", std::ios::binary) << write_obj(quad);
+    std::ofstream(dir_ / "quad_points.json") << R"([{"face": 0, "uv": [0.3, 0.6]}])";
+    const CliRun uvs = run("limit " + path("quad.obj") + " --points " + path("quad_points.json") +
+                           " --uv-interpolation none --boundary edge-and-corner");
+    ASSERT_EQ(uvs.exit_code, 0) << uvs.err;
+    SubdivisionOptions options;
+    options.uv_interpolation = UvInterpolation::None;
+    options.boundary = BoundaryInterpolation::EdgeAndCorner;
+    const auto uv = UvLimitEvaluator::create(read_obj(write_obj(quad)).value(), options).value().evaluate(0, 0.3, 0.6);
+    ASSERT_TRUE(uv.ok());
+    const auto answer = nlohmann::json::parse(uvs.out)["points"][0];
+    ASSERT_TRUE(answer.contains("uv")) << uvs.out;
+    EXPECT_NEAR(answer["uv"][0].get<double>(), uv->uv.x, 1e-12);
+    EXPECT_NEAR(answer["uv"][1].get<double>(), uv->uv.y, 1e-12);
+
+    // Usage errors exit 2 naming the flag or the point; a mesh without faces is the operation's failure, exit 1.
+    EXPECT_EQ(run("limit " + path("cube.obj")).exit_code, 2);
+    const CliRun derivatives =
+        run("limit " + path("cube.obj") + " --points " + path("points.json") + " --derivatives 3");
+    EXPECT_EQ(derivatives.exit_code, 2);
+    EXPECT_TRUE(contains(derivatives.err, "limit --derivatives")) << derivatives.err;
+    std::ofstream(dir_ / "far.json") << R"([{"face": 6, "uv": [0.5, 0.5]}])";
+    const CliRun far = run("limit " + path("cube.obj") + " --points " + path("far.json"));
+    EXPECT_EQ(far.exit_code, 2);
+    EXPECT_TRUE(contains(far.err, "points[0].face")) << far.err;
+    std::ofstream(dir_ / "empty.json") << R"({"positions": [[0, 0, 0]], "faces": []})";
+    const CliRun empty = run("limit " + path("empty.json") + " --points " + path("points.json"));
+    EXPECT_EQ(empty.exit_code, 1);
+    EXPECT_TRUE(contains(empty.err, "mesh.faces")) << empty.err;
+    const CliRun help = run("limit --help");
+    EXPECT_EQ(help.exit_code, 0);
+    EXPECT_TRUE(contains(help.out, "Exit codes")) << help.out;
 }
 
 TEST_F(SurfacedCli, GridWritesTheLevelSetNodeOfAMeshOrScene) {

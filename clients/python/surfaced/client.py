@@ -17,10 +17,11 @@ from typing import TYPE_CHECKING, Any, Dict, Mapping, NamedTuple, Optional, Sequ
 
 from ._version import API_VERSION
 from .types import (
-    Boundary, BSpline, BSplineSurface, Bounds, Chain, Compression, Continuity, Corner, Crease, CreaseMethod,
-    CurvesOutput, Derivatives, EnforceC1, EstimateNormals, ImplicitMode, ImplicitScene, InsertKnot, LoopWeights, Mesh,
-    Output, OutputFormat, PatchSampleFormat, Patch, Point, PointcloudFormat, Ray, RemeshSmoothing, RepairMode, Sample,
-    Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, Tolerance, TriangleRule, UvInterpolation, Vec2, Vec3,
+    Boundary, Bounds, BSpline, BSplineSurface, Chain, Compression, Continuity, Corner, Crease, CreaseMethod,
+    CurvesOutput, Derivatives, EnforceC1, EstimateNormals, ImplicitMode, ImplicitScene, InsertKnot, LimitPoint,
+    LoopWeights, Mesh, Output, OutputFormat, Patch, PatchSampleFormat, Point, PointcloudFormat, Ray,
+    RemeshSmoothing, RepairMode, Sample, Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, Tolerance,
+    TriangleRule, UvInterpolation, Vec2, Vec3,
 )
 
 if TYPE_CHECKING:  # numpy is optional: only the array helpers need it
@@ -585,6 +586,29 @@ class Client:
         """
         body = {"mesh": mesh, **_options(locals(), Client.mesh_query.__kwdefaults__, skip=("mesh",))}
         return self.request("POST", "/mesh/query", json_body=body)
+
+    def limit_evaluate(self, mesh: Mesh, points: Union[Sequence[LimitPoint], Dict[str, str]], *,
+                       scheme: Scheme = "catmull-clark", boundary: Optional[Boundary] = None,
+                       crease_method: CreaseMethod = "uniform", triangle_rule: TriangleRule = "catmark",
+                       uv_interpolation: UvInterpolation = "corners-plus1",
+                       creases: Optional[Sequence[Crease]] = None, corners: Optional[Sequence[Corner]] = None,
+                       holes: Optional[Sequence[int]] = None, derivatives: int = 1, encoding: str = "json") -> Result:
+        """POST /limit/evaluate: the exact Catmull-Clark limit surface of ``mesh`` (the surface ``subdivide``
+        converges to with the same options and tags) at ``points``, ``[{"face": f, "uv": [u, v]}, ...]``. The answer
+        (``result.json``) is ``{"points": [{"position", "du", "dv", "normal", "exact"}, ...]}``, with ``duu``,
+        ``duv``, ``dvv`` when ``derivatives`` is 2 and ``uv`` (the limit of the mesh's texture coordinates) when the
+        mesh has ``uvs``.
+
+        :param points: the parametric points; or packed, ``{"float32" | "float64": base64}`` of (face, u, v) triples.
+        :param boundary: default: ``"edge-only"``.
+        :param derivatives: 1 (default) or 2.
+        :param encoding: ``"json"`` (default), or ``"float32"`` / ``"float64"``: each answer member comes as one
+            base64 array of packed little-endian values (vectors flattened, ``exact`` uint8), e.g.
+            ``numpy.frombuffer(base64.b64decode(s), "<f8").reshape(-1, 3)``.
+        """
+        body = {"mesh": mesh, "points": points,
+                **_options(locals(), Client.limit_evaluate.__kwdefaults__, skip=("mesh", "points"))}
+        return self.request("POST", "/limit/evaluate", json_body=body)
 
     def implicit_grid(self, *, mesh: Optional[Mesh] = None, scene: Optional[ImplicitScene] = None,
                       voxel_size: float, band: int = 3, bounds: Optional[Bounds] = None) -> Result:

@@ -13,7 +13,7 @@ __all__ = [
     "Scheme", "Boundary", "CreaseMethod", "TriangleRule", "UvInterpolation", "LoopWeights", "OutputFormat",
     "Compression", "RepairMode", "RemeshSmoothing", "ImplicitMode", "TessellateFormat", "PatchSampleFormat",
     "PointcloudFormat", "CurvesFormat", "KnotVector",
-    "Mesh", "Output", "Crease", "Corner", "Patch", "Ray", "EstimateNormals", "Sample", "Derivatives", "Tolerance",
+    "Mesh", "Output", "Crease", "Corner", "LimitPoint", "Patch", "Ray", "EstimateNormals", "Sample", "Derivatives", "Tolerance",
     "ChainPiece", "Chain", "BSpline", "Continuity", "EnforceC1", "InsertKnot", "CurvesOutput", "JsonValue",
     "BSplineSurface", "SurfaceInsertKnot", "SurfaceElevate",
 ]
@@ -76,6 +76,13 @@ class Crease(TypedDict):
 class Corner(TypedDict):
     vertex: int
     sharpness: float
+
+
+class LimitPoint(TypedDict):
+    """A parametric point of POST /limit/evaluate: a base face and (u, v) in its domain (OpenSubdiv Bfr's: [0, 1]^2
+    on a quad; an N-gon's N quad sub-face tiles [x, x + 1/2] x [y, y + 1/2])."""
+    face: int
+    uv: Sequence[float]
 
 
 class _PatchRequired(TypedDict):
