@@ -51,7 +51,7 @@ Exit codes (the same in every command):
 
 const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
                                                  "remesh", "repair",      "implicit",  "pointcloud", "curve",
-                                                 "query",  "grid",        "surfaces", "limit"};
+                                                 "query",  "grid",        "surfaces",  "limit"};
 
 }  // namespace
 
