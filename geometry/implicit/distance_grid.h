@@ -7,9 +7,9 @@
 // self-intersections and overlapping shells get a sensible sign:
 //  * distances: each triangle visits the nodes of its bounding box grown by the band, restricted to the slab of its
 //    plane's band and to the columns within the band of its projection, and keeps the minimum squared distance per
-//    node; a node whose distance to the triangle's plane or bounding sphere already exceeds its best skips the exact
-//    test (the band is thin, so this touches each band node a few times; a closest-point query per node would walk
-//    a hierarchy for every node instead);
+//    node; a node whose distance to the triangle's plane, or to the prism over its projection along one axis,
+//    already exceeds its best skips the exact test (the band is thin, so this touches each band node a few times; a
+//    closest-point query per node would walk a hierarchy for every node instead);
 //  * signs on a closed mesh (every directed edge matched by its reverse once vertices at equal positions are merged,
 //    which self-intersecting and overlapping closed shells also satisfy): the winding number is constant on each
 //    connected region of space the surface leaves, so the grid edges that cross a triangle are marked (conservatively:
