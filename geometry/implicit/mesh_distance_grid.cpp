@@ -556,9 +556,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         }
         if (!bvh)
             if (auto built = build_hierarchy(); !built) return built.error();
-        auto w = winding_number(*bvh, tree, p, options.winding);
-        if (!w) return w.error();
-        return w->value;
+        return winding_number_value(*bvh, tree, p, options.winding);
     };
     auto inside_at = [&](std::size_t node) -> Result<bool> {
         auto w = winding_at(node);
@@ -684,9 +682,9 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         // c, or what `from` proves one step away when that leaves more room (an unknown `from`, NaN, never
         // replaces a known c)
         const auto better = [&](Known& c, const Known& from, double step) {
+            if (std::isnan(from.w)) return;
             const Known next{from.w, static_cast<float>(double{from.slack} + step + 1e-6)};
-            const double next_room = room(next), room_c = room(c);
-            if (next_room > room_c || (std::isnan(room_c) && !std::isnan(next_room))) c = next;
+            if (std::isnan(c.w) || room(next) > room(c)) c = next;
         };
         std::vector<Span> pending;
         for (std::size_t row = 0; row < g.n[1] * g.n[2]; ++row) {
