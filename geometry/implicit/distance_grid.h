@@ -20,8 +20,9 @@
 //  * signs on any other mesh (holes, flipped faces): the winding number is smooth off the surface but not constant.
 //    Each row of nodes is split into runs at the x-edges that cross a triangle; a run's two ends are asked, and the
 //    nodes between take their side when both are at least 1/4 from 1/2 on one side and none of them is within the
-//    band of a boundary edge (where w turns fast); otherwise its middle is asked and each half is treated alike,
-//    down to neighbouring nodes. Every node near a hole's rim is thus asked itself.
+//    band of a boundary edge (where w turns fast), or when a bound on how much w drifts along the run (the
+//    Biot-Savart sum over the boundary edges) proves each node from the nearer end; otherwise its middle is asked and
+//    each half is treated alike, down to neighbouring nodes. Every node near a hole's rim is thus asked itself.
 //
 // Field (field_distance_grid): f sampled at every node and clamped to +-band * voxel_size. For a field that bounds
 // the distance (FieldKind::ExactDistance or DistanceBound with Lipschitz constant L), after a sample with

@@ -776,6 +776,24 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                             fill(span.lo + 1, span.hi - 1, side(span.whi));
                             continue;
                         }
+                        // Neither end holds over the whole span; but when the nodes the low end provably holds
+                        // to (the farthest found by bisection on holds) and those the high end holds to meet, each
+                        // node is proven by one of them and no query is needed.
+                        std::size_t from_lo = span.lo;
+                        for (std::size_t l = span.lo + 1, h = span.hi - 1; l <= h;) {
+                            const std::size_t x = l + (h - l) / 2;
+                            if (holds(span.lo, span.wlo, span.slo, x)) {
+                                from_lo = x;
+                                l = x + 1;
+                            } else {
+                                h = x - 1;
+                            }
+                        }
+                        if (from_lo + 1 == span.hi || holds(span.hi, span.whi, span.shi, from_lo + 1)) {
+                            if (from_lo > span.lo) fill(span.lo + 1, from_lo, side(span.wlo));
+                            if (from_lo + 1 < span.hi) fill(from_lo + 1, span.hi - 1, side(span.whi));
+                            continue;
+                        }
                         const std::size_t mid = span.lo + (span.hi - span.lo) / 2;
                         auto w = winding_at(mid);
                         if (!w) return w.error();
