@@ -21,7 +21,8 @@ double half_area(const Box3& b) {
     return dx * dy + dy * dz + dz * dx;
 }
 
-void grow(Box3& b, const Box3& o) {
+//! Inlined: the binning calls it once per triangle per axis.
+[[gnu::always_inline]] inline void grow(Box3& b, const Box3& o) {
     b.min.x = std::min(b.min.x, o.min.x);
     b.min.y = std::min(b.min.y, o.min.y);
     b.min.z = std::min(b.min.z, o.min.z);
