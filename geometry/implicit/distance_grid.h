@@ -7,9 +7,9 @@
 // self-intersections and overlapping shells get a sensible sign:
 //  * distances: each triangle visits the nodes of its bounding box grown by the band, restricted to the slab of its
 //    plane's band and to the columns within the band of its projection, and keeps the minimum squared distance per
-//    node; a node whose distance to the triangle's plane or bounding sphere already exceeds its best skips the exact
-//    test (the band is thin, so this touches each band node a few times; a closest-point query per node would walk
-//    a hierarchy for every node instead);
+//    node; a node whose distance to the triangle's plane, or to the prism over its projection along one axis,
+//    already exceeds its best skips the exact test (the band is thin, so this touches each band node a few times; a
+//    closest-point query per node would walk a hierarchy for every node instead);
 //  * signs on a closed mesh (every directed edge matched by its reverse once vertices at equal positions are merged,
 //    which self-intersecting and overlapping closed shells also satisfy): the winding number is constant on each
 //    connected region of space the surface leaves, so the grid edges that cross a triangle are marked (conservatively:
@@ -20,8 +20,9 @@
 //  * signs on any other mesh (holes, flipped faces): the winding number is smooth off the surface but not constant.
 //    Each row of nodes is split into runs at the x-edges that cross a triangle; a run's two ends are asked, and the
 //    nodes between take their side when both are at least 1/4 from 1/2 on one side and none of them is within the
-//    band of a boundary edge (where w turns fast); otherwise its middle is asked and each half is treated alike,
-//    down to neighbouring nodes. Every node near a hole's rim is thus asked itself.
+//    band of a boundary edge (where w turns fast), or when a bound on how much w drifts along the run (the
+//    Biot-Savart sum over the boundary edges) proves each node from the nearer end; otherwise its middle is asked and
+//    each half is treated alike, down to neighbouring nodes. Every node near a hole's rim is thus asked itself.
 //
 // Field (field_distance_grid): f sampled at every node and clamped to +-band * voxel_size. For a field that bounds
 // the distance (FieldKind::ExactDistance or DistanceBound with Lipschitz constant L), after a sample with

@@ -42,6 +42,7 @@ struct Grid {
     Vec3 origin;
     double h;
     std::size_t nodes;
+    double inv_h;
 
     Vec3 position(std::size_t i, std::size_t j, std::size_t k) const {
         return {origin.x + static_cast<double>(i) * h, origin.y + static_cast<double>(j) * h,
@@ -56,6 +57,23 @@ struct Grid {
         lo = static_cast<std::size_t>(l);
         hi = static_cast<std::size_t>(u);
         return true;
+    }
+    //! Narrows [lo, hi] to the nodes along axis a at coordinates in [from, to]; false when none is left. A
+    //! multiplication for the division, and conversions for ceil and floor: callers widen [from, to] by far more than
+    //! the difference.
+    bool clip(int a, double from, double to, std::size_t& lo, std::size_t& hi) const {
+        const double f = (from - origin[a]) * inv_h, t = (to - origin[a]) * inv_h;
+        if (!(f <= t)) return false;
+        if (f > static_cast<double>(lo)) {
+            if (f > static_cast<double>(hi)) return false;
+            auto i = static_cast<std::size_t>(f);
+            lo = static_cast<double>(i) < f ? i + 1 : i;
+        }
+        if (t < static_cast<double>(hi)) {
+            if (t < static_cast<double>(lo)) return false;
+            hi = static_cast<std::size_t>(t);
+        }
+        return lo <= hi;
     }
 };
 
@@ -98,31 +116,61 @@ inline double triangle_distance2(const Vec3& p, const BvhTriangle& t) {
     return d2(a + ab * (vb / sum) + ac * (vc / sum));
 }
 
-//! Squared distance from (qu, qv) to the 2D triangle (pu[k], pv[k]): 0 inside, else to the nearest edge.
-inline double triangle_distance2_2d(double qu, double qv, const double* pu, const double* pv) {
-    double e[3], best = kInf;
-    for (int k = 0; k < 3; ++k) {
-        const int l = k == 2 ? 0 : k + 1;
-        const double eu = pu[l] - pu[k], ev = pv[l] - pv[k], wu = qu - pu[k], wv = qv - pv[k];
-        e[k] = eu * wv - ev * wu;
-        const double len2 = eu * eu + ev * ev;
-        const double s = len2 > 0 ? std::clamp((eu * wu + ev * wv) / len2, 0.0, 1.0) : 0.0;
-        const double du = wu - s * eu, dv = wv - s * ev;
-        best = std::min(best, du * du + dv * dv);
+//! The triangle projected along one axis, as 2D points (u, v), set up for many distance queries.
+struct Triangle2d {
+    double pu[3], pv[3], eu[3], ev[3], inv_len2[3];
+    Triangle2d(const BvhTriangle& t, int u, int v) {
+        for (int k = 0; k < 3; ++k) {
+            pu[k] = t.p[k][u];
+            pv[k] = t.p[k][v];
+        }
+        for (int k = 0; k < 3; ++k) {
+            const int l = k == 2 ? 0 : k + 1;
+            eu[k] = pu[l] - pu[k];
+            ev[k] = pv[l] - pv[k];
+            const double len2 = eu[k] * eu[k] + ev[k] * ev[k];
+            inv_len2[k] = len2 > 0 ? 1.0 / len2 : 0.0;
+        }
     }
-    if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0)) return 0;
-    return best;
-}
+    //! Squared distance from (qu, qv): 0 inside, else to the nearest edge.
+    double distance2(double qu, double qv) const {
+        double e[3], best = kInf;
+        for (int k = 0; k < 3; ++k) {
+            const double wu = qu - pu[k], wv = qv - pv[k];
+            e[k] = eu[k] * wv - ev[k] * wu;
+            const double s = std::clamp((eu[k] * wu + ev[k] * wv) * inv_len2[k], 0.0, 1.0);
+            const double du = wu - s * eu[k], dv = wv - s * ev[k];
+            best = std::min(best, du * du + dv * dv);
+        }
+        if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0)) return 0;
+        return best;
+    }
+};
 
 //! Keeps, per node, the minimum squared distance to the triangle over the nodes within `radius` of it: the nodes of
-//! its box grown by radius, and along the axis its normal is closest to only those within radius of its plane.
+//! its box grown by radius, and along the axis m its normal is closest to only those within radius of its plane.
+//! A node is sent to the exact distance only when two lower bounds do not already put it beyond its best: the
+//! distance to the triangle's plane, and the prism bound. The prism bound: with q the triangle's point nearest to p,
+//! |p - q|^2 = |(p - q) across m|^2 + (p_m - q_m)^2, where the first is at least the squared distance `column2`
+//! from p's column to the triangle projected along m (one value per column) and the second at least the squared
+//! distance from p_m to the triangle's extent along m (for a triangle no wider than a voxel, `column2` is taken from
+//! the projection's box, which is cheaper and nearly as tight). It also bounds which rows, columns and nodes of a
+//! column are visited at all.
+//! Both bounds are compared with a relative and an absolute allowance that cover their rounding, so a node is
+//! skipped only when the exact distance would not lower its value: the result is the minimum over all triangles.
 void scatter_triangle(const Grid& g, const BvhTriangle& t, double radius, double* d2) {
     Box3 box;
     for (const Vec3& p : t.p) box.add(p);
     const double r2 = radius * radius;
     std::size_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a)
-        if (!g.range(a, box.min[a] - radius, box.max[a] + radius, lo[a], hi[a])) return;
+    const double diagonal = box.diagonal();
+    // widened by a little so that rounding in the intervals never drops a node within radius
+    const double widen = 1e-9 * (radius + diagonal);
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = 0;
+        hi[a] = g.n[a] - 1;
+        if (!g.clip(a, box.min[a] - radius - widen, box.max[a] + radius + widen, lo[a], hi[a])) return;
+    }
     const Vec3 normal = cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
     const double length = norm(normal);
     // m: the innermost axis, restricted to the plane's slab when the triangle has a usable normal
@@ -133,42 +181,59 @@ void scatter_triangle(const Grid& g, const BvhTriangle& t, double radius, double
     const bool slab = length > 0 && std::isfinite(length) && std::abs(normal[m]) > 1e-3 * length;
     const Vec3 n = slab ? normal * (1.0 / length) : Vec3{};
     const double plane = dot(n, t.p[0]);
-    const Vec3 centre = (box.min + box.max) * 0.5;
-    const double sphere = std::max({norm(t.p[0] - centre), norm(t.p[1] - centre), norm(t.p[2] - centre)});
-    // widened by a little so that rounding in the interval never drops a node the box test would keep
-    const double reach = (radius + 1e-9 * (radius + box.diagonal())) / (slab ? std::abs(n[m]) : 1.0);
+    const double inv_nm = slab ? 1.0 / n[m] : 0.0;
+    const double reach = (radius + widen) / (slab ? std::abs(n[m]) : 1.0);
+    // rounding allowance of the squared lower bounds: relative, and absolute for values near 0 (scale: the largest
+    // coordinate magnitude involved)
+    double scale = radius;
+    for (int a = 0; a < 3; ++a)
+        scale = std::max({scale, std::abs(box.min[a]) + radius, std::abs(box.max[a]) + radius, std::abs(g.origin[a])});
+    const double absolute = 1e-20 * scale * scale;
+    const auto beyond = [&](double bound2, double best) { return bound2 * (1 - 1e-9) - absolute > best; };
     // the triangle projected along m: a column farther than radius from it (projection never lengthens a
-    // distance) has no node within radius; the test is widened like `reach`
-    const double pu[3] = {t.p[0][u], t.p[1][u], t.p[2][u]}, pv[3] = {t.p[0][v], t.p[1][v], t.p[2][v]};
-    const double column_reach2 = r2 * (1 + 1e-9) + 1e-18 * box.diagonal() * box.diagonal();
+    // distance) has no node within radius. Its distance from a column is at least that from the projection's box
+    // (the rows and columns are bounded by that first), and is computed exactly only for a triangle wider than a
+    // voxel, where it is much the larger.
+    const Triangle2d projected(t, u, v);
+    const bool wide = std::max(box.max[u] - box.min[u], box.max[v] - box.min[v]) > g.h;
+    const double column_reach2 = r2 * (1 + 1e-9) + 1e-18 * diagonal * diagonal + absolute;
+    const double mmin = box.min[m], mmax = box.max[m];
+    const auto outside = [](double x, double from, double to) { return std::max({from - x, x - to, 0.0}); };
+    Vec3 p;
     for (std::size_t b = lo[v]; b <= hi[v]; ++b) {
-        for (std::size_t c = lo[u]; c <= hi[u]; ++c) {
-            std::size_t first = lo[m], last = hi[m];
-            Vec3 p;
+        p[v] = g.origin[v] + static_cast<double>(b) * g.h;
+        const double dv = outside(p[v], box.min[v], box.max[v]), dv2 = dv * dv;
+        if (dv2 > column_reach2) continue;
+        const double across = std::sqrt(column_reach2 - dv2) + widen;
+        std::size_t clo = lo[u], chi = hi[u];
+        if (!g.clip(u, box.min[u] - across, box.max[u] + across, clo, chi)) continue;
+        for (std::size_t c = clo; c <= chi; ++c) {
             p[u] = g.origin[u] + static_cast<double>(c) * g.h;
-            p[v] = g.origin[v] + static_cast<double>(b) * g.h;
-            if (triangle_distance2_2d(p[u], p[v], pu, pv) > column_reach2) continue;
+            const double du = outside(p[u], box.min[u], box.max[u]);
+            double column2 = dv2 + du * du;
+            if (wide) column2 = std::max(column2, projected.distance2(p[u], p[v]));
+            if (column2 > column_reach2) continue;
+            // the prism bound within radius: p_m within `along` of [mmin, mmax]; and the plane's slab
+            const double along = std::sqrt(column_reach2 - column2) + widen;
+            double from = mmin - along, to = mmax + along;
             if (slab) {
                 // n . p = plane +- radius solved for p[m]
-                const double middle = (plane - n[u] * p[u] - n[v] * p[v]) / n[m];
-                std::size_t l, h;
-                if (!g.range(m, middle - reach, middle + reach, l, h)) continue;
-                first = std::max(first, l);
-                last = std::min(last, h);
-                if (first > last) continue;
+                const double middle = (plane - n[u] * p[u] - n[v] * p[v]) * inv_nm;
+                from = std::max(from, middle - reach);
+                to = std::min(to, middle + reach);
             }
+            std::size_t first = lo[m], last = hi[m];
+            if (!g.clip(m, from, to, first, last)) continue;
             std::size_t index = c * g.stride[u] + b * g.stride[v] + first * g.stride[m];
             for (std::size_t a = first; a <= last; ++a, index += g.stride[m]) {
                 p[m] = g.origin[m] + static_cast<double>(a) * g.h;
                 const double best = std::min(d2[index], r2);
-                // lower bounds first: the distance to the plane, then to the triangle's bounding sphere (scaled
-                // down a little so that rounding never skips a node the exact distance would lower)
+                const double dm = outside(p[m], mmin, mmax);
+                if (beyond(column2 + dm * dm, best)) continue;
                 if (slab) {
                     const double plane_distance = dot(n, p) - plane;
-                    if (plane_distance * plane_distance * (1 - 1e-9) > best) continue;
+                    if (beyond(plane_distance * plane_distance, best)) continue;
                 }
-                const double centre_distance = norm(p - centre) - sphere;
-                if (centre_distance > 0 && centre_distance * centre_distance * (1 - 1e-9) > best) continue;
                 const double dist2 = triangle_distance2(p, t);
                 if (dist2 <= r2 && dist2 < d2[index]) d2[index] = dist2;
             }
@@ -443,6 +508,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
     WindingTree tree;
     auto build_hierarchy = [&]() -> Status {
         BvhOptions bvh_options;
+        bvh_options.ray_nodes = false;  // winding numbers walk the binary nodes only
         bvh_options.cancel = options.cancel;
         auto built = build_bvh(mesh, bvh_options);
         if (!built) return built.error();
@@ -456,7 +522,8 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
            {1, lay.dims[0], lay.dims[0] * lay.dims[1]},
            lay.origin,
            lay.spacing,
-           static_cast<std::size_t>(lay.nodes)};
+           static_cast<std::size_t>(lay.nodes),
+           1.0 / lay.spacing};
     const double radius = options.band * g.h, radius2 = radius * radius;
 
     // 1. unsigned squared distances within the band (kInf beyond it)
@@ -474,22 +541,22 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
     // 2. signs: +1 / -1 per node (0 not known yet)
     std::vector<std::int8_t> sign(g.nodes, 0);
     std::uint64_t queries = 0, components = 0;
-    // The first few winding numbers (a closed mesh needs about two) are exact sums over the triangles; past
-    // kDirectQueries the hierarchy is built and used as options.winding says.
+    // The first few winding numbers of a closed mesh (it needs about two) are exact sums over the triangles; past
+    // kDirectQueries, and from the first on an open mesh (which asks thousands), the hierarchy is built and used as
+    // options.winding says.
+    std::uint64_t direct_queries = kDirectQueries;
     auto winding_at = [&](std::size_t node) -> Result<double> {
         const std::size_t i = node % g.n[0], j = (node / g.n[0]) % g.n[1], k = node / (g.n[0] * g.n[1]);
         const Vec3 p = g.position(i, j, k);
         ++queries;
-        if (!bvh && (queries <= kDirectQueries || options.winding.exact)) {
+        if (!bvh && (queries <= direct_queries || options.winding.exact)) {
             double sum = 0;
             for (const BvhTriangle& t : triangles) sum += triangle_solid_angle(p, t.p[0], t.p[1], t.p[2]);
             return sum / (4 * std::numbers::pi);
         }
         if (!bvh)
             if (auto built = build_hierarchy(); !built) return built.error();
-        auto w = winding_number(*bvh, tree, p, options.winding);
-        if (!w) return w.error();
-        return w->value;
+        return winding_number_value(*bvh, tree, p, options.winding);
     };
     auto inside_at = [&](std::size_t node) -> Result<bool> {
         auto w = winding_at(node);
@@ -498,6 +565,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
     };
     std::vector<std::array<Vec3, 2>> boundary = boundary_edges(triangles);
     const bool closed = boundary.empty();
+    if (!closed) direct_queries = 0;
     std::vector<std::uint8_t> blocked(g.nodes, 0);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         if (t % kTriangleBatch == 0 && options.cancel.requested()) return cancelled();
@@ -611,10 +679,12 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         };
         const float nan = std::numeric_limits<float>::quiet_NaN();
         const auto room = [](const Known& c) { return std::abs(double{c.w} - 0.5) - double{c.slack}; };
-        // c, or what `from` proves one step away when that leaves more room
+        // c, or what `from` proves one step away when that leaves more room (an unknown `from`, NaN, never
+        // replaces a known c)
         const auto better = [&](Known& c, const Known& from, double step) {
+            if (std::isnan(from.w)) return;
             const Known next{from.w, static_cast<float>(double{from.slack} + step + 1e-6)};
-            if (!(room(next) <= room(c))) c = next;  // a NaN room loses
+            if (std::isnan(c.w) || room(next) > room(c)) c = next;
         };
         std::vector<Span> pending;
         for (std::size_t row = 0; row < g.n[1] * g.n[2]; ++row) {
@@ -704,6 +774,24 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                         }
                         if (holds(span.hi, span.whi, span.shi, span.lo)) {
                             fill(span.lo + 1, span.hi - 1, side(span.whi));
+                            continue;
+                        }
+                        // Neither end holds over the whole span; but when the nodes the low end provably holds
+                        // to (the farthest found by bisection on holds) and those the high end holds to meet, each
+                        // node is proven by one of them and no query is needed.
+                        std::size_t from_lo = span.lo;
+                        for (std::size_t l = span.lo + 1, h = span.hi - 1; l <= h;) {
+                            const std::size_t x = l + (h - l) / 2;
+                            if (holds(span.lo, span.wlo, span.slo, x)) {
+                                from_lo = x;
+                                l = x + 1;
+                            } else {
+                                h = x - 1;
+                            }
+                        }
+                        if (from_lo + 1 == span.hi || holds(span.hi, span.whi, span.shi, from_lo + 1)) {
+                            if (from_lo > span.lo) fill(span.lo + 1, from_lo, side(span.wlo));
+                            if (from_lo + 1 < span.hi) fill(from_lo + 1, span.hi - 1, side(span.whi));
                             continue;
                         }
                         const std::size_t mid = span.lo + (span.hi - span.lo) / 2;

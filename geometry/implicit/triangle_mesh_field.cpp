@@ -78,10 +78,10 @@ double TriangleMeshField::lipschitz() const { return closed_ ? 1.0 : std::numeri
 bool TriangleMeshField::evaluate(const Vec3& p, SurfacePoint& closest, double& sign) const {
     auto near = closest_point(bvh_, p);
     if (!near) return false;  // only for a non-finite query: the hierarchy is not empty
-    auto w = winding_number(bvh_, tree_, p, winding_);
+    auto w = winding_number_value(bvh_, tree_, p, winding_);
     if (!w) return false;
     closest = *near;
-    sign = w->value >= 0.5 ? -1.0 : 1.0;
+    sign = *w >= 0.5 ? -1.0 : 1.0;
     return true;
 }
 

@@ -21,7 +21,8 @@ double half_area(const Box3& b) {
     return dx * dy + dy * dz + dz * dx;
 }
 
-void grow(Box3& b, const Box3& o) {
+//! Inlined: the binning calls it once per triangle per axis.
+[[gnu::always_inline]] inline void grow(Box3& b, const Box3& o) {
     b.min.x = std::min(b.min.x, o.min.x);
     b.min.y = std::min(b.min.y, o.min.y);
     b.min.z = std::min(b.min.z, o.min.z);
@@ -261,24 +262,33 @@ Result<TriangleBvh> build_bvh(const PolygonMesh& input, const BvhOptions& option
                 ++b.count;
                 grow(b.bounds, boxes[order[i]]);
             }
+            // Only the non-empty bins matter: the splits between two consecutive non-empty bins a < b (after bin
+            // a, ..., after bin b - 1) all part the triangles alike, and the first of them, after a, is the one
+            // the sweep keeps. right_area and right_count are indexed by the non-empty bin that starts the right side.
+            int used[256];
+            int used_count = 0;
+            for (int k = 0; k < bins; ++k)
+                if (bin[static_cast<std::size_t>(k)].count != 0) used[used_count++] = k;
             Box3 acc;
             std::size_t acc_count = 0;
-            for (int k = bins - 1; k > 0; --k) {
-                grow(acc, bin[static_cast<std::size_t>(k)].bounds);
-                acc_count += bin[static_cast<std::size_t>(k)].count;
-                right_area[static_cast<std::size_t>(k)] = half_area(acc);
-                right_count[static_cast<std::size_t>(k)] = acc_count;
+            for (int u = used_count - 1; u > 0; --u) {
+                const Bin& b = bin[static_cast<std::size_t>(used[u])];
+                grow(acc, b.bounds);
+                acc_count += b.count;
+                right_area[static_cast<std::size_t>(u)] = half_area(acc);
+                right_count[static_cast<std::size_t>(u)] = acc_count;
             }
             acc = Box3{};
             acc_count = 0;
-            for (int k = 0; k < bins - 1; ++k) {  // split between bin k and k + 1
-                grow(acc, bin[static_cast<std::size_t>(k)].bounds);
-                acc_count += bin[static_cast<std::size_t>(k)].count;
-                const std::size_t rc = right_count[static_cast<std::size_t>(k + 1)];
-                if (acc_count == 0 || rc == 0) continue;
+            for (int u = 0; u + 1 < used_count; ++u) {  // split after bin used[u]
+                const Bin& b = bin[static_cast<std::size_t>(used[u])];
+                grow(acc, b.bounds);
+                acc_count += b.count;
+                const std::size_t rc = right_count[static_cast<std::size_t>(u + 1)];
+                const int k = used[u];
                 // traversal step costs about one triangle test
                 const double cost = 1.0 + (half_area(acc) * static_cast<double>(acc_count) +
-                                           right_area[static_cast<std::size_t>(k + 1)] * static_cast<double>(rc)) *
+                                           right_area[static_cast<std::size_t>(u + 1)] * static_cast<double>(rc)) *
                                               inv_area;
                 if (cost < best_cost) {
                     best_cost = cost;

@@ -155,8 +155,12 @@ WindingTree build_winding_tree(const TriangleBvh& bvh) {
     return tree;
 }
 
-Result<WindingNumber> winding_number(const TriangleBvh& bvh, const WindingTree& tree, const Vec3& query,
-                                     const WindingNumberOptions& options) {
+namespace {
+
+//! The hierarchical sum, and the error bound when kBound (the value is the same either way).
+template <bool kBound>
+Result<WindingNumber> evaluate(const TriangleBvh& bvh, const WindingTree& tree, const Vec3& query,
+                               const WindingNumberOptions& options) {
     if (!(options.accuracy > 1) || !std::isfinite(options.accuracy))
         return make_error(ErrorCode::InvalidArgument, "winding number accuracy must be a finite number > 1");
     if (!is_finite(query)) return make_error(ErrorCode::InvalidArgument, "winding number query is not finite");
@@ -182,9 +186,11 @@ Result<WindingNumber> winding_number(const TriangleBvh& bvh, const WindingTree& 
         const double d2 = dot(y, y);
         if (d2 > beta2 * w.radius * w.radius) {
             sum += expansion(w, y, d2);
-            const double gap = std::sqrt(d2) - w.radius;
-            const double r3 = w.radius * w.radius * w.radius;
-            bound += 4.0 * w.area * r3 / (gap * gap * gap * gap * gap);
+            if constexpr (kBound) {
+                const double gap = std::sqrt(d2) - w.radius;
+                const double r3 = w.radius * w.radius * w.radius;
+                bound += 4.0 * w.area * r3 / (gap * gap * gap * gap * gap);
+            }
             continue;
         }
         if (node.is_leaf()) {
@@ -197,6 +203,20 @@ Result<WindingNumber> winding_number(const TriangleBvh& bvh, const WindingTree& 
     out.value = sum * kInv4Pi;
     out.error_bound = bound * kInv4Pi;
     return out;
+}
+
+}  // namespace
+
+Result<WindingNumber> winding_number(const TriangleBvh& bvh, const WindingTree& tree, const Vec3& query,
+                                     const WindingNumberOptions& options) {
+    return evaluate<true>(bvh, tree, query, options);
+}
+
+Result<double> winding_number_value(const TriangleBvh& bvh, const WindingTree& tree, const Vec3& query,
+                                    const WindingNumberOptions& options) {
+    auto w = evaluate<false>(bvh, tree, query, options);
+    if (!w) return w.error();
+    return w->value;
 }
 
 }  // namespace surfaced

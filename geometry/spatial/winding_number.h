@@ -21,14 +21,16 @@ namespace surfaced {
 //! Per-node expansion coefficients of the triangles below each node of a TriangleBvh (same indexing). With
 //! delta = x - center over the node's triangles and n their unit normals:
 struct WindingNode {
-    Vec3 center;       //!< area-weighted centroid of the node's triangles (box centre when they have no area)
+    Vec3 center;  //!< area-weighted centroid of the node's triangles (box centre when they have no area)
+    //! every vertex of the node's triangles is within this distance of `center` (next to it: a query reads both at
+    //! every node it reaches, the rest only where it expands)
+    double radius = 0;
     Vec3 area_normal;  //!< integral of n: sum over triangles of area * n (half the cross product of two edges)
     //! integral of delta n^T, row-major: moment[3 j + i] = integral of delta_j n_i
     double moment[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     //! integral of n_i delta_j delta_k, symmetric in j, k: second[6 i + s] for (j, k) = xx, yy, zz, xy, xz, yz
     double second[18] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    double radius = 0;  //!< every vertex of the node's triangles is within this distance of `center`
-    double area = 0;    //!< sum of the triangles' (unsigned) areas
+    double area = 0;  //!< sum of the triangles' (unsigned) areas
 };
 
 struct WindingTree {
@@ -61,6 +63,11 @@ struct WindingNumber {
 //! surface itself the value is that of a nearby point on either side.
 Result<WindingNumber> winding_number(const TriangleBvh& bvh, const WindingTree& tree, const Vec3& query,
                                      const WindingNumberOptions& options = {});
+
+//! winding_number(...).value without the error bound, which costs a division per expanded node: for callers that
+//! only compare the value (inside tests over many points).
+Result<double> winding_number_value(const TriangleBvh& bvh, const WindingTree& tree, const Vec3& query,
+                                    const WindingNumberOptions& options = {});
 
 //! Solid angle subtended at q by the triangle (a, b, c), signed: positive when q sees its back (the side its
 //! counter-clockwise normal points away from). In (-2 pi, 2 pi].

@@ -77,6 +77,10 @@ TEST(WindingNumber, HierarchicalWithinItsBoundOfExactSum) {
             options.accuracy = accuracy;
             const auto w = winding_number(s.bvh, s.tree, q, options);
             ASSERT_TRUE(w.ok());
+            // the value alone is the same sum, bit for bit
+            const auto value = winding_number_value(s.bvh, s.tree, q, options);
+            ASSERT_TRUE(value.ok());
+            EXPECT_EQ(*value, w->value);
             const double reference = exact(s, q);
             // the bound is exact-arithmetic; rounding over 70k terms adds far less than 1e-9
             EXPECT_LE(std::fabs(w->value - reference), w->error_bound + 1e-9)
@@ -248,6 +252,9 @@ TEST(WindingNumber, InvalidOptionsAndEmptyMesh) {
         auto w = winding_number(s.bvh, s.tree, {0, 0, 0}, options);
         ASSERT_FALSE(w.ok());
         EXPECT_EQ(w.error().code, ErrorCode::InvalidArgument);
+        auto value = winding_number_value(s.bvh, s.tree, {0, 0, 0}, options);
+        ASSERT_FALSE(value.ok());
+        EXPECT_EQ(value.error().code, ErrorCode::InvalidArgument);
     }
     const Solid empty = solid(PolygonMesh{});
     auto w = winding_number(empty.bvh, empty.tree, {0, 0, 0});
