@@ -132,17 +132,20 @@ struct ParamMesh {
     std::vector<Index> triangles;
     std::unordered_map<UvKey, Index, UvKeyHash> index;
     double interior_bound = 0;
+    double trim_triangle_bound = 0;  //!< over the triangles with a trim vertex
 
     Index vertex(Vec2 uv) {
         const auto [it, inserted] = index.emplace(UvKey{bits(uv.x), bits(uv.y)}, static_cast<Index>(uvs.size()));
         if (inserted) uvs.push_back(uv);
         return it->second;
     }
-    void add(const PatchInfo& patch, Vec2 a, Vec2 b, Vec2 c) {
+    void add(const PatchInfo& patch, Vec2 a, Vec2 b, Vec2 c, bool at_trim) {
         triangles.push_back(vertex(a));
         triangles.push_back(vertex(b));
         triangles.push_back(vertex(c));
-        interior_bound = std::max(interior_bound, patch.bound(a, b, c));
+        const double bound = patch.bound(a, b, c);
+        interior_bound = std::max(interior_bound, bound);
+        if (at_trim) trim_triangle_bound = std::max(trim_triangle_bound, bound);
     }
 };
 
@@ -158,18 +161,19 @@ struct PatchTrims {
 //! Steps 3-4 of trimmed_surface.h for one patch with trims.
 Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, const PatchTrims& trims,
                          const std::vector<std::vector<Vec2>>& rings, const PreparedTrims& polygons,
-                         const SidePoints& side_points, double interior_tolerance, double min_angle, ParamMesh& out,
-                         std::size_t& refinement_points, std::vector<Vec2>& side_requests) {
+                         const SidePoints& side_points, double tolerance, double min_angle, ParamMesh& out,
+                         std::size_t& refinement_points, std::vector<Vec2>& side_requests, bool last_round) {
     ConstrainedTriangulation cdt({0, 0}, {patch.x(patch.u1), patch.y(patch.v1)});
     std::vector<Vec2> uv{{patch.u0, patch.v0}, {patch.u1, patch.v0}, {patch.u1, patch.v1}, {patch.u0, patch.v1}};
-    std::vector<char> grid{1, 1, 1, 1};
-    const auto add = [&](Vec2 p, bool on_grid) {
+    enum Kind : char { kGrid, kTrim, kInserted };
+    std::vector<char> kind{kGrid, kGrid, kGrid, kGrid};
+    const auto add = [&](Vec2 p, Kind k) {
         const int id = cdt.insert(patch.scaled(p));
         if (id == static_cast<int>(uv.size())) {
             uv.push_back(p);
-            grid.push_back(on_grid ? 1 : 0);
-        } else if (id >= 0 && !on_grid) {
-            grid[static_cast<std::size_t>(id)] = 0;
+            kind.push_back(k);
+        } else if (id >= 0 && k == kTrim) {
+            kind[static_cast<std::size_t>(id)] = kTrim;
         }
         return id;
     };
@@ -189,20 +193,20 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
         for (int i = 1; i < count; ++i) {
             const double t = along_u ? patch.grid_u(i) : patch.grid_v(i);
             if (std::any_of(on_side.begin(), on_side.end(), [&](double s) { return std::fabs(s - t) < gap; })) continue;
-            if (add(along_u ? Vec2{t, fixed} : Vec2{fixed, t}, true) < 0)
+            if (add(along_u ? Vec2{t, fixed} : Vec2{fixed, t}, kGrid) < 0)
                 return make_error(ErrorCode::Internal, "a grid point fell outside its patch");
         }
         const auto extra = side_points.find({along_u ? 1 : 0, fixed});
         if (extra == side_points.end()) continue;
         const double lo = along_u ? patch.u0 : patch.v0, hi = along_u ? patch.u1 : patch.v1;
         for (auto it = extra->second.upper_bound(lo); it != extra->second.end() && *it < hi; ++it)
-            if (add(along_u ? Vec2{*it, fixed} : Vec2{fixed, *it}, true) < 0)
+            if (add(along_u ? Vec2{*it, fixed} : Vec2{fixed, *it}, kInserted) < 0)
                 return make_error(ErrorCode::Internal, "a side point fell outside its patch");
     }
     std::vector<int> ids(trims.vertices.size(), -1);
     for (std::size_t k = 0; k < trims.vertices.size(); ++k) {
         const Vec2 p = ring_point(trims.vertices[k]);
-        if (p.x == patch.u0 || p.x == patch.u1 || p.y == patch.v0 || p.y == patch.v1) ids[k] = add(p, false);
+        if (p.x == patch.u0 || p.x == patch.u1 || p.y == patch.v0 || p.y == patch.v1) ids[k] = add(p, kTrim);
     }
     // interior grid points away from the trims
     const int nu = patch.nu, nv = patch.nv;
@@ -222,10 +226,10 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
     for (int j = 1; j < nv; ++j)
         for (int i = 1; i < nu; ++i)
             if (!excluded[static_cast<std::size_t>(j * (nu + 1) + i)])
-                if (add({patch.grid_u(i), patch.grid_v(j)}, true) < 0)
+                if (add({patch.grid_u(i), patch.grid_v(j)}, kGrid) < 0)
                     return make_error(ErrorCode::Internal, "a grid point fell outside its patch");
     for (std::size_t k = 0; k < trims.vertices.size(); ++k)
-        if (ids[k] < 0) ids[k] = add(ring_point(trims.vertices[k]), false);
+        if (ids[k] < 0) ids[k] = add(ring_point(trims.vertices[k]), kTrim);
     // the chords as constraints
     std::unordered_map<std::uint64_t, int> id_of;
     for (std::size_t k = 0; k < trims.vertices.size(); ++k)
@@ -272,6 +276,7 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
         return smallest;
     };
     const std::size_t budget = 16 * uv.size() + 4096;
+    std::set<std::pair<int, int>> requested;  //!< sides whose split this round asked for
     std::size_t inserted = 0;
     for (int pass = 0; pass < 400 && inserted < budget; ++pass) {
         classify();
@@ -286,9 +291,13 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             if (!component_inside[static_cast<std::size_t>(label[t])]) continue;
             const auto& v = tris[t].v;
             const auto at = [&](int i) { return uv[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])]; };
-            const bool size = patch.bound(at(0), at(1), at(2)) > interior_tolerance;
-            const bool near_trim = !grid[static_cast<std::size_t>(v[0])] || !grid[static_cast<std::size_t>(v[1])] ||
-                                   !grid[static_cast<std::size_t>(v[2])];
+            const auto is = [&](int i, Kind k) {
+                return kind[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])] == k;
+            };
+            // triangles at a trim get half the tolerance: the trim bound adds the flattening's share (header)
+            const bool at_trim = is(0, kTrim) || is(1, kTrim) || is(2, kTrim);
+            const bool size = patch.bound(at(0), at(1), at(2)) > (at_trim ? tolerance / 2 : tolerance);
+            const bool near_trim = !is(0, kGrid) || !is(1, kGrid) || !is(2, kGrid);
             if (size || (near_trim && surface_angle(v) < min_angle)) bad.push_back({static_cast<int>(t), v, size});
         }
         if (bad.empty()) break;
@@ -301,23 +310,27 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             const Vec2 a = pts[static_cast<std::size_t>(b.v[0])], p = pts[static_cast<std::size_t>(b.v[1])],
                        c = pts[static_cast<std::size_t>(b.v[2])];
             int id = cdt.insert_free(circumcenter(a, p, c), b.t);
-            if (id < 0 && cdt.refused_side().first >= 0) {
-                // Split that side (in the next round, in both patches), unless it is already no longer than twice the
-                // triangle's shortest edge: then the bad angle comes from the input (a trim meeting the side at a
-                // small angle), and halving the side again would only cascade towards that corner.
-                const Vec2 s0 = pts[static_cast<std::size_t>(cdt.refused_side().first)];
-                const Vec2 s1 = pts[static_cast<std::size_t>(cdt.refused_side().second)];
+            if (id < 0 && cdt.refused_side().first >= 0 && !last_round) {
+                // Split that side (in the next round, in both patches), and leave the triangle until then. For an
+                // angle, not when the side is already no longer than twice the triangle's shortest edge: the bad
+                // angle then comes from the input (a trim meeting the side at a small angle), and halving the side
+                // again would only cascade towards that corner.
+                const auto [first, second] = cdt.refused_side();
+                const std::pair<int, int> side{std::min(first, second), std::max(first, second)};
+                if (requested.count(side)) continue;
+                const Vec2 s0 = pts[static_cast<std::size_t>(first)], s1 = pts[static_cast<std::size_t>(second)];
                 const auto length = [](Vec2 x, Vec2 y) { return std::hypot(x.x - y.x, x.y - y.y); };
-                if (length(s0, s1) > 2 * std::min({length(a, p), length(p, c), length(c, a)})) {
-                    const Vec2 u0 = uv[static_cast<std::size_t>(cdt.refused_side().first)];
-                    const Vec2 u1 = uv[static_cast<std::size_t>(cdt.refused_side().second)];
+                if (b.size || length(s0, s1) > 2 * std::min({length(a, p), length(p, c), length(c, a)})) {
+                    const Vec2 u0 = uv[static_cast<std::size_t>(first)], u1 = uv[static_cast<std::size_t>(second)];
                     side_requests.push_back({0.5 * (u0.x + u1.x), 0.5 * (u0.y + u1.y)});
+                    requested.insert(side);
+                    continue;
                 }
             }
             if (id < 0 && b.size) id = cdt.insert_free({(a.x + p.x + c.x) / 3, (a.y + p.y + c.y) / 3}, b.t, false);
             if (id < 0 || id != static_cast<int>(uv.size())) continue;
             uv.push_back(patch.unscaled(cdt.points()[static_cast<std::size_t>(id)]));
-            grid.push_back(0);
+            kind.push_back(kInserted);
             ++inserted;
             progress = true;
         }
@@ -326,10 +339,15 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
     refinement_points += inserted;
     classify();
     const auto& tris = cdt.triangles();
-    for (std::size_t t = 0; t < tris.size(); ++t)
-        if (component_inside[static_cast<std::size_t>(label[t])])
-            out.add(patch, uv[static_cast<std::size_t>(tris[t].v[0])], uv[static_cast<std::size_t>(tris[t].v[1])],
-                    uv[static_cast<std::size_t>(tris[t].v[2])]);
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+        if (!component_inside[static_cast<std::size_t>(label[t])]) continue;
+        const auto& v = tris[t].v;
+        const bool at_trim = kind[static_cast<std::size_t>(v[0])] == kTrim ||
+                             kind[static_cast<std::size_t>(v[1])] == kTrim ||
+                             kind[static_cast<std::size_t>(v[2])] == kTrim;
+        out.add(patch, uv[static_cast<std::size_t>(v[0])], uv[static_cast<std::size_t>(v[1])],
+                uv[static_cast<std::size_t>(v[2])], at_trim);
+    }
     return Ok{};
 }
 
@@ -345,14 +363,14 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
         return make_error(ErrorCode::InvalidArgument, "closure_tolerance must be a finite number >= 0");
     const BSplineSurface& surface = trimmed.surface;
 
-    // 1. Bézier patches and their grids for e/2
+    // 1. Bézier patches and their grids for e
     auto bezier = to_bezier(surface, options.cancel);
     if (!bezier) return bezier.error();
     const std::vector<double>& bu = bezier->breaks_u;
     const std::vector<double>& bv = bezier->breaks_v;
     const std::size_t columns = bu.size() - 1, rows = bv.size() - 1;
     TessellationOptions grid_options;
-    grid_options.tolerance = e / 2;
+    grid_options.tolerance = e;
     grid_options.max_segments = options.max_segments;
     auto plan = plan_tessellation(bezier->patches, grid_options);
     if (!plan) return plan.error();
@@ -398,7 +416,8 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
     const auto refine = [&](Vec2 a, Vec2 b) {
         const PatchInfo& patch = patch_at({(a.x + b.x) / 2, (a.y + b.y) / 2});
         const Vec2 sa = patch.scaled(a), sb = patch.scaled(b);
-        return std::hypot(sb.x - sa.x, sb.y - sa.y) > patch.spacing();
+        // about sqrt(1/2) of the grid spacing: triangles at a trim are held to half the tolerance
+        return std::hypot(sb.x - sa.x, sb.y - sa.y) > 0.7 * patch.spacing();
     };
     const std::vector<double> cut_u(bu.begin() + 1, bu.end() - 1), cut_v(bv.begin() + 1, bv.end() - 1);
     TrimValidation prepared =
@@ -467,12 +486,12 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
                     for (int i = 0; i < patch.nu; ++i) {
                         const Vec2 a{patch.grid_u(i), patch.grid_v(j)}, b{patch.grid_u(i + 1), patch.grid_v(j)},
                             c{patch.grid_u(i + 1), patch.grid_v(j + 1)}, d{patch.grid_u(i), patch.grid_v(j + 1)};
-                        param.add(patch, a, b, c);
-                        param.add(patch, a, c, d);
+                        param.add(patch, a, b, c, false);
+                        param.add(patch, a, c, d, false);
                     }
-            } else if (auto ok =
-                           triangulate_patch(surface, patch, patch_trims[p], rings, split, side_points, e / 2,
-                                             options.min_angle_degrees, param, out.refinement_points, side_requests);
+            } else if (auto ok = triangulate_patch(surface, patch, patch_trims[p], rings, split, side_points, e,
+                                                   options.min_angle_degrees, param, out.refinement_points,
+                                                   side_requests, round + 1 == kRounds);
                        !ok) {
                 return ok.error();
             }
@@ -543,7 +562,7 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
         mesh.normals[v] = length > 0 ? normal_sums[v] * (1.0 / length) : Vec3{0, 0, 1};
     }
     out.interior_bound = param.interior_bound;
-    out.trim_bound = g * (flatness + out.max_gap) + out.interior_bound;
+    out.trim_bound = g * (flatness + out.max_gap) + param.trim_triangle_bound;
     out.bound = std::max(out.interior_bound, out.trim_bound);
     return out;
 }

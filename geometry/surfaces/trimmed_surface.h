@@ -3,12 +3,13 @@
 //
 // Method.
 //  1. The surface is split into its Bézier patches (to_bezier) and each patch gets the grid plan_tessellation gives for
-//     e/2 (bezier_patch.h: every triangle of that grid is within e/2 of the surface; counts agree along shared edges).
+//     e (bezier_patch.h: every triangle of that grid is within e of the surface; counts agree along shared edges).
 //  2. Trim curves are flattened in (u, v) to the flatness d = 0.9 e / (2 G), where G bounds |dS| per unit of parameter
 //     distance over the whole surface: G = max over patches of sqrt((|S_u| / span_u)^2 + (|S_v| / span_v)^2), with
 //     derivative_bounds() (bezier_patch.h). Method: the parameter-space deviation times the first-derivative bound;
-//     no sampling. Chords are further split (at curve points) until no longer than the grid spacing of their patch, so
-//     triangles along the trims match the grid's size. Chords are cut where they cross patch boundaries.
+//     no sampling. Pieces are first cut where they cross a patch side (at a curve point set exactly on the side), and
+//     chords are split (at curve points) until no longer than 0.7 grid spacings of their patch, so that triangles at
+//     the trims meet their e/2 (step 4) about as they are.
 //  3. Per patch, in (u, v) scaled so that a unit step is about a unit of length on the surface (the control net's mean
 //     row and column lengths), a constrained Delaunay triangulation (constrained_triangulation.h) of: the patch corners
 //     and grid points on its sides, the interior grid points, and the trim vertices, with every trim chord as a
@@ -17,10 +18,11 @@
 //     rule on a side depends only on that side, so both patches sharing it drop the same points. Components separated
 //     by the trims are kept when inside the trimmed domain.
 //  4. Refinement (Chew/Ruppert): a kept triangle is refined by inserting its circumcentre when its bound (below)
-//     exceeds e/2, or when it touches a trim or inserted vertex and its smallest angle is below min_angle_degrees.
-//     A circumcentre that would cross a trim chord, fall on an edge, leave the patch or encroach on a trim chord or a
-//     patch side is not inserted (a triangle over the size bound then gets its centroid instead). Patch sides are
-//     never split, so the patches' vertices along them stay identical and the mesh welds across them.
+//     exceeds e, or e/2 for a triangle with a trim vertex, or when it touches a trim or inserted vertex and its
+//     smallest angle on the surface is below min_angle_degrees. A circumcentre that would cross a trim chord, fall on
+//     an edge or encroach on a trim chord is not inserted (a triangle over its size bound then gets its centroid). One
+//     beyond or encroaching on a patch side asks for that side's midpoint instead: all patches are triangulated again
+//     (up to 6 rounds) with it on the side, in both patches sharing it, so the sides still match and the mesh welds.
 //  5. Vertices are shared by exact (u, v); positions and normals are the surface's exact point and unit normal there
 //     (unit_normal: limits at poles). Vertices that coincide in 3D (a closed surface's seam, a pole) are welded within
 //     1e-10 of the model size, and triangles that collapse are dropped. uvs (face-varying) are the (u, v).
@@ -29,13 +31,13 @@
 //  - Interior: a triangle whose corners lie in one patch, with parameter extents H x K (patch units), is within
 //    (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) of the surface at equal parameters (the derivation of bezier_patch.cpp holds
 //    for any triangle, its corners' weighted variances being bounded by the extents). Every triangle's bound is
-//    computed; refinement makes the largest, interior_bound, <= e/2 (unless the refinement budget runs out:
-//    interior_bound is then what was reached, and bound says so).
+//    computed; refinement makes the largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex
+//    (unless the refinement budget runs out: the bounds are then what was reached, and bound says so).
 //  - Trims: every point of a trim curve is within d + gap of its polygon in (u, v), hence within G (d + gap) of the
-//    image of a polygon point, which lies on a triangle edge within interior_bound: trim_bound = G (d + gap) +
-//    interior_bound <= 0.9 e/2 + e/2 for loops closed within the closure tolerance. Conversely every point of the mesh
-//    is within interior_bound of the surface at parameters inside the polygons, which are within d of the trimmed
-//    domain. bound = max(interior_bound, trim_bound) <= e.
+//    image of a polygon point, which lies on an edge of a triangle with a trim vertex, within that triangle's bound:
+//    trim_bound = G (d + gap) + (the largest bound of those triangles) <= 0.9 e/2 + e/2 for loops closed within the
+//    closure tolerance. Conversely every point of the mesh is within interior_bound of the surface at parameters
+//    inside the polygons, which are within d of the trimmed domain. bound = max(interior_bound, trim_bound) <= e.
 //  - Trim vertices are points of the trim curves (evaluated, never interpolated), so boundary vertices lie on the trims'
 //    3D images. The mesh is watertight inside the trimmed domain (every interior edge is used by two triangles, also
 //    across patch sides and welded seams) and open along the trims.
