@@ -376,6 +376,57 @@ TEST(TrimmedSurface, Deterministic) {
     EXPECT_LE(a->bound, options.tolerance);
 }
 
+//! Random polygonal and B-spline holes (star-shaped, 5-40 corners) at random places on the sphere and the torus,
+//! several of them per surface: always a mesh within its bound, watertight inside, with every vertex on the surface.
+TEST(TrimmedSurface, RandomHoles) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (int trial = 0; trial < 24; ++trial) {
+        const bool on_sphere = trial % 2 == 0;
+        TrimmedSurface t{on_sphere ? sphere(1) : torus(2, 0.7), {}, {}};
+        std::vector<std::pair<Vec2, double>> placed;  // centre, radius: disjoint discs
+        for (int attempt = 0; attempt < 20 && placed.size() < 4; ++attempt) {
+            const double r = 0.03 + 0.1 * unit(rng);
+            const Vec2 c{r + 0.02 + (1 - 2 * r - 0.04) * unit(rng), r + 0.1 + (0.8 - 2 * r) * unit(rng)};
+            bool free = true;
+            for (const auto& [other, radius] : placed)
+                free = free && std::hypot(c.x - other.x, c.y - other.y) > r + radius + 0.01;
+            if (!free) continue;
+            placed.push_back({c, r});
+            const int corners = 5 + static_cast<int>(35 * unit(rng));
+            std::vector<Vec2> star;
+            for (int k = 0; k < corners; ++k) {
+                const double a = 2 * kPi * k / corners, s = 0.5 + 0.5 * unit(rng);
+                star.push_back({c.x + s * r * std::cos(a), c.y + s * r * std::sin(a)});
+            }
+            if (attempt % 2) {
+                t.holes.push_back(polygon(star));
+            } else {
+                std::vector<Vec3> points;
+                for (const Vec2& p : star) points.push_back({p.x, p.y, 0});
+                auto curve = closed_uniform(points, 3);
+                ASSERT_TRUE(curve.ok());
+                TrimCurve trim;
+                trim.degree = 3;
+                trim.knots = curve->knots;
+                for (const Vec3& p : curve->points) trim.points.push_back({p.x, p.y});
+                t.holes.push_back(TrimLoop{{trim}});
+            }
+        }
+        TrimmedTessellationOptions options;
+        options.tolerance = trial % 3 == 0 ? 1e-2 : 3e-3;
+        const auto result = tessellate(t, options);
+        ASSERT_TRUE(result.ok()) << "trial " << trial << ": " << result.error().message;
+        EXPECT_LE(result->bound, options.tolerance) << "trial " << trial;
+        boundary_edges(result->mesh);  // each edge at most once per direction
+        const auto distance = [&](const Vec3& p) {
+            return on_sphere ? norm(p) - 1 : std::hypot(std::hypot(p.x, p.y) - 2, p.z) - 0.7;
+        };
+        for (const Vec3& p : result->mesh.positions) ASSERT_NEAR(distance(p), 0, 1e-12) << "trial " << trial;
+        EXPECT_LE(mesh_to_surface(result->mesh, distance), options.tolerance) << "trial " << trial;
+    }
+}
+
 // ---- the constrained triangulation --------------------------------------------------------------------------------
 
 //! Random points (some on the rectangle's sides and on a grid, so that orientations are exactly 0) and random
