@@ -63,6 +63,7 @@ Vec3 normalized(const Vec3& v) {
 
 struct NetBounds {
     double uu = 0, uv = 0, vv = 0;  //!< bounds on |S_uu|, |S_uv|, |S_vv| over the patch
+    double u = 0, v = 0;            //!< bounds on |S_u|, |S_v| over the patch
 };
 
 NetBounds rational_second_derivative_bounds(const BezierPatch& patch);
@@ -70,7 +71,11 @@ NetBounds rational_second_derivative_bounds(const BezierPatch& patch);
 NetBounds second_derivative_bounds(const BezierPatch& patch) {
     if (patch.rational()) return rational_second_derivative_bounds(patch);
     const int m = patch.degree_u, n = patch.degree_v;
-    double d2u = 0, d2v = 0, duv = 0;
+    double d1u = 0, d1v = 0, d2u = 0, d2v = 0, duv = 0;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i < m; ++i) d1u = std::max(d1u, norm(patch.at(i + 1, j) - patch.at(i, j)));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i <= m; ++i) d1v = std::max(d1v, norm(patch.at(i, j + 1) - patch.at(i, j)));
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i + 2 <= m; ++i)
             d2u = std::max(d2u, norm(patch.at(i + 2, j) - 2.0 * patch.at(i + 1, j) + patch.at(i, j)));
@@ -81,7 +86,7 @@ NetBounds second_derivative_bounds(const BezierPatch& patch) {
         for (int i = 0; i < m; ++i)
             duv =
                 std::max(duv, norm(patch.at(i + 1, j + 1) - patch.at(i + 1, j) - patch.at(i, j + 1) + patch.at(i, j)));
-    return {m * (m - 1) * d2u, m * n * duv, n * (n - 1) * d2v};
+    return {m * (m - 1) * d2u, m * n * duv, n * (n - 1) * d2v, m * d1u, n * d1v};
 }
 
 //! Bounds on the first and second partial derivatives of the polynomial patch with net `q` (u fastest).
@@ -120,6 +125,8 @@ NetBounds single_net_rational_bounds(const BezierPatch& patch) {
     const auto w = net_derivative_bounds(patch.weights, m, n, [](double x) { return std::fabs(x); });
     const double gu = (a[0] + w[0] * radius) / wmin, gv = (a[1] + w[1] * radius) / wmin;
     NetBounds out;
+    out.u = gu;
+    out.v = gv;
     out.uu = (a[2] + w[2] * radius + 2 * w[0] * gu) / wmin;
     out.vv = (a[3] + w[3] * radius + 2 * w[1] * gv) / wmin;
     out.uv = (a[4] + w[4] * radius + w[0] * gv + w[1] * gu) / wmin;
@@ -189,10 +196,14 @@ NetBounds rational_second_derivative_bounds(const BezierPatch& patch) {
             sub_max.uu = std::max(sub_max.uu, b.uu / (h * h));
             sub_max.uv = std::max(sub_max.uv, b.uv / (h * h));
             sub_max.vv = std::max(sub_max.vv, b.vv / (h * h));
+            sub_max.u = std::max(sub_max.u, b.u / h);  // T_s = h S_u
+            sub_max.v = std::max(sub_max.v, b.v / h);
         }
     best.uu = std::min(best.uu, sub_max.uu);
     best.uv = std::min(best.uv, sub_max.uv);
     best.vv = std::min(best.vv, sub_max.vv);
+    best.u = std::min(best.u, sub_max.u);
+    best.v = std::min(best.v, sub_max.v);
     return best;
 }
 
@@ -542,6 +553,11 @@ Vec3 unit_normal(const BezierPatch& patch, double u, double v) {
         if (norm(n) > vanishing * step * step) return normalized(n);
     }
     return {};
+}
+
+PatchDerivativeBounds derivative_bounds(const BezierPatch& patch) {
+    const NetBounds m = second_derivative_bounds(patch);
+    return {m.u, m.v, m.uu, m.uv, m.vv};
 }
 
 double tessellation_error_bound(const BezierPatch& patch, int nu, int nv) {

@@ -84,6 +84,17 @@ Vec3 unit_normal(const BezierPatch& patch, double u, double v);
 //! the smallest weight; derivation in bezier_patch.cpp). A guarantee in both cases, not an estimate.
 double tessellation_error_bound(const BezierPatch& patch, int nu, int nv);
 
+//! Guaranteed bounds over [0, 1]^2 on the norms of the patch's first and second partial derivatives (patch
+//! parameters): the Bernstein-convexity bounds from the net's differences (m max|Du b|, m(m-1) max|D2u b|, ...), and
+//! for a rational patch the quotient-rule bounds of bezier_patch.cpp, tightened on 8 x 8 sub-patches. The second
+//! derivatives are those tessellation_error_bound uses; the first bound how far S moves for a step in (u, v):
+//! |S(p) - S(q)| <= u |p.u - q.u| + v |p.v - q.v|.
+struct PatchDerivativeBounds {
+    double u = 0, v = 0;
+    double uu = 0, uv = 0, vv = 0;
+};
+PatchDerivativeBounds derivative_bounds(const BezierPatch& patch);
+
 struct TessellationOptions {
     //! When set: the largest allowed distance between the triangles and the surface (in model units); segment
     //! counts are chosen per patch from the control net so that tessellation_error_bound <= tolerance.

@@ -1,0 +1,150 @@
+// OpenCASCADE 7.6 peer of bench_trim: the trimmed NURBS face built from the same data, meshed by BRepMesh.
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepLib.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Precision.hxx>
+#include <ShapeFix_Face.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColStd_Array2OfReal.hxx>
+#include <TColgp_Array1OfPnt2d.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_FormatVersion.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <chrono>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench/trim_peers.h"
+
+namespace surfaced::bench {
+namespace {
+
+//! Distinct knot values and their multiplicities.
+void knots_and_multiplicities(const std::vector<double>& knots, TColStd_Array1OfReal*& values,
+                              TColStd_Array1OfInteger*& mults) {
+    std::vector<double> v;
+    std::vector<int> m;
+    for (double k : knots) {
+        if (!v.empty() && v.back() == k) {
+            ++m.back();
+        } else {
+            v.push_back(k);
+            m.push_back(1);
+        }
+    }
+    values = new TColStd_Array1OfReal(1, static_cast<int>(v.size()));
+    mults = new TColStd_Array1OfInteger(1, static_cast<int>(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        values->SetValue(static_cast<int>(i) + 1, v[i]);
+        mults->SetValue(static_cast<int>(i) + 1, m[i]);
+    }
+}
+
+Handle(Geom_BSplineSurface) make_surface(const BSplineSurface& s) {
+    TColgp_Array2OfPnt poles(1, s.count_u, 1, s.count_v);
+    TColStd_Array2OfReal weights(1, s.count_u, 1, s.count_v);
+    for (int j = 0; j < s.count_v; ++j)
+        for (int i = 0; i < s.count_u; ++i) {
+            const Vec3& p = s.at(i, j);
+            poles.SetValue(i + 1, j + 1, gp_Pnt(p.x, p.y, p.z));
+            weights.SetValue(i + 1, j + 1, s.weight(i, j));
+        }
+    TColStd_Array1OfReal *uk = nullptr, *vk = nullptr;
+    TColStd_Array1OfInteger *um = nullptr, *vm = nullptr;
+    knots_and_multiplicities(s.knots_u, uk, um);
+    knots_and_multiplicities(s.knots_v, vk, vm);
+    Handle(Geom_BSplineSurface) out =
+        new Geom_BSplineSurface(poles, weights, *uk, *vk, *um, *vm, s.degree_u, s.degree_v);
+    delete uk;
+    delete vk;
+    delete um;
+    delete vm;
+    return out;
+}
+
+Handle(Geom2d_BSplineCurve) make_curve(const TrimCurve& c) {
+    const int n = static_cast<int>(c.points.size());
+    TColgp_Array1OfPnt2d poles(1, n);
+    TColStd_Array1OfReal weights(1, n);
+    for (int i = 0; i < n; ++i) {
+        poles.SetValue(i + 1,
+                       gp_Pnt2d(c.points[static_cast<std::size_t>(i)].x, c.points[static_cast<std::size_t>(i)].y));
+        weights.SetValue(i + 1, c.weights.empty() ? 1.0 : c.weights[static_cast<std::size_t>(i)]);
+    }
+    TColStd_Array1OfReal* k = nullptr;
+    TColStd_Array1OfInteger* m = nullptr;
+    knots_and_multiplicities(c.knots, k, m);
+    Handle(Geom2d_BSplineCurve) out = new Geom2d_BSplineCurve(poles, weights, *k, *m, c.degree);
+    delete k;
+    delete m;
+    return out;
+}
+
+}  // namespace
+
+PeerMesh occt_mesh(const TrimmedSurface& trimmed, double deflection, int runs) {
+    PeerMesh out;
+    Handle(Geom_BSplineSurface) surface = make_surface(trimmed.surface);
+    BRepBuilderAPI_MakeFace natural(surface, Precision::Confusion());
+    if (!natural.IsDone()) {
+        out.error = "natural face";
+        return out;
+    }
+    BRepBuilderAPI_MakeFace maker(natural.Face());
+    for (const TrimLoop& hole : trimmed.holes) {
+        BRepBuilderAPI_MakeWire wire;
+        for (const TrimCurve& c : hole.curves) wire.Add(BRepBuilderAPI_MakeEdge(make_curve(c), surface).Edge());
+        maker.Add(wire.Wire());
+    }
+    TopoDS_Face face = maker.Face();
+    BRepLib::BuildCurves3d(face);
+    ShapeFix_Face fix(face);  // orients the hole wires
+    fix.Perform();
+    face = fix.Face();
+    for (int r = 0; r < runs; ++r) {
+        BRepTools::Clean(face);
+        const auto t0 = std::chrono::steady_clock::now();
+        BRepMesh_IncrementalMesh mesher(face, deflection, false, 0.5, false);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        out.ms = r == 0 ? ms : std::min(out.ms, ms);
+    }
+    // Debian's OCCT 7.6.3 lacks NCollection_AliasedArray.hxx, which Poly_Triangulation.hxx includes: the triangles
+    // are read back from the face written in the BRep text format (version 2, with its triangulation) instead.
+    std::ostringstream text;
+    BRepTools::Write(face, text, Standard_True, Standard_False, TopTools_FormatVersion_VERSION_2);
+    std::istringstream in(text.str());
+    std::string word;
+    while (in >> word && word != "Triangulations") {}
+    int count = 0;
+    if (!(in >> count) || count < 1) {
+        out.error = "no triangulation";
+        return out;
+    }
+    int nodes = 0, triangles = 0, has_uv = 0;
+    double deflection_used = 0;
+    in >> nodes >> triangles >> has_uv >> deflection_used;
+    for (int i = 0; i < nodes; ++i) {
+        Vec3 p;
+        in >> p.x >> p.y >> p.z;
+        out.mesh.positions.push_back(p);
+    }
+    for (int i = 0; has_uv && i < 2 * nodes; ++i) in >> deflection_used;
+    for (int i = 0; i < triangles; ++i) {
+        int a = 0, b = 0, c = 0;
+        in >> a >> b >> c;
+        out.mesh.add_face({static_cast<Index>(a - 1), static_cast<Index>(b - 1), static_cast<Index>(c - 1)});
+    }
+    if (!in) out.error = "unreadable triangulation";
+    return out;
+}
+
+}  // namespace surfaced::bench
