@@ -18,12 +18,19 @@ Vec3 IndicatorField::to_unit(const Vec3& p) const {
 }
 
 void IndicatorField::locate(const Vec3& q, std::size_t& level, double corners[8]) const {
+    // the finest cell once; coarser cells by shifting its coordinates
+    const std::uint64_t finest = cell_key(q, tree_.max_depth);
+    const std::uint32_t fi = key_i(finest), fj = key_j(finest), fk = key_k(finest);
+    auto cell_at = [&](std::size_t l) {
+        const int shift = tree_.max_depth - tree_.levels[l].depth;
+        return pack_key(fi >> shift, fj >> shift, fk >> shift);
+    };
     level = 0;
     while (level + 1 < tree_.levels.size() &&
-           tree_.levels[level + 1].support_cells.find(cell_key(q, tree_.levels[level + 1].depth)) != KeyMap::kNone)
+           tree_.levels[level + 1].support_cells.find(cell_at(level + 1)) != KeyMap::kNone)
         ++level;
     const OctreeLevel& l = tree_.levels[level];
-    const std::uint64_t cell = cell_key(q, l.depth);
+    const std::uint64_t cell = cell_at(level);
     const std::vector<double>& values = values_.values[level];
     for (std::uint32_t c = 0; c < 8; ++c) {
         const std::uint32_t v = l.support_vertices.find(

@@ -1,8 +1,9 @@
 // A map from packed integer grid coordinates to dense indices, for the sparse levels of the Poisson octree: open
-// addressing with linear probing over a power-of-two table. No per-process hash seed, so iteration-free use (find and
-// insert) is deterministic; callers that need an order sort the keys themselves.
+// addressing with linear probing over a power-of-two table. No per-process hash seed, and key lists always come out
+// sorted, so everything built on them is deterministic.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -16,6 +17,53 @@ inline std::uint64_t pack_key(std::uint32_t i, std::uint32_t j, std::uint32_t k)
 inline std::uint32_t key_i(std::uint64_t key) { return static_cast<std::uint32_t>(key & 0x1fffff); }
 inline std::uint32_t key_j(std::uint64_t key) { return static_cast<std::uint32_t>((key >> 21) & 0x1fffff); }
 inline std::uint32_t key_k(std::uint64_t key) { return static_cast<std::uint32_t>((key >> 42) & 0x1fffff); }
+
+//! splitmix64's finaliser: spreads packed coordinates over the table.
+inline std::uint64_t hash_key(std::uint64_t x) {
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return x;
+}
+
+//! Collects distinct keys (a growing open-addressing set); take() returns them sorted.
+class KeyCollector {
+public:
+    void insert(std::uint64_t key) {
+        if (2 * (size_ + 1) > table_.size()) grow();
+        std::size_t slot = hash_key(key) & (table_.size() - 1);
+        while (table_[slot] != kEmpty) {
+            if (table_[slot] == key) return;
+            slot = (slot + 1) & (table_.size() - 1);
+        }
+        table_[slot] = key;
+        ++size_;
+    }
+    std::vector<std::uint64_t> take() {
+        std::vector<std::uint64_t> keys;
+        keys.reserve(size_);
+        for (const std::uint64_t k : table_)
+            if (k != kEmpty) keys.push_back(k);
+        std::sort(keys.begin(), keys.end());
+        table_.clear();
+        size_ = 0;
+        return keys;
+    }
+
+private:
+    static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    void grow() {
+        std::vector<std::uint64_t> old = std::move(table_);
+        table_.assign(old.empty() ? 64 : 2 * old.size(), kEmpty);
+        size_ = 0;
+        for (const std::uint64_t k : old)
+            if (k != kEmpty) insert(k);
+    }
+    std::vector<std::uint64_t> table_;
+    std::size_t size_ = 0;
+};
 
 class KeyMap {
 public:
@@ -52,14 +100,7 @@ public:
 
 private:
     static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-    static std::uint64_t hash(std::uint64_t x) {  // splitmix64 finaliser
-        x ^= x >> 30;
-        x *= 0xbf58476d1ce4e5b9ull;
-        x ^= x >> 27;
-        x *= 0x94d049bb133111ebull;
-        x ^= x >> 31;
-        return x;
-    }
+    static std::uint64_t hash(std::uint64_t x) { return hash_key(x); }
 
     std::vector<std::uint64_t> keys_;
     std::vector<std::uint32_t> values_;

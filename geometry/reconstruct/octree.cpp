@@ -6,23 +6,16 @@
 namespace surfaced::reconstruct {
 namespace {
 
-void sort_unique(std::vector<std::uint64_t>& keys) {
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-}
-
-KeySet make_set(std::vector<std::uint64_t> keys) {
-    sort_unique(keys);
+KeySet make_set(std::vector<std::uint64_t> keys) {  // keys sorted and distinct
     KeySet set;
     set.keys = std::move(keys);
     set.index.assign(set.keys);
     return set;
 }
 
-//! Every cell of `cells` and its 26 neighbours inside the grid of n cells per axis.
+//! Every cell of `cells` and its 26 neighbours inside the grid of n cells per axis, sorted.
 std::vector<std::uint64_t> dilate(const std::vector<std::uint64_t>& cells, std::int64_t n) {
-    std::vector<std::uint64_t> out;
-    out.reserve(cells.size() * 4);
+    KeyCollector out;
     for (const std::uint64_t key : cells) {
         const std::int64_t i = key_i(key), j = key_j(key), k = key_k(key);
         for (std::int64_t dk = -1; dk <= 1; ++dk)
@@ -30,22 +23,21 @@ std::vector<std::uint64_t> dilate(const std::vector<std::uint64_t>& cells, std::
                 for (std::int64_t di = -1; di <= 1; ++di) {
                     const std::int64_t a = i + di, b = j + dj, c = k + dk;
                     if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n) continue;
-                    out.push_back(pack_key(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
-                                           static_cast<std::uint32_t>(c)));
+                    out.insert(pack_key(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
+                                        static_cast<std::uint32_t>(c)));
                 }
     }
-    sort_unique(out);
-    return out;
+    return out.take();
 }
 
+//! The corners of `cells`, sorted.
 std::vector<std::uint64_t> corners(const std::vector<std::uint64_t>& cells) {
-    std::vector<std::uint64_t> out;
-    out.reserve(cells.size() * 2);
+    KeyCollector out;
     for (const std::uint64_t key : cells) {
         const std::uint32_t i = key_i(key), j = key_j(key), k = key_k(key);
-        for (std::uint32_t c = 0; c < 8; ++c) out.push_back(pack_key(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)));
+        for (std::uint32_t c = 0; c < 8; ++c) out.insert(pack_key(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)));
     }
-    return out;
+    return out.take();
 }
 
 }  // namespace
@@ -88,11 +80,9 @@ Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int 
                         cells.push_back(pack_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j),
                                                  static_cast<std::uint32_t>(k)));
         } else {
-            std::vector<std::uint64_t> occupied;
-            occupied.reserve(unit_positions.size());
-            for (const Vec3& p : unit_positions) occupied.push_back(cell_key(p, depth));
-            sort_unique(occupied);
-            cells = dilate(occupied, n);
+            KeyCollector occupied;
+            for (const Vec3& p : unit_positions) occupied.insert(cell_key(p, depth));
+            cells = dilate(occupied.take(), n);
         }
         level.support_cells = make_set(dilate(cells, n));
         level.support_vertices = make_set(corners(level.support_cells.keys));
