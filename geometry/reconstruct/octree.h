@@ -57,6 +57,34 @@ struct PoissonOctree {
 //! The cell of level `depth` containing p (unit-cube coordinates, clamped into the cube).
 std::uint64_t cell_key(const Vec3& p, int depth);
 
+//! Values at a level's support vertices interpolated to the next finer level's support vertices (a fine vertex is a
+//! coarse vertex, or the midpoint of 2, 4 or 8 of them); exact for the coarse level's trilinear functions. T: double
+//! or Vec3.
+template <class T>
+std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
+                                    const OctreeLevel& fine) {
+    std::vector<T> out(fine.support_vertices.size(), T{});
+    for (std::size_t u = 0; u < out.size(); ++u) {
+        const std::uint64_t key = fine.support_vertices.keys[u];
+        const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
+        std::uint32_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = idx[a] / 2;
+            hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
+        }
+        const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
+        T sum{};
+        for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
+            for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
+                for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
+                    const std::uint32_t v = coarse.support_vertices.find(pack_key(i, j, k));
+                    if (v != KeyMap::kNone) sum += coarse_values[v];
+                }
+        out[u] = sum * weight;
+    }
+    return out;
+}
+
 //! Builds the octree for samples given in unit-cube coordinates. 1 <= min_depth <= max_depth <= 20.
 //! Errors: Cancelled.
 Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int min_depth, int max_depth,

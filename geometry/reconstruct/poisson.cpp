@@ -101,6 +101,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     samples.positions.reserve(positions.size());
     for (const Vec3& p : positions) samples.positions.push_back((p - origin) * (1.0 / side));
     samples.area = estimate_area(samples, options.depth, options.samples_per_node);
+    reconstruct::assign_splat_depths(samples, kMinDepth, options.depth, options.samples_per_node);
 
     Result<reconstruct::PoissonOctree> tree =
         reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);

@@ -65,55 +65,114 @@ void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights
         weights[c] = ((c & 1) ? tx : 1 - tx) * ((c & 2) ? ty : 1 - ty) * ((c & 4) ? tz : 1 - tz);
 }
 
-std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples) {
-    const int finest = tree.max_depth;
-    const OctreeLevel& fine = tree.level(finest);
-    const double h = std::ldexp(1.0, -finest);
-    const std::uint32_t n = std::uint32_t{1} << finest;
-
-    // splat: n_w = sum_i a_i N_i phi_w(p_i) on the finest dofs
-    std::vector<Vec3> splat(fine.dofs.size());
-    for (std::size_t i = 0; i < samples.positions.size(); ++i) {
-        const std::uint64_t cell = cell_key(samples.positions[i], finest);
-        double w[8];
-        corner_weights(samples.positions[i], finest, cell, w);
-        const double a = samples.area * samples.weights[i] / samples.weight_sum;
-        for (int c = 0; c < 8; ++c) {
-            const std::uint32_t dof = fine.dofs.find(corner_key(cell, c));
-            assert(dof != KeyMap::kNone);
-            splat[dof] += samples.normals[i] * (a * w[c]);
+void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node) {
+    const std::size_t n = samples.positions.size();
+    samples.splat_depths.assign(n, min_depth);
+    std::vector<char> done(n, 0);
+    for (int depth = max_depth; depth > min_depth; --depth) {
+        KeyCollector collector;
+        std::vector<std::uint64_t> cells(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            cells[i] = cell_key(samples.positions[i], depth);
+            collector.insert(cells[i]);
         }
+        const std::vector<std::uint64_t> keys = collector.take();
+        KeyMap index;
+        index.assign(keys);
+        std::vector<double> weight(keys.size(), 0.0);  // samples per cell (a count, whatever their confidence)
+        for (std::size_t i = 0; i < n; ++i) weight[index.find(cells[i])] += 1.0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (!done[i] && weight[index.find(cells[i])] >= samples_per_node) {
+                samples.splat_depths[i] = depth;
+                done[i] = 1;
+            }
     }
+}
 
-    std::vector<std::vector<double>> rhs(tree.levels.size());
-    std::vector<double>& b = rhs.back();
-    b.assign(fine.dofs.size(), 0.0);
-    // b_u = sum_w n_w . integral grad phi_u phi_w / h^3, scattered from each w with a non-zero splat
+namespace {
+
+//! The gradient stencil integral grad phi_v phi_w / h^2 for w = v + o, o = (a-1, b-1, c-1).
+Vec3 gradient_stencil(int a, int b, int c) {
+    return {kMixed[a] * kMass[b] * kMass[c], kMass[a] * kMixed[b] * kMass[c], kMass[a] * kMass[b] * kMixed[c]};
+}
+
+//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3, scattered from the non-zero splats
+//! (given at the level's dofs).
+void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out) {
+    const double h = std::ldexp(1.0, -level.depth);
+    const std::uint32_t n = std::uint32_t{1} << level.depth;
     for (std::size_t w = 0; w < splat.size(); ++w) {
         const Vec3 nw = splat[w];
         if (nw.x == 0 && nw.y == 0 && nw.z == 0) continue;
-        const std::uint64_t key = fine.dofs.keys[w];
+        const std::uint64_t key = level.dofs.keys[w];
         for (int c = 0; c < 3; ++c)
-            for (int bb = 0; bb < 3; ++bb)
+            for (int b = 0; b < 3; ++b)
                 for (int a = 0; a < 3; ++a) {
-                    // u = w - o with o = (a-1, bb-1, c-1)
-                    if (!offset_inside(key, 1 - a, 1 - bb, 1 - c, n)) continue;
-                    const std::uint32_t u = fine.dofs.find(offset_key(key, 1 - a, 1 - bb, 1 - c));
-                    assert(u != KeyMap::kNone);
-                    const double gx = kMixed[a] * kMass[bb] * kMass[c];
-                    const double gy = kMass[a] * kMixed[bb] * kMass[c];
-                    const double gz = kMass[a] * kMass[bb] * kMixed[c];
-                    b[u] += (nw.x * gx + nw.y * gy + nw.z * gz) / h;
+                    // v = w - o with o = (a-1, b-1, c-1)
+                    if (!offset_inside(key, 1 - a, 1 - b, 1 - c, n)) continue;
+                    const std::uint32_t v = level.dofs.find(offset_key(key, 1 - a, 1 - b, 1 - c));
+                    assert(v != KeyMap::kNone);
+                    out[v] += dot(nw, gradient_stencil(a, b, c)) / h;
                 }
     }
+}
 
-    // restriction: a coarse hat is sum 2^-(odd offsets) of the fine hats around its centre
-    for (std::size_t li = tree.levels.size() - 1; li > 0; --li) {
-        const OctreeLevel& from = tree.levels[li];
-        const OctreeLevel& to = tree.levels[li - 1];
-        std::vector<double>& coarse = rhs[li - 1];
+//! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3 given at the level's support vertices,
+//! gathered at every dof.
+void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out) {
+    const double h = std::ldexp(1.0, -level.depth);
+    const std::uint32_t n = std::uint32_t{1} << level.depth;
+    for (std::size_t v = 0; v < level.dofs.size(); ++v) {
+        const std::uint64_t key = level.dofs.keys[v];
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+                    const std::uint32_t s = level.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
+                    assert(s != KeyMap::kNone);
+                    sum += dot(field[s], gradient_stencil(a, b, c));
+                }
+        out[v] += sum / h;
+    }
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples) {
+    const std::size_t levels = tree.levels.size();
+
+    // splat: n_{d,w} = sum_i a_i N_i phi_{d,w}(p_i) on each sample's level
+    std::vector<std::vector<Vec3>> splat(levels);
+    for (std::size_t l = 0; l < levels; ++l) splat[l].assign(tree.levels[l].dofs.size(), Vec3{});
+    std::vector<char> used(levels, 0);
+    for (std::size_t i = 0; i < samples.positions.size(); ++i) {
+        const int depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
+        const auto l = static_cast<std::size_t>(depth - tree.min_depth);
+        const OctreeLevel& level = tree.levels[l];
+        const std::uint64_t cell = cell_key(samples.positions[i], depth);
+        double w[8];
+        corner_weights(samples.positions[i], depth, cell, w);
+        const double a = samples.area * samples.weights[i] / samples.weight_sum;
+        for (int c = 0; c < 8; ++c) {
+            const std::uint32_t dof = level.dofs.find(corner_key(cell, c));
+            assert(dof != KeyMap::kNone);
+            splat[l][dof] += samples.normals[i] * (a * w[c]);
+        }
+        used[l] = 1;
+    }
+
+    // splats of the level and finer ones: integrated on their level, restricted to coarser hats (a coarse hat is
+    // sum 2^-(odd offsets) of the fine hats around its centre)
+    std::vector<std::vector<double>> rhs(levels);
+    for (std::size_t li = levels; li-- > 0;) {
+        const OctreeLevel& to = tree.levels[li];
+        std::vector<double>& coarse = rhs[li];
         coarse.assign(to.dofs.size(), 0.0);
-        const std::vector<double>& f = rhs[li];
+        if (used[li]) add_own_splats(to, splat[li], coarse);
+        if (li + 1 == levels) continue;
+        const OctreeLevel& from = tree.levels[li + 1];
+        const std::vector<double>& f = rhs[li + 1];
         for (std::size_t u = 0; u < f.size(); ++u) {
             if (f[u] == 0) continue;
             const std::uint64_t key = from.dofs.keys[u];
@@ -132,6 +191,30 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
                         coarse[v] += weight * f[u];
                     }
         }
+    }
+
+    // splats of coarser levels: V_{<d} carried down as values at each level's support vertices, in the level's own
+    // normalisation (V = sum field_u phi_u / h^3, so a coarser level's values shrink by 8 per level)
+    std::vector<Vec3> carried(tree.levels[0].support_vertices.size(), Vec3{});
+    bool any = false;
+    for (std::size_t li = 0; li + 1 < levels; ++li) {
+        const OctreeLevel& level = tree.levels[li];
+        const OctreeLevel& next = tree.levels[li + 1];
+        if (used[li]) {
+            any = true;
+            for (std::size_t w = 0; w < level.dofs.size(); ++w) {
+                const Vec3 nw = splat[li][w];
+                if (nw.x == 0 && nw.y == 0 && nw.z == 0) continue;
+                carried[level.support_vertices.find(level.dofs.keys[w])] += nw;
+            }
+        }
+        if (!any) {
+            carried.assign(next.support_vertices.size(), Vec3{});
+            continue;
+        }
+        carried = interpolate_to_finer(level, carried, next);
+        for (Vec3& v : carried) v *= 0.125;
+        add_support_field(next, carried, rhs[li + 1]);
     }
     return rhs;
 }
@@ -164,16 +247,21 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     const std::size_t count = samples.positions.size();
     sample_dofs_.resize(count * 8);
     sample_cells_.resize(count);
+    screening_.assign(count, 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint64_t cell = cell_key(samples.positions[i], depth);
         sample_cells_[i] = cell;
+        // a sample screens the levels down to its splatting level only: on finer ones, around a sample too isolated
+        // for their cells, pulling chi to the iso-value would raise a bubble around it
+        if (samples.splat_depths.empty() || samples.splat_depths[i] >= depth)
+            screening_[i] = beta_ * samples.weights[i];
         double w[8];
         corner_weights(samples.positions[i], depth, cell, w);
         for (int c = 0; c < 8; ++c) {
             const std::uint32_t dof = level_.dofs.find(corner_key(cell, c));
             assert(dof != KeyMap::kNone);
             sample_dofs_[i * 8 + static_cast<std::size_t>(c)] = dof;
-            diagonal_[dof] += beta_ * samples.weights[i] * w[c] * w[c];
+            diagonal_[dof] += screening_[i] * w[c] * w[c];
         }
     }
     (void)tree_;
@@ -194,13 +282,14 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y) co
     }
     const int depth = level_.depth;
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
+        if (screening_[i] == 0) continue;
         double w[8];
         corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
         const std::uint32_t* d = &sample_dofs_[i * 8];
         double value = 0;
         for (int c = 0; c < 8; ++c)
             if (!fixed_[d[c]]) value += w[c] * x[d[c]];
-        value *= beta_ * samples_.weights[i];
+        value *= screening_[i];
         for (int c = 0; c < 8; ++c)
             if (!fixed_[d[c]]) y[d[c]] += w[c] * value;
     }
@@ -226,9 +315,10 @@ void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, 
 void LevelSystem::subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const {
     const int depth = level_.depth;
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
+        if (screening_[i] == 0) continue;
         double w[8];
         corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
-        const double value = beta_ * samples_.weights[i] * sample_values[i];
+        const double value = screening_[i] * sample_values[i];
         for (int c = 0; c < 8; ++c) out[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]] -= w[c] * value;
     }
 }
@@ -246,8 +336,8 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 }
 
 std::size_t LevelSystem::memory_bytes() const {
-    return neighbours_.capacity() * 4 + sample_dofs_.capacity() * 4 + sample_cells_.capacity() * 8 + fixed_.capacity() +
-           diagonal_.capacity() * 8;
+    return neighbours_.capacity() * 4 + sample_dofs_.capacity() * 4 + sample_cells_.capacity() * 8 +
+           screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

@@ -8,13 +8,14 @@
 // Energy (Kazhdan & Hoppe 2013, eq. 3), in unit-cube coordinates:
 //   E(chi) = integral |grad chi - V|^2 + beta * sum_i w_i chi(p_i)^2,   beta = alpha * 2^d * area / sum_i w_i,
 // the screening weight scaled by 2^d on level d so that it keeps the same proportion to the Laplacian (whose
-// entries shrink like the cell size) on every level. Its Galerkin system on level d is
+// entries shrink like the cell size) on every level; a sample screens the levels down to its splatting level only
+// (assign_splat_depths). Its Galerkin system on level d is
 //   A_d x = b_d,  A_d(v, w) = integral grad phi_v . grad phi_w + beta sum_i w_i phi_v(p_i) phi_w(p_i),
 //                 b_d(v) = integral grad phi_v . V.
-// V is splatted from the oriented samples on the finest level: V = sum_i a_i N_i delta_{p_i}, each delta smoothed
-// into the eight hats of the sample's finest cell (a_i = area * w_i / sum w, the share of the surface the sample
-// stands for), so V = sum_w n_w phi_w / h^3; the integrals of products of hats and their derivatives are the
-// closed-form 27-point stencils below. With outward normals chi increases outwards (chi < iso inside).
+// V is splatted from the oriented samples: V = sum_i a_i N_i delta_{p_i}, each delta smoothed into the eight hats of
+// the sample's cell on its splatting level (a_i = area * w_i / sum w, the share of the surface the sample stands
+// for), so V = sum_d sum_w n_{d,w} phi_{d,w} / h_d^3; the integrals of products of hats and their derivatives are
+// closed-form 27-point stencils. With outward normals chi increases outwards (chi < iso inside).
 #pragma once
 
 #include <cstdint>
@@ -31,13 +32,22 @@ struct OrientedSamples {
     std::vector<double> weights;  //!< > 0 (confidence; 1 when not used)
     double weight_sum = 0;
     double area = 0;  //!< estimated area of the sampled surface, unit-cube units
+    //! The level each sample is splatted on (empty: the finest); see assign_splat_depths.
+    std::vector<int> splat_depths;
 };
+
+//! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006): each sample goes to the
+//! finest level whose cell around it holds at least `samples_per_node` samples, so that where samples
+//! are sparse for the finest cells V is smoothed over coarser ones instead of being a set of isolated spikes.
+void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node);
 
 //! Trilinear weights of the eight corners of p's cell on level `depth` (corner c = bits (x, y, z)).
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]);
 
-//! b_d for every level (indexed like PoissonOctree::levels, each over the level's dofs): the divergence of the
-//! splatted normal field against the finest level's hats, restricted level by level to the coarser hats.
+//! b_d for every level (indexed like PoissonOctree::levels, each over the level's dofs): the splatted normal field
+//! against the level's hats. Splats of the level and finer ones are integrated on their own level and restricted
+//! level by level to coarser hats; splats of coarser levels are interpolated to the level's grid and integrated
+//! there (both exact, the spaces being nested).
 std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples);
 
 //! The operator A_d of one level, applied without assembling it: the stiffness stencil over a neighbour table and
@@ -70,6 +80,7 @@ private:
     std::vector<std::uint32_t> neighbours_;    //!< 27 per dof, KeyMap::kNone where the neighbour is not a dof
     std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
+    std::vector<double> screening_;            //!< beta w_i, or 0 for samples splatted on a coarser level
     std::vector<char> fixed_;
     std::vector<double> diagonal_;
 };

@@ -51,32 +51,6 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
     return true;
 }
 
-//! Values of the coarser level's function at this level's support vertices (trilinear interpolation: a fine
-//! vertex is a coarse vertex, or the midpoint of 2, 4 or 8 of them).
-std::vector<double> interpolate_from_coarser(const OctreeLevel& coarse, const std::vector<double>& coarse_values,
-                                             const OctreeLevel& fine) {
-    std::vector<double> out(fine.support_vertices.size(), 0.0);
-    for (std::size_t u = 0; u < out.size(); ++u) {
-        const std::uint64_t key = fine.support_vertices.keys[u];
-        const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
-        std::uint32_t lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = idx[a] / 2;
-            hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
-        }
-        const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
-        double sum = 0;
-        for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
-            for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
-                for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
-                    const std::uint32_t v = coarse.support_vertices.find(pack_key(i, j, k));
-                    if (v != KeyMap::kNone) sum += coarse_values[v];
-                }
-        out[u] = weight * sum;
-    }
-    return out;
-}
-
 }  // namespace
 
 Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const OrientedSamples& samples,
@@ -96,7 +70,7 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         if (li == 0)
             values.assign(level.support_vertices.size(), 0.0);
         else
-            values = interpolate_from_coarser(tree.levels[li - 1], out.values[li - 1], level);
+            values = interpolate_to_finer(tree.levels[li - 1], out.values[li - 1], level);
 
         std::vector<double> b = rhs[li];
         if (li > 0) {
