@@ -175,13 +175,13 @@ TEST(Poisson, CubeCornersWithinACell) {
     EXPECT_NEAR(testing::signed_volume(r->mesh), 1.0, 0.01);
 }
 
-// 1,000 points for depth 6 (about 0.1 per finest cell): splatting each sample on the level where its cell holds
-// samples_per_node samples keeps the surface smoother than splatting all on the finest level (samples_per_node
-// below 1). Measured vertex deviation 0.037 against 0.049.
+// 250 points for depth 5 (about 0.06 per finest cell): splatting each sample on the level where its cell holds
+// samples_per_node samples keeps the surface within a cell, where splatting all on the finest level
+// (samples_per_node below 1) raises a bump at every sample. Measured Hausdorff about 0.05 against 0.12.
 TEST(Poisson, SparseSamplesSplatOnCoarserLevels) {
-    const PointCloud cloud = sphere_cloud(1000, 1.0, 0.0, 6);
+    const PointCloud cloud = sphere_cloud(250, 1.0, 0.0, 6);
     const PointCloud truth = sphere_cloud(2000, 1.0, 0, 99);
-    PoissonOptions o = options_at(6);
+    PoissonOptions o = options_at(5);
     const Result<PoissonResult> adapted = reconstruct_poisson(cloud, o);
     o.samples_per_node = 0.5;
     const Result<PoissonResult> finest = reconstruct_poisson(cloud, o);
@@ -189,8 +189,8 @@ TEST(Poisson, SparseSamplesSplatOnCoarserLevels) {
     expect_closed_outward(adapted->mesh, 2);
     const SurfaceError a = analytic_error(adapted->mesh, sphere_distance, truth);
     const SurfaceError f = analytic_error(finest->mesh, sphere_distance, truth);
-    EXPECT_LT(a.hausdorff, 0.9 * f.hausdorff);
-    EXPECT_LT(a.hausdorff, 1.5 * cell_size(2.0, 6));
+    EXPECT_LT(a.hausdorff, 0.5 * f.hausdorff);
+    EXPECT_LT(a.hausdorff, cell_size(2.0, 5));
 }
 
 TEST(Poisson, DeterministicAcrossRuns) {
