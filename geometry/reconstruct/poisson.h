@@ -82,7 +82,9 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
 
 //! Predicted size of a reconstruction, for budgets before any work: octree cells and unknowns summed over the
 //! levels, the mesher's grid cells, and peak bytes. Assumes a closed surface about as large as the bounding cube
-//! allows (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound.
+//! allows (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the
+//! benchmark's 50,000-point sphere it predicts 53 / 200 / 816 MiB at depths 6 / 7 / 8 against 34 / 109 / 387 MiB
+//! measured (peak heap).
 struct PoissonEstimate {
     std::uint64_t octree_cells = 0;
     std::uint64_t grid_cells = 0;
