@@ -5,7 +5,7 @@
 # Debian 12, as root for the installs. The peers are never linked into the service.
 #   scripts/bench.sh                       every benchmark, full size (the 1M-triangle simplifications take minutes)
 #   scripts/bench.sh --quick               smaller meshes only
-#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate repair spatial grid
+#   scripts/bench.sh simplify [--quick]    some of: subdivide simplify implicit tessellate repair spatial grid poisson
 # Each output also goes to build/bench-results/NAME.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,11 +15,11 @@ selected=()
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=(--quick) ;;
-    subdivide|simplify|implicit|tessellate|repair|spatial|grid) selected+=("$arg") ;;
-    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate|repair|spatial|grid]..." >&2; exit 2 ;;
+    subdivide|simplify|implicit|tessellate|repair|spatial|grid|poisson) selected+=("$arg") ;;
+    *) echo "usage: scripts/bench.sh [--quick] [subdivide|simplify|implicit|tessellate|repair|spatial|grid|poisson]..." >&2; exit 2 ;;
   esac
 done
-[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate repair spatial grid)
+[ ${#selected[@]} -gt 0 ] || selected=(subdivide simplify implicit tessellate repair spatial grid poisson)
 
 # The build dependencies come from scripts/install-deps.sh (run it first on a fresh machine); here only the bench-only
 # peers: meshoptimizer, CGAL (header-only; pulls Boost, GMP, MPFR) and Eigen (CGAL's Garland-Heckbert policies use
@@ -43,7 +43,7 @@ fi
 # the build lock that scripts/dev-build.sh takes, so as not to disturb a build in progress).
 if [ -f build/build.ninja ] &&
   ! { grep -q bench_simplify_cgal build/build.ninja && grep -q bench_spatial_peers build/build.ninja &&
-    grep -q bench_grid_openvdb build/build.ninja; }; then
+    grep -q bench_grid_openvdb build/build.ninja && grep -q bench_poisson_cgal build/build.ninja; }; then
   flock /tmp/surfaced-build.lock cmake -S . -B build >/dev/null
 fi
 
@@ -53,6 +53,7 @@ for name in "${selected[@]}"; do
     simplify) targets+=(bench_simplify_cgal) ;;
     spatial) targets+=(bench_spatial_peers) ;;
     grid) targets+=(bench_grid_openvdb) ;;
+    poisson) targets+=(bench_poisson_cgal) ;;
     tessellate) [ -f bench/tessellate_bench.cpp ] && targets+=(bench_tessellate) ;;
     *) targets+=("bench_$name") ;;
   esac
@@ -65,6 +66,7 @@ for name in "${selected[@]}"; do
   [ "$name" = simplify ] && binary=build/bench/bench_simplify_cgal
   [ "$name" = spatial ] && binary=build/bench/bench_spatial_peers
   [ "$name" = grid ] && binary=build/bench/bench_grid_openvdb
+  [ "$name" = poisson ] && binary=build/bench/bench_poisson_cgal
   if [ ! -x "$binary" ]; then
     echo "== $name: $binary not built, skipped" >&2
     continue

@@ -1,0 +1,198 @@
+// Screened Poisson reconstruction (geometry/reconstruct/poisson.h) by depth, on clouds sampled from a sphere, a torus
+// and the bunny (area-uniform, with the faces' normals), and in bench_poisson_cgal CGAL 5.5's Poisson reconstruction
+// on the same clouds: CPU time, peak heap, triangles, and Hausdorff / RMS distance to the mesh the cloud was sampled
+// from (geometry/simplify/mesh_distance.h, 100k samples a side), one thread each.
+// Peak memory is the peak of live heap bytes during the call, counted by the global operator new below (CGAL's and
+// Eigen's allocations included). Bench only, never linked into the service.
+//
+// Usage: bench_poisson [--quick] [--points N]   (quick: depths 6 and 7 only, no CGAL; points: per cloud, 50000)
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <new>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/mesh/triangulate.h"
+#include "geometry/pointcloud/sampling.h"
+#include "geometry/reconstruct/poisson.h"
+#include "geometry/simplify/mesh_distance.h"
+#include "geometry/subdivision/subdivide.h"
+#if SURFACED_BENCH_CGAL
+#include "bench/poisson_peer.h"
+#endif
+
+// ---- counting allocator -------------------------------------------------------------------------------------------
+namespace {
+std::atomic<long long> g_live{0}, g_peak{0};
+void note_alloc(long long n) {
+    const long long live = g_live.fetch_add(n) + n;
+    long long peak = g_peak.load();
+    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
+}
+}  // namespace
+
+void* operator new(std::size_t n) {
+    void* p = std::malloc(n + 16);
+    if (!p) throw std::bad_alloc();
+    *static_cast<std::size_t*>(p) = n;
+    note_alloc(static_cast<long long>(n));
+    return static_cast<char*>(p) + 16;
+}
+void operator delete(void* p) noexcept {
+    if (!p) return;
+    char* base = static_cast<char*>(p) - 16;
+    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
+    std::free(base);
+}
+void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete[](void* p) noexcept { operator delete(p); }
+void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
+
+namespace {
+
+using namespace surfaced;
+
+struct Timing {
+    double seconds = 0;
+    double peak_mib = 0;
+};
+
+double cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+Timing time_once(const std::function<void()>& step) {
+    Timing t;
+    const long long before = g_live.load();
+    g_peak.store(before);
+    const double start = cpu_seconds();
+    step();
+    t.seconds = cpu_seconds() - start;
+    t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
+    return t;
+}
+
+PolygonMesh read_bunny() {
+    const char* path = "/usr/share/glmark2/models/bunny.obj";
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    auto mesh = read_obj(text.str());
+    if (!mesh) {
+        std::fprintf(stderr, "%s missing or unreadable (Debian glmark2-data)\n", path);
+        return {};
+    }
+    return std::move(mesh.value());
+}
+
+//! The icosahedron Loop-subdivided 6 times and projected on the unit sphere (81,920 triangles).
+PolygonMesh icosphere() {
+    SubdivisionOptions options;
+    options.scheme = SubdivisionScheme::Loop;
+    options.levels = 6;
+    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
+    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
+    return mesh;
+}
+
+void print_row(const char* shape, const char* method, std::size_t points, const Timing& t, std::size_t triangles,
+               const MeshDistance& d, double diagonal) {
+    std::printf("| %s | %zu | %s | %.2f | %.0f | %zu | %.2e | %.2e | %.3f%% |\n", shape, points, method, t.seconds,
+                t.peak_mib, triangles, d.hausdorff, d.rms, 100.0 * d.rms / diagonal);
+    std::fflush(stdout);
+}
+
+void run(const char* shape, const PolygonMesh& truth, std::size_t points, const std::vector<int>& depths,
+         [[maybe_unused]] bool with_cgal) {
+    MeshSamplingOptions so;
+    so.count = points;
+    const Result<PointCloud> cloud = sample_mesh(truth, so);
+    if (!cloud) {
+        std::fprintf(stderr, "%s: sampling failed: %s\n", shape, cloud.error().message.c_str());
+        return;
+    }
+    const double diagonal = truth.bounds().diagonal();
+    MeshDistanceOptions mo;
+    mo.samples = 100'000;
+    // the defaults by depth, then from depth 7 every sample splatted on the finest level (samples_per_node 1:
+    // clean, evenly sampled clouds)
+    std::vector<std::pair<int, double>> runs;
+    for (const int depth : depths) runs.emplace_back(depth, PoissonOptions{}.samples_per_node);
+    for (const int depth : depths)
+        if (depth >= 7) runs.emplace_back(depth, 1.0);
+    for (const auto& [depth, per_node] : runs) {
+        PoissonOptions options;
+        options.depth = depth;
+        options.samples_per_node = per_node;
+        Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
+        const Timing t = time_once([&] { result = reconstruct_poisson(*cloud, options); });
+        if (!result) {
+            std::fprintf(stderr, "%s depth %d: %s\n", shape, depth, result.error().message.c_str());
+            continue;
+        }
+        char method[64];
+        std::snprintf(method, sizeof method, "ours, depth %d, samples/node %g", depth, per_node);
+        print_row(shape, method, points, t, result->mesh.face_count(), mesh_distance(result->mesh, truth, mo),
+                  diagonal);
+    }
+#if SURFACED_BENCH_CGAL
+    if (!with_cgal) return;
+    std::vector<double> xyz, normals;
+    for (std::size_t i = 0; i < cloud->size(); ++i) {
+        xyz.insert(xyz.end(), {cloud->positions[i].x, cloud->positions[i].y, cloud->positions[i].z});
+        normals.insert(normals.end(), {cloud->normals[i].x, cloud->normals[i].y, cloud->normals[i].z});
+    }
+    // CGAL's default criteria, then a finer surface mesh (smaller Delaunay balls and distance bound)
+    const double criteria[][2] = {{30.0, 0.375}, {1.0, 0.25}};
+    for (const auto& c : criteria) {
+        bench::CgalPoissonResult peer;
+        const Timing t = time_once([&] { peer = bench::cgal_poisson(xyz, normals, c[0], c[1]); });
+        if (!peer.error.empty()) {
+            std::fprintf(stderr, "%s CGAL: %s\n", shape, peer.error.c_str());
+            continue;
+        }
+        PolygonMesh mesh;
+        for (std::size_t i = 0; i + 2 < peer.positions.size(); i += 3)
+            mesh.positions.push_back({peer.positions[i], peer.positions[i + 1], peer.positions[i + 2]});
+        for (std::size_t i = 0; i + 2 < peer.triangles.size(); i += 3)
+            mesh.add_face({static_cast<Index>(peer.triangles[i]), static_cast<Index>(peer.triangles[i + 1]),
+                           static_cast<Index>(peer.triangles[i + 2])});
+        char method[96];
+        std::snprintf(method, sizeof method, "CGAL, radius %g, distance %g", c[0], c[1]);
+        print_row(shape, method, points, t, mesh.face_count(), mesh_distance(mesh, truth, mo), diagonal);
+    }
+#endif
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    std::size_t points = 50'000;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        if (std::strcmp(argv[i], "--points") == 0 && i + 1 < argc) points = std::strtoull(argv[++i], nullptr, 10);
+    }
+    const std::vector<int> depths = quick ? std::vector<int>{6, 7} : std::vector<int>{6, 7, 8};
+    std::printf("| shape | points | method | CPU s | peak MiB | triangles | Hausdorff | RMS | RMS / diagonal |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    run("sphere", icosphere(), points, depths, !quick);
+    run("torus", triangulate(shapes::torus(512, 256, 1.0, 0.4)), points, depths, !quick);
+    const PolygonMesh bunny = read_bunny();
+    if (bunny.face_count() > 0) run("bunny", bunny, points, depths, !quick);
+    return 0;
+}

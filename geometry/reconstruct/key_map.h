@@ -1,0 +1,110 @@
+// A map from packed integer grid coordinates to dense indices, for the sparse levels of the Poisson octree: open
+// addressing with linear probing over a power-of-two table. No per-process hash seed, and key lists always come out
+// sorted, so everything built on them is deterministic.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace surfaced::reconstruct {
+
+//! Packs grid coordinates (each < 2^21) into one key.
+inline std::uint64_t pack_key(std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return std::uint64_t{i} | (std::uint64_t{j} << 21) | (std::uint64_t{k} << 42);
+}
+inline std::uint32_t key_i(std::uint64_t key) { return static_cast<std::uint32_t>(key & 0x1fffff); }
+inline std::uint32_t key_j(std::uint64_t key) { return static_cast<std::uint32_t>((key >> 21) & 0x1fffff); }
+inline std::uint32_t key_k(std::uint64_t key) { return static_cast<std::uint32_t>((key >> 42) & 0x1fffff); }
+
+//! splitmix64's finaliser: spreads packed coordinates over the table.
+inline std::uint64_t hash_key(std::uint64_t x) {
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return x;
+}
+
+//! Collects distinct keys (a growing open-addressing set); take() returns them sorted.
+class KeyCollector {
+public:
+    void insert(std::uint64_t key) {
+        if (2 * (size_ + 1) > table_.size()) grow();
+        std::size_t slot = hash_key(key) & (table_.size() - 1);
+        while (table_[slot] != kEmpty) {
+            if (table_[slot] == key) return;
+            slot = (slot + 1) & (table_.size() - 1);
+        }
+        table_[slot] = key;
+        ++size_;
+    }
+    std::vector<std::uint64_t> take() {
+        std::vector<std::uint64_t> keys;
+        keys.reserve(size_);
+        for (const std::uint64_t k : table_)
+            if (k != kEmpty) keys.push_back(k);
+        std::sort(keys.begin(), keys.end());
+        table_.clear();
+        size_ = 0;
+        return keys;
+    }
+
+private:
+    static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    void grow() {
+        std::vector<std::uint64_t> old = std::move(table_);
+        table_.assign(old.empty() ? 64 : 2 * old.size(), kEmpty);
+        size_ = 0;
+        for (const std::uint64_t k : old)
+            if (k != kEmpty) insert(k);
+    }
+    std::vector<std::uint64_t> table_;
+    std::size_t size_ = 0;
+};
+
+class KeyMap {
+public:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+
+    //! Builds the map key -> position for a list of distinct keys.
+    void assign(const std::vector<std::uint64_t>& keys) {
+        std::size_t capacity = 16;
+        while (capacity < 2 * keys.size()) capacity *= 2;
+        keys_.assign(capacity, kEmpty);
+        values_.assign(capacity, kNone);
+        mask_ = capacity - 1;
+        for (std::size_t n = 0; n < keys.size(); ++n) {
+            std::size_t slot = hash(keys[n]) & mask_;
+            while (keys_[slot] != kEmpty) slot = (slot + 1) & mask_;
+            keys_[slot] = keys[n];
+            values_[slot] = static_cast<std::uint32_t>(n);
+        }
+    }
+
+    //! Position of `key` in the list given to assign(), or kNone.
+    std::uint32_t find(std::uint64_t key) const {
+        if (keys_.empty()) return kNone;
+        std::size_t slot = hash(key) & mask_;
+        while (true) {
+            const std::uint64_t stored = keys_[slot];
+            if (stored == key) return values_[slot];
+            if (stored == kEmpty) return kNone;
+            slot = (slot + 1) & mask_;
+        }
+    }
+
+    std::size_t memory_bytes() const { return keys_.capacity() * 8 + values_.capacity() * 4; }
+
+private:
+    static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    static std::uint64_t hash(std::uint64_t x) { return hash_key(x); }
+
+    std::vector<std::uint64_t> keys_;
+    std::vector<std::uint32_t> values_;
+    std::size_t mask_ = 0;
+};
+
+}  // namespace surfaced::reconstruct

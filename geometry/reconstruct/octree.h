@@ -1,0 +1,93 @@
+// The sparse octree of the Poisson reconstruction, stored level by level. Coordinates are in the unit cube [0, 1]^3
+// (the caller maps its bounding cube onto it). Level d has 2^d cells per axis, cell (i, j, k) covering
+// [i, i+1] x [j, j+1] x [k, k+1] * 2^-d, and vertices (i, j, k) with 0 <= i, j, k <= 2^d.
+//
+// Which cells exist:
+//  - the coarsest level (min_depth) is complete;
+//  - on a finer level d, the active cells are the cells holding a sample and their 26 neighbours (the 1-ring).
+//    The 1-ring of a cell lies inside the 1-ring of its parent, so every active cell's parent is active: the levels
+//    form an octree, refined to max_depth around the samples only, whose neighbourhoods are complete (the 2:1-like
+//    condition the basis functions need: every function centred on an active cell's corner has its whole support
+//    on the level's grid, and every sample's cell has all its neighbours).
+// Each level carries three sets, each as a sorted key list with a KeyMap from key to position:
+//  - cells: the active cells;
+//  - dofs: the corners of the active cells, one trilinear "hat" basis function each (the unknowns of the level);
+//  - support cells: the active cells and their 1-ring, i.e. every cell on which a level function is non-zero, and
+//    support vertices: their corners, where the solver keeps the values of the reconstructed function. A support
+//    cell's parent is a support cell of the coarser level (same argument as above), which is what lets values be
+//    carried from one level to the next by trilinear interpolation.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/core/cancel.h"
+#include "geometry/core/result.h"
+#include "geometry/core/types.h"
+#include "geometry/reconstruct/key_map.h"
+
+namespace surfaced::reconstruct {
+
+struct KeySet {
+    std::vector<std::uint64_t> keys;  //!< sorted, distinct
+    KeyMap index;                     //!< key -> position in keys
+
+    std::size_t size() const { return keys.size(); }
+    std::uint32_t find(std::uint64_t key) const { return index.find(key); }
+    std::size_t memory_bytes() const { return keys.capacity() * 8 + index.memory_bytes(); }
+};
+
+struct OctreeLevel {
+    int depth = 0;
+    KeySet cells;
+    KeySet dofs;
+    KeySet support_cells;
+    KeySet support_vertices;
+};
+
+struct PoissonOctree {
+    int min_depth = 0;
+    int max_depth = 0;
+    std::vector<OctreeLevel> levels;  //!< levels[d - min_depth]
+
+    const OctreeLevel& level(int depth) const { return levels[static_cast<std::size_t>(depth - min_depth)]; }
+    std::size_t memory_bytes() const;
+};
+
+//! The cell of level `depth` containing p (unit-cube coordinates, clamped into the cube).
+std::uint64_t cell_key(const Vec3& p, int depth);
+
+//! Values at a level's support vertices interpolated to the next finer level's support vertices (a fine vertex is a
+//! coarse vertex, or the midpoint of 2, 4 or 8 of them); exact for the coarse level's trilinear functions. T: double
+//! or Vec3.
+template <class T>
+std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
+                                    const OctreeLevel& fine) {
+    std::vector<T> out(fine.support_vertices.size(), T{});
+    for (std::size_t u = 0; u < out.size(); ++u) {
+        const std::uint64_t key = fine.support_vertices.keys[u];
+        const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
+        std::uint32_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = idx[a] / 2;
+            hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
+        }
+        const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
+        T sum{};
+        for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
+            for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
+                for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
+                    const std::uint32_t v = coarse.support_vertices.find(pack_key(i, j, k));
+                    if (v != KeyMap::kNone) sum += coarse_values[v];
+                }
+        out[u] = sum * weight;
+    }
+    return out;
+}
+
+//! Builds the octree for samples given in unit-cube coordinates. 1 <= min_depth <= max_depth <= 20.
+//! Errors: Cancelled.
+Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int min_depth, int max_depth,
+                                   const Cancel& cancel);
+
+}  // namespace surfaced::reconstruct

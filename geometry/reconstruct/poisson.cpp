@@ -1,0 +1,179 @@
+#include "geometry/reconstruct/poisson.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "geometry/implicit/mesh_field.h"
+#include "geometry/reconstruct/indicator_field.h"
+#include "geometry/reconstruct/octree.h"
+#include "geometry/reconstruct/poisson_system.h"
+#include "geometry/reconstruct/solver.h"
+
+namespace surfaced {
+namespace {
+
+using reconstruct::OrientedSamples;
+
+// The coarsest octree level (4 cells per side), complete over the cube.
+constexpr int kMinDepth = 2;
+// Cells a plane crosses per unit area in a grid of unit cells, averaged over orientations: E|nx|+|ny|+|nz| = 1.5.
+constexpr double kCellsPerArea = 1.5;
+
+Status check_options(const PoissonOptions& o) {
+    if (o.depth < 2 || o.depth > 10) return make_error(ErrorCode::InvalidArgument, "poisson: depth must be in 2..10");
+    if (!std::isfinite(o.point_weight) || o.point_weight < 0)
+        return make_error(ErrorCode::InvalidArgument, "poisson: point_weight must be finite and >= 0");
+    if (!std::isfinite(o.samples_per_node) || o.samples_per_node <= 0)
+        return make_error(ErrorCode::InvalidArgument, "poisson: samples_per_node must be finite and > 0");
+    if (!std::isfinite(o.scale) || o.scale < 1 || o.scale > 100)
+        return make_error(ErrorCode::InvalidArgument, "poisson: scale must be in [1, 100]");
+    if (o.max_iterations < 1 || o.max_iterations > 100000)
+        return make_error(ErrorCode::InvalidArgument, "poisson: max_iterations must be in 1..100000");
+    if (!std::isfinite(o.tolerance) || o.tolerance < 0 || o.tolerance >= 1)
+        return make_error(ErrorCode::InvalidArgument, "poisson: tolerance must be in [0, 1)");
+    return Ok{};
+}
+
+//! Area of the sampled surface in unit-cube units, from the cells holding samples on the deepest level where they
+//! hold samples_per_node samples each on average. Samples fall into the surface's M cells about like a Poisson
+//! process: with lambda = N / M per cell, M (1 - e^-lambda) cells are occupied, which is solved for M.
+double estimate_area(const OrientedSamples& samples, int max_depth, double samples_per_node) {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(samples.positions.size());
+    const auto n = static_cast<double>(samples.positions.size());
+    double area = 0;
+    for (int depth = kMinDepth; depth <= max_depth; ++depth) {
+        keys.clear();
+        for (const Vec3& p : samples.positions) keys.push_back(reconstruct::cell_key(p, depth));
+        std::sort(keys.begin(), keys.end());
+        const auto occupied = static_cast<double>(std::unique(keys.begin(), keys.end()) - keys.begin());
+        const double mean = n / occupied;  // = lambda / (1 - e^-lambda), increasing in lambda
+        if (depth > kMinDepth && mean < samples_per_node) break;
+        double lo = 0, hi = mean;
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (mid / -std::expm1(-mid) < mean ? lo : hi) = mid;
+        }
+        // nearly every sample alone in its cell says little about the empty cells: no correction then
+        const double cells = mean < 1.05 ? occupied : n / hi;
+        area = cells * std::ldexp(1.0, -2 * depth) / kCellsPerArea;
+    }
+    return area;
+}
+
+}  // namespace
+
+Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const PoissonOptions& options,
+                                          const Cancel& cancel) {
+    if (Status s = check_options(options); !s) return s.error();
+    if (Status s = validate(cloud); !s) return s.error();
+    if (!cloud.has_normals())
+        return make_error(ErrorCode::InvalidArgument,
+                          "poisson: the point cloud has no normals (estimate and orient them first)");
+
+    // samples: weights, unit normals, the bounding cube
+    OrientedSamples samples;
+    std::vector<Vec3> positions;
+    Box3 box;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+        const double length = norm(cloud.normals[i]);
+        if (length == 0) {
+            if (options.use_confidence) continue;
+            return element_error(ErrorCode::InvalidArgument,
+                                 "poisson: point " + std::to_string(i) + " has a zero normal", ElementKind::Vertex,
+                                 static_cast<std::int64_t>(i));
+        }
+        positions.push_back(cloud.positions[i]);
+        samples.normals.push_back(cloud.normals[i] * (1.0 / length));
+        samples.weights.push_back(options.use_confidence ? length : 1.0);
+        samples.weight_sum += samples.weights.back();
+        box.add(cloud.positions[i]);
+    }
+    if (positions.size() < 4)
+        return make_error(ErrorCode::InvalidArgument, "poisson: fewer than 4 points with a non-zero normal");
+    const Vec3 extent = box.max - box.min;
+    const double side = std::max({extent.x, extent.y, extent.z}) * options.scale;
+    if (!(side > 0) || !std::isfinite(side))
+        return make_error(ErrorCode::InvalidArgument, "poisson: the points do not span a volume (all equal)");
+    const Vec3 center = (box.min + box.max) * 0.5;
+    const Vec3 origin = center - Vec3{side, side, side} * 0.5;
+    samples.positions.reserve(positions.size());
+    for (const Vec3& p : positions) samples.positions.push_back((p - origin) * (1.0 / side));
+    samples.area = estimate_area(samples, options.depth, options.samples_per_node);
+    reconstruct::assign_splat_depths(samples, kMinDepth, options.depth, options.samples_per_node);
+
+    Result<reconstruct::PoissonOctree> tree =
+        reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);
+    if (!tree) return tree.error();
+
+    reconstruct::SolverOptions solver;
+    solver.alpha = options.point_weight;
+    solver.dirichlet = options.boundary == PoissonBoundary::Dirichlet;
+    solver.max_iterations = options.max_iterations;
+    solver.tolerance = options.tolerance;
+    solver.cancel = cancel;
+    std::vector<reconstruct::LevelSolveStats> level_stats;
+    Result<reconstruct::IndicatorValues> chi = reconstruct::solve_cascadic(*tree, samples, solver, &level_stats);
+    if (!chi) return chi.error();
+
+    PoissonResult result;
+    double iso = 0;
+    for (std::size_t i = 0; i < samples.positions.size(); ++i) iso += samples.weights[i] * chi->at_samples[i];
+    iso /= samples.weight_sum;
+    result.iso_value = iso;
+    result.cube_origin = origin;
+    result.cube_size = side;
+
+    for (std::size_t l = 0; l < tree->levels.size(); ++l) {
+        result.stats.cells.push_back(tree->levels[l].cells.size());
+        result.stats.dofs.push_back(level_stats[l].dofs);
+        result.stats.iterations.push_back(level_stats[l].iterations);
+        result.stats.residuals.push_back(level_stats[l].relative_residual);
+    }
+    result.stats.octree_bytes = tree->memory_bytes();
+    for (const std::vector<double>& v : chi->values) result.stats.octree_bytes += v.capacity() * sizeof(double);
+    result.stats.area_estimate = samples.area * side * side;
+
+    const reconstruct::IndicatorField field(*tree, *chi, origin, side, iso);
+    implicit::MeshFieldOptions mesh_options;
+    mesh_options.resolution = 1 << options.depth;
+    mesh_options.max_cells = std::uint64_t{1} << (3 * options.depth);
+    mesh_options.mode = implicit::MeshFieldMode::Uniform;
+    mesh_options.cancel = cancel;
+    Box3 cube;
+    cube.add(origin);
+    cube.add(origin + Vec3{side, side, side});
+    implicit::MeshFieldStats mesh_stats;
+    Result<PolygonMesh> mesh = implicit::mesh_field(field, cube, mesh_options, &mesh_stats);
+    if (!mesh) return mesh.error();
+    result.mesh = std::move(*mesh);
+    result.stats.field_evaluations = mesh_stats.field_evaluations;
+    return result;
+}
+
+PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& options) {
+    PoissonEstimate e;
+    const int depth = std::clamp(options.depth, kMinDepth, 10);
+    // a sphere filling the cube: area pi in unit-cube units; the band of active cells is about 4 cells thick
+    const double area = 3.14159265358979;
+    double active_total = 0;
+    for (int d = kMinDepth; d <= depth; ++d) {
+        const double all = std::ldexp(1.0, 3 * d);
+        const double surface = kCellsPerArea * area * std::ldexp(1.0, 2 * d);
+        const double occupied = std::min(static_cast<double>(points), surface);
+        active_total += d == kMinDepth ? all : std::min({all, 27 * occupied, 4 * surface});
+    }
+    e.octree_cells = static_cast<std::uint64_t>(active_total);
+    const double nodes = std::pow(std::ldexp(1.0, depth) + 1, 3);
+    e.grid_cells = std::uint64_t{1} << (3 * depth);
+    // per active cell: its key sets, support cells and vertices with values, the level's neighbour table and
+    // solver vectors (about 400 bytes); per point: the samples and their per-level corner indices; the mesher: 4
+    // bytes per grid node plus its surface cells
+    const double surface_cells = kCellsPerArea * area * std::ldexp(1.0, 2 * depth);
+    e.bytes = static_cast<std::uint64_t>(400 * active_total + 120 * static_cast<double>(points) + 4 * nodes +
+                                         400 * surface_cells);
+    return e;
+}
+
+}  // namespace surfaced

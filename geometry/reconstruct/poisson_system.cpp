@@ -1,0 +1,343 @@
+#include "geometry/reconstruct/poisson_system.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace surfaced::reconstruct {
+namespace {
+
+// 1-D integrals of hats of one level (spacing h) at offsets -1, 0, +1, divided by the power of h they scale with:
+// mass    integral phi_u phi_w      = h * kMass
+// stiff   integral phi_u' phi_w'    = kStiff / h
+// mixed   integral phi_u' phi_w     = kMixed           (w = u + 1: phi_u falls where phi_w rises: -1/2)
+constexpr double kMass[3] = {1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0};
+constexpr double kStiff[3] = {-1.0, 2.0, -1.0};
+constexpr double kMixed[3] = {0.5, 0.0, -0.5};
+
+//! The 3-D stiffness stencil integral grad phi_u . grad phi_{u+o} / h, o = (a-1, b-1, c-1).
+struct StiffnessStencil {
+    double w[27];
+    StiffnessStencil() {
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a)
+                    w[a + 3 * b + 9 * c] = kStiff[a] * kMass[b] * kMass[c] + kMass[a] * kStiff[b] * kMass[c] +
+                                           kMass[a] * kMass[b] * kStiff[c];
+    }
+};
+const StiffnessStencil kStiffness;
+
+bool on_boundary(std::uint64_t key, std::uint32_t n) {
+    const std::uint32_t i = key_i(key), j = key_j(key), k = key_k(key);
+    return i == 0 || j == 0 || k == 0 || i == n || j == n || k == n;
+}
+
+std::uint64_t offset_key(std::uint64_t key, int di, int dj, int dk) {
+    return pack_key(static_cast<std::uint32_t>(static_cast<std::int64_t>(key_i(key)) + di),
+                    static_cast<std::uint32_t>(static_cast<std::int64_t>(key_j(key)) + dj),
+                    static_cast<std::uint32_t>(static_cast<std::int64_t>(key_k(key)) + dk));
+}
+
+//! Whether key + (di, dj, dk) stays in [0, n]^3.
+bool offset_inside(std::uint64_t key, int di, int dj, int dk, std::uint32_t n) {
+    const std::int64_t i = static_cast<std::int64_t>(key_i(key)) + di;
+    const std::int64_t j = static_cast<std::int64_t>(key_j(key)) + dj;
+    const std::int64_t k = static_cast<std::int64_t>(key_k(key)) + dk;
+    const std::int64_t m = n;
+    return i >= 0 && j >= 0 && k >= 0 && i <= m && j <= m && k <= m;
+}
+
+std::uint64_t corner_key(std::uint64_t cell, int c) {
+    return pack_key(key_i(cell) + static_cast<std::uint32_t>(c & 1),
+                    key_j(cell) + static_cast<std::uint32_t>((c >> 1) & 1),
+                    key_k(cell) + static_cast<std::uint32_t>(c >> 2));
+}
+
+}  // namespace
+
+void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]) {
+    const double n = std::ldexp(1.0, depth);
+    const double tx = std::clamp(p.x * n - key_i(cell), 0.0, 1.0);
+    const double ty = std::clamp(p.y * n - key_j(cell), 0.0, 1.0);
+    const double tz = std::clamp(p.z * n - key_k(cell), 0.0, 1.0);
+    for (int c = 0; c < 8; ++c)
+        weights[c] = ((c & 1) ? tx : 1 - tx) * ((c & 2) ? ty : 1 - ty) * ((c & 4) ? tz : 1 - tz);
+}
+
+void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node) {
+    const std::size_t n = samples.positions.size();
+    samples.splat_depths.assign(n, min_depth);
+    std::vector<char> done(n, 0);
+    for (int depth = max_depth; depth > min_depth; --depth) {
+        KeyCollector collector;
+        std::vector<std::uint64_t> cells(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            cells[i] = cell_key(samples.positions[i], depth);
+            collector.insert(cells[i]);
+        }
+        const std::vector<std::uint64_t> keys = collector.take();
+        KeyMap index;
+        index.assign(keys);
+        std::vector<double> weight(keys.size(), 0.0);  // samples per cell (a count, whatever their confidence)
+        for (std::size_t i = 0; i < n; ++i) weight[index.find(cells[i])] += 1.0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (!done[i] && weight[index.find(cells[i])] >= samples_per_node) {
+                samples.splat_depths[i] = depth;
+                done[i] = 1;
+            }
+    }
+}
+
+namespace {
+
+//! The gradient stencil integral grad phi_v phi_w / h^2 for w = v + o, o = (a-1, b-1, c-1).
+Vec3 gradient_stencil(int a, int b, int c) {
+    return {kMixed[a] * kMass[b] * kMass[c], kMass[a] * kMixed[b] * kMass[c], kMass[a] * kMass[b] * kMixed[c]};
+}
+
+//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3, scattered from the non-zero splats
+//! (given at the level's dofs).
+void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out) {
+    const double h = std::ldexp(1.0, -level.depth);
+    const std::uint32_t n = std::uint32_t{1} << level.depth;
+    for (std::size_t w = 0; w < splat.size(); ++w) {
+        const Vec3 nw = splat[w];
+        if (nw.x == 0 && nw.y == 0 && nw.z == 0) continue;
+        const std::uint64_t key = level.dofs.keys[w];
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    // v = w - o with o = (a-1, b-1, c-1)
+                    if (!offset_inside(key, 1 - a, 1 - b, 1 - c, n)) continue;
+                    const std::uint32_t v = level.dofs.find(offset_key(key, 1 - a, 1 - b, 1 - c));
+                    assert(v != KeyMap::kNone);
+                    out[v] += dot(nw, gradient_stencil(a, b, c)) / h;
+                }
+    }
+}
+
+//! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3 given at the level's support vertices,
+//! gathered at every dof.
+void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out) {
+    const double h = std::ldexp(1.0, -level.depth);
+    const std::uint32_t n = std::uint32_t{1} << level.depth;
+    for (std::size_t v = 0; v < level.dofs.size(); ++v) {
+        const std::uint64_t key = level.dofs.keys[v];
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+                    const std::uint32_t s = level.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
+                    assert(s != KeyMap::kNone);
+                    sum += dot(field[s], gradient_stencil(a, b, c));
+                }
+        out[v] += sum / h;
+    }
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples) {
+    const std::size_t levels = tree.levels.size();
+
+    // splat: n_{d,w} = sum_i a_i N_i phi_{d,w}(p_i) on each sample's level
+    std::vector<std::vector<Vec3>> splat(levels);
+    for (std::size_t l = 0; l < levels; ++l) splat[l].assign(tree.levels[l].dofs.size(), Vec3{});
+    std::vector<char> used(levels, 0);
+    for (std::size_t i = 0; i < samples.positions.size(); ++i) {
+        const int depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
+        const auto l = static_cast<std::size_t>(depth - tree.min_depth);
+        const OctreeLevel& level = tree.levels[l];
+        const std::uint64_t cell = cell_key(samples.positions[i], depth);
+        double w[8];
+        corner_weights(samples.positions[i], depth, cell, w);
+        const double a = samples.area * samples.weights[i] / samples.weight_sum;
+        for (int c = 0; c < 8; ++c) {
+            const std::uint32_t dof = level.dofs.find(corner_key(cell, c));
+            assert(dof != KeyMap::kNone);
+            splat[l][dof] += samples.normals[i] * (a * w[c]);
+        }
+        used[l] = 1;
+    }
+
+    // splats of the level and finer ones: integrated on their level, restricted to coarser hats (a coarse hat is
+    // sum 2^-(odd offsets) of the fine hats around its centre)
+    std::vector<std::vector<double>> rhs(levels);
+    for (std::size_t li = levels; li-- > 0;) {
+        const OctreeLevel& to = tree.levels[li];
+        std::vector<double>& coarse = rhs[li];
+        coarse.assign(to.dofs.size(), 0.0);
+        if (used[li]) add_own_splats(to, splat[li], coarse);
+        if (li + 1 == levels) continue;
+        const OctreeLevel& from = tree.levels[li + 1];
+        const std::vector<double>& f = rhs[li + 1];
+        for (std::size_t u = 0; u < f.size(); ++u) {
+            if (f[u] == 0) continue;
+            const std::uint64_t key = from.dofs.keys[u];
+            const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
+            std::uint32_t lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = idx[a] / 2;
+                hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
+            }
+            const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
+            for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
+                for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
+                    for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
+                        const std::uint32_t v = to.dofs.find(pack_key(i, j, k));
+                        assert(v != KeyMap::kNone);
+                        coarse[v] += weight * f[u];
+                    }
+        }
+    }
+
+    // splats of coarser levels: V_{<d} carried down as values at each level's support vertices, in the level's own
+    // normalisation (V = sum field_u phi_u / h^3, so a coarser level's values shrink by 8 per level)
+    std::vector<Vec3> carried(tree.levels[0].support_vertices.size(), Vec3{});
+    bool any = false;
+    for (std::size_t li = 0; li + 1 < levels; ++li) {
+        const OctreeLevel& level = tree.levels[li];
+        const OctreeLevel& next = tree.levels[li + 1];
+        if (used[li]) {
+            any = true;
+            for (std::size_t w = 0; w < level.dofs.size(); ++w) {
+                const Vec3 nw = splat[li][w];
+                if (nw.x == 0 && nw.y == 0 && nw.z == 0) continue;
+                carried[level.support_vertices.find(level.dofs.keys[w])] += nw;
+            }
+        }
+        if (!any) {
+            carried.assign(next.support_vertices.size(), Vec3{});
+            continue;
+        }
+        carried = interpolate_to_finer(level, carried, next);
+        for (Vec3& v : carried) v *= 0.125;
+        add_support_field(next, carried, rhs[li + 1]);
+    }
+    return rhs;
+}
+
+LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha,
+                         bool dirichlet)
+    : tree_(tree), level_(tree.level(depth)), samples_(samples) {
+    h_ = std::ldexp(1.0, -depth);
+    beta_ = samples.weight_sum > 0 ? alpha * std::ldexp(1.0, depth) * samples.area / samples.weight_sum : 0.0;
+    const std::uint32_t n = std::uint32_t{1} << depth;
+    const std::size_t dofs = level_.dofs.size();
+
+    fixed_.assign(dofs, 0);
+    if (dirichlet)
+        for (std::size_t v = 0; v < dofs; ++v) fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
+
+    neighbours_.assign(dofs * 27, KeyMap::kNone);
+    for (std::size_t v = 0; v < dofs; ++v) {
+        const std::uint64_t key = level_.dofs.keys[v];
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+                    neighbours_[v * 27 + static_cast<std::size_t>(a + 3 * b + 9 * c)] =
+                        level_.dofs.find(offset_key(key, a - 1, b - 1, c - 1));
+                }
+    }
+
+    diagonal_.assign(dofs, kStiffness.w[13] * h_);
+    const std::size_t count = samples.positions.size();
+    sample_dofs_.resize(count * 8);
+    sample_cells_.resize(count);
+    screening_.assign(count, 0.0);
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::uint64_t cell = cell_key(samples.positions[i], depth);
+        sample_cells_[i] = cell;
+        // a sample screens the levels down to its splatting level only: on finer ones, around a sample too isolated
+        // for their cells, pulling chi to the iso-value would raise a bubble around it
+        if (samples.splat_depths.empty() || samples.splat_depths[i] >= depth)
+            screening_[i] = beta_ * samples.weights[i];
+        double w[8];
+        corner_weights(samples.positions[i], depth, cell, w);
+        for (int c = 0; c < 8; ++c) {
+            const std::uint32_t dof = level_.dofs.find(corner_key(cell, c));
+            assert(dof != KeyMap::kNone);
+            sample_dofs_[i * 8 + static_cast<std::size_t>(c)] = dof;
+            diagonal_[dof] += screening_[i] * w[c] * w[c];
+        }
+    }
+    (void)tree_;
+}
+
+void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y) const {
+    const std::size_t dofs = fixed_.size();
+    y.assign(dofs, 0.0);
+    for (std::size_t v = 0; v < dofs; ++v) {
+        if (fixed_[v]) continue;
+        const std::uint32_t* nb = &neighbours_[v * 27];
+        double sum = 0;
+        for (int o = 0; o < 27; ++o) {
+            const std::uint32_t w = nb[o];
+            if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+        }
+        y[v] = sum * h_;
+    }
+    const int depth = level_.depth;
+    for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
+        if (screening_[i] == 0) continue;
+        double w[8];
+        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const std::uint32_t* d = &sample_dofs_[i * 8];
+        double value = 0;
+        for (int c = 0; c < 8; ++c)
+            if (!fixed_[d[c]]) value += w[c] * x[d[c]];
+        value *= screening_[i];
+        for (int c = 0; c < 8; ++c)
+            if (!fixed_[d[c]]) y[d[c]] += w[c] * value;
+    }
+}
+
+void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, std::vector<double>& out) const {
+    const std::uint32_t n = std::uint32_t{1} << level_.depth;
+    for (std::size_t v = 0; v < fixed_.size(); ++v) {
+        const std::uint64_t key = level_.dofs.keys[v];
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < 3; ++b)
+                for (int a = 0; a < 3; ++a) {
+                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+                    const std::uint32_t s = level_.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
+                    assert(s != KeyMap::kNone);
+                    sum += kStiffness.w[a + 3 * b + 9 * c] * support_values[s];
+                }
+        out[v] -= sum * h_;
+    }
+}
+
+void LevelSystem::subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const {
+    const int depth = level_.depth;
+    for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
+        if (screening_[i] == 0) continue;
+        double w[8];
+        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double value = screening_[i] * sample_values[i];
+        for (int c = 0; c < 8; ++c) out[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]] -= w[c] * value;
+    }
+}
+
+void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<double>& out) const {
+    const int depth = level_.depth;
+    out.assign(sample_cells_.size(), 0.0);
+    for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
+        double w[8];
+        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        double value = 0;
+        for (int c = 0; c < 8; ++c) value += w[c] * x[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]];
+        out[i] = value;
+    }
+}
+
+std::size_t LevelSystem::memory_bytes() const {
+    return neighbours_.capacity() * 4 + sample_dofs_.capacity() * 4 + sample_cells_.capacity() * 8 +
+           screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
+}
+
+}  // namespace surfaced::reconstruct

@@ -1,0 +1,88 @@
+// The discrete screened Poisson system on one level of the octree (geometry/reconstruct/octree.h).
+//
+// Basis: degree-1 B-splines (trilinear "hat" functions), one per corner of an active cell of each level; the
+// reconstructed indicator is the sum over all levels, chi = sum_d sum_v x_{d,v} phi_{d,v}. Hats of level d are
+// exact combinations of hats of level d+1 (weights 1, 1/2, 1/4, 1/8 by the number of odd coordinates), which is
+// what the restriction of the right-hand side below and the level-to-level interpolation in the solver use.
+//
+// Energy (Kazhdan & Hoppe 2013, eq. 3), in unit-cube coordinates:
+//   E(chi) = integral |grad chi - V|^2 + beta * sum_i w_i chi(p_i)^2,   beta = alpha * 2^d * area / sum_i w_i,
+// the screening weight scaled by 2^d on level d so that it keeps the same proportion to the Laplacian (whose
+// entries shrink like the cell size) on every level; a sample screens the levels down to its splatting level only
+// (assign_splat_depths). Its Galerkin system on level d is
+//   A_d x = b_d,  A_d(v, w) = integral grad phi_v . grad phi_w + beta sum_i w_i phi_v(p_i) phi_w(p_i),
+//                 b_d(v) = integral grad phi_v . V.
+// V is splatted from the oriented samples: V = sum_i a_i N_i delta_{p_i}, each delta smoothed into the eight hats of
+// the sample's cell on its splatting level (a_i = area * w_i / sum w, the share of the surface the sample stands
+// for), so V = sum_d sum_w n_{d,w} phi_{d,w} / h_d^3; the integrals of products of hats and their derivatives are
+// closed-form 27-point stencils. With outward normals chi increases outwards (chi < iso inside).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/core/types.h"
+#include "geometry/reconstruct/octree.h"
+
+namespace surfaced::reconstruct {
+
+struct OrientedSamples {
+    std::vector<Vec3> positions;  //!< unit-cube coordinates
+    std::vector<Vec3> normals;    //!< unit, outward
+    std::vector<double> weights;  //!< > 0 (confidence; 1 when not used)
+    double weight_sum = 0;
+    double area = 0;  //!< estimated area of the sampled surface, unit-cube units
+    //! The level each sample is splatted on (empty: the finest); see assign_splat_depths.
+    std::vector<int> splat_depths;
+};
+
+//! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006): each sample goes to the
+//! finest level whose cell around it holds at least `samples_per_node` samples, so that where samples
+//! are sparse for the finest cells V is smoothed over coarser ones instead of being a set of isolated spikes.
+void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node);
+
+//! Trilinear weights of the eight corners of p's cell on level `depth` (corner c = bits (x, y, z)).
+void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]);
+
+//! b_d for every level (indexed like PoissonOctree::levels, each over the level's dofs): the splatted normal field
+//! against the level's hats. Splats of the level and finer ones are integrated on their own level and restricted
+//! level by level to coarser hats; splats of coarser levels are interpolated to the level's grid and integrated
+//! there (both exact, the spaces being nested).
+std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples);
+
+//! The operator A_d of one level, applied without assembling it: the stiffness stencil over a neighbour table and
+//! the screening term through the samples. Dofs on the cube's boundary are fixed at zero for Dirichlet conditions.
+class LevelSystem {
+public:
+    LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha, bool dirichlet);
+
+    std::size_t size() const { return fixed_.size(); }
+    //! y = A x on the free dofs (0 on fixed ones).
+    void apply(const std::vector<double>& x, std::vector<double>& y) const;
+    const std::vector<double>& diagonal() const { return diagonal_; }
+    const std::vector<char>& fixed() const { return fixed_; }
+
+    //! out[v] -= (stiffness * u)[v], u given at the level's support vertices (a coarser levels' function).
+    void subtract_stiffness(const std::vector<double>& support_values, std::vector<double>& out) const;
+    //! out[v] -= beta sum_i w_i phi_v(p_i) values[i] (the screening of a coarser levels' function).
+    void subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const;
+    //! sum_c phi_c(p_i) x_c for every sample.
+    void evaluate_at_samples(const std::vector<double>& x, std::vector<double>& out) const;
+
+    std::size_t memory_bytes() const;
+
+private:
+    const PoissonOctree& tree_;
+    const OctreeLevel& level_;
+    const OrientedSamples& samples_;
+    double h_ = 1;
+    double beta_ = 0;
+    std::vector<std::uint32_t> neighbours_;    //!< 27 per dof, KeyMap::kNone where the neighbour is not a dof
+    std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
+    std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
+    std::vector<double> screening_;            //!< beta w_i, or 0 for samples splatted on a coarser level
+    std::vector<char> fixed_;
+    std::vector<double> diagonal_;
+};
+
+}  // namespace surfaced::reconstruct

@@ -1,0 +1,100 @@
+#include "geometry/reconstruct/solver.h"
+
+#include <cmath>
+
+namespace surfaced::reconstruct {
+namespace {
+
+double dot_product(const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+    return sum;
+}
+
+//! Jacobi-preconditioned conjugate gradients on the free dofs, from x = 0. Returns false when cancelled.
+bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& rhs, const SolverOptions& options,
+                         std::vector<double>& x, LevelSolveStats& stats) {
+    const std::size_t n = system.size();
+    const std::vector<double>& diag = system.diagonal();
+    const std::vector<char>& fixed = system.fixed();
+    x.assign(n, 0.0);
+    std::vector<double> r = rhs, z(n), p(n), ap;
+    for (std::size_t i = 0; i < n; ++i)
+        if (fixed[i]) r[i] = 0;
+    const double rhs_norm = std::sqrt(dot_product(r, r));
+    stats.iterations = 0;
+    stats.relative_residual = 0;
+    if (rhs_norm == 0) return true;
+    for (std::size_t i = 0; i < n; ++i) z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
+    p = z;
+    double rz = dot_product(r, z);
+    for (int it = 0; it < options.max_iterations; ++it) {
+        if (options.cancel.requested()) return false;
+        system.apply(p, ap);
+        const double pap = dot_product(p, ap);
+        if (!(pap > 0)) break;
+        const double step = rz / pap;
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i] += step * p[i];
+            r[i] -= step * ap[i];
+        }
+        stats.iterations = it + 1;
+        const double residual = std::sqrt(dot_product(r, r)) / rhs_norm;
+        stats.relative_residual = residual;
+        if (residual <= options.tolerance) break;
+        for (std::size_t i = 0; i < n; ++i) z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
+        const double rz_next = dot_product(r, z);
+        const double beta = rz_next / rz;
+        rz = rz_next;
+        for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+    }
+    return true;
+}
+
+}  // namespace
+
+Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const OrientedSamples& samples,
+                                       const SolverOptions& options, std::vector<LevelSolveStats>* stats) {
+    const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples);
+    IndicatorValues out;
+    out.values.resize(tree.levels.size());
+    out.at_samples.assign(samples.positions.size(), 0.0);
+    std::vector<double> x, correction_at_samples;
+    for (std::size_t li = 0; li < tree.levels.size(); ++li) {
+        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
+        const OctreeLevel& level = tree.levels[li];
+        const LevelSystem system(tree, level.depth, samples, options.alpha, options.dirichlet);
+
+        // the coarser levels' function on this level's grid
+        std::vector<double>& values = out.values[li];
+        if (li == 0)
+            values.assign(level.support_vertices.size(), 0.0);
+        else
+            values = interpolate_to_finer(tree.levels[li - 1], out.values[li - 1], level);
+
+        std::vector<double> b = rhs[li];
+        if (li > 0) {
+            system.subtract_stiffness(values, b);
+            system.subtract_screening(out.at_samples, b);
+        }
+
+        LevelSolveStats level_stats;
+        level_stats.depth = level.depth;
+        level_stats.dofs = system.size();
+        if (!conjugate_gradients(system, b, options, x, level_stats))
+            return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
+        if (stats) stats->push_back(level_stats);
+
+        // add this level's hats to the values and to chi at the samples
+        for (std::size_t v = 0; v < x.size(); ++v) {
+            if (x[v] == 0) continue;
+            const std::uint32_t s = level.support_vertices.find(level.dofs.keys[v]);
+            values[s] += x[v];
+        }
+        system.evaluate_at_samples(x, correction_at_samples);
+        for (std::size_t i = 0; i < correction_at_samples.size(); ++i) out.at_samples[i] += correction_at_samples[i];
+    }
+    return out;
+}
+
+}  // namespace surfaced::reconstruct
