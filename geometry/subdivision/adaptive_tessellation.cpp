@@ -142,8 +142,8 @@ Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, co
     return o;
 }
 
-//! Measured max distance from S(x) to the triangle of S at the corners, over the non-corner points x of a barycentric
-//! grid of step 1/6 of the triangle in (s, t). (Not |S(x) - T(x)|: at an extraordinary vertex the parameterization
+//! Measured max distance from S(x) to the plane of the triangle of S at the corners, over the non-corner points x of
+//! a barycentric grid of step 1/6 of the triangle in (s, t). (Not |S(x) - T(x)|: at an extraordinary vertex the parameterization
 //! is singular, and the parametric difference falls only as fast as the triangle shrinks.)
 Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
     const auto at = [&](const P2& p) -> Result<Vec3> {
@@ -156,6 +156,10 @@ Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const
     if (!sa) return sa.error();
     if (!sb) return sb.error();
     if (!sc) return sc.error();
+    // distance to the triangle's plane: a point whose projection falls just outside the triangle is near its
+    // neighbour's, which the distance to this triangle alone (its edge) would overstate by the tangential offset
+    const Vec3 n = cross(*sb - *sa, *sc - *sa);
+    const double area2 = norm(n);
     constexpr int kSteps = 6;
     double worst = 0;
     for (int i = 0; i <= kSteps; ++i)
@@ -166,7 +170,9 @@ Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const
             const P2 x{li * a.s + lj * b.s + lk * c.s, li * a.t + lj * b.t + lk * c.t};
             auto s = at(x);
             if (!s) return s.error();
-            worst = std::max(worst, norm(*s - triangle_closest_point(*s, *sa, *sb, *sc).point));
+            const double d = area2 > 0 ? std::abs(dot(*s - *sa, n)) / area2
+                                       : norm(*s - triangle_closest_point(*s, *sa, *sb, *sc).point);
+            worst = std::max(worst, d);
         }
     return worst;
 }
@@ -304,7 +310,8 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                                           const LimitTessellationOptions& options) {
     const double tol = options.tolerance;
     const std::size_t root = domain_root(fd, subface);
-    if (fd.surface->nodes()[root].patch >= 0) {  // one patch: the bezier_patch.h bound
+    const bool bounded = options.guaranteed;
+    if (bounded && fd.surface->nodes()[root].patch >= 0) {  // one patch: the bezier_patch.h bound
         const auto [nu, nv] = rates_for(fd.bounds[std::size_t(fd.surface->nodes()[root].patch)], tol);
         if (std::max(nu, nv) > options.max_segments) return too_many_segments(std::max(nu, nv), options, face);
         return std::pair<int, int>{int(nu), int(nv)};
@@ -328,6 +335,10 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
     }
     auto [fu, fv] = rates_for(coarse.m, tol);
     int nu = int(fu), nv = int(fv);
+    if (!bounded) {  // the bound overestimates: start below it and let the measurements decide
+        nu = std::max(1, nu / 4);
+        nv = std::max(1, nv / 4);
+    }
     for (int iteration = 0;; ++iteration) {
         if (std::max(nu, nv) > options.max_segments) return too_many_segments(std::max(nu, nv), options, face);
         if (iteration > 40) break;
@@ -341,10 +352,11 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                 // the patches a cell overlaps bound it; the parts no patch bounds (deep at irregular vertices) are
                 // sampled as well
                 worst.include(o.m, 1.0);
-                if ((o.m.uu / (double(nu) * nu) + 2.0 * o.m.uv / (double(nu) * nv) + o.m.vv / (double(nv) * nv)) / 8.0 >
-                    tol)
+                if (bounded &&
+                    (o.m.uu / (double(nu) * nu) + 2.0 * o.m.uv / (double(nu) * nv) + o.m.vv / (double(nv) * nv)) / 8.0 >
+                        tol)
                     bounded_fail = true;
-                if (o.uncovered && !sampled_fail) {
+                if ((o.uncovered || !bounded) && !sampled_fail) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
                     for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
                         auto e = sampled_error(fd, subface, lo, p, q);
@@ -494,12 +506,12 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             for (const auto& tri : local.triangles) {
                 const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
                 const Overlap o = overlap_of(fd, d.subface, a, b, c);
-                if (o.uncovered) {
+                if (o.uncovered || !options.guaranteed) {
                     auto e = sampled_error(fd, d.subface, a, b, c);
                     if (!e) return e.error();
                     sampled = std::max(sampled, *e);
                 }
-                bound = std::max(bound, triangle_bound(o.m, a, b, c));
+                if (options.guaranteed) bound = std::max(bound, triangle_bound(o.m, a, b, c));
             }
             const bool ok = bound <= options.tolerance && sampled <= options.tolerance / kSampledSafety;
             if (ok || attempt >= 8 || std::max(d.nu, d.nv) >= options.max_segments) {

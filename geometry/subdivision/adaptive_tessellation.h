@@ -57,6 +57,11 @@ struct LimitTessellationOptions {
     int max_segments = 256;
     //! Ceiling on the output triangles, checked from the rates before any output vertex is evaluated (0: none).
     std::uint64_t max_triangles = 0;
+    //! true: rates from the bounds above (sampling only where no patch bounds the surface). false: rates from the
+    //! measured distance of every triangle (25 points, within tolerance / kSampledSafety), no guarantee; the bounds
+    //! are on |S(x) - T(x)| between points of equal parameter, which counts the parameterization's own
+    //! non-uniformity, so they ask for several times the triangles the distance needs (docs/benchmarks.md).
+    bool guaranteed = true;
     //! Polled between faces; when it fires the result is Cancelled.
     Cancel cancel;
 };

@@ -228,6 +228,30 @@ TEST(AdaptiveTessellation, WithinToleranceWatertightOnTheLimit) {
     }
 }
 
+// Rates from measured distances (guaranteed false): dense exact samples still within the tolerance on these shapes
+// (the measurement's safety factor at work; no guarantee), the mesh invariants as with bounds.
+TEST(AdaptiveTessellation, MeasuredRatesStayWithinToleranceOnTheseShapes) {
+    for (const char* name : {"catmark_cube", "catmark_cube_creases1", "catmark_torus_creases0", "catmark_nonquads",
+                             "catmark_gregory_test1"}) {
+        SCOPED_TRACE(name);
+        const PolygonMesh mesh = load_shape(name);
+        auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+        ASSERT_TRUE(evaluator.ok());
+        for (double relative : {1e-2, 3e-3}) {
+            LimitTessellationOptions options;
+            options.tolerance = relative * diagonal(mesh);
+            options.guaranteed = false;
+            auto measured = tessellate_limit(*evaluator, mesh, options);
+            ASSERT_TRUE(measured.ok()) << measured.error().message;
+            EXPECT_EQ(measured->plan.error_bound, 0.0);
+            EXPECT_LE(measured->achieved_error, options.tolerance / kSampledSafety);
+            EXPECT_LE(sampled_distance(*evaluator, mesh, measured->mesh), options.tolerance);
+            for (const auto& [edge, uses] : edge_uses(measured->mesh)) ASSERT_LE(uses.size(), 2u);
+            EXPECT_EQ(euler(measured->mesh), euler(mesh));
+        }
+    }
+}
+
 TEST(AdaptiveTessellation, FinerToleranceMoreTrianglesSmallerError) {
     const PolygonMesh mesh = load_shape("catmark_cube_creases1");
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
