@@ -21,7 +21,7 @@
 // every triangle that overlaps only patches. Patches deeper than kBoundedDepth, and leaves without a patch (at
 // irregular vertices, where the second derivatives grow without bound for valences above 4), are not bounded: a
 // triangle that overlaps them is bounded over the rest and also checked by sampling: the distance from S(x) to the
-// triangle at the 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must be at most
+// triangle's plane at the 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must be at most
 // tolerance / kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported
 // error is the largest of the bounds and of the measured distances.
 //
