@@ -10,6 +10,8 @@
 #include "api/options/mesh_params.h"
 #include "api/patch_codec.h"
 #include "geometry/subdivision/limit_patches.h"
+#include "geometry/subdivision/adaptive_tessellation.h"
+#include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/subdivide.h"
 
 namespace surfaced::api::operations {
@@ -29,6 +31,16 @@ ApiResult<SubdivideParams> params_from_query(const std::multimap<std::string, st
 //! What the option table cannot say: levels against this server's limit, and output options that do not fit the
 //! format. Field names: the JSON path (query parameters use the leaf name).
 std::optional<ApiError> check_params(const SubdivideParams& params, const Limits& limits, Source source) {
+    if (params.tolerance) {
+        if (params.levels_given)
+            return make_problem(Problem::InvalidField, "give either tolerance or levels, not both", "tolerance");
+        if (params.target_faces)
+            return make_problem(Problem::InvalidField, "give either tolerance or target_faces, not both", "tolerance");
+        if (params.scheme != SubdivisionScheme::CatmullClark)
+            return make_problem(Problem::InvalidField,
+                                "tolerance tessellates the Catmull-Clark limit surface; scheme must be catmull-clark",
+                                "tolerance");
+    }
     if (params.levels > limits.max_levels)
         return make_problem(Problem::BudgetExceeded,
                             "levels is " + std::to_string(params.levels) + "; this server allows at most " +
@@ -68,7 +80,8 @@ double diagonal(const PolygonMesh& mesh) {
 }
 
 //! format "patches": the limit surface as bicubic Bézier patches (limit_patches.h), at isolation level `levels` when
-//! given, else at the smallest level whose approximated patches are within kPatchTolerance of the bounding diagonal.
+//! given, else at the smallest level whose approximated patches are within `tolerance` (default: kPatchTolerance of
+//! the bounding diagonal).
 ApiResponse patches_response(const PolygonMesh& mesh, const SubdivideParams& params, const SubdivisionOptions& options,
                              const Limits& limits, const Cancel& cancel, Source source, const ReadReport& read_report,
                              Clock::time_point t_start, Clock::time_point t_decoded) {
@@ -76,7 +89,8 @@ ApiResponse patches_response(const PolygonMesh& mesh, const SubdivideParams& par
     if (!evaluator) return error_response(geometry_error(evaluator.error(), source, read_report));
     LimitPatchOptions patch_options;
     if (params.levels_given) patch_options.levels = static_cast<int>(params.levels);
-    patch_options.tolerance = kPatchTolerance * diagonal(mesh);
+    // `tolerance`, when given, bounds the approximated patches' measured error
+    patch_options.tolerance = params.tolerance ? *params.tolerance : kPatchTolerance * diagonal(mesh);
     if (!(patch_options.tolerance > 0)) patch_options.tolerance = kPatchTolerance;
     patch_options.max_levels = std::min(limits.max_levels, 10);
     patch_options.max_patches = limits.max_patches;
@@ -116,6 +130,53 @@ ApiResponse patches_response(const PolygonMesh& mesh, const SubdivideParams& par
     return response;
 }
 
+//! `tolerance`: the limit surface tessellated adaptively (adaptive_tessellation.h). The plan's exact triangle count is
+//! checked against the output budget before any output vertex is evaluated.
+ApiResponse tessellate_limit_surface(const SubdivideParams& params, const PolygonMesh& mesh,
+                                     const SubdivisionOptions& options, Source source, const ReadReport& read_report,
+                                     const ApiContext& context, Timing timing) {
+    const Limits& limits = context.limits;
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, options);
+    if (!evaluator) return error_response(geometry_error(evaluator.error(), source, read_report));
+    LimitTessellationOptions tess;
+    tess.tolerance = *params.tolerance;
+    tess.max_segments = limits.max_patch_segments;
+    tess.max_triangles = limits.max_output_faces;
+    tess.cancel = context.cancel;
+    auto tessellated = tessellate_limit(*evaluator, mesh, tess);
+    if (!tessellated) {
+        if (tessellated.error().code == ErrorCode::BudgetExceeded) {
+            ApiError error = from_geo_error(tessellated.error());
+            error.field = "tolerance";
+            error.hint = "use a larger tolerance";
+            return error_response(std::move(error));
+        }
+        return error_response(geometry_error(tessellated.error(), source, read_report));
+    }
+    if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
+    PolygonMesh& result = tessellated->mesh;
+    const auto t_done = Clock::now();
+
+    SubdivideStats stats;
+    stats.input_vertices = mesh.vertex_count();
+    stats.input_faces = mesh.face_count();
+    stats.output_vertices = result.vertex_count();
+    stats.output_faces = result.face_count();
+    stats.scheme = params.scheme;
+    stats.levels = 0;
+    stats.elapsed_ms = ms_between(timing.start, t_done);
+
+    Headers headers =
+        mesh_count_headers(stats.input_vertices, stats.input_faces, stats.output_vertices, stats.output_faces);
+    append_read_headers(headers, read_report);
+    headers.emplace_back("X-Tolerance", format_double(*params.tolerance));
+    headers.emplace_back("X-Achieved-Tolerance", format_double(tessellated->achieved_error));
+    timing.stages.emplace_back("tessellate", t_done);
+    return mesh_response(
+        result, params.output, source, [&](const PolygonMesh& m) { return encode_mesh_response(m, stats); },
+        std::move(headers), std::move(timing));
+}
+
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
     const auto t_start = Clock::now();
@@ -143,6 +204,10 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     }
     if (params.patches)
         return patches_response(mesh, params, options, limits, context.cancel, source, read_report, t_start, t_decoded);
+    if (params.tolerance)
+        return tessellate_limit_surface(params, mesh, options, source, read_report, context,
+                                        Timing{t_start, {{"decode", t_decoded}}});
+
     // The work is that of refining to levels + limit_extra_levels (exact limits refine past semi-sharp creases);
     // the output is that of `levels`.
     // (init-captures: clang 14, which builds the fuzzers, cannot capture structured bindings)

@@ -115,6 +115,14 @@ constexpr OptionSpec kSubdivide[] = {
      .max_is_limit = true,  // Limits::max_levels
      .default_json = "1",
      .description = "Subdivision levels; each multiplies the face count by about 4"},
+    {.name = "tolerance",
+     .type = OptionType::Number,
+     .min = above(0),
+     .units = "model units",
+     .description =
+         "Instead of levels: triangles within this distance of the Catmull-Clark limit surface, with "
+         "segments per edge chosen from its curvature; excludes levels and target_faces. With format patches: the "
+         "largest measured error allowed of the approximated patches"},
     {.name = "target_faces",
      .type = OptionType::Integer,
      .min = at_least(1),

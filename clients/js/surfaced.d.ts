@@ -148,6 +148,9 @@ export interface SubdivideOptions extends MeshInput, OutputOptions<OutputFormat>
   scheme?: Scheme;
   /** 0..8. @default 1 */
   levels?: number;
+  /** instead of levels: triangles within this distance (model units) of the Catmull-Clark limit surface; excludes
+   *  levels and target_faces */
+  tolerance?: number;
   /** the largest level (up to levels, if given) whose output has at most this many faces */
   target_faces?: number;
   /** default: the OBJ `t interpolateboundary` tag, else 'edge-only' */

@@ -177,7 +177,7 @@ export class Client {
   /** GET /openapi.json */
   async openapi() { return (await this.request('GET', '/openapi.json')).json; }
 
-  /** POST /subdivide: {mesh | data + contentType, scheme, levels, target_faces, boundary, crease_method, triangle_rule,
+  /** POST /subdivide: {mesh | data + contentType, scheme, levels | tolerance, target_faces, boundary, crease_method, triangle_rule,
    *  uv_interpolation, loop_weights, limit_surface, creases, corners, holes, output | format, compression, ...} */
   subdivide(options) { return this.operation('/subdivide', 'mesh', options); }
 

@@ -160,6 +160,15 @@ public:
         std::int32_t first_child = -1;  //!< its sub-faces' nodes (4; the face's size for an N-gon's root)
     };
 
+    //! The prepared tree, for callers that bound the surface (adaptive_tessellation.h). Node 0 is the face; a quad
+    //! node's children are its quarters in corner order ((s, t) in [0, 1/2]^2, then +s, then both, then +t); an
+    //! N-gon root's children are its sub-faces in corner order. A node with a patch is a leaf whose surface is that
+    //! bicubic B-spline patch; a leaf without one was not resolved within the prepared levels.
+    const std::vector<Node>& nodes() const { return nodes_; }
+    //! Control points of patch i of uniform bicubic B-spline over its node's local (s, t) in [0, 1]^2: point
+    //! (row r, column c) is [4 r + c], c along s, r along t.
+    const std::array<Vec3, 16>& patch_points(std::size_t i) const { return patches_[i]; }
+
 private:
     friend class LimitSurfaceEvaluator;
     LimitSurfaceEvaluator owner_;

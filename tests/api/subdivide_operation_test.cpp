@@ -10,6 +10,8 @@
 #include "geometry/io/gltf.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
+#include "geometry/subdivision/adaptive_tessellation.h"
+#include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/subdivide.h"
 #include "tests/support/api_request.h"
 #include "tests/support/gltf_validator.h"
@@ -631,6 +633,81 @@ TEST(SubdivideLoopWeights, WarrenIsSelectableAndReachesTheGeometry) {
     for (std::size_t v = 0; v < got.size(); ++v) EXPECT_EQ(got[v], expected->positions[v]);
     expect_problem(call("application/json", json_request(shapes::icosahedron(), R"(,"loop_weights":"stam")")), 400,
                    "invalid_field");
+}
+
+}  // namespace
+}  // namespace surfaced::api
+
+// ---- tolerance: the limit surface tessellated adaptively ---------------------------------------------------------
+
+namespace surfaced::api {
+namespace {
+
+// The answer is the geometry's tessellate_limit for the same mesh and tolerance: same triangle count, achieved
+// tolerance within the one asked for, the plan's exact count checked against the budget before any work.
+TEST(SubdivideOperation, ToleranceTessellatesTheLimitSurface) {
+    const PolygonMesh cube = shapes::cube();
+    const auto response =
+        call("application/json", json_request(cube, R"(,"tolerance":0.002,"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+    auto evaluator = LimitSurfaceEvaluator::create(cube, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 0.002;
+    auto expected = tessellate_limit(*evaluator, cube, options);
+    ASSERT_TRUE(expected.ok());
+    EXPECT_EQ(json["mesh"]["faces"].size(), expected->mesh.face_count());
+    EXPECT_EQ(json["mesh"]["positions"].size(), expected->mesh.vertex_count());
+    for (const auto& face : json["mesh"]["faces"]) EXPECT_EQ(face.size(), 3u);
+    EXPECT_EQ(header(response, "X-Output-Faces"), std::to_string(expected->mesh.face_count()));
+    EXPECT_EQ(header(response, "X-Tolerance"), "0.002");
+    const double achieved = std::stod(header(response, "X-Achieved-Tolerance"));
+    EXPECT_GT(achieved, 0);
+    EXPECT_LE(achieved, 0.002);
+    EXPECT_NE(header(response, "Server-Timing").find("tessellate;dur="), std::string::npos);
+
+    // the raw-file form takes it as a query parameter
+    const auto raw = call("model/obj", kCubeObj, {{"tolerance", "0.002"}, {"format", "obj"}});
+    ASSERT_EQ(raw.status, 200) << raw.body;
+    auto mesh = read_obj(raw.body);
+    ASSERT_TRUE(mesh.ok());
+    EXPECT_EQ(mesh->face_count(), expected->mesh.face_count());
+}
+
+TEST(SubdivideOperation, ToleranceExcludesLevelsAndTargetFaces) {
+    for (const char* extra : {R"(,"tolerance":0.01,"levels":2)", R"(,"tolerance":0.01,"target_faces":100)",
+                              R"(,"tolerance":0.01,"scheme":"loop")"}) {
+        const auto json =
+            expect_problem(call("application/json", json_request(shapes::cube(), extra)), 400, "invalid_field");
+        EXPECT_EQ(json.value("field", ""), "tolerance") << extra;
+    }
+    expect_problem(call("model/obj", kCubeObj, {{"tolerance", "0.01"}, {"levels", "1"}}), 400, "invalid_field");
+    for (const char* bad : {"0", "-1", "x"})
+        expect_problem(call("model/obj", kCubeObj, {{"tolerance", bad}}), 400, "invalid_field");
+}
+
+TEST(SubdivideOperation, ToleranceBudgetIsCheckedFromThePrediction) {
+    const PolygonMesh cube = shapes::cube();
+    auto evaluator = LimitSurfaceEvaluator::create(cube, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 0.002;
+    auto plan = plan_limit_tessellation(*evaluator, cube, options);
+    ASSERT_TRUE(plan.ok());
+    Limits limits;
+    limits.max_output_faces = plan->triangles - 1;
+    const auto json = expect_problem(call("application/json", json_request(cube, R"(,"tolerance":0.002)"), {}, limits),
+                                     422, "budget_exceeded");
+    EXPECT_EQ(json.value("field", ""), "tolerance");
+    EXPECT_NE(json.value("detail", "").find(std::to_string(plan->triangles)), std::string::npos) << json.dump();
+    limits.max_output_faces = plan->triangles;
+    EXPECT_EQ(call("application/json", json_request(cube, R"(,"tolerance":0.002)"), {}, limits).status, 200);
+    // a tolerance needing more segments per edge than the server allows
+    limits.max_output_faces = 4'000'000;
+    limits.max_patch_segments = 4;
+    expect_problem(call("application/json", json_request(cube, R"(,"tolerance":0.0001)"), {}, limits), 422,
+                   "budget_exceeded");
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/operations/request_forms.h"
 #include "api/operations/subdivide.h"
 #include "api/operations/tessellate.h"
 #include "api/patch_codec.h"
@@ -81,6 +82,22 @@ TEST(SubdividePatches, JsonLevelsIsTheIsolationLevel) {
         EXPECT_EQ(patch["degree"], nlohmann::json::array({3, 3}));
         EXPECT_EQ(patch["points"].size(), 16u);
     }
+}
+
+TEST(SubdividePatches, ToleranceBoundsTheApproximatedPatches) {
+    const ApiResponse at_two = call("model/obj", kCubeObj, {{"format", "patches"}, {"levels", "2"}});
+    ASSERT_EQ(at_two.status, 200) << at_two.body;
+    const double error = std::stod(header(at_two, "X-Max-Error"));
+    const ApiResponse loose =
+        call("model/obj", kCubeObj, {{"format", "patches"}, {"tolerance", operations::format_double(error * 1.0001)}});
+    ASSERT_EQ(loose.status, 200) << loose.body;
+    EXPECT_EQ(header(loose, "X-Isolation-Level"), "2");
+    EXPECT_EQ(loose.body, at_two.body);
+    const ApiResponse tight =
+        call("model/obj", kCubeObj, {{"format", "patches"}, {"tolerance", operations::format_double(error * 0.9)}});
+    ASSERT_EQ(tight.status, 200) << tight.body;
+    EXPECT_EQ(header(tight, "X-Isolation-Level"), "3");
+    EXPECT_LE(std::stod(header(tight, "X-Max-Error")), error * 0.9);
 }
 
 TEST(SubdividePatches, OptionsThatDoNotApplyAreRefusedByName) {

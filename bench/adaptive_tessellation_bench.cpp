@@ -1,0 +1,253 @@
+// The Catmull-Clark limit surface to a distance tolerance: ours (tessellate_limit, rates per edge from bounds on the
+// surface) against the uniform refinement level that reaches the same tolerance (subdivide with limit positions,
+// each quad counted as two triangles) and against OpenSubdiv's Bfr::Tessellation at the smallest uniform rate per
+// face that reaches it (Bfr::Surface evaluated at its coordinates, approximation levels 10). One thread.
+//
+// The error of every output is measured the same way: the largest distance from exact limit samples (a 24 x 24 grid
+// per quad domain, per N-gon sub-face, from LimitSurfaceEvaluator) to its triangles. The tolerance is relative to the
+// bounding-box diagonal. Times: ours includes creating the evaluator; Bfr includes its factory and tessellation
+// objects and the evaluation; uniform is subdivide() alone.
+//
+// Usage: bench_adaptive_tessellation [--quick]   (from the repository root, which holds tests/data)
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/tessellation.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/spatial/bvh.h"
+#include "geometry/spatial/closest_point.h"
+#include "geometry/subdivision/adaptive_tessellation.h"
+#include "geometry/subdivision/limit_evaluation.h"
+#include "geometry/subdivision/subdivide.h"
+
+namespace {
+
+using namespace surfaced;
+using namespace OpenSubdiv;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh) {
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::vector<int> sizes(mesh.face_count());
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) sizes[f] = static_cast<int>(mesh.face_size(f));
+    std::vector<int> indices(mesh.face_indices.begin(), mesh.face_indices.end());
+    std::vector<int> pairs, corners;
+    std::vector<float> weights, corner_weights;
+    for (const Crease& c : mesh.tags.creases) {
+        pairs.push_back(static_cast<int>(c.v0));
+        pairs.push_back(static_cast<int>(c.v1));
+        weights.push_back(static_cast<float>(c.sharpness));
+    }
+    for (const Corner& c : mesh.tags.corners) {
+        corners.push_back(static_cast<int>(c.vertex));
+        corner_weights.push_back(static_cast<float>(c.sharpness));
+    }
+    Far::TopologyDescriptor desc;
+    desc.numVertices = static_cast<int>(mesh.vertex_count());
+    desc.numFaces = static_cast<int>(mesh.face_count());
+    desc.numVertsPerFace = sizes.data();
+    desc.vertIndicesPerFace = indices.data();
+    desc.numCreases = static_cast<int>(weights.size());
+    desc.creaseVertexIndexPairs = pairs.data();
+    desc.creaseWeights = weights.data();
+    desc.numCorners = static_cast<int>(corners.size());
+    desc.cornerVertexIndices = corners.data();
+    desc.cornerWeights = corner_weights.data();
+    Sdc::Options sdc;
+    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    return std::unique_ptr<Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+}
+
+int subface_columns(std::size_t n) {
+    return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
+}
+
+//! Exact limit samples of the whole surface.
+std::vector<Vec3> limit_samples(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& mesh, int steps) {
+    std::vector<Vec3> out;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const std::size_t n = mesh.face_size(f);
+        auto surface = evaluator.face_surface(f);
+        if (!surface) continue;
+        for (std::size_t d = 0; d < (n == 4 ? 1 : n); ++d)
+            for (int j = 0; j < steps; ++j)
+                for (int i = 0; i < steps; ++i) {
+                    const double s = (i + 0.5) / steps, t = (j + 0.5) / steps;
+                    double u = s, v = t;
+                    if (n != 4) {
+                        const int columns = subface_columns(n);
+                        u = double(d % std::size_t(columns)) + 0.5 * s;
+                        v = double(d / std::size_t(columns)) + 0.5 * t;
+                    }
+                    auto sample = surface->evaluate(u, v);
+                    if (sample) out.push_back(sample->position);
+                }
+    }
+    return out;
+}
+
+double max_distance(const std::vector<Vec3>& samples, const PolygonMesh& mesh) {
+    auto bvh = build_bvh(mesh);
+    if (!bvh) return INFINITY;
+    double worst = 0;
+    for (const Vec3& p : samples) {
+        auto c = closest_point(*bvh, p);
+        worst = std::max(worst, c ? c->distance : INFINITY);
+    }
+    return worst;
+}
+
+//! Bfr::Tessellation of every face at one uniform rate, evaluated with Bfr::Surface (vertices per face, not shared).
+PolygonMesh bfr_tessellate(const PolygonMesh& mesh, int rate) {
+    std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(mesh);
+    Bfr::SurfaceFactory::Options options;
+    options.SetApproxLevelSmooth(10);
+    options.SetApproxLevelSharp(10);
+    Bfr::RefinerSurfaceFactory<> factory(*refiner, options);
+    std::vector<double> points;
+    for (const Vec3& p : mesh.positions) points.insert(points.end(), {p.x, p.y, p.z});
+    PolygonMesh out;
+    Bfr::Surface<double> surface;
+    std::vector<double> patch, coords;
+    std::vector<int> facets;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        if (!factory.InitVertexSurface(static_cast<int>(f), &surface)) continue;
+        patch.resize(3 * static_cast<std::size_t>(surface.GetNumPatchPoints()));
+        surface.PreparePatchPoints(points.data(), 3, patch.data(), 3);
+        Bfr::Tessellation tess(surface.GetParameterization(), rate, Bfr::Tessellation::Options());
+        coords.resize(2 * static_cast<std::size_t>(tess.GetNumCoords()));
+        tess.GetCoords(coords.data());
+        const auto base = static_cast<Index>(out.positions.size());
+        for (int i = 0; i < tess.GetNumCoords(); ++i) {
+            double p[3];
+            surface.Evaluate(&coords[2 * static_cast<std::size_t>(i)], patch.data(), 3, p);
+            out.positions.push_back({p[0], p[1], p[2]});
+        }
+        facets.resize(3 * static_cast<std::size_t>(tess.GetNumFacets()));
+        tess.GetFacets(facets.data());
+        for (std::size_t k = 0; k < facets.size(); k += 3)
+            out.add_face({base + Index(facets[k]), base + Index(facets[k + 1]), base + Index(facets[k + 2])});
+    }
+    return out;
+}
+
+void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed) {
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    if (!evaluator) {
+        std::printf("%s: %s\n", name, evaluator.error().message.c_str());
+        return;
+    }
+    const Box3 box = mesh.bounds();
+    const double tolerance = relative * norm(box.max - box.min);
+    const std::vector<Vec3> samples = limit_samples(*evaluator, mesh, 24);
+
+    // ours
+    auto t0 = Clock::now();
+    auto fresh = LimitSurfaceEvaluator::create(mesh, {});
+    LimitTessellationOptions options;
+    options.tolerance = tolerance;
+    options.max_segments = 1024;
+    options.guaranteed = guaranteed;
+    auto ours = tessellate_limit(*fresh, mesh, options);
+    const double ours_ms = ms_since(t0);
+    if (!ours) {
+        std::printf("%s: %s\n", name, ours.error().message.c_str());
+        return;
+    }
+    const double ours_error = max_distance(samples, ours->mesh);
+
+    // uniform: the first level whose limit mesh is within the tolerance
+    int level = 0;
+    std::size_t uniform_triangles = 0;
+    double uniform_ms = 0, uniform_error = 0;
+    for (int l = 1; l <= 8; ++l) {
+        SubdivisionOptions sub;
+        sub.levels = l;
+        sub.limit_surface = true;
+        t0 = Clock::now();
+        auto refined = subdivide(mesh, sub);
+        uniform_ms = ms_since(t0);
+        uniform_error = max_distance(samples, *refined);
+        uniform_triangles = 0;
+        for (std::size_t f = 0; f < refined->face_count(); ++f) uniform_triangles += refined->face_size(f) - 2;
+        level = l;
+        if (uniform_error <= tolerance) break;
+    }
+
+    // Bfr: the smallest uniform rate within the tolerance (doubling, then bisection)
+    int lo = 0, hi = 1;
+    while (max_distance(samples, bfr_tessellate(mesh, hi)) > tolerance && hi < 512) {
+        lo = hi;
+        hi *= 2;
+    }
+    while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        (max_distance(samples, bfr_tessellate(mesh, mid)) > tolerance ? lo : hi) = mid;
+    }
+    t0 = Clock::now();
+    const PolygonMesh bfr = bfr_tessellate(mesh, hi);
+    const double bfr_ms = ms_since(t0);
+    const double bfr_error = max_distance(samples, bfr);
+
+    std::printf("| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n",
+                name, guaranteed ? "" : " (measured)", mesh.face_count(), relative, ours->mesh.face_count(), ours_ms,
+                ours_error / tolerance, level, uniform_triangles, uniform_ms, uniform_error / tolerance,
+                double(ours->mesh.face_count()) / double(uniform_triangles), hi, bfr.face_count(),
+                bfr_error / tolerance, ours_ms / bfr_ms);
+    std::fflush(stdout);
+}
+
+PolygonMesh load(const std::string& name) {
+    std::ifstream in("tests/data/opensubdiv-shapes/" + name + ".obj");
+    std::stringstream text;
+    text << in.rdbuf();
+    ReadOptions read_options;
+    read_options.allow_repeated_vertices = true;
+    auto mesh = read_obj(text.str(), read_options);
+    return mesh ? *mesh : PolygonMesh{};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    std::printf(
+        "| mesh | faces | tolerance | ours tris | ours ms | ours err/tol | uniform level | uniform tris | "
+        "uniform ms | uniform err/tol | ours/uniform tris | Bfr rate | Bfr tris | Bfr err/tol | ours/Bfr time |\n");
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    PolygonMesh creased = shapes::cube();
+    for (Index v : {0u, 1u, 2u, 3u}) creased.tags.creases.push_back({v, (v + 1) % 4, 2.5});
+    PolygonMesh top_sharp = shapes::cube();
+    for (Index v : {4u, 5u, 6u, 7u}) top_sharp.tags.creases.push_back({v, v == 7 ? 4u : v + 1, 10.0});
+    for (double relative : quick ? std::vector<double>{1e-2} : std::vector<double>{1e-2, 1e-3})
+        for (bool guaranteed : {true, false}) {
+            run("cube", shapes::cube(), relative, guaranteed);
+            run("cube, edge loop sharpness 2.5", creased, relative, guaranteed);
+            run("cube, top loop infinitely sharp", top_sharp, relative, guaranteed);
+            run("thin torus 12x8 (r = R/8)", shapes::torus(12, 8, 1.0, 0.125), relative, guaranteed);
+            run("irregular torus", shapes::irregular_torus(), relative, guaranteed);
+            for (const char* name : {"catmark_pyramid_creases1", "catmark_torus_creases0", "catmark_car"}) {
+                const PolygonMesh mesh = load(name);
+                if (mesh.face_count() > 0 && !(quick && std::strcmp(name, "catmark_car") == 0))
+                    run(name, mesh, relative, guaranteed);
+            }
+        }
+    return 0;
+}

@@ -1,0 +1,739 @@
+#include "geometry/subdivision/adaptive_tessellation.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "geometry/core/format_number.h"
+#include "geometry/spatial/closest_point.h"
+
+namespace surfaced {
+namespace {
+
+struct P2 {
+    double s = 0, t = 0;
+};
+
+//! Bounds on |S_ss|, |S_st|, |S_tt| over a region.
+struct Bounds {
+    double uu = 0, uv = 0, vv = 0;
+    void include(const Bounds& b, double scale) {
+        uu = std::max(uu, b.uu * scale);
+        uv = std::max(uv, b.uv * scale);
+        vv = std::max(vv, b.vv * scale);
+    }
+};
+
+//! Second-derivative bounds of a uniform bicubic B-spline patch over its [0, 1]^2: S_ss is a B-spline (linear in s,
+//! cubic in t) of the second differences along s, S_st a biquadratic one of the mixed differences; each is a convex
+//! combination of its coefficients, so its norm is at most their largest norm.
+Bounds patch_bounds(const std::array<Vec3, 16>& p) {
+    Bounds b;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 2; ++c) {
+            b.uu = std::max(b.uu, norm(p[4 * r + c] - 2.0 * p[4 * r + c + 1] + p[4 * r + c + 2]));
+            b.vv = std::max(b.vv, norm(p[4 * c + r] - 2.0 * p[4 * (c + 1) + r] + p[4 * (c + 2) + r]));
+        }
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            b.uv = std::max(b.uv, norm(p[4 * (r + 1) + c + 1] - p[4 * (r + 1) + c] - p[4 * r + c + 1] + p[4 * r + c]));
+    return b;
+}
+
+//! Segments (nu, nv) with (1/8)(A/nu^2 + 2B/(nu nv) + C/nv^2) <= tolerance: each half <= tolerance / 2 when
+//! nu >= sqrt((A + B) / (4 tol)) and nv >= sqrt((B + C) / (4 tol)) (2B/(nu nv) <= B/nu^2 + B/nv^2).
+std::pair<double, double> rates_for(const Bounds& m, double tolerance) {
+    return {std::max(1.0, std::ceil(std::sqrt((m.uu + m.uv) / (4.0 * tolerance)))),
+            std::max(1.0, std::ceil(std::sqrt((m.uv + m.vv) / (4.0 * tolerance))))};
+}
+
+//! (1/2) max over the triangle of sum l_i Q(p_i - x): Q is bounded by the diagonal form a ds^2 + c dt^2 with
+//! a = Muu + k Muv, c = Mvv + Muv / k (2|ds dt| <= k ds^2 + dt^2 / k), k the box's aspect; in coordinates scaled
+//! by (sqrt a, sqrt c) the maximum is the squared circumradius when the circumcentre is inside, else a quarter of
+//! the longest edge squared.
+double triangle_bound(const Bounds& m, const P2& p0, const P2& p1, const P2& p2) {
+    const double ds = std::max({p0.s, p1.s, p2.s}) - std::min({p0.s, p1.s, p2.s});
+    const double dt = std::max({p0.t, p1.t, p2.t}) - std::min({p0.t, p1.t, p2.t});
+    const double k = ds > 0 && dt > 0 ? dt / ds : 1.0;
+    const double a = std::sqrt(m.uu + k * m.uv), c = std::sqrt(m.vv + m.uv / k);
+    const double x0 = a * p0.s, y0 = c * p0.t, x1 = a * p1.s, y1 = c * p1.t, x2 = a * p2.s, y2 = c * p2.t;
+    const double l0 = (x1 - x2) * (x1 - x2) + (y1 - y2) * (y1 - y2);
+    const double l1 = (x0 - x2) * (x0 - x2) + (y0 - y2) * (y0 - y2);
+    const double l2 = (x0 - x1) * (x0 - x1) + (y0 - y1) * (y0 - y1);
+    const double longest = std::max({l0, l1, l2});
+    const double twice_area = std::abs((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0));
+    double value;
+    if (longest >= l0 + l1 + l2 - longest || twice_area <= 0)
+        value = longest / 4.0;
+    else
+        value = l0 * l1 * l2 / (4.0 * twice_area * twice_area);  // R^2 = l0 l1 l2 / (16 area^2)
+    return 0.5 * value;
+}
+
+//! The quad sub-face tile width of an N-gon in Bfr's parameterization (limit_evaluation.h).
+int subface_columns(std::size_t n) {
+    return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
+}
+
+//! One base face's prepared surface and the bounds of its patches.
+struct FaceData {
+    std::optional<LimitFaceSurface> surface;
+    std::vector<Bounds> bounds;
+    std::size_t size = 0;
+};
+
+//! Patches narrower than this (deeper than kBoundedDepth in the domain) are sampled, not bounded: their bounds grow
+//! without limit towards an extraordinary vertex of valence > 4 (curvature diverges there), which would drive the
+//! rates of the whole domain.
+constexpr double kBoundedWidth = 1.0 / (1 << kBoundedDepth);
+
+//! What a region of a domain overlaps: the largest patch bounds (scaled to the domain) and whether it reaches a
+//! leaf without a patch.
+struct Overlap {
+    Bounds m;
+    bool uncovered = false;
+};
+
+void query(const FaceData& fd, std::size_t node, double s0, double t0, double w, const P2& lo, const P2& hi,
+           Overlap& out) {
+    if (hi.s <= s0 || lo.s >= s0 + w || hi.t <= t0 || lo.t >= t0 + w) return;  // positive-area overlap only
+    const LimitFaceSurface::Node& n = fd.surface->nodes()[node];
+    if (n.patch >= 0 && w < kBoundedWidth) {
+        out.uncovered = true;
+        return;
+    }
+    if (n.patch >= 0) {
+        out.m.include(fd.bounds[static_cast<std::size_t>(n.patch)], 1.0 / (w * w));
+        return;
+    }
+    if (n.first_child < 0) {
+        out.uncovered = true;
+        return;
+    }
+    const double h = 0.5 * w;
+    const auto c = static_cast<std::size_t>(n.first_child);
+    query(fd, c, s0, t0, h, lo, hi, out);
+    query(fd, c + 1, s0 + h, t0, h, lo, hi, out);
+    query(fd, c + 2, s0 + h, t0 + h, h, lo, hi, out);
+    query(fd, c + 3, s0, t0 + h, h, lo, hi, out);
+}
+
+//! Root node of a domain in its face's tree.
+std::size_t domain_root(const FaceData& fd, int subface) {
+    return subface < 0 ? 0 : static_cast<std::size_t>(fd.surface->nodes()[0].first_child + subface);
+}
+
+//! Face (u, v) of domain (s, t).
+std::pair<double, double> face_uv(std::size_t n, int subface, double s, double t) {
+    if (subface < 0) return {s, t};
+    const int columns = subface_columns(n);
+    return {subface % columns + 0.5 * s, subface / columns + 0.5 * t};
+}
+
+Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
+    Overlap o;
+    const P2 lo{std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})};
+    const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
+    query(fd, domain_root(fd, subface), 0.0, 0.0, 1.0, lo, hi, o);
+    return o;
+}
+
+//! Measured max distance from S(x) to the plane of the triangle of S at the corners, over the non-corner points x of
+//! a barycentric grid of step 1/6 of the triangle in (s, t). (Not |S(x) - T(x)|: at an extraordinary vertex the parameterization
+//! is singular, and the parametric difference falls only as fast as the triangle shrinks.)
+Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
+    const auto at = [&](const P2& p) -> Result<Vec3> {
+        const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
+        auto sample = fd.surface->evaluate(u, v);
+        if (!sample) return sample.error();
+        return sample->position;
+    };
+    auto sa = at(a), sb = at(b), sc = at(c);
+    if (!sa) return sa.error();
+    if (!sb) return sb.error();
+    if (!sc) return sc.error();
+    // distance to the triangle's plane: a point whose projection falls just outside the triangle is near its
+    // neighbour's, which the distance to this triangle alone (its edge) would overstate by the tangential offset
+    const Vec3 n = cross(*sb - *sa, *sc - *sa);
+    const double area2 = norm(n);
+    constexpr int kSteps = 6;
+    double worst = 0;
+    for (int i = 0; i <= kSteps; ++i)
+        for (int j = 0; i + j <= kSteps; ++j) {
+            const int k = kSteps - i - j;
+            if (i == kSteps || j == kSteps || k == kSteps) continue;
+            const double li = double(i) / kSteps, lj = double(j) / kSteps, lk = double(k) / kSteps;
+            const P2 x{li * a.s + lj * b.s + lk * c.s, li * a.t + lj * b.t + lk * c.t};
+            auto s = at(x);
+            if (!s) return s.error();
+            const double d = area2 > 0 ? std::abs(dot(*s - *sa, n)) / area2
+                                       : norm(*s - triangle_closest_point(*s, *sa, *sb, *sc).point);
+            worst = std::max(worst, d);
+        }
+    return worst;
+}
+
+//! A domain's triangulation in its own (s, t): local points (the boundary ring first: side k's points 0 .. r_k - 1
+//! in order, then the inner grid row by row) and triangles over them.
+struct LocalMesh {
+    std::vector<P2> points;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+std::uint64_t domain_triangles(const LimitTessellationPlan::Domain& d) {
+    const bool grid = d.side[0] == d.nu && d.side[2] == d.nu && d.side[1] == d.nv && d.side[3] == d.nv;
+    const auto nu = static_cast<std::uint64_t>(d.nu), nv = static_cast<std::uint64_t>(d.nv);
+    if (grid) return 2 * nu * nv;
+    std::uint64_t sum = 0;
+    for (int k = 0; k < 4; ++k) sum += static_cast<std::uint64_t>(d.side[k]);
+    return 2 * (nu - 2) * (nv - 2) + sum + 2 * (nu - 2) + 2 * (nv - 2);
+}
+
+//! Inner rates of a domain whose sides differ from them: at least 2 so that the inner grid has a point.
+void fix_inner(LimitTessellationPlan::Domain& d) {
+    const bool grid = d.side[0] == d.nu && d.side[2] == d.nu && d.side[1] == d.nv && d.side[3] == d.nv;
+    if (!grid) {
+        d.nu = std::max(d.nu, 2);
+        d.nv = std::max(d.nv, 2);
+    }
+}
+
+LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
+    LocalMesh out;
+    const int r[4] = {d.side[0], d.side[1], d.side[2], d.side[3]};
+    const std::uint32_t offset[4] = {0, std::uint32_t(r[0]), std::uint32_t(r[0] + r[1]),
+                                     std::uint32_t(r[0] + r[1] + r[2])};
+    const std::uint32_t ring = std::uint32_t(r[0] + r[1] + r[2] + r[3]);
+    for (int i = 0; i < r[0]; ++i) out.points.push_back({double(i) / r[0], 0.0});
+    for (int i = 0; i < r[1]; ++i) out.points.push_back({1.0, double(i) / r[1]});
+    for (int i = 0; i < r[2]; ++i) out.points.push_back({1.0 - double(i) / r[2], 1.0});
+    for (int i = 0; i < r[3]; ++i) out.points.push_back({0.0, 1.0 - double(i) / r[3]});
+    const auto on_side = [&](int k, int i) { return (offset[k] + std::uint32_t(i)) % ring; };
+    const int nu = d.nu, nv = d.nv;
+    const auto inner = [&](int i, int j) { return ring + std::uint32_t((j - 1) * (nu - 1) + (i - 1)); };
+    for (int j = 1; j < nv; ++j)
+        for (int i = 1; i < nu; ++i) out.points.push_back({double(i) / nu, double(j) / nv});
+    const bool grid = r[0] == nu && r[2] == nu && r[1] == nv && r[3] == nv;
+    if (grid) {
+        const auto at = [&](int i, int j) -> std::uint32_t {
+            if (j == 0) return on_side(0, i);
+            if (i == nu) return on_side(1, j);
+            if (j == nv) return on_side(2, nu - i);
+            if (i == 0) return on_side(3, nv - j);
+            return inner(i, j);
+        };
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                out.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+                out.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+        return out;
+    }
+    // inner grid
+    for (int j = 1; j + 1 < nv; ++j)
+        for (int i = 1; i + 1 < nu; ++i) {
+            out.triangles.push_back({inner(i, j), inner(i + 1, j), inner(i + 1, j + 1)});
+            out.triangles.push_back({inner(i, j), inner(i + 1, j + 1), inner(i, j + 1)});
+        }
+    // one transition strip per side, between the side's points and the inner grid's outermost row, both running
+    // from corner to corner; positions along the side decide which advances (the inner row is on the left)
+    for (int k = 0; k < 4; ++k) {
+        std::vector<std::pair<std::uint32_t, double>> in;
+        if (k == 0)
+            for (int i = 1; i < nu; ++i) in.emplace_back(inner(i, 1), double(i) / nu);
+        if (k == 1)
+            for (int j = 1; j < nv; ++j) in.emplace_back(inner(nu - 1, j), double(j) / nv);
+        if (k == 2)
+            for (int i = nu - 1; i >= 1; --i) in.emplace_back(inner(i, nv - 1), 1.0 - double(i) / nu);
+        if (k == 3)
+            for (int j = nv - 1; j >= 1; --j) in.emplace_back(inner(1, j), 1.0 - double(j) / nv);
+        const int a = r[k], b = static_cast<int>(in.size()) - 1;
+        int io = 0, ii = 0;
+        while (io < a || ii < b) {
+            const bool outer = ii == b || (io < a && double(io + 1) / a <= in[std::size_t(ii + 1)].second);
+            if (outer) {
+                out.triangles.push_back({on_side(k, io), on_side(k, io + 1), in[std::size_t(ii)].first});
+                ++io;
+            } else {
+                out.triangles.push_back({on_side(k, io), in[std::size_t(ii + 1)].first, in[std::size_t(ii)].first});
+                ++ii;
+            }
+        }
+    }
+    return out;
+}
+
+struct EdgeUse {
+    std::size_t edge;
+    bool forward;  //!< the face runs along the edge's canonical direction
+};
+
+//! Everything the plan and the execution share.
+struct Context {
+    const LimitSurfaceEvaluator& evaluator;
+    const PolygonMesh& base;
+    const LimitTessellationOptions& options;
+    std::vector<FaceData> faces;
+    std::vector<bool> hole;
+    std::vector<std::array<Index, 2>> edges;     //!< canonical (v0, v1)
+    std::vector<std::size_t> edge_owner;         //!< first non-hole face on the edge
+    std::vector<std::uint32_t> edge_owner_side;  //!< its corner index there
+    std::vector<std::vector<EdgeUse>> face_edges;
+    std::vector<std::size_t> first_domain;  //!< per face, its first domain (domains of a face are contiguous)
+    std::vector<std::size_t> first_spoke;   //!< per face, index of its spoke 0 in spoke_rates (N-gons)
+    std::vector<int> spoke_rates;
+};
+
+Status check_budget(std::uint64_t triangles, const LimitTessellationOptions& options) {
+    if (options.max_triangles > 0 && triangles > options.max_triangles)
+        return make_error(ErrorCode::BudgetExceeded, "tolerance " + shortest_text(options.tolerance) + " needs " +
+                                                         std::to_string(triangles) + " triangles; the limit is " +
+                                                         std::to_string(options.max_triangles));
+    return Ok{};
+}
+
+GeoError too_many_segments(double needed, const LimitTessellationOptions& options, std::size_t face) {
+    return element_error(ErrorCode::BudgetExceeded,
+                         "tolerance " + shortest_text(options.tolerance) + " needs " +
+                             std::to_string(static_cast<long long>(needed)) + " segments on face " +
+                             std::to_string(face) + "; max_segments is " + std::to_string(options.max_segments),
+                         ElementKind::Face, static_cast<std::int64_t>(face));
+}
+
+//! The rates one domain needs on a regular grid: bounded cells within the tolerance, sampled cells within
+//! tolerance / kSampledSafety. Returns (nu, nv).
+Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, int subface,
+                                          const LimitTessellationOptions& options) {
+    const double tol = options.tolerance;
+    const std::size_t root = domain_root(fd, subface);
+    const bool bounded = options.guaranteed;
+    if (bounded && fd.surface->nodes()[root].patch >= 0) {  // one patch: the bezier_patch.h bound
+        const auto [nu, nv] = rates_for(fd.bounds[std::size_t(fd.surface->nodes()[root].patch)], tol);
+        if (std::max(nu, nv) > options.max_segments) return too_many_segments(std::max(nu, nv), options, face);
+        return std::pair<int, int>{int(nu), int(nv)};
+    }
+    // start from the patches down to two levels, then check every cell against the patches it overlaps
+    Overlap coarse;
+    {
+        std::vector<std::pair<std::size_t, double>> stack{{root, 1.0}};
+        int depth = 0;
+        while (!stack.empty() && depth <= 2) {
+            std::vector<std::pair<std::size_t, double>> next;
+            for (const auto& [node, w] : stack) {
+                const auto& n = fd.surface->nodes()[node];
+                if (n.patch >= 0) coarse.m.include(fd.bounds[std::size_t(n.patch)], 1.0 / (w * w));
+                if (n.first_child >= 0)
+                    for (int c = 0; c < 4; ++c) next.emplace_back(std::size_t(n.first_child + c), 0.5 * w);
+            }
+            stack = std::move(next);
+            ++depth;
+        }
+    }
+    auto [fu, fv] = rates_for(coarse.m, tol);
+    int nu = int(fu), nv = int(fv);
+    if (!bounded) {  // the bound overestimates: start below it and let the measurements decide
+        nu = std::max(1, nu / 4);
+        nv = std::max(1, nv / 4);
+    }
+    for (int iteration = 0;; ++iteration) {
+        if (std::max(nu, nv) > options.max_segments) return too_many_segments(std::max(nu, nv), options, face);
+        if (iteration > 40) break;
+        Bounds worst;
+        bool bounded_fail = false, sampled_fail = false;
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const P2 lo{double(i) / nu, double(j) / nv}, hi{double(i + 1) / nu, double(j + 1) / nv};
+                Overlap o;
+                query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
+                // the patches a cell overlaps bound it; the parts no patch bounds (deep at irregular vertices) are
+                // sampled as well
+                worst.include(o.m, 1.0);
+                if (bounded &&
+                    (o.m.uu / (double(nu) * nu) + 2.0 * o.m.uv / (double(nu) * nv) + o.m.vv / (double(nv) * nv)) / 8.0 >
+                        tol)
+                    bounded_fail = true;
+                if ((o.uncovered || !bounded) && !sampled_fail) {
+                    const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
+                    for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
+                        auto e = sampled_error(fd, subface, lo, p, q);
+                        if (!e) return e.error();
+                        if (*e > tol / kSampledSafety) sampled_fail = true;
+                    }
+                }
+            }
+        if (!bounded_fail && !sampled_fail) break;
+        int next_u = nu, next_v = nv;
+        if (bounded_fail) {
+            const auto [wu, wv] = rates_for(worst, tol);
+            next_u = std::max(nu, int(std::min(wu, 1e6)));
+            next_v = std::max(nv, int(std::min(wv, 1e6)));
+        }
+        if (sampled_fail || (next_u == nu && next_v == nv)) {
+            next_u = std::max(next_u, nu + std::max(1, nu / 4));
+            next_v = std::max(next_v, nv + std::max(1, nv / 4));
+        }
+        nu = next_u;
+        nv = next_v;
+        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
+    }
+    return std::pair<int, int>{nu, nv};
+}
+
+//! Builds edges, prepares every face, and plans.
+Result<LimitTessellationPlan> plan(Context& cx) {
+    const PolygonMesh& base = cx.base;
+    const LimitTessellationOptions& options = cx.options;
+    if (!std::isfinite(options.tolerance) || options.tolerance <= 0)
+        return make_error(ErrorCode::InvalidArgument, "tolerance must be a finite number > 0");
+    if (options.max_segments < 1 || options.max_segments > 4096)
+        return make_error(ErrorCode::InvalidArgument, "max_segments must be in [1, 4096]");
+    const std::size_t face_count = base.face_count();
+    cx.hole.assign(face_count, false);
+    for (Index h : base.tags.holes)
+        if (h < face_count) cx.hole[h] = true;
+    cx.faces.resize(face_count);
+    cx.face_edges.resize(face_count);
+    cx.first_domain.assign(face_count + 1, 0);
+    cx.first_spoke.assign(face_count + 1, 0);
+
+    // edges in order of first use, and each face's domains
+    LimitTessellationPlan out;
+    std::map<std::pair<Index, Index>, std::size_t> edge_ids;
+    for (std::size_t f = 0; f < face_count; ++f) {
+        cx.first_domain[f] = out.domains.size();
+        cx.first_spoke[f] = cx.spoke_rates.size();
+        if (cx.hole[f]) continue;
+        const auto fv = base.face(f);
+        const std::size_t n = fv.size();
+        for (std::size_t k = 0; k < n; ++k) {
+            const Index a = fv[k], b = fv[(k + 1) % n];
+            const auto key = std::minmax(a, b);
+            auto [it, inserted] = edge_ids.emplace(std::pair{key.first, key.second}, cx.edges.size());
+            if (inserted) {
+                cx.edges.push_back({a, b});
+                cx.edge_owner.push_back(f);
+                cx.edge_owner_side.push_back(std::uint32_t(k));
+            }
+            cx.face_edges[f].push_back({it->second, cx.edges[it->second][0] == a});
+        }
+        if (n == 4) {
+            out.domains.push_back({std::uint32_t(f), -1});
+        } else {
+            for (std::size_t j = 0; j < n; ++j) out.domains.push_back({std::uint32_t(f), std::int32_t(j)});
+            cx.spoke_rates.resize(cx.spoke_rates.size() + n, 1);
+        }
+    }
+    cx.first_domain[face_count] = out.domains.size();
+    cx.first_spoke[face_count] = cx.spoke_rates.size();
+    out.edge_rates.assign(cx.edges.size(), 1);
+    std::vector<bool> even(cx.edges.size(), false);
+
+    // demands
+    for (std::size_t f = 0; f < face_count; ++f) {
+        if (cx.hole[f]) continue;
+        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
+        auto surface = cx.evaluator.face_surface(f, kTreeLevels);
+        if (!surface) return surface.error();
+        FaceData& fd = cx.faces[f];
+        fd.surface = std::move(surface.value());
+        fd.size = base.face_size(f);
+        fd.bounds.resize(fd.surface->patch_count());
+        for (std::size_t p = 0; p < fd.bounds.size(); ++p) fd.bounds[p] = patch_bounds(fd.surface->patch_points(p));
+        const std::size_t n = fd.size;
+        for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di) {
+            auto& d = out.domains[di];
+            auto demand = domain_demand(fd, f, d.subface, options);
+            if (!demand) return demand.error();
+            d.nu = demand->first;
+            d.nv = demand->second;
+            if (d.subface < 0) {
+                for (std::size_t k = 0; k < 4; ++k) {
+                    int& rate = out.edge_rates[cx.face_edges[f][k].edge];
+                    rate = std::max(rate, k % 2 == 0 ? d.nu : d.nv);
+                }
+            } else {
+                const auto j = std::size_t(d.subface);
+                const std::size_t prev = (j + n - 1) % n;
+                int& e0 = out.edge_rates[cx.face_edges[f][j].edge];
+                int& e3 = out.edge_rates[cx.face_edges[f][prev].edge];
+                e0 = std::max(e0, 2 * d.nu);
+                e3 = std::max(e3, 2 * d.nv);
+                even[cx.face_edges[f][j].edge] = true;
+                int& s1 = cx.spoke_rates[cx.first_spoke[f] + j];
+                int& s2 = cx.spoke_rates[cx.first_spoke[f] + prev];
+                s1 = std::max(s1, d.nv);
+                s2 = std::max(s2, d.nu);
+            }
+        }
+    }
+    for (std::size_t e = 0; e < cx.edges.size(); ++e) {
+        if (even[e] && out.edge_rates[e] % 2 != 0) ++out.edge_rates[e];
+        if (out.edge_rates[e] > options.max_segments * (even[e] ? 2 : 1))
+            return too_many_segments(out.edge_rates[e], options, cx.edge_owner[e]);
+    }
+
+    // sides, then the transition check: every triangle of the actual layout bounded (or sampled) within tolerance,
+    // raising the inner rates of a domain whose strips exceed it
+    const auto count = [&] {
+        std::uint64_t triangles = 0;
+        for (auto& d : out.domains) triangles += domain_triangles(d);
+        return triangles;
+    };
+    for (auto& d : out.domains) {
+        const std::size_t f = d.face, n = cx.faces[f].size;
+        if (d.subface < 0) {
+            for (std::size_t k = 0; k < 4; ++k) d.side[k] = out.edge_rates[cx.face_edges[f][k].edge];
+        } else {
+            const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
+            d.side[0] = out.edge_rates[cx.face_edges[f][j].edge] / 2;
+            d.side[3] = out.edge_rates[cx.face_edges[f][prev].edge] / 2;
+            d.side[1] = cx.spoke_rates[cx.first_spoke[f] + j];
+            d.side[2] = cx.spoke_rates[cx.first_spoke[f] + prev];
+        }
+        fix_inner(d);
+    }
+    if (auto status = check_budget(count(), options); !status) return status.error();
+    for (auto& d : out.domains) {
+        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
+        const FaceData& fd = cx.faces[d.face];
+        for (int attempt = 0;; ++attempt) {
+            const LocalMesh local = triangulate(d);
+            double bound = 0, sampled = 0;
+            for (const auto& tri : local.triangles) {
+                const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
+                const Overlap o = overlap_of(fd, d.subface, a, b, c);
+                if (o.uncovered || !options.guaranteed) {
+                    auto e = sampled_error(fd, d.subface, a, b, c);
+                    if (!e) return e.error();
+                    sampled = std::max(sampled, *e);
+                }
+                if (options.guaranteed) bound = std::max(bound, triangle_bound(o.m, a, b, c));
+            }
+            const bool ok = bound <= options.tolerance && sampled <= options.tolerance / kSampledSafety;
+            if (ok || attempt >= 8 || std::max(d.nu, d.nv) >= options.max_segments) {
+                out.error_bound = std::max(out.error_bound, bound);
+                out.sampled_error = std::max(out.sampled_error, sampled);
+                break;
+            }
+            d.nu = std::min(options.max_segments, d.nu + std::max(1, d.nu / 8));
+            d.nv = std::min(options.max_segments, d.nv + std::max(1, d.nv / 8));
+            fix_inner(d);
+        }
+    }
+    out.triangles = count();
+    if (auto status = check_budget(out.triangles, options); !status) return status.error();
+
+    // vertices: base vertices and edge points once, N-gon centres and spoke points once, inner points per domain
+    std::vector<bool> used(base.vertex_count(), false);
+    std::uint64_t vertices = 0;
+    for (std::size_t f = 0; f < face_count; ++f)
+        if (!cx.hole[f])
+            for (Index v : base.face(f))
+                if (!used[v]) {
+                    used[v] = true;
+                    ++vertices;
+                }
+    for (int r : out.edge_rates) vertices += std::uint64_t(r - 1);
+    for (std::size_t f = 0; f < face_count; ++f)
+        if (!cx.hole[f] && cx.faces[f].size != 4) ++vertices;
+    for (int r : cx.spoke_rates) vertices += std::uint64_t(r - 1);
+    for (const auto& d : out.domains) vertices += std::uint64_t(d.nu - 1) * std::uint64_t(d.nv - 1);
+    out.vertices = vertices;
+    return out;
+}
+
+//! Face (u, v) of the point at fraction a along the face's edge k (corner k to corner k + 1).
+std::pair<double, double> edge_uv(std::size_t n, std::size_t k, double a) {
+    if (n == 4) {
+        static constexpr double kCorners[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+        return {kCorners[k][0] + a * (kCorners[k + 1][0] - kCorners[k][0]),
+                kCorners[k][1] + a * (kCorners[k + 1][1] - kCorners[k][1])};
+    }
+    if (a <= 0.5) return face_uv(n, int(k), 2.0 * a, 0.0);
+    return face_uv(n, int((k + 1) % n), 0.0, 2.0 * (1.0 - a));
+}
+
+}  // namespace
+
+Result<LimitTessellationPlan> plan_limit_tessellation(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
+                                                      const LimitTessellationOptions& options) {
+    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    return plan(cx);
+}
+
+Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
+                                           const LimitTessellationOptions& options) {
+    if (evaluator.face_count() != base.face_count())
+        return make_error(ErrorCode::InvalidArgument, "the evaluator was created from another mesh");
+    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    auto planned = plan(cx);
+    if (!planned) return planned.error();
+    LimitTessellation out;
+    out.plan = std::move(planned.value());
+    const LimitTessellationPlan& p = out.plan;
+    const std::size_t face_count = base.face_count();
+
+    // 1. vertex ids and where each is evaluated
+    std::vector<LimitSite>& sites = out.sites;
+    sites.reserve(p.vertices);
+    std::vector<Index> vertex_id(base.vertex_count(), kInvalidIndex);
+    for (std::size_t f = 0; f < face_count; ++f) {
+        if (cx.hole[f]) continue;
+        const auto fv = base.face(f);
+        for (std::size_t k = 0; k < fv.size(); ++k)
+            if (vertex_id[fv[k]] == kInvalidIndex) {
+                vertex_id[fv[k]] = Index(sites.size());
+                const auto [u, v] = edge_uv(fv.size(), k, 0.0);
+                sites.push_back({std::uint32_t(f), u, v});
+            }
+    }
+    std::vector<std::vector<Index>> edge_points(cx.edges.size());
+    for (std::size_t e = 0; e < cx.edges.size(); ++e) {
+        const int r = p.edge_rates[e];
+        auto& pts = edge_points[e];
+        pts.push_back(vertex_id[cx.edges[e][0]]);
+        const std::size_t f = cx.edge_owner[e];
+        for (int i = 1; i < r; ++i) {
+            pts.push_back(Index(sites.size()));
+            const auto [u, v] = edge_uv(base.face_size(f), cx.edge_owner_side[e], double(i) / r);
+            sites.push_back({std::uint32_t(f), u, v});
+        }
+        pts.push_back(vertex_id[cx.edges[e][1]]);
+    }
+    std::vector<std::vector<Index>> spoke_points(cx.spoke_rates.size());
+    for (std::size_t f = 0; f < face_count; ++f) {
+        if (cx.hole[f] || base.face_size(f) == 4) continue;
+        const std::size_t n = base.face_size(f);
+        const Index centre = Index(sites.size());
+        const auto [cu, cv] = face_uv(n, 0, 1.0, 1.0);
+        sites.push_back({std::uint32_t(f), cu, cv});
+        for (std::size_t j = 0; j < n; ++j) {
+            const std::size_t sp = cx.first_spoke[f] + j;
+            const int r = cx.spoke_rates[sp];
+            const auto& use = cx.face_edges[f][j];
+            const int half = p.edge_rates[use.edge] / 2;
+            auto& pts = spoke_points[sp];
+            pts.push_back(edge_points[use.edge][std::size_t(half)]);
+            for (int i = 1; i < r; ++i) {
+                pts.push_back(Index(sites.size()));
+                const auto [u, v] = face_uv(n, int(j), 1.0, double(i) / r);
+                sites.push_back({std::uint32_t(f), u, v});
+            }
+            pts.push_back(centre);
+        }
+    }
+    std::vector<Index> first_inner(p.domains.size());
+    for (std::size_t di = 0; di < p.domains.size(); ++di) {
+        const auto& d = p.domains[di];
+        first_inner[di] = Index(sites.size());
+        for (int j = 1; j < d.nv; ++j)
+            for (int i = 1; i < d.nu; ++i) {
+                const auto [u, v] = face_uv(cx.faces[d.face].size, d.subface, double(i) / d.nu, double(j) / d.nv);
+                sites.push_back({d.face, u, v});
+            }
+    }
+
+    // 2. evaluate every vertex once, face by face
+    PolygonMesh& mesh = out.mesh;
+    mesh.positions.resize(sites.size());
+    mesh.normals.resize(sites.size());
+    {
+        std::vector<std::vector<Index>> by_face(face_count);
+        for (std::size_t i = 0; i < sites.size(); ++i) by_face[sites[i].face].push_back(Index(i));
+        for (std::size_t f = 0; f < face_count; ++f) {
+            if (by_face[f].empty()) continue;
+            if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
+            for (Index i : by_face[f]) {
+                auto sample = cx.faces[f].surface->evaluate(sites[i].u, sites[i].v);
+                if (!sample) return sample.error();
+                mesh.positions[i] = sample->position;
+                mesh.normals[i] = sample->normal;
+            }
+        }
+    }
+
+    // 3. triangles (and UVs) per domain
+    const bool uvs = base.has_uvs();
+    mesh.face_offsets.reserve(p.triangles + 1);
+    mesh.face_indices.reserve(3 * p.triangles);
+    out.face_of_triangle.reserve(p.triangles);
+    for (std::size_t di = 0; di < p.domains.size(); ++di) {
+        const auto& d = p.domains[di];
+        const std::size_t f = d.face, n = base.face_size(f);
+        const LocalMesh local = triangulate(d);
+        // side point ids in traversal order
+        std::array<std::vector<Index>, 4> side;
+        const auto edge_range = [&](std::size_t k, int from, int count) {
+            // `count` points from face-direction index `from` of face edge k
+            const auto& use = cx.face_edges[f][k];
+            const auto& pts = edge_points[use.edge];
+            const int r = p.edge_rates[use.edge];
+            std::vector<Index> ids;
+            for (int i = 0; i < count; ++i) {
+                const int fi = from + i;
+                ids.push_back(pts[std::size_t(use.forward ? fi : r - fi)]);
+            }
+            return ids;
+        };
+        if (d.subface < 0) {
+            for (std::size_t k = 0; k < 4; ++k) side[k] = edge_range(k, 0, d.side[k] + 1);
+        } else {
+            const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
+            side[0] = edge_range(j, 0, d.side[0] + 1);
+            side[3] = edge_range(prev, d.side[3], d.side[3] + 1);
+            side[1] = spoke_points[cx.first_spoke[f] + j];
+            side[2] = spoke_points[cx.first_spoke[f] + prev];
+            std::reverse(side[2].begin(), side[2].end());
+        }
+        std::vector<Index> ids;
+        ids.reserve(local.points.size());
+        for (int k = 0; k < 4; ++k)
+            for (int i = 0; i < d.side[k]; ++i) ids.push_back(side[std::size_t(k)][std::size_t(i)]);
+        for (int i = 0; i < (d.nu - 1) * (d.nv - 1); ++i) ids.push_back(first_inner[di] + Index(i));
+        // corner UVs of the domain: the face's, or for a sub-face its corner, edge midpoints and the centre
+        std::array<Vec2, 4> corner_uv{};
+        if (uvs) {
+            const auto uv_at = [&](std::size_t k) { return base.uvs[base.uv_indices[base.face_offsets[f] + k]]; };
+            if (d.subface < 0) {
+                for (std::size_t k = 0; k < 4; ++k) corner_uv[k] = uv_at(k);
+            } else {
+                const auto j = std::size_t(d.subface);
+                const auto mid = [](const Vec2& a, const Vec2& b) {
+                    return Vec2{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+                };
+                Vec2 centre{};
+                for (std::size_t k = 0; k < n; ++k) {
+                    centre.x += uv_at(k).x / double(n);
+                    centre.y += uv_at(k).y / double(n);
+                }
+                corner_uv = {uv_at(j), mid(uv_at(j), uv_at((j + 1) % n)), centre,
+                             mid(uv_at(j), uv_at((j + n - 1) % n))};
+            }
+        }
+        for (const auto& tri : local.triangles) {
+            const Index t[3] = {ids[tri[0]], ids[tri[1]], ids[tri[2]]};
+            mesh.add_face(std::span<const Index>(t, 3));
+            out.face_of_triangle.push_back(Index(f));
+            if (uvs)
+                for (std::uint32_t c : tri) {
+                    const P2& q = local.points[c];
+                    mesh.uv_indices.push_back(Index(mesh.uvs.size()));
+                    const double w[4] = {(1 - q.s) * (1 - q.t), q.s * (1 - q.t), q.s * q.t, (1 - q.s) * q.t};
+                    Vec2 uv{};
+                    for (int k = 0; k < 4; ++k) {
+                        uv.x += w[k] * corner_uv[std::size_t(k)].x;
+                        uv.y += w[k] * corner_uv[std::size_t(k)].y;
+                    }
+                    mesh.uvs.push_back(uv);
+                }
+        }
+    }
+    out.achieved_error = std::max(p.error_bound, p.sampled_error);
+    return out;
+}
+
+}  // namespace surfaced

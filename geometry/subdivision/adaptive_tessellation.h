@@ -1,0 +1,112 @@
+// Tessellation of the Catmull-Clark limit surface to a distance tolerance (the role of OpenSubdiv's
+// Bfr::Tessellation, with segment rates chosen from bounds on the surface instead of given).
+//
+// Domains. Every base face that is not a hole is tessellated in its own parameterization (limit_evaluation.h): a quad
+// is one domain, the unit square; an N-gon is N domains, its quad sub-faces, each tessellated as a quad. A domain has
+// an inner rate (nu, nv: segments along s and t) and a rate on each of its four sides. A side is a base edge (a
+// quad's) or half of one (an N-gon's) or a spoke of an N-gon (from an edge midpoint to the centre). One rate per base
+// edge and per spoke, the largest any of its domains needs (even on edges of N-gons, so that the halves are equal);
+// the vertices on an edge are evaluated once and shared by index by every face on it, so the output is watertight
+// where the input is closed and has no T-junctions. A domain whose sides all carry its inner rates is a regular grid;
+// otherwise its inner grid of (nu - 1) x (nv - 1) points is joined to the sides by one transition strip per side
+// (Bfr::Tessellation's layout).
+//
+// Rates. The limit surface over a domain is a tree of bicubic B-spline patches (LimitFaceSurface, prepared to
+// kTreeLevels local refinements) plus, at irregular vertices (and semi-sharp features not decayed by then), leaves
+// without a patch. The second derivatives of a patch are bounded by the second differences of its control net
+// (B-spline bases are >= 0 and sum to 1), scaled by 4^depth to the domain. A triangle with parameter corners p_i has
+// |S(x) - sum l_i S(p_i)| <= (1/2) max_x sum l_i Q(p_i - x) (Taylor at x along the segments to the corners), with
+// Q(d) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 bounded by the patches its bounding box overlaps; on grid cells this is
+// (1/8)(Muu/nu^2 + 2 Muv/(nu nv) + Mvv/nv^2), the bound of bezier_patch.h. This is a guarantee (up to rounding) for
+// every triangle that overlaps only patches. Patches deeper than kBoundedDepth, and leaves without a patch (at
+// irregular vertices, where the second derivatives grow without bound for valences above 4), are not bounded: a
+// triangle that overlaps them is bounded over the rest and also checked by sampling: the distance from S(x) to the
+// triangle's plane at the 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must be at most
+// tolerance / kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported
+// error is the largest of the bounds and of the measured distances.
+//
+// Output. Triangles, counter-clockwise as the base faces; per-vertex exact limit normals (normalize(du x dv), the
+// limit-mask normal at an irregular vertex; a vertex on a crease takes the normal of the face that evaluated it);
+// face-varying UVs when the mesh has them, bilinear in each domain's (s, t) between its corners' UVs (an N-gon's
+// edge midpoints and centre take the averages of its corner UVs), which is not the subdivided UV layout.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/core/cancel.h"
+#include "geometry/core/result.h"
+#include "geometry/mesh/polygon_mesh.h"
+#include "geometry/subdivision/limit_evaluation.h"
+
+namespace surfaced {
+
+//! Local refinements prepared per base face to bound the surface (every semi-sharp feature has decayed by then).
+inline constexpr int kTreeLevels = 12;
+//! Patches deeper than this in a domain (within 2^-kBoundedDepth of an irregular vertex or a semi-sharp feature)
+//! are sampled rather than bounded.
+inline constexpr int kBoundedDepth = 5;
+//! Triangles at irregular vertices, which are sampled rather than bounded, must measure tolerance / kSampledSafety.
+inline constexpr double kSampledSafety = 2.0;
+
+struct LimitTessellationOptions {
+    //! Largest allowed distance between the triangles and the limit surface (model units), finite and > 0.
+    double tolerance = 1e-3;
+    //! Ceiling on the segments of one base edge, spoke or domain direction (1..4096); more is BudgetExceeded.
+    int max_segments = 256;
+    //! Ceiling on the output triangles, checked from the rates before any output vertex is evaluated (0: none).
+    std::uint64_t max_triangles = 0;
+    //! true: rates from the bounds above (sampling only where no patch bounds the surface). false: rates from the
+    //! measured distance of every triangle (25 points, within tolerance / kSampledSafety), no guarantee; the bounds
+    //! are on |S(x) - T(x)| between points of equal parameter, which counts the parameterization's own
+    //! non-uniformity, so they ask for several times the triangles the distance needs (docs/benchmarks.md).
+    bool guaranteed = true;
+    //! Polled between faces; when it fires the result is Cancelled.
+    Cancel cancel;
+};
+
+//! The rates tessellate_limit follows. Computing it prepares each face's patch tree and evaluates the limit at a few
+//! points of the triangles at irregular vertices; no output vertex is evaluated.
+struct LimitTessellationPlan {
+    struct Domain {
+        std::uint32_t face = 0;
+        std::int32_t subface = -1;   //!< -1: the quad itself; else the N-gon's sub-face (corner) index
+        int nu = 1, nv = 1;          //!< inner rates
+        int side[4] = {1, 1, 1, 1};  //!< segments on sides t = 0, s = 1, t = 1, s = 0
+    };
+    std::vector<Domain> domains;
+    std::vector<int> edge_rates;  //!< per base edge in the order of first use by faces (0: only holes use it)
+    std::uint64_t triangles = 0;  //!< exact output triangle count
+    std::uint64_t vertices = 0;   //!< exact output vertex count
+    double error_bound = 0;       //!< largest true bound over the bounded triangles
+    double sampled_error = 0;     //!< largest measured error over the sampled triangles
+};
+
+//! Errors: InvalidArgument (tolerance, max_segments), BudgetExceeded (a rate above max_segments, or more than
+//! max_triangles), Cancelled, and the evaluator's errors for faces it cannot evaluate (Unsupported).
+Result<LimitTessellationPlan> plan_limit_tessellation(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
+                                                      const LimitTessellationOptions& options);
+
+//! The output triangle count of a plan (= plan.triangles), for budgets.
+inline std::uint64_t predict_triangles(const LimitTessellationPlan& plan) { return plan.triangles; }
+
+//! Where an output vertex lies: base face and its (u, v) (limit_evaluation.h's parameterization).
+struct LimitSite {
+    std::uint32_t face = 0;
+    double u = 0, v = 0;
+};
+
+struct LimitTessellation {
+    PolygonMesh mesh;
+    std::vector<LimitSite> sites;         //!< per output vertex: the point of the limit surface it is
+    std::vector<Index> face_of_triangle;  //!< base face each output triangle lies on
+    LimitTessellationPlan plan;
+    double achieved_error = 0;  //!< max(plan.error_bound, plan.sampled_error)
+};
+
+//! `base` must be the mesh `evaluator` was created from. Plans, then evaluates each output vertex once.
+Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
+                                           const LimitTessellationOptions& options);
+
+}  // namespace surfaced

@@ -1,0 +1,391 @@
+// Tolerance-driven tessellation of the Catmull-Clark limit surface: the output vertices against OpenSubdiv's
+// Bfr::Surface at their (face, u, v), dense exact limit samples against the output triangles (distance <= the
+// tolerance), and the mesh invariants (watertight where the input is closed, no T-junctions, Euler characteristic,
+// creases kept), over built-in and OpenSubdiv regression shapes.
+#include <gtest/gtest.h>
+
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/topologyRefiner.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/spatial/bvh.h"
+#include "geometry/spatial/closest_point.h"
+#include "geometry/subdivision/adaptive_tessellation.h"
+#include "geometry/subdivision/limit_evaluation.h"
+#include "tests/support/mesh_asserts.h"
+#include "tests/support/osd_reference.h"
+
+namespace surfaced {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace OpenSubdiv;
+
+PolygonMesh load_shape(const std::string& name) {
+    ReadOptions read_options;
+    read_options.allow_repeated_vertices = true;
+    auto mesh = read_obj(
+        testing::read_file((fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (name + ".obj")).string()),
+        read_options);
+    EXPECT_TRUE(mesh.ok()) << name;
+    return mesh.ok() ? *mesh : PolygonMesh{};
+}
+
+int subface_columns(std::size_t n) {
+    return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
+}
+
+struct Case {
+    std::string name;
+    PolygonMesh mesh;
+};
+
+//! Shapes with smooth regions, extraordinary vertices of valence 3 to 6, N-gons, boundaries, semi-sharp and
+//! infinitely sharp creases and corners (no holes, no faces using a vertex twice).
+std::vector<Case> cases() {
+    std::vector<Case> out;
+    out.push_back({"cube", shapes::cube()});
+    out.push_back({"torus", shapes::torus(8, 6)});
+    out.push_back({"irregular_torus", shapes::irregular_torus()});
+    out.push_back({"mixed_polygons", shapes::mixed_polygons()});
+    out.push_back({"grid", shapes::grid(4, 3)});
+    for (const char* name :
+         {"catmark_cube", "catmark_gregory_test1", "catmark_edgecorner", "catmark_cube_creases0",
+          "catmark_cube_creases1", "catmark_cube_corner3", "catmark_cubes_semisharp", "catmark_inf_crease0",
+          "catmark_pyramid_creases1", "catmark_nonquads", "catmark_torus_creases0", "catmark_dart_edgecorner"})
+        out.push_back({name, load_shape(name)});
+    return out;
+}
+
+double diagonal(const PolygonMesh& mesh) {
+    const Box3 box = mesh.bounds();
+    return norm(box.max - box.min);
+}
+
+//! Bfr::Surface of every face, at its deepest approximation.
+class BfrReference {
+public:
+    BfrReference(const PolygonMesh& mesh, const SubdivisionOptions& options)
+        : refiner_(testing::make_refiner(mesh, options)) {
+        for (const Vec3& p : mesh.positions) points_.insert(points_.end(), {p.x, p.y, p.z});
+        Bfr::SurfaceFactory::Options fo;
+        fo.SetApproxLevelSmooth(10);
+        fo.SetApproxLevelSharp(10);
+        factory_ = std::make_unique<Bfr::RefinerSurfaceFactory<>>(*refiner_, fo);
+    }
+    Vec3 position(std::size_t face, double u, double v) {
+        Bfr::Surface<double> surface;
+        EXPECT_TRUE(factory_->InitVertexSurface(static_cast<int>(face), &surface));
+        std::vector<double> patch(3 * static_cast<std::size_t>(surface.GetNumPatchPoints()));
+        surface.PreparePatchPoints(points_.data(), 3, patch.data(), 3);
+        const double uv[2] = {u, v};
+        double p[3];
+        surface.Evaluate(uv, patch.data(), 3, p);
+        return {p[0], p[1], p[2]};
+    }
+
+private:
+    std::unique_ptr<Far::TopologyRefiner> refiner_;
+    std::unique_ptr<Bfr::RefinerSurfaceFactory<>> factory_;
+    std::vector<double> points_;
+};
+
+//! Undirected edge -> directed uses.
+std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>> edge_uses(const PolygonMesh& mesh) {
+    std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>> uses;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto fv = mesh.face(f);
+        for (std::size_t k = 0; k < fv.size(); ++k) {
+            const Index a = fv[k], b = fv[(k + 1) % fv.size()];
+            uses[std::minmax(a, b)].emplace_back(a, b);
+        }
+    }
+    return uses;
+}
+
+long euler(const PolygonMesh& mesh) {
+    std::vector<bool> used(mesh.vertex_count(), false);
+    long v = 0;
+    for (Index i : mesh.face_indices)
+        if (!used[i]) {
+            used[i] = true;
+            ++v;
+        }
+    return v - static_cast<long>(edge_uses(mesh).size()) + static_cast<long>(mesh.face_count());
+}
+
+//! Max distance from exact limit samples (a 9 x 9 grid per quad domain, per N-gon sub-face) to the triangles.
+double sampled_distance(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base, const PolygonMesh& out) {
+    auto bvh = build_bvh(out);
+    EXPECT_TRUE(bvh.ok());
+    if (!bvh.ok()) return 1e300;
+    double worst = 0;
+    constexpr int kSteps = 9;
+    for (std::size_t f = 0; f < base.face_count(); ++f) {
+        const std::size_t n = base.face_size(f);
+        const std::size_t domains = n == 4 ? 1 : n;
+        for (std::size_t d = 0; d < domains; ++d)
+            for (int j = 0; j <= kSteps; ++j)
+                for (int i = 0; i <= kSteps; ++i) {
+                    // off the grid lines of any power-of-two rate: (i + 0.37) / (kSteps + 0.74)
+                    const double s = (i + 0.37) / (kSteps + 0.74), t = (j + 0.61) / (kSteps + 1.22);
+                    double u = s, v = t;
+                    if (n != 4) {
+                        const int columns = subface_columns(n);
+                        u = double(d % std::size_t(columns)) + 0.5 * s;
+                        v = double(d / std::size_t(columns)) + 0.5 * t;
+                    }
+                    auto sample = evaluator.evaluate(f, u, v);
+                    EXPECT_TRUE(sample.ok());
+                    if (!sample.ok()) continue;
+                    auto closest = closest_point(*bvh, sample->position);
+                    EXPECT_TRUE(closest.has_value());
+                    if (closest) worst = std::max(worst, closest->distance);
+                }
+    }
+    return worst;
+}
+
+TEST(AdaptiveTessellation, WithinToleranceWatertightOnTheLimit) {
+    for (const Case& c : cases()) {
+        SCOPED_TRACE(c.name);
+        ASSERT_GT(c.mesh.face_count(), 0u);
+        const SubdivisionOptions sub;
+        auto evaluator = LimitSurfaceEvaluator::create(c.mesh, sub);
+        ASSERT_TRUE(evaluator.ok()) << evaluator.error().message;
+        const bool closed = [&] {
+            for (const auto& [edge, uses] : edge_uses(c.mesh))
+                if (uses.size() != 2) return false;
+            return true;
+        }();
+        BfrReference bfr(c.mesh, sub);
+        for (double relative : {1e-2, 3e-3}) {
+            SCOPED_TRACE(relative);
+            LimitTessellationOptions options;
+            options.tolerance = relative * diagonal(c.mesh);
+            auto plan = plan_limit_tessellation(*evaluator, c.mesh, options);
+            ASSERT_TRUE(plan.ok()) << plan.error().message;
+            auto result = tessellate_limit(*evaluator, c.mesh, options);
+            ASSERT_TRUE(result.ok()) << result.error().message;
+            const PolygonMesh& out = result->mesh;
+            // the prediction is exact and made before any vertex is evaluated
+            EXPECT_EQ(predict_triangles(*plan), out.face_count());
+            EXPECT_EQ(plan->vertices, out.vertex_count());
+            ASSERT_TRUE(validate(out).ok());
+            EXPECT_TRUE(out.is_triangle_mesh());
+            EXPECT_LE(result->achieved_error, options.tolerance);
+
+            ASSERT_EQ(result->sites.size(), out.vertex_count());
+            // base vertices against Far's limit masks (exact at level 0 without semi-sharp tags), other vertices
+            // against Bfr (whose approximation at some crease corners is off by up to 1e-2 of the shape)
+            bool semi_sharp = false;
+            for (const auto& crease : c.mesh.tags.creases) semi_sharp |= crease.sharpness > 0 && crease.sharpness < 10;
+            for (const auto& corner : c.mesh.tags.corners) semi_sharp |= corner.sharpness > 0 && corner.sharpness < 10;
+            const auto far = testing::osd_limit(c.mesh, sub, 0, c.mesh.vertex_count());
+            for (std::size_t i = 0; i < out.vertex_count(); ++i) {
+                const LimitSite& site = result->sites[i];
+                const bool corner =
+                    c.mesh.face_size(site.face) == 4 && (site.u == 0 || site.u == 1) && (site.v == 0 || site.v == 1);
+                if (corner) {
+                    const Index bv =
+                        c.mesh.face(site.face)[site.u == 0 ? (site.v == 0 ? 0 : 3) : (site.v == 0 ? 1 : 2)];
+                    if (!semi_sharp) {
+                        EXPECT_LT(norm(out.positions[i] - far.positions[bv]), 1e-9) << "vertex " << i;
+                    }
+                } else if (i % 7 == 0) {
+                    const Vec3 reference = bfr.position(site.face, site.u, site.v);
+                    EXPECT_LT(norm(out.positions[i] - reference), 1e-6 * diagonal(c.mesh))
+                        << "vertex " << i << " face " << site.face << " (" << site.u << ", " << site.v << ")";
+                }
+            }
+            // dense exact samples are within the tolerance of the triangles
+            const double distance = sampled_distance(*evaluator, c.mesh, out);
+            EXPECT_LE(distance, options.tolerance);
+
+            // watertight where the input is closed (every edge used twice, in opposite directions: no crack and
+            // no T-junction), never more than two uses, Euler characteristic kept
+            for (const auto& [edge, uses] : edge_uses(out)) {
+                ASSERT_LE(uses.size(), 2u);
+                if (closed) {
+                    ASSERT_EQ(uses.size(), 2u);
+                    EXPECT_EQ(uses[0].first, uses[1].second);
+                }
+            }
+            EXPECT_EQ(euler(out), euler(c.mesh));
+            // exact unit normals
+            for (const Vec3& nrm : out.normals) EXPECT_NEAR(norm(nrm), 1.0, 1e-9);
+        }
+    }
+}
+
+// Rates from measured distances (guaranteed false): dense exact samples still within the tolerance on these shapes
+// (the measurement's safety factor at work; no guarantee), the mesh invariants as with bounds.
+TEST(AdaptiveTessellation, MeasuredRatesStayWithinToleranceOnTheseShapes) {
+    for (const char* name : {"catmark_cube", "catmark_cube_creases1", "catmark_torus_creases0", "catmark_nonquads",
+                             "catmark_gregory_test1"}) {
+        SCOPED_TRACE(name);
+        const PolygonMesh mesh = load_shape(name);
+        auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+        ASSERT_TRUE(evaluator.ok());
+        for (double relative : {1e-2, 3e-3}) {
+            LimitTessellationOptions options;
+            options.tolerance = relative * diagonal(mesh);
+            options.guaranteed = false;
+            auto measured = tessellate_limit(*evaluator, mesh, options);
+            ASSERT_TRUE(measured.ok()) << measured.error().message;
+            EXPECT_EQ(measured->plan.error_bound, 0.0);
+            EXPECT_LE(measured->achieved_error, options.tolerance / kSampledSafety);
+            EXPECT_LE(sampled_distance(*evaluator, mesh, measured->mesh), options.tolerance);
+            for (const auto& [edge, uses] : edge_uses(measured->mesh)) ASSERT_LE(uses.size(), 2u);
+            EXPECT_EQ(euler(measured->mesh), euler(mesh));
+        }
+    }
+}
+
+TEST(AdaptiveTessellation, FinerToleranceMoreTrianglesSmallerError) {
+    const PolygonMesh mesh = load_shape("catmark_cube_creases1");
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    std::size_t previous = 0;
+    for (double tolerance : {1e-1, 3e-2, 1e-2, 3e-3}) {
+        LimitTessellationOptions options;
+        options.tolerance = tolerance;
+        auto result = tessellate_limit(*evaluator, mesh, options);
+        ASSERT_TRUE(result.ok());
+        EXPECT_GT(result->mesh.face_count(), previous);
+        previous = result->mesh.face_count();
+        EXPECT_LE(sampled_distance(*evaluator, mesh, result->mesh), tolerance);
+    }
+}
+
+// A cube whose top face's four edges are infinitely sharp: the crease is the uniform cubic B-spline of the top
+// square, in the plane z = 0.5, so every output vertex evaluated on one of those edges has z = 0.5 exactly.
+TEST(AdaptiveTessellation, InfinitelySharpCreasesStayOnTheCrease) {
+    PolygonMesh mesh = shapes::cube();
+    std::vector<Index> top;
+    for (Index v = 0; v < mesh.vertex_count(); ++v)
+        if (mesh.positions[v].z > 0) top.push_back(v);
+    ASSERT_EQ(top.size(), 4u);
+    for (const auto& [edge, uses] : edge_uses(mesh))
+        if (mesh.positions[edge.first].z > 0 && mesh.positions[edge.second].z > 0)
+            mesh.tags.creases.push_back({edge.first, edge.second, 10.0});
+    ASSERT_EQ(mesh.tags.creases.size(), 4u);
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 1e-3;
+    auto result = tessellate_limit(*evaluator, mesh, options);
+    ASSERT_TRUE(result.ok()) << result.error().message;
+    std::size_t on_crease = 0;
+    for (std::size_t i = 0; i < result->sites.size(); ++i) {
+        const LimitSite& s = result->sites[i];
+        if (s.u != 0 && s.u != 1 && s.v != 0 && s.v != 1) continue;  // not on a base edge
+        const auto fv = mesh.face(s.face);
+        // the base edge the site is on
+        const std::size_t k = s.v == 0 ? 0 : s.u == 1 ? 1 : s.v == 1 ? 2 : 3;
+        const bool crease = mesh.positions[fv[k]].z > 0 && mesh.positions[fv[(k + 1) % 4]].z > 0;
+        if (!crease) continue;
+        ++on_crease;
+        EXPECT_NEAR(result->mesh.positions[i].z, 0.5, 1e-12) << "vertex " << i;
+    }
+    EXPECT_GT(on_crease, 4u * 4u);
+    // the surface below the crease is curved: some vertex is far from the cube's faces
+    double inside = 0;
+    for (const Vec3& p : result->mesh.positions)
+        inside = std::max(inside, 0.5 - std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+    EXPECT_GT(inside, 0.05);
+}
+
+TEST(AdaptiveTessellation, UvsAreBilinearInTheFaceParameter) {
+    PolygonMesh mesh = shapes::torus(6, 4);
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        static constexpr Vec2 kCorners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (int k = 0; k < 4; ++k) {
+            mesh.uv_indices.push_back(Index(mesh.uvs.size()));
+            mesh.uvs.push_back({double(f) + kCorners[k].x, kCorners[k].y});
+        }
+    }
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 1e-2;
+    auto result = tessellate_limit(*evaluator, mesh, options);
+    ASSERT_TRUE(result.ok());
+    const PolygonMesh& out = result->mesh;
+    ASSERT_TRUE(out.has_uvs());
+    ASSERT_EQ(out.uv_indices.size(), out.face_indices.size());
+    // the corner UVs (f + u, v) of face f are bilinear in (u, v): each output corner's UV is (f + u, v) of its site
+    // when the site is on that face
+    std::size_t checked = 0;
+    for (std::size_t t = 0; t < out.face_count(); ++t)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Index vtx = out.face_indices[3 * t + k];
+            const LimitSite& s = result->sites[vtx];
+            if (s.face != result->face_of_triangle[t]) continue;
+            const Vec2 uv = out.uvs[out.uv_indices[3 * t + k]];
+            EXPECT_NEAR(uv.x, s.face + s.u, 1e-12);
+            EXPECT_NEAR(uv.y, s.v, 1e-12);
+            ++checked;
+        }
+    EXPECT_GT(checked, out.face_count());
+}
+
+TEST(AdaptiveTessellation, BudgetsAndBadOptions) {
+    const PolygonMesh mesh = shapes::cube();
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 1e-3;
+    auto plan = plan_limit_tessellation(*evaluator, mesh, options);
+    ASSERT_TRUE(plan.ok());
+    options.max_triangles = plan->triangles - 1;
+    auto over = tessellate_limit(*evaluator, mesh, options);
+    ASSERT_FALSE(over.ok());
+    EXPECT_EQ(over.error().code, ErrorCode::BudgetExceeded);
+    options.max_triangles = plan->triangles;
+    EXPECT_TRUE(tessellate_limit(*evaluator, mesh, options).ok());
+
+    options.max_triangles = 0;
+    options.max_segments = 2;
+    auto segments = tessellate_limit(*evaluator, mesh, options);
+    ASSERT_FALSE(segments.ok());
+    EXPECT_EQ(segments.error().code, ErrorCode::BudgetExceeded);
+
+    options.max_segments = 256;
+    for (double bad : {0.0, -1.0, std::nan("")}) {
+        options.tolerance = bad;
+        auto result = tessellate_limit(*evaluator, mesh, options);
+        ASSERT_FALSE(result.ok());
+        EXPECT_EQ(result.error().code, ErrorCode::InvalidArgument);
+    }
+}
+
+// On a shape with uneven curvature and creases the edge rates differ between faces, so transition strips are used,
+// and the adaptive output is smaller than the uniform grid that has every face at the largest rate.
+TEST(AdaptiveTessellation, RatesFollowCurvature) {
+    const PolygonMesh mesh = load_shape("catmark_torus_creases0");
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 1e-2;
+    auto plan = plan_limit_tessellation(*evaluator, mesh, options);
+    ASSERT_TRUE(plan.ok());
+    const auto [lo, hi] = std::minmax_element(plan->edge_rates.begin(), plan->edge_rates.end());
+    EXPECT_LT(*lo * 2, *hi);
+    int top = 0;
+    for (const auto& d : plan->domains) top = std::max({top, d.nu, d.nv});
+    EXPECT_LT(plan->triangles, 2u * std::uint64_t(top) * std::uint64_t(top) * mesh.face_count());
+}
+
+}  // namespace
+}  // namespace surfaced
