@@ -343,7 +343,6 @@ Result<Box3> tight_bounding_box(const SurfaceBezierPatches& patches, const Surfa
         for (const Vec3& p : patch.points) hull.add(p);
     const double tolerance = options.tolerance > 0 ? options.tolerance : 1e-9 * hull.diagonal();
     Box3 out;
-    std::size_t splits = 0;
     // per axis c and side (sign +1: the maximum of x_c, -1: the minimum as the maximum of -x_c)
     for (int c = 0; c < 3; ++c)
         for (double sign : {1.0, -1.0}) {
@@ -404,7 +403,6 @@ Result<Box3> tight_bounding_box(const SurfaceBezierPatches& patches, const Surfa
                 out.max[c] = extreme;
             else
                 out.min[c] = -extreme;
-            splits += side_splits;
         }
     return out;
 }
