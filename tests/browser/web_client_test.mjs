@@ -210,6 +210,20 @@ try {
   const m = 3 * 2 ** level - 1;
   check(netPoints === 6 * m * m + 12 * m + 8, `limit patches share their edges' control points: ${netPoints} net points`);
   await page.click('#tabs button[data-view=subdivide]');
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) === 384);
+
+  // 3a'. the same creased cube to a tolerance: the server's bound on the distance to the limit surface is shown and
+  // within the tolerance asked for
+  await page.fill('#sub-tolerance', '0.01');
+  await page.check('#sub-by-tolerance');
+  await page.waitForFunction(() => /max distance to the limit surface: /.test(document.getElementById('stats').textContent));
+  const tolStats = await page.$eval('#stats', (el) => el.textContent);
+  const achieved = Number(/max distance to the limit surface: ([0-9.e+-]+)/.exec(tolStats)?.[1]);
+  const tolFaces = await page.$eval('#stats', (el) => Number(el.dataset.outputFaces));
+  check(achieved > 0 && achieved <= 0.01 && tolFaces > 0,
+        `creased cube to tolerance 0.01: ${tolFaces} triangles within ${achieved} of the limit surface (${await shot('04c-tolerance')})`);
+  await page.uncheck('#sub-by-tolerance');
+  await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) === 384);
 
   // 3b. a valid upload: a tetrahedron OBJ, read by the server, Catmull-Clark level 3: 4 x 3 x 4^2 = 192 quads
   await page.setInputFiles('#sub-file', { name: 'tetra.obj', mimeType: 'model/obj',

@@ -25,7 +25,7 @@ export class SubdivideView {
     $('sub-source').addEventListener('change', () => this.setMesh(builtins[$('sub-source').value]()));
     $('sub-file').addEventListener('change', (e) => this.upload(e.target.files[0]));
     $('sub-levels').addEventListener('input', () => { $('sub-levels-out').textContent = $('sub-levels').value; });
-    for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness'])
+    for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness', 'sub-by-tolerance', 'sub-tolerance'])
       $(id).addEventListener('change', () => this.run());
     $('sub-run').addEventListener('click', () => this.run());
     $('sub-patches').addEventListener('click', () => this.showPatches());
@@ -117,15 +117,16 @@ export class SubdivideView {
 
   request(format = 'glb') {
     const sharpness = Number($('sub-sharpness').value);
-    return {
+    const body = {
       mesh: this.mesh,
       scheme: $('sub-scheme').value,
-      levels: Number($('sub-levels').value),
       boundary: $('sub-boundary').value,
-      limit_surface: $('sub-limit').checked,
       creases: [...this.picked].map((k) => ({ edge: k.split(',').map(Number), sharpness })),
       output: format === 'glb' ? { format: 'glb', normals: true } : { format },
     };
+    // to a tolerance: the limit surface tessellated adaptively (Catmull-Clark; levels and limit_surface do not apply)
+    if ($('sub-by-tolerance').checked) return { ...body, tolerance: Number($('sub-tolerance').value) };
+    return { ...body, levels: Number($('sub-levels').value), limit_surface: $('sub-limit').checked };
   }
 
   /**
@@ -162,6 +163,7 @@ export class SubdivideView {
       this.app.setStats([
         ...headerStats(result.headers, [['X-Input-Vertices', 'input vertices'], ['X-Input-Faces', 'input faces'],
                                         ['X-Output-Vertices', 'output vertices'], ['X-Output-Faces', 'output faces'],
+                                        ['X-Tolerance', 'tolerance'], ['X-Achieved-Tolerance', 'max distance to the limit surface'],
                                         ['X-Elapsed-Ms', 'server ms']]),
         `round trip: ${result.roundTripMs.toFixed(1)} ms`,
       ], { outputFaces: Number(result.headers.get('X-Output-Faces')) });
