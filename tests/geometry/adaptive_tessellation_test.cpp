@@ -22,6 +22,7 @@
 #include "geometry/spatial/closest_point.h"
 #include "geometry/subdivision/adaptive_tessellation.h"
 #include "geometry/subdivision/limit_evaluation.h"
+#include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
 
@@ -31,15 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace OpenSubdiv;
 
-PolygonMesh load_shape(const std::string& name) {
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(
-        testing::read_file((fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (name + ".obj")).string()),
-        read_options);
-    EXPECT_TRUE(mesh.ok()) << name;
-    return mesh.ok() ? *mesh : PolygonMesh{};
-}
+using testing::load_opensubdiv_shape;
 
 int subface_columns(std::size_t n) {
     return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
@@ -63,7 +56,7 @@ std::vector<Case> cases() {
          {"catmark_cube", "catmark_gregory_test1", "catmark_edgecorner", "catmark_cube_creases0",
           "catmark_cube_creases1", "catmark_cube_corner3", "catmark_cubes_semisharp", "catmark_inf_crease0",
           "catmark_pyramid_creases1", "catmark_nonquads", "catmark_torus_creases0", "catmark_dart_edgecorner"})
-        out.push_back({name, load_shape(name)});
+        out.push_back({name, load_opensubdiv_shape(name)});
     return out;
 }
 
@@ -234,7 +227,7 @@ TEST(AdaptiveTessellation, MeasuredRatesStayWithinToleranceOnTheseShapes) {
     for (const char* name : {"catmark_cube", "catmark_cube_creases1", "catmark_torus_creases0", "catmark_nonquads",
                              "catmark_gregory_test1"}) {
         SCOPED_TRACE(name);
-        const PolygonMesh mesh = load_shape(name);
+        const PolygonMesh mesh = load_opensubdiv_shape(name);
         auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
         ASSERT_TRUE(evaluator.ok());
         for (double relative : {1e-2, 3e-3}) {
@@ -253,7 +246,7 @@ TEST(AdaptiveTessellation, MeasuredRatesStayWithinToleranceOnTheseShapes) {
 }
 
 TEST(AdaptiveTessellation, FinerToleranceMoreTrianglesSmallerError) {
-    const PolygonMesh mesh = load_shape("catmark_cube_creases1");
+    const PolygonMesh mesh = load_opensubdiv_shape("catmark_cube_creases1");
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     ASSERT_TRUE(evaluator.ok());
     std::size_t previous = 0;
@@ -373,7 +366,7 @@ TEST(AdaptiveTessellation, BudgetsAndBadOptions) {
 // On a shape with uneven curvature and creases the edge rates differ between faces, so transition strips are used,
 // and the adaptive output is smaller than the uniform grid that has every face at the largest rate.
 TEST(AdaptiveTessellation, RatesFollowCurvature) {
-    const PolygonMesh mesh = load_shape("catmark_torus_creases0");
+    const PolygonMesh mesh = load_opensubdiv_shape("catmark_torus_creases0");
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     ASSERT_TRUE(evaluator.ok());
     LimitTessellationOptions options;

@@ -16,6 +16,7 @@
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/subdivide.h"
+#include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
@@ -44,15 +45,7 @@ std::pair<double, double> random_uv(const PolygonMesh& mesh, std::size_t f, std:
     return {sub % columns + 0.5 * unit(rng), sub / columns + 0.5 * unit(rng)};
 }
 
-PolygonMesh load_shape(const std::string& name) {
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(
-        testing::read_file((fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (name + ".obj")).string()),
-        read_options);
-    EXPECT_TRUE(mesh.ok()) << name;
-    return mesh.ok() ? *mesh : PolygonMesh{};
-}
+using testing::load_opensubdiv_shape;
 
 struct Case {
     std::string name;
@@ -88,19 +81,19 @@ std::vector<Case> cases() {
           "catmark_quadstrips",    "catmark_pyramid"}) {
         if (!fs::exists(fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (std::string(name) + ".obj")))
             continue;
-        add(name, load_shape(name));
+        add(name, load_opensubdiv_shape(name));
     }
     SubdivisionOptions chaikin;
     chaikin.crease_method = CreaseMethod::Chaikin;
-    add("catmark_chaikin0 (chaikin)", load_shape("catmark_chaikin0"), chaikin);
-    add("catmark_chaikin1 (chaikin)", load_shape("catmark_chaikin1"), chaikin);
+    add("catmark_chaikin0 (chaikin)", load_opensubdiv_shape("catmark_chaikin0"), chaikin);
+    add("catmark_chaikin1 (chaikin)", load_opensubdiv_shape("catmark_chaikin1"), chaikin);
     out[out.size() - 1].bfr_differs = out[out.size() - 2].bfr_differs = true;
     for (const char* name :
          {"catmark_nonman_quadpole8", "catmark_nonman_quadpole64", "catmark_nonman_verts", "catmark_nonman_edges"})
-        add(name, load_shape(name));
+        add(name, load_opensubdiv_shape(name));
     SubdivisionOptions smooth_tris;
     smooth_tris.triangle_rule = TriangleRule::Smooth;
-    add("catmark_smoothtris0 (smooth triangles)", load_shape("catmark_smoothtris0"), smooth_tris);
+    add("catmark_smoothtris0 (smooth triangles)", load_opensubdiv_shape("catmark_smoothtris0"), smooth_tris);
     return out;
 }
 
@@ -230,7 +223,7 @@ TEST(LimitEvaluation, MatchesFarLimitMasksAtDyadicPoints) {
 TEST(LimitEvaluation, BfrApproximatesChaikinCreasesFarDoesNot) {
     SubdivisionOptions options;
     options.crease_method = CreaseMethod::Chaikin;
-    const PolygonMesh mesh = load_shape("catmark_chaikin0");
+    const PolygonMesh mesh = load_opensubdiv_shape("catmark_chaikin0");
     const int k = 7;  // past the sharpest crease (5)
     SubdivisionOptions uniform = options;
     uniform.levels = k;
@@ -268,7 +261,7 @@ TEST(LimitEvaluation, BfrApproximatesChaikinCreasesFarDoesNot) {
 // limit_surface at level 0) and its limit normal, extraordinary or not.
 TEST(LimitEvaluation, FaceCornersAreVertexLimitPositions) {
     for (const char* name : {"cube", "catmark_gregory_test1", "catmark_edgeonly", "catmark_cube_creases1"}) {
-        const PolygonMesh mesh = std::string(name) == "cube" ? shapes::cube() : load_shape(name);
+        const PolygonMesh mesh = std::string(name) == "cube" ? shapes::cube() : load_opensubdiv_shape(name);
         SubdivisionOptions options;
         options.levels = 0;
         options.limit_surface = true;
@@ -324,7 +317,7 @@ TEST(LimitEvaluation, RejectsBadInput) {
     shallow.max_level = 3;
     EXPECT_EQ(LimitSurfaceEvaluator::create(cube, {}, shallow).error().code, ErrorCode::InvalidArgument);
 
-    const PolygonMesh holed = load_shape("catmark_hole_test1");
+    const PolygonMesh holed = load_opensubdiv_shape("catmark_hole_test1");
     ASSERT_FALSE(holed.tags.holes.empty());
     auto with_holes = LimitSurfaceEvaluator::create(holed, {});
     ASSERT_TRUE(with_holes.ok());

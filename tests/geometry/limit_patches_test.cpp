@@ -13,6 +13,7 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/limit_patches.h"
+#include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/mesh_asserts.h"
 
 namespace surfaced {
@@ -20,15 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-PolygonMesh load_shape(const std::string& name) {
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(
-        testing::read_file((fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (name + ".obj")).string()),
-        read_options);
-    EXPECT_TRUE(mesh.ok()) << name;
-    return mesh.ok() ? *mesh : PolygonMesh{};
-}
+using testing::load_opensubdiv_shape;
 
 double bounding_diagonal(const PolygonMesh& mesh) {
     Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
@@ -96,7 +89,7 @@ TEST(LimitPatches, ClosedShapesAreExactAwayFromIrregularVerticesAndWeldWatertigh
     for (const std::string name :
          {"catmark_cube", "catmark_gregory_test1", "catmark_cube_creases0", "catmark_cube_corner1",
           "catmark_cubes_semisharp", "catmark_pyramid", "catmark_nonquads", "catmark_torus_creases0"}) {
-        const PolygonMesh mesh = load_shape(name);
+        const PolygonMesh mesh = load_opensubdiv_shape(name);
         const auto evaluator = make_evaluator(mesh);
         LimitPatchOptions options;
         options.tolerance = 1e-3 * bounding_diagonal(mesh);

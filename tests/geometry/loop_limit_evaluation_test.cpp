@@ -18,6 +18,7 @@
 #include "geometry/mesh/triangulate.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/subdivide.h"
+#include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
@@ -27,15 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-PolygonMesh load_shape(const std::string& name) {
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(
-        testing::read_file((fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (name + ".obj")).string()),
-        read_options);
-    EXPECT_TRUE(mesh.ok()) << name;
-    return mesh.ok() ? *mesh : PolygonMesh{};
-}
+using testing::load_opensubdiv_shape;
 
 struct Case {
     std::string name;
@@ -76,7 +69,7 @@ std::vector<Case> cases() {
           "loop_toroidal_tet",   "loop_triangle_edgecorner", "loop_triangle_edgeonly", "loop_triangle_edgenone",
           "loop_val2_interior",  "loop_xord_boundary",       "loop_xord_interior",     "loop_pole8",
           "loop_nonman_verts",   "loop_nonman_edges",        "loop_fvar_bound0",       "loop_fvar_bound1"})
-        add(name, load_shape(name));
+        add(name, load_opensubdiv_shape(name));
     // both sharp boundary modes on the shapes that have a boundary, whatever their tag says ("boundary none" makes
     // every face of these holes; the grid and loop_triangle_edgenone above have interior faces left)
     for (const char* name : {"loop_saddle_edgeonly", "loop_xord_boundary", "loop_triangle_edgeonly"})
@@ -85,7 +78,7 @@ std::vector<Case> cases() {
             options.use_mesh_boundary_tag = false;
             add(std::string(name) +
                     (boundary == BoundaryInterpolation::EdgeOnly ? " (edge only)" : " (edge and corner)"),
-                load_shape(name), options);
+                load_opensubdiv_shape(name), options);
         }
     return out;
 }
@@ -124,7 +117,7 @@ TEST(LoopLimitEvaluation, MatchesBfrSurfaceAtRandomPoints) {
     std::mt19937_64 rng(20251203);
     std::vector<Case> all = cases();
     for (const char* name : {"loop_chaikin0", "loop_chaikin1", "loop_icos_semisharp"})
-        all.push_back({std::string(name) + " (chaikin)", load_shape(name),
+        all.push_back({std::string(name) + " (chaikin)", load_opensubdiv_shape(name),
                        loop_options(BoundaryInterpolation::EdgeOnly, CreaseMethod::Chaikin),
                        std::string(name) != "loop_icos_semisharp"});
     for (const Case& c : all) {
@@ -225,11 +218,11 @@ std::pair<double, double> child_corner(const std::vector<int>& path, int corner)
 TEST(LoopLimitEvaluation, MatchesFarLimitMasksAtDyadicPoints) {
     std::mt19937_64 rng(11);
     std::vector<Case> all = cases();
-    all.push_back({"loop_chaikin0 (chaikin)", load_shape("loop_chaikin0"),
+    all.push_back({"loop_chaikin0 (chaikin)", load_opensubdiv_shape("loop_chaikin0"),
                    loop_options(BoundaryInterpolation::EdgeOnly, CreaseMethod::Chaikin)});
-    all.push_back({"loop_chaikin1 (chaikin)", load_shape("loop_chaikin1"),
+    all.push_back({"loop_chaikin1 (chaikin)", load_opensubdiv_shape("loop_chaikin1"),
                    loop_options(BoundaryInterpolation::EdgeOnly, CreaseMethod::Chaikin)});
-    all.push_back({"loop_icos_semisharp (chaikin)", load_shape("loop_icos_semisharp"),
+    all.push_back({"loop_icos_semisharp (chaikin)", load_opensubdiv_shape("loop_icos_semisharp"),
                    loop_options(BoundaryInterpolation::EdgeOnly, CreaseMethod::Chaikin)});
     for (const Case& c : all) {
         auto evaluator = LimitSurfaceEvaluator::create(c.mesh, c.options);
@@ -286,7 +279,7 @@ TEST(LoopLimitEvaluation, MatchesFarLimitMasksAtDyadicPoints) {
 // dyadic points.
 TEST(LoopLimitEvaluation, WarrenWeightsMatchSubdivideAtDyadicPoints) {
     for (const char* name : {"loop_xord_interior", "loop_cube_creases1", "loop_xord_boundary"}) {
-        const PolygonMesh mesh = load_shape(name);
+        const PolygonMesh mesh = load_opensubdiv_shape(name);
         SubdivisionOptions options = loop_options();
         options.loop_weights = LoopWeights::Warren;
         const int k = 4;

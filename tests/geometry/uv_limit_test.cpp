@@ -20,6 +20,7 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/uv_limit.h"
+#include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
 
@@ -96,15 +97,7 @@ PolygonMesh with_seams(PolygonMesh mesh) {
     return mesh;
 }
 
-PolygonMesh load_shape(const std::string& name) {
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(
-        testing::read_file((fs::path(SURFACED_TEST_DATA_DIR) / "opensubdiv-shapes" / (name + ".obj")).string()),
-        read_options);
-    EXPECT_TRUE(mesh.ok()) << name;
-    return mesh.ok() ? *mesh : PolygonMesh{};
-}
+using testing::load_opensubdiv_shape;
 
 bool is_hole(const PolygonMesh& mesh, std::size_t f) {
     return std::find(mesh.tags.holes.begin(), mesh.tags.holes.end(), static_cast<Index>(f)) != mesh.tags.holes.end();
@@ -126,7 +119,7 @@ TEST(UvLimit, MatchesBfrFaceVaryingSurfacesInEveryMode) {
     };
     for (const char* name : {"catmark_fvar_bound0", "catmark_fvar_bound1", "catmark_fvar_bound2", "catmark_fvar_bound3",
                              "catmark_fvar_bound4", "catmark_fvar_project0"})
-        meshes.emplace_back(name, load_shape(name));
+        meshes.emplace_back(name, load_opensubdiv_shape(name));
     std::mt19937_64 rng(5);
     for (const auto& named : meshes) {
         const std::string& name = named.first;
