@@ -69,14 +69,9 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
 
 //! The bounding-box diagonal of the mesh's positions.
 double diagonal(const PolygonMesh& mesh) {
-    if (mesh.positions.empty()) return 0.0;
-    Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
-    for (const Vec3& p : mesh.positions)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], p[k]);
-            hi[k] = std::max(hi[k], p[k]);
-        }
-    return norm(hi - lo);
+    Box3 box;
+    for (const Vec3& p : mesh.positions) box.add(p);
+    return box.diagonal();
 }
 
 //! format "patches": the limit surface as bicubic Bézier patches (limit_patches.h), at isolation level `levels` when

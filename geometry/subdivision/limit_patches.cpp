@@ -152,14 +152,10 @@ Result<Layout> prepare(const LimitSurfaceEvaluator& evaluator, const PolygonMesh
 
 //! Bounding-box diagonal of the patches' control points.
 double diagonal(const std::vector<BezierPatch>& patches) {
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    Box3 box;
     for (const BezierPatch& patch : patches)
-        for (const Vec3& p : patch.points)
-            for (int k = 0; k < 3; ++k) {
-                lo[k] = std::min(lo[k], p[k]);
-                hi[k] = std::max(hi[k], p[k]);
-            }
-    return patches.empty() ? 0.0 : norm(hi - lo);
+        for (const Vec3& p : patch.points) box.add(p);
+    return box.diagonal();
 }
 
 bool close(const Vec3& a, const Vec3& b, double tolerance) {

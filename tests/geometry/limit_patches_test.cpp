@@ -24,13 +24,9 @@ namespace fs = std::filesystem;
 using testing::load_opensubdiv_shape;
 
 double bounding_diagonal(const PolygonMesh& mesh) {
-    Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
-    for (const Vec3& p : mesh.positions)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], p[k]);
-            hi[k] = std::max(hi[k], p[k]);
-        }
-    return norm(hi - lo);
+    Box3 box;
+    for (const Vec3& p : mesh.positions) box.add(p);
+    return box.diagonal();
 }
 
 LimitSurfaceEvaluator make_evaluator(const PolygonMesh& mesh) {

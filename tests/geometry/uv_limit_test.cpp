@@ -20,6 +20,7 @@
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/uv_limit.h"
+#include "tests/support/uv_seams.h"
 #include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
@@ -72,30 +73,7 @@ std::pair<double, double> random_uv(const PolygonMesh& mesh, std::size_t f, std:
     return {sub % columns + 0.5 * unit(rng), sub / columns + 0.5 * unit(rng)};
 }
 
-//! `mesh` cut into three UV regions by face centroid (x <= 0; x > 0, y <= 0; x > 0, y > 0): seams, junctions where
-//! three regions meet, UVs a skewed projection offset per region.
-PolygonMesh with_seams(PolygonMesh mesh) {
-    std::vector<int> region(mesh.face_count());
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        Vec3 c{0, 0, 0};
-        for (Index v : mesh.face(f)) c = c + mesh.positions[v];
-        region[f] = c.x <= 0 ? 0 : c.y <= 0 ? 1 : 2;
-    }
-    std::vector<std::array<Index, 3>> value(mesh.vertex_count(), {kInvalidIndex, kInvalidIndex, kInvalidIndex});
-    mesh.uvs.clear();
-    mesh.uv_indices.clear();
-    for (std::size_t f = 0; f < mesh.face_count(); ++f)
-        for (Index v : mesh.face(f)) {
-            Index& id = value[v][static_cast<std::size_t>(region[f])];
-            if (id == kInvalidIndex) {
-                id = static_cast<Index>(mesh.uvs.size());
-                const Vec3& p = mesh.positions[v];
-                mesh.uvs.push_back({0.5 * p.x + 0.1 * p.z + 0.3 * region[f], 0.5 * p.y - 0.2 * p.z + 0.1 * region[f]});
-            }
-            mesh.uv_indices.push_back(id);
-        }
-    return mesh;
-}
+using testing::with_seams;
 
 using testing::load_opensubdiv_shape;
 
