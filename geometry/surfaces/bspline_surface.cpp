@@ -9,10 +9,10 @@
 #include <array>
 #include <cassert>
 #include <cmath>
-#include <cstdio>
 #include <tuple>
 #include <string>
 
+#include "geometry/core/format_number.h"
 #include "geometry/curves/bspline.h"
 
 namespace surfaced {
@@ -20,11 +20,7 @@ namespace {
 
 constexpr std::size_t kLocal = static_cast<std::size_t>(kMaxBSplineSurfaceDegree) + 1;
 
-std::string num(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.15g", v);
-    return buffer;
-}
+std::string num(double v) { return shortest_text(v); }
 
 const char* knot_name(SurfaceDirection d) { return d == SurfaceDirection::U ? "knots_u" : "knots_v"; }
 

@@ -8,22 +8,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <queue>
 #include <string>
 #include <vector>
+
+#include "geometry/core/format_number.h"
 
 namespace surfaced {
 namespace {
 
 Vec3 normalized(const Vec3& v) { return v * (1.0 / norm(v)); }
 
-std::string num(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.9g", v);
-    return buffer;
-}
+std::string num(double v) { return shortest_text(v); }
 
 //! A piece of patch `patch` over [s0, s1] x [t0, t1] of that patch's [0, 1]^2, its control net in `net`.
 struct Piece {

@@ -6,19 +6,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
+#include "geometry/core/format_number.h"
 #include "geometry/curves/bezier_curve.h"
 #include "geometry/curves/bspline.h"
 
 namespace surfaced {
 namespace {
 
-std::string num(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.6g", v);
-    return buffer;
-}
+std::string num(double v) { return shortest_text(v); }
 
 std::string point_text(Vec2 p) { return "(" + num(p.x) + ", " + num(p.y) + ")"; }
 
