@@ -225,6 +225,21 @@ try {
   await page.uncheck('#sub-by-tolerance');
   await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) === 384);
 
+  // 3a''. a click on the surface shows the limit point there: the base face and (u, v) whose exact limit point
+  // (POST /limit/evaluate) is nearest the clicked point of the drawn level-3 mesh, with its unit normal, outward
+  await page.check('#sub-probe');
+  const box = await page.$eval('#viewport canvas', (c) => { const r = c.getBoundingClientRect(); return [r.left, r.top, r.width, r.height]; });
+  await page.mouse.click(box[0] + box[2] / 2, box[1] + box[3] / 2);
+  await page.waitForFunction(() => document.getElementById('sub-probe-readout').dataset.face !== undefined);
+  const probe = await page.$eval('#sub-probe-readout', (el) => ({ face: Number(el.dataset.face), distance: Number(el.dataset.distance),
+                                                                   position: JSON.parse(el.dataset.position), normal: JSON.parse(el.dataset.normal) }));
+  const normalLength = Math.hypot(...probe.normal);
+  const outward = probe.normal.reduce((acc, x, k) => acc + x * probe.position[k], 0);
+  check(probe.face >= 0 && probe.face < 6 && probe.distance < 0.05 && Math.abs(normalLength - 1) < 1e-9 && outward > 0,
+        `clicking the surface shows its limit point: face ${probe.face}, ${probe.distance.toExponential(2)} from the drawn ` +
+        `level-3 surface, unit outward normal (${await shot('04d-limit-point')})`);
+  await page.uncheck('#sub-probe');
+
   // 3b. a valid upload: a tetrahedron OBJ, read by the server, Catmull-Clark level 3: 4 x 3 x 4^2 = 192 quads
   await page.setInputFiles('#sub-file', { name: 'tetra.obj', mimeType: 'model/obj',
                                           buffer: Buffer.from('v 1 1 1\nv -1 -1 1\nv -1 1 -1\nv 1 -1 -1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n') });

@@ -2,6 +2,7 @@
 import * as THREE from 'three';
 import { call, meshMediaType, headerStats } from './api.js';
 import { builtins } from './meshes.js';
+import { nearestLimitPoint, limitMarker } from './limit_probe.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -32,7 +33,9 @@ export class SubdivideView {
     $('sub-clear').addEventListener('click', () => { this.picked.clear(); this.drawCage(); this.run(); });
     const canvas = this.viewer.renderer.domElement;
     canvas.addEventListener('pointerdown', (e) => { this.down = [e.clientX, e.clientY]; });
-    canvas.addEventListener('click', (e) => this.onClick(e));
+    canvas.addEventListener('click', (e) => ($('sub-probe').checked ? this.probe(e) : this.onClick(e)));
+    $('sub-probe').addEventListener('change', () => { if (!$('sub-probe').checked) this.clearProbe(); });
+    this.raycaster = new THREE.Raycaster();
   }
 
   async activate() {
@@ -58,6 +61,7 @@ export class SubdivideView {
 
   setMesh(mesh, { keepName = false } = {}) {
     this.mesh = mesh;
+    this.clearProbe();
     if (!keepName) this.name = $('sub-source').value;
     this.picked.clear();
     this.edges = [];
@@ -93,8 +97,7 @@ export class SubdivideView {
 
   /** Toggles the cage edge within 6 px of a click (not the end of a camera drag). */
   onClick(event) {
-    if (!this.active || !this.mesh || !this.down) return;
-    if (Math.hypot(event.clientX - this.down[0], event.clientY - this.down[1]) > 4) return;
+    if (!this.active || !this.mesh || !this.isClick(event)) return;
     const rect = this.viewer.renderer.domElement.getBoundingClientRect();
     const px = event.clientX - rect.left, py = event.clientY - rect.top;
     const screen = this.mesh.positions.map((p) => {
@@ -113,6 +116,57 @@ export class SubdivideView {
     if (this.picked.has(best)) this.picked.delete(best); else this.picked.add(best);
     this.drawCage();
     this.run();
+  }
+
+  /** True when a click is a click, not the end of a camera drag. */
+  isClick(event) {
+    return this.down && Math.hypot(event.clientX - this.down[0], event.clientY - this.down[1]) <= 4;
+  }
+
+  /**
+   * The limit point under a click on the drawn surface (limit_probe.js): its base face, (u, v), position and normal,
+   * and how far the drawn surface is from it there.
+   */
+  async probe(event) {
+    if (!this.active || !this.mesh || !this.viewer.result || !this.isClick(event)) return;
+    const rect = this.viewer.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2((event.clientX - rect.left) / rect.width * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.viewer.camera);
+    const hit = this.raycaster.intersectObject(this.viewer.result, false)[0];
+    const readout = $('sub-probe-readout');
+    if (!hit) { readout.textContent = 'limit point: click on the surface'; return; }
+    const target = this.viewer.root.worldToLocal(hit.point.clone()).toArray();
+    const { mesh, scheme, boundary, creases } = this.request();
+    this.app.clearError();
+    try {
+      const p = await nearestLimitPoint(mesh, { scheme, boundary, creases }, target);
+      this.clearProbe();
+      const size = new THREE.Box3().setFromArray(mesh.positions.flat()).getSize(new THREE.Vector3()).length();
+      this.marker = limitMarker(p.position, p.normal, 0.15 * size);
+      this.viewer.root.add(this.marker);
+      this.viewer.render();
+      const f = (v) => v.map((x) => x.toFixed(5)).join(', ');
+      readout.textContent = `limit point: face ${p.face}, uv (${f(p.uv)})\nposition (${f(p.position)})\n` +
+                            `normal (${f(p.normal)})\ndistance to the drawn surface: ${p.distance.toExponential(3)}`;
+      readout.dataset.face = p.face;
+      readout.dataset.distance = p.distance;
+      readout.dataset.position = JSON.stringify(p.position);
+      readout.dataset.normal = JSON.stringify(p.normal);
+    } catch (e) {
+      this.app.showError(e);
+    }
+  }
+
+  clearProbe() {
+    if (this.marker) {
+      this.viewer.root.remove(this.marker);
+      for (const o of this.marker.children) { o.geometry.dispose(); o.material.dispose(); }
+      this.marker = null;
+      this.viewer.render();
+    }
+    const readout = $('sub-probe-readout');
+    readout.textContent = '';
+    delete readout.dataset.face;
   }
 
   request(format = 'glb') {
@@ -154,6 +208,7 @@ export class SubdivideView {
   async run(fit = false) {
     if (!this.mesh || !this.active) return;
     this.app.clearError();
+    this.clearProbe();   // the surface may change
     const seq = (this.seq = (this.seq ?? 0) + 1);
     try {
       const result = await call('POST', '/subdivide', { body: this.request() });
