@@ -9,6 +9,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config git
   clang-format          # tests: scripts/check-format.sh (the code follows .clang-format)
   libosd-dev            # OpenSubdiv: the reference in tests and benchmarks (never linked into the service)
+  libocct-modeling-data-dev libocct-foundation-dev  # OpenCASCADE: the NURBS reference in tests (never linked into the service)
   libcpp-httplib-dev    # HTTP server
   nlohmann-json3-dev    # JSON
   libdraco-dev draco    # Draco compression (library + CLI tools)
