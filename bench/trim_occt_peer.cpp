@@ -147,4 +147,27 @@ PeerMesh occt_mesh(const TrimmedSurface& trimmed, double deflection, int runs) {
     return out;
 }
 
+double occt_evaluate(const BSplineSurface& surface, const std::vector<double>& uv, int order, double& checksum) {
+    Handle(Geom_BSplineSurface) s = make_surface(surface);
+    double sum = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    gp_Pnt p;
+    gp_Vec du, dv, duu, dvv, duv;
+    for (std::size_t k = 0; k + 1 < uv.size(); k += 2) {
+        if (order == 0) {
+            s->D0(uv[k], uv[k + 1], p);
+        } else if (order == 1) {
+            s->D1(uv[k], uv[k + 1], p, du, dv);
+            sum += du.X() + dv.Y();
+        } else {
+            s->D2(uv[k], uv[k + 1], p, du, dv, duu, dvv, duv);
+            sum += du.X() + dv.Y() + duu.Z() + duv.X() + dvv.Y();
+        }
+        sum += p.X() + p.Y() + p.Z();
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    checksum += sum;
+    return seconds;
+}
+
 }  // namespace surfaced::bench

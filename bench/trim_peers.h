@@ -3,8 +3,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "geometry/mesh/polygon_mesh.h"
+#include "geometry/surfaces/bspline_surface.h"
 #include "geometry/surfaces/trim_loops.h"
 
 namespace surfaced::bench {
@@ -19,5 +21,11 @@ struct PeerMesh {
 //! meshed by BRepMesh_IncrementalMesh with linear deflection `deflection` (angular deflection 0.5, the default),
 //! best of `runs` runs.
 PeerMesh occt_mesh(const TrimmedSurface& trimmed, double deflection, int runs);
+
+//! Evaluates `surface` as an OCCT Geom_BSplineSurface at the (u, v) pairs in `uv` (u0, v0, u1, v1, ...): D0
+//! (order 0), D1 (order 1) or D2 (order 2). Returns the seconds of the evaluation loop alone (the surface is built
+//! before), and adds every result's coordinates to `checksum` (so nothing is optimised away and the answers can be
+//! compared with ours).
+double occt_evaluate(const BSplineSurface& surface, const std::vector<double>& uv, int order, double& checksum);
 
 }  // namespace surfaced::bench
