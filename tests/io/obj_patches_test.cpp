@@ -366,6 +366,29 @@ TEST(ObjTrim, Curv2TrimAndHoleStatements) {
     EXPECT_EQ(read->trimmed[0].trimmed.surface.count_u, 3);
 }
 
+TEST(ObjTrim, MultiSegmentBezierCurv2) {
+    // the square as one linear bezier curv2 of four segments: knots 0 0 1 2 3 4 4 (interior breaks once, degree 1)
+    std::string text = trimmed_plane("hole 0 4 5\n");  // curv2 5: the one inserted before the circle
+    text.insert(text.find("cstype rat bspline"), "curv2 1 2 3 4 1\nparm u 0 1 2 3 4\nend\n");
+    auto read = read_obj_surfaces(text);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    const TrimCurve& square = read->trimmed[0].trimmed.holes[0].curves[0];
+    EXPECT_EQ(square.knots, (std::vector<double>{0, 0, 1, 2, 3, 4, 4}));
+    ASSERT_EQ(square.points.size(), 5u);
+    TrimmedTessellationOptions options;
+    options.tolerance = 1e-2;
+    auto mesh = tessellate(read->trimmed[0].trimmed, options);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_NEAR(mesh_area(mesh->mesh), 3.0, 1e-12);  // [0, 2]^2 less [0.5, 1.5]^2
+    // five points make four segments of degree 1, not three
+    text.replace(text.find("curv2 1 2 3 4 1"), 15, "curv2 1 2 3 4  ");
+    auto short_curve = read_obj_surfaces(text);
+    ASSERT_FALSE(short_curve.ok());
+    EXPECT_EQ(short_curve.error().line, 27);
+    EXPECT_NE(short_curve.error().message.find("with 4 segments needs 5"), std::string::npos)
+        << short_curve.error().message;
+}
+
 //! `text` with the first `from` replaced by `to`.
 std::string edit(std::string text, const std::string& from, const std::string& to) {
     const std::size_t at = text.find(from);
