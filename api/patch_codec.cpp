@@ -136,11 +136,22 @@ ApiResult<TessellateJsonRequest> decode_tessellate_request(std::string_view body
         if (!patch) return std::move(patch.error());
         request.patches.patches.push_back(std::move(patch.value()));
     }
+    if (have_surfaces)
+        if (auto error = check_trim_budgets(*surfaces)) return std::move(*error);
     request.surfaces.reserve(surface_count);
+    request.trims.reserve(surface_count);
     for (std::size_t i = 0; i < surface_count; ++i) {
-        auto surface = decode_surface((*surfaces)[i], at("surfaces", i), limits.max_input_vertices);
+        const std::string path = at("surfaces", i);
+        auto surface = decode_surface((*surfaces)[i], path, limits.max_input_vertices, /*allow_trim=*/true);
         if (!surface) return std::move(surface.error());
         request.surfaces.push_back(std::move(surface.value()));
+        std::optional<SurfaceTrim> trim;
+        if (const auto it = (*surfaces)[i].find("trim"); it != (*surfaces)[i].end()) {
+            auto decoded = decode_trim(*it, path + ".trim");
+            if (!decoded) return std::move(decoded.error());
+            trim = std::move(decoded.value());
+        }
+        request.trims.push_back(std::move(trim));
     }
 
     return request;

@@ -5,7 +5,8 @@
 //   {"patches": [{"degree": [m, n], "points": [[x, y, z], ...]}, ...],   (m+1)(n+1) points, u varying fastest
 //              optional per patch "weights": [w, ...] (one > 0 per point, same order): a rational patch
 //    "surfaces": [{"degree": [p, q], "knots_u": [...], "knots_v": [...], "points": [...], "weights"?: [...]}, ...],
-//              B-spline/NURBS surfaces (api/surface_codec.h), tessellated through their Bézier patches
+//              B-spline/NURBS surfaces (api/surface_codec.h), tessellated through their Bézier patches; with
+//              "trim": {"outer"?: [curve, ...], "holes"?: [[curve, ...], ...]} (api/trim_codec.h) a trimmed surface
 //    "tolerance": t | "segments": n,
 //    "output": {"format": "glb"|"obj"|"ply", "compression": "draco"|"none", "quantize_position": 14, "normals": true}}
 // "patches" or "surfaces" (or both) is required. Errors name the field: "patches[2].points[7][1] must be a finite number",
@@ -20,6 +21,7 @@
 
 #include "api/dto.h"
 #include "api/options/option_reader.h"
+#include "api/trim_codec.h"
 #include "api/errors.h"
 #include "api/limits.h"
 #include "geometry/surfaces/bezier_patch.h"
@@ -36,7 +38,8 @@ struct TessellateParams {
 
 struct TessellateJsonRequest {
     PatchSet patches;
-    std::vector<BSplineSurface> surfaces;  //!< validated; decomposed into patches by the operation
+    std::vector<BSplineSurface> surfaces;           //!< validated; decomposed into patches by the operation
+    std::vector<std::optional<SurfaceTrim>> trims;  //!< parallel to surfaces: the trim, for a trimmed surface
     TessellateParams params;
 };
 

@@ -31,11 +31,14 @@ ApiResult<std::vector<double>> read_knots(const Json& value, const std::string& 
 
 }  // namespace
 
-ApiResult<BSplineSurface> decode_surface(const Json& value, const std::string& path, std::uint64_t max_points) {
+ApiResult<BSplineSurface> decode_surface(const Json& value, const std::string& path, std::uint64_t max_points,
+                                         bool allow_trim) {
     if (!value.is_object())
         return invalid(path, path + R"( must be an object {"degree": [p, q], "knots_u": [...], "knots_v": [...], )"
                                     R"("points": [[x, y, z], ...], "weights"?: [...]})");
-    if (auto error = check_members(value, path, {"degree", "knots_u", "knots_v", "points", "weights"}))
+    if (auto error = allow_trim
+                         ? check_members(value, path, {"degree", "knots_u", "knots_v", "points", "weights", "trim"})
+                         : check_members(value, path, {"degree", "knots_u", "knots_v", "points", "weights"}))
         return std::move(*error);
     BSplineSurface s;
     const std::string degree_path = path + ".degree";

@@ -13,12 +13,15 @@
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
 #include "api/patch_codec.h"
+#include "api/trim_codec.h"
 #include "geometry/io/bez.h"
 #include "geometry/io/gltf.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/io/obj_patches.h"
 #include "geometry/surfaces/bezier_patch.h"
 #include "geometry/surfaces/bspline_surface.h"
+#include "geometry/surfaces/trim_loops.h"
+#include "geometry/surfaces/trimmed_surface.h"
 
 namespace surfaced::api::operations {
 namespace {
@@ -101,9 +104,56 @@ ApiError patch_error(const GeoError& error, const TessellateParams& params, Sour
     return out;
 }
 
+//! A trimmed surface to tessellate, with where it came from: the JSON field ("surfaces[2]") or the OBJ surf line.
+struct TrimmedInput {
+    TrimmedSurface trimmed;
+    std::string field;
+    std::int64_t line = 0;
+};
+
+//! An error about a trimmed surface, placed at its field (JSON) or line (OBJ); a budget at "tolerance".
+ApiError trimmed_error(const GeoError& error, const TrimmedInput& input) {
+    if (input.line > 0) {
+        GeoError placed = error;
+        placed.line = input.line;
+        placed.message = "line " + std::to_string(input.line) + ": surf: " + error.message;
+        return from_geo_error(placed);
+    }
+    ApiError out = from_geo_error(error);
+    out.field = error.code == ErrorCode::BudgetExceeded ? "tolerance" : input.field;
+    if (error.code != ErrorCode::BudgetExceeded) out.detail = input.field + ": " + out.detail;
+    return out;
+}
+
+//! What trimmed surfaces need from the options: a tolerance (the trimmed tessellator has no fixed segment count) and
+//! a mesh format (format=patches lists Bézier patches, which carry no trim loops). `where` names the first trimmed
+//! surface ("surfaces[1]", "the surf at line 12").
+std::optional<ApiError> check_trimmed_params(const TessellateParams& params, const std::string& where) {
+    if (params.patches_format) {
+        ApiError error = from_geo_error(
+            make_error(ErrorCode::Unsupported, "format=patches cannot carry trims: " + where +
+                                                   " is trimmed, and Bézier patches have no trim loops (ask for a "
+                                                   "mesh format, or send the surface without its trim)"));
+        error.field = "format";
+        return error;
+    }
+    if (params.segments)
+        return make_problem(Problem::InvalidField,
+                            where +
+                                " is trimmed: trimmed surfaces are tessellated to a tolerance, not a number of "
+                                "segments (give tolerance instead)",
+                            "segments");
+    if (!params.tolerance)
+        return make_problem(Problem::InvalidField,
+                            where + " is trimmed: trimmed surfaces need a tolerance (model units)", "tolerance");
+    return std::nullopt;
+}
+
 //! The surfaces' Bézier patches appended to `set`, after checking what they will cost: the predicted patch count
 //! against max_patches and their control points against max_input_vertices (O(knots) per surface, no allocation).
-std::optional<ApiError> decompose_surfaces(const std::vector<BSplineSurface>& surfaces, const Limits& limits,
+//! Trimmed surfaces (trims[k] set) count against the budgets but are left to the trimmed tessellator.
+std::optional<ApiError> decompose_surfaces(const std::vector<BSplineSurface>& surfaces,
+                                           const std::vector<std::optional<SurfaceTrim>>& trims, const Limits& limits,
                                            const Cancel& cancel, PatchSet& set, PatchOrigins& origins) {
     origins.direct = set.patches.size();
     std::uint64_t patches = set.patches.size(), points = 0;
@@ -128,7 +178,8 @@ std::optional<ApiError> decompose_surfaces(const std::vector<BSplineSurface>& su
     }
     set.patches.reserve(static_cast<std::size_t>(patches));
     for (std::size_t k = 0; k < surfaces.size(); ++k) {
-        origins.surface_start.push_back(set.patches.size());
+        origins.surface_start.push_back(set.patches.size());  // a trimmed surface's range stays empty
+        if (k < trims.size() && trims[k]) continue;
         auto decomposed = to_bezier(surfaces[k], cancel);
         if (!decomposed) {
             ApiError error = from_geo_error(decomposed.error());
@@ -149,43 +200,94 @@ ApiResponse patches_response(const PatchSet& set) {
     return response;
 }
 
-//! Plan (budgets) -> tessellate -> encode. `start` is when the request started, for the timing headers.
+//! Appends `part` to `mesh` (positions, normals, face-varying uvs, faces; both with normals and uvs or both without).
+void append_mesh(PolygonMesh& mesh, const PolygonMesh& part) {
+    const auto base = static_cast<Index>(mesh.positions.size());
+    const auto uv_base = static_cast<Index>(mesh.uvs.size());
+    const auto index_base = static_cast<Index>(mesh.face_indices.size());
+    mesh.positions.insert(mesh.positions.end(), part.positions.begin(), part.positions.end());
+    mesh.normals.insert(mesh.normals.end(), part.normals.begin(), part.normals.end());
+    mesh.uvs.insert(mesh.uvs.end(), part.uvs.begin(), part.uvs.end());
+    for (Index i : part.face_indices) mesh.face_indices.push_back(base + i);
+    for (Index i : part.uv_indices) mesh.uv_indices.push_back(uv_base + i);
+    for (std::size_t f = 1; f < part.face_offsets.size(); ++f)
+        mesh.face_offsets.push_back(index_base + part.face_offsets[f]);
+}
+
+ApiError output_budget(std::uint64_t triangles, std::size_t patches, const TessellateParams& params,
+                       const Limits& limits) {
+    return make_problem(Problem::BudgetExceeded,
+                        "tessellating " + std::to_string(patches) + " patches would produce up to " +
+                            std::to_string(triangles) + " triangles; the limit is " +
+                            std::to_string(limits.max_output_faces) +
+                            (params.tolerance ? " (use a larger tolerance)" : " (use fewer segments)"),
+                        params.tolerance ? "tolerance" : "segments");
+}
+
+//! Plan (budgets) -> tessellate -> encode. `start` is when the request started, for the timing headers. Trimmed
+//! surfaces (their loops already validated) go to the trimmed tessellator with the request's tolerance; their meshes
+//! follow the patches' in the output (not welded to them).
 ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& params, const Limits& limits,
                                   Source source, Clock::time_point start, const Cancel& cancel,
-                                  const PatchOrigins& origins = {}) {
+                                  const PatchOrigins& origins = {}, const std::vector<TrimmedInput>& trimmed = {}) {
     TessellationOptions options = tessellation_options(params, limits);
     options.cancel = cancel;  // polled between patches
-    auto plan = plan_tessellation(set.patches, options);
-    if (!plan) return error_response(patch_error(plan.error(), params, source, origins));
-    if (plan->triangles > limits.max_output_faces)
-        return error_response(
-            make_problem(Problem::BudgetExceeded,
-                         "tessellating " + std::to_string(set.patches.size()) + " patches would produce up to " +
-                             std::to_string(plan->triangles) + " triangles; the limit is " +
-                             std::to_string(limits.max_output_faces) +
-                             (params.tolerance ? " (use a larger tolerance)" : " (use fewer segments)"),
-                         params.tolerance ? "tolerance" : "segments"));
+    std::uint64_t triangles = 0;
+    std::size_t patch_count = set.patches.size();
+    if (!set.patches.empty()) {
+        auto plan = plan_tessellation(set.patches, options);
+        if (!plan) return error_response(patch_error(plan.error(), params, source, origins));
+        triangles = plan->triangles;
+        if (triangles > limits.max_output_faces)
+            return error_response(output_budget(triangles, patch_count, params, limits));
+    }
+    // a trimmed surface's own grid (before the trims remove and refine triangles) is its estimate
+    for (const TrimmedInput& input : trimmed) {
+        auto patches = to_bezier(input.trimmed.surface, cancel);
+        if (!patches) return error_response(trimmed_error(patches.error(), input));
+        auto plan = plan_tessellation(patches->patches, options);
+        if (!plan) return error_response(trimmed_error(plan.error(), input));
+        triangles += plan->triangles;
+        patch_count += patches->patches.size();
+        if (triangles > limits.max_output_faces)
+            return error_response(output_budget(triangles, patch_count, params, limits));
+    }
     const auto t_planned = Clock::now();
 
-    auto tessellated = tessellate_patches(set.patches, options);
-    if (!tessellated) return error_response(patch_error(tessellated.error(), params, source, origins));
-    PolygonMesh& mesh = tessellated->mesh;
+    PolygonMesh mesh;
+    double error_bound = 0;
+    if (!set.patches.empty()) {
+        auto tessellated = tessellate_patches(set.patches, options);
+        if (!tessellated) return error_response(patch_error(tessellated.error(), params, source, origins));
+        mesh = std::move(tessellated->mesh);
+        error_bound = tessellated->plan.error_bound;
+    }
+    for (const TrimmedInput& input : trimmed) {
+        TrimmedTessellationOptions trim_options;
+        trim_options.tolerance = *params.tolerance;
+        trim_options.max_segments = limits.max_patch_segments;
+        trim_options.max_trim_segments = kMaxTrimSegments;
+        trim_options.max_triangles = static_cast<std::size_t>(limits.max_output_faces - mesh.face_count());
+        trim_options.cancel = cancel;
+        auto tessellated = surfaced::tessellate(input.trimmed, trim_options);
+        if (!tessellated) return error_response(trimmed_error(tessellated.error(), input));
+        append_mesh(mesh, tessellated->mesh);
+        error_bound = std::max(error_bound, tessellated->bound);
+    }
     const auto t_tessellated = Clock::now();
 
     Headers headers = {
-        {"X-Patches", std::to_string(set.patches.size())},
+        {"X-Patches", std::to_string(patch_count)},
         {"X-Output-Vertices", std::to_string(mesh.vertex_count())},
         {"X-Output-Faces", std::to_string(mesh.face_count())},
-        {"X-Error-Bound", format_double(tessellated->plan.error_bound)},
+        {"X-Error-Bound", format_double(error_bound)},
     };
-    const double error_bound = tessellated->plan.error_bound;
     const double elapsed_ms = ms_between(start, t_tessellated);
     const auto encode_json = [&](const PolygonMesh& m) -> ApiResult<std::string> {
-        const std::string stats = "{\"patches\":" + std::to_string(set.patches.size()) +
-                                  ",\"output_vertices\":" + std::to_string(m.vertex_count()) +
-                                  ",\"output_faces\":" + std::to_string(m.face_count()) +
-                                  ",\"error_bound\":" + format_double(error_bound) +
-                                  ",\"elapsed_ms\":" + format_double(elapsed_ms) + "}";
+        const std::string stats =
+            "{\"patches\":" + std::to_string(patch_count) + ",\"output_vertices\":" + std::to_string(m.vertex_count()) +
+            ",\"output_faces\":" + std::to_string(m.face_count()) + ",\"error_bound\":" + format_double(error_bound) +
+            ",\"elapsed_ms\":" + format_double(elapsed_ms) + "}";
         return encode_mesh_with_stats(m, stats);
     };
     // the tessellated mesh carries the patches' exact normals and (u, v): written unless normals is false
@@ -213,16 +315,40 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
         if (auto error = negotiate_output_format(request, decoded->params.output))
             return error_response(std::move(*error));
         if (auto error = check_params(decoded->params, limits, Source::Json)) return error_response(std::move(*error));
+        std::vector<TrimmedInput> trimmed;
+        const auto first_trimmed = std::find_if(decoded->trims.begin(), decoded->trims.end(),
+                                                [](const std::optional<SurfaceTrim>& t) { return t.has_value(); });
+        if (first_trimmed != decoded->trims.end())
+            if (auto error = check_trimmed_params(
+                    decoded->params, "surfaces[" + std::to_string(first_trimmed - decoded->trims.begin()) + "]"))
+                return error_response(std::move(*error));
         PatchOrigins origins;
-        if (auto error = decompose_surfaces(decoded->surfaces, limits, context.cancel, decoded->patches, origins))
+        if (auto error = decompose_surfaces(decoded->surfaces, decoded->trims, limits, context.cancel, decoded->patches,
+                                            origins))
             return error_response(std::move(*error));
+        // every trim validated (validate_trims) before any tessellation: a broken rule is a 422 naming loop and curve
+        std::size_t trim_segments = 0;
+        for (std::size_t k = 0; k < decoded->trims.size(); ++k) {
+            if (!decoded->trims[k]) continue;
+            TrimmedInput input;
+            input.field = "surfaces[" + std::to_string(k) + "]";
+            input.trimmed.surface = std::move(decoded->surfaces[k]);
+            input.trimmed.outer = std::move(decoded->trims[k]->outer);
+            input.trimmed.holes = std::move(decoded->trims[k]->holes);
+            TrimValidationOptions validation;
+            validation.max_segments = kMaxTrimSegments - trim_segments;
+            const TrimValidation valid = validate_trims(input.trimmed, validation);
+            if (!valid.ok()) return error_response(trim_error(*valid.error, input.field + ".trim"));
+            for (const TrimPolygon& loop : valid.trims.loops) trim_segments += loop.points.size();
+            trimmed.push_back(std::move(input));
+        }
         if (decoded->params.patches_format) {
             if (auto valid = validate(decoded->patches.patches); !valid)
                 return error_response(patch_error(valid.error(), decoded->params, Source::Json, origins));
             return patches_response(decoded->patches);
         }
         return tessellate_and_encode(decoded->patches, decoded->params, limits, Source::Json, start, context.cancel,
-                                     origins);
+                                     origins, trimmed);
     }
     const bool obj = media_type == kObjMediaType;
     if (!obj && std::find(std::begin(kBezMediaTypes), std::end(kBezMediaTypes), media_type) == std::end(kBezMediaTypes))
@@ -236,11 +362,22 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
     if (auto error = check_params(params.value(), limits, Source::File))
         return error_response(worded_for_form(request, std::move(*error)));
     Result<PatchSet> set = make_error(ErrorCode::Internal, "unread");
+    std::vector<TrimmedInput> trimmed;
     if (obj) {
         ObjPatchReadOptions read_options;
         read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
         read_options.max_vertices = static_cast<std::size_t>(limits.max_input_vertices);
-        set = read_obj_patches(request.body, read_options);
+        read_options.max_trim_loops = kMaxTrimLoops;
+        read_options.max_trim_segments = kMaxTrimSegments;
+        // the reader validates the trims (validate_trims), reporting a broken rule at its trim/hole line
+        auto surfaces = read_obj_surfaces(request.body, read_options);
+        if (!surfaces) return error_response(from_geo_error(surfaces.error()));
+        for (ObjTrimmedSurface& t : surfaces->trimmed) trimmed.push_back({std::move(t.trimmed), std::string(), t.line});
+        if (!trimmed.empty())
+            if (auto error =
+                    check_trimmed_params(params.value(), "the surf at line " + std::to_string(trimmed.front().line)))
+                return error_response(worded_for_form(request, std::move(*error)));
+        set = std::move(surfaces->patches);
     } else {
         BezReadOptions read_options;
         read_options.max_patches = static_cast<std::size_t>(limits.max_patches);
@@ -248,7 +385,7 @@ ApiResponse run_tessellate(const ApiRequest& sent, const ApiContext& context) {
     }
     if (!set) return error_response(from_geo_error(set.error()));
     if (params->patches_format) return patches_response(set.value());
-    return tessellate_and_encode(set.value(), params.value(), limits, Source::File, start, context.cancel);
+    return tessellate_and_encode(set.value(), params.value(), limits, Source::File, start, context.cancel, {}, trimmed);
 }
 
 //! FNV-1a, 64 bit: a stable content hash for ETags (not security relevant).

@@ -9,6 +9,15 @@
 //    (Content-Type model/obj; geometry/io/obj_patches.h), options as query parameters: ?tolerance=0.01 |
 //    ?segments=8, format, compression, quantize_position, normals. BEZ _ST corner texture coordinates become the
 //    output UVs; BEZ Nd = 4, OBJ `rat` and JSON "weights" give rational patches (X-Error-Bound still a guarantee).
+// Trimmed surfaces: a JSON surface with "trim": {"outer"?: [curve, ...], "holes"?: [[curve, ...], ...]}
+// (api/trim_codec.h), or an OBJ surf with trim/hole statements over curv2 curves (geometry/io/obj_patches.h). Their
+// loops are validated (validate_trims) before any work: a broken rule is a 422 whose field names the loop and curve
+// ("surfaces[2].trim.holes[0][1]") or, for OBJ, the line of the trim/hole (or curv2) statement. They need a tolerance
+// (400 with segments, or with neither) and a mesh format (format=patches: 422 unsupported, Bézier patches carry no
+// trims), and are tessellated by trimmed_surface.h within the tolerance; their meshes follow the untrimmed patches'
+// in the output, not welded to them. Budgets: trim loops, curves and control points (kMaxTrim*, api/trim_codec.h)
+// from the array sizes before decoding; the chords of the validated loops; each surface's grid triangles against
+// max_output_faces before tessellating, and the trimmed tessellator's count as it works.
 // GET /patches/{name} (name: a built-in sample, `teapot`): the same query parameters. The response carries a strong
 // ETag (a hash of the name, the sample's data, the options and kPatchSampleRevision) and Cache-Control; a request
 // whose If-None-Match lists that ETag (or is "*") gets 304 Not Modified without any tessellation.
@@ -17,7 +26,7 @@
 // neither, segments = 8. Output: format glb (default) | obj | ply; compression draco (default) | none (glb);
 // quantize_position 1..30 (glb + draco); normals default true (NORMAL and TEXCOORD_0 in the GLB).
 // Order of checks, all before tessellating: body size (413), media type (415), options (400/422), decode (400 with
-// line or field path), patch validity (422, field "patches[i]"), the plan's segment counts against
+// line or field path), patch validity (422, field "patches[i]"), trim validity (422), the plan's segment counts against
 // Limits::max_patch_segments and its triangle count against Limits::max_output_faces (422 budget_exceeded, field
 // "tolerance" or "segments").
 // Response headers: X-Patches, X-Output-Vertices, X-Output-Faces, X-Error-Bound (the guaranteed maximum distance

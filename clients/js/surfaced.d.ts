@@ -118,6 +118,23 @@ export interface BSplineSurface {
   /** one weight > 0 per control point: a NURBS surface */
   weights?: number[];
 }
+/** A 2D B-spline/NURBS curve in a surface's (u, v); without knots, clamped uniform ones over [0, 1] (a Bezier curve). */
+export interface TrimCurve {
+  /** 1..15 */
+  degree: number;
+  points: number[][];
+  knots?: number[];
+  weights?: number[];
+}
+/** Trim loops: one outer loop (none: the whole domain) and holes, each a list of curves end to start. */
+export interface SurfaceTrim {
+  outer?: TrimCurve[];
+  holes?: TrimCurve[][];
+}
+/** A surface of POST /tessellate; with trim, a trimmed surface (tessellated within tolerance, which it needs). */
+export interface TessellateSurface extends BSplineSurface {
+  trim?: SurfaceTrim;
+}
 export interface CurvesOutput { format?: CurvesFormat; compression?: 'none' }
 
 // ---- option types, one per operation -------------------------------------------------------------------------------
@@ -221,8 +238,8 @@ export interface RepairOptions extends MeshInput, OutputOptions<OutputFormat> {
 
 export interface TessellateOptions extends OutputOptions<TessellateFormat> {
   patches?: Patch[];
-  /** B-spline/NURBS surfaces, tessellated through their Bezier patches */
-  surfaces?: BSplineSurface[];
+  /** B-spline/NURBS surfaces, tessellated through their Bezier patches; trimmed ones with trim */
+  surfaces?: TessellateSurface[];
   /** geomview BEZ/BBP text */
   bez?: string;
   /** a BEZ file or an OBJ with free-form bezier or bspline surfaces */

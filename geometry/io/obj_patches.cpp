@@ -1,14 +1,18 @@
 // OBJ free-form Bézier and B-spline surfaces (see obj_patches.h for what is read and what is refused).
 #include "geometry/io/obj_patches.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "geometry/io/number_text.h"
 #include "geometry/io/text_encoding.h"
 #include "geometry/io/text_scanner.h"
+#include "geometry/curves/bspline.h"
 #include "geometry/surfaces/bspline_surface.h"
 
 namespace surfaced {
@@ -29,13 +33,49 @@ struct PendingSurface {
     double range[4] = {0, 1, 0, 1};      // u0 u1 v0 v1
     std::vector<std::size_t> refs;       // 0-based vertex indices
     std::optional<std::vector<double>> parm_u, parm_v;
+    // trim and hole statements: the loops, the statements' lines and the curv2 index of each curve
+    std::vector<TrimLoop> loops[2];  // outer (trim), holes (hole)
+    std::vector<std::int64_t> loop_lines[2];
+    std::vector<std::vector<std::size_t>> loop_curves[2];
 };
+
+//! A curv2 statement waiting for its `end`.
+struct PendingCurve {
+    std::int64_t line = 0;
+    int degree = 0;
+    bool rational = false;
+    bool bspline = false;
+    std::vector<std::size_t> refs;  // 0-based parameter vertex indices
+    std::optional<std::vector<double>> parm;
+    std::int64_t parm_line = 0;
+};
+
+//! The curve run backwards over the same domain: reversed points and weights, knots mirrored.
+TrimCurve reversed(const TrimCurve& c) {
+    TrimCurve out = c;
+    std::reverse(out.points.begin(), out.points.end());
+    std::reverse(out.weights.begin(), out.weights.end());
+    const double sum = c.knots.front() + c.knots.back();
+    for (std::size_t i = 0; i < c.knots.size(); ++i) out.knots[i] = sum - c.knots[c.knots.size() - 1 - i];
+    return out;
+}
+
+//! Knots of a Bézier curve or surface direction of K segments over `breaks`: the ends degree + 1 times, each
+//! interior break degree times (K degree + 1 control points, the segments sharing their end points).
+std::vector<double> bezier_knots(const std::vector<double>& breaks, int degree) {
+    std::vector<double> knots;
+    for (std::size_t k = 0; k < breaks.size(); ++k) {
+        const bool end = k == 0 || k + 1 == breaks.size();
+        knots.insert(knots.end(), static_cast<std::size_t>(end ? degree + 1 : degree), breaks[k]);
+    }
+    return knots;
+}
 
 class ObjPatchReader {
 public:
     ObjPatchReader(std::string_view text, const ObjPatchReadOptions& options) : text_(text), options_(options) {}
 
-    Result<PatchSet> read() {
+    Result<ObjSurfaces> read() {
         auto start = io_detail::check_text_encoding(text_);
         if (!start) return start.error();
         io_detail::LineReader lines(text_, *start, /*continuations=*/true);
@@ -45,10 +85,11 @@ public:
             if (auto error = parse_line(line)) return std::move(*error);
         }
         if (surface_) return error_at_line(ErrorCode::ParseError, surface_->line, "surf has no matching end");
-        if (set_.patches.empty())
+        if (curve2_) return error_at_line(ErrorCode::ParseError, curve2_->line, "curv2 has no matching end");
+        if (out_.patches.patches.empty() && out_.trimmed.empty())
             return error_at_line(ErrorCode::ParseError, std::max<std::int64_t>(line_, 1),
                                  "no free-form surfaces (cstype bezier or bspline, deg, surf ... end) in the file");
-        return std::move(set_);
+        return std::move(out_);
     }
 
 private:
@@ -61,20 +102,23 @@ private:
         std::string_view keyword;
         if (!tokens.next(keyword)) return std::nullopt;
         if (keyword == "v") return parse_vertex(tokens);
+        if (keyword == "vp") return parse_parameter_vertex(tokens);
+        if (keyword == "curv2") return parse_curve2(tokens);
+        if (keyword == "trim" || keyword == "hole") return parse_loop(tokens, keyword == "hole");
         if (keyword == "cstype") return parse_cstype(tokens);
         if (keyword == "deg") return parse_degree(tokens);
         if (keyword == "surf") return parse_surf(tokens);
         if (keyword == "parm") return parse_parm(tokens);
         if (keyword == "end") return parse_end();
-        if (keyword == "curv" || keyword == "curv2") {
-            if (surface_ || in_curve_)
+        if (keyword == "curv") {
+            if (surface_ || in_curve_ || curve2_)
                 return error(ErrorCode::ParseError, std::string(keyword) + " inside an open block (missing end)");
             in_curve_ = true;
             return std::nullopt;
         }
-        if (keyword == "trim" || keyword == "hole" || keyword == "scrv" || keyword == "sp")
+        if (keyword == "scrv" || keyword == "sp")
             return error(ErrorCode::Unsupported,
-                         std::string(keyword) + ": trimming curves and special points are not supported");
+                         std::string(keyword) + ": special curves and points are not supported (trim and hole are)");
         if (keyword == "bmat" || keyword == "step")
             return error(ErrorCode::Unsupported,
                          std::string(keyword) + " applies to cstype bmatrix/cardinal/taylor, which are not supported");
@@ -94,7 +138,7 @@ private:
     }
 
     std::optional<GeoError> parse_vertex(Tokens& tokens) {
-        if (points_.size() >= options_.max_vertices)
+        if (points_.size() + parameter_points_.size() >= options_.max_vertices)
             return error(ErrorCode::BudgetExceeded,
                          "more than max_vertices (" + std::to_string(options_.max_vertices) + ") vertices");
         Vec3 p;
@@ -109,6 +153,187 @@ private:
         }
         points_.push_back(p);
         weights_.push_back(w);
+        return std::nullopt;
+    }
+
+    //! vp u [v [w]]: v is needed only by the curv2 statements that use the vertex.
+    std::optional<GeoError> parse_parameter_vertex(Tokens& tokens) {
+        if (points_.size() + parameter_points_.size() >= options_.max_vertices)
+            return error(ErrorCode::BudgetExceeded,
+                         "more than max_vertices (" + std::to_string(options_.max_vertices) + ") vertices");
+        Vec2 p{0, std::numeric_limits<double>::quiet_NaN()};
+        double w = 1.0;
+        if (auto e = number(tokens, "vp u", p.x)) return e;
+        if (auto e = number(tokens, "vp v", p.y, /*required=*/false)) return e;
+        if (auto e = number(tokens, "vp weight", w, /*required=*/false)) return e;
+        if (!tokens.empty()) return error(ErrorCode::ParseError, "vp has more than 3 numbers");
+        parameter_points_.push_back(p);
+        parameter_weights_.push_back(w);
+        return std::nullopt;
+    }
+
+    //! A 1-based (or negative, relative) reference among `count` items: the 0-based index, or nullopt.
+    static std::optional<std::size_t> resolve(std::string_view text, std::size_t count) {
+        std::int64_t index = 0;
+        if (io_detail::parse_int(text, index) != NumberStatus::Ok) return std::nullopt;
+        const auto n = static_cast<std::int64_t>(count);
+        const std::int64_t resolved = index < 0 ? n + index : index - 1;
+        if (index == 0 || resolved < 0 || resolved >= n) return std::nullopt;
+        return static_cast<std::size_t>(resolved);
+    }
+
+    std::optional<GeoError> parse_curve2(Tokens& tokens) {
+        if (surface_ || in_curve_ || curve2_)
+            return error(ErrorCode::ParseError, "curv2 inside an open block (missing end)");
+        if (cstype_ == CsType::None) return error(ErrorCode::ParseError, "curv2 before any cstype statement");
+        if (degree_u_ < 1) return error(ErrorCode::ParseError, "curv2 needs a preceding deg statement (deg d)");
+        PendingCurve c;
+        c.line = line_;
+        c.degree = degree_u_;
+        c.rational = cstype_ == CsType::RationalBezier;
+        c.bspline = bspline_;
+        std::string_view token;
+        while (tokens.next(token)) {
+            const auto index = resolve(token, parameter_points_.size());
+            if (!index)
+                return error(ErrorCode::ParseError, "curv2 control point " + quote(token) + " is not one of the " +
+                                                        std::to_string(parameter_points_.size()) +
+                                                        " parameter vertices (vp) defined so far");
+            c.refs.push_back(*index);
+        }
+        if (c.refs.empty()) return error(ErrorCode::ParseError, "curv2 has no control points");
+        curve2_ = std::move(c);
+        return std::nullopt;
+    }
+
+    //! The curv2 block's end: the curve, as a B-spline, checked by validate(BSplineCurve).
+    std::optional<GeoError> end_curve2() {
+        const PendingCurve c = std::move(*curve2_);
+        curve2_.reset();
+        TrimCurve curve;
+        curve.degree = c.degree;
+        const std::size_t n = c.refs.size(), d = static_cast<std::size_t>(c.degree);
+        if (c.bspline) {
+            if (!c.parm)
+                return error_at_line(ErrorCode::ParseError, c.line,
+                                     "a bspline curv2 needs parm u (its knot vector) before end");
+            if (c.parm->size() != n + d + 1)
+                return error_at_line(ErrorCode::ParseError, c.parm_line,
+                                     "parm u has " + std::to_string(c.parm->size()) + " values; the curv2's " +
+                                         std::to_string(n) + " control points of degree " + std::to_string(d) +
+                                         " need " + std::to_string(n + d + 1));
+            curve.knots = *c.parm;
+        } else {
+            const std::vector<double> breaks = c.parm.value_or(std::vector<double>{0, 1});
+            const std::size_t segments = breaks.size() - 1;
+            if (n != segments * d + 1)
+                return error_at_line(ErrorCode::ParseError, c.line,
+                                     "curv2 has " + std::to_string(n) + " control points; degree " + std::to_string(d) +
+                                         " with " + std::to_string(segments) + " segments needs " +
+                                         std::to_string(segments * d + 1));
+            curve.knots = bezier_knots(breaks, c.degree);
+        }
+        BSplineCurve check;  // validate() reads 3D curves
+        check.degree = c.degree;
+        check.knots = curve.knots;
+        for (std::size_t ref : c.refs) {
+            const Vec2 p = parameter_points_[ref];
+            if (std::isnan(p.y))
+                return error_at_line(ErrorCode::ParseError, c.line,
+                                     "curv2 uses vp " + std::to_string(ref + 1) + ", which has no v");
+            curve.points.push_back(p);
+            check.points.push_back({p.x, p.y, 0});
+            if (c.rational) curve.weights.push_back(parameter_weights_[ref]);
+        }
+        check.weights = curve.weights;
+        if (Status valid = validate(check); !valid) {
+            const bool knot = valid.error().message.starts_with("knot");
+            return error_at_line(valid.error().code, knot && c.parm ? c.parm_line : c.line,
+                                 (knot && c.parm ? "curv2 parm u: " : "curv2: ") + valid.error().message);
+        }
+        curves2_.push_back(std::move(curve));
+        curve2_lines_.push_back(c.line);
+        return std::nullopt;
+    }
+
+    //! trim|hole u0 u1 curv2 ...: one loop of the open surf.
+    std::optional<GeoError> parse_loop(Tokens& tokens, bool hole) {
+        const std::string keyword = hole ? "hole" : "trim";
+        if (!surface_) return error(ErrorCode::ParseError, keyword + " outside a surf ... end block");
+        if (trim_loops_ >= options_.max_trim_loops)
+            return error(
+                ErrorCode::BudgetExceeded,
+                "more than max_trim_loops (" + std::to_string(options_.max_trim_loops) + ") trim and hole statements");
+        ++trim_loops_;
+        TrimLoop loop;
+        std::vector<std::size_t> ids;
+        std::string_view token;
+        while (true) {
+            Tokens rest = tokens;
+            if (!rest.next(token)) break;
+            double range[2];
+            if (auto e = number(tokens, (keyword + " u0").c_str(), range[0])) return e;
+            if (auto e = number(tokens, (keyword + " u1").c_str(), range[1])) return e;
+            if (!tokens.next(token)) return error(ErrorCode::ParseError, keyword + ": missing the curv2 of a u0 u1");
+            const auto index = resolve(token, curves2_.size());
+            if (!index)
+                return error(ErrorCode::ParseError, keyword + " curve " + quote(token) + " is not one of the " +
+                                                        std::to_string(curves2_.size()) +
+                                                        " curv2 curves defined so far");
+            const TrimCurve& curve = curves2_[*index];
+            const double a = curve.knots[static_cast<std::size_t>(curve.degree)];
+            const double b = curve.knots[curve.points.size()];
+            if (range[0] == a && range[1] == b) {
+                loop.curves.push_back(curve);
+            } else if (range[0] == b && range[1] == a) {
+                loop.curves.push_back(reversed(curve));
+            } else {
+                return error(ErrorCode::Unsupported, keyword + " uses curv2 " + std::to_string(*index + 1) + " over [" +
+                                                         number_text(range[0]) + ", " + number_text(range[1]) +
+                                                         "]; only a whole curve is supported, its domain [" +
+                                                         number_text(a) + ", " + number_text(b) + "] either way");
+            }
+            ids.push_back(*index);
+        }
+        if (loop.curves.empty()) return error(ErrorCode::ParseError, keyword + " needs u0 u1 curv2 triples");
+        const int k = hole ? 1 : 0;
+        surface_->loops[k].push_back(std::move(loop));
+        surface_->loop_lines[k].push_back(line_);
+        surface_->loop_curves[k].push_back(std::move(ids));
+        return std::nullopt;
+    }
+
+    //! A surf with trim or hole statements: its loops validated, kept with the surface.
+    std::optional<GeoError> add_trimmed(BSplineSurface surface, PendingSurface& s) {
+        const std::size_t count = bezier_patch_count(surface);
+        if (out_.patches.patches.size() + trimmed_patches_ + count > options_.max_patches)
+            return error_at_line(ErrorCode::BudgetExceeded, s.line,
+                                 "more than max_patches (" + std::to_string(options_.max_patches) +
+                                     ") patches: this trimmed surface has " + std::to_string(count));
+        trimmed_patches_ += count;
+        ObjTrimmedSurface out;
+        out.line = s.line;
+        out.trimmed.surface = std::move(surface);
+        out.trimmed.outer = std::move(s.loops[0]);
+        out.trimmed.holes = std::move(s.loops[1]);
+        TrimValidationOptions validation;
+        validation.max_segments = options_.max_trim_segments - trim_segments_;
+        TrimValidation valid = validate_trims(out.trimmed, validation);
+        if (!valid.ok()) {
+            const TrimError& e = *valid.error;
+            const int k = e.loop_kind == TrimLoopKind::Outer ? 0 : 1;
+            const auto loop = static_cast<std::size_t>(e.loop);
+            std::int64_t line = s.loop_lines[k][loop];
+            std::string what = (k == 0 ? "trim: " : "hole: ") + e.message;
+            if (e.kind == TrimErrorKind::InvalidCurve && e.curve >= 0) {
+                const std::size_t id = s.loop_curves[k][loop][static_cast<std::size_t>(e.curve)];
+                line = curve2_lines_[id];
+                what = "curv2 " + std::to_string(id + 1) + " (" + e.message + ")";
+            }
+            return error_at_line(to_geo_error(e).code, line, what);
+        }
+        for (const TrimPolygon& polygon : valid.trims.loops) trim_segments_ += polygon.points.size();
+        out_.trimmed.push_back(std::move(out));
         return std::nullopt;
     }
 
@@ -191,8 +416,10 @@ private:
         std::string_view direction;
         if (!tokens.next(direction) || (direction != "u" && direction != "v"))
             return error(ErrorCode::ParseError, "parm needs a direction u or v");
-        if (in_curve_) return std::nullopt;  // curves are not read
-        if (!surface_) return error(ErrorCode::ParseError, "parm outside a surf ... end block");
+        if (in_curve_) return std::nullopt;  // 3D curves are not read
+        if (curve2_ && direction != "u") return error(ErrorCode::ParseError, "a curv2 has only parm u");
+        if (!surface_ && !curve2_) return error(ErrorCode::ParseError, "parm outside a surf or curv2 ... end block");
+        const bool bspline = curve2_ ? curve2_->bspline : surface_->bspline;
         std::vector<double> values;
         double x = 0;
         std::string_view probe;
@@ -200,13 +427,18 @@ private:
             Tokens rest = tokens;
             if (!rest.next(probe)) break;
             if (auto e = number(tokens, "parm value", x)) return e;
-            if (!values.empty() && !(x > values.back()) && !(surface_->bspline && x == values.back()))
+            if (!values.empty() && !(x > values.back()) && !(bspline && x == values.back()))
                 return error(ErrorCode::ParseError, "parm " + std::string(direction) + " values must " +
-                                                        (surface_->bspline ? "not decrease" : "increase"));
+                                                        (bspline ? "not decrease" : "increase"));
             values.push_back(x);
         }
         if (values.size() < 2)
             return error(ErrorCode::ParseError, "parm " + std::string(direction) + " needs at least two values");
+        if (curve2_) {
+            curve2_->parm = std::move(values);
+            curve2_->parm_line = line_;
+            return std::nullopt;
+        }
         (direction == "u" ? surface_->parm_u : surface_->parm_v) = std::move(values);
         surface_->parm_line[direction == "u" ? 0 : 1] = line_;
         return std::nullopt;
@@ -217,6 +449,7 @@ private:
             in_curve_ = false;
             return std::nullopt;
         }
+        if (curve2_) return end_curve2();
         if (!surface_) return error(ErrorCode::ParseError, "end without a surf");
         PendingSurface s = std::move(*surface_);
         surface_.reset();
@@ -233,6 +466,7 @@ private:
         const std::size_t ku = parm_u.size() - 1, kv = parm_v.size() - 1;
         const std::size_t du = static_cast<std::size_t>(s.degree_u), dv = static_cast<std::size_t>(s.degree_v);
         const std::size_t nu = ku * du + 1, nv = kv * dv + 1;
+        const bool trimmed = !s.loops[0].empty() || !s.loops[1].empty();
         // ku, kv are bounded by the line's length, so these products cannot overflow
         if (s.refs.size() != nu * nv)
             return error_at_line(ErrorCode::ParseError, s.line,
@@ -241,7 +475,24 @@ private:
                                      "x" + std::to_string(kv) + " segments needs (" + std::to_string(ku) + "*" +
                                      std::to_string(du) + "+1) x (" + std::to_string(kv) + "*" + std::to_string(dv) +
                                      "+1) = " + std::to_string(nu * nv));
-        if (set_.patches.size() + ku * kv > options_.max_patches)
+        if (trimmed) {
+            // the net is the B-spline's whose knots are the breaks, interior ones of multiplicity degree
+            BSplineSurface b;
+            b.degree_u = s.degree_u;
+            b.degree_v = s.degree_v;
+            b.count_u = static_cast<int>(nu);
+            b.count_v = static_cast<int>(nv);
+            b.knots_u = bezier_knots(parm_u, s.degree_u);
+            b.knots_v = bezier_knots(parm_v, s.degree_v);
+            for (std::size_t ref : s.refs) {
+                b.points.push_back(points_[ref]);
+                if (s.rational) b.weights.push_back(weights_[ref]);
+            }
+            if (Status valid = validate(b); !valid)
+                return error_at_line(valid.error().code, s.line, "surf: " + valid.error().message);
+            return add_trimmed(std::move(b), s);
+        }
+        if (out_.patches.patches.size() + trimmed_patches_ + ku * kv > options_.max_patches)
             return error_at_line(ErrorCode::BudgetExceeded, s.line,
                                  "more than max_patches (" + std::to_string(options_.max_patches) + ") patches");
         for (std::size_t b = 0; b < kv; ++b)
@@ -261,13 +512,13 @@ private:
                     return error_at_line(valid.error().code, s.line,
                                          "surf " + (colon == std::string::npos ? message : message.substr(colon + 2)));
                 }
-                set_.patches.push_back(std::move(patch));
+                out_.patches.patches.push_back(std::move(patch));
             }
         return std::nullopt;
     }
 
     //! A B-spline surface: its knot vectors are the parm statements; decomposed into Bézier patches.
-    std::optional<GeoError> end_bspline(const PendingSurface& s) {
+    std::optional<GeoError> end_bspline(PendingSurface& s) {
         for (int k = 0; k < 2; ++k)
             if (!(k == 0 ? s.parm_u : s.parm_v))
                 return error_at_line(
@@ -321,7 +572,8 @@ private:
                                  "surf range differs from the knot vectors' domain (trimmed sub-ranges are not "
                                  "supported)");
         const std::size_t count = bezier_patch_count(b);
-        if (set_.patches.size() + count > options_.max_patches)
+        if (!s.loops[0].empty() || !s.loops[1].empty()) return add_trimmed(std::move(b), s);
+        if (out_.patches.patches.size() + trimmed_patches_ + count > options_.max_patches)
             return error_at_line(ErrorCode::BudgetExceeded, s.line,
                                  "more than max_patches (" + std::to_string(options_.max_patches) +
                                      ") patches: this bspline surface decomposes into " + std::to_string(count));
@@ -335,7 +587,7 @@ private:
         decomposed_points_ += points;
         auto patches = to_bezier(b);
         if (!patches) return error_at_line(patches.error().code, s.line, "surf: " + patches.error().message);
-        for (BezierPatch& patch : patches->patches) set_.patches.push_back(std::move(patch));
+        for (BezierPatch& patch : patches->patches) out_.patches.patches.push_back(std::move(patch));
         return std::nullopt;
     }
 
@@ -350,17 +602,34 @@ private:
     bool bspline_ = false;               // cstype [rat] bspline
     std::size_t decomposed_points_ = 0;  // control points of the bspline surfaces' Bézier patches so far
     int degree_u_ = 0, degree_v_ = 0;
-    bool in_curve_ = false;
+    bool in_curve_ = false;  // inside a curv block (3D curves are not read)
     std::optional<PendingSurface> surface_;
-    PatchSet set_;
+    std::vector<Vec2> parameter_points_;  // vp u v (v NaN when not given)
+    std::vector<double> parameter_weights_;
+    std::optional<PendingCurve> curve2_;
+    std::vector<TrimCurve> curves2_;  // the curv2 curves so far, as B-splines
+    std::vector<std::int64_t> curve2_lines_;
+    std::size_t trim_loops_ = 0;       // trim and hole statements so far
+    std::size_t trim_segments_ = 0;    // chords of the validated loops so far
+    std::size_t trimmed_patches_ = 0;  // Bézier patches of the trimmed surfaces so far
+    ObjSurfaces out_;
 };
 
 }  // namespace
 
-Result<PatchSet> read_obj_patches(std::string_view text, const ObjPatchReadOptions& options) {
+Result<ObjSurfaces> read_obj_surfaces(std::string_view text, const ObjPatchReadOptions& options) {
     return io_detail::with_text(text, [&](std::string_view decoded, io_detail::TextEncoding) {
         return ObjPatchReader(decoded, options).read();
     });
+}
+
+Result<PatchSet> read_obj_patches(std::string_view text, const ObjPatchReadOptions& options) {
+    auto surfaces = read_obj_surfaces(text, options);
+    if (!surfaces) return surfaces.error();
+    if (!surfaces->trimmed.empty())
+        return error_at_line(ErrorCode::Unsupported, surfaces->trimmed.front().line,
+                             "surf has trim or hole statements: Bézier patches cannot carry trim loops");
+    return std::move(surfaces->patches);
 }
 
 }  // namespace surfaced

@@ -25,7 +25,8 @@ Tessellates the Bezier patches in IN (a geomview .bez/.bbp file, an .obj with cs
 surfaces, a .json {"patches": [...]} as POST /tessellate takes it, e.g. from `surfaced subdivide --format patches`,
 or sample:teapot for a built-in sample) into a crack-free triangle mesh with normals and UVs, through the same
 operation as POST /tessellate (GET /patches/NAME). OUT: a --format name (.glb is Draco-compressed unless
---compression none).
+--compression none). Trimmed surfaces (a .json surface with "trim", an .obj surf with trim/hole statements over
+curv2 curves) need --tolerance.
 
 )";
 

@@ -234,8 +234,8 @@ TEST(TessellateSurfaces, ErrorsNameTheField) {
     decreasing["knots_u"][5] = 0.1;
     expect_problem(tessellate(decreasing), 422, "invalid_argument", "surfaces[1].knots_u[5]");
     json trimmed = sphere_json();
-    trimmed["trim"] = json::array();
-    expect_problem(tessellate(trimmed), 400, "unknown_field", "surfaces[1].trim");
+    trimmed["trim"] = json::array();  // a trim is an object {"outer", "holes"} (tessellate_trim_test.cpp)
+    expect_problem(tessellate(trimmed), 400, "invalid_field", "surfaces[1].trim");
     json degree = sphere_json();
     degree["degree"][1] = 16;
     expect_problem(tessellate(degree), 422, "invalid_argument", "surfaces[1].degree[1]");

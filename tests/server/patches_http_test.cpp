@@ -1,14 +1,18 @@
 // GET /patches/teapot, POST /tessellate (patches and B-spline surfaces), POST /curves, POST /surfaces and
-// GET /openapi.json over real HTTP (ephemeral loopback port), and `surfaced tessellate` and `surfaced surfaces`.
+// GET /openapi.json over real HTTP (ephemeral loopback port), and `surfaced tessellate` and `surfaced surfaces`;
+// trimmed surfaces from JSON and OBJ, over HTTP and from the command line.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
 
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <cmath>
 #include <random>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include <httplib.h>
@@ -209,6 +213,98 @@ TEST_F(PatchesHttp, SurfacesOverHttp) {
     EXPECT_EQ(mesh->get_header_value("X-Patches"), "2");
     EXPECT_EQ(mesh->get_header_value("X-Output-Faces"), "16");
     EXPECT_EQ(mesh->get_header_value("X-Output-Vertices"), "15");  // 5 x 3 grid, the shared column welded
+}
+
+//! The plane z = 0 over [0, 2]^2 with the hole [0.5, 1.5]^2 ((u, v) in [0.25, 0.75]^2), as JSON and as OBJ.
+constexpr const char* kTrimmedPlaneJson =
+    R"({"surfaces":[{"degree":[1,1],"knots_u":[0,0,1,1],"knots_v":[0,0,1,1],)"
+    R"("points":[[0,0,0],[2,0,0],[0,2,0],[2,2,0]],"trim":{"holes":[[)"
+    R"({"degree":1,"points":[[0.25,0.25],[0.75,0.25]]},{"degree":1,"points":[[0.75,0.25],[0.75,0.75]]},)"
+    R"({"degree":1,"points":[[0.75,0.75],[0.25,0.75]]},{"degree":1,"points":[[0.25,0.75],[0.25,0.25]]}]]}}],)"
+    R"("tolerance":0.01,"output":{"format":"obj"}})";
+constexpr const char* kTrimmedPlaneObj =
+    "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 2 2 0\nvp 0.25 0.25\nvp 0.75 0.25\nvp 0.75 0.75\nvp 0.25 0.75\n"
+    "cstype bezier\ndeg 1\ncurv2 1 2\nend\ncurv2 2 3\nend\ncurv2 3 4\nend\ncurv2 4 1\nend\n"
+    "cstype bspline\ndeg 1 1\nsurf 0 1 0 1 1 2 3 4\nparm u 0 0 1 1\nparm v 0 0 1 1\nhole 0 1 1 0 1 2 0 1 3 0 1 "
+    "4\nend\n";
+
+//! The area of the triangles of an OBJ text (v and f lines only).
+double obj_area(const std::string& text) {
+    std::vector<std::array<double, 3>> v;
+    double area = 0;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream fields(line);
+        std::string keyword;
+        fields >> keyword;
+        if (keyword == "v") {
+            std::array<double, 3> p{};
+            fields >> p[0] >> p[1] >> p[2];
+            v.push_back(p);
+        } else if (keyword == "f") {
+            std::size_t index[3];
+            for (std::size_t& k : index) {
+                std::string corner;
+                fields >> corner;
+                k = std::stoul(corner.substr(0, corner.find('/'))) - 1;
+            }
+            const auto& a = v[index[0]];
+            const auto& b = v[index[1]];
+            const auto& c = v[index[2]];
+            area += 0.5 * std::fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));  // z = 0
+        }
+    }
+    return area;
+}
+
+TEST_F(PatchesHttp, TrimmedSurfacesOverHttp) {
+    auto json = client().Post("/tessellate", kTrimmedPlaneJson, "application/json");
+    ASSERT_TRUE(json) << httplib::to_string(json.error());
+    ASSERT_EQ(json->status, 200) << json->body;
+    EXPECT_NEAR(obj_area(json->body), 3.0, 1e-12);
+    // the same surface and hole from an OBJ upload: the same mesh
+    auto obj = client().Post("/tessellate?tolerance=0.01&format=obj", kTrimmedPlaneObj, "model/obj");
+    ASSERT_TRUE(obj) << httplib::to_string(obj.error());
+    ASSERT_EQ(obj->status, 200) << obj->body;
+    EXPECT_EQ(obj->get_header_value("X-Output-Faces"), json->get_header_value("X-Output-Faces"));
+    EXPECT_NEAR(obj_area(obj->body), 3.0, 1e-12);
+    // a hole outside the domain: 422 naming the curve; over OBJ, the hole statement's line
+    std::string outside = kTrimmedPlaneJson;
+    outside.replace(outside.find("[0.75,0.25],[0.75,0.75]"), 23, "[1.75,0.25],[0.75,0.75]");
+    auto bad = client().Post("/tessellate", outside, "application/json");
+    ASSERT_TRUE(bad);
+    EXPECT_EQ(bad->status, 422) << bad->body;
+    EXPECT_EQ(bad->get_header_value("Content-Type"), "application/problem+json");
+    EXPECT_EQ(nlohmann::json::parse(bad->body).value("field", ""), "surfaces[0].trim.holes[0][0]");
+    std::string open = kTrimmedPlaneObj;
+    open.replace(open.find("curv2 4 1"), 9, "curv2 4 2");
+    auto bad_obj = client().Post("/tessellate?tolerance=0.01", open, "model/obj");
+    ASSERT_TRUE(bad_obj);
+    EXPECT_EQ(bad_obj->status, 422) << bad_obj->body;
+    EXPECT_EQ(nlohmann::json::parse(bad_obj->body).value("line", 0), 24) << bad_obj->body;  // the hole
+}
+
+TEST(TessellateCli, TrimmedJsonAndObj) {
+    std::random_device rd;
+    const fs::path dir = fs::temp_directory_path() / ("surfaced-trim-" + std::to_string(rd()));
+    fs::create_directories(dir);
+    const std::string cli = SURFACED_CLI_PATH;
+    const fs::path json = dir / "plane.json", obj = dir / "plane.obj", out = dir / "out.obj";
+    std::ofstream(json) << kTrimmedPlaneJson;
+    std::ofstream(obj) << kTrimmedPlaneObj;
+    const auto area_of = [&](const fs::path& path) {
+        std::ifstream in(path);
+        return obj_area(std::string((std::istreambuf_iterator<char>(in)), {}));
+    };
+    EXPECT_EQ(run(cli + " tessellate " + json.string() + " -o " + out.string() + " > /dev/null"), 0);
+    EXPECT_NEAR(area_of(out), 3.0, 1e-12);
+    EXPECT_EQ(run(cli + " tessellate " + obj.string() + " -o " + out.string() + " --tolerance 0.01 > /dev/null"), 0);
+    EXPECT_NEAR(area_of(out), 3.0, 1e-12);
+    // segments do not apply to a trimmed surface: a usage error
+    EXPECT_EQ(run(cli + " tessellate " + obj.string() + " -o " + out.string() + " --segments 4 2> /dev/null"), 2);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
 }
 
 TEST(SurfacesCli, ObjBsplineAndSurfaceQueries) {

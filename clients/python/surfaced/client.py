@@ -20,8 +20,8 @@ from .types import (
     Boundary, Bounds, BSpline, BSplineSurface, Chain, Compression, Continuity, Corner, Crease, CreaseMethod,
     CurvesOutput, Derivatives, EnforceC1, EstimateNormals, ImplicitMode, ImplicitScene, InsertKnot, LimitPoint,
     LoopWeights, Mesh, Output, OutputFormat, Patch, PatchSampleFormat, Point, PointcloudFormat, Ray,
-    RemeshSmoothing, RepairMode, Sample, Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, Tolerance,
-    TriangleRule, UvInterpolation, Vec2, Vec3,
+    RemeshSmoothing, RepairMode, Sample, Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, TessellateSurface,
+    Tolerance, TriangleRule, UvInterpolation, Vec2, Vec3,
 )
 
 if TYPE_CHECKING:  # numpy is optional: only the array helpers need it
@@ -455,7 +455,7 @@ class Client:
 
     # -- patches and curves ----------------------------------------------------------------------------------------
     def tessellate(self, patches: Optional[Sequence[Patch]] = None, *,
-                   surfaces: Optional[Sequence[BSplineSurface]] = None, bez: Optional[str] = None,
+                   surfaces: Optional[Sequence[TessellateSurface]] = None, bez: Optional[str] = None,
                    data: Optional[bytes] = None, content_type: Optional[str] = None,
                    tolerance: Optional[float] = None, segments: int = 8, output: Optional[Output] = None,
                    format: TessellateFormat = "glb", compression: Compression = "draco",

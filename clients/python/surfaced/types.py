@@ -15,7 +15,7 @@ __all__ = [
     "PointcloudFormat", "CurvesFormat", "KnotVector",
     "Mesh", "Output", "Crease", "Corner", "LimitPoint", "Patch", "Ray", "EstimateNormals", "Sample", "Derivatives", "Tolerance",
     "ChainPiece", "Chain", "BSpline", "Continuity", "EnforceC1", "InsertKnot", "CurvesOutput", "JsonValue",
-    "BSplineSurface", "SurfaceInsertKnot", "SurfaceElevate",
+    "BSplineSurface", "TrimCurve", "SurfaceTrim", "TessellateSurface", "SurfaceInsertKnot", "SurfaceElevate",
 ]
 
 Vec2 = Sequence[float]
@@ -185,6 +185,29 @@ class BSplineSurface(_BSplineSurfaceRequired, total=False):
     """A B-spline/NURBS surface: [p, q] degrees, knot vectors, count_u x count_v control points (u varying fastest),
     optional weights."""
     weights: Sequence[float]
+
+
+class _TrimCurveRequired(TypedDict):
+    degree: int
+    points: Sequence[Vec2]
+
+
+class TrimCurve(_TrimCurveRequired, total=False):
+    """A 2D B-spline/NURBS curve in a surface's (u, v): without knots, clamped uniform ones over [0, 1] (degree + 1
+    points are a Bezier curve); optional weights > 0."""
+    knots: Sequence[float]
+    weights: Sequence[float]
+
+
+class SurfaceTrim(TypedDict, total=False):
+    """Trim loops: one outer loop (none: the whole domain) and holes, each a list of curves end to start."""
+    outer: Sequence[TrimCurve]
+    holes: Sequence[Sequence[TrimCurve]]
+
+
+class TessellateSurface(BSplineSurface, total=False):
+    """A surface of POST /tessellate; with ``trim``, a trimmed surface (tessellated within ``tolerance``)."""
+    trim: SurfaceTrim
 
 
 class _SurfaceInsertKnotRequired(TypedDict):
