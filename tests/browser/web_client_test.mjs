@@ -154,6 +154,51 @@ try {
   check(/patches: 1\n/.test(saddleStats) && /triangles: 128\n/.test(saddleStats) && saddleNet === 16,
         `uploaded JSON patch set tessellated: 1 patch, 128 triangles, 16 control points (${await shot('02b-saddle')})`);
 
+  // 2c. the trimmed NURBS sphere: tessellated by the server with its hole, the trimming loop drawn on the surface
+  // (points of the exact sphere, lifted by 0.3% of the net's diagonal), then a picked control point's weight edited
+  const updatesBeforeNurbs = await statsUpdates();
+  await page.selectOption('#patch-source', 'nurbs-sphere');
+  await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n &&
+                             /trimming loops/.test(document.getElementById('stats').textContent), updatesBeforeNurbs);
+  const nurbsStats = await page.$eval('#stats', (el) => el.textContent);
+  const nurbsTriangles = Number(/triangles: (\d+)/.exec(nurbsStats)?.[1]);
+  const loop = await page.evaluate(() => {
+    const lines = window.surfaced.views.patches.trimLines.children;
+    const radii = lines.length ? Array.from({ length: lines[0].geometry.attributes.position.count }, (_, i) => {
+      const a = lines[0].geometry.attributes.position;
+      return Math.hypot(a.getX(i), a.getY(i), a.getZ(i));
+    }) : [];
+    return { loops: lines.length, points: radii.length, min: Math.min(...radii), max: Math.max(...radii) };
+  });
+  check(/surfaces: 1, 1 trimming loops/.test(nurbsStats) && nurbsTriangles > 0 && loop.loops === 1 && loop.points > 50 &&
+        loop.min > 0.999 && loop.max < 1.02,
+        `trimmed NURBS sphere: ${nurbsTriangles} triangles, its hole's loop drawn on the sphere (${loop.points} points, ` +
+        `radius ${loop.min.toFixed(4)}-${loop.max.toFixed(4)}) (${await shot('02c-nurbs-sphere')})`);
+  const sphereSignature = await meshSignature();
+  // a click on an equator control point picks it; a weight of 3 pulls the surface towards it
+  const equator = await page.evaluate(() => {
+    const v = window.surfaced.views.patches, rect = window.surfaced.viewer.renderer.domElement.getBoundingClientRect();
+    const P = window.surfaced.viewer.camera.position.constructor;
+    let best = null;
+    for (let i = 0; i < v.positions.count; ++i) {
+      const p = new P().fromBufferAttribute(v.positions, i);
+      if (Math.abs(p.z) > 1e-9) continue;   // the net's middle row (z = 0 in the surface's frame)
+      const q = p.clone().applyMatrix4(window.surfaced.viewer.overlay.matrixWorld).project(window.surfaced.viewer.camera);
+      if (!best || q.z < best.depth) best = { depth: q.z, x: rect.left + (q.x + 1) / 2 * rect.width, y: rect.top + (1 - q.y) / 2 * rect.height };
+    }
+    return best;
+  });
+  await page.mouse.click(equator.x, equator.y);
+  await page.waitForSelector('#patch-weight-row:not([hidden])');
+  const weightBefore = Number(await page.inputValue('#patch-weight'));
+  const updatesBeforeWeight = await statsUpdates();
+  await page.fill('#patch-weight', '3');
+  await page.dispatchEvent('#patch-weight', 'change');
+  await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n, updatesBeforeWeight);
+  const weighted = await meshSignature();
+  check(weightBefore > 0 && weighted !== sphereSignature,
+        `editing a control point's weight (${weightBefore} -> 3) changes the NURBS surface (${await shot('02d-nurbs-weight')})`);
+
   // 3. subdivision through the UI: the cube at level 2 (96 faces), then a picked edge made sharp
   await page.click('#tabs button[data-view=subdivide]');
   await page.waitForFunction(() => Number(document.getElementById('stats').dataset.outputFaces) > 0);

@@ -1,7 +1,9 @@
-// Patches view: a Bézier patch set (the teapot from GET /patches/teapot, or an uploaded JSON/BEZ set) tessellated by
-// the service, its control net, and control points dragged with a server round trip per update.
+// Patches view: a Bézier patch set (the teapot from GET /patches/teapot, or an uploaded JSON/BEZ set) or NURBS
+// surfaces (the trimmed NURBS sphere, or a JSON upload) tessellated by the service, its control net, control points
+// dragged with a server round trip per update, a picked point's weight edited, and trimming loops drawn.
 import * as THREE from 'three';
 import { call } from './api.js';
+import { netSize, trimLoops3d, trimmedSphere } from './nurbs.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -35,7 +37,7 @@ export class PatchesView {
   constructor(app) {
     this.app = app;
     this.viewer = app.viewer;
-    this.patches = null;        // {patches: [{degree, points}]}, edited in place while dragging
+    this.patches = null;        // {patches: [{degree, points}], surfaces: [...]}, edited in place while dragging
     this.original = null;       // JSON text of the set as loaded, for "reset"
     this.zUp = true;
     this.busy = false;          // one tessellation request at a time...
@@ -55,6 +57,7 @@ export class PatchesView {
     });
     $('patch-source').addEventListener('change', () => this.loadSample($('patch-source').value));
     $('patch-file').addEventListener('change', (e) => this.loadFile(e.target.files[0]));
+    $('patch-weight').addEventListener('change', () => this.setWeight(Number($('patch-weight').value)));
 
     const canvas = this.viewer.renderer.domElement;
     // capture phase: runs before OrbitControls' own listener, which is disabled while a point is dragged
@@ -87,8 +90,9 @@ export class PatchesView {
       const result = await call('POST', '/tessellate', { body: { ...set, ...this.tessellationQuery(), output: { compression: 'none' } } });
       this.info = info;
       this.name = name;
-      this.setPatches({ patches: set.patches });
-      this.original = JSON.stringify({ patches: set.patches });
+      const editable = { ...(set.patches ? { patches: set.patches } : {}), ...(set.surfaces ? { surfaces: set.surfaces } : {}) };
+      this.setPatches(editable);
+      this.original = JSON.stringify(editable);
       this.zUp = false;
       this.viewer.setUpAxis(false);
       await this.showResult(result, { fit: true });
@@ -97,7 +101,11 @@ export class PatchesView {
     }
   }
 
-  deactivate() { this.active = false; this.onPointerUp(); }
+  deactivate() {
+    this.active = false;
+    this.onPointerUp();
+    if (this.trimLines) this.viewer.root.remove(this.trimLines);   // setPatches puts them back
+  }
 
   tessellationQuery() {
     const mode = document.querySelector('input[name=patch-mode]:checked').value;
@@ -108,6 +116,8 @@ export class PatchesView {
   /** GET /patches/{name}: the tessellated sample (Draco GLB) and its control points (format=patches). */
   async loadSample(name) {
     this.app.clearError();
+    if (name === 'nurbs-sphere')
+      return this.loadPatchSet(trimmedSphere(), { name: 'nurbs-sphere', info: 'NURBS sphere (9 × 5 rational net), trimmed by a circle' });
     try {
       const q = new URLSearchParams(Object.entries(this.tessellationQuery()).map(([k, v]) => [k, String(v)]));
       const [mesh, net] = await Promise.all([
@@ -146,34 +156,41 @@ export class PatchesView {
     }
   }
 
-  /** Builds the unique control points (shared points of neighbouring patches are one) and the net lines. */
+  /**
+   * Builds the unique control points (shared points of neighbouring patches or surfaces are one, when their weights
+   * agree too) and the net lines.
+   */
   setPatches(set) {
     this.patches = set;
-    const key = (p) => p.join(',');
+    const key = (p, w) => `${p.join(',')};${w}`;
     const index = new Map();
-    this.refs = [];           // unique point -> [[patch, i], ...]
+    this.refs = [];           // unique point -> [[item, i], ...], item a patch or a surface of the set
+    this.selected = -1;
+    $('patch-weight-row').hidden = true;
     const positions = [];
     const lines = [];
-    set.patches.forEach((patch, pi) => {
-      const ids = patch.points.map((p, i) => {
-        let id = index.get(key(p));
+    const items = [...(set.patches ?? []).map((patch) => [patch, [patch.degree[0] + 1, patch.degree[1] + 1]]),
+                   ...(set.surfaces ?? []).map((surface) => [surface, netSize(surface)])];
+    for (const [item, [nu, nv]] of items) {
+      const ids = item.points.map((p, i) => {
+        const k = key(p, item.weights?.[i] ?? 1);
+        let id = index.get(k);
         if (id === undefined) {
           id = this.refs.length;
-          index.set(key(p), id);
+          index.set(k, id);
           this.refs.push([]);
           positions.push(p[0], p[1], p[2]);
         }
-        this.refs[id].push([pi, i]);
+        this.refs[id].push([item, i]);
         return id;
       });
-      const [m, n] = patch.degree;
-      for (let j = 0; j <= n; ++j)
-        for (let i = 0; i <= m; ++i) {
-          const a = ids[j * (m + 1) + i];
-          if (i < m) lines.push(a, ids[j * (m + 1) + i + 1]);
-          if (j < n) lines.push(a, ids[(j + 1) * (m + 1) + i]);
+      for (let j = 0; j < nv; ++j)
+        for (let i = 0; i < nu; ++i) {
+          const a = ids[j * nu + i];
+          if (i + 1 < nu) lines.push(a, ids[j * nu + i + 1]);
+          if (j + 1 < nv) lines.push(a, ids[(j + 1) * nu + i]);
         }
-    });
+    }
     this.positions = new THREE.Float32BufferAttribute(positions, 3);
     this.viewer.clearOverlay();
     const pointsGeometry = new THREE.BufferGeometry();
@@ -186,6 +203,10 @@ export class PatchesView {
     this.netPoints.renderOrder = 1;
     this.netPoints.material.depthTest = false;
     this.viewer.overlay.add(this.netLines, this.netPoints);
+    this.trimLines = new THREE.Group();
+    this.viewer.root.remove(this.viewer.root.getObjectByName('trim-loops') ?? new THREE.Group());
+    this.trimLines.name = 'trim-loops';
+    this.viewer.root.add(this.trimLines);
     this.viewer.overlay.visible = $('patch-net').checked;
     this.viewer.render();
   }
@@ -200,6 +221,7 @@ export class PatchesView {
     if (!this.active) return;
     this.lastResult = result;
     this.viewer.setGeometry(geometry, { fit });
+    await this.drawTrimLoops();
     const h = result.headers;
     const server = h.get('X-Elapsed-Ms');
     const wire = result.networkMs ?? result.roundTripMs;
@@ -208,7 +230,9 @@ export class PatchesView {
     const trips = this.roundTrips;
     this.app.setStats([
       ...(this.info ? [this.info] : []),
-      `patches: ${this.patches?.patches.length ?? h.get('X-Patches')}`,
+      ...(this.patches?.surfaces?.length ? [`surfaces: ${this.patches.surfaces.length}` +
+                                            `${this.trimCount ? `, ${this.trimCount} trimming loops` : ''}`] : []),
+      `patches: ${this.patches?.patches?.length ?? h.get('X-Patches')}`,
       `triangles: ${h.get('X-Output-Faces') ?? geometry.index?.count / 3}`,
       `error bound: ${h.get('X-Error-Bound')}`,
       `round trip: ${wire.toFixed(1)} ms` + (server ? ` (server ${server} ms)` : '') +
@@ -270,7 +294,8 @@ export class PatchesView {
     this.lastDragged = id;
     const world = new THREE.Vector3().fromBufferAttribute(this.positions, id).applyMatrix4(this.viewer.overlay.matrixWorld);
     const normal = this.viewer.camera.getWorldDirection(new THREE.Vector3());
-    this.drag = { id, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, world), pointer: event.pointerId };
+    this.drag = { id, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, world), pointer: event.pointerId, moved: false };
+    this.select(id);
     this.viewer.renderer.domElement.setPointerCapture(event.pointerId);
     event.preventDefault();
   }
@@ -286,7 +311,7 @@ export class PatchesView {
     const local = this.viewer.overlay.worldToLocal(hit);
     this.positions.setXYZ(this.drag.id, local.x, local.y, local.z);
     this.positions.needsUpdate = true;
-    for (const [pi, i] of this.refs[this.drag.id]) this.patches.patches[pi].points[i] = [local.x, local.y, local.z];
+    for (const [item, i] of this.refs[this.drag.id]) item.points[i] = [local.x, local.y, local.z];
     this.viewer.render();
     this.retessellate();
   }
@@ -295,6 +320,43 @@ export class PatchesView {
     if (!this.drag) return;
     this.drag = null;
     this.viewer.controls.enabled = true;
+  }
+
+  /** Picks control point `id` for the weight field (its weight in the first patch or surface that uses it). */
+  select(id) {
+    this.selected = id;
+    const [item, i] = this.refs[id][0];
+    $('patch-weight').value = String(item.weights?.[i] ?? 1);
+    $('patch-weight-index').textContent = `point ${id}`;
+    $('patch-weight-row').hidden = false;
+  }
+
+  /** Sets the picked control point's weight in every patch or surface that uses it (a set without weights gets 1s). */
+  setWeight(w) {
+    if (this.selected < 0 || !(w > 0)) return;
+    for (const [item, i] of this.refs[this.selected]) {
+      if (!item.weights) item.weights = item.points.map(() => 1);
+      item.weights[i] = w;
+    }
+    this.retessellate();
+  }
+
+  /** The set's trimming loops on the surface, lifted slightly along the normal so they show over the shading. */
+  async drawTrimLoops() {
+    if (!this.trimLines) return;
+    for (const child of [...this.trimLines.children]) { this.trimLines.remove(child); child.geometry.dispose(); }
+    this.trimCount = 0;
+    if (!this.patches?.surfaces?.some((s) => s.trim)) return;
+    const box = new THREE.Box3().setFromBufferAttribute(this.positions);
+    const loops = await trimLoops3d(this.patches, 0.003 * box.getSize(new THREE.Vector3()).length());
+    const material = new THREE.LineBasicMaterial({ color: 0xff5a5a });
+    for (const loop of loops) {
+      const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(loop.map((p) => new THREE.Vector3(...p))), material);
+      line.renderOrder = 1;
+      this.trimLines.add(line);
+    }
+    this.trimCount = loops.length;
+    this.viewer.render();
   }
 }
 
