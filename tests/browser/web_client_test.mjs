@@ -126,8 +126,9 @@ try {
     const v = window.surfaced.views.patches;
     const before = JSON.parse(original);
     const refs = v.lastDragged === undefined ? [] : v.refs[v.lastDragged];
-    return { movedPoint: refs.map(([p, i]) => v.patches.patches[p].points[i]),
-             originalPoint: refs.map(([p, i]) => before.patches[p].points[i]) };
+    // refs: [patch object, point index] for each copy of the point in the patches sharing it
+    return { movedPoint: refs.map(([patch, i]) => patch.points[i]),
+             originalPoint: refs.map(([patch, i]) => before.patches[v.patches.patches.indexOf(patch)].points[i]) };
   }, originalSet);
   const dragShot = await shot('02-teapot-dragged');
   const trips = await page.evaluate(() => window.surfaced.views.patches.roundTrips);
@@ -175,7 +176,7 @@ try {
         `trimmed NURBS sphere: ${nurbsTriangles} triangles, its hole's loop drawn on the sphere (${loop.points} points, ` +
         `radius ${loop.min.toFixed(4)}-${loop.max.toFixed(4)}) (${await shot('02c-nurbs-sphere')})`);
   const sphereSignature = await meshSignature();
-  // a click on an equator control point picks it; a weight of 3 pulls the surface towards it
+  // a click on an equator control point picks it; a weight of 1.2 pulls the surface towards it
   const equator = await page.evaluate(() => {
     const v = window.surfaced.views.patches, rect = window.surfaced.viewer.renderer.domElement.getBoundingClientRect();
     const P = window.surfaced.viewer.camera.position.constructor;
@@ -192,12 +193,12 @@ try {
   await page.waitForSelector('#patch-weight-row:not([hidden])');
   const weightBefore = Number(await page.inputValue('#patch-weight'));
   const updatesBeforeWeight = await statsUpdates();
-  await page.fill('#patch-weight', '3');
+  await page.fill('#patch-weight', '1.2');
   await page.dispatchEvent('#patch-weight', 'change');
   await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.updates) > n, updatesBeforeWeight);
   const weighted = await meshSignature();
   check(weightBefore > 0 && weighted !== sphereSignature,
-        `editing a control point's weight (${weightBefore} -> 3) changes the NURBS surface (${await shot('02d-nurbs-weight')})`);
+        `editing a control point's weight (${weightBefore} -> 1.2) changes the NURBS surface (${await shot('02d-nurbs-weight')})`);
 
   // 3. subdivision through the UI: the cube at level 2 (96 faces), then a picked edge made sharp
   await page.click('#tabs button[data-view=subdivide]');

@@ -86,6 +86,8 @@ export class PatchesView {
   /** Tessellates a patch set (y up, as mesh files are) and shows it with its net; `info` is an extra stats line. */
   async loadPatchSet(set, { info, name } = {}) {
     this.app.clearError();
+    // trimmed surfaces are tessellated to a tolerance only (their trims need it)
+    if (set.surfaces?.some((surface) => surface.trim)) document.querySelector('input[name=patch-mode][value=tolerance]').checked = true;
     try {
       const result = await call('POST', '/tessellate', { body: { ...set, ...this.tessellationQuery(), output: { compression: 'none' } } });
       this.info = info;
