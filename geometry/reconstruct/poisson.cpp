@@ -1,11 +1,11 @@
 #include "geometry/reconstruct/poisson.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
-#include "geometry/implicit/mesh_field.h"
-#include "geometry/reconstruct/indicator_field.h"
+#include "geometry/reconstruct/extract_surface.h"
 #include "geometry/reconstruct/octree.h"
 #include "geometry/reconstruct/poisson_system.h"
 #include "geometry/reconstruct/solver.h"
@@ -19,6 +19,10 @@ using reconstruct::OrientedSamples;
 constexpr int kMinDepth = 2;
 // Cells a plane crosses per unit area in a grid of unit cells, averaged over orientations: E|nx|+|ny|+|nz| = 1.5.
 constexpr double kCellsPerArea = 1.5;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 Status check_options(const PoissonOptions& o) {
     if (o.depth < 2 || o.depth > 10) return make_error(ErrorCode::InvalidArgument, "poisson: depth must be in 2..10");
@@ -72,6 +76,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
         return make_error(ErrorCode::InvalidArgument,
                           "poisson: the point cloud has no normals (estimate and orient them first)");
 
+    const auto start = std::chrono::steady_clock::now();
     // samples: weights, unit normals, the bounding cube
     OrientedSamples samples;
     std::vector<Vec3> positions;
@@ -106,6 +111,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     Result<reconstruct::PoissonOctree> tree =
         reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);
     if (!tree) return tree.error();
+    const double seconds_octree = seconds_since(start);
 
     reconstruct::SolverOptions solver;
     solver.alpha = options.point_weight;
@@ -135,20 +141,21 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     for (const std::vector<double>& v : chi->values) result.stats.octree_bytes += v.capacity() * sizeof(double);
     result.stats.area_estimate = samples.area * side * side;
 
-    const reconstruct::IndicatorField field(*tree, *chi, origin, side, iso);
-    implicit::MeshFieldOptions mesh_options;
-    mesh_options.resolution = 1 << options.depth;
-    mesh_options.max_cells = std::uint64_t{1} << (3 * options.depth);
-    mesh_options.mode = implicit::MeshFieldMode::Uniform;
-    mesh_options.cancel = cancel;
-    Box3 cube;
-    cube.add(origin);
-    cube.add(origin + Vec3{side, side, side});
-    implicit::MeshFieldStats mesh_stats;
-    Result<PolygonMesh> mesh = implicit::mesh_field(field, cube, mesh_options, &mesh_stats);
+    result.stats.seconds_octree = seconds_octree;
+    for (const reconstruct::LevelSolveStats& l : level_stats) {
+        result.stats.seconds_system += l.assembly_seconds;
+        result.stats.seconds_solve += l.solve_seconds;
+    }
+    const auto extract_start = std::chrono::steady_clock::now();
+    reconstruct::ExtractionStats extraction;
+    Result<PolygonMesh> mesh = reconstruct::extract_surface(*tree, *chi, iso, cancel, &extraction);
     if (!mesh) return mesh.error();
     result.mesh = std::move(*mesh);
-    result.stats.field_evaluations = mesh_stats.field_evaluations;
+    for (Vec3& p : result.mesh.positions) p = origin + p * side;
+    result.stats.field_evaluations = extraction.interpolated_nodes;
+    result.stats.surface_cells = extraction.surface_cells;
+    result.stats.extraction_bytes = extraction.bytes;
+    result.stats.seconds_extract = seconds_since(extract_start);
     return result;
 }
 

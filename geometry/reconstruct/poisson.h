@@ -60,8 +60,13 @@ struct PoissonStats {
     std::vector<int> iterations;          //!< conjugate-gradient iterations per level
     std::vector<double> residuals;        //!< relative residual reached per level
     std::size_t octree_bytes = 0;         //!< memory of the octree's key sets and values
-    std::uint64_t field_evaluations = 0;  //!< by the mesher
+    std::uint64_t field_evaluations = 0;  //!< grid nodes whose value the extraction interpolated from a coarser level
+    std::uint64_t surface_cells = 0;      //!< finest-level cells the surface crosses
+    std::size_t extraction_bytes = 0;     //!< peak of the extraction's tables (the output mesh excluded)
     double area_estimate = 0;             //!< of the sampled surface, model units
+    //! Wall-clock seconds of the phases: the samples and the octree; the operators and right-hand sides; conjugate
+    //! gradients; the surface extraction.
+    double seconds_octree = 0, seconds_system = 0, seconds_solve = 0, seconds_extract = 0;
 };
 
 struct PoissonResult {

@@ -1,9 +1,14 @@
 #include "geometry/reconstruct/solver.h"
 
+#include <chrono>
 #include <cmath>
 
 namespace surfaced::reconstruct {
 namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 double dot_product(const std::vector<double>& a, const std::vector<double>& b) {
     double sum = 0;
@@ -55,6 +60,7 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
 
 Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const OrientedSamples& samples,
                                        const SolverOptions& options, std::vector<LevelSolveStats>* stats) {
+    auto start = std::chrono::steady_clock::now();
     const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples);
     IndicatorValues out;
     out.values.resize(tree.levels.size());
@@ -81,9 +87,10 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         LevelSolveStats level_stats;
         level_stats.depth = level.depth;
         level_stats.dofs = system.size();
+        level_stats.assembly_seconds = seconds_since(start);
+        start = std::chrono::steady_clock::now();
         if (!conjugate_gradients(system, b, options, x, level_stats))
             return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
-        if (stats) stats->push_back(level_stats);
 
         // add this level's hats to the values and to chi at the samples
         for (std::size_t v = 0; v < x.size(); ++v) {
@@ -93,6 +100,9 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         }
         system.evaluate_at_samples(x, correction_at_samples);
         for (std::size_t i = 0; i < correction_at_samples.size(); ++i) out.at_samples[i] += correction_at_samples[i];
+        level_stats.solve_seconds = seconds_since(start);
+        if (stats) stats->push_back(level_stats);
+        start = std::chrono::steady_clock::now();
     }
     return out;
 }

@@ -28,6 +28,8 @@ struct LevelSolveStats {
     std::size_t dofs = 0;
     int iterations = 0;
     double relative_residual = 0;
+    double assembly_seconds = 0;  //!< the level's operator and right-hand side (level 0: also b for every level)
+    double solve_seconds = 0;     //!< conjugate gradients and the update of the values
 };
 
 //! The reconstructed function, as its values at every level's support vertices (PoissonOctree, octree.h). Inside a
