@@ -9,7 +9,9 @@
 // time, peak heap against estimate_poisson's prediction, the time of each phase).
 //
 // Usage: bench_poisson [--quick] [--scale] [--points N]
-//   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only; points: per cloud, 50000
+//                      [--scale-depth D]
+//   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only (scale-depth: at depth D only);
+//   points: per cloud, 50000
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -187,14 +189,14 @@ void run(const char* shape, const PolygonMesh& truth, std::size_t points, const 
 }
 
 //! 1M points at depths 9 and 10: time, memory and accuracy at scale.
-void run_scale(const char* shape, const PolygonMesh& truth) {
+void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<int>& depths) {
     MeshSamplingOptions so;
     so.count = 1'000'000;
     const Result<PointCloud> cloud = sample_mesh(truth, so);
     if (!cloud) return;
     MeshDistanceOptions mo;
     mo.samples = 100'000;
-    for (const int depth : {9, 10}) {
+    for (const int depth : depths) {
         PoissonOptions options;
         options.depth = depth;
         Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
@@ -219,10 +221,15 @@ void run_scale(const char* shape, const PolygonMesh& truth) {
 
 int main(int argc, char** argv) {
     bool quick = false, scale_only = false;
+    std::vector<int> scale_depths{9, 10};
     std::size_t points = 50'000;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--scale") == 0) scale_only = true;
+        if (std::strcmp(argv[i], "--scale-depth") == 0 && i + 1 < argc) {
+            scale_only = true;
+            scale_depths = {std::atoi(argv[++i])};
+        }
         if (std::strcmp(argv[i], "--points") == 0 && i + 1 < argc) points = std::strtoull(argv[++i], nullptr, 10);
     }
     const PolygonMesh bunny = read_bunny();
@@ -239,7 +246,7 @@ int main(int argc, char** argv) {
         "\n| shape | points | depth | CPU s | wall s | octree / system / solve / extract s | peak MiB | "
         "estimate MiB | triangles | RMS | RMS / diagonal |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
-    run_scale("sphere", icosphere());
-    if (bunny.face_count() > 0) run_scale("bunny", bunny);
+    run_scale("sphere", icosphere(), scale_depths);
+    if (bunny.face_count() > 0) run_scale("bunny", bunny, scale_depths);
     return 0;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -167,6 +168,30 @@ private:
     std::vector<std::uint64_t> keys_;
     std::vector<std::uint32_t> values_;
     std::size_t size_ = 0;
+};
+
+//! The packed form of a signed offset (di, dj, dk): key + offset_delta(...) is the key of the offset coordinates when
+//! they stay in range (the fields do not carry into each other then).
+inline std::uint64_t offset_delta(int di, int dj, int dk) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(di) + static_cast<std::int64_t>(dj) * (1ll << 21) +
+                                      static_cast<std::int64_t>(dk) * (1ll << 42));
+}
+
+//! Looks keys up in a sorted list for non-decreasing targets (a sorted key list plus a fixed offset), with a pointer
+//! that only moves forward: linear in the list's length for a whole pass, sequential in memory, no hashing.
+class SortedCursor {
+public:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+    explicit SortedCursor(const std::vector<std::uint64_t>& keys) : keys_(&keys) {}
+    std::uint32_t seek(std::uint64_t target) {
+        const std::vector<std::uint64_t>& keys = *keys_;
+        while (pos_ < keys.size() && keys[pos_] < target) ++pos_;
+        return pos_ < keys.size() && keys[pos_] == target ? static_cast<std::uint32_t>(pos_) : kNone;
+    }
+
+private:
+    const std::vector<std::uint64_t>* keys_;
+    std::size_t pos_ = 0;
 };
 
 }  // namespace surfaced::reconstruct

@@ -122,19 +122,22 @@ void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, st
 void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out) {
     const double h = std::ldexp(1.0, -level.depth);
     const std::uint32_t n = std::uint32_t{1} << level.depth;
-    for (std::size_t v = 0; v < level.dofs.size(); ++v) {
-        const std::uint64_t key = level.dofs.keys[v];
-        double sum = 0;
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                    const std::uint32_t s = level.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
-                    assert(s != KeyMap::kNone);
-                    sum += dot(field[s], gradient_stencil(a, b, c));
-                }
-        out[v] += sum / h;
+    const std::size_t dofs = level.dofs.size();
+    std::vector<double> sum(dofs, 0.0);
+    for (int o = 0; o < 27; ++o) {  // one sorted pass per offset, summing in the stencil's order
+        const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+        const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
+        const Vec3 stencil = gradient_stencil(a, b, c);
+        SortedCursor cursor(level.support_vertices.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level.dofs.keys[v];
+            if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+            const std::uint32_t s = cursor.seek(key + delta);
+            assert(s != SortedCursor::kNone);
+            sum[v] += dot(field[s], stencil);
+        }
     }
+    for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
 }  // namespace
@@ -231,16 +234,17 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     if (dirichlet)
         for (std::size_t v = 0; v < dofs; ++v) fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
 
+    // one sorted pass per offset: the dofs' keys plus the offset are increasing
     neighbours_.assign(dofs * 27, KeyMap::kNone);
-    for (std::size_t v = 0; v < dofs; ++v) {
-        const std::uint64_t key = level_.dofs.keys[v];
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                    neighbours_[v * 27 + static_cast<std::size_t>(a + 3 * b + 9 * c)] =
-                        level_.dofs.find(offset_key(key, a - 1, b - 1, c - 1));
-                }
+    for (int o = 0; o < 27; ++o) {
+        const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+        const std::uint64_t delta = offset_delta(a, b, c);
+        SortedCursor cursor(level_.dofs.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level_.dofs.keys[v];
+            if (offset_inside(key, a, b, c, n))
+                neighbours_[v * 27 + static_cast<std::size_t>(o)] = cursor.seek(key + delta);
+        }
     }
 
     diagonal_.assign(dofs, kStiffness.w[13] * h_);
@@ -297,19 +301,22 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y) co
 
 void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, std::vector<double>& out) const {
     const std::uint32_t n = std::uint32_t{1} << level_.depth;
-    for (std::size_t v = 0; v < fixed_.size(); ++v) {
-        const std::uint64_t key = level_.dofs.keys[v];
-        double sum = 0;
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                    const std::uint32_t s = level_.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
-                    assert(s != KeyMap::kNone);
-                    sum += kStiffness.w[a + 3 * b + 9 * c] * support_values[s];
-                }
-        out[v] -= sum * h_;
+    const std::size_t dofs = fixed_.size();
+    // one sorted pass per offset (the support vertices' keys are sorted too), summing in the stencil's order
+    std::vector<double> sum(dofs, 0.0);
+    for (int o = 0; o < 27; ++o) {
+        const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+        const std::uint64_t delta = offset_delta(a, b, c);
+        SortedCursor cursor(level_.support_vertices.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level_.dofs.keys[v];
+            if (!offset_inside(key, a, b, c, n)) continue;
+            const std::uint32_t s = cursor.seek(key + delta);
+            assert(s != SortedCursor::kNone);
+            sum[v] += kStiffness.w[o] * support_values[s];
+        }
     }
+    for (std::size_t v = 0; v < dofs; ++v) out[v] -= sum[v] * h_;
 }
 
 void LevelSystem::subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const {
