@@ -9,9 +9,9 @@
 // time, peak heap against estimate_poisson's prediction, the time of each phase).
 //
 // Usage: bench_poisson [--quick] [--scale] [--points N]
-//                      [--scale-depth D]
+//                      [--scale-depth D] [--threads T]
 //   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only (scale-depth: at depth D only);
-//   points: per cloud, 50000
+//   points: per cloud, 50000; threads: PoissonOptions::threads of the scale table (1)
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -188,6 +188,8 @@ void run(const char* shape, const PolygonMesh& truth, std::size_t points, const 
 #endif
 }
 
+int g_threads = 1;
+
 //! 1M points at depths 9 and 10: time, memory and accuracy at scale.
 void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<int>& depths) {
     MeshSamplingOptions so;
@@ -199,6 +201,7 @@ void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<in
     for (const int depth : depths) {
         PoissonOptions options;
         options.depth = depth;
+        options.threads = g_threads;
         Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
         const Timing t = time_once([&] { result = reconstruct_poisson(*cloud, options); });
         if (!result) {
@@ -226,6 +229,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--scale") == 0) scale_only = true;
+        if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) g_threads = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--scale-depth") == 0 && i + 1 < argc) {
             scale_only = true;
             scale_depths = {std::atoi(argv[++i])};

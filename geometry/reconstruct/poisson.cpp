@@ -36,6 +36,7 @@ Status check_options(const PoissonOptions& o) {
         return make_error(ErrorCode::InvalidArgument, "poisson: max_iterations must be in 1..100000");
     if (!std::isfinite(o.tolerance) || o.tolerance < 0 || o.tolerance >= 1)
         return make_error(ErrorCode::InvalidArgument, "poisson: tolerance must be in [0, 1)");
+    if (o.threads < 0) return make_error(ErrorCode::InvalidArgument, "poisson: threads must be >= 0");
     return Ok{};
 }
 
@@ -118,6 +119,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     solver.dirichlet = options.boundary == PoissonBoundary::Dirichlet;
     solver.max_iterations = options.max_iterations;
     solver.tolerance = options.tolerance;
+    solver.threads = options.threads;
     solver.cancel = cancel;
     std::vector<reconstruct::LevelSolveStats> level_stats;
     Result<reconstruct::IndicatorValues> chi = reconstruct::solve_cascadic(*tree, samples, solver, &level_stats);

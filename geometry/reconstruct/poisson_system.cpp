@@ -4,6 +4,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "geometry/core/two_parts.h"
+
 namespace surfaced::reconstruct {
 namespace {
 
@@ -176,23 +178,20 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         if (li + 1 == levels) continue;
         const OctreeLevel& from = tree.levels[li + 1];
         const std::vector<double>& f = rhs[li + 1];
-        for (std::size_t u = 0; u < f.size(); ++u) {
-            if (f[u] == 0) continue;
-            const std::uint64_t key = from.dofs.keys[u];
-            const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
-            std::uint32_t lo[3], hi[3];
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = idx[a] / 2;
-                hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
+        // gathered: coarse hat v is the fine hats 2v + o, o in {-1, 0, 1}^3, weighted 2^-(non-zero offsets); one
+        // sorted pass per offset
+        const std::uint32_t fine_n = std::uint32_t{1} << from.depth;
+        for (int o = 0; o < 27; ++o) {
+            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+            const double weight = (a ? 0.5 : 1.0) * (b ? 0.5 : 1.0) * (c ? 0.5 : 1.0);
+            const std::uint64_t delta = offset_delta(a, b, c);
+            SortedCursor cursor(from.dofs.keys);
+            for (std::size_t v = 0; v < to.dofs.size(); ++v) {
+                const std::uint64_t doubled = 2 * to.dofs.keys[v];
+                if (!offset_inside(doubled, a, b, c, fine_n)) continue;
+                const std::uint32_t u = cursor.seek(doubled + delta);
+                if (u != SortedCursor::kNone) coarse[v] += weight * f[u];
             }
-            const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
-            for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
-                for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
-                    for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
-                        const std::uint32_t v = to.dofs.find(pack_key(i, j, k));
-                        assert(v != KeyMap::kNone);
-                        coarse[v] += weight * f[u];
-                    }
         }
     }
 
@@ -251,6 +250,7 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     const std::size_t count = samples.positions.size();
     sample_dofs_.resize(count * 8);
     sample_cells_.resize(count);
+    sample_weights_.resize(count * 8);
     screening_.assign(count, 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint64_t cell = cell_key(samples.positions[i], depth);
@@ -259,7 +259,7 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
         // for their cells, pulling chi to the iso-value would raise a bubble around it
         if (samples.splat_depths.empty() || samples.splat_depths[i] >= depth)
             screening_[i] = beta_ * samples.weights[i];
-        double w[8];
+        double* w = &sample_weights_[i * 8];
         corner_weights(samples.positions[i], depth, cell, w);
         for (int c = 0; c < 8; ++c) {
             const std::uint32_t dof = level_.dofs.find(corner_key(cell, c));
@@ -271,24 +271,26 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     (void)tree_;
 }
 
-void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y) const {
+void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bool threaded) const {
     const std::size_t dofs = fixed_.size();
     y.assign(dofs, 0.0);
-    for (std::size_t v = 0; v < dofs; ++v) {
-        if (fixed_[v]) continue;
-        const std::uint32_t* nb = &neighbours_[v * 27];
-        double sum = 0;
-        for (int o = 0; o < 27; ++o) {
-            const std::uint32_t w = nb[o];
-            if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+    const std::size_t middle = dofs / 2;
+    run_two_parts(threaded, [&](int part) {
+        const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
+        for (std::size_t v = begin; v < end; ++v) {
+            if (fixed_[v]) continue;
+            const std::uint32_t* nb = &neighbours_[v * 27];
+            double sum = 0;
+            for (int o = 0; o < 27; ++o) {
+                const std::uint32_t w = nb[o];
+                if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+            }
+            y[v] = sum * h_;
         }
-        y[v] = sum * h_;
-    }
-    const int depth = level_.depth;
+    });
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
         if (screening_[i] == 0) continue;
-        double w[8];
-        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double* w = &sample_weights_[i * 8];
         const std::uint32_t* d = &sample_dofs_[i * 8];
         double value = 0;
         for (int c = 0; c < 8; ++c)
@@ -320,22 +322,18 @@ void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, 
 }
 
 void LevelSystem::subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const {
-    const int depth = level_.depth;
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
         if (screening_[i] == 0) continue;
-        double w[8];
-        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double* w = &sample_weights_[i * 8];
         const double value = screening_[i] * sample_values[i];
         for (int c = 0; c < 8; ++c) out[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]] -= w[c] * value;
     }
 }
 
 void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<double>& out) const {
-    const int depth = level_.depth;
     out.assign(sample_cells_.size(), 0.0);
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
-        double w[8];
-        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double* w = &sample_weights_[i * 8];
         double value = 0;
         for (int c = 0; c < 8; ++c) value += w[c] * x[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]];
         out[i] = value;
@@ -344,7 +342,7 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 
 std::size_t LevelSystem::memory_bytes() const {
     return neighbours_.capacity() * 4 + sample_dofs_.capacity() * 4 + sample_cells_.capacity() * 8 +
-           screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
+           sample_weights_.capacity() * 8 + screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

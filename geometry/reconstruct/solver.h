@@ -20,7 +20,9 @@ struct SolverOptions {
     bool dirichlet = false;    //!< chi = 0 on the cube's boundary; otherwise natural (Neumann) conditions
     int max_iterations = 100;  //!< conjugate-gradient iterations per level, at most
     double tolerance = 1e-6;   //!< stop when |residual| <= tolerance * |right-hand side| on the level
-    Cancel cancel;             //!< polled every iteration
+    //! 1: one thread; anything else: a second thread for the products and sums of large levels (bit-identical).
+    int threads = 1;
+    Cancel cancel;  //!< polled every iteration
 };
 
 struct LevelSolveStats {
