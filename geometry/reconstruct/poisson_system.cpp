@@ -35,12 +35,6 @@ bool on_boundary(std::uint64_t key, std::uint32_t n) {
     return i == 0 || j == 0 || k == 0 || i == n || j == n || k == n;
 }
 
-std::uint64_t offset_key(std::uint64_t key, int di, int dj, int dk) {
-    return pack_key(static_cast<std::uint32_t>(static_cast<std::int64_t>(key_i(key)) + di),
-                    static_cast<std::uint32_t>(static_cast<std::int64_t>(key_j(key)) + dj),
-                    static_cast<std::uint32_t>(static_cast<std::int64_t>(key_k(key)) + dk));
-}
-
 //! Whether key + (di, dj, dk) stays in [0, n]^3.
 bool offset_inside(std::uint64_t key, int di, int dj, int dk, std::uint32_t n) {
     const std::int64_t i = static_cast<std::int64_t>(key_i(key)) + di;
@@ -98,25 +92,26 @@ Vec3 gradient_stencil(int a, int b, int c) {
     return {kMixed[a] * kMass[b] * kMass[c], kMass[a] * kMixed[b] * kMass[c], kMass[a] * kMass[b] * kMixed[c]};
 }
 
-//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3, scattered from the non-zero splats
-//! (given at the level's dofs).
+//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3 (splats given at the level's dofs),
+//! gathered at every dof from its 27 neighbours w = v + o, one sorted pass per offset.
 void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out) {
     const double h = std::ldexp(1.0, -level.depth);
     const std::uint32_t n = std::uint32_t{1} << level.depth;
-    for (std::size_t w = 0; w < splat.size(); ++w) {
-        const Vec3 nw = splat[w];
-        if (nw.x == 0 && nw.y == 0 && nw.z == 0) continue;
-        const std::uint64_t key = level.dofs.keys[w];
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    // v = w - o with o = (a-1, b-1, c-1)
-                    if (!offset_inside(key, 1 - a, 1 - b, 1 - c, n)) continue;
-                    const std::uint32_t v = level.dofs.find(offset_key(key, 1 - a, 1 - b, 1 - c));
-                    assert(v != KeyMap::kNone);
-                    out[v] += dot(nw, gradient_stencil(a, b, c)) / h;
-                }
+    const std::size_t dofs = level.dofs.size();
+    std::vector<double> sum(dofs, 0.0);
+    for (int o = 0; o < 27; ++o) {
+        const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+        const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
+        const Vec3 stencil = gradient_stencil(a, b, c);
+        SortedCursor cursor(level.dofs.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level.dofs.keys[v];
+            if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+            const std::uint32_t w = cursor.seek(key + delta);
+            if (w != SortedCursor::kNone) sum[v] += dot(splat[w], stencil);
+        }
     }
+    for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
 //! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3 given at the level's support vertices,
