@@ -193,6 +193,45 @@ TEST(Poisson, SparseSamplesSplatOnCoarserLevels) {
     EXPECT_LT(a.hausdorff, cell_size(2.0, 5));
 }
 
+// Depth 9 on two small spheres 20 radii apart (400 points each): a dense grid over the cube would take 513^3 nodes
+// (540 MB at 4 bytes each) for ~2 x 10^4 surface cells. The sparse extraction's tables stay near the surface, the
+// output is two closed, manifold, outward spheres, and where the finest level does not reach (samples about 2 cells
+// apart on average, splatted coarser) the surface is extracted inside coarser leaves on the finest grid all the same.
+TEST(Poisson, SparseExtractionAtDepthNine) {
+    const int depth = 9;
+    PointCloud cloud = sphere_cloud(400, 1.0, 0.0, 11);
+    const PointCloud other = sphere_cloud(400, 1.0, 0.0, 12);
+    for (Vec3& p : cloud.positions) p.x -= 10;
+    for (std::size_t i = 0; i < other.size(); ++i) {
+        cloud.positions.push_back(other.positions[i] + Vec3{10, 0, 0});
+        cloud.normals.push_back(other.normals[i]);
+    }
+    const Result<PoissonResult> r = reconstruct_poisson(cloud, options_at(depth));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    expect_closed_outward(r->mesh, 4);
+    const double dense_grid_bytes = 4 * std::pow(std::ldexp(1.0, depth) + 1, 3);
+    EXPECT_LT(static_cast<double>(r->stats.extraction_bytes), dense_grid_bytes / 64);
+    // coarse leaves were meshed: node values interpolated there
+    EXPECT_GT(r->stats.field_evaluations, 0u);
+    EXPECT_NEAR(testing::signed_volume(r->mesh), 2 * 4.0 / 3.0 * kPi, 0.03 * 2 * 4.0 / 3.0 * kPi);
+}
+
+// A second thread for the conjugate gradients changes nothing: sums are taken over fixed chunks.
+TEST(Poisson, BitIdenticalWithTwoThreads) {
+    const PointCloud cloud = sphere_cloud(40'000, 1.0, 0.0, 12);
+    PoissonOptions o = options_at(7);
+    const Result<PoissonResult> one = reconstruct_poisson(cloud, o);
+    o.threads = 2;
+    const Result<PoissonResult> two = reconstruct_poisson(cloud, o);
+    ASSERT_TRUE(one.ok() && two.ok());
+    ASSERT_GE(one->stats.dofs.back(), 65'536u);  // large enough for the second thread
+    EXPECT_EQ(one->iso_value, two->iso_value);
+    ASSERT_EQ(one->mesh.positions.size(), two->mesh.positions.size());
+    for (std::size_t i = 0; i < one->mesh.positions.size(); ++i)
+        ASSERT_EQ(one->mesh.positions[i], two->mesh.positions[i]);
+    EXPECT_EQ(one->mesh.face_indices, two->mesh.face_indices);
+}
+
 TEST(Poisson, DeterministicAcrossRuns) {
     const PointCloud cloud = torus_cloud(4000, 1.0, 0.4, 0.02, 8);
     const Result<PoissonResult> a = reconstruct_poisson(cloud, options_at(5));
