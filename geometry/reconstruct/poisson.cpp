@@ -174,14 +174,13 @@ PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& optio
         active_total += d == kMinDepth ? all : std::min({all, 27 * occupied, 4 * surface});
     }
     e.octree_cells = static_cast<std::uint64_t>(active_total);
-    const double nodes = std::pow(std::ldexp(1.0, depth) + 1, 3);
-    e.grid_cells = std::uint64_t{1} << (3 * depth);
-    // per active cell: its key sets, support cells and vertices with values, the level's neighbour table and
-    // solver vectors (about 400 bytes); per point: the samples and their per-level corner indices; the mesher: 4
-    // bytes per grid node plus its surface cells
+    // the extraction visits the finest cells the surface crosses (and a few neighbours), not the whole grid
     const double surface_cells = kCellsPerArea * area * std::ldexp(1.0, 2 * depth);
-    e.bytes = static_cast<std::uint64_t>(400 * active_total + 120 * static_cast<double>(points) + 4 * nodes +
-                                         400 * surface_cells);
+    e.grid_cells = static_cast<std::uint64_t>(surface_cells);
+    // per active cell: its key sets and their hash maps, the values, right-hand sides and solver vectors, the finest
+    // level's neighbour table (about 250 bytes, measured); per point: the samples, their splat levels and per-level
+    // corner indices and weights; per surface cell: the extraction's tables and the output mesh (about 2 triangles)
+    e.bytes = static_cast<std::uint64_t>(250 * active_total + 120 * static_cast<double>(points) + 100 * surface_cells);
     return e;
 }
 

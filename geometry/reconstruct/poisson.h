@@ -11,10 +11,11 @@
 //     B-splines (degree 1) centred on every level's cell corners minimising the screened Poisson energy
 //     |grad chi - V|^2 + alpha * area / sum w * sum_i w_i chi(p_i)^2 (poisson_system.h).
 //  3. The system is solved coarse to fine, conjugate gradients on each level (solver.h).
-//  4. The iso-value is the weighted mean of chi at the samples, and chi - iso is meshed by the dual marching cubes
-//     mesher (geometry/implicit/mesh_field.h) over the cube at the finest resolution, 2^depth cells per side.
+//  4. The iso-value is the weighted mean of chi at the samples, and chi = iso is meshed by marching cubes on the
+//     finest level's grid (2^depth cells per side), visiting only the cells the surface can cross, in coarse regions
+//     too (extract_surface.h): memory and time grow with the surface, not with the cube's volume.
 // The output is a closed, manifold, consistently oriented triangle mesh with normals pointing out of the sampled
-// solid. Single-threaded and deterministic: the same cloud and options give the same mesh bit for bit.
+// solid. Deterministic: the same cloud and options give the same mesh bit for bit, with one thread or two.
 #pragma once
 
 #include <cstddef>
@@ -35,7 +36,7 @@ enum class PoissonBoundary {
 
 struct PoissonOptions {
     //! Finest octree depth: 2^depth cells across the bounding cube; 2..10. Each level multiplies the surface cells
-    //! (time, memory, triangles) by about 4; the mesher's grid takes 4 bytes per node of the finest level.
+    //! (time, memory, triangles) by about 4.
     int depth = 8;
     //! Screening weight alpha (PoissonRecon's --pointWeight): how strongly chi is pulled to the iso-value at the
     //! samples; 0 is the unscreened Poisson reconstruction of 2006. >= 0.
@@ -88,14 +89,14 @@ struct PoissonResult {
 Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const PoissonOptions& options,
                                           const Cancel& cancel = {});
 
-//! Predicted size of a reconstruction, for budgets before any work: octree cells and unknowns summed over the
-//! levels, the mesher's grid cells, and peak bytes. Assumes a closed surface about as large as the bounding cube
-//! allows (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the
-//! benchmark's 50,000-point sphere it predicts 53 / 200 / 816 MiB at depths 6 / 7 / 8 against 34 / 109 / 387 MiB
-//! measured (peak heap).
+//! Predicted size of a reconstruction, for budgets before any work: octree cells summed over the levels, the finest
+//! cells the extraction meshes, and peak bytes. Assumes a closed surface about as large as the bounding cube allows
+//! (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the benchmark's
+//! 1,000,000-point sphere (area 0.83 of that assumption) it predicts 1,800 / 6,900 MiB at depths 9 / 10 against
+//! 1,884 / 6,608 MiB measured (peak heap).
 struct PoissonEstimate {
     std::uint64_t octree_cells = 0;
-    std::uint64_t grid_cells = 0;
+    std::uint64_t grid_cells = 0;  //!< finest-level cells the surface crosses (no dense grid is built)
     std::uint64_t bytes = 0;
 };
 PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& options);
