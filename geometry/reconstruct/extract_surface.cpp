@@ -124,6 +124,7 @@ public:
             if (n % kPollEvery == 0 && cancel_.requested()) return cancelled();
             surface += mesh_cell(cells[n], out) ? 1 : 0;
         }
+        if (broken_) return make_error(ErrorCode::Internal, "poisson: a marching-cubes loop did not close");
         out.positions = std::move(positions_);
         if (stats) {
             stats->candidate_cells = cells.size();
@@ -366,7 +367,10 @@ private:
             Index loop[12];
             int length = 0;
             for (int e = start; !visited[e]; e = next[e]) {
-                assert(next[e] >= 0);
+                if (next[e] < 0) {  // cannot happen: the segments around the inside corners form closed loops
+                    broken_ = true;
+                    return true;
+                }
                 visited[e] = true;
                 loop[length++] = crossing_vertex(cell, e, v);
             }
@@ -413,6 +417,7 @@ private:
     GrowingKeyMap edges_;  //!< crossed grid edges (doubled midpoint coordinates) -> edge_vertices_
     std::vector<Index> edge_vertices_;
     std::vector<Vec3> positions_;
+    bool broken_ = false;
 };
 
 }  // namespace
