@@ -92,8 +92,9 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
 //! Predicted size of a reconstruction, for budgets before any work: octree cells summed over the levels, the finest
 //! cells the extraction meshes, and peak bytes. Assumes a closed surface about as large as the bounding cube allows
 //! (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the benchmark's
-//! 1,000,000-point sphere (area 0.83 of that assumption) it predicts 1,800 / 6,900 MiB at depths 9 / 10 against
-//! 1,884 / 6,608 MiB measured (peak heap).
+//! 50,000-point sphere (area 0.83 of that assumption) it predicts 32 / 111 / 427 MiB at depths 6 / 7 / 8 against
+//! 38 / 115 / 404 MiB measured (peak heap), for its 1,000,000-point sphere 1,803 / 6,868 MiB at depths 9 / 10
+//! against 1,884 / 6,608 MiB.
 struct PoissonEstimate {
     std::uint64_t octree_cells = 0;
     std::uint64_t grid_cells = 0;  //!< finest-level cells the surface crosses (no dense grid is built)
