@@ -5,13 +5,20 @@
 // Peak memory is the peak of live heap bytes during the call, counted by the global operator new below (CGAL's and
 // Eigen's allocations included). Bench only, never linked into the service.
 //
-// Usage: bench_poisson [--quick] [--points N]   (quick: depths 6 and 7 only, no CGAL; points: per cloud, 50000)
+// The scale table: 1,000,000 points sampled from the sphere and the bunny at depths 9 and 10 (ours only; CPU and wall
+// time, peak heap against estimate_poisson's prediction, the time of each phase).
+//
+// Usage: bench_poisson [--quick] [--scale] [--points N]
+//                      [--scale-depth D] [--threads T]
+//   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only (scale-depth: at depth D only);
+//   points: per cloud, 50000; threads: PoissonOptions::threads of the scale table (1)
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <chrono>
 #include <ctime>
 #include <fstream>
 #include <functional>
@@ -65,7 +72,8 @@ namespace {
 using namespace surfaced;
 
 struct Timing {
-    double seconds = 0;
+    double seconds = 0;  //!< CPU, all threads
+    double wall = 0;
     double peak_mib = 0;
 };
 
@@ -80,8 +88,10 @@ Timing time_once(const std::function<void()>& step) {
     const long long before = g_live.load();
     g_peak.store(before);
     const double start = cpu_seconds();
+    const auto wall_start = std::chrono::steady_clock::now();
     step();
     t.seconds = cpu_seconds() - start;
+    t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
     return t;
 }
@@ -178,21 +188,69 @@ void run(const char* shape, const PolygonMesh& truth, std::size_t points, const 
 #endif
 }
 
+int g_threads = 1;
+
+//! 1M points at depths 9 and 10: time, memory and accuracy at scale.
+void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<int>& depths) {
+    MeshSamplingOptions so;
+    so.count = 1'000'000;
+    const Result<PointCloud> cloud = sample_mesh(truth, so);
+    if (!cloud) return;
+    MeshDistanceOptions mo;
+    mo.samples = 100'000;
+    for (const int depth : depths) {
+        PoissonOptions options;
+        options.depth = depth;
+        options.threads = g_threads;
+        Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
+        const Timing t = time_once([&] { result = reconstruct_poisson(*cloud, options); });
+        if (!result) {
+            std::fprintf(stderr, "%s depth %d: %s\n", shape, depth, result.error().message.c_str());
+            continue;
+        }
+        const PoissonStats& s = result->stats;
+        const MeshDistance d = mesh_distance(result->mesh, truth, mo);
+        const double estimate_mib =
+            static_cast<double>(estimate_poisson(cloud->size(), options).bytes) / (1024.0 * 1024.0);
+        std::printf("| %s | %zu | %d | %.1f | %.1f | %.1f / %.1f / %.1f / %.1f | %.0f | %.0f | %zu | %.2e | %.3f%% |\n",
+                    shape, cloud->size(), depth, t.seconds, t.wall, s.seconds_octree, s.seconds_system, s.seconds_solve,
+                    s.seconds_extract, t.peak_mib, estimate_mib, result->mesh.face_count(), d.rms,
+                    100.0 * d.rms / truth.bounds().diagonal());
+        std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
+    bool quick = false, scale_only = false;
+    std::vector<int> scale_depths{9, 10};
     std::size_t points = 50'000;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        if (std::strcmp(argv[i], "--scale") == 0) scale_only = true;
+        if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) g_threads = std::atoi(argv[++i]);
+        if (std::strcmp(argv[i], "--scale-depth") == 0 && i + 1 < argc) {
+            scale_only = true;
+            scale_depths = {std::atoi(argv[++i])};
+        }
         if (std::strcmp(argv[i], "--points") == 0 && i + 1 < argc) points = std::strtoull(argv[++i], nullptr, 10);
     }
-    const std::vector<int> depths = quick ? std::vector<int>{6, 7} : std::vector<int>{6, 7, 8};
-    std::printf("| shape | points | method | CPU s | peak MiB | triangles | Hausdorff | RMS | RMS / diagonal |\n");
-    std::printf("|---|---|---|---|---|---|---|---|---|\n");
-    run("sphere", icosphere(), points, depths, !quick);
-    run("torus", triangulate(shapes::torus(512, 256, 1.0, 0.4)), points, depths, !quick);
     const PolygonMesh bunny = read_bunny();
-    if (bunny.face_count() > 0) run("bunny", bunny, points, depths, !quick);
+    if (!scale_only) {
+        const std::vector<int> depths = quick ? std::vector<int>{6, 7} : std::vector<int>{6, 7, 8};
+        std::printf("| shape | points | method | CPU s | peak MiB | triangles | Hausdorff | RMS | RMS / diagonal |\n");
+        std::printf("|---|---|---|---|---|---|---|---|---|\n");
+        run("sphere", icosphere(), points, depths, !quick);
+        run("torus", triangulate(shapes::torus(512, 256, 1.0, 0.4)), points, depths, !quick);
+        if (bunny.face_count() > 0) run("bunny", bunny, points, depths, !quick);
+    }
+    if (quick) return 0;
+    std::printf(
+        "\n| shape | points | depth | CPU s | wall s | octree / system / solve / extract s | peak MiB | "
+        "estimate MiB | triangles | RMS | RMS / diagonal |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    run_scale("sphere", icosphere(), scale_depths);
+    if (bunny.face_count() > 0) run_scale("bunny", bunny, scale_depths);
     return 0;
 }

@@ -1,5 +1,6 @@
-// The solved indicator function chi as an implicit::Field, for the mesher: f(p) = chi(p) - iso_value, so f < 0
-// inside and the mesher's outward orientation (normals towards f > 0) points away from the sampled solid.
+// The solved indicator function chi as an implicit::Field, for point queries and the implicit meshers:
+// f(p) = chi(p) - iso_value, so f < 0 inside and normals towards f > 0 point away from the sampled solid. The
+// reconstruction itself meshes chi with extract_surface.h, which needs no dense grid.
 #pragma once
 
 #include "geometry/implicit/field.h"

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -51,6 +52,8 @@ public:
         size_ = 0;
         return keys;
     }
+    std::size_t size() const { return size_; }
+    std::size_t memory_bytes() const { return table_.capacity() * 8; }
 
 private:
     static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
@@ -105,6 +108,90 @@ private:
     std::vector<std::uint64_t> keys_;
     std::vector<std::uint32_t> values_;
     std::size_t mask_ = 0;
+};
+
+//! A growing map from keys to dense indices (open addressing, linear probing): insert() hands out 0, 1, 2, ... in
+//! order of first insertion, so with a deterministic insertion order the indices are deterministic too.
+class GrowingKeyMap {
+public:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+
+    //! The index of `key`, or kNone.
+    std::uint32_t find(std::uint64_t key) const {
+        if (keys_.empty()) return kNone;
+        std::size_t slot = hash_key(key) & (keys_.size() - 1);
+        while (true) {
+            const std::uint64_t stored = keys_[slot];
+            if (stored == key) return values_[slot];
+            if (stored == kEmpty) return kNone;
+            slot = (slot + 1) & (keys_.size() - 1);
+        }
+    }
+
+    //! The index of `key`, inserting it with the next index when absent; `inserted` says which.
+    std::uint32_t insert(std::uint64_t key, bool& inserted) {
+        if (2 * (size_ + 1) > keys_.size()) grow();
+        std::size_t slot = hash_key(key) & (keys_.size() - 1);
+        while (keys_[slot] != kEmpty) {
+            if (keys_[slot] == key) {
+                inserted = false;
+                return values_[slot];
+            }
+            slot = (slot + 1) & (keys_.size() - 1);
+        }
+        keys_[slot] = key;
+        values_[slot] = static_cast<std::uint32_t>(size_++);
+        inserted = true;
+        return values_[slot];
+    }
+
+    std::size_t size() const { return size_; }
+    std::size_t memory_bytes() const { return keys_.capacity() * 8 + values_.capacity() * 4; }
+
+private:
+    static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    void grow() {
+        std::vector<std::uint64_t> old_keys = std::move(keys_);
+        std::vector<std::uint32_t> old_values = std::move(values_);
+        const std::size_t capacity = old_keys.empty() ? 64 : 2 * old_keys.size();
+        keys_.assign(capacity, kEmpty);
+        values_.assign(capacity, kNone);
+        for (std::size_t s = 0; s < old_keys.size(); ++s) {
+            if (old_keys[s] == kEmpty) continue;
+            std::size_t slot = hash_key(old_keys[s]) & (capacity - 1);
+            while (keys_[slot] != kEmpty) slot = (slot + 1) & (capacity - 1);
+            keys_[slot] = old_keys[s];
+            values_[slot] = old_values[s];
+        }
+    }
+
+    std::vector<std::uint64_t> keys_;
+    std::vector<std::uint32_t> values_;
+    std::size_t size_ = 0;
+};
+
+//! The packed form of a signed offset (di, dj, dk): key + offset_delta(...) is the key of the offset coordinates when
+//! they stay in range (the fields do not carry into each other then).
+inline std::uint64_t offset_delta(int di, int dj, int dk) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(di) + static_cast<std::int64_t>(dj) * (1ll << 21) +
+                                      static_cast<std::int64_t>(dk) * (1ll << 42));
+}
+
+//! Looks keys up in a sorted list for non-decreasing targets (a sorted key list plus a fixed offset), with a pointer
+//! that only moves forward: linear in the list's length for a whole pass, sequential in memory, no hashing.
+class SortedCursor {
+public:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+    explicit SortedCursor(const std::vector<std::uint64_t>& keys) : keys_(&keys) {}
+    std::uint32_t seek(std::uint64_t target) {
+        const std::vector<std::uint64_t>& keys = *keys_;
+        while (pos_ < keys.size() && keys[pos_] < target) ++pos_;
+        return pos_ < keys.size() && keys[pos_] == target ? static_cast<std::uint32_t>(pos_) : kNone;
+    }
+
+private:
+    const std::vector<std::uint64_t>* keys_;
+    std::size_t pos_ = 0;
 };
 
 }  // namespace surfaced::reconstruct

@@ -13,31 +13,54 @@ KeySet make_set(std::vector<std::uint64_t> keys) {  // keys sorted and distinct
     return set;
 }
 
-//! Every cell of `cells` and its 26 neighbours inside the grid of n cells per axis, sorted.
-std::vector<std::uint64_t> dilate(const std::vector<std::uint64_t>& cells, std::int64_t n) {
-    KeyCollector out;
-    for (const std::uint64_t key : cells) {
-        const std::int64_t i = key_i(key), j = key_j(key), k = key_k(key);
-        for (std::int64_t dk = -1; dk <= 1; ++dk)
-            for (std::int64_t dj = -1; dj <= 1; ++dj)
-                for (std::int64_t di = -1; di <= 1; ++di) {
-                    const std::int64_t a = i + di, b = j + dj, c = k + dk;
-                    if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n) continue;
-                    out.insert(pack_key(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
-                                        static_cast<std::uint32_t>(c)));
-                }
+//! The union of `keys` shifted along `axis` by every offset in [lo, hi], keeping coordinates in [0, limit]: a merge
+//! of the (up to three) shifted copies, each still sorted, so linear and without hashing. Sorted and distinct.
+std::vector<std::uint64_t> shift_union(const std::vector<std::uint64_t>& keys, int axis, int lo, int hi,
+                                       std::int64_t limit) {
+    const int streams = hi - lo + 1;
+    const std::uint64_t step = std::uint64_t{1} << (21 * axis);
+    std::size_t pos[3] = {0, 0, 0};
+    auto coordinate = [&](std::uint64_t key) { return static_cast<std::int64_t>((key >> (21 * axis)) & 0x1fffff); };
+    auto valid = [&](int s, std::size_t p) {
+        const std::int64_t c = coordinate(keys[p]) + lo + s;
+        return c >= 0 && c <= limit;
+    };
+    for (int s = 0; s < streams; ++s)
+        while (pos[s] < keys.size() && !valid(s, pos[s])) ++pos[s];
+    std::vector<std::uint64_t> out;
+    out.reserve(keys.size() + keys.size() / 2);
+    while (true) {
+        int best = -1;
+        std::uint64_t best_key = 0;
+        for (int s = 0; s < streams; ++s) {
+            if (pos[s] >= keys.size()) continue;
+            const std::uint64_t k = keys[pos[s]] + static_cast<std::uint64_t>(lo + s) * step;
+            if (best < 0 || k < best_key) {
+                best = s;
+                best_key = k;
+            }
+        }
+        if (best < 0) break;
+        if (out.empty() || out.back() != best_key) out.push_back(best_key);
+        ++pos[best];
+        while (pos[best] < keys.size() && !valid(best, pos[best])) ++pos[best];
     }
-    return out.take();
+    return out;
+}
+
+//! Every cell of `cells` and its 26 neighbours inside the grid of n cells per axis, sorted (a box dilation is three
+//! one-axis dilations).
+std::vector<std::uint64_t> dilate(const std::vector<std::uint64_t>& cells, std::int64_t n) {
+    std::vector<std::uint64_t> out = shift_union(cells, 0, -1, 1, n - 1);
+    out = shift_union(out, 1, -1, 1, n - 1);
+    return shift_union(out, 2, -1, 1, n - 1);
 }
 
 //! The corners of `cells`, sorted.
 std::vector<std::uint64_t> corners(const std::vector<std::uint64_t>& cells) {
-    KeyCollector out;
-    for (const std::uint64_t key : cells) {
-        const std::uint32_t i = key_i(key), j = key_j(key), k = key_k(key);
-        for (std::uint32_t c = 0; c < 8; ++c) out.insert(pack_key(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)));
-    }
-    return out.take();
+    std::vector<std::uint64_t> out = shift_union(cells, 0, 0, 1, 0x1fffff);
+    out = shift_union(out, 1, 0, 1, 0x1fffff);
+    return shift_union(out, 2, 0, 1, 0x1fffff);
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
 #include "geometry/reconstruct/poisson.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
-#include "geometry/implicit/mesh_field.h"
-#include "geometry/reconstruct/indicator_field.h"
+#include "geometry/reconstruct/extract_surface.h"
 #include "geometry/reconstruct/octree.h"
 #include "geometry/reconstruct/poisson_system.h"
 #include "geometry/reconstruct/solver.h"
@@ -20,6 +20,10 @@ constexpr int kMinDepth = 2;
 // Cells a plane crosses per unit area in a grid of unit cells, averaged over orientations: E|nx|+|ny|+|nz| = 1.5.
 constexpr double kCellsPerArea = 1.5;
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 Status check_options(const PoissonOptions& o) {
     if (o.depth < 2 || o.depth > 10) return make_error(ErrorCode::InvalidArgument, "poisson: depth must be in 2..10");
     if (!std::isfinite(o.point_weight) || o.point_weight < 0)
@@ -32,6 +36,7 @@ Status check_options(const PoissonOptions& o) {
         return make_error(ErrorCode::InvalidArgument, "poisson: max_iterations must be in 1..100000");
     if (!std::isfinite(o.tolerance) || o.tolerance < 0 || o.tolerance >= 1)
         return make_error(ErrorCode::InvalidArgument, "poisson: tolerance must be in [0, 1)");
+    if (o.threads < 0) return make_error(ErrorCode::InvalidArgument, "poisson: threads must be >= 0");
     return Ok{};
 }
 
@@ -72,6 +77,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
         return make_error(ErrorCode::InvalidArgument,
                           "poisson: the point cloud has no normals (estimate and orient them first)");
 
+    const auto start = std::chrono::steady_clock::now();
     // samples: weights, unit normals, the bounding cube
     OrientedSamples samples;
     std::vector<Vec3> positions;
@@ -106,12 +112,14 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     Result<reconstruct::PoissonOctree> tree =
         reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);
     if (!tree) return tree.error();
+    const double seconds_octree = seconds_since(start);
 
     reconstruct::SolverOptions solver;
     solver.alpha = options.point_weight;
     solver.dirichlet = options.boundary == PoissonBoundary::Dirichlet;
     solver.max_iterations = options.max_iterations;
     solver.tolerance = options.tolerance;
+    solver.threads = options.threads;
     solver.cancel = cancel;
     std::vector<reconstruct::LevelSolveStats> level_stats;
     Result<reconstruct::IndicatorValues> chi = reconstruct::solve_cascadic(*tree, samples, solver, &level_stats);
@@ -135,20 +143,21 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     for (const std::vector<double>& v : chi->values) result.stats.octree_bytes += v.capacity() * sizeof(double);
     result.stats.area_estimate = samples.area * side * side;
 
-    const reconstruct::IndicatorField field(*tree, *chi, origin, side, iso);
-    implicit::MeshFieldOptions mesh_options;
-    mesh_options.resolution = 1 << options.depth;
-    mesh_options.max_cells = std::uint64_t{1} << (3 * options.depth);
-    mesh_options.mode = implicit::MeshFieldMode::Uniform;
-    mesh_options.cancel = cancel;
-    Box3 cube;
-    cube.add(origin);
-    cube.add(origin + Vec3{side, side, side});
-    implicit::MeshFieldStats mesh_stats;
-    Result<PolygonMesh> mesh = implicit::mesh_field(field, cube, mesh_options, &mesh_stats);
+    result.stats.seconds_octree = seconds_octree;
+    for (const reconstruct::LevelSolveStats& l : level_stats) {
+        result.stats.seconds_system += l.assembly_seconds;
+        result.stats.seconds_solve += l.solve_seconds;
+    }
+    const auto extract_start = std::chrono::steady_clock::now();
+    reconstruct::ExtractionStats extraction;
+    Result<PolygonMesh> mesh = reconstruct::extract_surface(*tree, *chi, iso, cancel, &extraction);
     if (!mesh) return mesh.error();
     result.mesh = std::move(*mesh);
-    result.stats.field_evaluations = mesh_stats.field_evaluations;
+    for (Vec3& p : result.mesh.positions) p = origin + p * side;
+    result.stats.field_evaluations = extraction.interpolated_nodes;
+    result.stats.surface_cells = extraction.surface_cells;
+    result.stats.extraction_bytes = extraction.bytes;
+    result.stats.seconds_extract = seconds_since(extract_start);
     return result;
 }
 
@@ -165,14 +174,13 @@ PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& optio
         active_total += d == kMinDepth ? all : std::min({all, 27 * occupied, 4 * surface});
     }
     e.octree_cells = static_cast<std::uint64_t>(active_total);
-    const double nodes = std::pow(std::ldexp(1.0, depth) + 1, 3);
-    e.grid_cells = std::uint64_t{1} << (3 * depth);
-    // per active cell: its key sets, support cells and vertices with values, the level's neighbour table and
-    // solver vectors (about 400 bytes); per point: the samples and their per-level corner indices; the mesher: 4
-    // bytes per grid node plus its surface cells
+    // the extraction visits the finest cells the surface crosses (and a few neighbours), not the whole grid
     const double surface_cells = kCellsPerArea * area * std::ldexp(1.0, 2 * depth);
-    e.bytes = static_cast<std::uint64_t>(400 * active_total + 120 * static_cast<double>(points) + 4 * nodes +
-                                         400 * surface_cells);
+    e.grid_cells = static_cast<std::uint64_t>(surface_cells);
+    // per active cell: its key sets and their hash maps, the values, right-hand sides and solver vectors, the finest
+    // level's neighbour table (about 250 bytes, measured); per point: the samples, their splat levels and per-level
+    // corner indices and weights; per surface cell: the extraction's tables and the output mesh (about 2 triangles)
+    e.bytes = static_cast<std::uint64_t>(250 * active_total + 120 * static_cast<double>(points) + 100 * surface_cells);
     return e;
 }
 

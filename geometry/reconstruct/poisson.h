@@ -11,10 +11,11 @@
 //     B-splines (degree 1) centred on every level's cell corners minimising the screened Poisson energy
 //     |grad chi - V|^2 + alpha * area / sum w * sum_i w_i chi(p_i)^2 (poisson_system.h).
 //  3. The system is solved coarse to fine, conjugate gradients on each level (solver.h).
-//  4. The iso-value is the weighted mean of chi at the samples, and chi - iso is meshed by the dual marching cubes
-//     mesher (geometry/implicit/mesh_field.h) over the cube at the finest resolution, 2^depth cells per side.
+//  4. The iso-value is the weighted mean of chi at the samples, and chi = iso is meshed by marching cubes on the
+//     finest level's grid (2^depth cells per side), visiting only the cells the surface can cross, in coarse regions
+//     too (extract_surface.h): memory and time grow with the surface, not with the cube's volume.
 // The output is a closed, manifold, consistently oriented triangle mesh with normals pointing out of the sampled
-// solid. Single-threaded and deterministic: the same cloud and options give the same mesh bit for bit.
+// solid. Deterministic: the same cloud and options give the same mesh bit for bit, with one thread or two.
 #pragma once
 
 #include <cstddef>
@@ -35,7 +36,7 @@ enum class PoissonBoundary {
 
 struct PoissonOptions {
     //! Finest octree depth: 2^depth cells across the bounding cube; 2..10. Each level multiplies the surface cells
-    //! (time, memory, triangles) by about 4; the mesher's grid takes 4 bytes per node of the finest level.
+    //! (time, memory, triangles) by about 4.
     int depth = 8;
     //! Screening weight alpha (PoissonRecon's --pointWeight): how strongly chi is pulled to the iso-value at the
     //! samples; 0 is the unscreened Poisson reconstruction of 2006. >= 0.
@@ -52,6 +53,9 @@ struct PoissonOptions {
     //! Conjugate-gradient iterations per level, at most, and the relative residual that ends them.
     int max_iterations = 100;
     double tolerance = 1e-6;
+    //! 1: everything on the calling thread; anything else (>= 0): a second thread for the conjugate gradients of
+    //! levels with 65,536 unknowns or more. The mesh is bit-identical either way.
+    int threads = 1;
 };
 
 struct PoissonStats {
@@ -60,8 +64,13 @@ struct PoissonStats {
     std::vector<int> iterations;          //!< conjugate-gradient iterations per level
     std::vector<double> residuals;        //!< relative residual reached per level
     std::size_t octree_bytes = 0;         //!< memory of the octree's key sets and values
-    std::uint64_t field_evaluations = 0;  //!< by the mesher
+    std::uint64_t field_evaluations = 0;  //!< grid nodes whose value the extraction interpolated from a coarser level
+    std::uint64_t surface_cells = 0;      //!< finest-level cells the surface crosses
+    std::size_t extraction_bytes = 0;     //!< peak of the extraction's tables (the output mesh excluded)
     double area_estimate = 0;             //!< of the sampled surface, model units
+    //! Wall-clock seconds of the phases: the samples and the octree; the operators and right-hand sides; conjugate
+    //! gradients; the surface extraction.
+    double seconds_octree = 0, seconds_system = 0, seconds_solve = 0, seconds_extract = 0;
 };
 
 struct PoissonResult {
@@ -80,14 +89,15 @@ struct PoissonResult {
 Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const PoissonOptions& options,
                                           const Cancel& cancel = {});
 
-//! Predicted size of a reconstruction, for budgets before any work: octree cells and unknowns summed over the
-//! levels, the mesher's grid cells, and peak bytes. Assumes a closed surface about as large as the bounding cube
-//! allows (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the
-//! benchmark's 50,000-point sphere it predicts 53 / 200 / 816 MiB at depths 6 / 7 / 8 against 34 / 109 / 387 MiB
-//! measured (peak heap).
+//! Predicted size of a reconstruction, for budgets before any work: octree cells summed over the levels, the finest
+//! cells the extraction meshes, and peak bytes. Assumes a closed surface about as large as the bounding cube allows
+//! (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the benchmark's
+//! 50,000-point sphere (area 0.83 of that assumption) it predicts 32 / 111 / 427 MiB at depths 6 / 7 / 8 against
+//! 38 / 115 / 404 MiB measured (peak heap), for its 1,000,000-point sphere 1,803 / 6,868 MiB at depths 9 / 10
+//! against 1,884 / 6,608 MiB.
 struct PoissonEstimate {
     std::uint64_t octree_cells = 0;
-    std::uint64_t grid_cells = 0;
+    std::uint64_t grid_cells = 0;  //!< finest-level cells the surface crosses (no dense grid is built)
     std::uint64_t bytes = 0;
 };
 PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& options);

@@ -4,6 +4,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "geometry/core/two_parts.h"
+
 namespace surfaced::reconstruct {
 namespace {
 
@@ -31,12 +33,6 @@ const StiffnessStencil kStiffness;
 bool on_boundary(std::uint64_t key, std::uint32_t n) {
     const std::uint32_t i = key_i(key), j = key_j(key), k = key_k(key);
     return i == 0 || j == 0 || k == 0 || i == n || j == n || k == n;
-}
-
-std::uint64_t offset_key(std::uint64_t key, int di, int dj, int dk) {
-    return pack_key(static_cast<std::uint32_t>(static_cast<std::int64_t>(key_i(key)) + di),
-                    static_cast<std::uint32_t>(static_cast<std::int64_t>(key_j(key)) + dj),
-                    static_cast<std::uint32_t>(static_cast<std::int64_t>(key_k(key)) + dk));
 }
 
 //! Whether key + (di, dj, dk) stays in [0, n]^3.
@@ -96,25 +92,26 @@ Vec3 gradient_stencil(int a, int b, int c) {
     return {kMixed[a] * kMass[b] * kMass[c], kMass[a] * kMixed[b] * kMass[c], kMass[a] * kMass[b] * kMixed[c]};
 }
 
-//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3, scattered from the non-zero splats
-//! (given at the level's dofs).
+//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3 (splats given at the level's dofs),
+//! gathered at every dof from its 27 neighbours w = v + o, one sorted pass per offset.
 void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out) {
     const double h = std::ldexp(1.0, -level.depth);
     const std::uint32_t n = std::uint32_t{1} << level.depth;
-    for (std::size_t w = 0; w < splat.size(); ++w) {
-        const Vec3 nw = splat[w];
-        if (nw.x == 0 && nw.y == 0 && nw.z == 0) continue;
-        const std::uint64_t key = level.dofs.keys[w];
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    // v = w - o with o = (a-1, b-1, c-1)
-                    if (!offset_inside(key, 1 - a, 1 - b, 1 - c, n)) continue;
-                    const std::uint32_t v = level.dofs.find(offset_key(key, 1 - a, 1 - b, 1 - c));
-                    assert(v != KeyMap::kNone);
-                    out[v] += dot(nw, gradient_stencil(a, b, c)) / h;
-                }
+    const std::size_t dofs = level.dofs.size();
+    std::vector<double> sum(dofs, 0.0);
+    for (int o = 0; o < 27; ++o) {
+        const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+        const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
+        const Vec3 stencil = gradient_stencil(a, b, c);
+        SortedCursor cursor(level.dofs.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level.dofs.keys[v];
+            if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+            const std::uint32_t w = cursor.seek(key + delta);
+            if (w != SortedCursor::kNone) sum[v] += dot(splat[w], stencil);
+        }
     }
+    for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
 //! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3 given at the level's support vertices,
@@ -122,19 +119,22 @@ void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, st
 void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out) {
     const double h = std::ldexp(1.0, -level.depth);
     const std::uint32_t n = std::uint32_t{1} << level.depth;
-    for (std::size_t v = 0; v < level.dofs.size(); ++v) {
-        const std::uint64_t key = level.dofs.keys[v];
-        double sum = 0;
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                    const std::uint32_t s = level.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
-                    assert(s != KeyMap::kNone);
-                    sum += dot(field[s], gradient_stencil(a, b, c));
-                }
-        out[v] += sum / h;
+    const std::size_t dofs = level.dofs.size();
+    std::vector<double> sum(dofs, 0.0);
+    for (int o = 0; o < 27; ++o) {  // one sorted pass per offset, summing in the stencil's order
+        const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+        const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
+        const Vec3 stencil = gradient_stencil(a, b, c);
+        SortedCursor cursor(level.support_vertices.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level.dofs.keys[v];
+            if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+            const std::uint32_t s = cursor.seek(key + delta);
+            assert(s != SortedCursor::kNone);
+            sum[v] += dot(field[s], stencil);
+        }
     }
+    for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
 }  // namespace
@@ -173,23 +173,20 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         if (li + 1 == levels) continue;
         const OctreeLevel& from = tree.levels[li + 1];
         const std::vector<double>& f = rhs[li + 1];
-        for (std::size_t u = 0; u < f.size(); ++u) {
-            if (f[u] == 0) continue;
-            const std::uint64_t key = from.dofs.keys[u];
-            const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
-            std::uint32_t lo[3], hi[3];
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = idx[a] / 2;
-                hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
+        // gathered: coarse hat v is the fine hats 2v + o, o in {-1, 0, 1}^3, weighted 2^-(non-zero offsets); one
+        // sorted pass per offset
+        const std::uint32_t fine_n = std::uint32_t{1} << from.depth;
+        for (int o = 0; o < 27; ++o) {
+            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+            const double weight = (a ? 0.5 : 1.0) * (b ? 0.5 : 1.0) * (c ? 0.5 : 1.0);
+            const std::uint64_t delta = offset_delta(a, b, c);
+            SortedCursor cursor(from.dofs.keys);
+            for (std::size_t v = 0; v < to.dofs.size(); ++v) {
+                const std::uint64_t doubled = 2 * to.dofs.keys[v];
+                if (!offset_inside(doubled, a, b, c, fine_n)) continue;
+                const std::uint32_t u = cursor.seek(doubled + delta);
+                if (u != SortedCursor::kNone) coarse[v] += weight * f[u];
             }
-            const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
-            for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
-                for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
-                    for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
-                        const std::uint32_t v = to.dofs.find(pack_key(i, j, k));
-                        assert(v != KeyMap::kNone);
-                        coarse[v] += weight * f[u];
-                    }
         }
     }
 
@@ -231,22 +228,24 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     if (dirichlet)
         for (std::size_t v = 0; v < dofs; ++v) fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
 
+    // one sorted pass per offset: the dofs' keys plus the offset are increasing
     neighbours_.assign(dofs * 27, KeyMap::kNone);
-    for (std::size_t v = 0; v < dofs; ++v) {
-        const std::uint64_t key = level_.dofs.keys[v];
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                    neighbours_[v * 27 + static_cast<std::size_t>(a + 3 * b + 9 * c)] =
-                        level_.dofs.find(offset_key(key, a - 1, b - 1, c - 1));
-                }
+    for (int o = 0; o < 27; ++o) {
+        const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+        const std::uint64_t delta = offset_delta(a, b, c);
+        SortedCursor cursor(level_.dofs.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level_.dofs.keys[v];
+            if (offset_inside(key, a, b, c, n))
+                neighbours_[v * 27 + static_cast<std::size_t>(o)] = cursor.seek(key + delta);
+        }
     }
 
     diagonal_.assign(dofs, kStiffness.w[13] * h_);
     const std::size_t count = samples.positions.size();
     sample_dofs_.resize(count * 8);
     sample_cells_.resize(count);
+    sample_weights_.resize(count * 8);
     screening_.assign(count, 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint64_t cell = cell_key(samples.positions[i], depth);
@@ -255,7 +254,7 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
         // for their cells, pulling chi to the iso-value would raise a bubble around it
         if (samples.splat_depths.empty() || samples.splat_depths[i] >= depth)
             screening_[i] = beta_ * samples.weights[i];
-        double w[8];
+        double* w = &sample_weights_[i * 8];
         corner_weights(samples.positions[i], depth, cell, w);
         for (int c = 0; c < 8; ++c) {
             const std::uint32_t dof = level_.dofs.find(corner_key(cell, c));
@@ -267,24 +266,26 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     (void)tree_;
 }
 
-void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y) const {
+void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bool threaded) const {
     const std::size_t dofs = fixed_.size();
     y.assign(dofs, 0.0);
-    for (std::size_t v = 0; v < dofs; ++v) {
-        if (fixed_[v]) continue;
-        const std::uint32_t* nb = &neighbours_[v * 27];
-        double sum = 0;
-        for (int o = 0; o < 27; ++o) {
-            const std::uint32_t w = nb[o];
-            if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+    const std::size_t middle = dofs / 2;
+    run_two_parts(threaded, [&](int part) {
+        const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
+        for (std::size_t v = begin; v < end; ++v) {
+            if (fixed_[v]) continue;
+            const std::uint32_t* nb = &neighbours_[v * 27];
+            double sum = 0;
+            for (int o = 0; o < 27; ++o) {
+                const std::uint32_t w = nb[o];
+                if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+            }
+            y[v] = sum * h_;
         }
-        y[v] = sum * h_;
-    }
-    const int depth = level_.depth;
+    });
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
         if (screening_[i] == 0) continue;
-        double w[8];
-        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double* w = &sample_weights_[i * 8];
         const std::uint32_t* d = &sample_dofs_[i * 8];
         double value = 0;
         for (int c = 0; c < 8; ++c)
@@ -297,38 +298,37 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y) co
 
 void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, std::vector<double>& out) const {
     const std::uint32_t n = std::uint32_t{1} << level_.depth;
-    for (std::size_t v = 0; v < fixed_.size(); ++v) {
-        const std::uint64_t key = level_.dofs.keys[v];
-        double sum = 0;
-        for (int c = 0; c < 3; ++c)
-            for (int b = 0; b < 3; ++b)
-                for (int a = 0; a < 3; ++a) {
-                    if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                    const std::uint32_t s = level_.support_vertices.find(offset_key(key, a - 1, b - 1, c - 1));
-                    assert(s != KeyMap::kNone);
-                    sum += kStiffness.w[a + 3 * b + 9 * c] * support_values[s];
-                }
-        out[v] -= sum * h_;
+    const std::size_t dofs = fixed_.size();
+    // one sorted pass per offset (the support vertices' keys are sorted too), summing in the stencil's order
+    std::vector<double> sum(dofs, 0.0);
+    for (int o = 0; o < 27; ++o) {
+        const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+        const std::uint64_t delta = offset_delta(a, b, c);
+        SortedCursor cursor(level_.support_vertices.keys);
+        for (std::size_t v = 0; v < dofs; ++v) {
+            const std::uint64_t key = level_.dofs.keys[v];
+            if (!offset_inside(key, a, b, c, n)) continue;
+            const std::uint32_t s = cursor.seek(key + delta);
+            assert(s != SortedCursor::kNone);
+            sum[v] += kStiffness.w[o] * support_values[s];
+        }
     }
+    for (std::size_t v = 0; v < dofs; ++v) out[v] -= sum[v] * h_;
 }
 
 void LevelSystem::subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const {
-    const int depth = level_.depth;
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
         if (screening_[i] == 0) continue;
-        double w[8];
-        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double* w = &sample_weights_[i * 8];
         const double value = screening_[i] * sample_values[i];
         for (int c = 0; c < 8; ++c) out[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]] -= w[c] * value;
     }
 }
 
 void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<double>& out) const {
-    const int depth = level_.depth;
     out.assign(sample_cells_.size(), 0.0);
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
-        double w[8];
-        corner_weights(samples_.positions[i], depth, sample_cells_[i], w);
+        const double* w = &sample_weights_[i * 8];
         double value = 0;
         for (int c = 0; c < 8; ++c) value += w[c] * x[sample_dofs_[i * 8 + static_cast<std::size_t>(c)]];
         out[i] = value;
@@ -337,7 +337,7 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 
 std::size_t LevelSystem::memory_bytes() const {
     return neighbours_.capacity() * 4 + sample_dofs_.capacity() * 4 + sample_cells_.capacity() * 8 +
-           screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
+           sample_weights_.capacity() * 8 + screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

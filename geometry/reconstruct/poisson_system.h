@@ -57,8 +57,9 @@ public:
     LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha, bool dirichlet);
 
     std::size_t size() const { return fixed_.size(); }
-    //! y = A x on the free dofs (0 on fixed ones).
-    void apply(const std::vector<double>& x, std::vector<double>& y) const;
+    //! y = A x on the free dofs (0 on fixed ones); the stiffness rows on two threads when `threaded` (each row is
+    //! summed alone, so the result does not depend on it).
+    void apply(const std::vector<double>& x, std::vector<double>& y, bool threaded = false) const;
     const std::vector<double>& diagonal() const { return diagonal_; }
     const std::vector<char>& fixed() const { return fixed_; }
 
@@ -80,6 +81,7 @@ private:
     std::vector<std::uint32_t> neighbours_;    //!< 27 per dof, KeyMap::kNone where the neighbour is not a dof
     std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
+    std::vector<double> sample_weights_;       //!< 8 per screening sample: the trilinear weights of its corners
     std::vector<double> screening_;            //!< beta w_i, or 0 for samples splatted on a coarser level
     std::vector<char> fixed_;
     std::vector<double> diagonal_;

@@ -1,13 +1,50 @@
 #include "geometry/reconstruct/solver.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+
+#include "geometry/core/two_parts.h"
 
 namespace surfaced::reconstruct {
 namespace {
 
-double dot_product(const std::vector<double>& a, const std::vector<double>& b) {
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Sums are taken over fixed chunks, then the chunks' partial sums in order, so that they come out the same whether
+// one thread or two compute the chunks.
+constexpr std::size_t kChunk = 1 << 14;
+// Levels with fewer unknowns than this run on one thread (a second one would cost more than it saves).
+constexpr std::size_t kThreadedSize = 1 << 16;
+
+//! Runs body(begin, end) over [0, n), on two threads (split at a chunk boundary) when `threaded`.
+template <class F>
+void split(std::size_t n, bool threaded, F&& body) {
+    const std::size_t chunks = (n + kChunk - 1) / kChunk;
+    const std::size_t middle = std::min(n, (chunks / 2) * kChunk);
+    run_two_parts(threaded, [&](int part) {
+        if (part == 0)
+            body(std::size_t{0}, middle);
+        else
+            body(middle, n);
+    });
+}
+
+double dot_product(const std::vector<double>& a, const std::vector<double>& b, bool threaded,
+                   std::vector<double>& partial) {
+    const std::size_t n = a.size();
+    partial.assign((n + kChunk - 1) / kChunk, 0.0);
+    split(n, threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t c = begin; c < end; c += kChunk) {
+            double sum = 0;
+            for (std::size_t i = c; i < std::min(end, c + kChunk); ++i) sum += a[i] * b[i];
+            partial[c / kChunk] = sum;
+        }
+    });
     double sum = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+    for (const double s : partial) sum += s;
     return sum;
 }
 
@@ -15,38 +52,43 @@ double dot_product(const std::vector<double>& a, const std::vector<double>& b) {
 bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& rhs, const SolverOptions& options,
                          std::vector<double>& x, LevelSolveStats& stats) {
     const std::size_t n = system.size();
+    const bool threaded = options.threads != 1 && n >= kThreadedSize;
     const std::vector<double>& diag = system.diagonal();
     const std::vector<char>& fixed = system.fixed();
     x.assign(n, 0.0);
-    std::vector<double> r = rhs, z(n), p(n), ap;
+    std::vector<double> r = rhs, z(n), p(n), ap, partial;
     for (std::size_t i = 0; i < n; ++i)
         if (fixed[i]) r[i] = 0;
-    const double rhs_norm = std::sqrt(dot_product(r, r));
+    const double rhs_norm = std::sqrt(dot_product(r, r, threaded, partial));
     stats.iterations = 0;
     stats.relative_residual = 0;
     if (rhs_norm == 0) return true;
     for (std::size_t i = 0; i < n; ++i) z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
     p = z;
-    double rz = dot_product(r, z);
+    double rz = dot_product(r, z, threaded, partial);
     for (int it = 0; it < options.max_iterations; ++it) {
         if (options.cancel.requested()) return false;
-        system.apply(p, ap);
-        const double pap = dot_product(p, ap);
+        system.apply(p, ap, threaded);
+        const double pap = dot_product(p, ap, threaded, partial);
         if (!(pap > 0)) break;
         const double step = rz / pap;
-        for (std::size_t i = 0; i < n; ++i) {
-            x[i] += step * p[i];
-            r[i] -= step * ap[i];
-        }
+        split(n, threaded, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                x[i] += step * p[i];
+                r[i] -= step * ap[i];
+                z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
+            }
+        });
         stats.iterations = it + 1;
-        const double residual = std::sqrt(dot_product(r, r)) / rhs_norm;
+        const double residual = std::sqrt(dot_product(r, r, threaded, partial)) / rhs_norm;
         stats.relative_residual = residual;
         if (residual <= options.tolerance) break;
-        for (std::size_t i = 0; i < n; ++i) z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
-        const double rz_next = dot_product(r, z);
+        const double rz_next = dot_product(r, z, threaded, partial);
         const double beta = rz_next / rz;
         rz = rz_next;
-        for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+        split(n, threaded, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) p[i] = z[i] + beta * p[i];
+        });
     }
     return true;
 }
@@ -55,6 +97,7 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
 
 Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const OrientedSamples& samples,
                                        const SolverOptions& options, std::vector<LevelSolveStats>* stats) {
+    auto start = std::chrono::steady_clock::now();
     const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples);
     IndicatorValues out;
     out.values.resize(tree.levels.size());
@@ -81,9 +124,10 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         LevelSolveStats level_stats;
         level_stats.depth = level.depth;
         level_stats.dofs = system.size();
+        level_stats.assembly_seconds = seconds_since(start);
+        start = std::chrono::steady_clock::now();
         if (!conjugate_gradients(system, b, options, x, level_stats))
             return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
-        if (stats) stats->push_back(level_stats);
 
         // add this level's hats to the values and to chi at the samples
         for (std::size_t v = 0; v < x.size(); ++v) {
@@ -93,6 +137,9 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         }
         system.evaluate_at_samples(x, correction_at_samples);
         for (std::size_t i = 0; i < correction_at_samples.size(); ++i) out.at_samples[i] += correction_at_samples[i];
+        level_stats.solve_seconds = seconds_since(start);
+        if (stats) stats->push_back(level_stats);
+        start = std::chrono::steady_clock::now();
     }
     return out;
 }

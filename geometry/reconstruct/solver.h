@@ -20,7 +20,9 @@ struct SolverOptions {
     bool dirichlet = false;    //!< chi = 0 on the cube's boundary; otherwise natural (Neumann) conditions
     int max_iterations = 100;  //!< conjugate-gradient iterations per level, at most
     double tolerance = 1e-6;   //!< stop when |residual| <= tolerance * |right-hand side| on the level
-    Cancel cancel;             //!< polled every iteration
+    //! 1: one thread; anything else: a second thread for the products and sums of large levels (bit-identical).
+    int threads = 1;
+    Cancel cancel;  //!< polled every iteration
 };
 
 struct LevelSolveStats {
@@ -28,6 +30,8 @@ struct LevelSolveStats {
     std::size_t dofs = 0;
     int iterations = 0;
     double relative_residual = 0;
+    double assembly_seconds = 0;  //!< the level's operator and right-hand side (level 0: also b for every level)
+    double solve_seconds = 0;     //!< conjugate gradients and the update of the values
 };
 
 //! The reconstructed function, as its values at every level's support vertices (PoissonOctree, octree.h). Inside a
