@@ -498,24 +498,26 @@ void mark_near_segment(const Grid& g, const Vec3& a, const Vec3& b, double radiu
 }
 
 //! The winding numbers' hierarchy: the SAH hierarchy (bvh.h) with every subtree of at most kWindingLeaf triangles
-//! made one leaf (a subtree's triangles are consecutive). The SAH splits small triangles down to leaves of one or
-//! two, and for a winding number a node is an expansion to build and evaluate; a few more solid angles in a leaf
-//! cost less than the nodes above them.
+//! made one leaf (when its triangles are consecutive, as build_bvh lays them out). The SAH splits small triangles
+//! down to leaves of one or two, and for a winding number a node is an expansion to build and evaluate; a few more
+//! solid angles in a leaf cost less than the nodes above them.
 constexpr std::size_t kWindingLeaf = 8;
 
 void collapse_small_subtrees(TriangleBvh& bvh) {
     const std::size_t n = bvh.nodes.size();
     if (n == 0) return;
-    // triangles below each node, and the first of them (children follow their parent)
-    std::vector<Index> count(n), first(n);
+    // triangles below each node, and the range of triangle indices they span (children follow their parent)
+    std::vector<Index> count(n), first(n), end(n);
     for (std::size_t k = n; k-- > 0;) {
         const BvhNode& node = bvh.nodes[k];
         if (node.is_leaf()) {
             count[k] = node.count;
             first[k] = node.index;
+            end[k] = node.index + node.count;
         } else {
             count[k] = count[k + 1] + count[node.index];
             first[k] = std::min(first[k + 1], first[node.index]);
+            end[k] = std::max(end[k + 1], end[node.index]);
         }
     }
     // depth first again: a node, its left subtree, then its right child, whose index the node gets
@@ -533,7 +535,7 @@ void collapse_small_subtrees(TriangleBvh& bvh) {
         const BvhNode& node = bvh.nodes[visit.node];
         out.push_back(node);
         if (node.is_leaf()) continue;
-        if (count[visit.node] <= kWindingLeaf) {
+        if (count[visit.node] <= kWindingLeaf && end[visit.node] - first[visit.node] == count[visit.node]) {
             out[at].index = first[visit.node];
             out[at].count = count[visit.node];
             continue;
