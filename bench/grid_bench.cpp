@@ -7,8 +7,8 @@
 // is a dense grid of doubles (the level_set node's form), OpenVDB's a sparse tree of floats. Bench only, never linked
 // into the service.
 //
-// Usage: bench_grid [--quick] [--rounds N] [--band W]   (quick: the coarser voxel size only; rounds: fastest of N,
-// default 3; band: voxels, default 3)
+// Usage: bench_grid [--quick] [--rounds N] [--band W] [--only NAME]   (quick: the coarser voxel size only; rounds:
+// fastest of N, default 3; band: voxels, default 3; only: the meshes whose name starts with NAME)
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -72,6 +72,8 @@ namespace {
 using namespace surfaced;
 
 int g_rounds = 3;
+//! --only: run the meshes whose name starts with this
+std::string g_only;
 
 struct Timing {
     double seconds = 1e300;
@@ -132,6 +134,7 @@ PolygonMesh icosphere(int levels) {
 }
 
 void run(const std::string& name, const PolygonMesh& input, int cells, int band) {
+    if (name.compare(0, g_only.size(), g_only) != 0) return;
     const PolygonMesh mesh = input.is_triangle_mesh() ? input : triangulate(input);
     const Box3 box = mesh.bounds();
     const Vec3 extent = box.max - box.min;
@@ -254,6 +257,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) g_rounds = std::max(1, std::atoi(argv[++i]));
         if (std::strcmp(argv[i], "--band") == 0 && i + 1 < argc) band = std::max(1, std::atoi(argv[++i]));
+        if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) g_only = argv[++i];
     }
 #if SURFACED_BENCH_OPENVDB
     std::printf("OpenVDB %s, one thread; band %d voxels; fastest of %d\n\n", bench::openvdb_version().c_str(), band,

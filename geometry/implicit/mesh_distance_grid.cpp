@@ -2,13 +2,14 @@
 // signs by connected components and winding numbers.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "geometry/implicit/distance_grid.h"
@@ -301,35 +302,57 @@ void mark_crossings(const Grid& g, const BvhTriangle& t, std::uint8_t* blocked) 
 //! positions counting as one), each as many times as it is unmatched. None for a closed surface, whose winding
 //! number is constant off it on each region.
 std::vector<std::array<Vec3, 2>> boundary_edges(const std::vector<BvhTriangle>& triangles) {
-    struct PositionHash {
-        std::size_t operator()(const Vec3& p) const {
-            const std::hash<double> h;
-            return h(p.x) ^ (h(p.y) * 0x9e3779b97f4a7c15ULL) ^ (h(p.z) * 0xc2b2ae3d27d4eb4fULL);
+    // open addressing, linear probing: tables of at least twice the corners, so probes stay short
+    std::size_t size = 16;
+    while (size < 6 * triangles.size()) size *= 2;
+    const int shift = 64 - std::countr_zero(size);
+    const auto slot = [&](std::uint64_t key) {
+        return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ULL) >> shift);
+    };
+    constexpr Index kEmpty = kInvalidIndex;
+    // vertex ids: equal positions (-0 and 0 as one) get one id
+    std::vector<Vec3> positions;
+    positions.reserve(triangles.size());
+    std::vector<Index> vertex_table(size, kEmpty);
+    const auto id = [&](const Vec3& p) {
+        const Vec3 key{p.x + 0.0, p.y + 0.0, p.z + 0.0};
+        std::uint64_t bits[3];
+        std::memcpy(bits, &key.x, 8);
+        std::memcpy(bits + 1, &key.y, 8);
+        std::memcpy(bits + 2, &key.z, 8);
+        std::size_t at = slot(bits[0] ^ (bits[1] * 0xc2b2ae3d27d4eb4fULL) ^ (bits[2] * 0x165667b19e3779f9ULL));
+        for (;; at = (at + 1) & (size - 1)) {
+            const Index v = vertex_table[at];
+            if (v == kEmpty) {
+                vertex_table[at] = static_cast<Index>(positions.size());
+                positions.push_back(key);
+                return vertex_table[at];
+            }
+            const Vec3& q = positions[v];
+            if (q.x == key.x && q.y == key.y && q.z == key.z) return v;
         }
     };
-    std::unordered_map<Vec3, std::uint32_t, PositionHash> ids;
-    std::vector<Vec3> positions;
-    ids.reserve(triangles.size());
-    auto id = [&](const Vec3& p) {
-        const Vec3 key{p.x + 0.0, p.y + 0.0, p.z + 0.0};  // -0 and 0 as one
-        const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(ids.size()));
-        if (added) positions.push_back(key);
-        return it->second;
-    };
-    // balance per undirected edge: +1 for (lo -> hi), -1 for (hi -> lo)
-    std::unordered_map<std::uint64_t, int> balance;
-    balance.reserve(triangles.size() * 2);
+    // balance per undirected edge: +1 for (lo -> hi), -1 for (hi -> lo); edges in the order first seen
+    std::vector<std::pair<std::uint64_t, int>> edges;
+    edges.reserve(3 * triangles.size() / 2 + 1);
+    std::vector<Index> edge_table(size, kEmpty);
     for (const BvhTriangle& t : triangles) {
-        const std::uint32_t v[3] = {id(t.p[0]), id(t.p[1]), id(t.p[2])};
+        const Index v[3] = {id(t.p[0]), id(t.p[1]), id(t.p[2])};
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+            const Index a = v[k], b = v[(k + 1) % 3];
             if (a == b) continue;
             const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-            balance[key] += a < b ? 1 : -1;
+            std::size_t at = slot(key);
+            while (edge_table[at] != kEmpty && edges[edge_table[at]].first != key) at = (at + 1) & (size - 1);
+            if (edge_table[at] == kEmpty) {
+                edge_table[at] = static_cast<Index>(edges.size());
+                edges.push_back({key, 0});
+            }
+            edges[edge_table[at]].second += a < b ? 1 : -1;
         }
     }
     std::vector<std::array<Vec3, 2>> out;
-    for (const auto& [key, count] : balance)
+    for (const auto& [key, count] : edges)
         for (int c = std::abs(count); c > 0; --c) out.push_back({positions[key >> 32], positions[key & 0xffffffffu]});
     return out;
 }
@@ -474,6 +497,55 @@ void mark_near_segment(const Grid& g, const Vec3& a, const Vec3& b, double radiu
             }
 }
 
+//! The winding numbers' hierarchy: the SAH hierarchy (bvh.h) with every subtree of at most kWindingLeaf triangles
+//! made one leaf (when its triangles are consecutive, as build_bvh lays them out). The SAH splits small triangles
+//! down to leaves of one or two, and for a winding number a node is an expansion to build and evaluate; a few more
+//! solid angles in a leaf cost less than the nodes above them.
+constexpr std::size_t kWindingLeaf = 8;
+
+void collapse_small_subtrees(TriangleBvh& bvh) {
+    const std::size_t n = bvh.nodes.size();
+    if (n == 0) return;
+    // triangles below each node, and the range of triangle indices they span (children follow their parent)
+    std::vector<Index> count(n), first(n), end(n);
+    for (std::size_t k = n; k-- > 0;) {
+        const BvhNode& node = bvh.nodes[k];
+        if (node.is_leaf()) {
+            count[k] = node.count;
+            first[k] = node.index;
+            end[k] = node.index + node.count;
+        } else {
+            count[k] = count[k + 1] + count[node.index];
+            first[k] = std::min(first[k + 1], first[node.index]);
+            end[k] = std::max(end[k + 1], end[node.index]);
+        }
+    }
+    // depth first again: a node, its left subtree, then its right child, whose index the node gets
+    std::vector<BvhNode> out;
+    out.reserve(n);
+    struct Visit {
+        std::size_t node, parent;  // parent: the copied node whose right child this is, or SIZE_MAX
+    };
+    std::vector<Visit> stack{{0, SIZE_MAX}};
+    while (!stack.empty()) {
+        const Visit visit = stack.back();
+        stack.pop_back();
+        const std::size_t at = out.size();
+        if (visit.parent != SIZE_MAX) out[visit.parent].index = static_cast<Index>(at);
+        const BvhNode& node = bvh.nodes[visit.node];
+        out.push_back(node);
+        if (node.is_leaf()) continue;
+        if (count[visit.node] <= kWindingLeaf && end[visit.node] - first[visit.node] == count[visit.node]) {
+            out[at].index = first[visit.node];
+            out[at].count = count[visit.node];
+            continue;
+        }
+        stack.push_back({node.index, at});
+        stack.push_back({visit.node + 1, SIZE_MAX});
+    }
+    bvh.nodes = std::move(out);
+}
+
 GeoError cancelled() { return GeoError{ErrorCode::Cancelled, "cancelled while building the distance grid"}; }
 
 }  // namespace
@@ -513,6 +585,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
         auto built = build_bvh(mesh, bvh_options);
         if (!built) return built.error();
         bvh = std::move(built.value());
+        collapse_small_subtrees(*bvh);
         tree = build_winding_tree(*bvh);
         return Ok{};
     };
@@ -668,23 +741,25 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                       sign.begin() + static_cast<std::ptrdiff_t>(hi + 1), s);
         };
         // What is known of w at the nodes of the last ny rows (the rows before along y and z), by row modulo ny:
-        // w lies within `slack` of `w` (NaN: nothing known). Queried nodes get the hierarchy's margin.
+        // w is on the side of 1/2 that `w` is on, at least `room` from it (-inf: nothing known). Queried nodes get
+        // the hierarchy's margin. Rounding to float moves room by far less than the 1e-6 each step subtracts, and
+        // a stored room is rounded down by as much.
         struct Known {
-            float w, slack;
+            float w, room;
         };
+        constexpr float kUnknown = -std::numeric_limits<float>::infinity();
         const std::size_t nx = g.n[0];
-        std::vector<Known> known(nx * g.n[1], Known{std::numeric_limits<float>::quiet_NaN(), 0.0f}), candidate(nx);
+        std::vector<Known> known(nx * g.n[1], Known{0.5f, kUnknown}), candidate(nx);
         const auto remember = [&](std::size_t node, double w, double slack) {
-            known[(node / nx) % g.n[1] * nx + node % nx] = {static_cast<float>(w), static_cast<float>(slack)};
+            known[(node / nx) % g.n[1] * nx + node % nx] = {static_cast<float>(w),
+                                                            static_cast<float>(std::abs(w - 0.5) - slack - 1e-7)};
         };
-        const float nan = std::numeric_limits<float>::quiet_NaN();
-        const auto room = [](const Known& c) { return std::abs(double{c.w} - 0.5) - double{c.slack}; };
-        // c, or what `from` proves one step away when that leaves more room (an unknown `from`, NaN, never
-        // replaces a known c)
-        const auto better = [&](Known& c, const Known& from, double step) {
-            if (std::isnan(from.w)) return;
-            const Known next{from.w, static_cast<float>(double{from.slack} + step + 1e-6)};
-            if (std::isnan(c.w) || room(next) > room(c)) c = next;
+        // the slack of what c says of w: w within it of c.w
+        const auto slack_of = [](const Known& c) { return std::abs(double{c.w} - 0.5) - double{c.room}; };
+        // c, or what `from` proves one step away when that leaves more room (an unknown `from` never replaces c)
+        const auto better = [](Known& c, const Known& from, float step) {
+            const float next = from.room - step;
+            if (next > c.room) c = {from.w, next};
         };
         std::vector<Span> pending;
         for (std::size_t row = 0; row < g.n[1] * g.n[2]; ++row) {
@@ -701,35 +776,37 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                 box.add(at(base + i));
                 box.add(at(base + end) - Vec3{0, j > 0 ? g.h : 0, k > 0 ? g.h : 0});
                 const double step = g.h * drift.gradient(box, 0.5 / g.h);
+                const auto fstep = static_cast<float>(step + 1e-6);
                 // what the nodes before along y and z, and along the run both ways, prove of each node's w (the
                 // row before along z is the one this row replaces in `known`, so it is read before any write)
                 for (std::size_t x = i; x <= end; ++x) {
-                    Known c{nan, 0.0f};
+                    Known c{0.5f, kUnknown};
                     if (step < 0.5) {
-                        if (j > 0 && !(blocked[base - nx + x] & 2u)) better(c, known[(j - 1) * nx + x], step);
-                        if (k > 0 && !(blocked[base - nx * g.n[1] + x] & 4u)) better(c, line[x], step);
-                        if (x > i) better(c, candidate[x - 1], step);
+                        if (j > 0 && !(blocked[base - nx + x] & 2u)) better(c, known[(j - 1) * nx + x], fstep);
+                        if (k > 0 && !(blocked[base - nx * g.n[1] + x] & 4u)) better(c, line[x], fstep);
+                        if (x > i) better(c, candidate[x - 1], fstep);
                     }
                     candidate[x] = c;
                 }
                 if (step < 0.5)
-                    for (std::size_t x = end; x > i; --x) better(candidate[x - 1], candidate[x], step);
+                    for (std::size_t x = end; x > i; --x) better(candidate[x - 1], candidate[x], fstep);
                 std::copy(candidate.begin() + static_cast<std::ptrdiff_t>(i),
                           candidate.begin() + static_cast<std::ptrdiff_t>(end + 1),
                           line + static_cast<std::ptrdiff_t>(i));
+                const std::uint64_t asked_before = queries;
                 // the nodes so proven take their side; each stretch of the others is asked at its ends and halved
                 for (std::size_t a = i; a <= end;) {
-                    if (room(line[a]) > 0) {
+                    if (line[a].room > 0) {
                         sign[base + a] = side(line[a].w);
                         ++a;
                         continue;
                     }
                     std::size_t b = a;
-                    while (b < end && !(room(line[b + 1]) > 0)) ++b;
+                    while (b < end && !(line[b + 1].room > 0)) ++b;
                     // the stretch's ends: the proven nodes beside it, else its own end nodes asked
                     Span stretch{a, b, 0, 0, kWindingMargin, kWindingMargin};
                     if (a > i) {
-                        stretch = {a - 1, b, line[a - 1].w, 0, line[a - 1].slack, kWindingMargin};
+                        stretch = {a - 1, b, line[a - 1].w, 0, slack_of(line[a - 1]), kWindingMargin};
                     } else {
                         auto w = winding_at(base + a);
                         if (!w) return w.error();
@@ -741,7 +818,7 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                     if (b < end) {
                         stretch.hi = base + b + 1;
                         stretch.whi = line[b + 1].w;
-                        stretch.shi = line[b + 1].slack;
+                        stretch.shi = slack_of(line[b + 1]);
                     } else if (stretch.lo != base + b) {
                         stretch.hi = base + b;
                         if (holds(stretch.lo, stretch.wlo, stretch.slo, stretch.hi)) {
@@ -805,11 +882,11 @@ Result<LevelSetGrid> mesh_distance_grid(const PolygonMesh& mesh, const DistanceG
                     a = b + 1;
                 }
                 // what the queries prove along the run, for the rows after (and over the kConfident guesses)
-                if (step < 0.5) {
-                    for (std::size_t x = i + 1; x <= end; ++x) better(line[x], line[x - 1], step);
-                    for (std::size_t x = end; x > i; --x) better(line[x - 1], line[x], step);
+                if (step < 0.5 && queries != asked_before) {
+                    for (std::size_t x = i + 1; x <= end; ++x) better(line[x], line[x - 1], fstep);
+                    for (std::size_t x = end; x > i; --x) better(line[x - 1], line[x], fstep);
                     for (std::size_t x = i; x <= end; ++x)
-                        if (room(line[x]) > 0) sign[base + x] = side(line[x].w);
+                        if (line[x].room > 0) sign[base + x] = side(line[x].w);
                 }
                 i = end + 1;
             }

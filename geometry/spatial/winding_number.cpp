@@ -23,29 +23,70 @@ namespace {
 
 constexpr double kInv4Pi = 0.25 / std::numbers::pi;
 
-//! The far-field value (times 4 pi) of a node at query offset y = center - q.
-double expansion(const WindingNode& n, const Vec3& y, double d2) {
-    const double d = std::sqrt(d2);
-    const double inv3 = 1.0 / (d2 * d), inv5 = inv3 / d2, inv7 = inv5 / d2;
-    // zeroth and first order
+//! The integrals of a node's triangles while the tree is built. With delta = x - center over the node's triangles
+//! and n their unit normals:
+struct WindingNode {
+    Vec3 center;  //!< area-weighted centroid of the node's triangles (box centre when they have no area)
+    //! every vertex of the node's triangles is within this distance of `center`
+    double radius = 0;
+    Vec3 area_normal;  //!< integral of n: sum over triangles of area * n (half the cross product of two edges)
+    //! integral of delta n^T, row-major: moment[3 j + i] = integral of delta_j n_i
+    double moment[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    //! integral of n_i delta_j delta_k, symmetric in j, k: second[6 i + s] for (j, k) = xx, yy, zz, xy, xz, yz
+    double second[18] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double area = 0;  //!< sum of the triangles' (unsigned) areas
+};
+
+//! The node's expansion collapsed: the symmetric part of the moment, the second-order integrals contracted to the
+//! linear and cubic forms they contribute (see the top of this file for the terms).
+WindingFarField far_field(const WindingNode& n) {
+    WindingFarField f;
+    f.center = n.center;
+    f.radius = n.radius;
+    f.area = n.area;
+    f.area_normal = n.area_normal;
     const double* m = n.moment;
-    const double trace = m[0] + m[4] + m[8];
-    const double yMy = y.x * (m[0] * y.x + m[1] * y.y + m[2] * y.z) + y.y * (m[3] * y.x + m[4] * y.y + m[5] * y.z) +
-                       y.z * (m[6] * y.x + m[7] * y.y + m[8] * y.z);
-    double value = (dot(n.area_normal, y) + trace) * inv3 - 3.0 * yMy * inv5;
-    // second order: C_ijk = integral of n_i delta_j delta_k
-    const double yv[3] = {y.x, y.y, y.z};
-    double diagonal = 0, traces = 0, cubic = 0;
-    for (int i = 0; i < 3; ++i) {
-        const double* c = n.second + 6 * i;  // xx, yy, zz, xy, xz, yz
-        const double row[3][3] = {{c[0], c[3], c[4]}, {c[3], c[1], c[5]}, {c[4], c[5], c[2]}};
-        diagonal += row[i][0] * yv[0] + row[i][1] * yv[1] + row[i][2] * yv[2];  // sum_k C_iik y_k
-        traces += yv[i] * (c[0] + c[1] + c[2]);                                 // y_i sum_j C_ijj
-        cubic += yv[i] * (c[0] * yv[0] * yv[0] + c[1] * yv[1] * yv[1] + c[2] * yv[2] * yv[2] +
-                          2.0 * (c[3] * yv[0] * yv[1] + c[4] * yv[0] * yv[2] + c[5] * yv[1] * yv[2]));
-    }
-    value += 0.5 * (-3.0 * (2.0 * diagonal + traces) * inv5 + 15.0 * cubic * inv7);
-    return value;
+    f.trace = m[0] + m[4] + m[8];
+    // the constants of the terms folded in: 3 y^T M y, 1.5 (2 D + T) . y, 7.5 sum C_ijk y_i y_j y_k
+    f.quadratic[0] = 3 * m[0];
+    f.quadratic[1] = 3 * m[4];
+    f.quadratic[2] = 3 * m[8];
+    f.quadratic[3] = 1.5 * (m[1] + m[3]);
+    f.quadratic[4] = 1.5 * (m[2] + m[6]);
+    f.quadratic[5] = 1.5 * (m[5] + m[7]);
+    // C_ijk = second[6 i + s], s for (j, k) = xx, yy, zz, xy, xz, yz
+    const double *a = n.second, *b = n.second + 6, *c = n.second + 12;
+    // D_k = sum_i C_iik, T_k = sum_j C_kjj
+    f.linear = Vec3{2 * (a[0] + b[3] + c[4]) + (a[0] + a[1] + a[2]), 2 * (a[3] + b[1] + c[5]) + (b[0] + b[1] + b[2]),
+                    2 * (a[4] + b[5] + c[2]) + (c[0] + c[1] + c[2])} *
+               1.5;
+    // sum_ijk C_ijk y_i y_j y_k by monomial
+    const double cubic[10] = {a[0],
+                              b[1],
+                              c[2],
+                              2 * a[3] + b[0],
+                              2 * a[4] + c[0],
+                              a[1] + 2 * b[3],
+                              2 * b[5] + c[1],
+                              a[2] + 2 * c[4],
+                              b[2] + 2 * c[5],
+                              2 * (a[5] + b[4] + c[3])};
+    for (int i = 0; i < 10; ++i) f.cubic[i] = 7.5 * cubic[i];
+    return f;
+}
+
+//! The far-field value (times 4 pi) of a node at query offset y = center - q, |y|^2 = d2.
+double expansion(const WindingFarField& f, const Vec3& y, double d2) {
+    const double inv2 = 1.0 / d2, inv3 = std::sqrt(inv2) * inv2;
+    const double x = y.x, yy = y.y, z = y.z, x2 = x * x, y2 = yy * yy, z2 = z * z;
+    const double* s = f.quadratic;
+    const double first = dot(f.area_normal, y) + f.trace;
+    const double second =
+        s[0] * x2 + s[1] * y2 + s[2] * z2 + 2.0 * (s[3] * x * yy + s[4] * x * z + s[5] * yy * z) + dot(f.linear, y);
+    const double* c = f.cubic;
+    const double cubic = x * (c[0] * x2 + c[5] * y2 + c[7] * z2 + c[9] * yy * z) +
+                         yy * (c[1] * y2 + c[3] * x2 + c[8] * z2) + z * (c[2] * z2 + c[4] * x2 + c[6] * y2);
+    return inv3 * (first + inv2 * (cubic * inv2 - second));
 }
 
 //! Adds a * (v_j v_k) for the six (j, k) of the symmetric layout, to the three rows i weighted by w_i.
@@ -82,10 +123,13 @@ double triangle_solid_angle(const Vec3& q, const Vec3& a, const Vec3& b, const V
 WindingTree build_winding_tree(const TriangleBvh& bvh) {
     WindingTree tree;
     tree.nodes.resize(bvh.nodes.size());
-    // children follow their parent in the array, so a reverse sweep sees both before the parent
+    // Children follow their parent in the depth-first array, so a reverse sweep sees both before the parent: it is a
+    // post-order (right subtree, left subtree, node), and the integrals of the nodes whose parent is still to come
+    // are a stack, the left child on top. Only the far-field form of each node is kept.
+    std::vector<WindingNode> pending;
     for (std::size_t k = bvh.nodes.size(); k-- > 0;) {
         const BvhNode& node = bvh.nodes[k];
-        WindingNode& out = tree.nodes[k];
+        WindingNode out;
         const Vec3 box_centre = (node.bounds.min + node.bounds.max) * 0.5;
         if (node.is_leaf()) {
             Vec3 weighted;
@@ -114,10 +158,15 @@ WindingTree build_winding_tree(const TriangleBvh& bvh) {
                 }
                 add_second(out.second, an * (1.0 / 12.0), s, s);
             }
+            tree.nodes[k] = far_field(out);
+            pending.push_back(out);
             continue;
         }
-        const WindingNode& l = tree.nodes[k + 1];
-        const WindingNode& r = tree.nodes[node.index];
+        assert(pending.size() >= 2);
+        const WindingNode l = pending.back();
+        pending.pop_back();
+        const WindingNode r = pending.back();
+        pending.pop_back();
         out.area = l.area + r.area;
         out.area_normal = l.area_normal + r.area_normal;
         out.center = out.area > 0 ? (l.center * l.area + r.center * r.area) * (1.0 / out.area) : box_centre;
@@ -151,6 +200,8 @@ WindingTree build_winding_tree(const TriangleBvh& bvh) {
             corner = std::max(corner, norm(p - out.center));
         }
         out.radius = std::min(radius, corner);
+        tree.nodes[k] = far_field(out);
+        pending.push_back(out);
     }
     return tree;
 }
@@ -180,8 +231,7 @@ Result<WindingNumber> evaluate(const TriangleBvh& bvh, const WindingTree& tree, 
     stack.push(0);
     while (!stack.empty()) {
         const Index k = stack.pop();
-        const BvhNode& node = bvh.nodes[k];
-        const WindingNode& w = tree.nodes[k];
+        const WindingFarField& w = tree.nodes[k];
         const Vec3 y = w.center - query;
         const double d2 = dot(y, y);
         if (d2 > beta2 * w.radius * w.radius) {
@@ -193,6 +243,7 @@ Result<WindingNumber> evaluate(const TriangleBvh& bvh, const WindingTree& tree, 
             }
             continue;
         }
+        const BvhNode& node = bvh.nodes[k];
         if (node.is_leaf()) {
             sum += leaf_sum(bvh, node, query);
             continue;

@@ -18,23 +18,27 @@
 
 namespace surfaced {
 
-//! Per-node expansion coefficients of the triangles below each node of a TriangleBvh (same indexing). With
-//! delta = x - center over the node's triangles and n their unit normals:
-struct WindingNode {
-    Vec3 center;  //!< area-weighted centroid of the node's triangles (box centre when they have no area)
-    //! every vertex of the node's triangles is within this distance of `center` (next to it: a query reads both at
-    //! every node it reaches, the rest only where it expands)
-    double radius = 0;
-    Vec3 area_normal;  //!< integral of n: sum over triangles of area * n (half the cross product of two edges)
-    //! integral of delta n^T, row-major: moment[3 j + i] = integral of delta_j n_i
-    double moment[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    //! integral of n_i delta_j delta_k, symmetric in j, k: second[6 i + s] for (j, k) = xx, yy, zz, xy, xz, yz
-    double second[18] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+//! The expansion of the triangles below one node of a TriangleBvh, to second order, in the form a query evaluates:
+//! with y = center - q and d = |y|, their solid angle at q is about
+//!   (dot(area_normal, y) + trace) / d^3 - (y^T Q y + dot(linear, y)) / d^5 + cubic(y) / d^7,
+//! the integrals of n, delta n^T and n delta delta^T over the triangles (delta = x - center, n the unit normal)
+//! contracted with the derivatives of y / |y|^3 (winding_number.cpp).
+struct WindingFarField {
+    Vec3 center;        //!< area-weighted centroid of the node's triangles (box centre when they have no area)
+    double radius = 0;  //!< every vertex of the node's triangles is within this distance of `center`
+    Vec3 area_normal;   //!< sum over triangles of area * n
+    double trace = 0;   //!< trace of the integral of delta n^T
+    double quadratic[6] = {0, 0, 0,
+                           0, 0, 0};  //!< Q, 3 times the symmetric part of that integral: xx, yy, zz, xy, xz, yz
+    Vec3 linear;
+    //! coefficients of x^3, y^3, z^3, x^2 y, x^2 z, y^2 x, y^2 z, z^2 x, z^2 y, xyz
+    double cubic[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     double area = 0;  //!< sum of the triangles' (unsigned) areas
 };
 
+//! Per node of the hierarchy (same indexing), its expansion in the form a query evaluates.
 struct WindingTree {
-    std::vector<WindingNode> nodes;
+    std::vector<WindingFarField> nodes;
 };
 
 //! The expansion coefficients for every node, bottom-up: O(nodes + triangles). Reuse it for every query on `bvh`.
