@@ -96,13 +96,17 @@ void build_ray_nodes(TriangleBvh& bvh) {
     bvh.ray_extent = 0;
     for (int a = 0; a < 3; ++a)
         bvh.ray_extent = std::max({bvh.ray_extent, root.max[a] - bvh.ray_centre[a], bvh.ray_centre[a] - root.min[a]});
-    // every triangle in float, four a block in the order of `triangles` (the last block's unused lanes zero)
+    // every triangle in float and copied, four a block in the order of `triangles` (the last block's unused lanes
+    // zero)
     bvh.ray_triangles.resize((bvh.triangles.size() + 3) / 4);
-    for (std::size_t t = 0; t < bvh.triangles.size(); ++t)
+    for (std::size_t t = 0; t < bvh.triangles.size(); ++t) {
+        RayTriangles& block = bvh.ray_triangles[t / 4];
+        block.triangle[t % 4] = bvh.triangles[t];
         for (std::size_t c = 0; c < 3; ++c)
             for (int a = 0; a < 3; ++a)
-                bvh.ray_triangles[t / 4].p[3 * c + static_cast<std::size_t>(a)][t % 4] =
+                block.p[3 * c + static_cast<std::size_t>(a)][t % 4] =
                     static_cast<float>(bvh.triangles[t].p[c][a] - bvh.ray_centre[a]);
+    }
     struct Pending {
         Index binary, ray;
     };

@@ -2,8 +2,9 @@
 // winding-number and signed-distance queries share. Built once (binned surface area heuristic), immutable afterwards,
 // so any number of threads may query it at once. Rays walk a second layout of the same tree, built with it
 // (BvhOptions::ray_nodes): the binary nodes collapsed into 8-wide nodes with float boxes rounded outward, and each
-// ray leaf's triangles in float blocks of four, which a ray tests together before the exact double-precision test.
-// On the Stanford bunny (69,666 triangles) the binary nodes and triangles take 9.9 MiB, the ray layout 3.0 MiB more.
+// ray leaf's triangles in float blocks of four, which a ray tests together before the exact double-precision test
+// reads the copies of the same triangles stored beside them. On the Stanford bunny (69,666 triangles) the binary
+// nodes and triangles take 9.9 MiB, the ray layout 9.1 MiB more.
 //
 // References: I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT 2007 (binned SAH).
 //             T. Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013 (the conservative slab test, ray_cast.cpp).
@@ -31,7 +32,7 @@ struct BvhOptions {
     //! with NotTriangleMesh.
     bool triangulate = true;
     //! Also build the 8-wide float layout that ray casting traverses (TriangleBvh::ray_nodes, ray_triangles), about
-    //! 30% more memory. Without it rays walk the binary double-precision nodes, with the same answers but fewer
+    //! twice the memory of the binary nodes and triangles. Without it rays walk the binary double-precision nodes, with the same answers but fewer
     //! rays per second (see docs/benchmarks.md); closest points and winding numbers never use it.
     bool ray_nodes = true;
     Cancel cancel;
@@ -57,9 +58,9 @@ struct BvhTriangle {
 //! One node of the ray layout: up to eight children whose boxes are tested at once (SIMD), in float, each box the
 //! double box of a node of the binary hierarchy rounded outward, so that it still contains every triangle below it.
 //! A child is an inner node (count 0, `child` its index in TriangleBvh::ray_nodes), a leaf (count > 0: triangles
-//! `child .. child + count` of TriangleBvh::triangles, in float in TriangleBvh::ray_triangles), or an unused slot
-//! (count 0 and an empty box, min > max, that no ray enters). Boxes are stored by plane then child: box[0..2] the
-//! min x, y, z planes, box[3..5] the max planes.
+//! `child .. child + count` of TriangleBvh::triangles, in float and copied in TriangleBvh::ray_triangles), or an
+//! unused slot (count 0 and an empty box, min > max, that no ray enters). Boxes are stored by plane then child:
+//! box[0..2] the min x, y, z planes, box[3..5] the max planes.
 inline constexpr int kRayNodeWidth = 8;
 struct alignas(64) RayNode {
     float box[6][kRayNodeWidth];
@@ -67,11 +68,14 @@ struct alignas(64) RayNode {
     std::uint8_t count[kRayNodeWidth];
 };
 
-//! Four consecutive triangles of TriangleBvh::triangles (block b holds 4b .. 4b + 3) in float, relative to
-//! TriangleBvh::ray_centre, by coordinate then triangle: p[3 * corner + axis][lane]. Ray casting tests a leaf's
-//! triangles four at once to discard those the ray surely misses; the others get the exact double-precision test.
-struct alignas(16) RayTriangles {
+//! Four consecutive triangles of TriangleBvh::triangles (block b holds 4b .. 4b + 3), in the two forms a ray reads:
+//! in float, relative to TriangleBvh::ray_centre, by coordinate then triangle (p[3 * corner + axis][lane]), which a
+//! ray tests four at once to discard those it surely misses; and copies of the four BvhTriangles, which the exact
+//! double-precision test and the hit read. Side by side, a leaf is one stream of memory rather than two (512 bytes,
+//! eight cache lines, a block). The last block's unused lanes hold zeros.
+struct alignas(64) RayTriangles {
     float p[9][4] = {};
+    BvhTriangle triangle[4] = {};
 };
 
 struct TriangleBvh {
@@ -81,7 +85,7 @@ struct TriangleBvh {
     //! at most sixteen triangles (or a larger binary leaf) made leaves; ray_nodes[0] is the root. Empty when not built:
     //! rays then walk `nodes`.
     std::vector<RayNode> ray_nodes;
-    std::vector<RayTriangles> ray_triangles;  //!< `triangles` in float, four a block
+    std::vector<RayTriangles> ray_triangles;  //!< `triangles` in float and copied, four a block
     Vec3 ray_centre;                          //!< the root box's centre, which ray_triangles are relative to
     double ray_extent = 0;                    //!< largest |coordinate - ray_centre| of any triangle corner
     std::size_t face_count = 0;               //!< faces of the input mesh

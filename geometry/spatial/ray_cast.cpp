@@ -210,7 +210,8 @@ void binary_all_hits(const TriangleBvh& bvh, const PreparedRay& r, std::vector<R
 // Unused child slots have min = +inf and max = -inf: their entry is +inf and their exit -inf, never a hit.
 //
 // A leaf's triangles go through filter_triangles, four at a time, and those it keeps through the exact
-// double-precision test above, so hits, t and barycentrics are those of the binary path.
+// double-precision test above, on the copies of their BvhTriangles stored beside the float blocks (the same doubles,
+// read from the memory the filter just read), so hits, t and barycentrics are those of the binary path.
 
 //! Rays whose origin or direction is outside these magnitudes take the double path (no float overflow of the
 //! origin, 1 / d within float range for the largest component).
@@ -356,38 +357,44 @@ struct WideEntry {
     float t;      //!< entry distance, a lower bound
 };
 
-//! Starts loading what an entered child will read (a node; for a leaf, the float blocks and the exact test's copies
-//! of its first eight triangles), while its parent's other children are sorted and pushed, or the nearer ones walked.
+//! Starts loading what an entered child will read (a node; for a leaf, the float parts of its blocks), while its
+//! parent's other children are sorted and pushed, or the nearer ones walked. The copies of the triangles the exact
+//! test reads are requested by for_leaf_candidates for the lanes the filter keeps.
 inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
     if (e.count == 0) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_nodes[e.child]);
         for (std::size_t offset = 0; offset < sizeof(RayNode); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
         return;
     }
-    const Index n = std::min<Index>(e.count, 8);
-    const char* blocks = reinterpret_cast<const char*>(&bvh.ray_triangles[e.child / 4]);
-    const char* blocks_end = reinterpret_cast<const char*>(&bvh.ray_triangles[(e.child + n - 1) / 4] + 1);
-    for (const char* p = blocks; p < blocks_end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
-    _mm_prefetch(blocks_end - 1, _MM_HINT_T0);
-    const char* tris = reinterpret_cast<const char*>(&bvh.triangles[e.child]);
-    const char* tris_end = reinterpret_cast<const char*>(&bvh.triangles[e.child + n - 1] + 1);
-    for (const char* p = tris; p < tris_end; p += 64) _mm_prefetch(p, _MM_HINT_T0);
-    _mm_prefetch(tris_end - 1, _MM_HINT_T0);
+    for (Index b = e.child / 4; b <= (e.child + e.count - 1) / 4; ++b) {
+        const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[b]);
+        for (std::size_t offset = 0; offset < sizeof(RayTriangles::p); offset += 64)
+            _mm_prefetch(p + offset, _MM_HINT_T0);
+    }
 }
 
-//! Calls hit(i) for each triangle i of the leaf (triangles first .. first + count) that the filter keeps.
+//! Calls hit(i) for each triangle i of the leaf (triangles first .. first + count) that the filter keeps, i naming
+//! ray_triangles[i / 4].triangle[i % 4]. Every block is filtered first and the kept triangles' copies requested, so
+//! that their loads overlap.
 template <class Hit>
 inline void for_leaf_candidates(const TriangleBvh& bvh, const WideRay& w, Index first, Index count, Hit&& hit) {
     const Index end = first + count;
+    Index kept[64];
+    int size = 0;
     for (Index t = first; t < end;) {
         const Index block = t / 4, lane = t % 4, lanes_end = std::min<Index>(4, lane + (end - t));
         int lanes = filter_triangles(bvh.ray_triangles[block], w) & ((1 << lanes_end) - (1 << lane));
         while (lanes != 0) {
-            hit(4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes))));
+            const Index i = 4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
+            const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[block].triangle[i % 4]);
+            _mm_prefetch(p, _MM_HINT_T0);
+            _mm_prefetch(p + sizeof(BvhTriangle) - 1, _MM_HINT_T0);
+            kept[size++] = i;
             lanes &= lanes - 1;
         }
         t = 4 * block + 4;
     }
+    for (int k = 0; k < size; ++k) hit(kept[k]);
 }
 
 //! The SSE box test, as a parameter of the traversals.
@@ -439,7 +446,7 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
         for (;;) {
             if (entry.count != 0) {
                 for_leaf_candidates(bvh, w, entry.child, entry.count, [&](Index i) {
-                    const BvhTriangle& tri = bvh.triangles[i];
+                    const BvhTriangle& tri = bvh.ray_triangles[i / 4].triangle[i % 4];
                     RayTriangleHit hit;
                     if (intersect(r, tri.p[0], tri.p[1], tri.p[2], best_t, hit) &&
                         (best == SIZE_MAX || hit.t < best_t)) {
@@ -472,7 +479,7 @@ std::optional<RayHit> wide_first_hit(const TriangleBvh& bvh, const PreparedRay& 
         }
     }
     if (best == SIZE_MAX) return std::nullopt;
-    return make_hit(r, bvh.triangles[best], best_hit);
+    return make_hit(r, bvh.ray_triangles[best / 4].triangle[best % 4], best_hit);
 }
 
 template <class Enter>
@@ -485,7 +492,7 @@ void wide_all_hits(const TriangleBvh& bvh, const PreparedRay& r, const WideRay& 
         const WideEntry entry = stack.pop();
         if (entry.count != 0) {
             for_leaf_candidates(bvh, w, entry.child, entry.count, [&](Index i) {
-                const BvhTriangle& tri = bvh.triangles[i];
+                const BvhTriangle& tri = bvh.ray_triangles[i / 4].triangle[i % 4];
                 RayTriangleHit hit;
                 if (intersect(r, tri.p[0], tri.p[1], tri.p[2], r.t_max, hit)) hits.push_back(make_hit(r, tri, hit));
             });

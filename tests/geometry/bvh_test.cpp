@@ -161,8 +161,8 @@ TEST(Bvh, CancelledBuildReportsCancelled) {
     EXPECT_EQ(out.error().code, ErrorCode::Cancelled);
 }
 
-//! Walks the ray layout from its root: every slot used is a node reached once or a leaf of triangles whose float
-//! copies are in the blocks; every box (float) contains what is below it in double; unused slots have empty boxes.
+//! Walks the ray layout from its root: every slot used is a node reached once or a leaf of triangles whose copies
+//! (float and double) are in the blocks; every box (float) contains what is below it in double; unused slots have empty boxes.
 //! Returns how often each triangle is reached.
 std::vector<int> check_ray_nodes(const TriangleBvh& bvh) {
     std::vector<int> seen(bvh.triangles.size(), 0);
@@ -177,6 +177,12 @@ std::vector<int> check_ray_nodes(const TriangleBvh& bvh) {
                 if (t >= bvh.triangles.size()) return box;
                 ++seen[t];
                 const RayTriangles& block = bvh.ray_triangles[t / 4];
+                // the copy the exact test and the hit read is the triangle itself
+                const BvhTriangle& copy = block.triangle[t % 4];
+                EXPECT_EQ(copy.face, bvh.triangles[t].face);
+                EXPECT_EQ(copy.vertices, bvh.triangles[t].vertices);
+                for (int k = 0; k < 3; ++k)
+                    for (int a = 0; a < 3; ++a) EXPECT_EQ(copy.p[k][a], bvh.triangles[t].p[k][a]);
                 for (int k = 0; k < 3; ++k) {
                     const Vec3& p = bvh.triangles[t].p[k];
                     box.add(p);
