@@ -8,7 +8,8 @@
 // bounding-box diagonal. Times: ours includes creating the evaluator; Bfr includes its factory and tessellation
 // objects and the evaluation; uniform is subdivide() alone.
 //
-// Usage: bench_adaptive_tessellation [--quick]   (from the repository root, which holds tests/data)
+// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R]   (from the repository root, which holds
+// tests/data; --only runs the rows whose mesh name contains NAME, --relative one tolerance R of the diagonal)
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/bfr/tessellation.h>
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -148,7 +150,11 @@ PolygonMesh bfr_tessellate(const PolygonMesh& mesh, int rate) {
     return out;
 }
 
+std::string g_only;
+double g_relative = 0;
+
 void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed) {
+    if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     if (!evaluator) {
         std::printf("%s: %s\n", name, evaluator.error().message.c_str());
@@ -227,7 +233,12 @@ PolygonMesh load(const std::string& name) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    bool quick = false;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) g_only = argv[++i];
+        if (std::strcmp(argv[i], "--relative") == 0 && i + 1 < argc) g_relative = std::atof(argv[++i]);
+    }
     std::printf(
         "| mesh | faces | tolerance | ours tris | ours ms | ours err/tol | uniform level | uniform tris | "
         "uniform ms | uniform err/tol | ours/uniform tris | Bfr rate | Bfr tris | Bfr err/tol | ours/Bfr time |\n");
@@ -236,7 +247,9 @@ int main(int argc, char** argv) {
     for (Index v : {0u, 1u, 2u, 3u}) creased.tags.creases.push_back({v, (v + 1) % 4, 2.5});
     PolygonMesh top_sharp = shapes::cube();
     for (Index v : {4u, 5u, 6u, 7u}) top_sharp.tags.creases.push_back({v, v == 7 ? 4u : v + 1, 10.0});
-    for (double relative : quick ? std::vector<double>{1e-2} : std::vector<double>{1e-2, 1e-3})
+    std::vector<double> relatives = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-2, 1e-3};
+    if (g_relative > 0) relatives = {g_relative};
+    for (double relative : relatives)
         for (bool guaranteed : {true, false}) {
             run("cube", shapes::cube(), relative, guaranteed);
             run("cube, edge loop sharpness 2.5", creased, relative, guaranteed);

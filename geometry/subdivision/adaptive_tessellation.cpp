@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "geometry/core/format_number.h"
@@ -28,20 +29,76 @@ struct Bounds {
     }
 };
 
-//! Second-derivative bounds of a uniform bicubic B-spline patch over its [0, 1]^2: S_ss is a B-spline (linear in s,
-//! cubic in t) of the second differences along s, S_st a biquadratic one of the mixed differences; each is a convex
-//! combination of its coefficients, so its norm is at most their largest norm.
-Bounds patch_bounds(const std::array<Vec3, 16>& p) {
+//! A uniform bicubic B-spline patch's differences over its [0, 1]^2. S_s is a B-spline (quadratic in s, cubic in t)
+//! of the first differences along s, S_ss a linear-by-cubic one of the second differences, S_st a biquadratic one of
+//! the mixed differences; B-spline bases are >= 0 and sum to 1, so each derivative lies in the convex hull of its
+//! coefficients: its norm, and its component along any direction, are bounded by theirs.
+struct PatchData {
+    std::array<Vec3, 12> du, dv;
+    std::array<Vec3, 8> uu, vv;
+    std::array<Vec3, 9> uv;
+    Vec3 a0, b0;   //!< mean first differences along s and t (the centres used for the tangent cones)
+    Bounds m;      //!< |S_ss|, |S_st|, |S_tt| over the patch
+    Bounds plane;  //!< the same, for the component normal to any plane whose normal is in the patch's normal cone
+};
+
+//! Bounds on the component along a unit direction n: |n . S_xx| <= max |n . coefficient|.
+Bounds along(const PatchData& p, const Vec3& n) {
     Bounds b;
+    for (const Vec3& d : p.uu) b.uu = std::max(b.uu, std::abs(dot(n, d)));
+    for (const Vec3& d : p.vv) b.vv = std::max(b.vv, std::abs(dot(n, d)));
+    for (const Vec3& d : p.uv) b.uv = std::max(b.uv, std::abs(dot(n, d)));
+    return b;
+}
+
+//! min(M, Mn + delta M) componentwise: the bound on |m . S_xx| for a unit m within delta of n (|m . v| <= |v| and
+//! |m . v| <= |n . v| + |m - n| |v|).
+Bounds tilted(const Bounds& m, const Bounds& mn, double delta) {
+    return {std::min(m.uu, mn.uu + delta * m.uu), std::min(m.uv, mn.uv + delta * m.uv),
+            std::min(m.vv, mn.vv + delta * m.vv)};
+}
+
+//! |m - n| for unit vectors at an angle whose sine is at most `sine` (< 1; the angle below 90 degrees).
+double chord_of_sine(double sine) {
+    if (!(sine < 1)) return 2.0;
+    return std::sqrt(std::max(0.0, 2.0 - 2.0 * std::sqrt(1.0 - sine * sine)));
+}
+
+PatchData patch_data(const std::array<Vec3, 16>& p) {
+    PatchData d;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 3; ++c) {
+            d.du[std::size_t(3 * r + c)] = p[4 * r + c + 1] - p[4 * r + c];
+            d.dv[std::size_t(3 * r + c)] = p[4 * (c + 1) + r] - p[4 * c + r];
+        }
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 2; ++c) {
-            b.uu = std::max(b.uu, norm(p[4 * r + c] - 2.0 * p[4 * r + c + 1] + p[4 * r + c + 2]));
-            b.vv = std::max(b.vv, norm(p[4 * c + r] - 2.0 * p[4 * (c + 1) + r] + p[4 * (c + 2) + r]));
+            d.uu[std::size_t(2 * r + c)] = p[4 * r + c] - 2.0 * p[4 * r + c + 1] + p[4 * r + c + 2];
+            d.vv[std::size_t(2 * r + c)] = p[4 * c + r] - 2.0 * p[4 * (c + 1) + r] + p[4 * (c + 2) + r];
         }
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
-            b.uv = std::max(b.uv, norm(p[4 * (r + 1) + c + 1] - p[4 * (r + 1) + c] - p[4 * r + c + 1] + p[4 * r + c]));
-    return b;
+            d.uv[std::size_t(3 * r + c)] =
+                p[4 * (r + 1) + c + 1] - p[4 * (r + 1) + c] - p[4 * r + c + 1] + p[4 * r + c];
+    for (const Vec3& v : d.uu) d.m.uu = std::max(d.m.uu, norm(v));
+    for (const Vec3& v : d.vv) d.m.vv = std::max(d.m.vv, norm(v));
+    for (const Vec3& v : d.uv) d.m.uv = std::max(d.m.uv, norm(v));
+    for (std::size_t i = 0; i < 12; ++i) {
+        d.a0 += d.du[i] * (1.0 / 12);
+        d.b0 += d.dv[i] * (1.0 / 12);
+    }
+    // normal cone: S_s = a0 + da, S_t = b0 + db with |da| <= ra, |db| <= rb, so |S_s x S_t - a0 x b0| <= e
+    double ra = 0, rb = 0;
+    for (std::size_t i = 0; i < 12; ++i) {
+        ra = std::max(ra, norm(d.du[i] - d.a0));
+        rb = std::max(rb, norm(d.dv[i] - d.b0));
+    }
+    const Vec3 n0 = cross(d.a0, d.b0);
+    const double length = norm(n0);
+    const double e = norm(d.a0) * rb + ra * norm(d.b0) + ra * rb;
+    d.plane = d.m;
+    if (length > 0) d.plane = tilted(d.m, along(d, n0 * (1.0 / length)), chord_of_sine(e / length));
+    return d;
 }
 
 //! Segments (nu, nv) with (1/8)(A/nu^2 + 2B/(nu nv) + C/nv^2) <= tolerance: each half <= tolerance / 2 when
@@ -82,7 +139,7 @@ int subface_columns(std::size_t n) {
 //! One base face's prepared surface and the bounds of its patches.
 struct FaceData {
     std::optional<LimitFaceSurface> surface;
-    std::vector<Bounds> bounds;
+    std::vector<PatchData> patches;
     std::size_t size = 0;
 };
 
@@ -96,6 +153,7 @@ constexpr double kBoundedWidth = 1.0 / (1 << kBoundedDepth);
 struct Overlap {
     Bounds m;
     bool uncovered = false;
+    std::vector<std::pair<std::uint32_t, double>> patches;  //!< (patch, 1 / its width in the domain)
 };
 
 void query(const FaceData& fd, std::size_t node, double s0, double t0, double w, const P2& lo, const P2& hi,
@@ -107,7 +165,8 @@ void query(const FaceData& fd, std::size_t node, double s0, double t0, double w,
         return;
     }
     if (n.patch >= 0) {
-        out.m.include(fd.bounds[static_cast<std::size_t>(n.patch)], 1.0 / (w * w));
+        out.m.include(fd.patches[static_cast<std::size_t>(n.patch)].m, 1.0 / (w * w));
+        out.patches.emplace_back(std::uint32_t(n.patch), 1.0 / w);
         return;
     }
     if (n.first_child < 0) {
@@ -140,6 +199,34 @@ Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, co
     const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
     query(fd, domain_root(fd, subface), 0.0, 0.0, 1.0, lo, hi, o);
     return o;
+}
+
+//! Second-derivative bounds of the component of S along the unit normal `m` of a triangle's plane, over the patches
+//! `o` holds (the rest is `o.uncovered`), for triangle_bound: the distance from S(x) to the plane of the triangle of S
+//! at its corners is |m . (S(x) - T(x))|, the interpolation error of the scalar m . S, whose second derivatives are
+//! bounded by the patches' differences projected on m. Only the surface's bending away from the plane counts, not the
+//! parameterization's tangential non-uniformity. Without a normal (a degenerate triangle): the bounds on |S_xx|.
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m) {
+    if (!m) return o.m;
+    Bounds out;
+    for (const auto& [index, scale] : o.patches) out.include(along(fd.patches[index], *m), scale * scale);
+    return out;
+}
+
+//! Unit normal of the triangle (a, b, c), if it has one.
+std::optional<Vec3> unit_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 n = cross(b - a, c - a);
+    const double length = norm(n);
+    if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
+    return n * (1.0 / length);
+}
+
+//! S at domain point p.
+Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p) {
+    const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
+    auto sample = fd.surface->evaluate(u, v);
+    if (!sample) return sample.error();
+    return sample->position;
 }
 
 //! Measured max distance from S(x) to the plane of the triangle of S at the corners, over the non-corner points x of
@@ -184,8 +271,14 @@ struct LocalMesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 
+//! A uniform domain whose sides carry its inner rates: a regular grid, no transition strips.
+bool is_grid(const LimitTessellationPlan::Domain& d) {
+    return d.s_lines.empty() && d.t_lines.empty() && d.side[0] == d.nu && d.side[2] == d.nu && d.side[1] == d.nv &&
+           d.side[3] == d.nv;
+}
+
 std::uint64_t domain_triangles(const LimitTessellationPlan::Domain& d) {
-    const bool grid = d.side[0] == d.nu && d.side[2] == d.nu && d.side[1] == d.nv && d.side[3] == d.nv;
+    const bool grid = is_grid(d);
     const auto nu = static_cast<std::uint64_t>(d.nu), nv = static_cast<std::uint64_t>(d.nv);
     if (grid) return 2 * nu * nv;
     std::uint64_t sum = 0;
@@ -195,7 +288,7 @@ std::uint64_t domain_triangles(const LimitTessellationPlan::Domain& d) {
 
 //! Inner rates of a domain whose sides differ from them: at least 2 so that the inner grid has a point.
 void fix_inner(LimitTessellationPlan::Domain& d) {
-    const bool grid = d.side[0] == d.nu && d.side[2] == d.nu && d.side[1] == d.nv && d.side[3] == d.nv;
+    const bool grid = is_grid(d);
     if (!grid) {
         d.nu = std::max(d.nu, 2);
         d.nv = std::max(d.nv, 2);
@@ -216,8 +309,8 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
     const int nu = d.nu, nv = d.nv;
     const auto inner = [&](int i, int j) { return ring + std::uint32_t((j - 1) * (nu - 1) + (i - 1)); };
     for (int j = 1; j < nv; ++j)
-        for (int i = 1; i < nu; ++i) out.points.push_back({double(i) / nu, double(j) / nv});
-    const bool grid = r[0] == nu && r[2] == nu && r[1] == nv && r[3] == nv;
+        for (int i = 1; i < nu; ++i) out.points.push_back({d.s_at(i), d.t_at(j)});
+    const bool grid = is_grid(d);
     if (grid) {
         const auto at = [&](int i, int j) -> std::uint32_t {
             if (j == 0) return on_side(0, i);
@@ -244,13 +337,13 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
     for (int k = 0; k < 4; ++k) {
         std::vector<std::pair<std::uint32_t, double>> in;
         if (k == 0)
-            for (int i = 1; i < nu; ++i) in.emplace_back(inner(i, 1), double(i) / nu);
+            for (int i = 1; i < nu; ++i) in.emplace_back(inner(i, 1), d.s_at(i));
         if (k == 1)
-            for (int j = 1; j < nv; ++j) in.emplace_back(inner(nu - 1, j), double(j) / nv);
+            for (int j = 1; j < nv; ++j) in.emplace_back(inner(nu - 1, j), d.t_at(j));
         if (k == 2)
-            for (int i = nu - 1; i >= 1; --i) in.emplace_back(inner(i, nv - 1), 1.0 - double(i) / nu);
+            for (int i = nu - 1; i >= 1; --i) in.emplace_back(inner(i, nv - 1), 1.0 - d.s_at(i));
         if (k == 3)
-            for (int j = nv - 1; j >= 1; --j) in.emplace_back(inner(1, j), 1.0 - double(j) / nv);
+            for (int j = nv - 1; j >= 1; --j) in.emplace_back(inner(1, j), 1.0 - d.t_at(j));
         const int a = r[k], b = static_cast<int>(in.size()) - 1;
         int io = 0, ii = 0;
         while (io < a || ii < b) {
@@ -304,6 +397,176 @@ GeoError too_many_segments(double needed, const LimitTessellationOptions& option
                          ElementKind::Face, static_cast<std::int64_t>(face));
 }
 
+//! Bins of a domain direction for graded grids: as fine as the shallowest patches that are sampled rather than
+//! bounded, so that every bounded patch covers whole bins.
+constexpr int kBins = 1 << kBoundedDepth;
+//! Segments per unit length a direction needs, per bin.
+using Density = std::array<double, kBins>;
+
+//! Grid lines from 0 to 1 spaced in proportion to 1 / rho (the spacing in bin b at most 1 / rho[b]): their count
+//! of segments, and the lines (empty when they are uniform: rho constant, or one segment).
+std::pair<int, std::vector<double>> grid_lines(const Density& rho) {
+    double total = 0;
+    for (double r : rho) total += r / kBins;
+    const int n = std::max(1, int(std::ceil(total * (1.0 - 1e-12))));
+    if (n == 1 || std::all_of(rho.begin(), rho.end(), [&](double r) { return r == rho[0]; })) return {n, {}};
+    std::vector<double> lines(std::size_t(n) + 1, 0.0);
+    lines[std::size_t(n)] = 1.0;
+    int bin = 0;
+    double before = 0;  // the integral of rho up to the start of `bin`
+    for (int i = 1; i < n; ++i) {
+        const double target = total * i / n;
+        while (bin < kBins - 1 && before + rho[std::size_t(bin)] / kBins < target) {
+            before += rho[std::size_t(bin)] / kBins;
+            ++bin;
+        }
+        lines[std::size_t(i)] =
+            std::clamp(double(bin) / kBins + (target - before) / rho[std::size_t(bin)], lines[std::size_t(i - 1)], 1.0);
+    }
+    return {n, lines};
+}
+
+//! Raises the density over [lo, hi) to `rho`.
+void raise(Density& density, double lo, double hi, double rho) {
+    const int b0 = std::clamp(int(std::floor(lo * kBins)), 0, kBins - 1);
+    const int b1 = std::clamp(int(std::ceil(hi * kBins)), b0 + 1, kBins);
+    for (int b = b0; b < b1; ++b) density[std::size_t(b)] = std::max(density[std::size_t(b)], rho);
+}
+
+//! A graded domain's grid: lines along s and t from densities.
+struct Graded {
+    Density rs{}, rt{};
+    int nu = 1, nv = 1;
+    std::vector<double> s_lines, t_lines;
+};
+
+Status regrade(Graded& g, const LimitTessellationOptions& options, std::size_t face) {
+    std::tie(g.nu, g.s_lines) = grid_lines(g.rs);
+    std::tie(g.nv, g.t_lines) = grid_lines(g.rt);
+    if (std::max(g.nu, g.nv) > options.max_segments) return too_many_segments(std::max(g.nu, g.nv), options, face);
+    return Ok{};
+}
+
+//! Gives domain `d` the grid of `g`.
+void apply(const Graded& g, LimitTessellationPlan::Domain& d) {
+    d.s_lines = g.s_lines;
+    d.t_lines = g.t_lines;
+    d.nu = g.nu;
+    d.nv = g.nv;
+    fix_inner(d);
+}
+
+//! How much to shrink a failing triangle of parameter extents (hs, ht) whose bound is `ratio` times the tolerance:
+//! per direction, by the share of the bound that direction carries (the bound is a quadratic form in the extents).
+std::pair<double, double> shrink(const Bounds& m, double hs, double ht, double ratio) {
+    const double cu = m.uu * hs * hs + m.uv * hs * ht, cv = m.vv * ht * ht + m.uv * hs * ht;
+    double fs = 1.05, ft = 1.05;
+    if (cu + cv > 0) {
+        fs = std::max(1.0, std::sqrt(2.0 * ratio * cu / (cu + cv)));
+        ft = std::max(1.0, std::sqrt(2.0 * ratio * cv / (cu + cv)));
+    }
+    if (std::max(fs, ft) < 1.05) fs = ft = 1.05;
+    return {std::min(fs, 8.0), std::min(ft, 8.0)};
+}
+
+//! The graded grid one domain needs: the bounded patches give the densities (their normal-cone plane bounds), then
+//! every cell's two triangles are bounded with their own planes (sampled where no patch bounds them) and the
+//! densities raised over the cells that exceed the tolerance, until none does.
+Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
+                             const LimitTessellationOptions& options) {
+    const double tol = options.tolerance;
+    const std::size_t root = domain_root(fd, subface);
+    Graded g;
+    g.rs.fill(1.0);
+    g.rt.fill(1.0);
+    {
+        std::vector<std::tuple<std::size_t, double, double, double>> stack{{root, 0.0, 0.0, 1.0}};
+        while (!stack.empty()) {
+            const auto [node, s0, t0, w] = stack.back();
+            stack.pop_back();
+            if (w < kBoundedWidth) continue;
+            const auto& n = fd.surface->nodes()[node];
+            if (n.patch >= 0) {
+                Bounds m;
+                m.include(fd.patches[std::size_t(n.patch)].plane, 1.0 / (w * w));
+                const auto [ru, rv] = rates_for(m, tol);
+                raise(g.rs, s0, s0 + w, ru);
+                raise(g.rt, t0, t0 + w, rv);
+            } else if (n.first_child >= 0) {
+                const double h = 0.5 * w;
+                const auto c = std::size_t(n.first_child);
+                stack.emplace_back(c, s0, t0, h);
+                stack.emplace_back(c + 1, s0 + h, t0, h);
+                stack.emplace_back(c + 2, s0 + h, t0 + h, h);
+                stack.emplace_back(c + 3, s0, t0 + h, h);
+            }
+        }
+    }
+    for (int iteration = 0;; ++iteration) {
+        if (auto status = regrade(g, options, face); !status) return status.error();
+        if (iteration > 40) break;
+        const int nu = g.nu, nv = g.nv;
+        const auto s_at = [&](int i) { return g.s_lines.empty() ? double(i) / nu : g.s_lines[std::size_t(i)]; };
+        const auto t_at = [&](int j) { return g.t_lines.empty() ? double(j) / nv : g.t_lines[std::size_t(j)]; };
+        // the output has at least this domain's grid: refuse before evaluating more than the budget allows
+        if (auto status = check_budget(2 * std::uint64_t(nu) * std::uint64_t(nv), options); !status)
+            return status.error();
+        std::vector<Vec3> grid;  // S at the grid points, for the triangles' planes
+        grid.reserve(std::size_t(nu + 1) * std::size_t(nv + 1));
+        for (int j = 0; j <= nv; ++j)
+            for (int i = 0; i <= nu; ++i) {
+                auto p = position_at(fd, subface, {s_at(i), t_at(j)});
+                if (!p) return p.error();
+                grid.push_back(*p);
+            }
+        const auto at = [&](int i, int j) { return grid[std::size_t(j) * std::size_t(nu + 1) + std::size_t(i)]; };
+        Density next_s = g.rs, next_t = g.rt;
+        bool fail = false;
+        for (int j = 0; j < nv; ++j)
+            for (int i = 0; i < nu; ++i) {
+                const P2 lo{s_at(i), t_at(j)}, hi{s_at(i + 1), t_at(j + 1)};
+                const double hs = hi.s - lo.s, ht = hi.t - lo.t;
+                const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
+                Overlap o;
+                query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
+                const Bounds lower = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
+                const Bounds upper = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+                const double rl = triangle_bound(lower, lo, c10, hi) / tol,
+                             ru = triangle_bound(upper, lo, hi, c01) / tol;
+                double fs = 1, ft = 1;
+                if (rl > 1 || ru > 1) {
+                    Bounds m = lower;
+                    m.include(upper, 1.0);
+                    std::tie(fs, ft) = shrink(m, hs, ht, std::max(rl, ru));
+                }
+                if (o.uncovered) {  // the parts no patch bounds (deep at irregular vertices) are sampled
+                    double e = 0;
+                    for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
+                        auto sampled = sampled_error(fd, subface, lo, p, q);
+                        if (!sampled) return sampled.error();
+                        e = std::max(e, *sampled);
+                    }
+                    const double ratio = e / (tol / kSampledSafety);
+                    if (ratio > 1) {
+                        const double f = std::min(4.0, std::max(1.1, std::sqrt(ratio)));
+                        fs = std::max(fs, f);
+                        ft = std::max(ft, f);
+                    }
+                }
+                if (fs > 1 || ft > 1) {
+                    fail = true;
+                    raise(next_s, lo.s, hi.s, fs / hs);
+                    raise(next_t, lo.t, hi.t, ft / ht);
+                }
+            }
+        if (!fail) break;
+        g.rs = next_s;
+        g.rt = next_t;
+        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
+    }
+    return g;
+}
+
 //! The rates one domain needs on a regular grid: bounded cells within the tolerance, sampled cells within
 //! tolerance / kSampledSafety. Returns (nu, nv).
 Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, int subface,
@@ -311,12 +574,8 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
     const double tol = options.tolerance;
     const std::size_t root = domain_root(fd, subface);
     const bool bounded = options.guaranteed;
-    if (bounded && fd.surface->nodes()[root].patch >= 0) {  // one patch: the bezier_patch.h bound
-        const auto [nu, nv] = rates_for(fd.bounds[std::size_t(fd.surface->nodes()[root].patch)], tol);
-        if (std::max(nu, nv) > options.max_segments) return too_many_segments(std::max(nu, nv), options, face);
-        return std::pair<int, int>{int(nu), int(nv)};
-    }
-    // start from the patches down to two levels, then check every cell against the patches it overlaps
+    // start from the patches down to two levels (their normal cones' plane bounds), then check every cell's two
+    // triangles against the patches they overlap
     Overlap coarse;
     {
         std::vector<std::pair<std::size_t, double>> stack{{root, 1.0}};
@@ -325,7 +584,7 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
             std::vector<std::pair<std::size_t, double>> next;
             for (const auto& [node, w] : stack) {
                 const auto& n = fd.surface->nodes()[node];
-                if (n.patch >= 0) coarse.m.include(fd.bounds[std::size_t(n.patch)], 1.0 / (w * w));
+                if (n.patch >= 0) coarse.m.include(fd.patches[std::size_t(n.patch)].plane, 1.0 / (w * w));
                 if (n.first_child >= 0)
                     for (int c = 0; c < 4; ++c) next.emplace_back(std::size_t(n.first_child + c), 0.5 * w);
             }
@@ -342,8 +601,19 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
     for (int iteration = 0;; ++iteration) {
         if (std::max(nu, nv) > options.max_segments) return too_many_segments(std::max(nu, nv), options, face);
         if (iteration > 40) break;
-        Bounds worst;
+        double worst_ratio = 0;  // largest bound / tolerance
         bool bounded_fail = false, sampled_fail = false;
+        std::vector<Vec3> grid;  // S at the grid points, for the triangles' planes
+        if (bounded) {
+            grid.reserve(std::size_t(nu + 1) * std::size_t(nv + 1));
+            for (int j = 0; j <= nv; ++j)
+                for (int i = 0; i <= nu; ++i) {
+                    auto p = position_at(fd, subface, {double(i) / nu, double(j) / nv});
+                    if (!p) return p.error();
+                    grid.push_back(*p);
+                }
+        }
+        const auto at = [&](int i, int j) { return grid[std::size_t(j) * std::size_t(nu + 1) + std::size_t(i)]; };
         for (int j = 0; j < nv; ++j)
             for (int i = 0; i < nu; ++i) {
                 const P2 lo{double(i) / nu, double(j) / nv}, hi{double(i + 1) / nu, double(j + 1) / nv};
@@ -351,11 +621,13 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                 query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
                 // the patches a cell overlaps bound it; the parts no patch bounds (deep at irregular vertices) are
                 // sampled as well
-                worst.include(o.m, 1.0);
-                if (bounded &&
-                    (o.m.uu / (double(nu) * nu) + 2.0 * o.m.uv / (double(nu) * nv) + o.m.vv / (double(nv) * nv)) / 8.0 >
-                        tol)
-                    bounded_fail = true;
+                if (bounded) {
+                    const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
+                    const Bounds lower = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
+                    const Bounds upper = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+                    worst_ratio = std::max({worst_ratio, triangle_bound(lower, lo, c10, hi) / tol,
+                                            triangle_bound(upper, lo, hi, c01) / tol});
+                }
                 if ((o.uncovered || !bounded) && !sampled_fail) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
                     for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
@@ -365,12 +637,13 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                     }
                 }
             }
+        bounded_fail = worst_ratio > 1;
         if (!bounded_fail && !sampled_fail) break;
         int next_u = nu, next_v = nv;
-        if (bounded_fail) {
-            const auto [wu, wv] = rates_for(worst, tol);
-            next_u = std::max(nu, int(std::min(wu, 1e6)));
-            next_v = std::max(nv, int(std::min(wv, 1e6)));
+        if (bounded_fail) {  // the bounds fall with the square of the cell size
+            const double scale = std::min(1e3, std::sqrt(worst_ratio));
+            next_u = std::max(nu, int(std::ceil(nu * scale)));
+            next_v = std::max(nv, int(std::ceil(nv * scale)));
         }
         if (sampled_fail || (next_u == nu && next_v == nv)) {
             next_u = std::max(next_u, nu + std::max(1, nu / 4));
@@ -421,9 +694,10 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             cx.face_edges[f].push_back({it->second, cx.edges[it->second][0] == a});
         }
         if (n == 4) {
-            out.domains.push_back({std::uint32_t(f), -1});
+            out.domains.push_back({std::uint32_t(f), -1, 1, 1, {1, 1, 1, 1}, {}, {}});
         } else {
-            for (std::size_t j = 0; j < n; ++j) out.domains.push_back({std::uint32_t(f), std::int32_t(j)});
+            for (std::size_t j = 0; j < n; ++j)
+                out.domains.push_back({std::uint32_t(f), std::int32_t(j), 1, 1, {1, 1, 1, 1}, {}, {}});
             cx.spoke_rates.resize(cx.spoke_rates.size() + n, 1);
         }
     }
@@ -433,6 +707,8 @@ Result<LimitTessellationPlan> plan(Context& cx) {
     std::vector<bool> even(cx.edges.size(), false);
 
     // demands
+    std::vector<Graded> grades(out.domains.size());
+    std::uint64_t demanded = 0;
     for (std::size_t f = 0; f < face_count; ++f) {
         if (cx.hole[f]) continue;
         if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
@@ -441,32 +717,48 @@ Result<LimitTessellationPlan> plan(Context& cx) {
         FaceData& fd = cx.faces[f];
         fd.surface = std::move(surface.value());
         fd.size = base.face_size(f);
-        fd.bounds.resize(fd.surface->patch_count());
-        for (std::size_t p = 0; p < fd.bounds.size(); ++p) fd.bounds[p] = patch_bounds(fd.surface->patch_points(p));
+        fd.patches.resize(fd.surface->patch_count());
+        for (std::size_t p = 0; p < fd.patches.size(); ++p) fd.patches[p] = patch_data(fd.surface->patch_points(p));
         const std::size_t n = fd.size;
         for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di) {
             auto& d = out.domains[di];
-            auto demand = domain_demand(fd, f, d.subface, options);
-            if (!demand) return demand.error();
-            d.nu = demand->first;
-            d.nv = demand->second;
+            int along_s = 1, along_t = 1;  // what the sides along s and along t need
+            if (options.guaranteed) {
+                auto demand = graded_demand(fd, f, d.subface, options);
+                if (!demand) return demand.error();
+                d.nu = demand->nu;
+                d.nv = demand->nv;
+                d.s_lines = demand->s_lines;
+                d.t_lines = demand->t_lines;
+                along_s = d.nu;  // the sides start at the inner counts; the strips' check raises them
+                along_t = d.nv;
+                grades[di] = std::move(demand.value());
+                // rates only grow from here: the grids so far are a lower bound on the output
+                demanded += 2 * std::uint64_t(d.nu) * std::uint64_t(d.nv);
+                if (auto status = check_budget(demanded, options); !status) return status.error();
+            } else {
+                auto demand = domain_demand(fd, f, d.subface, options);
+                if (!demand) return demand.error();
+                d.nu = along_s = demand->first;
+                d.nv = along_t = demand->second;
+            }
             if (d.subface < 0) {
                 for (std::size_t k = 0; k < 4; ++k) {
                     int& rate = out.edge_rates[cx.face_edges[f][k].edge];
-                    rate = std::max(rate, k % 2 == 0 ? d.nu : d.nv);
+                    rate = std::max(rate, k % 2 == 0 ? along_s : along_t);
                 }
             } else {
                 const auto j = std::size_t(d.subface);
                 const std::size_t prev = (j + n - 1) % n;
                 int& e0 = out.edge_rates[cx.face_edges[f][j].edge];
                 int& e3 = out.edge_rates[cx.face_edges[f][prev].edge];
-                e0 = std::max(e0, 2 * d.nu);
-                e3 = std::max(e3, 2 * d.nv);
+                e0 = std::max(e0, 2 * along_s);
+                e3 = std::max(e3, 2 * along_t);
                 even[cx.face_edges[f][j].edge] = true;
                 int& s1 = cx.spoke_rates[cx.first_spoke[f] + j];
                 int& s2 = cx.spoke_rates[cx.first_spoke[f] + prev];
-                s1 = std::max(s1, d.nv);
-                s2 = std::max(s2, d.nu);
+                s1 = std::max(s1, along_t);
+                s2 = std::max(s2, along_s);
             }
         }
     }
@@ -476,53 +768,157 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             return too_many_segments(out.edge_rates[e], options, cx.edge_owner[e]);
     }
 
-    // sides, then the transition check: every triangle of the actual layout bounded (or sampled) within tolerance,
-    // raising the inner rates of a domain whose strips exceed it
+    // sides, then the transition check: every triangle of the actual layout bounded (or sampled) within tolerance.
+    // A graded domain's failing triangles raise its densities where they lie and, in a transition strip, the rate of
+    // that side's edge or spoke (then every domain on it is checked again); a uniform domain's raise its inner rates.
     const auto count = [&] {
         std::uint64_t triangles = 0;
         for (auto& d : out.domains) triangles += domain_triangles(d);
         return triangles;
     };
-    for (auto& d : out.domains) {
+    // where each domain side's rate lives: (edge, halved) or (spoke)
+    const auto side_slot = [&](const LimitTessellationPlan::Domain& d, int k) -> std::pair<int*, bool> {
         const std::size_t f = d.face, n = cx.faces[f].size;
-        if (d.subface < 0) {
-            for (std::size_t k = 0; k < 4; ++k) d.side[k] = out.edge_rates[cx.face_edges[f][k].edge];
-        } else {
-            const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
-            d.side[0] = out.edge_rates[cx.face_edges[f][j].edge] / 2;
-            d.side[3] = out.edge_rates[cx.face_edges[f][prev].edge] / 2;
-            d.side[1] = cx.spoke_rates[cx.first_spoke[f] + j];
-            d.side[2] = cx.spoke_rates[cx.first_spoke[f] + prev];
+        if (d.subface < 0) return {&out.edge_rates[cx.face_edges[f][std::size_t(k)].edge], false};
+        const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
+        if (k == 0) return {&out.edge_rates[cx.face_edges[f][j].edge], true};
+        if (k == 3) return {&out.edge_rates[cx.face_edges[f][prev].edge], true};
+        return {&cx.spoke_rates[cx.first_spoke[f] + (k == 1 ? j : prev)], false};
+    };
+    const auto set_sides = [&](LimitTessellationPlan::Domain& d) {
+        for (int k = 0; k < 4; ++k) {
+            const auto [rate, halved] = side_slot(d, k);
+            d.side[k] = halved ? *rate / 2 : *rate;
         }
         fix_inner(d);
-    }
+    };
+    for (auto& d : out.domains) set_sides(d);
     if (auto status = check_budget(count(), options); !status) return status.error();
-    for (auto& d : out.domains) {
-        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
-        const FaceData& fd = cx.faces[d.face];
-        for (int attempt = 0;; ++attempt) {
-            const LocalMesh local = triangulate(d);
-            double bound = 0, sampled = 0;
-            for (const auto& tri : local.triangles) {
-                const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
-                const Overlap o = overlap_of(fd, d.subface, a, b, c);
-                if (o.uncovered || !options.guaranteed) {
-                    auto e = sampled_error(fd, d.subface, a, b, c);
-                    if (!e) return e.error();
-                    sampled = std::max(sampled, *e);
+    std::vector<bool> dirty(out.domains.size(), true);
+    std::vector<double> domain_bound(out.domains.size(), 0.0), domain_sampled(out.domains.size(), 0.0);
+    for (int pass = 0;; ++pass) {
+        std::vector<std::pair<int*, double>> raised;  // side rates to raise: (slot, factor)
+        std::vector<bool> halved_slot;
+        bool any = false;
+        for (std::size_t di = 0; di < out.domains.size(); ++di) {
+            if (!dirty[di]) continue;
+            dirty[di] = false;
+            auto& d = out.domains[di];
+            if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
+            const FaceData& fd = cx.faces[d.face];
+            Graded& g = grades[di];
+            Density next_s = g.rs, next_t = g.rt;
+            for (int attempt = 0;; ++attempt) {
+                const LocalMesh local = triangulate(d);
+                std::vector<Vec3> positions;  // S at the local points, for the triangles' planes
+                if (options.guaranteed) {
+                    positions.reserve(local.points.size());
+                    for (const P2& q : local.points) {
+                        auto p = position_at(fd, d.subface, q);
+                        if (!p) return p.error();
+                        positions.push_back(*p);
+                    }
                 }
-                if (options.guaranteed) bound = std::max(bound, triangle_bound(o.m, a, b, c));
+                const std::uint32_t ring = std::uint32_t(d.side[0] + d.side[1] + d.side[2] + d.side[3]);
+                double bound = 0, sampled = 0, side_factor[4] = {1, 1, 1, 1};
+                bool inner_fail = false;
+                for (const auto& tri : local.triangles) {
+                    const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
+                    const Overlap o = overlap_of(fd, d.subface, a, b, c);
+                    double e = 0, tb = 0;
+                    if (o.uncovered || !options.guaranteed) {
+                        auto measured = sampled_error(fd, d.subface, a, b, c);
+                        if (!measured) return measured.error();
+                        e = *measured;
+                        sampled = std::max(sampled, e);
+                    }
+                    if (options.guaranteed) {
+                        tb = triangle_bound(
+                            plane_bounds(fd, o, unit_normal(positions[tri[0]], positions[tri[1]], positions[tri[2]])),
+                            a, b, c);
+                        bound = std::max(bound, tb);
+                    }
+                    const double ratio = std::max(tb / options.tolerance, e / (options.tolerance / kSampledSafety));
+                    if (!options.guaranteed || ratio <= 1) continue;
+                    // graded: refine where the triangle lies, and its side when it is in a transition strip
+                    const double f = std::min(4.0, std::max(1.1, std::sqrt(ratio)));
+                    const double lo_s = std::min({a.s, b.s, c.s}), hi_s = std::max({a.s, b.s, c.s});
+                    const double lo_t = std::min({a.t, b.t, c.t}), hi_t = std::max({a.t, b.t, c.t});
+                    raise(next_s, lo_s, hi_s, f / std::max(hi_s - lo_s, 1e-9));
+                    raise(next_t, lo_t, hi_t, f / std::max(hi_t - lo_t, 1e-9));
+                    inner_fail = true;
+                    int strip = -1;
+                    for (std::uint32_t v : tri)
+                        if (v < ring) {
+                            // the side holding ring point v that the triangle runs along (a corner belongs to two)
+                            const P2& q = local.points[v];
+                            const int k = q.t == 0 ? 0 : q.s == 1 ? 1 : q.t == 1 ? 2 : 3;
+                            if (strip < 0) strip = k;
+                        }
+                    if (strip >= 0) {
+                        // the strip's side: the side every ring vertex of the triangle lies on
+                        int side = -1;
+                        for (int k = 0; k < 4 && side < 0; ++k) {
+                            bool all = true;
+                            for (std::uint32_t v : tri) {
+                                if (v >= ring) continue;
+                                const P2& q = local.points[v];
+                                const bool on = k == 0 ? q.t == 0 : k == 1 ? q.s == 1 : k == 2 ? q.t == 1 : q.s == 0;
+                                all = all && on;
+                            }
+                            if (all) side = k;
+                        }
+                        if (side >= 0) side_factor[side] = std::max(side_factor[side], f);
+                    }
+                }
+                const bool ok = bound <= options.tolerance && sampled <= options.tolerance / kSampledSafety;
+                if (options.guaranteed) {
+                    domain_bound[di] = bound;
+                    domain_sampled[di] = sampled;
+                    if (ok || pass >= 30) break;
+                    any = true;
+                    for (int k = 0; k < 4; ++k)
+                        if (side_factor[k] > 1) raised.emplace_back(side_slot(d, k).first, side_factor[k]);
+                    if (inner_fail) {
+                        g.rs = next_s;
+                        g.rt = next_t;
+                        if (auto status = regrade(g, options, d.face); !status) return status.error();
+                        apply(g, d);
+                        dirty[di] = true;
+                    }
+                    break;
+                }
+                if (ok || attempt >= 40 || std::max(d.nu, d.nv) >= options.max_segments) {
+                    domain_bound[di] = bound;
+                    domain_sampled[di] = sampled;
+                    break;
+                }
+                d.nu = std::min(options.max_segments, d.nu + std::max(1, d.nu / 8));
+                d.nv = std::min(options.max_segments, d.nv + std::max(1, d.nv / 8));
+                fix_inner(d);
             }
-            const bool ok = bound <= options.tolerance && sampled <= options.tolerance / kSampledSafety;
-            if (ok || attempt >= 8 || std::max(d.nu, d.nv) >= options.max_segments) {
-                out.error_bound = std::max(out.error_bound, bound);
-                out.sampled_error = std::max(out.sampled_error, sampled);
-                break;
-            }
-            d.nu = std::min(options.max_segments, d.nu + std::max(1, d.nu / 8));
-            d.nv = std::min(options.max_segments, d.nv + std::max(1, d.nv / 8));
-            fix_inner(d);
         }
+        if (!any) break;
+        for (const auto& [slot, factor] : raised) *slot = std::max(*slot, int(std::ceil(*slot * factor)));
+        for (std::size_t e = 0; e < cx.edges.size(); ++e) {
+            if (even[e] && out.edge_rates[e] % 2 != 0) ++out.edge_rates[e];
+            if (out.edge_rates[e] > options.max_segments * (even[e] ? 2 : 1))
+                return too_many_segments(out.edge_rates[e], options, cx.edge_owner[e]);
+        }
+        for (std::size_t di = 0; di < out.domains.size(); ++di) {
+            auto& d = out.domains[di];
+            const int before[4] = {d.side[0], d.side[1], d.side[2], d.side[3]};
+            set_sides(d);
+            for (int k = 0; k < 4; ++k)
+                if (d.side[k] != before[k]) dirty[di] = true;
+            if (std::max({d.side[0], d.side[1], d.side[2], d.side[3]}) > options.max_segments)
+                return too_many_segments(std::max({d.side[0], d.side[1], d.side[2], d.side[3]}), options, d.face);
+        }
+        if (auto status = check_budget(count(), options); !status) return status.error();
+    }
+    for (std::size_t di = 0; di < out.domains.size(); ++di) {
+        out.error_bound = std::max(out.error_bound, domain_bound[di]);
+        out.sampled_error = std::max(out.sampled_error, domain_sampled[di]);
     }
     out.triangles = count();
     if (auto status = check_budget(out.triangles, options); !status) return status.error();
@@ -632,7 +1028,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         first_inner[di] = Index(sites.size());
         for (int j = 1; j < d.nv; ++j)
             for (int i = 1; i < d.nu; ++i) {
-                const auto [u, v] = face_uv(cx.faces[d.face].size, d.subface, double(i) / d.nu, double(j) / d.nv);
+                const auto [u, v] = face_uv(cx.faces[d.face].size, d.subface, d.s_at(i), d.t_at(j));
                 sites.push_back({d.face, u, v});
             }
     }

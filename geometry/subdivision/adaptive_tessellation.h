@@ -3,27 +3,35 @@
 //
 // Domains. Every base face that is not a hole is tessellated in its own parameterization (limit_evaluation.h): a quad
 // is one domain, the unit square; an N-gon is N domains, its quad sub-faces, each tessellated as a quad. A domain has
-// an inner rate (nu, nv: segments along s and t) and a rate on each of its four sides. A side is a base edge (a
-// quad's) or half of one (an N-gon's) or a spoke of an N-gon (from an edge midpoint to the centre). One rate per base
-// edge and per spoke, the largest any of its domains needs (even on edges of N-gons, so that the halves are equal);
-// the vertices on an edge are evaluated once and shared by index by every face on it, so the output is watertight
-// where the input is closed and has no T-junctions. A domain whose sides all carry its inner rates is a regular grid;
-// otherwise its inner grid of (nu - 1) x (nv - 1) points is joined to the sides by one transition strip per side
+// an inner grid (nu x nv segments, its lines uniform or graded: spaced where the surface needs them) and a rate on
+// each of its four sides, whose points are uniform along it. A side is a base edge (a quad's) or half of one (an
+// N-gon's) or a spoke of an N-gon (from an edge midpoint to the centre). One rate per base edge and per spoke, the
+// largest any of its domains needs (even on edges of N-gons, so that the halves are equal); the vertices on an edge
+// are evaluated once and shared by index by every face on it, so the output is watertight where the input is closed
+// and has no T-junctions. A uniform domain whose sides all carry its inner rates is a regular grid; otherwise its
+// inner grid of (nu - 1) x (nv - 1) points is joined to the sides by one transition strip per side
 // (Bfr::Tessellation's layout).
 //
-// Rates. The limit surface over a domain is a tree of bicubic B-spline patches (LimitFaceSurface, prepared to
-// kTreeLevels local refinements) plus, at irregular vertices (and semi-sharp features not decayed by then), leaves
-// without a patch. The second derivatives of a patch are bounded by the second differences of its control net
-// (B-spline bases are >= 0 and sum to 1), scaled by 4^depth to the domain. A triangle with parameter corners p_i has
-// |S(x) - sum l_i S(p_i)| <= (1/2) max_x sum l_i Q(p_i - x) (Taylor at x along the segments to the corners), with
-// Q(d) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 bounded by the patches its bounding box overlaps; on grid cells this is
-// (1/8)(Muu/nu^2 + 2 Muv/(nu nv) + Mvv/nv^2), the bound of bezier_patch.h. This is a guarantee (up to rounding) for
-// every triangle that overlaps only patches. Patches deeper than kBoundedDepth, and leaves without a patch (at
-// irregular vertices, where the second derivatives grow without bound for valences above 4), are not bounded: a
-// triangle that overlaps them is bounded over the rest and also checked by sampling: the distance from S(x) to the
-// triangle's plane at the 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must be at most
-// tolerance / kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported
-// error is the largest of the bounds and of the measured distances.
+// Rates (guaranteed). The limit surface over a domain is a tree of bicubic B-spline patches (LimitFaceSurface,
+// prepared to kTreeLevels local refinements) plus, at irregular vertices (and semi-sharp features not decayed by
+// then), leaves without a patch. For a triangle T with parameter corners p_i and unit normal m (of the triangle of S
+// at its corners), the distance from S(x) to T's plane is |m . (S(x) - sum l_i S(p_i))|, the linear interpolation
+// error of the scalar m . S: at most (1/2) max_x sum l_i Q(p_i - x) (Taylor at x along the segments to the corners),
+// with Q(d) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 bounding m . S_ss, m . S_st, m . S_tt by the second differences of
+// the control nets of the patches the triangle's bounding box overlaps, projected on m and scaled by 4^depth (B-spline
+// bases are >= 0 and sum to 1). Only the surface's bending away from the plane counts, not the parameterization's
+// tangential non-uniformity (which a bound on |S(x) - T(x)| at equal parameters would). This is a guarantee (up to
+// rounding) on the distance to the triangle's plane for every triangle that overlaps only patches; a point whose
+// projection on that plane falls outside the triangle is next to a neighbour's. Each domain's grid lines are graded:
+// densities per 1/32 of s and of t from the patches' bounds, raised where a cell's two triangles exceed the
+// tolerance, so that a narrow band of high curvature (a semi-sharp crease) is fine only where it lies; the sides
+// start at the inner counts and a transition strip's failing triangle raises its side's edge or spoke (its other
+// domains are checked again). Patches deeper than kBoundedDepth, and leaves without a patch (at irregular vertices,
+// where the second derivatives grow without bound for valences above 4), are not bounded: a triangle that overlaps
+// them is bounded over the rest and also checked by sampling: the distance from S(x) to the triangle's plane at the
+// 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must be at most tolerance /
+// kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported error is the
+// largest of the bounds and of the measured distances.
 //
 // Output. Triangles, counter-clockwise as the base faces; per-vertex exact limit normals (normalize(du x dv), the
 // limit-mask normal at an irregular vertex; a vertex on a crease takes the normal of the face that evaluated it);
@@ -57,23 +65,29 @@ struct LimitTessellationOptions {
     int max_segments = 256;
     //! Ceiling on the output triangles, checked from the rates before any output vertex is evaluated (0: none).
     std::uint64_t max_triangles = 0;
-    //! true: rates from the bounds above (sampling only where no patch bounds the surface). false: rates from the
-    //! measured distance of every triangle (25 points, within tolerance / kSampledSafety), no guarantee; the bounds
-    //! are on |S(x) - T(x)| between points of equal parameter, which counts the parameterization's own
-    //! non-uniformity, so they ask for several times the triangles the distance needs (docs/benchmarks.md).
+    //! true: graded rates from the bounds above (sampling only where no patch bounds the surface). false: uniform
+    //! rates per domain from the measured distance of every triangle (25 points, within tolerance /
+    //! kSampledSafety), no guarantee (docs/benchmarks.md compares them).
     bool guaranteed = true;
     //! Polled between faces; when it fires the result is Cancelled.
     Cancel cancel;
 };
 
-//! The rates tessellate_limit follows. Computing it prepares each face's patch tree and evaluates the limit at a few
-//! points of the triangles at irregular vertices; no output vertex is evaluated.
+//! The rates tessellate_limit follows. Computing it prepares each face's patch tree and evaluates the limit at the
+//! points of the candidate layouts (for the triangles' planes) and at sample points of the triangles at irregular
+//! vertices; the output is assembled afterwards. The grids a domain asks for only grow, so the budget
+//! (max_triangles) is checked on them as they are made, before the next domain's work.
 struct LimitTessellationPlan {
     struct Domain {
         std::uint32_t face = 0;
         std::int32_t subface = -1;   //!< -1: the quad itself; else the N-gon's sub-face (corner) index
         int nu = 1, nv = 1;          //!< inner rates
         int side[4] = {1, 1, 1, 1};  //!< segments on sides t = 0, s = 1, t = 1, s = 0
+        //! Graded inner grid: its lines s = s_lines[i] (nu + 1 values from 0 to 1) and t = t_lines[j]; empty: the
+        //! uniform i / nu, j / nv. A graded domain is always joined to its sides by transition strips.
+        std::vector<double> s_lines, t_lines;
+        double s_at(int i) const { return s_lines.empty() ? double(i) / nu : s_lines[std::size_t(i)]; }
+        double t_at(int j) const { return t_lines.empty() ? double(j) / nv : t_lines[std::size_t(j)]; }
     };
     std::vector<Domain> domains;
     std::vector<int> edge_rates;  //!< per base edge in the order of first use by faces (0: only holes use it)

@@ -380,5 +380,41 @@ TEST(AdaptiveTessellation, RatesFollowCurvature) {
     EXPECT_LT(plan->triangles, 2u * std::uint64_t(top) * std::uint64_t(top) * mesh.face_count());
 }
 
+// The semi-sharp creases (sharpness 4.7) bend the surface within a band about 2^-4.7 of a face wide: the grids of the
+// faces along them are graded, fine next to the crease and coarse away from it, and the output stays within the
+// tolerance of dense exact samples.
+TEST(AdaptiveTessellation, GridsAreGradedTowardsSemiSharpCreases) {
+    const PolygonMesh mesh = load_opensubdiv_shape("catmark_torus_creases0");
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 1e-3 * diagonal(mesh);
+    auto result = tessellate_limit(*evaluator, mesh, options);
+    ASSERT_TRUE(result.ok()) << result.error().message;
+    double widest_ratio = 0;
+    for (const auto& d : result->plan.domains)
+        for (const std::vector<double>* lines : {&d.s_lines, &d.t_lines}) {
+            if (lines->empty()) continue;
+            ASSERT_EQ(lines->size(), std::size_t(lines == &d.s_lines ? d.nu : d.nv) + 1);
+            EXPECT_EQ(lines->front(), 0.0);
+            EXPECT_EQ(lines->back(), 1.0);
+            double finest = 1, coarsest = 0;
+            for (std::size_t i = 0; i + 1 < lines->size(); ++i) {
+                const double step = (*lines)[i + 1] - (*lines)[i];
+                ASSERT_GT(step, 0.0);
+                finest = std::min(finest, step);
+                coarsest = std::max(coarsest, step);
+            }
+            widest_ratio = std::max(widest_ratio, coarsest / finest);
+        }
+    EXPECT_GT(widest_ratio, 4.0);
+    EXPECT_LE(result->achieved_error, options.tolerance);
+    EXPECT_LE(sampled_distance(*evaluator, mesh, result->mesh), options.tolerance);
+    for (const auto& [edge, uses] : edge_uses(result->mesh)) {
+        ASSERT_EQ(uses.size(), 2u);
+        EXPECT_EQ(uses[0].first, uses[1].second);
+    }
+}
+
 }  // namespace
 }  // namespace surfaced
