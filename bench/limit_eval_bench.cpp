@@ -8,7 +8,9 @@
 // Evaluate per point. Two Bfr columns: per face set-up included ("bfr"), and evaluation alone ("bfr eval only").
 // Ours: the evaluator is created once per mesh (its set-up time is printed apart). "ours": evaluate(face, u, v) per
 // point, no per-face state kept between calls; "ours/face": face_surface(face) once per face (the patches of its
-// regular sub-faces to 6 levels, set-up included), then evaluate(u, v) per point, as Bfr is used.
+// regular sub-faces to 6 levels, set-up included), then evaluate(u, v) per point, as Bfr is used. "ours/face" and
+// Bfr run in alternation, five rounds each: their columns are the medians, and "o/f:bfr" is the median of the rounds'
+// ratios of the two rates (above 1: ours/face is faster).
 //
 // Usage: bench_limit_eval [--quick]
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
@@ -37,6 +39,15 @@ using namespace OpenSubdiv;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+//! Rounds of the prepared and Bfr timings per mesh.
+constexpr int kRounds = 5;
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
 
 std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh, bool loop) {
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
@@ -116,18 +127,6 @@ void run(const char* name, const PolygonMesh& mesh, std::size_t count, bool loop
         checksum += s->position.x + s->du.y + s->dv.z;
     }
     const double ours = seconds_since(t0);
-    // prepared per face, as Bfr is used: face_surface once per face, then evaluate per point
-    double prepared_checksum = 0;
-    t0 = Clock::now();
-    for (std::size_t i = 0; i < points.size();) {
-        const std::size_t f = points[i].face;
-        auto surface = evaluator->face_surface(f);
-        for (; i < points.size() && points[i].face == f; ++i) {
-            auto s = surface->evaluate(points[i].u, points[i].v);
-            prepared_checksum += s->position.x + s->du.y + s->dv.z;
-        }
-    }
-    const double prepared = seconds_since(t0);
 
     std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(mesh, loop);
     Bfr::SurfaceFactory::Options options;
@@ -138,23 +137,61 @@ void run(const char* name, const PolygonMesh& mesh, std::size_t count, bool loop
     for (const Vec3& p : mesh.positions) mesh_points.insert(mesh_points.end(), {p.x, p.y, p.z});
     Bfr::Surface<double> surface;
     std::vector<double> patch;
-    double bfr_checksum = 0, eval_only = 0;
-    t0 = Clock::now();
-    for (std::size_t i = 0; i < points.size();) {
-        const std::size_t f = points[i].face;
-        factory.InitVertexSurface(static_cast<int>(f), &surface);
-        patch.resize(3 * static_cast<std::size_t>(surface.GetNumPatchPoints()));
-        surface.PreparePatchPoints(mesh_points.data(), 3, patch.data(), 3);
-        const auto e0 = Clock::now();
-        for (; i < points.size() && points[i].face == f; ++i) {
-            const double uv[2] = {points[i].u, points[i].v};
-            double P[3], du[3], dv[3];
-            surface.Evaluate(uv, patch.data(), 3, P, du, dv);
-            bfr_checksum += P[0] + du[1] + dv[2];
+
+    // prepared per face, as Bfr is used: face_surface once per face, then evaluate per point
+    double prepared_checksum = 0;
+    auto run_prepared = [&] {
+        prepared_checksum = 0;
+        const auto start = Clock::now();
+        for (std::size_t i = 0; i < points.size();) {
+            const std::size_t f = points[i].face;
+            auto prepared = evaluator->face_surface(f);
+            for (; i < points.size() && points[i].face == f; ++i) {
+                auto s = prepared->evaluate(points[i].u, points[i].v);
+                prepared_checksum += s->position.x + s->du.y + s->dv.z;
+            }
         }
-        eval_only += seconds_since(e0);
+        return seconds_since(start);
+    };
+    double bfr_checksum = 0, eval_only = 0;
+    auto run_bfr = [&] {
+        bfr_checksum = 0;
+        eval_only = 0;
+        const auto start = Clock::now();
+        for (std::size_t i = 0; i < points.size();) {
+            const std::size_t f = points[i].face;
+            factory.InitVertexSurface(static_cast<int>(f), &surface);
+            patch.resize(3 * static_cast<std::size_t>(surface.GetNumPatchPoints()));
+            surface.PreparePatchPoints(mesh_points.data(), 3, patch.data(), 3);
+            const auto e0 = Clock::now();
+            for (; i < points.size() && points[i].face == f; ++i) {
+                const double uv[2] = {points[i].u, points[i].v};
+                double P[3], du[3], dv[3];
+                surface.Evaluate(uv, patch.data(), 3, P, du, dv);
+                bfr_checksum += P[0] + du[1] + dv[2];
+            }
+            eval_only += seconds_since(e0);
+        }
+        return seconds_since(start);
+    };
+    // the shared machine's load changes within seconds: the two run in alternation, kRounds times (each goes first
+    // in every other round), and the medians are reported, with the median of the rounds' ratios
+    std::vector<double> prepared_times, bfr_times, eval_times, ratios;
+    for (int round = 0; round < kRounds; ++round) {
+        double a, b;
+        if (round % 2 == 0) {
+            a = run_prepared();
+            b = run_bfr();
+        } else {
+            b = run_bfr();
+            a = run_prepared();
+        }
+        prepared_times.push_back(a);
+        bfr_times.push_back(b);
+        eval_times.push_back(eval_only);
+        ratios.push_back(b / a);
     }
-    const double bfr = seconds_since(t0);
+    const double prepared = median(prepared_times), bfr = median(bfr_times), bfr_eval = median(eval_times);
 
     // Bfr at its default approximation levels (smooth 2, sharp 6: Gregory end caps around extraordinary vertices)
     // against ours (exact): the largest position and first-derivative differences over the points, relative to the
@@ -185,9 +222,9 @@ void run(const char* name, const PolygonMesh& mesh, std::size_t count, bool loop
         }
     }
     const double per_face = static_cast<double>(count) / static_cast<double>(mesh.face_count());
-    std::printf("%-26s %6zu %8.0f %8.3f %10.3g %10.3g %10.3g %10.3g   %.1e %.1e   %.1e %.1e\n", name, mesh.face_count(),
-                per_face, setup * 1e3, count / ours, count / prepared, count / bfr, count / eval_only,
-                std::abs(checksum - bfr_checksum) / std::max(1.0, std::abs(checksum)),
+    std::printf("%-26s %6zu %8.0f %8.3f %10.3g %10.3g %10.3g %10.3g %7.2f   %.1e %.1e   %.1e %.1e\n", name,
+                mesh.face_count(), per_face, setup * 1e3, count / ours, count / prepared, count / bfr, count / bfr_eval,
+                median(ratios), std::abs(checksum - bfr_checksum) / std::max(1.0, std::abs(checksum)),
                 std::abs(checksum - prepared_checksum) / std::max(1.0, std::abs(checksum)), default_position / diagonal,
                 default_derivative / diagonal);
 }
@@ -198,8 +235,8 @@ int main(int argc, char** argv) {
     const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
     const std::size_t count = quick ? 20000 : 200000;
     std::printf("%zu random points per mesh, position + du + dv, one thread; points/s\n", count);
-    std::printf("%-26s %6s %8s %8s %10s %10s %10s %10s   %s   %s\n", "mesh", "faces", "pts/face", "setup ms", "ours",
-                "ours/face", "bfr", "bfr eval", "checksum diff (bfr, ours/face)",
+    std::printf("%-26s %6s %8s %8s %10s %10s %10s %10s %7s   %s   %s\n", "mesh", "faces", "pts/face", "setup ms",
+                "ours", "ours/face", "bfr", "bfr eval", "o/f:bfr", "checksum diff (bfr, ours/face)",
                 "bfr at default levels vs exact: max |dP|, |dD| / diagonal");
     run("torus 32x24 (regular)", shapes::torus(32, 24), count);
     run("irregular_torus", shapes::irregular_torus(), count);

@@ -174,8 +174,9 @@ bool regular_patch(const Piece& p, const Adjacency& adj, Index f, std::array<Vec
     return true;
 }
 
-//! Uniform cubic B-spline basis and its first two derivatives at t in [0, 1].
-void bspline_basis(double t, double b[4], double d[4], double dd[4]) {
+//! Uniform cubic B-spline basis and its first (and when `Second`, second) derivatives at t in [0, 1].
+template <bool Second>
+inline void bspline_basis(double t, double b[4], double d[4], double dd[4]) {
     const double s = 1.0 - t, t2 = t * t, t3 = t2 * t;
     b[0] = s * s * s / 6.0;
     b[1] = (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0;
@@ -185,72 +186,84 @@ void bspline_basis(double t, double b[4], double d[4], double dd[4]) {
     d[1] = 0.5 * (3.0 * t2 - 4.0 * t);
     d[2] = 0.5 * (-3.0 * t2 + 2.0 * t + 1.0);
     d[3] = 0.5 * t2;
-    dd[0] = s;
-    dd[1] = 3.0 * t - 2.0;
-    dd[2] = 1.0 - 3.0 * t;
-    dd[3] = t;
+    if constexpr (Second) {
+        dd[0] = s;
+        dd[1] = 3.0 * t - 2.0;
+        dd[2] = 1.0 - 3.0 * t;
+        dd[3] = t;
+    }
 }
 
-Vec3 unit(const Vec3& v) {
+inline Vec3 unit(const Vec3& v) {
     const double len = norm(v);
     return len > 0 ? v * (1.0 / len) : Vec3{};
 }
 
-//! The patch at local (s, t); derivatives multiplied by `scale` (d(local)/d(u, v)) once per order.
-LimitSample evaluate_patch(const std::array<Vec3, 16>& grid, double s, double t, double scale, bool second) {
+//! The patch at local (s, t) into `out` (default-initialized); derivatives multiplied by `scale` (d(local)/d(u, v))
+//! once per order. Tensor form: each row's sums along s (with the values and the derivatives of the s basis) are
+//! combined along t, in registers.
+template <bool Second>
+void evaluate_patch(const std::array<Vec3, 16>& grid, double s, double t, double scale, LimitSample& out) {
     double bu[4], du[4], ddu[4], bv[4], dv[4], ddv[4];
-    bspline_basis(s, bu, du, ddu);
-    bspline_basis(t, bv, dv, ddv);
-    LimitSample out;
+    bspline_basis<Second>(s, bu, du, ddu);
+    bspline_basis<Second>(t, bv, dv, ddv);
+    Vec3 position{}, d_u{}, d_v{}, d_uu{}, d_uv{}, d_vv{};
     for (int r = 0; r < 4; ++r) {
+        const Vec3* row = &grid[4 * static_cast<std::size_t>(r)];
         Vec3 row_b{}, row_d{}, row_dd{};
         for (int col = 0; col < 4; ++col) {
-            const Vec3& p = grid[4 * r + col];
-            row_b += bu[col] * p;
-            row_d += du[col] * p;
-            if (second) row_dd += ddu[col] * p;
+            row_b += bu[col] * row[col];
+            row_d += du[col] * row[col];
+            if constexpr (Second) row_dd += ddu[col] * row[col];
         }
-        out.position += bv[r] * row_b;
-        out.du += bv[r] * row_d;
-        out.dv += dv[r] * row_b;
-        if (second) {
-            out.duu += bv[r] * row_dd;
-            out.duv += dv[r] * row_d;
-            out.dvv += ddv[r] * row_b;
+        position += bv[r] * row_b;
+        d_u += bv[r] * row_d;
+        d_v += dv[r] * row_b;
+        if constexpr (Second) {
+            d_uu += bv[r] * row_dd;
+            d_uv += dv[r] * row_d;
+            d_vv += ddv[r] * row_b;
         }
     }
-    out.du = scale * out.du;
-    out.dv = scale * out.dv;
-    out.normal = unit(cross(out.du, out.dv));
-    if (second) {
-        out.duu = (scale * scale) * out.duu;
-        out.duv = (scale * scale) * out.duv;
-        out.dvv = (scale * scale) * out.dvv;
+    d_u = scale * d_u;
+    d_v = scale * d_v;
+    out.position = position;
+    out.du = d_u;
+    out.dv = d_v;
+    out.normal = unit(cross(d_u, d_v));
+    if constexpr (Second) {
+        out.duu = (scale * scale) * d_uu;
+        out.duv = (scale * scale) * d_uv;
+        out.dvv = (scale * scale) * d_vv;
     }
-    return out;
 }
 
 //! The Loop patch (its polynomial, loop_patch.h) at local (s, t), as evaluate_patch.
-LimitSample evaluate_loop_patch(const std::array<Vec3, 16>& coefficients, double s, double t, double scale,
-                                bool second) {
+void evaluate_loop_patch(const std::array<Vec3, 16>& coefficients, double s, double t, double scale, bool second,
+                         LimitSample& out) {
     Vec3 d[6];
     subdivision::evaluate_loop_polynomial(coefficients, s, t, second, d);
-    LimitSample out;
+    const Vec3 d_u = scale * d[1], d_v = scale * d[2];
     out.position = d[0];
-    out.du = scale * d[1];
-    out.dv = scale * d[2];
-    out.normal = unit(cross(out.du, out.dv));
+    out.du = d_u;
+    out.dv = d_v;
+    out.normal = unit(cross(d_u, d_v));
     if (second) {
         out.duu = (scale * scale) * d[3];
         out.duv = (scale * scale) * d[4];
         out.dvv = (scale * scale) * d[5];
     }
-    return out;
 }
 
-//! A regular patch of either scheme at local (s, t).
-LimitSample evaluate_any(bool loop, const std::array<Vec3, 16>& points, double s, double t, double scale, bool second) {
-    return loop ? evaluate_loop_patch(points, s, t, scale, second) : evaluate_patch(points, s, t, scale, second);
+//! A regular patch of either scheme at local (s, t), into `out` (default-initialized).
+inline void evaluate_any(bool loop, const std::array<Vec3, 16>& points, double s, double t, double scale, bool second,
+                         LimitSample& out) {
+    if (loop)
+        evaluate_loop_patch(points, s, t, scale, second, out);
+    else if (second)
+        evaluate_patch<true>(points, s, t, scale, out);
+    else
+        evaluate_patch<false>(points, s, t, scale, out);
 }
 
 //! The patch of face f of `p` when it is regular under the scheme: Catmull-Clark's 16 control points, or Loop's
@@ -357,6 +370,17 @@ struct LimitSurfaceEvaluator::Data {
     std::vector<std::array<Vec3, 16>> patches;  //!< Catmull-Clark: control points; Loop: polynomial coefficients
 };
 
+//! The pieces of a face surface's leaves without a patch, by node (a few per irregular corner).
+struct LimitFaceSurface::Unresolved {
+    std::vector<std::int32_t> node;
+    std::vector<Piece> pieces;
+    int find(std::size_t n) const {
+        for (std::size_t i = 0; i < node.size(); ++i)
+            if (node[i] == static_cast<std::int32_t>(n)) return static_cast<int>(i);
+        return -1;
+    }
+};
+
 std::size_t LimitSurfaceEvaluator::face_count() const { return data_->base.level.face_count(); }
 
 SubdivisionScheme LimitSurfaceEvaluator::scheme() const { return data_->options.scheme; }
@@ -445,27 +469,24 @@ Result<LimitSurfaceEvaluator::Start> LimitSurfaceEvaluator::locate(std::size_t f
     return Start{static_cast<int>(y) * columns + static_cast<int>(x), 2.0 * (u - x), 2.0 * (v - y)};
 }
 
-Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, double v, bool second) const {
-    auto start = locate(face, u, v);
-    if (!start) return start.error();
-    const Data& d = *data_;
-    const Index f = static_cast<Index>(face);
-    int subface = start->subface;
-    double s = start->s, t = start->t;
-    if (subface < 0 && d.patch_of_face[f] >= 0)
-        return evaluate_any(d.loop, d.patches[d.patch_of_face[f]], s, t, 1.0, second);
+namespace {
 
-    // local refinement: `piece` holds the current face with its 2-ring; (s, t) are its local coordinates
-    Piece piece = extract(d.base, d.vf_offsets, d.vf_faces, f);
-    double scale = 1.0;
+//! The descent of evaluate() from `piece` (its target face `level` refinements below the base face; `subface` >= 0:
+//! the target is an N-gon and the point lies in that sub-face) at local (s, t), derivatives scaled by `scale`.
+LimitSample descend_from(const LimitSurfaceEvaluator::Data& d, const Piece& start, int level, int subface, double s,
+                         double t, double scale, bool second) {
     std::vector<Index> offsets, faces;
-    for (int level = 0;; ++level) {
+    Piece refined;
+    const Piece* current = &start;
+    for (;; ++level) {
+        const Piece& piece = *current;
         const bool at_patch_shape = subface < 0;  // a quad (Loop: a triangle), not an N-gon
         if (at_patch_shape) {
             const Adjacency adj(piece.level);
             std::array<Vec3, 16> points;
             if (regular(d.loop, piece, adj, piece.target, points)) {
-                LimitSample out = evaluate_any(d.loop, points, s, t, scale, second);
+                LimitSample out;
+                evaluate_any(d.loop, points, s, t, scale, second, out);
                 out.level = level;
                 return out;
             }
@@ -493,35 +514,64 @@ Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, 
             scale *= 2.0;
         }
         vertex_faces(child.level, offsets, faces);
-        piece = extract(child, offsets, faces, next);
+        refined = extract(child, offsets, faces, next);
+        current = &refined;
     }
+}
+
+}  // namespace
+
+Result<LimitSample> LimitSurfaceEvaluator::evaluate(std::size_t face, double u, double v, bool second) const {
+    auto start = locate(face, u, v);
+    if (!start) return start.error();
+    const Data& d = *data_;
+    const Index f = static_cast<Index>(face);
+    if (start->subface < 0 && d.patch_of_face[f] >= 0) {
+        Result<LimitSample> out{LimitSample{}};
+        evaluate_any(d.loop, d.patches[d.patch_of_face[f]], start->s, start->t, 1.0, second, *out);
+        return out;
+    }
+    // local refinement: the face with its 2-ring, refined around the point until its face there is regular
+    return descend_from(d, extract(d.base, d.vf_offsets, d.vf_faces, f), 0, start->subface, start->s, start->t, 1.0,
+                        second);
 }
 
 namespace {
 
-//! The patch tree below `piece`'s target face (a quad, or a triangle under Loop), at `level` refinements below the
-//! base face: a node per sub-face, a leaf with a patch where the sub-face is regular, a leaf without one where
-//! `level` reaches `levels`.
-void build_tree(const Piece& piece, const SubdivisionOptions& options, int level, int levels, std::size_t node,
-                std::vector<LimitFaceSurface::Node>& nodes, std::vector<std::array<Vec3, 16>>& patches) {
+//! The children of `piece`'s target face (a quad, an N-gon's quad sub-faces at level 0, or a triangle under Loop),
+//! `level` + 1 refinements below the base face, as the nodes from `first` on (in corner order; Loop: the middle one
+//! last): a leaf with a patch where a child is regular, its own children below it otherwise, and where `level` + 1
+//! reaches `levels`, a leaf without a patch whose piece is kept in `unresolved`, where the descent of a point there
+//! resumes. Regularity is checked on the refined piece itself (it holds the children's corners' faces), so that only
+//! the irregular children are cut out of it; patches are numbered depth first, in the order of leaves().
+void build_children(const Piece& piece, const SubdivisionOptions& options, int level, int levels, std::size_t first,
+                    std::vector<LimitFaceSurface::Node>& nodes, std::vector<std::array<Vec3, 16>>& patches,
+                    LimitFaceSurface::Unresolved& unresolved) {
     const bool loop = options.scheme == SubdivisionScheme::Loop;
-    const Adjacency adj(piece.level);
-    std::array<Vec3, 16> points;
-    if (regular(loop, piece, adj, piece.target, points)) {
-        nodes[node].patch = static_cast<std::int32_t>(patches.size());
-        patches.push_back(points);
-        return;
-    }
-    if (level >= levels) return;
     const Piece child = refine(piece, options, level == 0);
-    std::vector<Index> offsets, faces;
-    vertex_faces(child.level, offsets, faces);
-    const std::size_t first = nodes.size();
-    nodes[node].first_child = static_cast<std::int32_t>(first);
-    nodes.resize(first + 4);
-    for (int j = 0; j < 4; ++j)
-        build_tree(extract(child, offsets, faces, subdivision::child_face(piece.level, piece.target, j, loop)), options,
-                   level + 1, levels, first + static_cast<std::size_t>(j), nodes, patches);
+    const Adjacency adj(child.level);
+    const Index n = piece.level.face_offsets[piece.target + 1] - piece.level.face_offsets[piece.target];
+    const Index count = loop ? 4 : n;
+    for (Index j = 0; j < count; ++j) {
+        const std::size_t node = first + j;
+        const Index face = subdivision::child_face(piece.level, piece.target, static_cast<int>(j), loop);
+        std::array<Vec3, 16> points;
+        if (regular(loop, child, adj, face, points)) {
+            nodes[node].patch = static_cast<std::int32_t>(patches.size());
+            patches.push_back(points);
+            continue;
+        }
+        Piece sub = extract(child, adj.vf_offsets, adj.vf_faces, face);
+        if (level + 1 >= levels) {
+            unresolved.node.push_back(static_cast<std::int32_t>(node));
+            unresolved.pieces.push_back(std::move(sub));
+            continue;
+        }
+        const std::size_t grandchildren = nodes.size();
+        nodes[node].first_child = static_cast<std::int32_t>(grandchildren);
+        nodes.resize(grandchildren + 4);
+        build_children(sub, options, level + 1, levels, grandchildren, nodes, patches, unresolved);
+    }
 }
 
 }  // namespace
@@ -545,21 +595,22 @@ Result<LimitFaceSurface> LimitSurfaceEvaluator::face_surface(std::size_t face, i
         out.patches_.push_back(data_->patches[data_->patch_of_face[f]]);
         return out;
     }
-    const Piece piece = extract(data_->base, data_->vf_offsets, data_->vf_faces, f);
-    if (patch_shape) {
-        build_tree(piece, data_->options, 0, levels, 0, out.nodes_, out.patches_);
+    // the face is not one patch (an N-gon, or a quad or triangle that is not regular): its children, recursively
+    auto unresolved = std::make_shared<LimitFaceSurface::Unresolved>();
+    Piece piece = extract(data_->base, data_->vf_offsets, data_->vf_faces, f);
+    if (levels == 0) {
+        if (patch_shape) {
+            unresolved->node.push_back(0);
+            unresolved->pieces.push_back(std::move(piece));
+            out.unresolved_ = std::move(unresolved);
+        }
         return out;
     }
-    if (levels == 0) return out;
-    // an N-gon: its children are its sub-faces, in corner order
-    const Piece child = refine(piece, data_->options, true);
-    std::vector<Index> offsets, faces;
-    vertex_faces(child.level, offsets, faces);
+    const Index children = patch_shape ? 4 : n;  // Loop: three corner triangles and the middle one
     out.nodes_[0].first_child = 1;
-    out.nodes_.resize(1 + n);
-    for (Index j = 0; j < n; ++j)
-        build_tree(extract(child, offsets, faces, piece.level.face_offsets[piece.target] + j), data_->options, 1,
-                   levels, 1 + j, out.nodes_, out.patches_);
+    out.nodes_.resize(1 + children);
+    build_children(piece, data_->options, 0, levels, 1, out.nodes_, out.patches_, *unresolved);
+    if (!unresolved->node.empty()) out.unresolved_ = std::move(unresolved);
     return out;
 }
 
@@ -579,11 +630,20 @@ Result<LimitSample> LimitFaceSurface::evaluate(double u, double v, bool second_d
     for (;;) {
         const Node& current = nodes_[node];
         if (current.patch >= 0) {
-            LimitSample out = evaluate_any(loop, patches_[current.patch], s, t, scale, second_derivatives);
-            out.level = level;
+            Result<LimitSample> out{LimitSample{}};
+            evaluate_any(loop, patches_[current.patch], s, t, scale, second_derivatives, *out);
+            out->level = level;
             return out;
         }
-        if (current.first_child < 0) return owner_.evaluate(face_, u, v, second_derivatives);
+        if (current.first_child < 0) {
+            // not resolved within the prepared levels: the evaluator's descent, resumed from the leaf's piece (the
+            // one it would reach from the base face). At a corner of the leaf the descent may stop above it (exactly
+            // at an irregular vertex): from the base face then, as evaluate() answers.
+            const int at = unresolved_ && corner_at(loop, s, t) < 0 ? unresolved_->find(node) : -1;
+            if (at < 0) return owner_.evaluate(face_, u, v, second_derivatives);
+            return descend_from(*owner_.data_, unresolved_->pieces[static_cast<std::size_t>(at)], level, -1, s, t,
+                                scale, second_derivatives);
+        }
         const Step step = descend(loop, s, t);
         node = static_cast<std::size_t>(current.first_child + step.child);
         s = step.s;

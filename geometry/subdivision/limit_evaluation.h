@@ -134,8 +134,9 @@ private:
 
 //! The limit surface over one base face, prepared for many evaluations (Bfr::Surface's role): the bicubic patches of
 //! its regular sub-faces down to a number of local refinements, so that evaluating a point there is one patch
-//! evaluation. A point closer to an irregular vertex than the prepared levels reach is handed to the evaluator's
-//! descent; results are the evaluator's either way. Shares its evaluator's data.
+//! evaluation. A point closer to an irregular vertex than the prepared levels reach resumes the evaluator's descent
+//! from the local refinement kept at its leaf; results are the evaluator's either way (bit for bit). Shares its
+//! evaluator's data.
 class LimitFaceSurface {
 public:
     //! As LimitSurfaceEvaluator::evaluate on this face.
@@ -169,12 +170,15 @@ public:
     //! (row r, column c) is [4 r + c], c along s, r along t.
     const std::array<Vec3, 16>& patch_points(std::size_t i) const { return patches_[i]; }
 
+    struct Unresolved;  //!< the local refinements kept at the leaves without a patch (limit_evaluation.cpp)
+
 private:
     friend class LimitSurfaceEvaluator;
     LimitSurfaceEvaluator owner_;
     std::size_t face_ = 0;
     std::vector<Node> nodes_;  //!< node 0: the face
     std::vector<std::array<Vec3, 16>> patches_;
+    std::shared_ptr<const Unresolved> unresolved_;  //!< null when every leaf has a patch
 };
 
 }  // namespace surfaced

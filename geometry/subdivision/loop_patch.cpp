@@ -32,6 +32,16 @@ constexpr int kBasis[12][15] = {
     {0, 0, 0, 2, -1, 0, 0, 0, -2, 0, 0, 0, 0, 0, 0},            // (-1, 2)
 };
 
+//! Whether kMonomial is a-major with b ascending (the offsets evaluate_loop_polynomial's nested form reads).
+constexpr bool monomials_a_major() {
+    int k = 0;
+    for (int a = 0; a <= 4; ++a)
+        for (int b = 0; a + b <= 4; ++b, ++k)
+            if (kMonomial[k][0] != a || kMonomial[k][1] != b) return false;
+    return k == 15;
+}
+static_assert(monomials_a_major());
+
 int cross(int ax, int ay, int bx, int by) { return ax * by - ay * bx; }
 
 //! A corner's 1-ring on the lattice: the vertex at each direction (kInvalidIndex where the ring stops at a crease),
@@ -228,32 +238,31 @@ void loop_patch_polynomial(const std::array<Vec3, 12>& points, std::array<Vec3, 
 }
 
 void evaluate_loop_polynomial(const std::array<Vec3, 16>& coefficients, double u, double v, bool second, Vec3 out[6]) {
-    // powers of u and v with their first and second derivatives: x^a, a x^(a-1), a (a-1) x^(a-2)
-    double pu[5], du[5], ddu[5], pv[5], dv[5], ddv[5];
-    pu[0] = pv[0] = 1.0;
-    for (int a = 1; a < 5; ++a) {
-        pu[a] = pu[a - 1] * u;
-        pv[a] = pv[a - 1] * v;
+    // nested (Horner) form: the patch is sum_a u^a Q_a(v), Q_a of degree 4 - a with the coefficients of u^a v^b at
+    // kMonomial's a-major offsets 0, 5, 9, 12, 14; Q_a and its v-derivatives first, then the sums over a in u
+    const Vec3* c = coefficients.data();
+    const Vec3 q0 = c[0] + v * (c[1] + v * (c[2] + v * (c[3] + v * c[4])));
+    const Vec3 q1 = c[5] + v * (c[6] + v * (c[7] + v * c[8]));
+    const Vec3 q2 = c[9] + v * (c[10] + v * c[11]);
+    const Vec3 q3 = c[12] + v * c[13];
+    const Vec3& q4 = c[14];
+    const Vec3 q0v = c[1] + v * (2.0 * c[2] + v * (3.0 * c[3] + v * (4.0 * c[4])));
+    const Vec3 q1v = c[6] + v * (2.0 * c[7] + v * (3.0 * c[8]));
+    const Vec3 q2v = c[10] + v * (2.0 * c[11]);
+    const Vec3& q3v = c[13];
+    out[0] = q0 + u * (q1 + u * (q2 + u * (q3 + u * q4)));
+    out[1] = q1 + u * (2.0 * q2 + u * (3.0 * q3 + u * (4.0 * q4)));
+    out[2] = q0v + u * (q1v + u * (q2v + u * q3v));
+    if (!second) {
+        out[3] = out[4] = out[5] = Vec3{};
+        return;
     }
-    for (int a = 0; a < 5; ++a) {
-        du[a] = a > 0 ? a * pu[a - 1] : 0.0;
-        dv[a] = a > 0 ? a * pv[a - 1] : 0.0;
-        ddu[a] = a > 1 ? a * (a - 1) * pu[a - 2] : 0.0;
-        ddv[a] = a > 1 ? a * (a - 1) * pv[a - 2] : 0.0;
-    }
-    for (int j = 0; j < 6; ++j) out[j] = Vec3{};
-    for (int k = 0; k < 15; ++k) {
-        const int a = kMonomial[k][0], b = kMonomial[k][1];
-        const Vec3& q = coefficients[k];
-        out[0] += (pu[a] * pv[b]) * q;
-        out[1] += (du[a] * pv[b]) * q;
-        out[2] += (pu[a] * dv[b]) * q;
-        if (second) {
-            out[3] += (ddu[a] * pv[b]) * q;
-            out[4] += (du[a] * dv[b]) * q;
-            out[5] += (pu[a] * ddv[b]) * q;
-        }
-    }
+    const Vec3 q0vv = 2.0 * c[2] + v * (6.0 * c[3] + v * (12.0 * c[4]));
+    const Vec3 q1vv = 2.0 * c[7] + v * (6.0 * c[8]);
+    const Vec3 q2vv = 2.0 * c[11];
+    out[3] = 2.0 * q2 + u * (6.0 * q3 + u * (12.0 * q4));
+    out[4] = q1v + u * (2.0 * q2v + u * (3.0 * q3v));
+    out[5] = q0vv + u * (q1vv + u * q2vv);
 }
 
 }  // namespace surfaced::subdivision

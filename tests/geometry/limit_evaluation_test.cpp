@@ -353,6 +353,20 @@ TEST(LimitEvaluation, FaceSurfacesAnswerAsTheEvaluator) {
                 EXPECT_LE(norm(a->duu - b->duu) + norm(a->dvv - b->dvv) + norm(a->duv - b->duv), 1e-10 * diag)
                     << c.name << " face " << f;
                 EXPECT_EQ(a->exact, b->exact);
+                EXPECT_EQ(a->level, b->level) << c.name << " face " << f;
+            }
+            // exactly at corners of the face and of its prepared leaves (where the descent may stop early, at an
+            // irregular vertex): the same answers
+            const double corners[][2] = {{0.0, 0.0}, {0.125, 0.0}, {0.0, 0.125}, {0.125, 0.125}};
+            const double scale = c.mesh.face_size(f) == 4 ? 1.0 : 0.5;  // an N-gon's first sub-face
+            for (const auto& corner : corners) {
+                auto a = surface->evaluate(scale * corner[0], scale * corner[1]);
+                auto b = evaluator->evaluate(f, scale * corner[0], scale * corner[1]);
+                ASSERT_TRUE(a.ok() && b.ok()) << c.name;
+                EXPECT_EQ(norm(a->position - b->position), 0.0) << c.name << " face " << f;
+                EXPECT_EQ(norm(a->du - b->du) + norm(a->dv - b->dv), 0.0) << c.name << " face " << f;
+                EXPECT_EQ(a->level, b->level) << c.name << " face " << f;
+                EXPECT_EQ(a->exact, b->exact) << c.name << " face " << f;
             }
             EXPECT_EQ(surface->evaluate(-0.25, 0.25).error().code, ErrorCode::InvalidArgument);
         }
