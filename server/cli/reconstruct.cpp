@@ -30,6 +30,7 @@ int reconstruct(Args& args) {
     api::ApiContext context = file_context();
     const api::options::OperationOptions& operation = *api::options::operation_options("reconstruct");
     std::vector<Option> options = table_options(operation, api::options::kQuery);
+    options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
     options.push_back(
         Option{.name = "--input-format",
                .check = one_of_names({"ply", "obj", "xyz"}),
