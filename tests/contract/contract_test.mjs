@@ -118,9 +118,16 @@ const patchUploads = {
   'application/x-geomview-bez': bez, 'text/plain': bez, 'application/octet-stream': bez,
   'model/obj': 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\ncstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 4\nend\n',
 };
-const uploadsFor = { '/pointcloud': pointUploads, '/tessellate': patchUploads };
+// /reconstruct's query cases: the cube's corners with outward normals and colours (x y z nx ny nz r g b), so that
+// estimate_normals never and vertex_colors true apply
+const cornersXyz = [0, 1].flatMap((x) => [0, 1].flatMap((y) => [0, 1].map((z) => [x, y, z])))
+  .map(([x, y, z]) => `${x} ${y} ${z} ${x - 0.5} ${y - 0.5} ${z - 0.5} ${x} ${y} ${z}\n`).join('');
+const reconstructUploads = { ...pointUploads, 'text/x-xyz': cornersXyz };
+const uploadsFor = { '/pointcloud': pointUploads, '/reconstruct': reconstructUploads, '/tessellate': patchUploads };
 // The upload that carries the query-parameter cases, when it is not the first documented type with a sample.
-const queryUpload = { '/pointcloud': 'text/x-xyz', '/tessellate': 'application/x-geomview-bez' };
+const queryUpload = {
+  '/pointcloud': 'text/x-xyz', '/reconstruct': 'text/x-xyz', '/tessellate': 'application/x-geomview-bez',
+};
 
 // The media type each output format answers with.
 const formatMedia = {
@@ -139,7 +146,9 @@ const requires = {
   compression: { format: ['glb', 'gltf'] },                                   // Draco is for glTF output only
   quantize_position: { format: ['glb', 'gltf'], compression: ['draco'] },     // a Draco setting
   normals: { format: ['glb', 'gltf', 'obj', 'ply'] },                         // json output has no normals
-  k: { estimate_normals: ['true'] },  // the neighbour count of the normal estimate (query parameter)
+  // the neighbour count of the normal estimate: /pointcloud's estimate_normals=true, /reconstruct's auto or always
+  k: { estimate_normals: ['true', 'auto', 'always'] },
+  vertex_colors: { format: ['ply', 'obj', 'json'] },  // colours go into these formats only (/reconstruct)
 };
 
 // "Just inside" an exclusive minimum is bound + 1e-6, except where that small a value means heavy work (which the
@@ -180,6 +189,11 @@ const knownGaps = [
     status: 400, code: 'invalid_field',
     reason: 'weights holds one weight per control point: a list of one is refused for its length (naming weights) ' +
       'before its item is read',
+  },
+  {
+    op: 'POST /reconstruct', option: 'depth', kind: 'max', status: 422, code: 'budget_exceeded',
+    reason: 'the range maximum 10 passes the range check and the depth limit, but its mesher grid of 1024^3 cells ' +
+      'is over the grid-cell budget (422 budget_exceeded naming depth, as the operation describes)',
   },
   {
     op: 'GET /patches/{name}', option: 'segments', kind: 'max', status: 422, code: 'budget_exceeded',

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/pointcloud_io.h"
 #include "tests/io/format_test_helpers.h"
 
 namespace surfaced {
@@ -33,6 +34,37 @@ struct Writer {
         return *this;
     }
 };
+
+// Vertex colours beside the mesh: uchar red green blue (alpha on request) after the coordinates, in both encodings;
+// the mesh reader still reads the mesh, the point reader the colours (rounded to the nearest of 255 levels).
+TEST(PlyWrite, VertexColorsAsUcharChannels) {
+    PolygonMesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.face_offsets = {0, 3};
+    mesh.face_indices = {0, 1, 2};
+    const std::vector<Color> colors = {{1, 0, 0, 1}, {0.5f, 0.25f, 0, 0.5f}, {0, 0, 1, 0}};
+    for (PlyEncoding encoding : {PlyEncoding::Ascii, PlyEncoding::BinaryLittleEndian})
+        for (bool alpha : {false, true}) {
+            const std::string bytes = write_ply(mesh, encoding, colors, alpha);
+            auto back = read_ply(bytes);
+            ASSERT_TRUE(back.ok()) << back.error().message;
+            expect_same_mesh(back.value(), mesh);
+            auto points = read_ply_points(bytes);
+            ASSERT_TRUE(points.ok()) << points.error().message;
+            ASSERT_EQ(points->colors.size(), 3u);
+            EXPECT_EQ(points->has_alpha, alpha);
+            const double half_level = 0.5 / 255 + 1e-6;  // 0.5 is 127.5 levels: rounded to 128
+            for (std::size_t v = 0; v < 3; ++v) {
+                EXPECT_NEAR(points->colors[v].r, colors[v].r, half_level);
+                EXPECT_NEAR(points->colors[v].g, colors[v].g, half_level);
+                EXPECT_NEAR(points->colors[v].b, colors[v].b, half_level);
+                EXPECT_NEAR(points->colors[v].a, alpha ? colors[v].a : 1.0f, half_level);
+            }
+        }
+    // no colours, or not one per vertex: none written
+    EXPECT_EQ(write_ply(mesh, PlyEncoding::Ascii, {}), write_ply(mesh, PlyEncoding::Ascii));
+    EXPECT_EQ(write_ply(mesh, PlyEncoding::Ascii, std::span(colors).first(2)), write_ply(mesh, PlyEncoding::Ascii));
+}
 
 TEST(PlyRead, AsciiWithExtraPropertiesElementsAndComments) {
     const std::string text =
