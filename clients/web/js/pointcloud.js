@@ -42,15 +42,19 @@ export class PointCloudView {
     this.pointMaterial = new THREE.PointsMaterial({ size: 3, sizeAttenuation: false, vertexColors: true });
     this.normalMaterial = new THREE.LineBasicMaterial({ color: 0xffd84a, transparent: true, opacity: 0.55 });
 
-    // the option ranges are the server's, when /openapi.json gives them
+    // the option ranges are the server's, when /openapi.json gives them; no trim control unless it lists trim
+    const parameter = (name) => reconstruct?.parameters?.find((p) => p.name === name && p.in === 'query');
     for (const [id, name] of [['pc-depth', 'depth'], ['pc-point-weight', 'point_weight'], ['pc-trim', 'trim']]) {
-      const schema = reconstruct?.parameters?.find((p) => p.name === name && p.in === 'query')?.schema;
+      const schema = parameter(name)?.schema;
       if (schema?.minimum !== undefined) $(id).min = String(schema.minimum);
       if (schema?.maximum !== undefined) $(id).max = String(schema.maximum);
     }
+    this.canTrim = !!parameter('trim');
     $('pc-run').disabled = !this.canReconstruct;
-    $('pc-layout').disabled = !this.canReconstruct;
+    $('pc-trim').disabled = !this.canTrim;
+    $('pc-layout').disabled = !this.canTrim;
     $('pc-no-recon').hidden = this.canReconstruct;
+    $('pc-no-trim').hidden = !this.canReconstruct || this.canTrim;
 
     $('pc-file').addEventListener('change', async (e) => {
       const file = e.target.files[0];
@@ -183,7 +187,7 @@ export class PointCloudView {
 
   options() {
     return { depth: Number($('pc-depth').value), point_weight: Number($('pc-point-weight').value),
-             trim: Number($('pc-trim').value) };
+             trim: this.canTrim ? Number($('pc-trim').value) : 0 };
   }
 
   /** POST /reconstruct with the cloud's PLY; `trimmed`: with the trim option (otherwise the closed surface). */
