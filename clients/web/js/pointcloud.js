@@ -40,7 +40,7 @@ export class PointCloudView {
     this.runs = 0;
     this.busy = false;
     this.pointMaterial = new THREE.PointsMaterial({ size: 3, sizeAttenuation: false, vertexColors: true });
-    this.normalMaterial = new THREE.LineBasicMaterial({ color: 0xffd84a, transparent: true, opacity: 0.55 });
+    this.normalMaterial = new THREE.LineBasicMaterial({ color: 0xffd84a, transparent: true, opacity: 0.4 });
 
     // the option ranges are the server's, when /openapi.json gives them; no trim control unless it lists trim
     const parameter = (name) => reconstruct?.parameters?.find((p) => p.name === name && p.in === 'query');
