@@ -42,6 +42,11 @@ struct Limits {
     //! Points in one point cloud (input or sampled output). Normal orientation keeps a kNN graph of ~190 bytes a point
     //! (k = 16), so 2M points stay under ~400 MB.
     std::uint64_t max_points = 2'000'000;
+    //! POST /reconstruct: the largest octree depth, and the largest predicted peak memory (estimate_poisson: octree,
+    //! solver, samples and the mesher's grid), in bytes. Over either: 422 budget_exceeded naming "depth". The
+    //! mesher's grid, (2^depth)^3 cells, is also held to max_grid_cells.
+    int max_reconstruct_depth = 10;
+    std::uint64_t max_reconstruct_bytes = std::uint64_t{1} << 30;
     //! POST /limit/evaluate: (face, u, v) points in one request (each answer is about 10 vectors).
     std::uint64_t max_limit_points = 1'000'000;
     //! Per-request compute deadline in milliseconds (0: none). Long work polls a surfaced::Cancel and stops with

@@ -14,6 +14,7 @@
 #include "api/operations/implicit_mesh.h"
 #include "api/operations/implicit_grid.h"
 #include "api/operations/limit_evaluate.h"
+#include "api/operations/reconstruct.h"
 
 namespace surfaced::api {
 namespace {
@@ -55,6 +56,9 @@ constexpr Route kRoutes[] = {
     {"POST", "/pointcloud", &operations::pointcloud,
      "Point clouds: convert PLY/OBJ/XYZ/JSON points, sample a mesh or implicit scene, estimate oriented normals "
      "(kNN PCA) -> GLB POINTS (Draco)/glTF/PLY/JSON"},
+    {"POST", "/reconstruct", &operations::reconstruct,
+     "Screened Poisson surface reconstruction of a point cloud (PLY/OBJ/XYZ/JSON points; normals estimated when "
+     "missing) -> closed mesh as GLB/glTF/OBJ/PLY/JSON/STL/OFF"},
     {"POST", "/implicit/mesh", &operations::implicit_mesh,
      "Implicit scene meshed in bounds (dual marching cubes, QEF vertices; closed, manifold, sharp) -> "
      "GLB/glTF/OBJ/PLY/JSON/STL/OFF"},

@@ -10,6 +10,7 @@
 
 #include "api/json_codec.h"
 #include "api/json_util.h"
+#include "api/operations/point_input.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
 #include "geometry/io/gltf.h"
@@ -31,80 +32,12 @@ struct Params {
     OutputOptions output;
 };
 
-//! A GeoError about point i names "points[i]" in a JSON request (the mesh mapping in geometry_error would say
-//! mesh.positions).
-ApiError point_error(const GeoError& error, Source source, const char* array = "points") {
-    ApiError out = from_geo_error(error);
-    if (source == Source::Json && error.element >= 0 && error.element_kind == ElementKind::Vertex)
-        out.field = std::string(array) + "[" + std::to_string(error.element) + "]";
-    return out;
-}
-
 const options::OperationOptions& pointcloud_options() { return *options::operation_options("pointcloud"); }
 
 //! The output options that do not fit the format (the formats themselves are the table's: glb, gltf, ply, json;
 //! every one of them holds normals).
 std::optional<ApiError> check_output(const OutputOptions& out, Source source) {
     return check_output_options(out, source);
-}
-
-//! "points", "normals", "colors" of a JSON request.
-ApiResult<PointCloud> decode_points(const Json& root, const Limits& limits) {
-    const Json& points = root["points"];
-    if (!points.is_array() || points.empty()) return invalid("points", "points must be a non-empty array of [x, y, z]");
-    if (points.size() > limits.max_points)
-        return make_problem(
-            Problem::BudgetExceeded,
-            std::to_string(points.size()) + " points; the limit is " + std::to_string(limits.max_points), "points");
-    PointCloud cloud;
-    cloud.positions.reserve(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        auto p = read_vec3(points[i], index_path("points", i));
-        if (!p) return std::move(p.error());
-        cloud.positions.push_back(p.value());
-    }
-    if (auto it = root.find("normals"); it != root.end()) {
-        if (!it->is_array() || it->size() != points.size())
-            return invalid("normals", "normals must be an array with one [nx, ny, nz] per point (" +
-                                          std::to_string(points.size()) + ")");
-        cloud.normals.reserve(points.size());
-        for (std::size_t i = 0; i < it->size(); ++i) {
-            const std::string field = index_path("normals", i);
-            auto n = read_vec3((*it)[i], field);
-            if (!n) return std::move(n.error());
-            const double len = norm(n.value());
-            if (!(len > 0)) return invalid(field, field + " has zero length");
-            cloud.normals.push_back(n.value() * (1.0 / len));
-        }
-    }
-    if (auto it = root.find("colors"); it != root.end()) {
-        if (!it->is_array() || it->size() != points.size())
-            return invalid("colors", "colors must be an array with one [r, g, b] or [r, g, b, a] per point (" +
-                                         std::to_string(points.size()) + ")");
-        cloud.colors.reserve(points.size());
-        std::size_t arity = 0;
-        for (std::size_t i = 0; i < it->size(); ++i) {
-            const std::string field = index_path("colors", i);
-            const Json& c = (*it)[i];
-            if (!c.is_array() || (c.size() != 3 && c.size() != 4))
-                return invalid(field, field + " must be [r, g, b] or [r, g, b, a] with channels in 0..1");
-            if (arity == 0) arity = c.size();
-            if (c.size() != arity)
-                return invalid(field, field + " has " + std::to_string(c.size()) + " channels, colors[0] has " +
-                                          std::to_string(arity));
-            float channels[4] = {0, 0, 0, 1};
-            for (std::size_t k = 0; k < c.size(); ++k) {
-                auto v = read_number(c[k], index_path(field, k));
-                if (!v) return std::move(v.error());
-                if (!(v.value() >= 0 && v.value() <= 1))
-                    return invalid(index_path(field, k), index_path(field, k) + " must be in 0..1");
-                channels[k] = static_cast<float>(v.value());
-            }
-            cloud.colors.push_back({channels[0], channels[1], channels[2], channels[3]});
-        }
-        cloud.has_alpha = arity == 4;
-    }
-    return cloud;
 }
 
 //! "sample": {"mesh" | "scene" + "bounds", "count", "seed"}: budgets first, then the sampling.
@@ -264,45 +197,25 @@ std::optional<ApiError> decode_json_request(const ApiRequest& request, const Api
     if (has_sample && (root.contains("normals") || root.contains("colors")))
         return invalid(root.contains("normals") ? "normals" : "colors",
                        "normals and colors go with \"points\", not with \"sample\"");
-    auto points = has_points ? decode_points(root, context.limits) : run_sampling(root["sample"], context);
+    auto points = has_points ? decode_json_points(root, context.limits) : run_sampling(root["sample"], context);
     if (!points) return std::move(points.error());
     d.cloud = std::move(points.value());
     d.input_points = has_points ? d.cloud.size() : 0;
     return std::nullopt;
 }
 
-constexpr std::string_view kAcceptedMediaTypes =
-    "application/json, application/ply, model/obj, text/x-xyz, application/octet-stream or text/plain (sniffed), "
-    "multipart/form-data (one file part, options as fields)";
-
-//! The file types POST /pointcloud reads (for the file part of a form).
-bool reads_point_media_type(std::string_view media_type) {
-    return media_type == "application/json" || media_type == "application/octet-stream" || media_type == "text/plain" ||
-           point_format_from_media_type(media_type);
-}
-
 //! A point file as the body (PLY, OBJ, XYZ, or sniffed), options in the query.
 std::optional<ApiError> decode_file_request(const ApiRequest& request, const ApiContext& context,
                                             const std::string& media_type, Decoded& d) {
-    std::optional<PointFormat> format = point_format_from_media_type(media_type);
-    if (!format && (media_type == "application/octet-stream" || media_type == "text/plain"))
-        format = sniff_point_format(request.body);
-    if (!format)
-        return make_problem(
-            Problem::UnsupportedMediaType,
-            media_type == "application/octet-stream" || media_type == "text/plain"
-                ? "could not recognise the point format from the content; send Content-Type "
-                  "application/json, application/ply, model/obj or text/x-xyz"
-                : "Content-Type \"" + media_type + "\" is not accepted; accepted: " + std::string(kAcceptedMediaTypes));
+    auto format = uploaded_point_format(media_type, request.body);
+    if (!format) return std::move(format.error());
     auto query_params = params_from_query(request.query);
     if (!query_params) return worded_for_form(request, std::move(query_params.error()));
     d.params = std::move(query_params.value());
     if (auto error = negotiate_output_format(request, d.params.output)) return error;
     if (auto error = check_output(d.params.output, d.source)) return worded_for_form(request, std::move(*error));
-    PointReadOptions read_options;
-    read_options.max_points = static_cast<std::size_t>(context.limits.max_points);
-    auto read = read_points(request.body, *format, read_options);
-    if (!read) return point_error(read.error(), d.source);
+    auto read = read_uploaded_points(request.body, format.value(), context.limits);
+    if (!read) return std::move(read.error());
     d.cloud = std::move(read.value());
     d.input_points = d.cloud.size();
     return std::nullopt;
@@ -310,32 +223,16 @@ std::optional<ApiError> decode_file_request(const ApiRequest& request, const Api
 
 //! Normal estimation and orientation with k neighbours, after the budget on points x k.
 std::optional<ApiError> run_normal_estimation(Decoded& d, const ApiContext& context) {
-    const Limits& limits = context.limits;
-    // Orientation keeps the kNN graph (~12 bytes an edge): bound points x k like max_points x the default k.
-    const std::uint64_t edges = static_cast<std::uint64_t>(d.cloud.size()) * static_cast<std::uint64_t>(*d.params.k);
-    if (edges > limits.max_points * static_cast<std::uint64_t>(kDefaultK))
-        return make_problem(
-            Problem::BudgetExceeded,
-            "normal estimation for " + std::to_string(d.cloud.size()) + " points with k = " +
-                std::to_string(*d.params.k) + " needs " + std::to_string(edges) + " neighbour links; the limit is " +
-                std::to_string(limits.max_points * static_cast<std::uint64_t>(kDefaultK)) + " (points x k)",
-            d.source == Source::Json ? "estimate_normals.k" : "k");
-    NormalEstimationOptions options;
-    options.k = static_cast<std::size_t>(*d.params.k);
-    options.cancel = context.cancel;
-    if (Status s = estimate_normals(d.cloud, options); !s) {
-        ApiError error = point_error(s.error(), d.source);
-        if (s.error().code == ErrorCode::InvalidArgument && !error.field && d.source == Source::Json)
-            error.field = "estimate_normals";
-        return error;
-    }
-    return std::nullopt;
+    const bool json = d.source == Source::Json;
+    return estimate_point_normals(d.cloud, *d.params.k, context.limits, context.cancel, d.source,
+                                  json ? "estimate_normals.k" : "k",
+                                  json ? std::optional<std::string>("estimate_normals") : std::nullopt);
 }
 
 ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
     const auto t_start = Clock::now();
     Upload upload;
-    if (auto error = check_upload(sent, context.limits, kAcceptedMediaTypes, reads_point_media_type, upload))
+    if (auto error = check_upload(sent, context.limits, kPointMediaTypes, reads_point_media_type, upload))
         return error_response(std::move(*error));
     const ApiRequest& request = *upload.request;
     const std::string& media_type = upload.media_type;

@@ -7,6 +7,7 @@
 
 #include "api/dto.h"
 #include "api/operations/implicit_mesh.h"
+#include "api/operations/reconstruct.h"
 #include "api/options/option_spec.h"
 
 namespace surfaced::api::options {
@@ -416,6 +417,59 @@ constexpr OptionSpec kPointCloudOutput[] = {
     format_of(kPointFormats, "Encoding of the points: binary or text glTF, PLY or JSON"), kCompressionOption,
     kQuantizeOption, kPointNormalsOption};
 
+// ---- POST /reconstruct: a point file with query parameters, or a JSON body (the cloud as /pointcloud takes it) ----
+constexpr auto kPoissonBoundaries = names_of(operations::kPoissonBoundaryNames);
+constexpr auto kNormalEstimations = names_of(operations::kNormalEstimationNames);
+constexpr std::string_view kReconstructInputs[] = {"points", "normals", "colors"};
+constexpr OptionSpec kReconstruct[] = {
+    {.name = "depth",
+     .type = OptionType::Integer,
+     .min = at_least(2),
+     .max = at_most(10),
+     .max_is_limit = true,  // Limits::max_reconstruct_depth; the grid-cell and memory budgets also apply
+     .default_json = "8",
+     .description = "Finest octree level: 2^depth cells across the bounding cube; each level about 4x the time, "
+                    "memory and triangles"},
+    {.name = "point_weight",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "4",
+     .description = "Screening weight: how strongly the surface is pulled through the points (0: unscreened Poisson)"},
+    {.name = "samples_per_node",
+     .type = OptionType::Number,
+     .min = above(0),
+     .default_json = "1.5",
+     .description =
+         "Samples a cell holds on a point's splatting level: larger smooths noisy clouds, 1 suits clean ones"},
+    {.name = "boundary",
+     .type = OptionType::Enum,
+     .default_json = "\"neumann\"",
+     .description = "Boundary condition on the bounding cube's faces",
+     .values = kPoissonBoundaries},
+    {.name = "scale",
+     .type = OptionType::Number,
+     .min = at_least(1),
+     .max = at_most(100),
+     .default_json = "1.1",
+     .description = "Bounding cube side over the points' bounding box's largest side"},
+    {.name = "confidence",
+     .type = OptionType::Bool,
+     .default_json = "false",
+     .description = "Weight each point by its normal's length (JSON normals are then kept as sent; zero drops it)"},
+    {.name = "estimate_normals",
+     .type = OptionType::Enum,
+     .default_json = "\"auto\"",
+     .description = "Estimate and orient normals from the k nearest neighbours: when the cloud has none (auto), "
+                    "always, or never (a cloud without normals is refused)",
+     .values = kNormalEstimations},
+    {.name = "k",
+     .type = OptionType::Integer,
+     .min = at_least(3),
+     .max = at_most(256),
+     .default_json = "16",
+     .description = "Neighbours for normal estimation (not with estimate_normals never)"},
+};
+
 // ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---
 // "want" is an array of names, read by the operation itself.
 constexpr std::string_view kMeshQueryEncodings[] = {"json", "float32", "float64"};
@@ -512,6 +566,7 @@ constexpr OperationOptions kOperations[] = {
     {"surfaces", "/surfaces", "post", {}, {}, kSurfacesInputs},
     {"implicit_grid", "/implicit/grid", "post", kImplicitGrid, {}, kImplicitGridInputs},
     {"limit_evaluate", "/limit/evaluate", "post", kLimitEvaluate, {}, kLimitEvaluateInputs},
+    {"reconstruct", "/reconstruct", "post", kReconstruct, kMeshOutput, kReconstructInputs},
 };
 
 }  // namespace

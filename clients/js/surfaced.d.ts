@@ -45,6 +45,8 @@ export type ImplicitMode = 'uniform' | 'adaptive';
 export type TessellateFormat = OutputFormat | 'patches';
 export type PatchSampleFormat = OutputFormat | 'patches';
 export type PointcloudFormat = 'glb' | 'gltf' | 'ply' | 'json';
+export type PoissonBoundary = 'neumann' | 'dirichlet';
+export type NormalEstimation = 'auto' | 'always' | 'never';
 export type CurvesFormat = 'json' | 'glb' | 'gltf';
 export type KnotVector = 'clamped' | 'uniform' | 'closed';
 
@@ -417,6 +419,40 @@ export interface PointcloudOptions {
   quantize_position?: number;
 }
 
+export interface ReconstructOptions {
+  points?: Vec3[];
+  /** with JSON points: their normals (outward); a boolean is the output option (false: no vertex normals) */
+  normals?: Vec3[] | boolean;
+  /** [r, g, b] or [r, g, b, a] in 0..1 per point */
+  colors?: number[][];
+  /** a PLY, OBJ or XYZ file */
+  data?: BodyData;
+  contentType?: string;
+  /** finest octree level, 2..10 (the server's grid-cell budget refuses 9 and 10 by default). @default 8 */
+  depth?: number;
+  /** screening weight, 0 or more (0: unscreened). @default 4 */
+  point_weight?: number;
+  /** samples per cell on the splatting level of a point, positive. @default 1.5 */
+  samples_per_node?: number;
+  /** @default 'neumann' */
+  boundary?: PoissonBoundary;
+  /** bounding cube side over the bounding box's largest side, 1..100. @default 1.1 */
+  scale?: number;
+  /** weight each point by its normal's length. @default false */
+  confidence?: boolean;
+  /** estimate normals when the cloud has none (auto), always, or never. @default 'auto' */
+  estimate_normals?: NormalEstimation;
+  /** neighbours for normal estimation, 3..256. @default 16 */
+  k?: number;
+  output?: Output<OutputFormat>;
+  /** @default 'glb' */
+  format?: OutputFormat;
+  /** @default 'draco' */
+  compression?: Compression;
+  /** @default 14 */
+  quantize_position?: number;
+}
+
 // ---- answers -------------------------------------------------------------------------------------------------------
 
 export interface Result<T = unknown> {
@@ -544,4 +580,5 @@ export declare class Client {
   implicitGrid(options: ImplicitGridOptions): Promise<Result<LevelSetNode>>;
   implicitMesh(options: ImplicitMeshOptions): Promise<Result<MeshAnswer>>;
   pointcloud(options: PointcloudOptions): Promise<Result<PointcloudAnswer>>;
+  reconstruct(options: ReconstructOptions): Promise<Result<MeshAnswer>>;
 }

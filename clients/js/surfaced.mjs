@@ -232,6 +232,19 @@ export class Client {
    *  -> a closed mesh */
   implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }
 
+  /** POST /reconstruct: {points, normals (an array), colors} | {data, contentType} (PLY/OBJ/XYZ), with depth,
+   *  point_weight, samples_per_node, boundary, scale, confidence, estimate_normals ('auto' | 'always' | 'never'), k
+   *  and output -> a closed mesh; a boolean `normals` is the output option. */
+  reconstruct({ normals, output, ...options }) {
+    const out = { ...(output ?? {}) };
+    if (typeof normals === 'boolean') {
+      if (out.normals !== undefined && out.normals !== normals) throw new TypeError('normals disagrees with output.normals');
+      out.normals = normals;
+      normals = undefined;
+    }
+    return this.operation('/reconstruct', ['points', 'normals', 'colors'], { ...options, normals, output: out });
+  }
+
   /** POST /pointcloud: {points, normals (an array), colors} | {sample: {mesh | scene + bounds, count, seed}} |
    *  {data, contentType} (PLY/OBJ/XYZ), with estimate_normals (true or {k}), k, and output (glb, gltf, ply, json); a
    *  boolean `normals` is the output option. */

@@ -49,7 +49,7 @@ std::size_t line_estimate(std::string_view text, std::size_t limit) {
 
 // ---- PLY ----------------------------------------------------------------------------------------------------------
 
-enum class Role : std::uint8_t { None, X, Y, Z, NX, NY, NZ, R, G, B, A };
+enum class Role : std::uint8_t { None, X, Y, Z, NX, NY, NZ, R, G, B, A, Confidence };
 
 //! 1 / the largest value of an integer colour type (uchar 255 -> 1.0), 1 for float types.
 double color_scale(PlyType type) {
@@ -89,6 +89,7 @@ public:
         cloud_.positions.reserve(vertex->count);  // parse_header bounded it by the bytes present and max_points
         if (normals_) cloud_.normals.reserve(vertex->count);
         if (colors_) cloud_.colors.reserve(vertex->count);
+        if (confidence_) cloud_.confidence.reserve(vertex->count);
 
         const bool ascii = header_.encoding == PlyEncodingIn::Ascii;
         io_detail::TokenReader tokens(bytes_, header_.body_offset, '\0', header_.body_line);
@@ -127,13 +128,20 @@ private:
             const std::size_t slot = i < 3 ? i : (normals_ ? i : i + 3);
             roles_[static_cast<std::size_t>(at[slot])] = static_cast<Role>(slot + 1);
         }
-        for (std::size_t k = 0; k < vertex.properties.size(); ++k)
-            scales_.push_back(roles_[k] >= Role::R ? color_scale(vertex.properties[k].type) : 1.0);
+        // per-point confidence, under either name scanners use (PoissonRecon reads "confidence"; many write "quality")
+        int confidence = find_scalar("confidence");
+        if (confidence < 0) confidence = find_scalar("quality");
+        confidence_ = confidence >= 0;
+        if (confidence_) roles_[static_cast<std::size_t>(confidence)] = Role::Confidence;
+        for (std::size_t k = 0; k < vertex.properties.size(); ++k) {
+            const bool color = roles_[k] >= Role::R && roles_[k] <= Role::A;
+            scales_.push_back(color ? color_scale(vertex.properties[k].type) : 1.0);
+        }
         return std::nullopt;
     }
 
     //! values[role] for one vertex; colour channels already scaled to 0..1.
-    using Values = std::array<double, 11>;
+    using Values = std::array<double, 12>;
 
     std::optional<GeoError> add_point(const Values& v, std::uint64_t item, std::int64_t offset, std::int64_t line) {
         const Vec3 p{v[1], v[2], v[3]};
@@ -157,6 +165,13 @@ private:
                                        " has a colour channel outside 0..1 (float "
                                        "colours must be 0..1, integer ones are scaled by their type's maximum)");
             cloud_.colors.push_back(c);
+        }
+        if (confidence_) {
+            const double w = v[11];
+            if (!(w >= 0 && w <= std::numeric_limits<float>::max()))
+                return located(ErrorCode::ParseError, offset, line,
+                               "vertex " + std::to_string(item) + " has a confidence that is negative or not finite");
+            cloud_.confidence.push_back(static_cast<float>(w));
         }
         return std::nullopt;
     }
@@ -238,7 +253,8 @@ private:
     PlyHeader header_;
     std::vector<Role> roles_;
     std::vector<double> scales_;
-    bool normals_ = false, colors_ = false, alpha_ = false, normals_finite_ = true, big_endian_ = false;
+    bool normals_ = false, colors_ = false, alpha_ = false, confidence_ = false, normals_finite_ = true,
+         big_endian_ = false;
     PointCloud cloud_;
 };
 
@@ -499,6 +515,7 @@ std::string write_ply_points(const PointCloud& cloud, PlyEncoding encoding) {
     const bool normals = cloud.has_normals() && cloud.normals.size() == cloud.size();
     const bool colors = cloud.has_colors() && cloud.colors.size() == cloud.size();
     const bool alpha = colors && cloud.has_alpha;
+    const bool confidence = cloud.has_confidence() && cloud.confidence.size() == cloud.size();
     std::string out;
     out.reserve(256 + cloud.size() * ((normals ? 48 : 24) + (colors ? 4 : 0)) * (binary ? 1 : 2));
     out += "ply\nformat ";
@@ -509,6 +526,7 @@ std::string write_ply_points(const PointCloud& cloud, PlyEncoding encoding) {
     if (normals) out += "property double nx\nproperty double ny\nproperty double nz\n";
     if (colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     if (alpha) out += "property uchar alpha\n";
+    if (confidence) out += "property float confidence\n";
     out += "end_header\n";
     auto channel = [](float v) { return static_cast<unsigned>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
     for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -535,6 +553,16 @@ std::string write_ply_points(const PointCloud& cloud, PlyEncoding encoding) {
                     out += ' ';
                     append_uint(out, rgba[k]);
                 }
+            }
+        }
+        if (confidence) {
+            const float w = cloud.confidence[i];
+            if (binary) {
+                const auto bits = std::bit_cast<std::uint32_t>(w);
+                for (int b = 0; b < 4; ++b) out += static_cast<char>((bits >> (8 * b)) & 0xff);
+            } else {
+                out += ' ';
+                io_detail::append_double(out, static_cast<double>(w), 9);
             }
         }
         if (!binary) out += '\n';

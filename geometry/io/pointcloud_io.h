@@ -23,8 +23,9 @@ struct PointReadOptions {
 
 //! PLY 1.0 ascii / binary_little_endian / binary_big_endian: the `vertex` element's x y z (any numeric type),
 //! nx ny nz when all three are present (dropped, not an error, when any is non-finite), red green blue [alpha]
-//! (integer types scaled by their maximum, uchar 255 -> 1.0; float types taken as 0..1). Other elements (faces,
-//! edges) are skipped. Errors: ParseError/NonFinite with line or offset, BudgetExceeded.
+//! (integer types scaled by their maximum, uchar 255 -> 1.0; float types taken as 0..1), `confidence` (or, when
+//! absent, `quality`) as PointCloud::confidence, taken as is and finite and >= 0. Other elements (faces, edges)
+//! are skipped. Errors: ParseError/NonFinite with line or offset, BudgetExceeded.
 Result<PointCloud> read_ply_points(std::string_view bytes, const PointReadOptions& options = {});
 //! Wavefront OBJ: `v x y z` with optional `r g b` (0..1, or 0..255 when any value exceeds 1), `vn` taken as the
 //! normals when there are exactly as many as `v`. Faces and other statements are ignored; no faces is fine.
@@ -45,7 +46,8 @@ std::optional<PointFormat> point_format_from_media_type(std::string_view media_t
 std::optional<PointFormat> sniff_point_format(std::string_view bytes);
 
 //! PLY with double x y z, double nx ny nz when the cloud has normals, uchar red green blue (and alpha when
-//! has_alpha) when it has colours; no faces. Precondition: validate(cloud) passes.
+//! has_alpha) when it has colours, float confidence when it has confidence; no faces. Precondition:
+//! validate(cloud) passes.
 std::string write_ply_points(const PointCloud& cloud, PlyEncoding encoding = PlyEncoding::BinaryLittleEndian);
 
 }  // namespace surfaced

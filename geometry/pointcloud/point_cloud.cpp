@@ -13,6 +13,9 @@ Status validate(const PointCloud& cloud) {
     if (!cloud.colors.empty() && cloud.colors.size() != n)
         return make_error(ErrorCode::InvalidArgument,
                           std::to_string(cloud.colors.size()) + " colors for " + std::to_string(n) + " points");
+    if (!cloud.confidence.empty() && cloud.confidence.size() != n)
+        return make_error(ErrorCode::InvalidArgument, std::to_string(cloud.confidence.size()) +
+                                                          " confidence values for " + std::to_string(n) + " points");
     for (std::size_t i = 0; i < n; ++i) {
         const auto id = static_cast<std::int64_t>(i);
         if (!is_finite(cloud.positions[i]))
@@ -29,6 +32,10 @@ Status validate(const PointCloud& cloud) {
                                          "color of point " + std::to_string(i) + " has a channel outside [0, 1]",
                                          ElementKind::Vertex, id);
         }
+        if (cloud.has_confidence() && !(std::isfinite(cloud.confidence[i]) && cloud.confidence[i] >= 0.0f))
+            return element_error(ErrorCode::InvalidArgument,
+                                 "confidence of point " + std::to_string(i) + " is negative or not finite",
+                                 ElementKind::Vertex, id);
     }
     return Ok{};
 }

@@ -15,6 +15,7 @@ int remesh(Args& args);
 int repair(Args& args);
 int implicit(Args& args);
 int pointcloud(Args& args);
+int reconstruct(Args& args);
 int curve(Args& args);
 int surfaces(Args& args);
 int query(Args& args);

@@ -29,6 +29,7 @@ Usage:
   surfaced repair IN -o OUT [options]         repair a mesh (weld, orient, non-manifold cut apart), with a report
   surfaced implicit SCENE.json -o OUT [opts]  mesh an implicit scene (dual marching cubes, closed)
   surfaced pointcloud IN -o OUT [options]     convert a point cloud, estimate oriented normals
+  surfaced reconstruct IN -o OUT [options]    closed surface from a point cloud (screened Poisson)
   surfaced curve IN -o OUT [options]          curve queries (Bezier, chains, SVG paths, B-splines); glTF lines
   surfaced surfaces IN.json -o OUT.json       B-spline/NURBS surface queries (POST /surfaces body), JSON answer
   surfaced query MESH --points P.json [opts]  inside, signed distance, closest point; ray hits on a mesh (JSON)
@@ -50,8 +51,8 @@ Exit codes (the same in every command):
 )";
 
 const std::vector<std::string_view> kCommands = {"serve",  "healthcheck", "subdivide", "tessellate", "simplify",
-                                                 "remesh", "repair",      "implicit",  "pointcloud", "curve",
-                                                 "query",  "grid",        "surfaces",  "limit"};
+                                                 "remesh", "repair",      "implicit",  "pointcloud", "reconstruct",
+                                                 "curve",  "query",       "grid",      "surfaces",   "limit"};
 
 }  // namespace
 
@@ -80,6 +81,7 @@ int run(int argc, char** argv) {
         if (command == "repair") return repair(args);
         if (command == "implicit") return implicit(args);
         if (command == "pointcloud") return pointcloud(args);
+        if (command == "reconstruct") return reconstruct(args);
         if (command == "curve") return curve(args);
         if (command == "surfaces") return surfaces(args);
         if (command == "query") return query(args);
@@ -90,7 +92,7 @@ int run(int argc, char** argv) {
             message += "did you mean " + std::string(*match) + "? ";
         message +=
             "commands: serve, healthcheck, subdivide, tessellate, simplify, remesh, repair, implicit, pointcloud, "
-            "curve, query, grid, surfaces, limit; see surfaced --help)";
+            "reconstruct, curve, query, grid, surfaces, limit; see surfaced --help)";
         throw UsageError{message};
     } catch (const UsageError& e) {
         std::cerr << "surfaced: " << e.message << "\n";

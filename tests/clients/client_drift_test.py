@@ -37,6 +37,7 @@ PYTHON_POSITIONAL = {"mesh", "patches", "points", "scene", "bounds", "name", "su
 #: options whose Python default is None on purpose although the API documents a default
 PYTHON_NONE_DEFAULT = {
     ("pointcloud", "normals"): "a list is the JSON input's normals, a bool the output option (query default true)",
+    ("reconstruct", "normals"): "a list is the JSON input's normals, a bool the output option (query default true)",
 }
 #: client methods that are no endpoint
 PYTHON_HELPERS = {"request", "server_version", "check_server_version"}

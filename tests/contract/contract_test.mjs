@@ -118,9 +118,11 @@ const patchUploads = {
   'application/x-geomview-bez': bez, 'text/plain': bez, 'application/octet-stream': bez,
   'model/obj': 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\ncstype bezier\ndeg 1 1\nsurf 0 1 0 1 1 2 3 4\nend\n',
 };
-const uploadsFor = { '/pointcloud': pointUploads, '/tessellate': patchUploads };
+const uploadsFor = { '/pointcloud': pointUploads, '/reconstruct': pointUploads, '/tessellate': patchUploads };
 // The upload that carries the query-parameter cases, when it is not the first documented type with a sample.
-const queryUpload = { '/pointcloud': 'text/x-xyz', '/tessellate': 'application/x-geomview-bez' };
+const queryUpload = {
+  '/pointcloud': 'text/x-xyz', '/reconstruct': 'text/x-xyz', '/tessellate': 'application/x-geomview-bez',
+};
 
 // The media type each output format answers with.
 const formatMedia = {
@@ -139,7 +141,8 @@ const requires = {
   compression: { format: ['glb', 'gltf'] },                                   // Draco is for glTF output only
   quantize_position: { format: ['glb', 'gltf'], compression: ['draco'] },     // a Draco setting
   normals: { format: ['glb', 'gltf', 'obj', 'ply'] },                         // json output has no normals
-  k: { estimate_normals: ['true'] },  // the neighbour count of the normal estimate (query parameter)
+  // the neighbour count of the normal estimate: /pointcloud's estimate_normals=true, /reconstruct's auto or always
+  k: { estimate_normals: ['true', 'auto', 'always'] },
 };
 
 // "Just inside" an exclusive minimum is bound + 1e-6, except where that small a value means heavy work (which the
@@ -180,6 +183,16 @@ const knownGaps = [
     status: 400, code: 'invalid_field',
     reason: 'weights holds one weight per control point: a list of one is refused for its length (naming weights) ' +
       'before its item is read',
+  },
+  {
+    op: 'POST /reconstruct', option: 'depth', kind: 'max', status: 422, code: 'budget_exceeded',
+    reason: 'the range maximum 10 passes the range check and the depth limit, but its mesher grid of 1024^3 cells ' +
+      'is over the grid-cell budget (422 budget_exceeded naming depth, as the operation describes)',
+  },
+  {
+    op: 'POST /reconstruct', option: 'estimate_normals', kind: 'enum never', transport: 'query',
+    status: 422, code: 'invalid_argument',
+    reason: 'the XYZ upload has no normals, and estimate_normals never refuses a cloud without them',
   },
   {
     op: 'GET /patches/{name}', option: 'segments', kind: 'max', status: 422, code: 'budget_exceeded',

@@ -111,6 +111,45 @@ TEST(PointPly, ReadsBigEndianFloatColoursAndSkipsOtherElements) {
     EXPECT_FLOAT_EQ(read->colors[1].b, 0.75f);
     EXPECT_FALSE(read->has_normals());
     EXPECT_FALSE(read->has_alpha);
+    EXPECT_EQ(read->confidence, (std::vector<float>{7, 7}));  // `quality` is read as the confidence
+}
+
+// Per-point confidence: `confidence` (preferred) or `quality`, any numeric type, not scaled; written as float and
+// read back; negative or non-finite values are refused with the line.
+TEST(PointPly, Confidence) {
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "property uchar quality\nproperty float confidence\nend_header\n"
+        "0 0 0 200 0.5\n1 0 0 100 1\n0 1 0 0 0\n";
+    auto read = read_ply_points(ply);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->confidence, (std::vector<float>{0.5f, 1.0f, 0.0f}));
+    EXPECT_TRUE(validate(*read).ok());
+
+    PointCloud cloud = colored_cloud(50, false);
+    for (std::size_t i = 0; i < cloud.size(); ++i) cloud.confidence.push_back(0.1f * static_cast<float>(i) + 1e-3f);
+    for (PlyEncoding encoding : {PlyEncoding::BinaryLittleEndian, PlyEncoding::Ascii}) {
+        auto back = read_ply_points(write_ply_points(cloud, encoding));
+        ASSERT_TRUE(back.ok()) << back.error().message;
+        expect_same_cloud(cloud, *back);
+        EXPECT_EQ(back->confidence, cloud.confidence);  // float, exact in both encodings
+    }
+
+    const std::string negative =
+        "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float confidence\nend_header\n0 0 0 1\n1 0 0 -0.5\n";
+    auto bad = read_ply_points(negative);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().code, ErrorCode::ParseError);
+    EXPECT_EQ(bad.error().line, 10);
+
+    PointCloud invalid = cloud;
+    invalid.confidence[3] = std::nanf("");
+    const Status status = validate(invalid);
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().element, 3);
+    invalid.confidence.pop_back();
+    EXPECT_FALSE(validate(invalid).ok());  // wrong size
 }
 
 TEST(PointPly, AsciiUcharColoursAndNormals) {

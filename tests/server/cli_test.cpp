@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -131,7 +132,7 @@ TEST_F(SurfacedCli, ServeFlagsAreDocumentedAndRangeChecked) {
         EXPECT_TRUE(contains(docs.str(), "`" + flag)) << flag << " is not in docs/operations.md";
         if (flag.starts_with("--max-")) budget_flags.push_back(flag);
     }
-    EXPECT_EQ(budget_flags.size(), 19u);  // every budget of api/limits.h but the deadline (--deadline-ms)
+    EXPECT_EQ(budget_flags.size(), 21u);  // every budget of api/limits.h but the deadline (--deadline-ms)
     for (const std::string& flag : budget_flags) {
         EXPECT_EQ(run("serve " + flag + " 8 --help").exit_code, 0) << flag;
         const CliRun negative = run("serve " + flag + "=-1 --help");
@@ -245,11 +246,12 @@ const std::vector<TableCommand>& table_commands() {
     using api::options::kJson;
     using api::options::kQuery;
     static const std::vector<TableCommand> commands = {
-        {"subdivide", "subdivide", kQuery},   {"simplify", "simplify", kQuery},
-        {"remesh", "remesh", kQuery},         {"repair", "repair", kQuery},
-        {"tessellate", "tessellate", kQuery}, {"pointcloud", "pointcloud", kQuery},
-        {"implicit", "implicit_mesh", kJson}, {"query", "mesh_query", kJson},
-        {"grid", "implicit_grid", kJson},     {"limit", "limit_evaluate", kJson},
+        {"subdivide", "subdivide", kQuery},     {"simplify", "simplify", kQuery},
+        {"remesh", "remesh", kQuery},           {"repair", "repair", kQuery},
+        {"tessellate", "tessellate", kQuery},   {"pointcloud", "pointcloud", kQuery},
+        {"implicit", "implicit_mesh", kJson},   {"query", "mesh_query", kJson},
+        {"grid", "implicit_grid", kJson},       {"limit", "limit_evaluate", kJson},
+        {"reconstruct", "reconstruct", kQuery},
     };
     return commands;
 }
@@ -534,6 +536,11 @@ TEST_F(SurfacedCli, ATableOfMistakesExitsAlikeInEveryCommand) {
          [&](const std::string& ext) { return "pointcloud " + path("points.xyz") + " -o " + path("x." + ext); }, "ply"},
         {"implicit",
          [&](const std::string& ext) { return "implicit " + path("scene.json") + " -o " + path("x." + ext); }, "obj"},
+        {"reconstruct",
+         [&](const std::string& ext) {
+             return "reconstruct " + path("points.xyz") + " -o " + path("x." + ext) + " --depth 4";
+         },
+         "off"},
     };
     struct Mistake {
         std::string what;
@@ -577,6 +584,43 @@ TEST_F(SurfacedCli, ATableOfMistakesExitsAlikeInEveryCommand) {
     const CliRun cli = run(commands[1].args("obj") + " --ratio 2");
     EXPECT_EQ(cli.exit_code, 2);
     EXPECT_TRUE(contains(cli.err, "surfaced: simplify --ratio: ratio must be in (0, 1], got 2")) << cli.err;
+}
+
+TEST_F(SurfacedCli, ReconstructWritesTheClosedSurfaceOfAPointFile) {
+    // a unit sphere sampled on a Fibonacci lattice, without normals
+    {
+        std::ofstream xyz(dir_ / "sphere.xyz");
+        const double golden = 3.14159265358979323846 * (3 - std::sqrt(5.0));
+        for (int i = 0; i < 2000; ++i) {
+            const double z = 1 - (2.0 * i + 1) / 2000, rho = std::sqrt(1 - z * z);
+            xyz << rho * std::cos(golden * i) << " " << rho * std::sin(golden * i) << " " << z << "\n";
+        }
+    }
+    const CliRun r = run("reconstruct " + path("sphere.xyz") + " -o " + path("sphere.obj") + " --depth 5 --k 12");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.err + r.out, "normals estimated")) << r.out << r.err;
+    auto mesh = read_obj(slurp(dir_ / "sphere.obj"));
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    EXPECT_NEAR(testing::signed_volume(mesh.value()), 4.0 / 3.0 * 3.14159265358979323846, 0.15);
+    // the same through standard input and output
+    const CliRun piped = run("reconstruct - -o - --input-format xyz --format off --depth 4", "sphere.xyz");
+    ASSERT_EQ(piped.exit_code, 0) << piped.err;
+    EXPECT_TRUE(piped.out.starts_with("OFF")) << piped.out.substr(0, 40);
+    // a budget is a failure (1), a value out of range or a rule of the options bad usage (2), naming the flag
+    EXPECT_EQ(run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --depth 9").exit_code, 1);
+    const CliRun depth = run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --depth 1");
+    EXPECT_EQ(depth.exit_code, 2);
+    EXPECT_TRUE(contains(depth.err, "reconstruct --depth: ")) << depth.err;
+    const CliRun k =
+        run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --estimate-normals never --k 8");
+    EXPECT_EQ(k.exit_code, 2);
+    EXPECT_TRUE(contains(k.err, "reconstruct --k: ")) << k.err;
+    // points without normals when asked not to estimate them: the input fails (1)
+    const CliRun never =
+        run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --estimate-normals never");
+    EXPECT_EQ(never.exit_code, 1) << never.err;
+    EXPECT_TRUE(contains(never.err, "no normals")) << never.err;
 }
 
 TEST_F(SurfacedCli, OldSpellingsSetTheirTableOptions) {

@@ -1,4 +1,4 @@
-// POST /remesh, /implicit/mesh, /implicit/query, /mesh/query and /pointcloud through the real server on an ephemeral loopback
+// POST /remesh, /implicit/mesh, /implicit/query, /mesh/query, /pointcloud and /reconstruct through the real server on an ephemeral loopback
 // port: status, media type, a decoded-body invariant, and one problem+json naming its field for each. And every JSON
 // request example of the OpenAPI document (`example` and named `examples`) sent to the live server.
 #include <gtest/gtest.h>
@@ -172,6 +172,61 @@ TEST_F(GeometryHttp, PointcloudSampledSphereWithOutwardNormals) {
 
     expect_http_problem(client().Post("/pointcloud", R"({"points": 3})", "application/json"), 400, "invalid_field",
                         "points");
+}
+
+//! A unit sphere sampled on a Fibonacci lattice: positions and outward normals.
+std::vector<std::pair<Vec3, Vec3>> sphere_samples(std::size_t n) {
+    std::vector<std::pair<Vec3, Vec3>> out;
+    const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+    for (std::size_t i = 0; i < n; ++i) {
+        const double z = 1 - (2 * static_cast<double>(i) + 1) / static_cast<double>(n);
+        const double rho = std::sqrt(1 - z * z), t = golden * static_cast<double>(i);
+        const Vec3 p{rho * std::cos(t), rho * std::sin(t), z};
+        out.emplace_back(p, p);
+    }
+    return out;
+}
+
+TEST_F(GeometryHttp, ReconstructPlyBodyWithQueryOptionsAndJsonBody) {
+    const auto samples = sphere_samples(2000);
+    // an ascii PLY with normals as the raw body, the options in the query
+    std::string ply = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(samples.size()) +
+                      "\nproperty double x\nproperty double y\nproperty double z\n"
+                      "property float nx\nproperty float ny\nproperty float nz\nend_header\n";
+    for (const auto& [p, n] : samples)
+        ply += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + " " + std::to_string(n.x) +
+               " " + std::to_string(n.y) + " " + std::to_string(n.z) + "\n";
+    auto res = client().Post("/reconstruct?depth=5&point_weight=4&format=obj", ply, "application/ply");
+    ASSERT_TRUE(res) << httplib::to_string(res.error());
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "model/obj");
+    EXPECT_EQ(res->get_header_value("X-Input-Points"), "2000");
+    EXPECT_EQ(res->get_header_value("X-Normals-Estimated"), "false");
+    EXPECT_EQ(res->get_header_value("X-Depth"), "5");
+    auto mesh = read_obj(res->body);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    EXPECT_EQ(std::to_string(mesh->face_count()), res->get_header_value("X-Output-Faces"));
+    EXPECT_TRUE(testing::is_watertight(mesh.value()));
+    double worst = 0;
+    for (const Vec3& p : mesh->positions) worst = std::max(worst, std::abs(length(p) - 1));
+    EXPECT_LT(worst, 0.5 * 2.2 / 32);  // half the finest cell
+    EXPECT_NEAR(testing::signed_volume(mesh.value()), 4.0 / 3.0 * std::numbers::pi, 0.05 * 4.19);
+
+    // the points without normals as JSON, answered as Draco GLB: normals estimated and outward
+    Json points = Json::array();
+    for (const auto& sample : samples) points.push_back({sample.first.x, sample.first.y, sample.first.z});
+    const Json body = {{"points", points}, {"depth", 5}, {"k", 12}};
+    auto glb = client().Post("/reconstruct", body.dump(), "application/json");
+    ASSERT_TRUE(glb) << httplib::to_string(glb.error());
+    ASSERT_EQ(glb->status, 200) << glb->body;
+    EXPECT_EQ(glb->get_header_value("Content-Type"), "model/gltf-binary");
+    EXPECT_EQ(glb->get_header_value("X-Normals-Estimated"), "true");
+    auto glb_mesh = read_glb(glb->body);
+    ASSERT_TRUE(glb_mesh.ok()) << glb_mesh.error().message;
+    EXPECT_GT(testing::signed_volume(glb_mesh.value()), 0.9 * 4.0 / 3.0 * std::numbers::pi);
+
+    expect_http_problem(client().Post("/reconstruct?depth=1", ply, "application/ply"), 400, "invalid_field", "depth");
+    expect_http_problem(client().Post("/reconstruct?depth=9", ply, "application/ply"), 422, "budget_exceeded", "depth");
 }
 
 // The document's request examples are what users copy: each one, sent over HTTP as documented, must succeed.

@@ -19,8 +19,8 @@ from ._version import API_VERSION
 from .types import (
     Boundary, Bounds, BSpline, BSplineSurface, Chain, Compression, Continuity, Corner, Crease, CreaseMethod,
     CurvesOutput, Derivatives, EnforceC1, EstimateNormals, ImplicitMode, ImplicitScene, InsertKnot, LimitPoint,
-    LoopWeights, Mesh, Output, OutputFormat, Patch, PatchSampleFormat, Point, PointcloudFormat, Ray,
-    RemeshSmoothing, RepairMode, Sample, Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, Tolerance,
+    LoopWeights, Mesh, NormalEstimation, Output, OutputFormat, Patch, PatchSampleFormat, Point, PointcloudFormat,
+    PoissonBoundary, Ray, RemeshSmoothing, RepairMode, Sample, Scheme, SurfaceElevate, SurfaceInsertKnot, TessellateFormat, Tolerance,
     TriangleRule, UvInterpolation, Vec2, Vec3,
 )
 
@@ -648,6 +648,48 @@ class Client:
         return self.request("POST", "/implicit/mesh", json_body=body)
 
     # -- point clouds ----------------------------------------------------------------------------------------------
+    def reconstruct(self, points: Optional[Sequence[Vec3]] = None, *, data: Optional[bytes] = None,
+                    content_type: Optional[str] = None, normals: Union[Sequence[Vec3], bool, None] = None,
+                    colors: Optional[Sequence[Sequence[float]]] = None, depth: int = 8, point_weight: float = 4,
+                    samples_per_node: float = 1.5, boundary: PoissonBoundary = "neumann", scale: float = 1.1,
+                    confidence: bool = False, estimate_normals: NormalEstimation = "auto", k: int = 16,
+                    output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
+                    quantize_position: int = 14) -> Result:
+        """POST /reconstruct: a closed, outward-oriented triangle mesh through a point cloud (screened Poisson
+        reconstruction). Counts, the iso-value and the octree size come in the X-* headers (and ``stats`` of the
+        JSON form).
+
+        Input: JSON ``points`` (with optional ``normals``, one per point, pointing out of the solid, and ``colors``),
+        or ``data``, a PLY, OBJ or XYZ file with its ``content_type`` (``application/ply``, ``model/obj``,
+        ``text/x-xyz``).
+
+        :param normals: with JSON ``points``: their normals (a list); a bool is the output option: False leaves
+            vertex normals out of the mesh (default: written).
+        :param depth: finest octree level, 2..10 (default 8): 2^depth cells across the bounding cube; the server's
+            grid-cell budget refuses 9 and 10 by default.
+        :param point_weight: screening weight, >= 0 (default 4; 0: unscreened).
+        :param samples_per_node: samples per cell on a point's splatting level, > 0 (default 1.5).
+        :param boundary: ``"neumann"`` (default) or ``"dirichlet"``.
+        :param scale: bounding cube side over the points' bounding box's largest side, 1..100 (default 1.1).
+        :param confidence: weight each point by its normal's length (default False).
+        :param estimate_normals: ``"auto"`` (default: when the cloud has none), ``"always"`` or ``"never"``.
+        :param k: neighbours for normal estimation, 3..256 (default 16).
+        :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
+        :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
+        :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
+        :param quantize_position: Draco position bits, 1..24 (default 14).
+        """
+        args = dict(locals())
+        if isinstance(normals, bool):   # the output option; a list is the input's normals (JSON)
+            out = dict(output or {})
+            if "normals" in out and out["normals"] != normals:
+                raise ValueError(f"normals={normals!r} disagrees with output['normals']={out['normals']!r}")
+            if not normals:
+                out["normals"] = False
+            args["output"], args["normals"] = out, None
+        return self._operation("/reconstruct", args, Client.reconstruct.__kwdefaults__,
+                               payload=("points", "normals", "colors"), data=data, content_type=content_type)
+
     def pointcloud(self, points: Optional[Sequence[Vec3]] = None, *, data: Optional[bytes] = None,
                    content_type: Optional[str] = None, normals: Union[Sequence[Vec3], bool, None] = None,
                    colors: Optional[Sequence[Sequence[float]]] = None, sample: Optional[Sample] = None,

@@ -12,7 +12,7 @@ __all__ = [
     "Vec2", "Vec3", "Point", "Bounds", "ImplicitScene",
     "Scheme", "Boundary", "CreaseMethod", "TriangleRule", "UvInterpolation", "LoopWeights", "OutputFormat",
     "Compression", "RepairMode", "RemeshSmoothing", "ImplicitMode", "TessellateFormat", "PatchSampleFormat",
-    "PointcloudFormat", "CurvesFormat", "KnotVector",
+    "PointcloudFormat", "CurvesFormat", "KnotVector", "PoissonBoundary", "NormalEstimation",
     "Mesh", "Output", "Crease", "Corner", "LimitPoint", "Patch", "Ray", "EstimateNormals", "Sample", "Derivatives", "Tolerance",
     "ChainPiece", "Chain", "BSpline", "Continuity", "EnforceC1", "InsertKnot", "CurvesOutput", "JsonValue",
     "BSplineSurface", "SurfaceInsertKnot", "SurfaceElevate",
@@ -43,6 +43,8 @@ PatchSampleFormat = Literal["glb", "gltf", "obj", "ply", "json", "stl", "off", "
 PointcloudFormat = Literal["glb", "gltf", "ply", "json"]
 CurvesFormat = Literal["json", "glb", "gltf"]
 KnotVector = Literal["clamped", "uniform", "closed"]
+PoissonBoundary = Literal["neumann", "dirichlet"]
+NormalEstimation = Literal["auto", "always", "never"]
 
 
 class _MeshRequired(TypedDict):
