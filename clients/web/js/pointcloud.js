@@ -16,12 +16,12 @@ function pointMediaType(fileName) {
   return { ply: 'application/ply', obj: 'model/obj', xyz: 'text/x-xyz' }[ext] ?? 'application/octet-stream';
 }
 
-/** The report of an answer as lines ("iso value: 0.49"): every X- header, the triangle count first and the time last
- *  (the rest in name order, as fetch lists headers). */
+/** The report of an answer as lines ("iso value: 0.49"): its X- headers but the request id, the triangle count first
+ *  and the time last (the rest in name order, as fetch lists headers). */
 function reportLines(headers) {
   const labels = { 'x-output-faces': 'triangles', 'x-elapsed-ms': 'server ms' };
   const rank = (name) => (name === 'x-output-faces' ? 0 : name === 'x-elapsed-ms' ? 2 : 1);
-  return [...headers].filter(([name]) => name.startsWith('x-'))
+  return [...headers].filter(([name]) => name.startsWith('x-') && name !== 'x-request-id')
     .sort((a, b) => rank(a[0]) - rank(b[0]))
     .map(([name, value]) => `${labels[name] ?? name.slice(2).replace(/-/g, ' ')}: ${value}`);
 }
