@@ -11,7 +11,9 @@
 #include "api/operations/point_input.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
+#include "geometry/pointcloud/confidence.h"
 #include "geometry/pointcloud/point_cloud.h"
+#include "geometry/reconstruct/trim.h"
 
 namespace surfaced::api::operations {
 namespace {
@@ -23,6 +25,7 @@ struct Params {
     NormalEstimation estimate = NormalEstimation::Auto;
     std::int64_t k = 16;
     bool k_given = false;
+    TrimOptions trim;  //!< trim 0: not trimmed
     OutputOptions output;
 };
 
@@ -41,6 +44,9 @@ Params params_from(const options::OptionValues& values) {
     values.get("estimate_normals", kNormalEstimationNames, params.estimate);
     values.get("k", params.k);
     params.k_given = values.has("k");
+    values.get("trim", params.trim.trim);
+    values.get("island_area", params.trim.island_area);
+    params.trim.samples_per_node = params.poisson.samples_per_node;
     values.get_output(params.output);
     return params;
 }
@@ -174,6 +180,11 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
                 estimate_point_normals(d.cloud, params.k, limits, context.cancel, d.source, "k", std::string("points")))
             return error_response(std::move(*error));
     }
+    // a PLY cloud's per-point confidence becomes the normals' lengths, which confidence weighs the points by
+    const bool confidence_property = params.poisson.use_confidence && d.cloud.has_confidence();
+    if (confidence_property)
+        if (Status s = weight_normals_by_confidence(d.cloud); !s)
+            return error_response(point_error(s.error(), d.source));
     const auto t_normals = Clock::now();
 
     // 3. reconstruct (polls the request's Cancel)
@@ -181,9 +192,33 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
     if (!reconstructed) return error_response(reconstruction_error(reconstructed.error(), d.source));
     PoissonResult& result = reconstructed.value();
     const auto t_reconstructed = Clock::now();
+
+    // 4. trim where the samples do not support the surface
+    std::optional<TrimReport> trimmed;
+    if (params.trim.trim > 0) {
+        auto report = trim_reconstruction(result.mesh, d.cloud, result, params.trim, context.cancel);
+        if (!report) {
+            ApiError error = from_geo_error(report.error());
+            if (report.error().code == ErrorCode::InvalidArgument) error.field = "trim";
+            return error_response(std::move(error));
+        }
+        trimmed = report.value();
+        if (result.mesh.face_count() == 0) {
+            ApiError error =
+                from_geo_error(make_error(ErrorCode::InvalidArgument,
+                                          "trim " + format_double(params.trim.trim) +
+                                              " removes the whole surface; the typical density on the scanned surface "
+                                              "is " +
+                                              format_double(trimmed->sample_density)));
+            error.field = "trim";
+            error.hint = "a trim 0.3 to 1 below the typical density cuts only where the samples end";
+            return error_response(std::move(error));
+        }
+    }
+    const auto t_trimmed = Clock::now();
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
 
-    // 4. encode
+    // 5. encode
     std::size_t octree_cells = 0;
     for (std::size_t cells : result.stats.cells) octree_cells += cells;
     Json stats = {
@@ -199,7 +234,13 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
         {"area_estimate", result.stats.area_estimate},
         {"cube",
          {{"origin", {result.cube_origin.x, result.cube_origin.y, result.cube_origin.z}}, {"size", result.cube_size}}},
-        {"elapsed_ms", ms_between(t_start, t_reconstructed)}};
+        {"elapsed_ms", ms_between(t_start, t_trimmed)}};
+    if (trimmed)
+        stats["trim"] = {{"faces_removed", trimmed->faces_removed},
+                         {"islands_removed", trimmed->islands_removed},
+                         {"sample_density", trimmed->sample_density},
+                         {"min_density", trimmed->min_density},
+                         {"max_density", trimmed->max_density}};
     Headers headers = {
         {"X-Input-Points", std::to_string(input_points)},
         {"X-Output-Vertices", std::to_string(result.mesh.vertex_count())},
@@ -208,11 +249,19 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
         {"X-Depth", std::to_string(params.poisson.depth)},
         {"X-Iso-Value", format_double(result.iso_value)},
         {"X-Octree-Cells", std::to_string(octree_cells)},
+        {"X-Confidence", confidence_property             ? "property"
+                         : params.poisson.use_confidence ? "normals"
+                                                         : "none"},
     };
+    if (trimmed)
+        headers.insert(headers.end(), {{"X-Trimmed-Faces", std::to_string(trimmed->faces_removed)},
+                                       {"X-Islands-Removed", std::to_string(trimmed->islands_removed)},
+                                       {"X-Sample-Density", format_double(trimmed->sample_density)}});
     return mesh_response(
         result.mesh, params.output, d.source,
         [&](const PolygonMesh& m) { return encode_mesh_with_stats(m, json_text(stats)); }, std::move(headers),
-        Timing{t_start, {{"decode", t_decoded}, {"normals", t_normals}, {"reconstruct", t_reconstructed}}});
+        Timing{t_start,
+               {{"decode", t_decoded}, {"normals", t_normals}, {"reconstruct", t_reconstructed}, {"trim", t_trimmed}}});
 }
 
 }  // namespace

@@ -468,6 +468,19 @@ constexpr OptionSpec kReconstruct[] = {
      .max = at_most(256),
      .default_json = "16",
      .description = "Neighbours for normal estimation (not with estimate_normals never)"},
+    {.name = "trim",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .default_json = "0",
+     .description = "Cut away the surface where the sampling density, on the octree-depth scale, is below this (0: "
+                    "keep all); useful 0.3 to 1 below X-Sample-Density"},
+    {.name = "island_area",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = at_most(1),
+     .default_json = "0.001",
+     .description = "With trim: pieces, and regions below the level, smaller than this fraction of the area are "
+                    "removed, and kept, respectively"},
 };
 
 // ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---

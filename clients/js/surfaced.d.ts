@@ -438,12 +438,16 @@ export interface ReconstructOptions {
   boundary?: PoissonBoundary;
   /** bounding cube side over the bounding box's largest side, 1..100. @default 1.1 */
   scale?: number;
-  /** weight each point by its normal's length. @default false */
+  /** weight each point by its PLY confidence, else its normal length. @default false */
   confidence?: boolean;
   /** estimate normals when the cloud has none (auto), always, or never. @default 'auto' */
   estimate_normals?: NormalEstimation;
   /** neighbours for normal estimation, 3..256. @default 16 */
   k?: number;
+  /** cut the surface where the sampling density is below this, on the octree-depth scale (0: keep all). @default 0 */
+  trim?: number;
+  /** with trim: smaller pieces are removed, smaller low regions kept, as a fraction of the area. @default 0.001 */
+  island_area?: number;
   output?: Output<OutputFormat>;
   /** @default 'glb' */
   format?: OutputFormat;

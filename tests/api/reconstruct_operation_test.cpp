@@ -166,6 +166,89 @@ TEST(ReconstructOperation, ConfidenceWeighsPointsByTheirNormalsLength) {
     EXPECT_LT(worst, 4 * 1.1 / 32);
 }
 
+TEST(ReconstructOperation, TrimOpensTheSurfaceWhereTheScanEnds) {
+    // the unit sphere scanned below z = 0.3 only: Poisson closes it with an invented cap
+    const Sphere all = sphere_cloud(8000);
+    json points = json::array(), normals = json::array();
+    for (std::size_t i = 0; i < all.points.size(); ++i)
+        if (all.points[i][2].get<double>() < 0.3) {
+            points.push_back(all.points[i]);
+            normals.push_back(all.normals[i]);
+        }
+    const auto run = [&](double trim) {
+        json body = {{"points", points}, {"normals", normals}, {"depth", 6}, {"output", {{"format", "json"}}}};
+        if (trim > 0) body["trim"] = trim;
+        return post(body.dump());
+    };
+    const double h = 2.2 / 64;
+    const ApiResponse closed = run(0);
+    ASSERT_EQ(closed.status, 200) << closed.body;
+    EXPECT_EQ(header(closed, "X-Sample-Density"), "");  // reported only when trimming
+    const PolygonMesh capped = answer_mesh(closed);
+    EXPECT_TRUE(testing::is_watertight(capped));
+    double top = -1;
+    for (const Vec3& p : capped.positions) top = std::max(top, p.z);
+    EXPECT_GT(top, 0.6);  // the cap
+
+    // a first trim reports the typical density; half a level below it cuts where the samples end
+    const ApiResponse probe = run(1);
+    ASSERT_EQ(probe.status, 200) << probe.body;
+    const double typical = std::stod(header(probe, "X-Sample-Density"));
+    EXPECT_GT(typical, 4);
+    EXPECT_LT(typical, 7);
+    const ApiResponse cut = run(typical - 0.5);
+    ASSERT_EQ(cut.status, 200) << cut.body;
+    const PolygonMesh open = answer_mesh(cut);
+    EXPECT_EQ(testing::boundary_loop_count(open), 1u);
+    EXPECT_EQ(testing::edge_stats(open).non_manifold_edges, 0u);
+    EXPECT_EQ(testing::edge_stats(open).inconsistent_edges, 0u);
+    top = -1;
+    for (const Vec3& p : open.positions) top = std::max(top, p.z);
+    EXPECT_LT(top, 0.3 + 3 * h);
+    EXPECT_GT(std::stoll(header(cut, "X-Trimmed-Faces")), 0);
+    EXPECT_EQ(json::parse(cut.body)["stats"]["trim"]["faces_removed"].get<std::int64_t>(),
+              std::stoll(header(cut, "X-Trimmed-Faces")));
+
+    // a level above every vertex removes everything: refused, naming trim; a negative one is out of range
+    json body = {{"points", points}, {"normals", normals}, {"depth", 5}, {"trim", 30}};
+    expect_problem(post(body.dump()), 422, "invalid_argument", "trim");
+    body["trim"] = -1;
+    expect_problem(post(body.dump()), 400, "invalid_field", "trim");
+    body["trim"] = 5;
+    body["island_area"] = 2;
+    expect_problem(post(body.dump()), 400, "invalid_field", "island_area");
+}
+
+TEST(ReconstructOperation, ConfidenceFromAPlyPropertyWeighsThePoints) {
+    // a unit sphere at confidence 1 and outliers 0.15 outside it at confidence 0
+    const Sphere inner = sphere_cloud(3000), outer = sphere_cloud(1000, 1.15);
+    std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 4000\nproperty double x\nproperty double y\n"
+        "property double z\nproperty double nx\nproperty double ny\nproperty double nz\n"
+        "property float confidence\nend_header\n";
+    for (const Sphere* s : {&inner, &outer})
+        for (std::size_t i = 0; i < s->points.size(); ++i) {
+            for (int k = 0; k < 3; ++k) ply += std::to_string(s->points[i][k].get<double>()) + " ";
+            for (int k = 0; k < 3; ++k) ply += std::to_string(s->normals[i][k].get<double>()) + " ";
+            ply += s == &inner ? "1\n" : "0\n";
+        }
+    const auto worst_distance = [](const ApiResponse& r) {
+        double worst = 0;
+        for (const Vec3& p : answer_mesh(r).positions) worst = std::max(worst, std::abs(norm(p) - 1));
+        return worst;
+    };
+    const ApiResponse weighted =
+        post(ply, "application/ply", {{"depth", "5"}, {"confidence", "true"}, {"format", "json"}});
+    ASSERT_EQ(weighted.status, 200) << weighted.body;
+    EXPECT_EQ(header(weighted, "X-Confidence"), "property");
+    const ApiResponse unweighted = post(ply, "application/ply", {{"depth", "5"}, {"format", "json"}});
+    ASSERT_EQ(unweighted.status, 200) << unweighted.body;
+    EXPECT_EQ(header(unweighted, "X-Confidence"), "none");
+    // points of weight 0 do not count, not even for the bounding cube
+    EXPECT_LT(worst_distance(weighted), 0.5 * 2.2 / 32);
+    EXPECT_GT(worst_distance(unweighted), worst_distance(weighted));
+}
+
 TEST(ReconstructOperation, EveryMeshFormatAndAccept) {
     const Sphere s = sphere_cloud(500);
     const struct {

@@ -653,7 +653,7 @@ class Client:
                     colors: Optional[Sequence[Sequence[float]]] = None, depth: int = 8, point_weight: float = 4,
                     samples_per_node: float = 1.5, boundary: PoissonBoundary = "neumann", scale: float = 1.1,
                     confidence: bool = False, estimate_normals: NormalEstimation = "auto", k: int = 16,
-                    output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
+                    trim: float = 0, island_area: float = 0.001, output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
                     quantize_position: int = 14) -> Result:
         """POST /reconstruct: a closed, outward-oriented triangle mesh through a point cloud (screened Poisson
         reconstruction). Counts, the iso-value and the octree size come in the X-* headers (and ``stats`` of the
@@ -671,9 +671,14 @@ class Client:
         :param samples_per_node: samples per cell on a point's splatting level, > 0 (default 1.5).
         :param boundary: ``"neumann"`` (default) or ``"dirichlet"``.
         :param scale: bounding cube side over the points' bounding box's largest side, 1..100 (default 1.1).
-        :param confidence: weight each point by its normal's length (default False).
+        :param confidence: weight each point by a PLY file's confidence property, else its normal's length (default
+            False).
         :param estimate_normals: ``"auto"`` (default: when the cloud has none), ``"always"`` or ``"never"``.
         :param k: neighbours for normal estimation, 3..256 (default 16).
+        :param trim: cut the surface where the sampling density (octree-depth scale) is below this, >= 0 (default 0:
+            keep the closed surface); 0.3 to 1 below the X-Sample-Density header is useful.
+        :param island_area: with trim: pieces (and uncut low regions) smaller than this fraction of the area are
+            removed (kept), 0..1 (default 0.001).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
         :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
