@@ -1,18 +1,18 @@
 // The Point cloud view's part of the browser test (web_client_test.mjs runs it): the demo cloud is sampled and drawn;
 // an uploaded PLY without normals gets estimated, outward normals from POST /pointcloud; when the server has
 // POST /reconstruct, the cloud is reconstructed, closed and trimmed, both drawn side by side with their reports.
-// The uploaded cloud is made here: points on the unit sphere above z = -0.5 (an open cap, as a scan is), so the
-// closed reconstruction caps the hole and trimming removes the cap.
+// The uploaded cloud is made here: points on the unit sphere below z = 0.5 (open, as a scan is; the hole faces the
+// camera), so the closed reconstruction caps the hole and trimming removes the cap.
 
-const RADIUS = 1, CUT = -0.5, COUNT = 1500;
+const RADIUS = 1, CUT = 0.5, COUNT = 1500;
 
-/** COUNT points of a Fibonacci spiral on the sphere's part above z = CUT, as an ASCII PLY without normals. */
+/** COUNT points of a Fibonacci spiral on the sphere's part below z = CUT, as an ASCII PLY without normals. */
 function capPly() {
-  const lines = ['ply', 'format ascii 1.0', 'comment points on the unit sphere above z = -0.5 (browser test)',
+  const lines = ['ply', 'format ascii 1.0', 'comment points on the unit sphere below z = 0.5 (browser test)',
                  `element vertex ${COUNT}`, 'property float x', 'property float y', 'property float z', 'end_header'];
   const golden = Math.PI * (3 - Math.sqrt(5));
   for (let i = 0; i < COUNT; ++i) {
-    const z = 1 - (i + 0.5) / COUNT * (1 - CUT);   // uniform in z over [CUT, 1]: uniform in area
+    const z = -1 + (i + 0.5) / COUNT * (CUT + 1);   // uniform in z over [-1, CUT]: uniform in area
     const r = Math.sqrt(1 - z * z);
     lines.push([r * Math.cos(golden * i), r * Math.sin(golden * i), z].map((v) => (RADIUS * v).toFixed(6)).join(' '));
   }
@@ -99,21 +99,21 @@ export async function checkPointCloudView(page, { check, shot, canvasPixels }) {
         `reconstructed: ${full} triangles${trimming ? `, trimmed: ${trimmed}` : ''}` +
         `${errorText ? `, error: ${errorText.replace(/\s+/g, ' ')}` : ''}`);
   console.log(`     report: ${recon.text.split('\n').filter((l) => l.startsWith('  ')).map((l) => l.trim()).join('; ')}`);
-  // the closed mesh follows the sphere where it was sampled and caps the hole below z = -0.5; the trimmed one keeps
+  // the closed mesh follows the sphere where it was sampled and caps the hole above z = 0.5; the trimmed one keeps
   // the sampled part only
   const measure = (which) => page.evaluate(({ which, cut }) => {
     const p = window.surfaced.viewer[which].geometry.attributes.position;
-    let lowest = Infinity, offSphere = 0;
+    let highest = -Infinity, offSphere = 0;
     for (let i = 0; i < p.count; ++i) {
-      lowest = Math.min(lowest, p.getZ(i));
-      if (p.getZ(i) > cut + 0.25) offSphere = Math.max(offSphere, Math.abs(Math.hypot(p.getX(i), p.getY(i), p.getZ(i)) - 1));
+      highest = Math.max(highest, p.getZ(i));
+      if (p.getZ(i) < cut - 0.25) offSphere = Math.max(offSphere, Math.abs(Math.hypot(p.getX(i), p.getY(i), p.getZ(i)) - 1));
     }
-    return { lowest, offSphere };
+    return { highest, offSphere };
   }, { which, cut: CUT });
   const closed = await measure('result');
   const cell = 2.2 / 64;   // depth 6 over the bounding cube (1.1 times the cloud's extent)
-  check(closed.lowest < CUT - 2 * cell && closed.offSphere < cell,
-        `the closed mesh reaches z = ${closed.lowest.toFixed(3)} below the cut at ${CUT}, and above z = ${CUT + 0.25} ` +
+  check(closed.highest > CUT + 2 * cell && closed.offSphere < cell,
+        `the closed mesh reaches z = ${closed.highest.toFixed(3)} above the cut at ${CUT}, and below z = ${CUT - 0.25} ` +
         `lies within ${closed.offSphere.toFixed(4)} of the sphere (cell ${cell.toFixed(4)})`);
   if (!trimming) {
     const pixels = await canvasPixels();
@@ -121,9 +121,15 @@ export async function checkPointCloudView(page, { check, shot, canvasPixels }) {
     console.log('     SKIPPED: this server\'s POST /reconstruct has no trim option: trimming was NOT tested');
     return;
   }
+  // the trim suggested (half a level below the density estimated in the page) against the server's measure
+  const suggested = await page.evaluate(() => window.surfaced.views.pointcloud.cloud.density);
+  const served = Number(/sample density: ([0-9.]+)/.exec(recon.text)?.[1]);
+  check(Math.abs(suggested - served) < 0.25 && Number(await page.inputValue('#pc-trim')) === Math.round((suggested - 0.5) * 10) / 10,
+        `trim ${await page.inputValue('#pc-trim')} suggested from the page's density estimate ${suggested.toFixed(3)}; ` +
+        `the server's X-Sample-Density ${served}`);
   const cut = await measure('second');
-  check(cut.lowest > CUT - 2 * cell && cut.offSphere < cell,
-        `the trimmed mesh stops at z = ${cut.lowest.toFixed(3)}, near the cut at ${CUT}`);
+  check(cut.highest < CUT + 2 * cell && cut.offSphere < cell,
+        `the trimmed mesh stops at z = ${cut.highest.toFixed(3)}, within two cells of the cut at ${CUT}`);
   const left = await canvasPixels('left'), right = await canvasPixels('right');
   const labels = await page.$$eval('.view-labels span', (spans) => spans.map((s) => s.textContent));
   check(left.n > 0.02 * left.total && right.n > 0.02 * right.total && labels.length === 2 &&

@@ -5,7 +5,7 @@
 // The tab appears when /openapi.json lists POST /pointcloud; reconstruction when it lists POST /reconstruct.
 import * as THREE from 'three';
 import { call } from './api.js';
-import { readPlyPoints, gltfPoints, demoClouds } from './pointdata.js';
+import { readPlyPoints, gltfPoints, demoClouds, typicalDensity } from './pointdata.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -134,6 +134,7 @@ export class PointCloudView {
       this.cloud = { ...points, ply: answer.bytes, estimated, k, name, headers: answer.headers,
                      roundTripMs: answer.roundTripMs + (first === answer ? 0 : first.roundTripMs) };
       this.results = null;
+      this.fitResults = true;
       this.runs++;   // a reconstruction still running is of the previous cloud: its answer is dropped
       this.busy = false;
       if (!this.active) return;
@@ -143,10 +144,23 @@ export class PointCloudView {
       this.app.setDownloads(null);
       this.drawCloud();
       this.viewer.fit();
+      this.suggestTrim();
       this.showStats();
     } catch (e) {
       if (seq === this.loads) this.app.showError(e, `Could not read ${name}`);
     }
+  }
+
+  /** Fills in a trim half a level below the cloud's typical sampling density (estimated here on the server's scale):
+   *  that cuts within a cell or two of where the samples end (docs/reconstruction.md, "Trimming"). */
+  suggestTrim() {
+    const c = this.cloud;
+    c.density = typicalDensity(c.positions, c.count);
+    if (!this.canTrim || !Number.isFinite(c.density)) return;
+    $('pc-trim').value = String(Math.max(0, Math.round((c.density - 0.5) * 10) / 10));
+    $('pc-density').textContent = `This cloud's sampling density is about ${c.density.toFixed(2)} (the server reports it ` +
+      'as sample density): a trim 0.3 to 1 below it cuts where the samples end.';
+    $('pc-density').hidden = false;
   }
 
   /** The points, coloured by their normal (grey without), and a line along each normal (at most 20,000 drawn). */
@@ -229,6 +243,8 @@ export class PointCloudView {
     if (trimmed) trimmed.triangles = triangleCount(second);
     this.viewer.setGeometry(first);
     this.viewer.setSecond(second);
+    if (this.fitResults) this.viewer.fit();   // the first results of a cloud: framed for the halves
+    this.fitResults = false;
     this.viewer.setLabels([`reconstructed: ${full.triangles} triangles`,
                            trimmed ? `trimmed (trim ${options.trim}): ${trimmed.triangles} triangles` : '']);
     this.showStats();

@@ -131,3 +131,42 @@ export const demoClouds = {
     bounds: [[-1.6, -1.6, -1.0], [1.6, 1.6, 1.0]], count, seed: 7,
   }),
 };
+
+/**
+ * The cloud's typical sampling density on the octree-depth scale, as POST /reconstruct measures it for trimming
+ * (X-Sample-Density; docs/reconstruction.md, "Trimming"): the median over samples of log2(cube / h), h the side of a
+ * square holding `samplesPerNode` samples at the density k / (pi r^2) given by the distance r to the k-th nearest
+ * sample, cube the bounding box's largest side times `scale`. Estimated from at most 200 samples against at most
+ * 100,000 others (k scaled down with them), by brute force: a trim suggestion before any reconstruction.
+ */
+export function typicalDensity(positions, count, { k = 32, samplesPerNode = 1.5, scale = 1.1 } = {}) {
+  if (count < 2) return NaN;
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < count; ++i)
+    for (let c = 0; c < 3; ++c) {
+      lo[c] = Math.min(lo[c], positions[3 * i + c]);
+      hi[c] = Math.max(hi[c], positions[3 * i + c]);
+    }
+  const cube = scale * Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+  const stride = Math.max(1, Math.ceil(count / 100000));
+  const kk = Math.min(Math.max(1, Math.round(k / stride)), Math.ceil(count / stride));
+  const nearest = new Float64Array(kk);   // the kk smallest squared distances, ascending
+  const values = [];
+  const probeStride = Math.max(1, Math.floor(count / 200));
+  for (let p = 0; p < count; p += probeStride) {
+    nearest.fill(Infinity);
+    const [x, y, z] = [positions[3 * p], positions[3 * p + 1], positions[3 * p + 2]];
+    for (let i = 0; i < count; i += stride) {
+      const dx = positions[3 * i] - x, dy = positions[3 * i + 1] - y, dz = positions[3 * i + 2] - z;
+      const d = dx * dx + dy * dy + dz * dz;
+      if (d >= nearest[kk - 1]) continue;
+      let j = kk - 1;
+      for (; j > 0 && nearest[j - 1] > d; --j) nearest[j] = nearest[j - 1];
+      nearest[j] = d;
+    }
+    const h = Math.sqrt(samplesPerNode * Math.PI * nearest[kk - 1] / (stride * kk));
+    if (h > 0) values.push(Math.log2(cube / h));
+  }
+  values.sort((a, b) => a - b);
+  return values.length ? values[Math.floor(values.length / 2)] : NaN;
+}

@@ -189,12 +189,13 @@ export class Viewer {
     }
   }
 
-  /** Frames whatever is in root. */
+  /** Frames whatever is in root (further away when the view is narrower than tall, as a split half can be). */
   fit() {
     this.root.updateMatrixWorld(true);
     const box = new THREE.Box3().setFromObject(this.root);
     if (box.isEmpty()) return;
-    const size = box.getSize(new THREE.Vector3()).length();
+    this.updateAspect();
+    const size = box.getSize(new THREE.Vector3()).length() * Math.max(1, 0.8 / this.camera.aspect);
     const center = box.getCenter(new THREE.Vector3());
     this.controls.target.copy(center);
     this.camera.near = size / 100;
