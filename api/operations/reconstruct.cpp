@@ -14,6 +14,7 @@
 #include "geometry/pointcloud/confidence.h"
 #include "geometry/pointcloud/point_cloud.h"
 #include "geometry/reconstruct/trim.h"
+#include "geometry/reconstruct/vertex_colors.h"
 
 namespace surfaced::api::operations {
 namespace {
@@ -25,11 +26,17 @@ struct Params {
     NormalEstimation estimate = NormalEstimation::Auto;
     std::int64_t k = 16;
     bool k_given = false;
-    TrimOptions trim;  //!< trim 0: not trimmed
+    TrimOptions trim;                   //!< trim 0: not trimmed
+    std::optional<bool> vertex_colors;  //!< unset: when the cloud has colours and the format holds them
     OutputOptions output;
 };
 
 const options::OperationOptions& reconstruct_options() { return *options::operation_options("reconstruct"); }
+
+//! The formats that carry vertex colours: PLY (uchar red green blue), OBJ (`v x y z r g b`) and the JSON answer.
+bool colors_format(OutputFormat format) {
+    return format == OutputFormat::Ply || format == OutputFormat::Obj || format == OutputFormat::Json;
+}
 
 Params params_from(const options::OptionValues& values) {
     Params params;
@@ -47,6 +54,7 @@ Params params_from(const options::OptionValues& values) {
     values.get("trim", params.trim.trim);
     values.get("island_area", params.trim.island_area);
     params.trim.samples_per_node = params.poisson.samples_per_node;
+    values.get("vertex_colors", params.vertex_colors);
     values.get_output(params.output);
     return params;
 }
@@ -58,6 +66,11 @@ std::optional<ApiError> check_params(const Params& params, Source source) {
                             "k applies only when normals are estimated (estimate_normals auto "
                             "or always)",
                             "k");
+    if (params.vertex_colors.value_or(false) && !colors_format(params.output.format))
+        return make_problem(Problem::InvalidField,
+                            "vertex colours are written in ply, obj and json output, not in " +
+                                std::string(enum_name(kOutputFormatNames, params.output.format)),
+                            "vertex_colors");
     return check_output_options(params.output, source);
 }
 
@@ -215,6 +228,18 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
             return error_response(std::move(error));
         }
     }
+    // 5. the samples' colours carried to the vertices (after trimming, which renumbers them)
+    std::vector<Color> colors;
+    if (params.vertex_colors.value_or(d.cloud.has_colors() && colors_format(params.output.format))) {
+        if (!d.cloud.has_colors()) {
+            ApiError error = from_geo_error(make_error(ErrorCode::InvalidArgument, "the cloud has no colours"));
+            error.field = "vertex_colors";
+            return error_response(std::move(error));
+        }
+        auto transferred = transfer_colors(result.mesh, d.cloud, {}, context.cancel);
+        if (!transferred) return error_response(from_geo_error(transferred.error()));
+        colors = std::move(transferred.value());
+    }
     const auto t_trimmed = Clock::now();
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
 
@@ -249,6 +274,7 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
         {"X-Depth", std::to_string(params.poisson.depth)},
         {"X-Iso-Value", format_double(result.iso_value)},
         {"X-Octree-Cells", std::to_string(octree_cells)},
+        {"X-Colors", colors.empty() ? "false" : "true"},
         {"X-Confidence", confidence_property             ? "property"
                          : params.poisson.use_confidence ? "normals"
                                                          : "none"},
@@ -257,11 +283,40 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
         headers.insert(headers.end(), {{"X-Trimmed-Faces", std::to_string(trimmed->faces_removed)},
                                        {"X-Islands-Removed", std::to_string(trimmed->islands_removed)},
                                        {"X-Sample-Density", format_double(trimmed->sample_density)}});
-    return mesh_response(
-        result.mesh, params.output, d.source,
-        [&](const PolygonMesh& m) { return encode_mesh_with_stats(m, json_text(stats)); }, std::move(headers),
-        Timing{t_start,
-               {{"decode", t_decoded}, {"normals", t_normals}, {"reconstruct", t_reconstructed}, {"trim", t_trimmed}}});
+    Timing timing{
+        t_start,
+        {{"decode", t_decoded}, {"normals", t_normals}, {"reconstruct", t_reconstructed}, {"trim", t_trimmed}}};
+    if (!colors.empty() && params.output.format != OutputFormat::Json) {
+        ApiResponse response;
+        response.content_type = std::string(output_media_type(params.output.format));
+        prepare_normals(result.mesh, params.output);
+        if (params.output.format == OutputFormat::Ply) {
+            response.body = write_ply(result.mesh, PlyEncoding::BinaryLittleEndian, colors, d.cloud.has_alpha);
+        } else {
+            ObjWriteOptions obj;
+            obj.write_normals = output_normals(params.output);
+            obj.vertex_colors = colors;
+            response.body = write_obj(result.mesh, obj);
+        }
+        timing.stages.emplace_back("encode", Clock::now());
+        append_timing_headers(headers, timing);
+        response.headers = std::move(headers);
+        return response;
+    }
+    const auto encode_json = [&](const PolygonMesh& m) {
+        std::string out = encode_mesh_with_stats(m, json_text(stats));
+        if (colors.empty()) return out;
+        // {"mesh": ..., "colors": [[r, g, b(, a)], ...], "stats": ...}: the stats are the last member
+        Json list = Json::array();
+        for (const Color& c : colors) {
+            Json rgb = Json::array({c.r, c.g, c.b});
+            if (d.cloud.has_alpha) rgb.push_back(c.a);
+            list.push_back(std::move(rgb));
+        }
+        const auto at = out.rfind(",\"stats\":");
+        return out.substr(0, at) + ",\"colors\":" + json_text(list) + out.substr(at);
+    };
+    return mesh_response(result.mesh, params.output, d.source, encode_json, std::move(headers), std::move(timing));
 }
 
 }  // namespace

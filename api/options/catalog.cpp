@@ -481,6 +481,10 @@ constexpr OptionSpec kReconstruct[] = {
      .default_json = "0.001",
      .description = "With trim: pieces, and regions below the level, smaller than this fraction of the area are "
                     "removed, and kept, respectively"},
+    {.name = "vertex_colors",
+     .type = OptionType::Bool,
+     .description = "Carry the points' colours to the vertices (ply, obj, json); unset: when the cloud has colours "
+                    "and the format holds them"},
 };
 
 // ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---

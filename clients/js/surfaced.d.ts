@@ -448,6 +448,8 @@ export interface ReconstructOptions {
   trim?: number;
   /** with trim: smaller pieces are removed, smaller low regions kept, as a fraction of the area. @default 0.001 */
   island_area?: number;
+  /** carry the colours of the points to the vertices (ply, obj, json); unset: when the cloud has colours */
+  vertex_colors?: boolean;
   output?: Output<OutputFormat>;
   /** @default 'glb' */
   format?: OutputFormat;

@@ -7,12 +7,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "geometry/core/result.h"
 #include "geometry/mesh/polygon_mesh.h"
+#include "geometry/pointcloud/point_cloud.h"
 
 namespace surfaced {
 
@@ -85,13 +87,18 @@ struct ObjWriteOptions {
     bool write_uvs = true;      //!< emit `vt` and v/vt faces when the mesh has uvs
     bool write_normals = true;  //!< emit `vn` when the mesh has normals
     int precision = 17;         //!< significant digits; 17 (or more) writes the shortest text that round-trips exactly
+    //! One colour per vertex, written after each `v` as `r g b` in 0..1 (the common extension MeshLab and Open3D
+    //! read); empty: none. Precondition: empty or one per vertex.
+    std::span<const Color> vertex_colors{};
 };
 std::string write_obj(const PolygonMesh& mesh, const ObjWriteOptions& options = {});
 
 enum class PlyEncoding { Ascii, BinaryLittleEndian };
 //! PLY with double x/y/z, and nx/ny/nz when the mesh has normals; faces as `list uchar uint vertex_indices`
 //! (`list uint uint` when a face has more than 255 vertices). UVs and subdivision tags are not written.
-std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding = PlyEncoding::BinaryLittleEndian);
+//! `vertex_colors`, one per vertex when given, are written as uchar red green blue (alpha too with `alpha`).
+std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding = PlyEncoding::BinaryLittleEndian,
+                      std::span<const Color> vertex_colors = {}, bool alpha = false);
 
 //! Binary STL: float32 corners, each triangle with its unit facet normal (zero for a degenerate triangle), polygons
 //! split by triangulate() as the glTF writer splits them (a fan from the first corner when convex, ear clipping

@@ -447,7 +447,16 @@ std::string write_obj(const PolygonMesh& mesh, const ObjWriteOptions& options) {
     out += " vertices, ";
     append_uint(out, mesh.face_count());
     out += " faces\n";
-    for (const Vec3& p : mesh.positions) write_vec(out, "v", {p.x, p.y, p.z}, precision);
+    const bool colors = options.vertex_colors.size() == mesh.positions.size() && !mesh.positions.empty();
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3& p = mesh.positions[v];
+        if (colors) {
+            const Color& c = options.vertex_colors[v];
+            write_vec(out, "v", {p.x, p.y, p.z, c.r, c.g, c.b}, precision);
+        } else {
+            write_vec(out, "v", {p.x, p.y, p.z}, precision);
+        }
+    }
     if (uvs)
         for (const Vec2& t : mesh.uvs) write_vec(out, "vt", {t.x, t.y}, precision);
     if (normals)

@@ -1,7 +1,9 @@
 // Stanford PLY 1.0 reader (ascii, binary_little_endian, binary_big_endian) and writer (ascii, binary little endian).
 // Reading is driven by the header: every element is walked property by property, so elements and properties we
 // do not use (colours, texture lists, edges, materials...) are skipped exactly, whatever their types.
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -315,10 +317,12 @@ Result<PolygonMesh> read_ply(std::string_view bytes, const ReadOptions& options,
     });
 }
 
-std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding) {
+std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding, std::span<const Color> vertex_colors, bool alpha) {
     using io_detail::append_uint;
     const bool binary = encoding == PlyEncoding::BinaryLittleEndian;
     const bool normals = mesh.has_normals() && mesh.normals.size() == mesh.positions.size();
+    const bool colors = !mesh.positions.empty() && vertex_colors.size() == mesh.positions.size();
+    const int channels = colors ? (alpha ? 4 : 3) : 0;
     bool big_faces = false;
     for (std::size_t f = 0; f < mesh.face_count() && !big_faces; ++f) big_faces = mesh.face_size(f) > 255;
 
@@ -331,6 +335,8 @@ std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding) {
     append_uint(out, mesh.positions.size());
     out += "\nproperty double x\nproperty double y\nproperty double z\n";
     if (normals) out += "property double nx\nproperty double ny\nproperty double nz\n";
+    if (colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    if (colors && alpha) out += "property uchar alpha\n";
     out += "element face ";
     append_uint(out, mesh.face_count());
     out += big_faces ? "\nproperty list uint uint vertex_indices\n" : "\nproperty list uchar uint vertex_indices\n";
@@ -347,6 +353,19 @@ std::string write_ply(const PolygonMesh& mesh, PlyEncoding encoding) {
             } else {
                 if (i > 0) out += ' ';
                 io_detail::append_double(out, values[i], 17);
+            }
+        }
+        if (colors) {
+            const Color& c = vertex_colors[v];
+            const float rgba[4] = {c.r, c.g, c.b, c.a};
+            for (int i = 0; i < channels; ++i) {
+                const auto byte = static_cast<unsigned>(std::lround(std::clamp(rgba[i], 0.0f, 1.0f) * 255.0f));
+                if (binary) {
+                    out += static_cast<char>(byte);
+                } else {
+                    out += ' ';
+                    append_uint(out, byte);
+                }
             }
         }
         if (!binary) out += '\n';

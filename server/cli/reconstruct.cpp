@@ -60,7 +60,8 @@ int reconstruct(Args& args) {
         parsed->report() << "wrote " << parsed->output_label() << ": " << header(response, "X-Output-Vertices")
                          << " vertices, " << header(response, "X-Output-Faces") << " triangles from "
                          << header(response, "X-Input-Points") << " points (depth " << header(response, "X-Depth")
-                         << (header(response, "X-Normals-Estimated") == "true" ? ", normals estimated" : "") << "), in "
+                         << (header(response, "X-Normals-Estimated") == "true" ? ", normals estimated" : "")
+                         << (header(response, "X-Colors") == "true" ? ", colours" : "") << "), in "
                          << header(response, "X-Elapsed-Ms") << " ms\n";
     });
 }

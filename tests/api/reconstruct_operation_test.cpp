@@ -11,6 +11,7 @@
 
 #include "api/json_codec.h"
 #include "api/operations/reconstruct.h"
+#include "geometry/io/pointcloud_io.h"
 #include "tests/support/api_request.h"
 #include "tests/support/mesh_asserts.h"
 
@@ -247,6 +248,63 @@ TEST(ReconstructOperation, ConfidenceFromAPlyPropertyWeighsThePoints) {
     // points of weight 0 do not count, not even for the bounding cube
     EXPECT_LT(worst_distance(weighted), 0.5 * 2.2 / 32);
     EXPECT_GT(worst_distance(unweighted), worst_distance(weighted));
+}
+
+TEST(ReconstructOperation, PointColoursAreCarriedToTheVertices) {
+    // the unit sphere coloured by position: (p + 1) / 2
+    const Sphere s = sphere_cloud(3000);
+    json colors = json::array();
+    for (const auto& p : s.points)
+        colors.push_back({(p[0].get<double>() + 1) / 2, (p[1].get<double>() + 1) / 2, (p[2].get<double>() + 1) / 2});
+    json body = {{"points", s.points},
+                 {"normals", s.normals},
+                 {"colors", colors},
+                 {"depth", 5},
+                 {"output", {{"format", "json"}}}};
+    const ApiResponse r = post(body.dump());
+    ASSERT_EQ(r.status, 200) << r.body.substr(0, 400);
+    EXPECT_EQ(header(r, "X-Colors"), "true");
+    const json out = json::parse(r.body);
+    const PolygonMesh mesh = answer_mesh(r);
+    ASSERT_EQ(out["colors"].size(), mesh.vertex_count());
+    double worst = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        // the colour at the nearest point of the sphere
+        const Vec3 q = mesh.positions[v] * (1.0 / norm(mesh.positions[v]));
+        const double expected[3] = {(q.x + 1) / 2, (q.y + 1) / 2, (q.z + 1) / 2};
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(out["colors"][v][k].get<double>() - expected[k]));
+    }
+    EXPECT_LT(worst, 0.03);
+
+    // PLY carries them as uchar red green blue, read back by the point reader
+    body["output"] = {{"format", "ply"}};
+    const ApiResponse ply = post(body.dump());
+    ASSERT_EQ(ply.status, 200) << ply.body.substr(0, 400);
+    auto cloud = read_ply_points(ply.body);
+    ASSERT_TRUE(cloud.ok()) << cloud.error().message;
+    ASSERT_EQ(cloud->colors.size(), mesh.vertex_count());
+    EXPECT_NEAR(cloud->colors[0].r, out["colors"][0][0].get<double>(), 1.0 / 255);
+    // OBJ as `v x y z r g b`
+    body["output"] = {{"format", "obj"}};
+    const ApiResponse obj = post(body.dump());
+    ASSERT_EQ(obj.status, 200);
+    auto obj_cloud = read_obj_points(obj.body);
+    ASSERT_TRUE(obj_cloud.ok()) << obj_cloud.error().message;
+    EXPECT_EQ(obj_cloud->colors.size(), mesh.vertex_count());
+
+    // off by request; by default not in a format without them; asked for where they cannot go or do not exist
+    body["vertex_colors"] = false;
+    EXPECT_EQ(header(post(body.dump()), "X-Colors"), "false");
+    body.erase("vertex_colors");
+    body["output"] = {{"format", "glb"}};
+    const ApiResponse glb = post(body.dump());
+    ASSERT_EQ(glb.status, 200);
+    EXPECT_EQ(header(glb, "X-Colors"), "false");
+    body["vertex_colors"] = true;
+    expect_problem(post(body.dump()), 400, "invalid_field", "vertex_colors");
+    body.erase("colors");
+    body["output"] = {{"format", "ply"}};
+    expect_problem(post(body.dump()), 422, "invalid_argument", "vertex_colors");
 }
 
 TEST(ReconstructOperation, EveryMeshFormatAndAccept) {

@@ -653,7 +653,8 @@ class Client:
                     colors: Optional[Sequence[Sequence[float]]] = None, depth: int = 8, point_weight: float = 4,
                     samples_per_node: float = 1.5, boundary: PoissonBoundary = "neumann", scale: float = 1.1,
                     confidence: bool = False, estimate_normals: NormalEstimation = "auto", k: int = 16,
-                    trim: float = 0, island_area: float = 0.001, output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
+                    trim: float = 0, island_area: float = 0.001, vertex_colors: Optional[bool] = None,
+                    output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
                     quantize_position: int = 14) -> Result:
         """POST /reconstruct: a closed, outward-oriented triangle mesh through a point cloud (screened Poisson
         reconstruction). Counts, the iso-value and the octree size come in the X-* headers (and ``stats`` of the
@@ -679,6 +680,8 @@ class Client:
             keep the closed surface); 0.3 to 1 below the X-Sample-Density header is useful.
         :param island_area: with trim: pieces (and uncut low regions) smaller than this fraction of the area are
             removed (kept), 0..1 (default 0.001).
+        :param vertex_colors: carry the points' colours to the vertices (ply, obj, json); default: when the cloud has
+            colours and the format holds them.
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
         :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
