@@ -17,8 +17,9 @@ cp "$src/build/three.module.js" "$src/build/three.core.js" vendor.tmp/three/
 cp "$src/examples/jsm/controls/OrbitControls.js" vendor.tmp/three/addons/controls/
 cp "$src/examples/jsm/loaders/GLTFLoader.js" "$src/examples/jsm/loaders/DRACOLoader.js" vendor.tmp/three/addons/loaders/
 cp "$src/examples/jsm/utils/BufferGeometryUtils.js" "$src/examples/jsm/utils/SkeletonUtils.js" vendor.tmp/three/addons/utils/
-cp "$src"/examples/jsm/libs/draco/gltf/draco_decoder.js "$src"/examples/jsm/libs/draco/gltf/draco_decoder.wasm \
-   "$src"/examples/jsm/libs/draco/gltf/draco_wasm_wrapper.js vendor.tmp/draco/
+# the full Draco decoder, not libs/draco/gltf/ (meshes only): the point cloud view reads Draco POINTS GLBs
+cp "$src"/examples/jsm/libs/draco/draco_decoder.js "$src"/examples/jsm/libs/draco/draco_decoder.wasm \
+   "$src"/examples/jsm/libs/draco/draco_wasm_wrapper.js vendor.tmp/draco/
 cp "$src/LICENSE" vendor.tmp/three/LICENSE
 echo "$have" > vendor.tmp/three/VERSION
 rm -rf vendor && mv vendor.tmp vendor

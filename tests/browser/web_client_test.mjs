@@ -7,6 +7,7 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 import { startServer } from './serve.mjs';
 import { checkCurvesView } from './curves_checks.mjs';
+import { checkPointCloudView } from './pointcloud_checks.mjs';
 
 const [binary, webRoot, artifacts] = process.argv.slice(2);
 if (!binary || !webRoot || !artifacts) {
@@ -59,20 +60,23 @@ try {
   };
   // Pixels of the WebGL canvas that differ from the background colour (the renderer keeps its drawing buffer).
   // The viewer draws at the next animation frame after a change: wait for two frames, so that a frame asked for
-  // before this call has been drawn (the stats can be set before the first frame of a new result).
-  const canvasPixels = () => page.evaluate(async () => {
+  // before this call has been drawn (the stats can be set before the first frame of a new result). `region`: 'left'
+  // or 'right' half (a split view), else the whole canvas.
+  const canvasPixels = (region) => page.evaluate(async (region) => {
     await new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
     const src = document.querySelector('#viewport canvas');
     const c = document.createElement('canvas');
     c.width = src.width; c.height = src.height;
     const ctx = c.getContext('2d');
     ctx.drawImage(src, 0, 0);
-    const d = ctx.getImageData(0, 0, c.width, c.height).data;
+    const half = Math.floor(c.width / 2);
+    const [x0, width] = region === 'left' ? [0, half] : region === 'right' ? [half, c.width - half] : [0, c.width];
+    const d = ctx.getImageData(x0, 0, width, c.height).data;
     let n = 0;
     for (let i = 0; i < d.length; i += 4)
       if (Math.abs(d[i] - 0x1b) + Math.abs(d[i + 1] - 0x1d) + Math.abs(d[i + 2] - 0x22) > 24) n++;
-    return { n, total: c.width * c.height, webgl: !!src.getContext('webgl2') || !!src.getContext('webgl') };
-  });
+    return { n, total: width * c.height, webgl: !!src.getContext('webgl2') || !!src.getContext('webgl') };
+  }, region);
   const statsUpdates = () => page.$eval('#stats', (el) => Number(el.dataset.updates ?? 0));
   const meshSignature = () => page.evaluate(() => {
     const r = window.surfaced.viewer.result;
@@ -570,6 +574,12 @@ try {
     await checkCurvesView(page, { check, shot, expectRejection: (on) => { expectRejection = on; } });
   else
     console.log('     (this server does not document POST /curves: no curves view to test)');
+
+  // 9. point clouds: sampled and uploaded clouds with their normals, reconstructed (pointcloud_checks.mjs)
+  if (await page.isVisible('#tabs button[data-view=pointcloud]'))
+    await checkPointCloudView(page, { check, shot, canvasPixels });
+  else
+    console.log('     (this server does not document POST /pointcloud: no point cloud view to test)');
 
   check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
 } catch (e) {

@@ -6,6 +6,7 @@ import { SimplifyView } from './simplify.js';
 import { ImplicitView } from './implicit.js';
 import { RemeshView } from './remesh.js';
 import { CurvesView } from './curves.js';
+import { PointCloudView } from './pointcloud.js';
 import { call, ProblemError } from './api.js';
 
 const $ = (id) => document.getElementById(id);
@@ -23,7 +24,8 @@ class App {
     $('download-obj').addEventListener('click', () => this.download('obj'));
   }
 
-  /** Views for endpoints the server has (the document lists them): remesh, implicit and curves appear when it serves them. */
+  /** Views for endpoints the server has (the document lists them): remesh, implicit, curves and point cloud appear when
+   *  it serves them. */
   async discover() {
     try {
       const doc = (await call('GET', '/openapi.json')).json;
@@ -43,6 +45,10 @@ class App {
         this.views.curves = new CurvesView(this);
         document.querySelector('#tabs button[data-view=curves]').hidden = false;
       }
+      if (doc?.paths?.['/pointcloud']?.post) {
+        this.views.pointcloud = new PointCloudView(this, { reconstruct: doc.paths['/reconstruct']?.post ?? null });
+        document.querySelector('#tabs button[data-view=pointcloud]').hidden = false;
+      }
     } catch (e) {
       this.showError(e, 'Could not read /openapi.json');
     }
@@ -60,6 +66,8 @@ class App {
     this.setDownloads(null);
     this.viewer.clearOverlay();
     this.viewer.setGeometry(null);
+    this.viewer.setSecond(null);
+    this.viewer.setLabels([]);
     await this.current.activate();
   }
 

@@ -1,4 +1,5 @@
-// The 3D viewport: renderer, camera, OrbitControls, lights, GLB loading (Draco through the vendored decoder).
+// The 3D viewport: renderer, camera, OrbitControls, lights, GLB loading (Draco through the vendored decoder), and an
+// optional second mesh drawn beside the result (two halves, one camera) or instead of it.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -32,6 +33,14 @@ export class Viewer {
     this.result = null;                 // the mesh from the service
     this.overlay = new THREE.Group();   // control net / cage, in the same frame as the result
     this.root.add(this.overlay);
+    this.second = null;                 // a second mesh to compare with the result (see setSecond)
+    this.secondMaterial = this.material.clone();
+    this.secondMaterial.color.set(0xd6bf9f);
+    this.layout = 'split';              // with a second mesh: 'split' (result left, second right), 'first', 'second'
+    this.labels = document.createElement('div');
+    this.labels.className = 'view-labels';
+    this.labels.hidden = true;
+    container.appendChild(this.labels);
 
     const draco = new DRACOLoader();
     draco.setDecoderPath(new URL('../vendor/draco/', import.meta.url).href);
@@ -45,9 +54,20 @@ export class Viewer {
   resize() {
     const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
     this.renderer.setSize(w, h, false);
-    this.camera.aspect = w / h;
-    this.camera.updateProjectionMatrix();
+    this.updateAspect();
     this.render();
+  }
+
+  split() { return this.second !== null && this.layout === 'split'; }
+
+  /** The camera's aspect: the canvas's, or a half's when split. */
+  updateAspect() {
+    const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
+    const aspect = this.split() ? Math.floor(w / 2) / h : w / h;
+    if (this.camera.aspect !== aspect) {
+      this.camera.aspect = aspect;
+      this.camera.updateProjectionMatrix();
+    }
   }
 
   /** Draws at the next animation frame; several calls in one frame draw once (dragging must not queue renders). */
@@ -56,8 +76,37 @@ export class Viewer {
     this.renderPending = true;
     requestAnimationFrame(() => {
       this.renderPending = false;
-      this.renderer.render(this.scene, this.camera);
+      this.draw();
     });
+  }
+
+  draw() {
+    const r = this.renderer;
+    this.updateAspect();
+    const show = (first, second) => {
+      if (this.result) this.result.visible = first;
+      if (this.second) this.second.visible = second;
+    };
+    if (!this.split()) {
+      show(!this.second || this.layout !== 'second', this.layout === 'second');
+      r.render(this.scene, this.camera);
+      return;
+    }
+    // one camera, two halves of the canvas (viewport and scissor in CSS pixels)
+    const w = Math.max(1, this.container.clientWidth), h = Math.max(1, this.container.clientHeight);
+    const half = Math.floor(w / 2);
+    r.setScissorTest(true);
+    show(true, false);
+    r.setViewport(0, 0, half, h);
+    r.setScissor(0, 0, half, h);
+    r.render(this.scene, this.camera);
+    show(false, true);
+    r.setViewport(half, 0, w - half, h);
+    r.setScissor(half, 0, w - half, h);
+    r.render(this.scene, this.camera);
+    r.setScissorTest(false);
+    r.setViewport(0, 0, w, h);
+    show(true, true);
   }
 
   /** Z-up data (the teapot) is shown Y-up. */
@@ -88,7 +137,50 @@ export class Viewer {
     this.render();
   }
 
-  setWireframe(on) { this.material.wireframe = on; this.render(); }
+  /** Shows `geometry` as the second mesh (null: none), drawn as setLayout says, in its own colour. */
+  setSecond(geometry) {
+    if (this.second) {
+      this.root.remove(this.second);
+      this.second.geometry.dispose();
+    }
+    this.second = geometry ? new THREE.Mesh(geometry, this.secondMaterial) : null;
+    if (this.second) this.root.add(this.second);
+    this.showLabels();
+    this.render();
+  }
+
+  /** With a second mesh: 'split' (the result on the left, the second on the right), 'first' or 'second' alone. */
+  setLayout(layout) {
+    this.layout = layout;
+    this.showLabels();
+    this.render();
+  }
+
+  /** Captions for the result and the second mesh, shown over their halves (or over the one shown). */
+  setLabels(texts) {
+    this.labelTexts = texts;
+    this.showLabels();
+  }
+
+  showLabels() {
+    const texts = this.labelTexts ?? [];
+    const shown = !this.second ? texts.slice(0, 1) : this.layout === 'split' ? texts
+      : this.layout === 'first' ? texts.slice(0, 1) : texts.slice(1, 2);
+    this.labels.replaceChildren(...shown.filter((t) => t).map((t, i) => {
+      const el = document.createElement('span');
+      el.textContent = t;
+      el.className = shown.length > 1 && i === 1 ? 'right' : 'left';
+      return el;
+    }));
+    this.labels.classList.toggle('split', this.split());
+    this.labels.hidden = this.labels.children.length === 0;
+  }
+
+  setWireframe(on) {
+    this.material.wireframe = on;
+    this.secondMaterial.wireframe = on;
+    this.render();
+  }
 
   clearOverlay() {
     for (const child of [...this.overlay.children]) {
@@ -97,12 +189,13 @@ export class Viewer {
     }
   }
 
-  /** Frames whatever is in root. */
+  /** Frames whatever is in root (further away when the view is narrower than tall, as a split half can be). */
   fit() {
     this.root.updateMatrixWorld(true);
     const box = new THREE.Box3().setFromObject(this.root);
     if (box.isEmpty()) return;
-    const size = box.getSize(new THREE.Vector3()).length();
+    this.updateAspect();
+    const size = box.getSize(new THREE.Vector3()).length() * Math.max(1, 0.8 / this.camera.aspect);
     const center = box.getCenter(new THREE.Vector3());
     this.controls.target.copy(center);
     this.camera.near = size / 100;
