@@ -43,8 +43,8 @@ struct Limits {
     //! (k = 16), so 2M points stay under ~400 MB.
     std::uint64_t max_points = 2'000'000;
     //! POST /reconstruct: the largest octree depth, and the largest predicted peak memory (estimate_poisson: octree,
-    //! solver, samples and the mesher's grid), in bytes. Over either: 422 budget_exceeded naming "depth". The
-    //! mesher's grid, (2^depth)^3 cells, is also held to max_grid_cells.
+    //! solver, samples and the extraction's tables), in bytes. Over either: 422 budget_exceeded naming "depth". The
+    //! finest grid, (2^depth)^3 cells, is also held to max_grid_cells.
     int max_reconstruct_depth = 10;
     std::uint64_t max_reconstruct_bytes = std::uint64_t{1} << 30;
     //! POST /limit/evaluate: (face, u, v) points in one request (each answer is about 10 vectors).

@@ -126,10 +126,13 @@ std::optional<ApiError> check_depth_budget(const PoissonOptions& options, const 
                             "depth " + std::to_string(options.depth) + " is over the limit of " +
                                 std::to_string(limits.max_reconstruct_depth),
                             "depth");
-    const std::uint64_t grid = estimate_poisson(0, options).grid_cells;
+    // The finest grid, (2^depth)^3 cells, is held to the grid-cell limit as the implicit mesher's grid is: the
+    // extraction visits only the cells the surface crosses, but the work and memory still grow 4-8x per level.
+    const std::uint64_t side = std::uint64_t{1} << options.depth;
+    const std::uint64_t grid = side * side * side;
     if (grid > limits.max_grid_cells)
         return make_problem(Problem::BudgetExceeded,
-                            "depth " + std::to_string(options.depth) + " meshes a grid of " + std::to_string(grid) +
+                            "depth " + std::to_string(options.depth) + " has a finest grid of " + std::to_string(grid) +
                                 " cells (2^depth per side); the grid-cell limit is " +
                                 std::to_string(limits.max_grid_cells),
                             "depth");
