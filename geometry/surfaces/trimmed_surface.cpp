@@ -457,7 +457,7 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
             g = std::max(g, std::hypot(info.d.u / (info.u1 - info.u0), info.d.v / (info.v1 - info.v0)));
         }
     // Grid counts: the plan's, scaled by one common factor f (so counts stay equal along shared sides), the smallest
-    // found (bisection) for which every grid cell of every patch is within e by its local bound.
+    // found (bisection, 10 steps) for which every grid cell of every patch is within e by its local bound.
     {
         const auto counts = [&](const PatchInfo& info, double f) {
             return std::pair{std::max(1, static_cast<int>(std::ceil(f * info.nu))),
@@ -482,7 +482,7 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
                                                                      " grid segments along one direction of a patch");
         }
         if (fail == 0.25 && fits(fail)) pass = fail;
-        for (int step = 0; step < 6 && pass > fail; ++step) {
+        for (int step = 0; step < 10 && pass > fail; ++step) {
             const double mid = 0.5 * (pass + fail);
             (fits(mid) ? pass : fail) = mid;
         }
