@@ -43,8 +43,13 @@
 // take d with J(x) d = -t: |d| <= e_f / sigma. If x + d stays in E (|d| no more than B's margin inside E), then with
 // DS(x) d = -t + (n0 . DS(x) d) n0 and R = S(x + d) - S(x) - DS(x) d, |R| <= (1/2)(Muu + 2 Muv + Mvv) |d|^2:
 //   T(x) - S(x + d) = -(a + n0 . DS(x) d) n0 - R,   so   dist(T(x), S) <= e_n + |Gn| |d| + |R|,
-// a point of the patch. The triangle's bound is min(e_f, that); e_f alone where sigma <= 0 (vanishing du x dv), where
-// B touches a patch side (no margin) or where |d| exceeds the margin. e_n is second order in the normal curvature
+// a point of the patch. Where B touches a patch side (no margin across it) the step runs along the side only,
+// direction k (u or v): with l0 = P S_k(x0) / |P S_k(x0)| and m0 = n0 x l0, l0 . S_k >= |P S_k(x0)| - (change of S_k
+// over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)), |d_k| <= e_f / s_k, and
+//   T(x) - S(x + d_k) = -(a + d_k n0 . S_k) n0 - (m0 . (S(x) - T(x)) + d_k m0 . S_k) m0 - R,
+// where m0 . (S - T) is bounded like a (the scalar net m0 . w (P - c0)), and |R| <= (1/2) M_kk d_k^2. The triangle's
+// bound is the smallest of e_f and these; e_f alone where sigma <= 0 (vanishing du x dv), at a patch corner, or where
+// the step exceeds the margin. e_n is second order in the normal curvature
 // only (no tangential acceleration, no twist of a surface of revolution), and the correction is third order.
 #include "geometry/surfaces/bezier_patch.h"
 

@@ -100,9 +100,9 @@ PatchDerivativeBounds derivative_bounds(const BezierPatch& patch);
 //! the triangle's parameter box (grown by a quarter inside the patch) from that box's own control net, with the
 //! equal-parameter error split into its component along the normal n0 at the box's centre (bounded through n0 . S_uu,
 //! n0 . S_uv, n0 . S_vv) and a tangential drift that is absorbed by moving to another surface point (derivation in
-//! bezier_patch.cpp). Falls back to the box's equal-parameter bound where that move is not provably inside the
-//! patch (triangles touching a patch side, vanishing du x dv). A guarantee, not an estimate; costs one subdivision
-//! of the net and one evaluation.
+//! bezier_patch.cpp). Where the box touches a patch side the move runs along that side and the drift across it is
+//! added; at a patch corner, where du x dv vanishes or the move would leave the grown box, it is the box's
+//! equal-parameter bound. A guarantee, not an estimate; costs one subdivision of the net and one evaluation.
 double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c);
 
 struct TessellationOptions {
