@@ -37,20 +37,21 @@
 // Bernstein convexity, and |n0 . (S - c0)| <= max |n0 . (P_ij - c0)|. For x in the triangle split
 // S(x) - T(x) = a n0 + t (t orthogonal to n0). The derivation at the top, applied to the scalar n0 . S, gives
 // |a| <= (1/8)(Nuu H^2 + 2 Nuv H K + Nvv K^2) =: e_n (H x K: the triangle's extents), and |t| <= |S(x) - T(x)| <=
-// (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) =: e_f. Let J(x) = P DS(x), P the projection orthogonal to n0: at x0,
-// sigma0 = its smallest singular value (computed), and over B its change is at most (Weyl, Frobenius norm)
-// drift = |(Muu H / 2 + Muv K / 2, Muv H / 2 + Mvv K / 2)|, so sigma(J(x)) >= sigma = sigma0 - drift. When sigma > 0
-// take d with J(x) d = -t: |d| <= e_f / sigma. If x + d stays in E (|d| no more than B's margin inside E), then with
+// (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) =: e_f; also |t| <= e_t := |(e_1, e_2)|, e_i the bound of the same argument on
+// the scalar t_i . S, t_1, t_2 an orthonormal basis of the plane orthogonal to n0 (and so |S - T| <= |(e_n, e_t)|).
+// Let J(x) = P DS(x), P the projection orthogonal to n0: at x0, sigma0 = its smallest singular value (computed), and
+// over B its change is at most (Weyl, Frobenius norm) drift = |(Muu H / 2 + Muv K / 2, Muv H / 2 + Mvv K / 2)|,
+// so sigma(J(x)) >= sigma = sigma0 - drift. When sigma > 0 take d with J(x) d = -t: |d| <= e_t / sigma. If x + d stays in E (|d| no more than B's margin inside E), then with
 // DS(x) d = -t + (n0 . DS(x) d) n0 and R = S(x + d) - S(x) - DS(x) d, |R| <= (1/2)(Muu + 2 Muv + Mvv) |d|^2:
 //   T(x) - S(x + d) = -(a + n0 . DS(x) d) n0 - R,   so   dist(T(x), S) <= e_n + |Gn| |d| + |R|,
 // a point of the patch. Where B touches a patch side (no margin across it) the step runs along the side only,
 // direction k (u or v): with l0 = P S_k(x0) / |P S_k(x0)| and m0 = n0 x l0, l0 . S_k >= |P S_k(x0)| - (change of S_k
-// over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)), |d_k| <= e_f / s_k, and
+// over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)), |d_k| <= e_t / s_k, and
 //   T(x) - S(x + d_k) = -(a + d_k n0 . S_k) n0 - (m0 . (S(x) - T(x)) + d_k m0 . S_k) m0 - R,
 // where m0 . (S - T) is bounded like a (the scalar net m0 . w (P - c0)), and |R| <= (1/2) M_kk d_k^2. The triangle's
-// bound is the smallest of e_f and these; e_f alone where sigma <= 0 (vanishing du x dv), at a patch corner, or where
-// the step exceeds the margin. e_n is second order in the normal curvature
-// only (no tangential acceleration, no twist of a surface of revolution), and the correction is third order.
+// bound is the smallest of e_f, |(e_n, e_t)| and these; the first two alone where sigma <= 0 (vanishing du x dv), at
+// a patch corner, or where the step exceeds the margin. e_n is second order in the normal curvature only (no
+// tangential acceleration, no twist of a surface of revolution), and the correction is third order.
 #include "geometry/surfaces/bezier_patch.h"
 
 #include <algorithm>
@@ -317,11 +318,19 @@ double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c)
     };
     const Directional normal = directional(n0);
     double best = e_full;
+    // the tangential part t of S(x) - T(x), from the scalar nets along two tangent directions at x0 (orthonormal with
+    // n0, so |t|^2 is the sum of the two squared components); without a move |S(x) - T(x)| is bounded the same way
+    double tangential = e_full;
+    {
+        const Vec3 t1 = normalized(su_vec - dot(n0, su_vec) * n0), t2 = cross(n0, t1);
+        if (norm(t1) > 0.5) tangential = std::min(tangential, std::hypot(directional(t1).error, directional(t2).error));
+    }
+    best = std::min(best, std::hypot(normal.error, tangential));
     // B's margin inside E along u and v (zero where B touches a patch side)
     const double margin_u = std::min((u0 - eu0) / su, (eu1 - u1) / su);
     const double margin_v = std::min((v0 - ev0) / sv, (ev1 - v1) / sv);
 
-    // a move in both directions: |t| <= e_full, cancelled by a parameter step |d| <= e_full / sigma, where sigma
+    // a move in both directions: |t| <= tangential, cancelled by a parameter step |d| <= e_full / sigma, where sigma
     // bounds the smallest singular value of the projected Jacobian over B from below
     const Vec3 ju = su_vec - dot(n0, su_vec) * n0, jv = sv_vec - dot(n0, sv_vec) * n0;
     const double ee = dot(ju, ju), ff = dot(ju, jv), gg = dot(jv, jv);
@@ -330,7 +339,7 @@ double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c)
         const double sigma0 = norm(cross(ju, jv)) / largest;
         const double drift = std::hypot(0.5 * (full.uu * h + full.uv * k), 0.5 * (full.uv * h + full.vv * k));
         const double sigma = sigma0 * (1 - 1e-12) - drift;
-        const double step = e_full / sigma;
+        const double step = tangential / sigma;
         if (sigma > 0 && step <= std::min(margin_u, margin_v))
             best = std::min(best, normal.error + std::hypot(normal.g_u, normal.g_v) * step +
                                       0.5 * (full.uu + 2.0 * full.uv + full.vv) * step * step);
@@ -343,7 +352,7 @@ double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c)
         const Vec3 l0 = j * (1.0 / length), m0 = cross(n0, l0);
         const double change = along == 0 ? 0.5 * (full.uu * h + full.uv * k) : 0.5 * (full.uv * h + full.vv * k);
         const double speed = length * (1 - 1e-12) - change;  // <= l0 . S_s (or S_t) over B
-        const double step = e_full / speed;
+        const double step = tangential / speed;
         if (!(speed > 0) || !(step <= (along == 0 ? margin_u : margin_v))) continue;
         const Directional across = directional(m0);
         const double g = along == 0 ? normal.g_u + across.g_u : normal.g_v + across.g_v;

@@ -35,8 +35,9 @@
 //    surface: with parameter extents H x K (patch units), (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) at equal parameters
 //    (the derivation of bezier_patch.cpp holds for any triangle, its corners' weighted variances being bounded by the
 //    extents), and triangle_distance_bound (bezier_patch.h: local, normal component plus a tangential drift absorbed
-//    by moving to another surface point of the patch). Every triangle's bound is computed; refinement makes the largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex
-//    (unless the refinement budget runs out: the bounds are then what was reached, and bound says so).
+//    by moving to another surface point of the patch). Every triangle's bound is computed; refinement makes the
+//    largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex (unless the refinement budget
+//    runs out: the bounds are then what was reached, and bound says so).
 //  - Trims: every point of a trim curve is within d + gap of its polygon in (u, v), hence within G (d + gap) of the
 //    image of a polygon point, which lies on an edge of a triangle with a trim vertex, within that triangle's bound:
 //    trim_bound = G (d + gap) + (the largest bound of those triangles) <= 0.9 e/2 + e/2 for loops closed within the
