@@ -25,6 +25,33 @@
 // a guaranteed (if pessimistic for strongly varying weights) bound; with all weights equal it is the polynomial one.
 // Evaluation is de Casteljau on the homogeneous net (w P, w), divided at the end; derivatives by the quotient rule
 // above (exact up to rounding).
+//
+// Distance bound of one triangle (triangle_distance_bound). The bound above is on |S(x) - T(x)| at equal parameters
+// and so also counts the tangential drift of a non-uniform parameterisation, which does not move the mesh off the
+// surface. Let B be the triangle's parameter box, E = B grown by a quarter of its size on each side (clipped to the
+// patch), and work in E's own parameters (the restriction of the net to E: exact de Casteljau subdivision). Bounds
+// over E: M (full second derivatives, the single-net rational bound above on E's net) and, with n0 the unit normal
+// and c0 the point at B's centre x0, Gn >= |n0 . S_u|, |n0 . S_v| and N >= |n0 . S_uu|, |n0 . S_uv|, |n0 . S_vv| --
+// the quotient rule above dotted with n0: n0 . S_uu = (n0 . A'_uu - 2 w_u (n0 . S_u) - w_uu n0 . (S - c0)) / w, with
+// A' = sum B_ij w_ij (P_ij - c0), the scalar net n0 . w_ij (P_ij - c0) bounding n0 . A' and its derivatives by
+// Bernstein convexity, and |n0 . (S - c0)| <= max |n0 . (P_ij - c0)|. For x in the triangle split
+// S(x) - T(x) = a n0 + t (t orthogonal to n0). The derivation at the top, applied to the scalar n0 . S, gives
+// |a| <= (1/8)(Nuu H^2 + 2 Nuv H K + Nvv K^2) =: e_n (H x K: the triangle's extents), and |t| <= |S(x) - T(x)| <=
+// (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) =: e_f; also |t| <= e_t := |(e_1, e_2)|, e_i the bound of the same argument on
+// the scalar t_i . S, t_1, t_2 an orthonormal basis of the plane orthogonal to n0 (and so |S - T| <= |(e_n, e_t)|).
+// Let J(x) = P DS(x), P the projection orthogonal to n0: at x0, sigma0 = its smallest singular value (computed), and
+// over B its change is at most (Weyl, Frobenius norm) drift = |(Muu H / 2 + Muv K / 2, Muv H / 2 + Mvv K / 2)|,
+// so sigma(J(x)) >= sigma = sigma0 - drift. When sigma > 0 take d with J(x) d = -t: |d| <= e_t / sigma. If x + d stays in E (|d| no more than B's margin inside E), then with
+// DS(x) d = -t + (n0 . DS(x) d) n0 and R = S(x + d) - S(x) - DS(x) d, |R| <= (1/2)(Muu + 2 Muv + Mvv) |d|^2:
+//   T(x) - S(x + d) = -(a + n0 . DS(x) d) n0 - R,   so   dist(T(x), S) <= e_n + |Gn| |d| + |R|,
+// a point of the patch. Where B touches a patch side (no margin across it) the step runs along the side only,
+// direction k (u or v): with l0 = P S_k(x0) / |P S_k(x0)| and m0 = n0 x l0, l0 . S_k >= |P S_k(x0)| - (change of S_k
+// over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)), |d_k| <= e_t / s_k, and
+//   T(x) - S(x + d_k) = -(a + d_k n0 . S_k) n0 - (m0 . (S(x) - T(x)) + d_k m0 . S_k) m0 - R,
+// where m0 . (S - T) is bounded like a (the scalar net m0 . w (P - c0)), and |R| <= (1/2) M_kk d_k^2. The triangle's
+// bound is the smallest of e_f, |(e_n, e_t)| and these; the first two alone where sigma <= 0 (vanishing du x dv), at
+// a patch corner, or where the step exceeds the margin. e_n is second order in the normal curvature only (no
+// tangential acceleration, no twist of a surface of revolution), and the correction is third order.
 #include "geometry/surfaces/bezier_patch.h"
 
 #include <algorithm>
@@ -206,6 +233,136 @@ NetBounds rational_second_derivative_bounds(const BezierPatch& patch) {
     best.v = std::min(best.v, sub_max.v);
     return best;
 }
+
+// ---- local distance bound of one triangle ----------------------------------------------------------------------
+
+//! The homogeneous net of `patch` restricted to [u0, u1] x [v0, v1] (exact de Casteljau subdivision; weights 1 for a
+//! polynomial patch).
+std::vector<Homogeneous> restricted_net(const BezierPatch& patch, double u0, double u1, double v0, double v1) {
+    const int m = patch.degree_u, n = patch.degree_v;
+    const auto row = static_cast<std::size_t>(m + 1);
+    std::vector<Homogeneous> net(patch.points.size());
+    for (std::size_t k = 0; k < net.size(); ++k) {
+        const double w = patch.rational() ? patch.weights[k] : 1.0;
+        net[k] = {w * patch.points[k].x, w * patch.points[k].y, w * patch.points[k].z, w};
+    }
+    for (int j = 0; j <= n; ++j) restrict_curve(net, static_cast<std::size_t>(j) * row, 1, m, u0, u1);
+    for (int i = 0; i <= m; ++i) restrict_curve(net, static_cast<std::size_t>(i), row, n, v0, v1);
+    return net;
+}
+
+}  // namespace
+
+double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c) {
+    // The method and its proof are in the comment at the top of this file ("Distance bound of one triangle").
+    const double u0 = std::min({a.x, b.x, c.x}), u1 = std::max({a.x, b.x, c.x});
+    const double v0 = std::min({a.y, b.y, c.y}), v1 = std::max({a.y, b.y, c.y});
+    const double bu = u1 - u0, bv = v1 - v0;
+    if (!(bu > 0) || !(bv > 0)) {  // a segment or point: the whole patch's bound (its extents are zero or tiny)
+        const NetBounds m = second_derivative_bounds(patch);
+        return (m.uu * bu * bu + 2.0 * m.uv * bu * bv + m.vv * bv * bv) / 8.0;
+    }
+    // the box B of the triangle, grown by a quarter of its size on each side inside the patch: the box E
+    constexpr double kGrow = 0.25;
+    const double eu0 = std::max(0.0, u0 - kGrow * bu), eu1 = std::min(1.0, u1 + kGrow * bu);
+    const double ev0 = std::max(0.0, v0 - kGrow * bv), ev1 = std::min(1.0, v1 + kGrow * bv);
+    const double su = eu1 - eu0, sv = ev1 - ev0;
+    const std::vector<Homogeneous> net = restricted_net(patch, eu0, eu1, ev0, ev1);
+    const int m = patch.degree_u, n = patch.degree_v;
+    BezierPatch piece;
+    piece.degree_u = m;
+    piece.degree_v = n;
+    piece.points.resize(net.size());
+    piece.weights.resize(net.size());
+    for (std::size_t k = 0; k < net.size(); ++k) {
+        piece.weights[k] = net[k][3];
+        piece.points[k] = Vec3{net[k][0], net[k][1], net[k][2]} * (1.0 / net[k][3]);
+    }
+    // all in E's own parameters (s, t) in [0, 1]^2: the triangle spans H x K of them
+    const NetBounds full = single_net_rational_bounds(piece);
+    const double h = bu / su, k = bv / sv;
+    const double e_full = (full.uu * h * h + 2.0 * full.uv * h * k + full.vv * k * k) / 8.0;
+
+    // the normal n0 and the point c0 at B's centre, derivatives in E's parameters
+    const double uc = 0.5 * (u0 + u1), vc = 0.5 * (v0 + v1);
+    const PatchDerivatives d = evaluate_derivatives(patch, uc, vc);
+    const Vec3 su_vec = d.du * su, sv_vec = d.dv * sv;
+    const Vec3 n0 = normalized(cross(su_vec, sv_vec));
+    if (!(norm(n0) > 0.5)) return e_full;
+    const Vec3 c0 = d.position;
+
+    // bounds on |dir . S_s|, |dir . S_ss|, ... over E from the scalar nets dir . w (P - c0) and w
+    std::vector<double> q(net.size()), w(net.size());
+    double wmin = net[0][3];
+    for (std::size_t i = 0; i < net.size(); ++i) {
+        w[i] = net[i][3];
+        wmin = std::min(wmin, w[i]);
+    }
+    const auto wa = net_derivative_bounds(w, m, n, [](double x) { return std::fabs(x); });
+    struct Directional {
+        double g_u, g_v, error;  //!< |dir . S_s|, |dir . S_t| over E; the bound on |dir . (S(x) - T(x))|
+    };
+    const auto directional = [&](const Vec3& dir) {
+        double radius = 0;
+        for (std::size_t i = 0; i < net.size(); ++i) {
+            const double along = dot(dir, piece.points[i] - c0);
+            radius = std::max(radius, std::fabs(along));
+            q[i] = w[i] * along;
+        }
+        const auto qa = net_derivative_bounds(q, m, n, [](double x) { return std::fabs(x); });
+        const double g_u = (qa[0] + wa[0] * radius) / wmin, g_v = (qa[1] + wa[1] * radius) / wmin;
+        const double uu = (qa[2] + wa[2] * radius + 2 * wa[0] * g_u) / wmin;
+        const double vv = (qa[3] + wa[3] * radius + 2 * wa[1] * g_v) / wmin;
+        const double uv = (qa[4] + wa[4] * radius + wa[0] * g_v + wa[1] * g_u) / wmin;
+        return Directional{g_u, g_v, (uu * h * h + 2.0 * uv * h * k + vv * k * k) / 8.0};
+    };
+    const Directional normal = directional(n0);
+    double best = e_full;
+    // the tangential part t of S(x) - T(x), from the scalar nets along two tangent directions at x0 (orthonormal with
+    // n0, so |t|^2 is the sum of the two squared components); without a move |S(x) - T(x)| is bounded the same way
+    double tangential = e_full;
+    {
+        const Vec3 t1 = normalized(su_vec - dot(n0, su_vec) * n0), t2 = cross(n0, t1);
+        if (norm(t1) > 0.5) tangential = std::min(tangential, std::hypot(directional(t1).error, directional(t2).error));
+    }
+    best = std::min(best, std::hypot(normal.error, tangential));
+    // B's margin inside E along u and v (zero where B touches a patch side)
+    const double margin_u = std::min((u0 - eu0) / su, (eu1 - u1) / su);
+    const double margin_v = std::min((v0 - ev0) / sv, (ev1 - v1) / sv);
+
+    // a move in both directions: |t| <= tangential, cancelled by a parameter step |d| <= e_full / sigma, where sigma
+    // bounds the smallest singular value of the projected Jacobian over B from below
+    const Vec3 ju = su_vec - dot(n0, su_vec) * n0, jv = sv_vec - dot(n0, sv_vec) * n0;
+    const double ee = dot(ju, ju), ff = dot(ju, jv), gg = dot(jv, jv);
+    const double largest = std::sqrt(0.5 * (ee + gg) + std::hypot(0.5 * (ee - gg), ff));
+    if (largest > 0) {
+        const double sigma0 = norm(cross(ju, jv)) / largest;
+        const double drift = std::hypot(0.5 * (full.uu * h + full.uv * k), 0.5 * (full.uv * h + full.vv * k));
+        const double sigma = sigma0 * (1 - 1e-12) - drift;
+        const double step = tangential / sigma;
+        if (sigma > 0 && step <= std::min(margin_u, margin_v))
+            best = std::min(best, normal.error + std::hypot(normal.g_u, normal.g_v) * step +
+                                      0.5 * (full.uu + 2.0 * full.uv + full.vv) * step * step);
+    }
+    // a move along one direction only (B on a patch side running that way): the drift across, along m0, stays
+    for (int along = 0; along < 2; ++along) {
+        const Vec3& j = along == 0 ? ju : jv;
+        const double length = norm(j);
+        if (!(length > 0)) continue;
+        const Vec3 l0 = j * (1.0 / length), m0 = cross(n0, l0);
+        const double change = along == 0 ? 0.5 * (full.uu * h + full.uv * k) : 0.5 * (full.uv * h + full.vv * k);
+        const double speed = length * (1 - 1e-12) - change;  // <= l0 . S_s (or S_t) over B
+        const double step = tangential / speed;
+        if (!(speed > 0) || !(step <= (along == 0 ? margin_u : margin_v))) continue;
+        const Directional across = directional(m0);
+        const double g = along == 0 ? normal.g_u + across.g_u : normal.g_v + across.g_v;
+        const double second = along == 0 ? full.uu : full.vv;
+        best = std::min(best, normal.error + across.error + g * step + 0.5 * second * step * step);
+    }
+    return best;
+}
+
+namespace {
 
 // ---- shared edges ---------------------------------------------------------------------------------------------
 

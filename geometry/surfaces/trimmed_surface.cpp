@@ -4,6 +4,7 @@
 #include "geometry/surfaces/trimmed_surface.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -24,6 +25,27 @@ using detail::ConstrainedTriangulation;
 constexpr double kExclusion = 0.4;
 constexpr double kPi = 3.14159265358979323846;
 
+std::uint64_t bits(double x) {
+    x += 0.0;  // -0 as +0
+    std::uint64_t out = 0;
+    std::memcpy(&out, &x, sizeof out);
+    return out;
+}
+
+//! Width of a grid's first and last interval relative to the others. Cells on a patch side get the weaker bound of
+//! triangle_distance_bound (the correcting move may not leave the patch), so they are made narrower.
+constexpr double kSideInterval = 0.6;
+
+//! Grid line i of n across a patch, as a fraction of its side: intervals r s, s, ..., s, r s (r = kSideInterval) for
+//! n >= 3, uniform below. A function of (i, n) alone, so patches sharing a side agree on its points.
+double grid_fraction(int i, int n) {
+    if (i <= 0) return 0;
+    if (i >= n) return 1;
+    if (n < 3) return static_cast<double>(i) / n;
+    const double s = 1.0 / (n - 2 + 2 * kSideInterval);
+    return (kSideInterval + (i - 1)) * s;
+}
+
 struct PatchInfo {
     double u0 = 0, u1 = 1, v0 = 0, v1 = 1;  //!< the patch's parameter rectangle
     int nu = 1, nv = 1;                     //!< grid segments
@@ -34,23 +56,50 @@ struct PatchInfo {
     double y(double v) const { return (v - v0) * (ly / (v1 - v0)); }
     Vec2 scaled(Vec2 p) const { return {x(p.x), y(p.y)}; }
     Vec2 unscaled(Vec2 s) const { return {u0 + s.x * ((u1 - u0) / lx), v0 + s.y * ((v1 - v0) / ly)}; }
-    double grid_u(int i) const { return i == 0 ? u0 : i == nu ? u1 : u0 + (u1 - u0) * (static_cast<double>(i) / nu); }
-    double grid_v(int j) const { return j == 0 ? v0 : j == nv ? v1 : v0 + (v1 - v0) * (static_cast<double>(j) / nv); }
+    double grid_u(int i) const { return i == 0 ? u0 : i == nu ? u1 : u0 + (u1 - u0) * grid_fraction(i, nu); }
+    double grid_v(int j) const { return j == 0 ? v0 : j == nv ? v1 : v0 + (v1 - v0) * grid_fraction(j, nv); }
     double spacing() const { return std::min(lx / nu, ly / nv); }
-    //! The interior bound of a triangle with these parameter corners (trimmed_surface.h).
+    const BezierPatch* bezier = nullptr;  //!< the patch itself
+
+    //! The interior bound of a triangle with these parameter corners (trimmed_surface.h): the smaller of the whole
+    //! patch's equal-parameter bound and triangle_distance_bound (both guarantees).
     double bound(Vec2 a, Vec2 b, Vec2 c) const {
         const double h = (std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x})) / (u1 - u0);
         const double k = (std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y})) / (v1 - v0);
-        return (d.uu * h * h + 2 * d.uv * h * k + d.vv * k * k) / 8;
+        const double whole = (d.uu * h * h + 2 * d.uv * h * k + d.vv * k * k) / 8;
+        const auto local = [&](Vec2 p) {
+            return Vec2{std::clamp((p.x - u0) / (u1 - u0), 0.0, 1.0), std::clamp((p.y - v0) / (v1 - v0), 0.0, 1.0)};
+        };
+        // memoised by the parameter box, on which the bound depends alone (the refinement passes ask again, and
+        // both triangles of a grid cell share their box)
+        const std::array<std::uint64_t, 4> key{bits(std::min({a.x, b.x, c.x})), bits(std::max({a.x, b.x, c.x})),
+                                               bits(std::min({a.y, b.y, c.y})), bits(std::max({a.y, b.y, c.y}))};
+        const auto [it, inserted] = memo.emplace(key, 0.0);
+        if (inserted) it->second = std::min(whole, triangle_distance_bound(*bezier, local(a), local(b), local(c)));
+        return it->second;
+    }
+    struct KeyHash {
+        std::size_t operator()(const std::array<std::uint64_t, 4>& k) const {
+            std::size_t h = 1469598103934665603ull;
+            for (std::uint64_t w : k) h = (h ^ w) * 1099511628211ull;
+            return h;
+        }
+    };
+    mutable std::unordered_map<std::array<std::uint64_t, 4>, double, KeyHash> memo;
+    //! The largest bound over the cells of the nu x nv grid (both triangles of a cell share its box).
+    double grid_bound(int cu, int cv) const {
+        double worst = 0;
+        for (int j = 0; j < cv; ++j)
+            for (int i = 0; i < cu; ++i) {
+                const double a = grid_fraction(i, cu), b = grid_fraction(i + 1, cu);
+                const double c = grid_fraction(j, cv), e = grid_fraction(j + 1, cv);
+                worst = std::max(
+                    worst, bound({u0 + a * (u1 - u0), v0 + c * (v1 - v0)}, {u0 + b * (u1 - u0), v0 + c * (v1 - v0)},
+                                 {u0 + b * (u1 - u0), v0 + e * (v1 - v0)}));
+            }
+        return worst;
     }
 };
-
-std::uint64_t bits(double x) {
-    x += 0.0;  // -0 as +0
-    std::uint64_t out = 0;
-    std::memcpy(&out, &x, sizeof out);
-    return out;
-}
 
 struct UvKey {
     std::uint64_t u, v;
@@ -214,10 +263,11 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
     std::vector<char> excluded(static_cast<std::size_t>((nu + 1) * (nv + 1)), 0);
     for (const auto& [ring, k] : trims.chords) {
         const Vec2 a = patch.scaled(rings[ring][k]), b = patch.scaled(rings[ring][(k + 1) % rings[ring].size()]);
-        const int i0 = std::max(1, static_cast<int>(std::ceil((std::min(a.x, b.x) - reach) / hx)));
-        const int i1 = std::min(nu - 1, static_cast<int>(std::floor((std::max(a.x, b.x) + reach) / hx)));
-        const int j0 = std::max(1, static_cast<int>(std::ceil((std::min(a.y, b.y) - reach) / hy)));
-        const int j1 = std::min(nv - 1, static_cast<int>(std::floor((std::max(a.y, b.y) + reach) / hy)));
+        // index ranges of a uniform grid, widened by one: grid_fraction is within one interval of i / n
+        const int i0 = std::max(1, static_cast<int>(std::ceil((std::min(a.x, b.x) - reach) / hx)) - 1);
+        const int i1 = std::min(nu - 1, static_cast<int>(std::floor((std::max(a.x, b.x) + reach) / hx)) + 1);
+        const int j0 = std::max(1, static_cast<int>(std::ceil((std::min(a.y, b.y) - reach) / hy)) - 1);
+        const int j1 = std::min(nv - 1, static_cast<int>(std::floor((std::max(a.y, b.y) + reach) / hy)) + 1);
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i)
                 if (distance_to_segment(patch.scaled({patch.grid_u(i), patch.grid_v(j)}), a, b) < reach)
@@ -392,6 +442,7 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
             info.nu = plan->segments[p].nu;
             info.nv = plan->segments[p].nv;
             info.d = derivative_bounds(bp);
+            info.bezier = &bp;
             // mean lengths of the net's rows and columns: the scale that makes the parameter plane about isometric
             double lx = 0, ly = 0;
             for (int j = 0; j <= bp.degree_v; ++j)
@@ -405,6 +456,38 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
             info.ly = ly > 1e-9 * fallback ? ly : fallback;
             g = std::max(g, std::hypot(info.d.u / (info.u1 - info.u0), info.d.v / (info.v1 - info.v0)));
         }
+    // Grid counts: the plan's, scaled by one common factor f (so counts stay equal along shared sides), the smallest
+    // found (bisection, 10 steps) for which every grid cell of every patch is within e by its local bound.
+    {
+        const auto counts = [&](const PatchInfo& info, double f) {
+            return std::pair{std::max(1, static_cast<int>(std::ceil(f * info.nu))),
+                             std::max(1, static_cast<int>(std::ceil(f * info.nv)))};
+        };
+        const auto fits = [&](double f) {
+            for (const PatchInfo& info : patches) {
+                const auto [cu, cv] = counts(info, f);
+                if (info.grid_bound(cu, cv) > e) return false;
+            }
+            return true;
+        };
+        double pass = 1.0, fail = 0.25;
+        while (!fits(pass)) {  // the narrower side intervals widen the others a little
+            fail = pass;
+            pass *= 1.25;
+            for (const PatchInfo& info : patches)
+                if (std::max(counts(info, pass).first, counts(info, pass).second) > options.max_segments)
+                    return make_error(ErrorCode::BudgetExceeded, "tolerance " + std::to_string(e) +
+                                                                     " needs more than " +
+                                                                     std::to_string(options.max_segments) +
+                                                                     " grid segments along one direction of a patch");
+        }
+        if (fail == 0.25 && fits(fail)) pass = fail;
+        for (int step = 0; step < 10 && pass > fail; ++step) {
+            const double mid = 0.5 * (pass + fail);
+            (fits(mid) ? pass : fail) = mid;
+        }
+        for (PatchInfo& info : patches) std::tie(info.nu, info.nv) = counts(info, pass);
+    }
     const auto patch_at = [&](Vec2 p) -> const PatchInfo& {
         return patches[intervals(bv, p.y).second * columns + intervals(bu, p.x).second];
     };

@@ -2,8 +2,11 @@
 // chord tolerance e, on the surface and along the trims.
 //
 // Method.
-//  1. The surface is split into its Bézier patches (to_bezier) and each patch gets the grid plan_tessellation gives for
-//     e (bezier_patch.h: every triangle of that grid is within e of the surface; counts agree along shared edges).
+//  1. The surface is split into its Bézier patches (to_bezier) and each patch gets a grid: the counts plan_tessellation
+//     gives for e (bezier_patch.h; counts agree along shared edges) times one common factor, the smallest found by
+//     bisection for which every grid cell is within e by the interior bound below. Grid lines are uniform but for the
+//     first and last interval, 0.6 of the others (cells on a patch side get triangle_distance_bound's weaker form);
+//     the positions depend on the count alone, so patches sharing a side agree on its points.
 //  2. Trim curves are flattened in (u, v) to the flatness d = 0.9 e / (2 G), where G bounds |dS| per unit of parameter
 //     distance over the whole surface: G = max over patches of sqrt((|S_u| / span_u)^2 + (|S_v| / span_v)^2), with
 //     derivative_bounds() (bezier_patch.h). Method: the parameter-space deviation times the first-derivative bound;
@@ -28,11 +31,13 @@
 //     1e-10 of the model size, and triangles that collapse are dropped. uvs (face-varying) are the (u, v).
 //
 // Guarantees (reported in TrimmedTessellation).
-//  - Interior: a triangle whose corners lie in one patch, with parameter extents H x K (patch units), is within
-//    (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) of the surface at equal parameters (the derivation of bezier_patch.cpp holds
-//    for any triangle, its corners' weighted variances being bounded by the extents). Every triangle's bound is
-//    computed; refinement makes the largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex
-//    (unless the refinement budget runs out: the bounds are then what was reached, and bound says so).
+//  - Interior: a triangle whose corners lie in one patch is within the smaller of two guaranteed bounds of the
+//    surface: with parameter extents H x K (patch units), (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) at equal parameters
+//    (the derivation of bezier_patch.cpp holds for any triangle, its corners' weighted variances being bounded by the
+//    extents), and triangle_distance_bound (bezier_patch.h: local, normal component plus a tangential drift absorbed
+//    by moving to another surface point of the patch). Every triangle's bound is computed; refinement makes the
+//    largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex (unless the refinement budget
+//    runs out: the bounds are then what was reached, and bound says so).
 //  - Trims: every point of a trim curve is within d + gap of its polygon in (u, v), hence within G (d + gap) of the
 //    image of a polygon point, which lies on an edge of a triangle with a trim vertex, within that triangle's bound:
 //    trim_bound = G (d + gap) + (the largest bound of those triangles) <= 0.9 e/2 + e/2 for loops closed within the

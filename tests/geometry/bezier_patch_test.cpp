@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <tuple>
 #include <vector>
 
 #include "geometry/curves/de_casteljau.h"
@@ -493,6 +494,96 @@ TEST(RationalPatch, SphereOctantIsExact) {
     EXPECT_EQ(evaluate(octant, 0, 0), (Vec3{1, 0, 0}));
     expect_near(evaluate(octant, 0.5, 0), Vec3{std::sqrt(0.5), std::sqrt(0.5), 0}, 1e-15, "equator at 45 degrees");
     expect_near(evaluate(octant, 0.3, 1), Vec3{0, 0, 1}, 1e-15, "pole");
+}
+
+//! Distance from q to the patch, from above: Gauss-Newton on |S(y) - q|^2 from `start`, kept in [0, 1]^2, the
+//! smallest distance met (a point of the patch, so never below the true distance; close to it from a near start).
+double distance_to_patch(const BezierPatch& patch, const Vec3& q, Vec2 start) {
+    Vec2 y = start;
+    double best = norm(evaluate(patch, y.x, y.y) - q);
+    for (int iteration = 0; iteration < 12; ++iteration) {
+        const PatchDerivatives d = evaluate_derivatives(patch, y.x, y.y);
+        const Vec3 r = d.position - q;
+        const double a = dot(d.du, d.du), b = dot(d.du, d.dv), c = dot(d.dv, d.dv);
+        const double det = a * c - b * b;
+        if (!(det > 0)) break;
+        const double gu = dot(d.du, r), gv = dot(d.dv, r);
+        y = {std::clamp(y.x - (c * gu - b * gv) / det, 0.0, 1.0), std::clamp(y.y - (a * gv - b * gu) / det, 0.0, 1.0)};
+        best = std::min(best, norm(evaluate(patch, y.x, y.y) - q));
+    }
+    return best;
+}
+
+//! Largest distance from a barycentric grid on the triangle through S(a), S(b), S(c) to the patch.
+double triangle_deviation(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c) {
+    const Vec3 pa = evaluate(patch, a.x, a.y), pb = evaluate(patch, b.x, b.y), pc = evaluate(patch, c.x, c.y);
+    double worst = 0;
+    constexpr int n = 8;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+            const double s = static_cast<double>(i) / n, t = static_cast<double>(j) / n;
+            const Vec3 q = pa + s * (pb - pa) + t * (pc - pa);
+            const Vec2 x{a.x + s * (b.x - a.x) + t * (c.x - a.x), a.y + s * (b.y - a.y) + t * (c.y - a.y)};
+            worst = std::max(worst, distance_to_patch(patch, q, x));
+        }
+    return worst;
+}
+
+TEST(RationalPatch, TriangleDistanceBoundHoldsOnRandomPatches) {
+    // random rational and polynomial patches, random triangles inside and on the sides: bound >= measured distance
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), size(0.01, 0.2);
+    int local_wins = 0, triangles = 0;  // local_wins: at most half the whole patch's bound
+    for (unsigned seed = 1; seed <= 12; ++seed) {
+        const int m = static_cast<int>(seed % 3) + 1, n = static_cast<int>(seed % 2) + 2;
+        const BezierPatch patch = seed % 3 == 0 ? random_patch(m, n, seed) : random_rational_patch(m, n, seed);
+        for (int k = 0; k < 40; ++k) {
+            const double w = size(rng), h = size(rng);
+            double u0 = unit(rng) * (1 - w), v0 = unit(rng) * (1 - h);
+            if (k % 5 == 0) u0 = 0;  // on a patch side
+            if (k % 7 == 0) v0 = 1 - h;
+            const Vec2 a{u0, v0}, b{u0 + w, v0}, c{u0 + (k % 2 ? w : 0), v0 + h};
+            const double bound = triangle_distance_bound(patch, a, b, c);
+            const double measured = triangle_deviation(patch, a, b, c);
+            EXPECT_GE(bound * (1 + 1e-9) + 1e-14, measured) << "seed " << seed << " triangle " << k;
+            // the whole patch's equal-parameter bound for these extents (a guarantee too): never beaten by much less
+            const PatchDerivativeBounds db = derivative_bounds(patch);
+            const double whole = (db.uu * w * w + 2 * db.uv * w * h + db.vv * h * h) / 8;
+            ++triangles;
+            if (bound < 0.5 * whole) ++local_wins;
+        }
+    }
+    EXPECT_EQ(triangles, 12 * 40);
+    EXPECT_GT(local_wins, triangles / 4);
+}
+
+TEST(RationalPatch, TriangleDistanceBoundOnSphereOctant) {
+    // exact distances (| |q| - 1 |, the unit sphere): the bound holds and is far below the equal-parameter bound of
+    // tessellation_error_bound on the same grid, away from the pole (where du x dv vanishes)
+    const BezierPatch octant = sphere_octant(1, 1, 1);
+    constexpr int n = 16;
+    const double whole = tessellation_error_bound(octant, n, n);
+    double worst_ratio = 0, interior_ratio = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const Vec2 a{static_cast<double>(i) / n, static_cast<double>(j) / n};
+            const Vec2 b{a.x + 1.0 / n, a.y}, c{a.x + 1.0 / n, a.y + 1.0 / n}, d{a.x, a.y + 1.0 / n};
+            for (const auto& [p, q, r] : {std::tuple{a, b, c}, std::tuple{a, c, d}}) {
+                const Vec3 pp = evaluate(octant, p.x, p.y), pq = evaluate(octant, q.x, q.y),
+                           pr = evaluate(octant, r.x, r.y);
+                double measured = 0;
+                for (int s = 0; s <= 10; ++s)
+                    for (int t = 0; s + t <= 10; ++t)
+                        measured = std::max(measured,
+                                            std::fabs(norm(pp + (s / 10.0) * (pq - pp) + (t / 10.0) * (pr - pp)) - 1));
+                const double bound = triangle_distance_bound(octant, p, q, r);
+                EXPECT_GE(bound, measured) << i << ", " << j;
+                EXPECT_LE(bound, whole * (1 + 1e-12)) << i << ", " << j;
+                worst_ratio = std::max(worst_ratio, bound / whole);
+                if (i > 0 && j > 0 && i + 1 < n && j + 1 < n) interior_ratio = std::max(interior_ratio, bound / whole);
+            }
+        }
+    EXPECT_LT(interior_ratio, 0.75) << "worst " << worst_ratio;
 }
 
 TEST(RationalPatch, DerivativesMatchFiniteDifferences) {
