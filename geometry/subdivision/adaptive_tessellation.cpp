@@ -40,6 +40,7 @@ struct PatchData {
     Vec3 a0, b0;   //!< mean first differences along s and t (the centres used for the tangent cones)
     Bounds m;      //!< |S_ss|, |S_st|, |S_tt| over the patch
     Bounds plane;  //!< the same, for the component normal to any plane whose normal is in the patch's normal cone
+    Vec3 n0;       //!< the unit normal a0 x b0 (zero when it has none)
 };
 
 //! Bounds on the component along a unit direction n: |n . S_xx| <= max |n . coefficient|.
@@ -97,7 +98,10 @@ PatchData patch_data(const std::array<Vec3, 16>& p) {
     const double length = norm(n0);
     const double e = norm(d.a0) * rb + ra * norm(d.b0) + ra * rb;
     d.plane = d.m;
-    if (length > 0) d.plane = tilted(d.m, along(d, n0 * (1.0 / length)), chord_of_sine(e / length));
+    if (length > 0) {
+        d.n0 = n0 * (1.0 / length);
+        d.plane = tilted(d.m, along(d, d.n0), chord_of_sine(e / length));
+    }
     return d;
 }
 
@@ -153,7 +157,11 @@ constexpr double kBoundedWidth = 1.0 / (1 << kBoundedDepth);
 struct Overlap {
     Bounds m;
     bool uncovered = false;
-    std::vector<std::pair<std::uint32_t, double>> patches;  //!< (patch, 1 / its width in the domain)
+    struct Piece {
+        std::uint32_t patch;
+        double s0, t0, w;  //!< the patch's square in the domain
+    };
+    std::vector<Piece> patches;
 };
 
 void query(const FaceData& fd, std::size_t node, double s0, double t0, double w, const P2& lo, const P2& hi,
@@ -166,7 +174,7 @@ void query(const FaceData& fd, std::size_t node, double s0, double t0, double w,
     }
     if (n.patch >= 0) {
         out.m.include(fd.patches[static_cast<std::size_t>(n.patch)].m, 1.0 / (w * w));
-        out.patches.emplace_back(std::uint32_t(n.patch), 1.0 / w);
+        out.patches.push_back({std::uint32_t(n.patch), s0, t0, w});
         return;
     }
     if (n.first_child < 0) {
@@ -201,16 +209,112 @@ Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, co
     return o;
 }
 
-//! Second-derivative bounds of the component of S along the unit normal `m` of a triangle's plane, over the patches
-//! `o` holds (the rest is `o.uncovered`), for triangle_bound: the distance from S(x) to the plane of the triangle of S
-//! at its corners is |m . (S(x) - T(x))|, the interpolation error of the scalar m . S, whose second derivatives are
-//! bounded by the patches' differences projected on m. Only the surface's bending away from the plane counts, not the
+//! Bernstein coefficients over [a, b] (within [0, 1]) of the uniform B-spline basis functions of degree d (1..3)
+//! of one span: out[i][j] is basis i's j-th coefficient. A polynomial lies in the convex hull of its Bernstein
+//! coefficients over an interval, which shrinks to its range as the interval does.
+using Basis = std::array<std::array<double, 4>, 4>;
+Basis bernstein_of_basis(int d, double a, double b) {
+    // power coefficients (in x) of each basis function, times d!
+    static constexpr double kPower[4][4][4] = {{},
+                                               {{1, -1, 0, 0}, {0, 1, 0, 0}},
+                                               {{1, -2, 1, 0}, {1, 2, -2, 0}, {0, 0, 1, 0}},
+                                               {{1, -3, 3, -1}, {4, 0, -6, 3}, {1, 3, 3, -3}, {0, 0, 0, 1}}};
+    static constexpr double kFactorial[4] = {1, 1, 2, 6};
+    static constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    const double h = b - a;
+    Basis out{};
+    for (int i = 0; i <= d; ++i) {
+        // q(y) = N_i(a + h y) in powers of y
+        double q[4] = {0, 0, 0, 0};
+        for (int k = 0; k <= d; ++k) {
+            const double c = kPower[d][i][k] / kFactorial[d];
+            // (a + h y)^k = sum_l C(k, l) a^(k - l) h^l y^l
+            for (int l = 0; l <= k; ++l) q[l] += c * kBinomial[k][l] * std::pow(a, k - l) * std::pow(h, l);
+        }
+        // power to Bernstein: b_j = sum_{l <= j} C(j, l) / C(d, l) q_l
+        for (int j = 0; j <= d; ++j) {
+            double v = 0;
+            for (int l = 0; l <= j; ++l) v += kBinomial[j][l] / kBinomial[d][l] * q[l];
+            out[std::size_t(i)][std::size_t(j)] = v;
+        }
+    }
+    return out;
+}
+
+//! max |sum_ij c[i][j] B_i(s) C_j(t)| over the box, from the Bernstein coefficients: c are the B-spline
+//! coefficients (ds + 1 along s, dt + 1 along t, c[i + (ds + 1) j]), bs and bt the bases' Bernstein coefficients.
+double box_max(const double* c, int ds, int dt, const Basis& bs, const Basis& bt) {
+    double worst = 0;
+    for (int js = 0; js <= ds; ++js)
+        for (int jt = 0; jt <= dt; ++jt) {
+            double v = 0;
+            for (int i = 0; i <= ds; ++i)
+                for (int j = 0; j <= dt; ++j)
+                    v +=
+                        c[i + (ds + 1) * j] * bs[std::size_t(i)][std::size_t(js)] * bt[std::size_t(j)][std::size_t(jt)];
+            worst = std::max(worst, std::abs(v));
+        }
+    return worst;
+}
+
+//! Bounds on |n . S_ss|, |n . S_st|, |n . S_tt| over the box [s0, s1] x [t0, t1] of a patch's [0, 1]^2 (patch
+//! units): the Bernstein coefficients of the three derivatives (linear x cubic, biquadratic, cubic x linear
+//! B-splines of the patch's differences) over the box. Never above `along`'s bounds over the whole patch.
+Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
+    double uu[8], vv[8], uv[9];
+    // uu[2r + c]: c along s (linear), r along t (cubic); vv[2r + c]: r along s (cubic), c along t (linear);
+    // uv[3r + c]: c along s, r along t (quadratic both)
+    for (std::size_t i = 0; i < 8; ++i) uu[i] = dot(n, p.uu[i]);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 2; ++c) vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
+    for (std::size_t i = 0; i < 9; ++i) uv[i] = dot(n, p.uv[i]);
+    const Basis s1b = bernstein_of_basis(1, s0, s1), s2b = bernstein_of_basis(2, s0, s1),
+                s3b = bernstein_of_basis(3, s0, s1);
+    const Basis t1b = bernstein_of_basis(1, t0, t1), t2b = bernstein_of_basis(2, t0, t1),
+                t3b = bernstein_of_basis(3, t0, t1);
+    return {box_max(uu, 1, 3, s1b, t3b), box_max(uv, 2, 2, s2b, t2b), box_max(vv, 3, 1, s3b, t1b)};
+}
+
+//! Second-derivative bounds of the component of S along the unit normal `m` of a triangle's plane, over the parts
+//! of the patches `o` holds inside the box [lo, hi] (the rest is `o.uncovered`), for triangle_bound: the distance
+//! from S(x) to the plane of the triangle of S at its corners is |m . (S(x) - T(x))|, the interpolation error of
+//! the scalar m . S, whose second derivatives are bounded by the Bernstein coefficients, over the box, of the
+//! patches' differences projected on m. Only the surface's bending away from the plane counts, not the
 //! parameterization's tangential non-uniformity. Without a normal (a degenerate triangle): the bounds on |S_xx|.
-Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m) {
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo, const P2& hi) {
     if (!m) return o.m;
     Bounds out;
-    for (const auto& [index, scale] : o.patches) out.include(along(fd.patches[index], *m), scale * scale);
+    for (const auto& piece : o.patches) {
+        const double inv = 1.0 / piece.w;
+        const double s0 = std::clamp((lo.s - piece.s0) * inv, 0.0, 1.0),
+                     s1 = std::clamp((hi.s - piece.s0) * inv, 0.0, 1.0);
+        const double t0 = std::clamp((lo.t - piece.t0) * inv, 0.0, 1.0),
+                     t1 = std::clamp((hi.t - piece.t0) * inv, 0.0, 1.0);
+        out.include(along_in_box(fd.patches[piece.patch], *m, s0, s1, t0, t1), inv * inv);
+    }
     return out;
+}
+
+//! Bounds on |S_ss|, |S_st|, |S_tt| (the full vectors) over the box [lo, hi]: the norm of the per-axis bounds. For a
+//! triangle with an edge on an open boundary, where a point of S whose projection falls outside the triangle has no
+//! neighbour to be near: the distance to the triangle is at most |S(x) - T(x)|, bounded by these.
+Bounds full_bounds(const FaceData& fd, const Overlap& o, const P2& lo, const P2& hi) {
+    Bounds axis[3];
+    for (int k = 0; k < 3; ++k) {
+        Vec3 e{};
+        (k == 0 ? e.x : k == 1 ? e.y : e.z) = 1.0;
+        axis[k] = plane_bounds(fd, o, e, lo, hi);
+    }
+    const auto len = [](double a, double b, double c) { return std::sqrt(a * a + b * b + c * c); };
+    return {len(axis[0].uu, axis[1].uu, axis[2].uu), len(axis[0].uv, axis[1].uv, axis[2].uv),
+            len(axis[0].vv, axis[1].vv, axis[2].vv)};
+}
+
+//! plane_bounds over a triangle's bounding box.
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
+                    const P2& c) {
+    return plane_bounds(fd, o, m, {std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})},
+                        {std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})});
 }
 
 //! Unit normal of the triangle (a, b, c), if it has one.
@@ -379,6 +483,7 @@ struct Context {
     std::vector<std::size_t> first_domain;  //!< per face, its first domain (domains of a face are contiguous)
     std::vector<std::size_t> first_spoke;   //!< per face, index of its spoke 0 in spoke_rates (N-gons)
     std::vector<int> spoke_rates;
+    std::vector<int> edge_faces;  //!< per edge, how many non-hole faces use it (1: an open boundary)
 };
 
 Status check_budget(std::uint64_t triangles, const LimitTessellationOptions& options) {
@@ -487,8 +592,11 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
             if (w < kBoundedWidth) continue;
             const auto& n = fd.surface->nodes()[node];
             if (n.patch >= 0) {
+                // a first guess, not a bound: the second derivatives along the patch's mean normal (the checks
+                // below bound every cell with its triangles' own planes and raise the densities where needed)
+                const PatchData& pd = fd.patches[std::size_t(n.patch)];
                 Bounds m;
-                m.include(fd.patches[std::size_t(n.patch)].plane, 1.0 / (w * w));
+                m.include(norm(pd.n0) > 0 ? along_in_box(pd, pd.n0, 0, 1, 0, 1) : pd.plane, 1.0 / (w * w));
                 const auto [ru, rv] = rates_for(m, tol);
                 raise(g.rs, s0, s0 + w, ru);
                 raise(g.rt, t0, t0 + w, rv);
@@ -529,8 +637,10 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                 const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
                 Overlap o;
                 query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
-                const Bounds lower = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
-                const Bounds upper = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+                const Bounds lower =
+                    plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)), lo, c10, hi);
+                const Bounds upper =
+                    plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)), lo, hi, c01);
                 const double rl = triangle_bound(lower, lo, c10, hi) / tol,
                              ru = triangle_bound(upper, lo, hi, c01) / tol;
                 double fs = 1, ft = 1;
@@ -623,8 +733,10 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                 // sampled as well
                 if (bounded) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
-                    const Bounds lower = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)));
-                    const Bounds upper = plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)));
+                    const Bounds lower =
+                        plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)), lo, c10, hi);
+                    const Bounds upper =
+                        plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)), lo, hi, c01);
                     worst_ratio = std::max({worst_ratio, triangle_bound(lower, lo, c10, hi) / tol,
                                             triangle_bound(upper, lo, hi, c01) / tol});
                 }
@@ -692,6 +804,8 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                 cx.edge_owner_side.push_back(std::uint32_t(k));
             }
             cx.face_edges[f].push_back({it->second, cx.edges[it->second][0] == a});
+            if (cx.edge_faces.size() < cx.edges.size()) cx.edge_faces.resize(cx.edges.size(), 0);
+            ++cx.edge_faces[it->second];
         }
         if (n == 4) {
             out.domains.push_back({std::uint32_t(f), -1, 1, 1, {1, 1, 1, 1}, {}, {}});
@@ -832,9 +946,28 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                         e = *measured;
                         sampled = std::max(sampled, e);
                     }
-                    if (options.guaranteed) {
+                    // an edge on an open boundary: the full bound (no neighbour beyond it)
+                    bool open_edge = false;
+                    for (int k = 0; k < 4 && options.guaranteed; ++k) {
+                        if (d.subface >= 0 && (k == 1 || k == 2)) continue;
+                        const std::size_t fe = d.subface < 0 ? std::size_t(k)
+                                               : k == 0      ? std::size_t(d.subface)
+                                                             : (std::size_t(d.subface) + fd.size - 1) % fd.size;
+                        if (cx.edge_faces[cx.face_edges[d.face][fe].edge] != 1) continue;
+                        int on = 0;
+                        for (const P2* q : {&a, &b, &c})
+                            on += k == 0 ? q->t == 0 : k == 1 ? q->s == 1 : k == 2 ? q->t == 1 : q->s == 0;
+                        open_edge = open_edge || on >= 2;
+                    }
+                    if (options.guaranteed && open_edge) {
+                        tb = triangle_bound(full_bounds(fd, o, {std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})},
+                                                        {std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})}),
+                                            a, b, c);
+                        bound = std::max(bound, tb);
+                    } else if (options.guaranteed) {
                         tb = triangle_bound(
-                            plane_bounds(fd, o, unit_normal(positions[tri[0]], positions[tri[1]], positions[tri[2]])),
+                            plane_bounds(fd, o, unit_normal(positions[tri[0]], positions[tri[1]], positions[tri[2]]), a,
+                                         b, c),
                             a, b, c);
                         bound = std::max(bound, tb);
                     }
@@ -957,7 +1090,7 @@ std::pair<double, double> edge_uv(std::size_t n, std::size_t k, double a) {
 
 Result<LimitTessellationPlan> plan_limit_tessellation(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
                                                       const LimitTessellationOptions& options) {
-    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
     return plan(cx);
 }
 
@@ -965,7 +1098,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
                                            const LimitTessellationOptions& options) {
     if (evaluator.face_count() != base.face_count())
         return make_error(ErrorCode::InvalidArgument, "the evaluator was created from another mesh");
-    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
     auto planned = plan(cx);
     if (!planned) return planned.error();
     LimitTessellation out;

@@ -17,14 +17,15 @@
 // then), leaves without a patch. For a triangle T with parameter corners p_i and unit normal m (of the triangle of S
 // at its corners), the distance from S(x) to T's plane is |m . (S(x) - sum l_i S(p_i))|, the linear interpolation
 // error of the scalar m . S: at most (1/2) max_x sum l_i Q(p_i - x) (Taylor at x along the segments to the corners),
-// with Q(d) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 bounding m . S_ss, m . S_st, m . S_tt by the second differences of
-// the control nets of the patches the triangle's bounding box overlaps, projected on m and scaled by 4^depth (B-spline
-// bases are >= 0 and sum to 1). Only the surface's bending away from the plane counts, not the parameterization's
-// tangential non-uniformity (which a bound on |S(x) - T(x)| at equal parameters would). This is a guarantee (up to
-// rounding) on the distance to the triangle's plane for every triangle that overlaps only patches; a point whose
-// projection on that plane falls outside the triangle is next to a neighbour's. Each domain's grid lines are graded:
-// densities per 1/32 of s and of t from the patches' bounds, raised where a cell's two triangles exceed the
-// tolerance, so that a narrow band of high curvature (a semi-sharp crease) is fine only where it lies; the sides
+// with Q(d) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 bounding m . S_ss, m . S_st, m . S_tt by the Bernstein
+// coefficients, over the part of each patch the triangle's bounding box covers, of the patches' second-difference
+// B-splines projected on m, scaled by 4^depth. Only the surface's bending away from the plane counts, not the
+// parameterization's tangential non-uniformity (which a bound on |S(x) - T(x)| at equal parameters would). This is a
+// guarantee (up to rounding) on the distance to the triangle's plane for every triangle that overlaps only patches; a
+// point whose projection on that plane falls outside the triangle is next to a neighbour's, except beyond an open
+// boundary: a triangle with an edge there is bounded on |S(x) - T(x)| (the full second derivatives). Each domain's
+// grid lines are graded: densities per 1/32 of s and of t, started from each patch's second derivatives along its
+// mean normal (an estimate, not a bound), raised where a cell's two triangles exceed the tolerance, so that a narrow band of high curvature (a semi-sharp crease) is fine only where it lies; the sides
 // start at the inner counts and a transition strip's failing triangle raises its side's edge or spoke (its other
 // domains are checked again). Patches deeper than kBoundedDepth, and leaves without a patch (at irregular vertices,
 // where the second derivatives grow without bound for valences above 4), are not bounded: a triangle that overlaps
