@@ -216,7 +216,8 @@ TEST(Poisson, SparseExtractionAtDepthNine) {
     EXPECT_NEAR(testing::signed_volume(r->mesh), 2 * 4.0 / 3.0 * kPi, 0.03 * 2 * 4.0 / 3.0 * kPi);
 }
 
-// A second thread for the conjugate gradients changes nothing: sums are taken over fixed chunks.
+// A second thread for the assembly passes and the conjugate gradients changes nothing: every row is summed alone,
+// and sums are taken over fixed chunks.
 TEST(Poisson, BitIdenticalWithTwoThreads) {
     const PointCloud cloud = sphere_cloud(10'000, 1.0, 0.0, 12);
     PoissonOptions o = options_at(7);
