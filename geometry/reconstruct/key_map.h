@@ -178,13 +178,18 @@ inline std::uint64_t offset_delta(int di, int dj, int dk) {
 }
 
 //! Looks keys up in a sorted list for non-decreasing targets (a sorted key list plus a fixed offset), with a pointer
-//! that only moves forward: linear in the list's length for a whole pass, sequential in memory, no hashing.
+//! that only moves forward: linear in the list's length for a whole pass, sequential in memory, no hashing. The
+//! first seek finds its place by bisection, so that a pass may start anywhere in the list (half of it, say).
 class SortedCursor {
 public:
     static constexpr std::uint32_t kNone = 0xffffffffu;
     explicit SortedCursor(const std::vector<std::uint64_t>& keys) : keys_(&keys) {}
     std::uint32_t seek(std::uint64_t target) {
         const std::vector<std::uint64_t>& keys = *keys_;
+        if (!started_) {
+            pos_ = static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), target) - keys.begin());
+            started_ = true;
+        }
         while (pos_ < keys.size() && keys[pos_] < target) ++pos_;
         return pos_ < keys.size() && keys[pos_] == target ? static_cast<std::uint32_t>(pos_) : kNone;
     }
@@ -192,6 +197,7 @@ public:
 private:
     const std::vector<std::uint64_t>* keys_;
     std::size_t pos_ = 0;
+    bool started_ = false;
 };
 
 }  // namespace surfaced::reconstruct

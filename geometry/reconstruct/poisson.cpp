@@ -17,6 +17,8 @@ using reconstruct::OrientedSamples;
 
 // The coarsest octree level (4 cells per side), complete over the cube.
 constexpr int kMinDepth = 2;
+// The sampling density that weights the samples' normals is measured this many levels above the finest.
+constexpr int kDensityLevels = 1;
 // Cells a plane crosses per unit area in a grid of unit cells, averaged over orientations: E|nx|+|ny|+|nz| = 1.5.
 constexpr double kCellsPerArea = 1.5;
 
@@ -108,6 +110,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     for (const Vec3& p : positions) samples.positions.push_back((p - origin) * (1.0 / side));
     samples.area = estimate_area(samples, options.depth, options.samples_per_node);
     reconstruct::assign_splat_depths(samples, kMinDepth, options.depth, options.samples_per_node);
+    reconstruct::assign_area_shares(samples, std::max(kMinDepth, options.depth - kDensityLevels));
 
     Result<reconstruct::PoissonOctree> tree =
         reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);
@@ -127,8 +130,8 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
 
     PoissonResult result;
     double iso = 0;
-    for (std::size_t i = 0; i < samples.positions.size(); ++i) iso += samples.weights[i] * chi->at_samples[i];
-    iso /= samples.weight_sum;
+    for (std::size_t i = 0; i < samples.positions.size(); ++i) iso += samples.area_shares[i] * chi->at_samples[i];
+    iso /= samples.area;
     result.iso_value = iso;
     result.cube_origin = origin;
     result.cube_size = side;

@@ -9,9 +9,10 @@
 //     their neighbours on each finer level.
 //  2. The normals are splatted into a vector field V on the finest level, and chi is sought as a sum of trilinear
 //     B-splines (degree 1) centred on every level's cell corners minimising the screened Poisson energy
-//     |grad chi - V|^2 + alpha * area / sum w * sum_i w_i chi(p_i)^2 (poisson_system.h).
+//     |grad chi - V|^2 + alpha * area / sum w * sum_i w_i chi(p_i)^2 (poisson_system.h); each sample's normal stands
+//     for a share of the area inversely proportional to the local sampling density.
 //  3. The system is solved coarse to fine, conjugate gradients on each level (solver.h).
-//  4. The iso-value is the weighted mean of chi at the samples, and chi = iso is meshed by marching cubes on the
+//  4. The iso-value is the mean of chi at the samples weighted by their area shares, and chi = iso is meshed by marching cubes on the
 //     finest level's grid (2^depth cells per side), visiting only the cells the surface can cross, in coarse regions
 //     too (extract_surface.h): memory and time grow with the surface, not with the cube's volume.
 // The output is a closed, manifold, consistently oriented triangle mesh with normals pointing out of the sampled
@@ -53,8 +54,8 @@ struct PoissonOptions {
     //! Conjugate-gradient iterations per level, at most, and the relative residual that ends them.
     int max_iterations = 100;
     double tolerance = 1e-6;
-    //! 1: everything on the calling thread; anything else (>= 0): a second thread for the conjugate gradients of
-    //! levels with 65,536 unknowns or more. The mesh is bit-identical either way.
+    //! 1: everything on the calling thread; anything else (>= 0): a second thread for the assembly and the conjugate
+    //! gradients of levels with 65,536 unknowns or more. The mesh is bit-identical either way.
     int threads = 1;
 };
 
@@ -93,8 +94,8 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
 //! cells the extraction meshes, and peak bytes. Assumes a closed surface about as large as the bounding cube allows
 //! (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the benchmark's
 //! 50,000-point sphere (area 0.83 of that assumption) it predicts 32 / 111 / 427 MiB at depths 6 / 7 / 8 against
-//! 38 / 115 / 404 MiB measured (peak heap), for its 1,000,000-point sphere 1,803 / 6,868 MiB at depths 9 / 10
-//! against 1,884 / 6,608 MiB.
+//! 38 / 115 / 405 MiB measured (peak heap), for its 1,000,000-point sphere 1,803 / 6,868 MiB at depths 9 / 10
+//! against 1,892 / 6,615 MiB.
 struct PoissonEstimate {
     std::uint64_t octree_cells = 0;
     std::uint64_t grid_cells = 0;  //!< finest-level cells the surface crosses (no dense grid is built)

@@ -50,6 +50,23 @@ std::uint64_t corner_key(std::uint64_t cell, int c) {
                     key_k(cell) + static_cast<std::uint32_t>(c >> 2));
 }
 
+// Levels with fewer dofs than this are assembled on one thread (a second one would cost more than it saves).
+constexpr std::size_t kThreadedSize = 1 << 16;
+
+//! Runs body(begin, end) on the halves of [0, n), concurrently when `threaded` (and n is large enough). Every pass
+//! below writes only the rows of its own range and sums each row in a fixed order, so the result is the same either
+//! way.
+template <class F>
+void halves(std::size_t n, bool threaded, F&& body) {
+    const std::size_t middle = n / 2;
+    run_two_parts(threaded && n >= kThreadedSize, [&](int part) {
+        if (part == 0)
+            body(std::size_t{0}, middle);
+        else
+            body(middle, n);
+    });
+}
+
 }  // namespace
 
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]) {
@@ -85,6 +102,40 @@ void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth,
     }
 }
 
+void assign_area_shares(OrientedSamples& samples, int depth) {
+    const std::size_t n = samples.positions.size();
+    std::vector<std::uint64_t> cells(n);
+    KeyCollector collector;
+    for (std::size_t i = 0; i < n; ++i) {
+        cells[i] = cell_key(samples.positions[i], depth);
+        for (int c = 0; c < 8; ++c) collector.insert(corner_key(cells[i], c));
+    }
+    const std::vector<std::uint64_t> keys = collector.take();
+    KeyMap index;
+    index.assign(keys);
+    std::vector<std::uint32_t> corners(n * 8);
+    std::vector<double> weights(n * 8);
+    std::vector<double> density(keys.size(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        corner_weights(samples.positions[i], depth, cells[i], &weights[i * 8]);
+        for (int c = 0; c < 8; ++c) {
+            const std::size_t slot = i * 8 + static_cast<std::size_t>(c);
+            corners[slot] = index.find(corner_key(cells[i], c));
+            density[corners[slot]] += weights[slot];
+        }
+    }
+    samples.area_shares.resize(n);
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double d = 0;
+        for (std::size_t slot = i * 8; slot < i * 8 + 8; ++slot) d += weights[slot] * density[corners[slot]];
+        // d >= the sample's own contribution sum_c w_c^2 >= 1/8 > 0
+        samples.area_shares[i] = samples.weights[i] / d;
+        sum += samples.area_shares[i];
+    }
+    for (double& a : samples.area_shares) a *= samples.area / sum;
+}
+
 namespace {
 
 //! The gradient stencil integral grad phi_v phi_w / h^2 for w = v + o, o = (a-1, b-1, c-1).
@@ -94,52 +145,58 @@ Vec3 gradient_stencil(int a, int b, int c) {
 
 //! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3 (splats given at the level's dofs),
 //! gathered at every dof from its 27 neighbours w = v + o, one sorted pass per offset.
-void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out) {
+void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out, bool threaded) {
     const double h = std::ldexp(1.0, -level.depth);
     const std::uint32_t n = std::uint32_t{1} << level.depth;
     const std::size_t dofs = level.dofs.size();
     std::vector<double> sum(dofs, 0.0);
-    for (int o = 0; o < 27; ++o) {
-        const int a = o % 3, b = (o / 3) % 3, c = o / 9;
-        const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
-        const Vec3 stencil = gradient_stencil(a, b, c);
-        SortedCursor cursor(level.dofs.keys);
-        for (std::size_t v = 0; v < dofs; ++v) {
-            const std::uint64_t key = level.dofs.keys[v];
-            if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-            const std::uint32_t w = cursor.seek(key + delta);
-            if (w != SortedCursor::kNone) sum[v] += dot(splat[w], stencil);
+    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
+        for (int o = 0; o < 27; ++o) {
+            const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+            const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
+            const Vec3 stencil = gradient_stencil(a, b, c);
+            SortedCursor cursor(level.dofs.keys);
+            for (std::size_t v = begin; v < end; ++v) {
+                const std::uint64_t key = level.dofs.keys[v];
+                if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+                const std::uint32_t w = cursor.seek(key + delta);
+                if (w != SortedCursor::kNone) sum[v] += dot(splat[w], stencil);
+            }
         }
-    }
+    });
     for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
 //! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3 given at the level's support vertices,
 //! gathered at every dof.
-void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out) {
+void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out,
+                       bool threaded) {
     const double h = std::ldexp(1.0, -level.depth);
     const std::uint32_t n = std::uint32_t{1} << level.depth;
     const std::size_t dofs = level.dofs.size();
     std::vector<double> sum(dofs, 0.0);
-    for (int o = 0; o < 27; ++o) {  // one sorted pass per offset, summing in the stencil's order
-        const int a = o % 3, b = (o / 3) % 3, c = o / 9;
-        const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
-        const Vec3 stencil = gradient_stencil(a, b, c);
-        SortedCursor cursor(level.support_vertices.keys);
-        for (std::size_t v = 0; v < dofs; ++v) {
-            const std::uint64_t key = level.dofs.keys[v];
-            if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-            const std::uint32_t s = cursor.seek(key + delta);
-            assert(s != SortedCursor::kNone);
-            sum[v] += dot(field[s], stencil);
+    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
+        for (int o = 0; o < 27; ++o) {  // one sorted pass per offset, summing in the stencil's order
+            const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+            const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
+            const Vec3 stencil = gradient_stencil(a, b, c);
+            SortedCursor cursor(level.support_vertices.keys);
+            for (std::size_t v = begin; v < end; ++v) {
+                const std::uint64_t key = level.dofs.keys[v];
+                if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
+                const std::uint32_t s = cursor.seek(key + delta);
+                assert(s != SortedCursor::kNone);
+                sum[v] += dot(field[s], stencil);
+            }
         }
-    }
+    });
     for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
 }  // namespace
 
-std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples) {
+std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples,
+                                                bool threaded) {
     const std::size_t levels = tree.levels.size();
 
     // splat: n_{d,w} = sum_i a_i N_i phi_{d,w}(p_i) on each sample's level
@@ -153,7 +210,8 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         const std::uint64_t cell = cell_key(samples.positions[i], depth);
         double w[8];
         corner_weights(samples.positions[i], depth, cell, w);
-        const double a = samples.area * samples.weights[i] / samples.weight_sum;
+        const double a = samples.area_shares.empty() ? samples.area * samples.weights[i] / samples.weight_sum
+                                                     : samples.area_shares[i];
         for (int c = 0; c < 8; ++c) {
             const std::uint32_t dof = level.dofs.find(corner_key(cell, c));
             assert(dof != KeyMap::kNone);
@@ -169,25 +227,27 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         const OctreeLevel& to = tree.levels[li];
         std::vector<double>& coarse = rhs[li];
         coarse.assign(to.dofs.size(), 0.0);
-        if (used[li]) add_own_splats(to, splat[li], coarse);
+        if (used[li]) add_own_splats(to, splat[li], coarse, threaded);
         if (li + 1 == levels) continue;
         const OctreeLevel& from = tree.levels[li + 1];
         const std::vector<double>& f = rhs[li + 1];
         // gathered: coarse hat v is the fine hats 2v + o, o in {-1, 0, 1}^3, weighted 2^-(non-zero offsets); one
         // sorted pass per offset
         const std::uint32_t fine_n = std::uint32_t{1} << from.depth;
-        for (int o = 0; o < 27; ++o) {
-            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
-            const double weight = (a ? 0.5 : 1.0) * (b ? 0.5 : 1.0) * (c ? 0.5 : 1.0);
-            const std::uint64_t delta = offset_delta(a, b, c);
-            SortedCursor cursor(from.dofs.keys);
-            for (std::size_t v = 0; v < to.dofs.size(); ++v) {
-                const std::uint64_t doubled = 2 * to.dofs.keys[v];
-                if (!offset_inside(doubled, a, b, c, fine_n)) continue;
-                const std::uint32_t u = cursor.seek(doubled + delta);
-                if (u != SortedCursor::kNone) coarse[v] += weight * f[u];
+        halves(to.dofs.size(), threaded, [&](std::size_t begin, std::size_t end) {
+            for (int o = 0; o < 27; ++o) {
+                const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+                const double weight = (a ? 0.5 : 1.0) * (b ? 0.5 : 1.0) * (c ? 0.5 : 1.0);
+                const std::uint64_t delta = offset_delta(a, b, c);
+                SortedCursor cursor(from.dofs.keys);
+                for (std::size_t v = begin; v < end; ++v) {
+                    const std::uint64_t doubled = 2 * to.dofs.keys[v];
+                    if (!offset_inside(doubled, a, b, c, fine_n)) continue;
+                    const std::uint32_t u = cursor.seek(doubled + delta);
+                    if (u != SortedCursor::kNone) coarse[v] += weight * f[u];
+                }
             }
-        }
+        });
     }
 
     // splats of coarser levels: V_{<d} carried down as values at each level's support vertices, in the level's own
@@ -211,13 +271,13 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         }
         carried = interpolate_to_finer(level, carried, next);
         for (Vec3& v : carried) v *= 0.125;
-        add_support_field(next, carried, rhs[li + 1]);
+        add_support_field(next, carried, rhs[li + 1], threaded);
     }
     return rhs;
 }
 
 LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha,
-                         bool dirichlet)
+                         bool dirichlet, bool threaded)
     : tree_(tree), level_(tree.level(depth)), samples_(samples) {
     h_ = std::ldexp(1.0, -depth);
     beta_ = samples.weight_sum > 0 ? alpha * std::ldexp(1.0, depth) * samples.area / samples.weight_sum : 0.0;
@@ -230,16 +290,19 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
 
     // one sorted pass per offset: the dofs' keys plus the offset are increasing
     neighbours_.assign(dofs * 27, KeyMap::kNone);
-    for (int o = 0; o < 27; ++o) {
-        const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
-        const std::uint64_t delta = offset_delta(a, b, c);
-        SortedCursor cursor(level_.dofs.keys);
-        for (std::size_t v = 0; v < dofs; ++v) {
-            const std::uint64_t key = level_.dofs.keys[v];
-            if (offset_inside(key, a, b, c, n))
-                neighbours_[v * 27 + static_cast<std::size_t>(o)] = cursor.seek(key + delta);
+    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
+        for (int o = 0; o < 27; ++o) {
+            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+            const std::uint64_t delta = offset_delta(a, b, c);
+            SortedCursor cursor(level_.dofs.keys);
+            for (std::size_t v = begin; v < end; ++v) {
+                const std::uint64_t key = level_.dofs.keys[v];
+                if (offset_inside(key, a, b, c, n))
+                    neighbours_[v * 27 + static_cast<std::size_t>(o)] = cursor.seek(key + delta);
+            }
         }
-    }
+    });
+    threaded_ = threaded;
 
     diagonal_.assign(dofs, kStiffness.w[13] * h_);
     const std::size_t count = samples.positions.size();
@@ -301,18 +364,20 @@ void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, 
     const std::size_t dofs = fixed_.size();
     // one sorted pass per offset (the support vertices' keys are sorted too), summing in the stencil's order
     std::vector<double> sum(dofs, 0.0);
-    for (int o = 0; o < 27; ++o) {
-        const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
-        const std::uint64_t delta = offset_delta(a, b, c);
-        SortedCursor cursor(level_.support_vertices.keys);
-        for (std::size_t v = 0; v < dofs; ++v) {
-            const std::uint64_t key = level_.dofs.keys[v];
-            if (!offset_inside(key, a, b, c, n)) continue;
-            const std::uint32_t s = cursor.seek(key + delta);
-            assert(s != SortedCursor::kNone);
-            sum[v] += kStiffness.w[o] * support_values[s];
+    halves(dofs, threaded_, [&](std::size_t begin, std::size_t end) {
+        for (int o = 0; o < 27; ++o) {
+            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
+            const std::uint64_t delta = offset_delta(a, b, c);
+            SortedCursor cursor(level_.support_vertices.keys);
+            for (std::size_t v = begin; v < end; ++v) {
+                const std::uint64_t key = level_.dofs.keys[v];
+                if (!offset_inside(key, a, b, c, n)) continue;
+                const std::uint32_t s = cursor.seek(key + delta);
+                assert(s != SortedCursor::kNone);
+                sum[v] += kStiffness.w[o] * support_values[s];
+            }
         }
-    }
+    });
     for (std::size_t v = 0; v < dofs; ++v) out[v] -= sum[v] * h_;
 }
 

@@ -14,7 +14,7 @@
 //                 b_d(v) = integral grad phi_v . V.
 // V is splatted from the oriented samples: V = sum_i a_i N_i delta_{p_i}, each delta smoothed into the eight hats of
 // the sample's cell on its splatting level (a_i = area * w_i / sum w, the share of the surface the sample stands
-// for), so V = sum_d sum_w n_{d,w} phi_{d,w} / h_d^3; the integrals of products of hats and their derivatives are
+// for, assign_area_shares), so V = sum_d sum_w n_{d,w} phi_{d,w} / h_d^3; the integrals of products of hats and their derivatives are
 // closed-form 27-point stencils. With outward normals chi increases outwards (chi < iso inside).
 #pragma once
 
@@ -34,12 +34,22 @@ struct OrientedSamples {
     double area = 0;  //!< estimated area of the sampled surface, unit-cube units
     //! The level each sample is splatted on (empty: the finest); see assign_splat_depths.
     std::vector<int> splat_depths;
+    //! The area each sample's normal stands for, summing to `area` (empty: area * w_i / weight_sum); see
+    //! assign_area_shares.
+    std::vector<double> area_shares;
 };
 
 //! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006): each sample goes to the
 //! finest level whose cell around it holds at least `samples_per_node` samples, so that where samples
 //! are sparse for the finest cells V is smoothed over coarser ones instead of being a set of isolated spikes.
 void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node);
+
+//! Shares of the area inversely proportional to the local sampling density (after Kazhdan & Hoppe 2013): the
+//! density at each sample is the count of samples splatted trilinearly on the corners of level `depth` and
+//! interpolated back, and sample i stands for area * (w_i / density_i) / sum_j (w_j / density_j). On an evenly
+//! sampled surface every sample gets area * w_i / sum w; where samples crowd, each stands for less, so that V has
+//! the same strength per unit of area on densely and sparsely sampled sides.
+void assign_area_shares(OrientedSamples& samples, int depth);
 
 //! Trilinear weights of the eight corners of p's cell on level `depth` (corner c = bits (x, y, z)).
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]);
@@ -48,13 +58,17 @@ void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights
 //! against the level's hats. Splats of the level and finer ones are integrated on their own level and restricted
 //! level by level to coarser hats; splats of coarser levels are interpolated to the level's grid and integrated
 //! there (both exact, the spaces being nested).
-std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples);
+//! `threaded`: the sorted passes of large levels on two threads (the result does not depend on it).
+std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples,
+                                                bool threaded = false);
 
 //! The operator A_d of one level, applied without assembling it: the stiffness stencil over a neighbour table and
 //! the screening term through the samples. Dofs on the cube's boundary are fixed at zero for Dirichlet conditions.
 class LevelSystem {
 public:
-    LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha, bool dirichlet);
+    //! `threaded`: the neighbour table and subtract_stiffness of a large level on two threads (same result).
+    LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha, bool dirichlet,
+                bool threaded = false);
 
     std::size_t size() const { return fixed_.size(); }
     //! y = A x on the free dofs (0 on fixed ones); the stiffness rows on two threads when `threaded` (each row is
@@ -78,6 +92,7 @@ private:
     const OrientedSamples& samples_;
     double h_ = 1;
     double beta_ = 0;
+    bool threaded_ = false;
     std::vector<std::uint32_t> neighbours_;    //!< 27 per dof, KeyMap::kNone where the neighbour is not a dof
     std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level

@@ -98,7 +98,7 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
 Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const OrientedSamples& samples,
                                        const SolverOptions& options, std::vector<LevelSolveStats>* stats) {
     auto start = std::chrono::steady_clock::now();
-    const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples);
+    const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples, options.threads != 1);
     IndicatorValues out;
     out.values.resize(tree.levels.size());
     out.at_samples.assign(samples.positions.size(), 0.0);
@@ -106,7 +106,7 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
     for (std::size_t li = 0; li < tree.levels.size(); ++li) {
         if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
         const OctreeLevel& level = tree.levels[li];
-        const LevelSystem system(tree, level.depth, samples, options.alpha, options.dirichlet);
+        const LevelSystem system(tree, level.depth, samples, options.alpha, options.dirichlet, options.threads != 1);
 
         // the coarser levels' function on this level's grid
         std::vector<double>& values = out.values[li];

@@ -12,6 +12,7 @@
 #include "geometry/mesh/shapes.h"
 #include "geometry/pointcloud/sampling.h"
 #include "geometry/reconstruct/poisson.h"
+#include "geometry/reconstruct/poisson_system.h"
 #include "geometry/simplify/mesh_distance.h"
 #include "tests/support/mesh_asserts.h"
 
@@ -216,7 +217,8 @@ TEST(Poisson, SparseExtractionAtDepthNine) {
     EXPECT_NEAR(testing::signed_volume(r->mesh), 2 * 4.0 / 3.0 * kPi, 0.03 * 2 * 4.0 / 3.0 * kPi);
 }
 
-// A second thread for the conjugate gradients changes nothing: sums are taken over fixed chunks.
+// A second thread for the assembly passes and the conjugate gradients changes nothing: every row is summed alone,
+// and sums are taken over fixed chunks.
 TEST(Poisson, BitIdenticalWithTwoThreads) {
     const PointCloud cloud = sphere_cloud(10'000, 1.0, 0.0, 12);
     PoissonOptions o = options_at(7);
@@ -321,6 +323,43 @@ TEST(Poisson, SizeEstimate) {
     EXPECT_GT(estimate_poisson(1'000'000, options_at(9)).bytes, estimate_poisson(1'000'000, options_at(8)).bytes);
     // no dense grid: a small cloud at depth 10 is predicted well below the 4 bytes per node (4.3 GB) it alone took
     EXPECT_LT(static_cast<double>(estimate_poisson(3000, options_at(10)).bytes), 0.25 * 4 * std::pow(1025.0, 3));
+}
+
+// A plane sampled four times as densely on one half as on the other: away from the seam and the plane's edges (more
+// than the density kernel's two cells), each dense sample stands for a quarter of a sparse one's area, and the
+// shares sum to the area.
+TEST(Poisson, AreaSharesFollowInverseDensity) {
+    reconstruct::OrientedSamples samples;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 50'000; ++i) {
+        const double x = i < 40'000 ? 0.5 * u(rng) : 0.5 + 0.5 * u(rng);
+        samples.positions.push_back({x, u(rng), 0.5});
+        samples.normals.push_back({0, 0, 1});
+        samples.weights.push_back(1.0);
+        samples.weight_sum += 1.0;
+    }
+    samples.area = 1.0;
+    reconstruct::assign_area_shares(samples, 4);
+    ASSERT_EQ(samples.area_shares.size(), samples.positions.size());
+    double sum = 0, dense = 0, sparse = 0;
+    int dense_count = 0, sparse_count = 0;
+    for (std::size_t i = 0; i < samples.positions.size(); ++i) {
+        sum += samples.area_shares[i];
+        const Vec3& p = samples.positions[i];
+        if (p.y < 0.125 || p.y > 0.875) continue;
+        if (p.x > 0.125 && p.x < 0.375) {
+            dense += samples.area_shares[i];
+            ++dense_count;
+        } else if (p.x > 0.625 && p.x < 0.875) {
+            sparse += samples.area_shares[i];
+            ++sparse_count;
+        }
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-9);
+    ASSERT_GT(dense_count, 0);
+    ASSERT_GT(sparse_count, 0);
+    EXPECT_NEAR((sparse / sparse_count) / (dense / dense_count), 4.0, 0.2);
 }
 
 }  // namespace
