@@ -1,6 +1,7 @@
 // libFuzzer target: read_obj_surfaces (OBJ free-form cstype [rat] bezier and [rat] bspline surfaces, curv2 curves,
 // trim and hole loops). Accepted patches must pass validate(), accepted trimmed surfaces validate() and
-// validate_trims(); errors must carry a message and a line (but for an empty input), and never be Internal. read_obj_patches must agree (the
+// validate_trims(); errors must carry a message and a line (a byte offset where the text cannot be decoded; neither for an empty
+// input), and never be Internal. read_obj_patches must agree (the
 // same patches, or Unsupported when there are trimmed surfaces).
 #include <cstddef>
 #include <cstdint>
@@ -22,8 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto patches = read_obj_patches(text, options);
     if (!result.ok()) {
         if (result.error().message.empty()) fuzz::fail("read_obj_surfaces error", "empty message");
-        // an empty input has no line to name
-        if (result.error().line <= 0 && !text.empty())
+        // an empty input has no line to name; text that cannot be decoded names its byte offset instead
+        if (result.error().line <= 0 && result.error().offset < 0 && !text.empty())
             fuzz::fail("read_obj_surfaces error without a line", result.error().message);
         if (result.error().code == ErrorCode::Internal)
             fuzz::fail("read_obj_surfaces internal error", result.error().message);
