@@ -1,8 +1,8 @@
 // libFuzzer target: read_obj_surfaces (OBJ free-form cstype [rat] bezier and [rat] bspline surfaces, curv2 curves,
 // trim and hole loops). Accepted patches must pass validate(), accepted trimmed surfaces validate() and
-// validate_trims(); errors must carry a message and a line (a byte offset where the text cannot be decoded; neither for an empty
-// input), and never be Internal. read_obj_patches must agree (the
-// same patches, or Unsupported when there are trimmed surfaces).
+// validate_trims(); errors must carry a message and a line (a byte offset where the text cannot be decoded; neither
+// for an empty input), and never be Internal. read_obj_patches must agree (the same patches, or Unsupported when there
+// are trimmed surfaces).
 #include <cstddef>
 #include <cstdint>
 #include <span>
