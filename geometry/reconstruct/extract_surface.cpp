@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "geometry/implicit/cell_faces.h"
 #include "geometry/reconstruct/key_map.h"
 
 namespace surfaced::reconstruct {
@@ -16,55 +17,11 @@ constexpr std::uint64_t kStepK = std::uint64_t{1} << 42;
 //! Cells between two polls of the cancel flag.
 constexpr std::size_t kPollEvery = 4096;
 
-// ---- cell-local numbering --------------------------------------------------------------------------------------
-// Corner c has offsets (c & 1, c >> 1 & 1, c >> 2 & 1). Edge e along axis a = e / 4 starts at the corner with offset
-// o_b = e & 1 on axis (a+1)%3 and o_c = (e >> 1) & 1 on axis (a+2)%3, and 0 on axis a.
-
-int bit(int corner, int axis) { return (corner >> axis) & 1; }
-int local_edge(int axis, int corner) {
-    return 4 * axis + bit(corner, (axis + 1) % 3) + 2 * bit(corner, (axis + 2) % 3);
-}
-int edge_start_corner(int e) {
-    const int a = e / 4, ob = e & 1, oc = (e >> 1) & 1;
-    return (ob << ((a + 1) % 3)) | (oc << ((a + 2) % 3));
-}
-
-struct Segment {
-    int e0, e1;
-};
-
-//! The segments joining the crossings on face (normal axis a, side s) of a cell with corner values v (inside:
-//! v < 0); a face with four crossings by the asymptotic decider on its bilinear interpolant, computed from the face's
-//! values in the face's own order so that both cells sharing it agree. Returns how many (0, 1 or 2).
-int face_segments(const double v[8], int a, int s, Segment out[2]) {
-    const int b = (a + 1) % 3, c = (a + 2) % 3;
-    auto corner = [&](int u, int w) { return (s << a) | (u << b) | (w << c); };
-    const int c00 = corner(0, 0), c10 = corner(1, 0), c01 = corner(0, 1), c11 = corner(1, 1);
-    const int e[4] = {local_edge(b, c00), local_edge(c, c10), local_edge(b, c01), local_edge(c, c00)};
-    const bool in00 = v[c00] < 0, in10 = v[c10] < 0, in01 = v[c01] < 0, in11 = v[c11] < 0;
-    const bool x[4] = {in00 != in10, in10 != in11, in01 != in11, in00 != in01};
-    const int crossings = x[0] + x[1] + x[2] + x[3];
-    if (crossings == 0) return 0;
-    if (crossings == 2) {
-        int found[2], n = 0;
-        for (int i = 0; i < 4; ++i)
-            if (x[i]) found[n++] = e[i];
-        out[0] = {found[0], found[1]};
-        return 1;
-    }
-    // the saddle value of the bilinear interpolant: (a00 a11 - a10 a01) / (a00 + a11 - a10 - a01)
-    const double numerator = v[c00] * v[c11] - v[c10] * v[c01];
-    const double denominator = v[c00] + v[c11] - v[c10] - v[c01];
-    const bool centre_inside = numerator * denominator < 0;
-    if (centre_inside == in00) {  // 00 and 11 joined through the centre: cut off corners 10 and 01
-        out[0] = {e[0], e[1]};
-        out[1] = {e[2], e[3]};
-    } else {  // cut off corners 00 and 11
-        out[0] = {e[3], e[0]};
-        out[1] = {e[1], e[2]};
-    }
-    return 2;
-}
+// ---- cell-local numbering (cell_faces.h) ----------------------------------------------------------------------------
+using cell_faces::bit;
+using cell_faces::edge_start_corner;
+using cell_faces::face_segments;
+using cell_faces::Segment;
 
 //! Orients a segment on face (a, s) so that, seen from outside the cell, the inside of the face is on its right;
 //! then the segments of a cell chain into loops that turn counter-clockwise seen from outside the surface. Computed
