@@ -1,6 +1,7 @@
 // Point clouds read from glTF (gltf_points.h): what write_points_glb writes reads back (plain exactly, Draco within
 // its quantization), hand-built GLBs for what our writer never writes (node transforms on positions and normals,
 // normalised byte colours, indexed POINTS, a mesh's vertices), and malformed input naming the accessor at fault.
+// Also write_glb's vertex colours (COLOR_0), checked by the Khronos validator and read back as the mesh's points.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "geometry/io/pointcloud_io.h"
 #include "geometry/mesh/polygon_mesh.h"
 #include "geometry/pointcloud/kd_tree.h"
+#include "tests/support/gltf_validator.h"
 
 namespace surfaced {
 namespace {
@@ -364,6 +366,52 @@ TEST(GltfPoints, FormatDetection) {
     EXPECT_EQ(sniff_point_format(three_points({{"mesh", 0}})), PointFormat::Glb);
     EXPECT_EQ(sniff_point_format(R"({"asset": {"version": "2.0"}})"), PointFormat::Gltf);
     EXPECT_EQ(point_media_type(PointFormat::Glb), "model/gltf-binary");
+}
+
+TEST(GltfMeshColors, ColouredMeshIsValidAndReadsBack) {
+    // a grid of quads coloured by position, RGB and RGBA, plain (float COLOR_0) and Draco (normalised bytes)
+    PolygonMesh grid;
+    const int n = 12;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) grid.positions.push_back({i / double(n), j / double(n), 0.1 * ((i * j) % 3)});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const auto v = static_cast<Index>(j * (n + 1) + i);
+            grid.add_face({v, v + 1, v + n + 2, v + n + 1});
+        }
+    std::vector<Color> colors;
+    for (const Vec3& p : grid.positions)
+        colors.push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z * 5), 0.5f});
+    for (bool draco : {false, true})
+        for (bool alpha : {false, true}) {
+            SCOPED_TRACE(std::string(draco ? "draco" : "plain") + (alpha ? " rgba" : " rgb"));
+            auto glb =
+                write_glb(grid, {.draco = draco, .normals = true, .vertex_colors = colors, .vertex_alpha = alpha});
+            ASSERT_TRUE(glb.ok()) << glb.error().message;
+            const auto v = testing::run_gltf_validator(*glb);
+            ASSERT_TRUE(v.ran) << v.report;
+            EXPECT_EQ(v.errors, 0) << v.report;
+            EXPECT_EQ(v.warnings, 0) << v.report;
+            auto read = read_glb_points(*glb);
+            ASSERT_TRUE(read.ok()) << read.error().message;
+            ASSERT_EQ(read->size(), grid.positions.size());
+            ASSERT_EQ(read->colors.size(), grid.positions.size());
+            EXPECT_EQ(read->has_alpha, alpha);
+            const KdTree tree(grid.positions);
+            std::vector<Neighbor> nearest;
+            const double tol = draco ? 0.5 / 255 + 1e-6 : 1e-7;
+            for (std::size_t p = 0; p < read->size(); ++p) {
+                tree.knn(read->positions[p], 1, nearest);  // Draco may reorder the vertices
+                const Color& want = colors[nearest[0].index];
+                EXPECT_NEAR(read->colors[p].r, want.r, tol);
+                EXPECT_NEAR(read->colors[p].g, want.g, tol);
+                EXPECT_NEAR(read->colors[p].b, want.b, tol);
+                EXPECT_NEAR(read->colors[p].a, alpha ? 0.5 : 1.0, tol);
+            }
+        }
+    // colours not one per vertex
+    EXPECT_EQ(write_glb(grid, {.vertex_colors = std::span<const Color>(colors).first(3)}).error().code,
+              ErrorCode::InvalidArgument);
 }
 
 }  // namespace
