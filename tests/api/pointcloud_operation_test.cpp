@@ -178,6 +178,15 @@ TEST(PointcloudOperation, UploadsGlbAndGltfPoints) {
     ASSERT_EQ(text.status, 200) << text.body;
     EXPECT_EQ(json::parse(text.body)["points"].size(), 50u);
 
+    // a form's file part: by the file name's extension, the part's type being the generic one curl sends
+    const std::string form =
+        "--b1\r\nContent-Disposition: form-data; name=\"file\"; filename=\"scan.glb\"\r\n"
+        "Content-Type: application/octet-stream\r\n\r\n" +
+        *plain + "\r\n--b1\r\nContent-Disposition: form-data; name=\"format\"\r\n\r\njson\r\n--b1--\r\n";
+    const ApiResponse multipart = post(form, "multipart/form-data; boundary=b1");
+    ASSERT_EQ(multipart.status, 200) << multipart.body;
+    EXPECT_EQ(json::parse(multipart.body)["colors"].size(), 50u);
+
     // a COLOR_0 accessor shorter than POSITION: 400 naming both accessors
     const std::string short_colors = edit_glb_json(*plain, [](json& g) {
         g["accessors"][g["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].get<int>()]["count"] = 49;
