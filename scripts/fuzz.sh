@@ -47,6 +47,7 @@ seed_patterns() {
     fuzz_bez) echo "*.bez *.bbp" ;;
     fuzz_glb) echo "*.glb" ;;
     fuzz_gltf_json) echo "*.gltf" ;;
+    fuzz_glb_points) echo "*.glb *.gltf" ;;
     *) echo "" ;;
   esac
 }

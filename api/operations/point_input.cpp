@@ -99,7 +99,7 @@ ApiResult<PointFormat> uploaded_point_format(std::string_view media_type, std::s
     if (format) return *format;
     return make_problem(Problem::UnsupportedMediaType,
                         sniffed ? "could not recognise the point format from the content; send Content-Type "
-                                  "application/json, application/ply, model/obj or text/x-xyz"
+                                  "application/json, application/ply, model/obj, text/x-xyz or model/gltf-binary"
                                 : "Content-Type \"" + std::string(media_type) +
                                       "\" is not accepted; accepted: " + std::string(kPointMediaTypes));
 }

@@ -21,7 +21,8 @@ namespace surfaced::api::operations {
 
 //! For 415 messages: the media types a point endpoint reads.
 inline constexpr std::string_view kPointMediaTypes =
-    "application/json, application/ply, model/obj, text/x-xyz, application/octet-stream or text/plain (sniffed), "
+    "application/json, application/ply, model/obj, text/x-xyz, model/gltf-binary, model/gltf+json, "
+    "application/octet-stream or text/plain (sniffed), "
     "multipart/form-data (one file part, options as fields)";
 
 //! The file types a point endpoint reads (for the file part of a form).
@@ -40,7 +41,8 @@ ApiResult<PointCloud> decode_json_points(const nlohmann::json& root, const Limit
 //! The point format of an uploaded body: from its media type, sniffed for application/octet-stream and text/plain;
 //! 415 unsupported_media_type otherwise.
 ApiResult<PointFormat> uploaded_point_format(std::string_view media_type, std::string_view body);
-//! The uploaded file read with limits.max_points as the reader's limit (errors carry its line or offset).
+//! The uploaded file read with limits.max_points as the reader's limit (errors carry its line or offset). glTF gives
+//! the vertices of its POINTS primitives, or, without any, those of its triangle primitives (gltf_points.h).
 ApiResult<PointCloud> read_uploaded_points(std::string_view body, PointFormat format, const Limits& limits);
 
 //! Estimates and orients the cloud's normals with k neighbours (geometry/pointcloud/normals.h), after the budget on

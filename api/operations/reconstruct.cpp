@@ -33,9 +33,11 @@ struct Params {
 
 const options::OperationOptions& reconstruct_options() { return *options::operation_options("reconstruct"); }
 
-//! The formats that carry vertex colours: PLY (uchar red green blue), OBJ (`v x y z r g b`) and the JSON answer.
+//! The formats that carry vertex colours: glTF (COLOR_0), PLY (uchar red green blue), OBJ (`v x y z r g b`) and the
+//! JSON answer.
 bool colors_format(OutputFormat format) {
-    return format == OutputFormat::Ply || format == OutputFormat::Obj || format == OutputFormat::Json;
+    return format == OutputFormat::Glb || format == OutputFormat::Gltf || format == OutputFormat::Ply ||
+           format == OutputFormat::Obj || format == OutputFormat::Json;
 }
 
 Params params_from(const options::OptionValues& values) {
@@ -68,7 +70,7 @@ std::optional<ApiError> check_params(const Params& params, Source source) {
                             "k");
     if (params.vertex_colors.value_or(false) && !colors_format(params.output.format))
         return make_problem(Problem::InvalidField,
-                            "vertex colours are written in ply, obj and json output, not in " +
+                            "vertex colours are written in glb, gltf, ply, obj and json output, not in " +
                                 std::string(enum_name(kOutputFormatNames, params.output.format)),
                             "vertex_colors");
     return check_output_options(params.output, source);
@@ -292,15 +294,9 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
     if (!colors.empty() && params.output.format != OutputFormat::Json) {
         ApiResponse response;
         response.content_type = std::string(output_media_type(params.output.format));
-        prepare_normals(result.mesh, params.output);
-        if (params.output.format == OutputFormat::Ply) {
-            response.body = write_ply(result.mesh, PlyEncoding::BinaryLittleEndian, colors, d.cloud.has_alpha);
-        } else {
-            ObjWriteOptions obj;
-            obj.write_normals = output_normals(params.output);
-            obj.vertex_colors = colors;
-            response.body = write_obj(result.mesh, obj);
-        }
+        auto encoded = encode_mesh_file(result.mesh, params.output, d.source, {colors, d.cloud.has_alpha});
+        if (!encoded) return error_response(std::move(encoded.error()));
+        response.body = std::move(encoded.value());
         timing.stages.emplace_back("encode", Clock::now());
         append_timing_headers(headers, timing);
         response.headers = std::move(headers);

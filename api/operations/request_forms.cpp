@@ -437,7 +437,8 @@ void prepare_normals(PolygonMesh& mesh, const OutputOptions& out) {
         mesh.normals = compute_vertex_normals(mesh);
 }
 
-ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source) {
+ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source,
+                                        VertexColors colors) {
     const bool normals = output_normals(out);
     switch (out.format) {
         case OutputFormat::Glb:
@@ -447,6 +448,8 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
             gltf.draco = out.draco.value_or(true);
             if (out.quantize_position) gltf.quantize_position = static_cast<int>(*out.quantize_position);
             gltf.normals = normals;
+            gltf.vertex_colors = colors.colors;
+            gltf.vertex_alpha = colors.alpha;
             prepare_normals(mesh, out);
             auto encoded = out.format == OutputFormat::Glb ? write_glb(mesh, gltf) : write_gltf(mesh, gltf);
             if (!encoded) return geometry_error(encoded.error(), source);
@@ -455,12 +458,13 @@ ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& 
         case OutputFormat::Obj: {
             ObjWriteOptions obj;
             obj.write_normals = normals;
+            obj.vertex_colors = colors.colors;
             prepare_normals(mesh, out);
             return write_obj(mesh, obj);
         }
         case OutputFormat::Ply:
             prepare_normals(mesh, out);  // write_ply writes normals exactly when the mesh has them
-            return write_ply(mesh);
+            return write_ply(mesh, PlyEncoding::BinaryLittleEndian, colors.colors, colors.alpha);
         case OutputFormat::Stl:
             if (auto error = check_float32_range(mesh.positions, out.format, "output vertex")) return std::move(*error);
             return write_stl(mesh);

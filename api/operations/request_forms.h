@@ -9,6 +9,7 @@
 #include <map>
 #include <new>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -257,10 +258,18 @@ void append_timing_headers(Headers& headers, const Timing& timing);
 //! "output" options that do not fit the format (compression with OBJ, ...), named by their JSON path (`output.x`) or
 //! query name.
 std::optional<ApiError> check_output_options(const OutputOptions& out, Source source);
+//! Per-vertex colours for the formats that hold them: glTF COLOR_0, PLY uchar red green blue (alpha), OBJ
+//! `v x y z r g b`. Empty: none.
+struct VertexColors {
+    std::span<const Color> colors{};
+    bool alpha = false;
+};
 //! The mesh in the requested format (GLB/glTF with Draco unless compression "none", OBJ, PLY, binary STL, OFF); JSON
 //! is the operation's own (`encode_json`). Vertex normals are written unless `normals` is false (computed if the mesh
-//! has none) in the formats that hold them; UVs go into glTF and OBJ when the mesh has them.
-ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source);
+//! has none) in the formats that hold them; UVs go into glTF and OBJ when the mesh has them; `colors` (one per
+//! vertex) into glTF, PLY and OBJ.
+ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source,
+                                        VertexColors colors = {});
 //! encode_mesh_file, or for format json `encode_json(mesh)` with the mesh's normals prepared (prepare_normals), so
 //! that a JSON mesh carries "normals" exactly when the other formats would.
 template <class EncodeJson>

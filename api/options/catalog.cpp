@@ -483,8 +483,8 @@ constexpr OptionSpec kReconstruct[] = {
                     "removed, and kept, respectively"},
     {.name = "vertex_colors",
      .type = OptionType::Bool,
-     .description = "Carry the points' colours to the vertices (ply, obj, json); unset: when the cloud has colours "
-                    "and the format holds them"},
+     .description = "Carry the points' colours to the vertices (glb, gltf, ply, obj, json); unset: when the cloud has "
+                    "colours and the format holds them"},
 };
 
 // ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---

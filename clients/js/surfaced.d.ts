@@ -420,7 +420,7 @@ export interface PointcloudOptions {
   /** [r, g, b] or [r, g, b, a] in 0..1 per point */
   colors?: number[][];
   sample?: Sample;
-  /** a PLY, OBJ or XYZ file */
+  /** a PLY, OBJ, XYZ, GLB or glTF file */
   data?: BodyData;
   contentType?: string;
   /** @default false */
@@ -442,7 +442,7 @@ export interface ReconstructOptions {
   normals?: Vec3[] | boolean;
   /** [r, g, b] or [r, g, b, a] in 0..1 per point */
   colors?: number[][];
-  /** a PLY, OBJ or XYZ file */
+  /** a PLY, OBJ, XYZ, GLB or glTF file */
   data?: BodyData;
   contentType?: string;
   /** finest octree level, 2..10 (the server's grid-cell budget refuses 9 and 10 by default). @default 8 */
@@ -465,7 +465,7 @@ export interface ReconstructOptions {
   trim?: number;
   /** with trim: smaller pieces are removed, smaller low regions kept, as a fraction of the area. @default 0.001 */
   island_area?: number;
-  /** carry the colours of the points to the vertices (ply, obj, json); unset: when the cloud has colours */
+  /** carry the colours of the points to the vertices (glb, gltf, ply, obj, json); unset: when the cloud has colours */
   vertex_colors?: boolean;
   output?: Output<OutputFormat>;
   /** @default 'glb' */

@@ -4,6 +4,7 @@
 #include "geometry/io/draco_codec.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <limits>
@@ -33,6 +34,25 @@ int add_float_attribute(draco::Mesh& mesh, draco::GeometryAttribute::Type type, 
     return att_id;
 }
 
+//! Adds colours (0..1 floats, clamped) as a normalised unsigned-byte attribute, one value per point.
+int add_color_attribute(draco::Mesh& mesh, int components, const std::vector<float>& values) {
+    draco::GeometryAttribute layout;
+    layout.Init(draco::GeometryAttribute::COLOR, nullptr, static_cast<std::uint8_t>(components), draco::DT_UINT8, true,
+                components, 0);
+    const std::size_t count = values.size() / static_cast<std::size_t>(components);
+    const int att_id = mesh.AddAttribute(layout, true, static_cast<std::uint32_t>(count));
+    draco::PointAttribute* attribute = mesh.attribute(att_id);
+    std::uint8_t value[4] = {0, 0, 0, 0};
+    for (std::size_t i = 0; i < count; ++i) {
+        for (int k = 0; k < components; ++k) {
+            const float c = values[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(k)];
+            value[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f));
+        }
+        attribute->SetAttributeValue(draco::AttributeValueIndex(static_cast<std::uint32_t>(i)), value);
+    }
+    return att_id;
+}
+
 Result<Encoded> encode_unchecked(const MeshData& data, const EncodeOptions& options) {
     if (Status quantizable = check_quantizable_positions(data.positions); !quantizable)
         return std::move(quantizable.error());
@@ -52,10 +72,12 @@ Result<Encoded> encode_unchecked(const MeshData& data, const EncodeOptions& opti
         data.normals.empty() ? -1 : add_float_attribute(mesh, draco::GeometryAttribute::NORMAL, 3, data.normals);
     const int texcoord_att =
         data.texcoords.empty() ? -1 : add_float_attribute(mesh, draco::GeometryAttribute::TEX_COORD, 2, data.texcoords);
+    const int color_att = data.colors.empty() ? -1 : add_color_attribute(mesh, data.color_components, data.colors);
     // The glTF extension refers to attributes by Draco's unique id, which survives encoding (attribute slots may not).
     out.ids.position = static_cast<int>(mesh.attribute(position_att)->unique_id());
     if (normal_att >= 0) out.ids.normal = static_cast<int>(mesh.attribute(normal_att)->unique_id());
     if (texcoord_att >= 0) out.ids.texcoord = static_cast<int>(mesh.attribute(texcoord_att)->unique_id());
+    if (color_att >= 0) out.ids.color = static_cast<int>(mesh.attribute(color_att)->unique_id());
 
     draco::Encoder encoder;
     encoder.SetSpeedOptions(options.encode_speed, options.decode_speed);
@@ -143,6 +165,16 @@ Result<MeshData> decode_unchecked(std::span<const std::uint8_t> bytes, const Att
         auto texcoords = extract(*mesh, ids.texcoord, 2, "TEXCOORD_0");
         if (!texcoords) return texcoords.error();
         out.texcoords = std::move(*texcoords);
+    }
+    if (ids.color >= 0) {
+        const draco::PointAttribute* attribute = mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(ids.color));
+        out.color_components = attribute ? attribute->num_components() : 3;
+        if (out.color_components != 3 && out.color_components != 4)
+            return make_error(ErrorCode::ParseError,
+                              "Draco COLOR_0 attribute has " + std::to_string(out.color_components) + " components");
+        auto colors = extract(*mesh, ids.color, out.color_components, "COLOR_0");
+        if (!colors) return colors.error();
+        out.colors = std::move(*colors);
     }
     return out;
 }

@@ -17,6 +17,8 @@ struct MeshData {
     std::vector<float> positions;        //!< 3 per point
     std::vector<float> normals;          //!< 3 per point, or empty
     std::vector<float> texcoords;        //!< 2 per point, or empty
+    std::vector<float> colors;           //!< color_components channels in 0..1 per point, or empty
+    int color_components = 3;            //!< 3 (RGB) or 4 (RGBA)
     std::vector<std::uint32_t> indices;  //!< 3 per triangle, each < point count
 
     std::size_t point_count() const { return positions.size() / 3; }
@@ -36,6 +38,7 @@ struct AttributeIds {
     int position = -1;
     int normal = -1;
     int texcoord = -1;
+    int color = -1;
 };
 
 struct Encoded {
@@ -49,6 +52,7 @@ struct Encoded {
 Status check_quantizable_positions(const std::vector<float>& positions);
 
 //! Encodes `mesh` (preconditions: positions non-empty, sizes consistent, indices in range; options in range).
+//! Colours are stored as normalised unsigned bytes (clamped to 0..1), as glTF COLOR_0 allows.
 //! Errors: InvalidArgument for positions Draco cannot quantize (check_quantizable_positions), Internal when Draco
 //! rejects the input.
 Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options);
@@ -58,8 +62,8 @@ struct DecodeLimits {
     std::size_t max_triangles = 0;
 };
 
-//! Decodes a Draco mesh and extracts the attributes named by `ids` (position required; normal/texcoord optional,
-//! -1 = skip) as floats. Every index and attribute mapping is checked. Errors: ParseError (not a valid Draco mesh,
+//! Decodes a Draco mesh and extracts the attributes named by `ids` (position required; normal/texcoord/color
+//! optional, -1 = skip) as floats (normalised integer colours as 0..1). Every index and attribute mapping is checked. Errors: ParseError (not a valid Draco mesh,
 //! missing attribute, wrong component count), BudgetExceeded (beyond `limits`).
 Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds& ids, const DecodeLimits& limits);
 

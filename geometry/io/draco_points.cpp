@@ -2,6 +2,8 @@
 // is turned into a GeoError here.
 #include "geometry/io/draco_points.h"
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 #include <memory>
 #include <new>
@@ -38,9 +40,13 @@ Result<Encoded> encode_unchecked(const PointData& data, const draco_codec::Encod
     const int normal = data.normals.empty() ? -1
                                             : add_attribute(cloud, draco::GeometryAttribute::NORMAL, draco::DT_FLOAT32,
                                                             false, 3, data.normals);
+    std::vector<std::uint8_t> bytes;
+    bytes.reserve(data.colors.size());
+    for (float c : data.colors)
+        bytes.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)));
     const int color = data.colors.empty() ? -1
                                           : add_attribute(cloud, draco::GeometryAttribute::COLOR, draco::DT_UINT8, true,
-                                                          data.color_components, data.colors);
+                                                          data.color_components, bytes);
     Encoded out;
     out.ids.position = static_cast<int>(cloud.attribute(position)->unique_id());
     if (normal >= 0) out.ids.normal = static_cast<int>(cloud.attribute(normal)->unique_id());
@@ -114,7 +120,7 @@ Result<PointData> decode_unchecked(std::span<const std::uint8_t> bytes, const At
         if (out.color_components != 3 && out.color_components != 4)
             return make_error(ErrorCode::ParseError,
                               "Draco COLOR attribute has " + std::to_string(out.color_components) + " components");
-        auto colors = extract<std::uint8_t>(*cloud, ids.color, out.color_components, "COLOR_0");
+        auto colors = extract<float>(*cloud, ids.color, out.color_components, "COLOR_0");
         if (!colors) return colors.error();
         out.colors = std::move(*colors);
     }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -20,11 +21,15 @@ struct GltfOptions {
     int decode_speed = 5;
     bool normals = false;   //!< write NORMAL: the mesh's normals, or area-weighted vertex normals if it has none
     bool texcoords = true;  //!< write TEXCOORD_0 when the mesh has uvs (vertices split at uv seams)
+    //! COLOR_0, one per mesh vertex when given (channels clamped to 0..1): float VEC3 (VEC4 with vertex_alpha), or
+    //! with Draco normalised unsigned bytes. Not the mesh's: the caller's span must outlive the call.
+    std::span<const Color> vertex_colors{};
+    bool vertex_alpha = false;
 };
 
 //! Writes one mesh as one glTF node/primitive (TRIANGLES; polygons fan-triangulated). Output passes the Khronos
-//! validator with no errors or warnings. Errors: InvalidArgument (options out of range), BudgetExceeded (> 2^32
-//! indices), Internal (encoder failure).
+//! validator with no errors or warnings. Errors: InvalidArgument (options out of range, vertex_colors not one per
+//! vertex), BudgetExceeded (> 2^32 indices), Internal (encoder failure).
 Result<std::string> write_glb(const PolygonMesh& mesh, const GltfOptions& options = {});
 
 //! The same scene as glTF JSON (.gltf): one self-contained text file, the binary data embedded as a base64 data URI.

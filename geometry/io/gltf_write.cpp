@@ -78,7 +78,7 @@ Vec3 unit_or_up(const Vec3& n) {
 }
 
 draco_codec::MeshData build_vertex_data(const PolygonMesh& mesh, const PolygonMesh& tri, const VertexSplit& split,
-                                        bool with_normals, bool with_uvs) {
+                                        bool with_normals, bool with_uvs, std::span<const Color> colors, bool alpha) {
     draco_codec::MeshData data;
     const std::size_t n = split.keys.size();
     data.positions.resize(n * 3);
@@ -94,6 +94,8 @@ draco_codec::MeshData build_vertex_data(const PolygonMesh& mesh, const PolygonMe
         data.normals.resize(n * 3);
     }
     if (with_uvs) data.texcoords.resize(n * 2);
+    data.color_components = alpha ? 4 : 3;
+    if (!colors.empty()) data.colors.reserve(n * static_cast<std::size_t>(data.color_components));
     for (std::size_t i = 0; i < n; ++i) {
         const auto v = static_cast<std::size_t>(split.keys[i] >> 32);
         const Vec3& p = tri.positions[v];
@@ -106,6 +108,12 @@ draco_codec::MeshData build_vertex_data(const PolygonMesh& mesh, const PolygonMe
             const Vec2& uv = tri.uvs[static_cast<std::size_t>(split.keys[i] & 0xffffffffu)];
             data.texcoords[2 * i] = static_cast<float>(uv.x);
             data.texcoords[2 * i + 1] = static_cast<float>(1.0 - uv.y);
+        }
+        if (!colors.empty()) {
+            const Color& c = colors[v];
+            const auto channel = [](float x) { return std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f; };
+            data.colors.insert(data.colors.end(), {channel(c.r), channel(c.g), channel(c.b)});
+            if (alpha) data.colors.push_back(channel(c.a));
         }
     }
     data.indices = split.indices;
@@ -138,10 +146,11 @@ int add_buffer_view(tinygltf::Model& model, const void* bytes, std::size_t size,
 }
 
 int add_accessor(tinygltf::Model& model, int view, int component_type, int type, std::size_t count,
-                 std::vector<double> lo = {}, std::vector<double> hi = {}) {
+                 std::vector<double> lo = {}, std::vector<double> hi = {}, bool normalized = false) {
     tinygltf::Accessor accessor;
     accessor.bufferView = view;  // -1 for Draco: the data comes from the extension
     accessor.componentType = component_type;
+    accessor.normalized = normalized;
     accessor.type = type;
     accessor.count = count;
     accessor.minValues = std::move(lo);
@@ -196,6 +205,12 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
             add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, points);
         attribute_ids["TEXCOORD_0"] = tinygltf::Value(encoded->ids.texcoord);
     }
+    if (encoded->ids.color >= 0) {
+        primitive.attributes["COLOR_0"] =
+            add_accessor(model, -1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                         data.color_components == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, points, {}, {}, true);
+        attribute_ids["COLOR_0"] = tinygltf::Value(encoded->ids.color);
+    }
     primitive.indices =
         add_accessor(model, -1, index_component_type(points), TINYGLTF_TYPE_SCALAR, decoded->indices.size());
 
@@ -228,6 +243,13 @@ void add_plain_primitive(tinygltf::Model& model, tinygltf::Primitive& primitive,
         primitive.attributes["TEXCOORD_0"] =
             add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, points);
     }
+    if (!data.colors.empty()) {
+        view = add_buffer_view(model, data.colors.data(), data.colors.size() * sizeof(float),
+                               TINYGLTF_TARGET_ARRAY_BUFFER);
+        primitive.attributes["COLOR_0"] =
+            add_accessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                         data.color_components == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, points);
+    }
     const int index_type = index_component_type(points);
     if (index_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
         std::vector<std::uint16_t> narrow(data.indices.begin(), data.indices.end());
@@ -245,6 +267,10 @@ Result<std::string> write_glb_unchecked(const PolygonMesh& mesh, const GltfOptio
     if (mesh.positions.empty() || mesh.face_count() == 0)
         return make_error(ErrorCode::InvalidArgument, "cannot write an empty mesh to glTF (no vertices or no faces)");
     if (Status s = validate(mesh); !s) return s.error();
+    if (!options.vertex_colors.empty() && options.vertex_colors.size() != mesh.positions.size())
+        return make_error(ErrorCode::InvalidArgument, std::to_string(options.vertex_colors.size()) +
+                                                          " vertex colours for " +
+                                                          std::to_string(mesh.positions.size()) + " vertices");
 
     // triangulate
     const PolygonMesh tri = triangulate(mesh);
@@ -257,7 +283,8 @@ Result<std::string> write_glb_unchecked(const PolygonMesh& mesh, const GltfOptio
     // glTF vertices and attributes
     const bool with_uvs = options.texcoords && tri.has_uvs();
     const VertexSplit split = split_vertices(tri, with_uvs);
-    const draco_codec::MeshData data = build_vertex_data(mesh, tri, split, options.normals, with_uvs);
+    const draco_codec::MeshData data =
+        build_vertex_data(mesh, tri, split, options.normals, with_uvs, options.vertex_colors, options.vertex_alpha);
 
     // model
     tinygltf::Model model;

@@ -90,12 +90,9 @@ Status add_draco_primitive(tinygltf::Model& model, tinygltf::Primitive& primitiv
     if (with_colors) {
         data.color_components = cloud.has_alpha ? 4 : 3;
         data.colors.reserve(cloud.size() * static_cast<std::size_t>(data.color_components));
-        auto byte = [](float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
         for (const Color& c : cloud.colors) {
-            data.colors.push_back(byte(c.r));
-            data.colors.push_back(byte(c.g));
-            data.colors.push_back(byte(c.b));
-            if (cloud.has_alpha) data.colors.push_back(byte(c.a));
+            data.colors.insert(data.colors.end(), {c.r, c.g, c.b});
+            if (cloud.has_alpha) data.colors.push_back(c.a);
         }
     }
     draco_codec::EncodeOptions encode_options;

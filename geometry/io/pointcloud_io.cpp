@@ -451,15 +451,6 @@ Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions
         text, [&](std::string_view decoded, io_detail::TextEncoding) { return xyz_points(decoded, options); });
 }
 
-Result<PointCloud> read_points(std::string_view bytes, PointFormat format, const PointReadOptions& options) {
-    switch (format) {
-        case PointFormat::Ply: return read_ply_points(bytes, options);
-        case PointFormat::Obj: return read_obj_points(bytes, options);
-        case PointFormat::Xyz: return read_xyz_points(bytes, options);
-    }
-    return make_error(ErrorCode::Internal, "unknown point format");
-}
-
 std::optional<PointFormat> point_format_from_extension(std::string_view path) {
     const std::size_t slash = path.find_last_of("/\\");
     if (slash != std::string_view::npos) path.remove_prefix(slash + 1);
@@ -470,6 +461,8 @@ std::optional<PointFormat> point_format_from_extension(std::string_view path) {
     if (io_detail::iequals(ext, "obj")) return PointFormat::Obj;
     if (io_detail::iequals(ext, "xyz") || io_detail::iequals(ext, "txt") || io_detail::iequals(ext, "pts"))
         return PointFormat::Xyz;
+    if (io_detail::iequals(ext, "glb")) return PointFormat::Glb;
+    if (io_detail::iequals(ext, "gltf")) return PointFormat::Gltf;
     return std::nullopt;
 }
 
@@ -477,6 +470,8 @@ std::optional<PointFormat> point_format_from_media_type(std::string_view media_t
     if (auto mesh = format_from_media_type(media_type)) {
         if (*mesh == MeshFormat::Ply) return PointFormat::Ply;
         if (*mesh == MeshFormat::Obj) return PointFormat::Obj;
+        if (*mesh == MeshFormat::Glb) return PointFormat::Glb;
+        if (*mesh == MeshFormat::Gltf) return PointFormat::Gltf;
         return std::nullopt;
     }
     std::string_view type = media_type.substr(0, media_type.find(';'));
@@ -487,7 +482,20 @@ std::optional<PointFormat> point_format_from_media_type(std::string_view media_t
     return std::nullopt;
 }
 
+std::string_view point_media_type(PointFormat format) {
+    switch (format) {
+        case PointFormat::Ply: return "application/ply";
+        case PointFormat::Obj: return "model/obj";
+        case PointFormat::Xyz: return "text/x-xyz";
+        case PointFormat::Glb: return "model/gltf-binary";
+        case PointFormat::Gltf: return "model/gltf+json";
+    }
+    return "application/octet-stream";
+}
+
 std::optional<PointFormat> sniff_point_format(std::string_view bytes) {
+    if (const auto mesh = sniff_format(bytes); mesh == MeshFormat::Glb || mesh == MeshFormat::Gltf)
+        return mesh == MeshFormat::Glb ? PointFormat::Glb : PointFormat::Gltf;
     std::string_view text = bytes;
     if (text.substr(0, 3) == "\xef\xbb\xbf") text.remove_prefix(3);
     if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return PointFormat::Ply;

@@ -1,4 +1,5 @@
-// Reading and writing point clouds: PLY (ascii and binary), OBJ `v` lines, XYZ text. As for meshes (mesh_io.h),
+// Reading and writing point clouds: PLY (ascii and binary), OBJ `v` lines, XYZ text; glTF (GLB and .gltf POINTS,
+// or a mesh's vertices) in gltf_points.h, which read_points dispatches to. As for meshes (mesh_io.h),
 // every reader reports a ParseError with the 1-based line (text) or byte offset (binary) and never allocates more
 // than the input justifies: a header count is checked against the bytes present and the point limit first.
 // GLB output is in pointcloud_glb.h (target geo_gltf).
@@ -15,7 +16,7 @@
 
 namespace surfaced {
 
-enum class PointFormat { Ply, Obj, Xyz };
+enum class PointFormat { Ply, Obj, Xyz, Glb, Gltf };
 
 struct PointReadOptions {
     std::size_t max_points = 20'000'000;  //!< more: BudgetExceeded (a PLY header saying so fails before reading)
@@ -35,14 +36,18 @@ Result<PointCloud> read_obj_points(std::string_view text, const PointReadOptions
 //! when any exceeds 1); whitespace or commas between values; `#` starts a comment; every point line must have the
 //! same number of values as the first.
 Result<PointCloud> read_xyz_points(std::string_view text, const PointReadOptions& options = {});
+//! Dispatch on format (Glb and Gltf go to read_glb_points and read_gltf_points in gltf_points.h; defined in geo_io).
 Result<PointCloud> read_points(std::string_view bytes, PointFormat format, const PointReadOptions& options = {});
 
-//! .ply .obj .xyz (also .txt, .pts as XYZ), case-insensitive.
+//! .ply .obj .xyz (also .txt, .pts as XYZ), .glb, .gltf, case-insensitive.
 std::optional<PointFormat> point_format_from_extension(std::string_view path);
 //! application/ply (and the PLY aliases mesh_io accepts), model/obj (and aliases), text/x-xyz, chemical/x-xyz,
-//! application/x-xyz. Parameters are ignored.
+//! application/x-xyz, model/gltf-binary, model/gltf+json. Parameters are ignored.
 std::optional<PointFormat> point_format_from_media_type(std::string_view media_type);
-//! "ply" magic, OBJ statements, or lines of 3/6/9 numbers.
+//! The media type a point endpoint reads `format` as: application/ply, model/obj, text/x-xyz, model/gltf-binary,
+//! model/gltf+json.
+std::string_view point_media_type(PointFormat format);
+//! "glTF" magic, a JSON object with "asset" (glTF JSON), "ply" magic, OBJ statements, or lines of 3/6/9 numbers.
 std::optional<PointFormat> sniff_point_format(std::string_view bytes);
 
 //! PLY with double x y z, double nx ny nz when the cloud has normals, uchar red green blue (and alpha when

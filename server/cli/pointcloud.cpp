@@ -18,7 +18,8 @@ constexpr std::string_view kPointcloudHelp =
 Reads the points in IN and writes them to OUT, through the same operation as POST /pointcloud; with
 --estimate-normals the normals are replaced by PCA of the k nearest neighbours, consistently oriented (outward on
 closed shapes).
-  IN:  .ply .obj .xyz (.txt .pts as XYZ)        OUT: a --format name (.glb: Draco POINTS unless --compression none)
+  IN:  .ply .obj .xyz (.txt .pts as XYZ) .glb .gltf (POINTS, else the mesh vertices)
+  OUT: a --format name (.glb: Draco POINTS unless --compression none)
 
 )";
 
@@ -31,9 +32,9 @@ int pointcloud(Args& args) {
     options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
     options.push_back(
         Option{.name = "--input-format",
-               .check = one_of_names({"ply", "obj", "xyz"}),
+               .check = one_of_names({"ply", "obj", "xyz", "glb", "gltf"}),
                .synopsis = "--input-format NAME",
-               .description = "IN's format instead of its extension: ply obj xyz (IN -: from the bytes)"});
+               .description = "IN's format instead of its extension: ply obj xyz glb gltf (IN -: from the bytes)"});
     const auto parsed = parse_file_command(args, "pointcloud",
                                            std::string(kPointcloudHelp) + options_help(operation, options), options);
     if (!parsed) return kExitOk;
@@ -42,18 +43,14 @@ int pointcloud(Args& args) {
         in_format = point_format_from_extension("." + parsed->value("--input-format"));
     else if (!parsed->from_stdin() && !(in_format = point_format_from_extension(parsed->input)))
         throw UsageError{"cannot tell the point format of " + parsed->input +
-                         " from its extension (use .ply .obj .xyz, or --input-format)"};
+                         " from its extension (use .ply .obj .xyz .glb .gltf, or --input-format)"};
     const api::OutputFormat out_format = output_format(*parsed, operation);
 
     const auto bytes = read_input(parsed->input);
     if (!bytes) return kExitFailed;
-    if (!in_format)  // standard input: a PLY header, OBJ vertex lines, else XYZ
-        in_format = bytes->starts_with("ply")                                              ? PointFormat::Ply
-                    : bytes->starts_with("v ") || bytes->find("\nv ") != std::string::npos ? PointFormat::Obj
-                                                                                           : PointFormat::Xyz;
-    const std::string content_type = *in_format == PointFormat::Ply   ? "application/ply"
-                                     : *in_format == PointFormat::Obj ? "model/obj"
-                                                                      : "text/x-xyz";
+    if (!in_format)  // standard input: glTF or PLY magic, OBJ vertex lines, else XYZ
+        in_format = sniff_point_format(*bytes).value_or(PointFormat::Xyz);
+    const std::string content_type(point_media_type(*in_format));
     const api::ApiRequest request =
         upload_request("/pointcloud", content_type, *bytes, file_query(*parsed, out_format));
     return finish(api::dispatch(request, context), *parsed, [&](const api::ApiResponse& response) {

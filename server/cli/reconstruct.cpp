@@ -18,7 +18,8 @@ constexpr std::string_view kReconstructHelp =
 Reconstructs the closed surface the points in IN sample (screened Poisson reconstruction), through the same
 operation as POST /reconstruct. Points without normals get normals estimated from their k nearest neighbours and
 oriented consistently (outward on closed shapes) first, unless --estimate-normals never.
-  IN:  .ply .obj .xyz (.txt .pts as XYZ)        OUT: a mesh format by extension or --format (.glb: Draco)
+  IN:  .ply .obj .xyz (.txt .pts as XYZ) .glb .gltf (POINTS, else the mesh vertices)
+  OUT: a mesh format by extension or --format (.glb: Draco; vertex colours in .glb .ply .obj .json)
 Depth 8 has a 256^3 finest grid (meshed where the surface crosses it: seconds, a few hundred MB for 50,000
 points); each level more is 8x the grid (--max-grid-cells, --max-reconstruct-bytes raise the budgets).
 
@@ -33,9 +34,9 @@ int reconstruct(Args& args) {
     options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
     options.push_back(
         Option{.name = "--input-format",
-               .check = one_of_names({"ply", "obj", "xyz"}),
+               .check = one_of_names({"ply", "obj", "xyz", "glb", "gltf"}),
                .synopsis = "--input-format NAME",
-               .description = "IN's format instead of its extension: ply obj xyz (IN -: from the bytes)"});
+               .description = "IN's format instead of its extension: ply obj xyz glb gltf (IN -: from the bytes)"});
     const auto parsed = parse_file_command(args, "reconstruct",
                                            std::string(kReconstructHelp) + options_help(operation, options), options);
     if (!parsed) return kExitOk;
@@ -44,16 +45,13 @@ int reconstruct(Args& args) {
         in_format = point_format_from_extension("." + parsed->value("--input-format"));
     else if (!parsed->from_stdin() && !(in_format = point_format_from_extension(parsed->input)))
         throw UsageError{"cannot tell the point format of " + parsed->input +
-                         " from its extension (use .ply .obj .xyz, or --input-format)"};
+                         " from its extension (use .ply .obj .xyz .glb .gltf, or --input-format)"};
     const api::OutputFormat out_format = output_format(*parsed, operation);
 
     const auto bytes = read_input(parsed->input);
     if (!bytes) return kExitFailed;
     // standard input without --input-format: the service sniffs the bytes (application/octet-stream)
-    const std::string content_type = !in_format                       ? "application/octet-stream"
-                                     : *in_format == PointFormat::Ply ? "application/ply"
-                                     : *in_format == PointFormat::Obj ? "model/obj"
-                                                                      : "text/x-xyz";
+    const std::string content_type = in_format ? std::string(point_media_type(*in_format)) : "application/octet-stream";
     const api::ApiRequest request =
         upload_request("/reconstruct", content_type, *bytes, file_query(*parsed, out_format));
     return finish(api::dispatch(request, context), *parsed, [&](const api::ApiResponse& response) {

@@ -5,11 +5,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "api/operations/pointcloud.h"
+#include "geometry/io/gltf.h"
+#include "geometry/io/pointcloud_glb.h"
 #include "geometry/io/pointcloud_io.h"
 #include "tests/support/api_request.h"
 #include "tests/support/gltf_validator.h"
@@ -114,6 +117,92 @@ TEST(PointcloudOperation, UploadsPlyAndSniffedXyz) {
     const ApiResponse xyz = post("# scan\n0 0 0\n1 0 0\n0 1 0\n", "application/octet-stream", {{"format", "json"}});
     ASSERT_EQ(xyz.status, 200) << xyz.body;
     EXPECT_EQ(json::parse(xyz.body)["points"].size(), 3u);
+}
+
+//! A GLB with its JSON chunk changed by `change` (the BIN chunk kept as it is).
+template <class Change>
+std::string edit_glb_json(const std::string& glb, Change&& change) {
+    auto u32 = [&](std::size_t at) {
+        std::uint32_t v = 0;
+        std::memcpy(&v, glb.data() + at, 4);
+        return v;
+    };
+    const std::uint32_t json_length = u32(12);
+    json gltf = json::parse(glb.substr(20, json_length));
+    change(gltf);
+    std::string text = gltf.dump();
+    text.resize((text.size() + 3) & ~std::size_t{3}, ' ');
+    const std::string rest = glb.substr(20 + json_length);
+    std::string out = glb.substr(0, 20) + text + rest;
+    const auto total = static_cast<std::uint32_t>(out.size()), length = static_cast<std::uint32_t>(text.size());
+    std::memcpy(out.data() + 8, &total, 4);
+    std::memcpy(out.data() + 12, &length, 4);
+    return out;
+}
+
+TEST(PointcloudOperation, UploadsGlbAndGltfPoints) {
+    PointCloud cloud;
+    for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 5; ++j) {
+            cloud.positions.push_back({i * 0.1, j * 0.1, 0.0});
+            cloud.normals.push_back({0, 0, 1});
+            cloud.colors.push_back({i / 9.0f, j / 4.0f, 0.5f, 1.0f});
+        }
+    for (bool draco : {false, true}) {
+        SCOPED_TRACE(draco ? "draco" : "plain");
+        auto glb = write_points_glb(cloud, {.draco = draco});
+        ASSERT_TRUE(glb.ok()) << glb.error().message;
+        for (const char* type : {"model/gltf-binary", "application/octet-stream"}) {
+            const ApiResponse r = post(*glb, type, {{"format", "ply"}});
+            ASSERT_EQ(r.status, 200) << r.body;
+            EXPECT_EQ(header(r, "X-Input-Points"), "50");
+            auto back = read_ply_points(r.body);
+            ASSERT_TRUE(back.ok()) << back.error().message;
+            ASSERT_EQ(back->size(), 50u);
+            ASSERT_EQ(back->normals.size(), 50u);
+            ASSERT_EQ(back->colors.size(), 50u);
+            for (std::size_t p = 0; p < back->size(); ++p) {
+                EXPECT_NEAR(back->normals[p].z, 1.0, 1e-6);
+                // the colour is the one of the point there (Draco may reorder the points; 8 bits a channel)
+                const Vec3& q = back->positions[p];
+                EXPECT_NEAR(back->colors[p].r, q.x / 0.9, 1.0 / 255 + 1e-3);
+                EXPECT_NEAR(back->colors[p].g, q.y / 0.4, 1.0 / 255 + 1e-3);
+            }
+        }
+    }
+    auto plain = write_points_glb(cloud, {.draco = false});
+    ASSERT_TRUE(plain.ok());
+    auto gltf = gltf_from_glb(*plain);
+    ASSERT_TRUE(gltf.ok());
+    const ApiResponse text = post(*gltf, "model/gltf+json", {{"format", "json"}});
+    ASSERT_EQ(text.status, 200) << text.body;
+    EXPECT_EQ(json::parse(text.body)["points"].size(), 50u);
+
+    // a form's file part: by the file name's extension, the part's type being the generic one curl sends
+    const std::string form =
+        "--b1\r\nContent-Disposition: form-data; name=\"file\"; filename=\"scan.glb\"\r\n"
+        "Content-Type: application/octet-stream\r\n\r\n" +
+        *plain + "\r\n--b1\r\nContent-Disposition: form-data; name=\"format\"\r\n\r\njson\r\n--b1--\r\n";
+    const ApiResponse multipart = post(form, "multipart/form-data; boundary=b1");
+    ASSERT_EQ(multipart.status, 200) << multipart.body;
+    EXPECT_EQ(json::parse(multipart.body)["colors"].size(), 50u);
+
+    // a COLOR_0 accessor shorter than POSITION: 400 naming both accessors
+    const std::string short_colors = edit_glb_json(*plain, [](json& g) {
+        g["accessors"][g["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].get<int>()]["count"] = 49;
+    });
+    const json problem = expect_problem(post(short_colors, "model/gltf-binary"), 400, "parse_error");
+    EXPECT_NE(problem["detail"].get<std::string>().find("COLOR_0 (accessors[2]) has 49 elements, POSITION "
+                                                        "(accessors[0]) has 50"),
+              std::string::npos)
+        << problem.dump();
+    // the point limit, from the announced count
+    ApiContext context;
+    context.limits.max_points = 49;
+    expect_problem(post(*plain, "model/gltf-binary", {}, context), 422, "budget_exceeded");
+    // a GLB of lines only has no points
+    const std::string lines = edit_glb_json(*plain, [](json& g) { g["meshes"][0]["primitives"][0]["mode"] = 1; });
+    expect_problem(post(lines, "model/gltf-binary"), 422, "unsupported");
 }
 
 struct BadCase {

@@ -11,8 +11,11 @@
 
 #include "api/json_codec.h"
 #include "api/operations/reconstruct.h"
+#include "geometry/io/gltf_points.h"
+#include "geometry/io/pointcloud_glb.h"
 #include "geometry/io/pointcloud_io.h"
 #include "tests/support/api_request.h"
+#include "tests/support/gltf_validator.h"
 #include "tests/support/mesh_asserts.h"
 
 namespace surfaced::api {
@@ -292,19 +295,73 @@ TEST(ReconstructOperation, PointColoursAreCarriedToTheVertices) {
     ASSERT_TRUE(obj_cloud.ok()) << obj_cloud.error().message;
     EXPECT_EQ(obj_cloud->colors.size(), mesh.vertex_count());
 
+    // glTF as COLOR_0 (Draco: normalised bytes; none: floats), valid, read back as the mesh's vertices
+    for (const char* compression : {"draco", "none"}) {
+        SCOPED_TRACE(compression);
+        body["output"] = {{"format", "glb"}, {"compression", compression}};
+        const ApiResponse glb = post(body.dump());
+        ASSERT_EQ(glb.status, 200) << glb.body.substr(0, 400);
+        EXPECT_EQ(header(glb, "X-Colors"), "true");
+        const auto v = testing::run_gltf_validator(glb.body);
+        ASSERT_TRUE(v.ran) << v.report;
+        EXPECT_EQ(v.errors, 0) << v.report;
+        EXPECT_EQ(v.warnings, 0) << v.report;
+        auto vertices = read_glb_points(glb.body);
+        ASSERT_TRUE(vertices.ok()) << vertices.error().message;
+        ASSERT_EQ(vertices->colors.size(), mesh.vertex_count());
+        double worst_glb = 0;
+        for (std::size_t p = 0; p < vertices->size(); ++p) {
+            const Vec3 q = vertices->positions[p] * (1.0 / norm(vertices->positions[p]));
+            worst_glb = std::max({worst_glb, std::abs(vertices->colors[p].r - (q.x + 1) / 2),
+                                  std::abs(vertices->colors[p].g - (q.y + 1) / 2),
+                                  std::abs(vertices->colors[p].b - (q.z + 1) / 2)});
+        }
+        EXPECT_LT(worst_glb, 0.03 + 1.0 / 255);
+    }
+
     // off by request; by default not in a format without them; asked for where they cannot go or do not exist
     body["vertex_colors"] = false;
     EXPECT_EQ(header(post(body.dump()), "X-Colors"), "false");
     body.erase("vertex_colors");
-    body["output"] = {{"format", "glb"}};
-    const ApiResponse glb = post(body.dump());
-    ASSERT_EQ(glb.status, 200);
-    EXPECT_EQ(header(glb, "X-Colors"), "false");
+    body["output"] = {{"format", "stl"}};
+    const ApiResponse stl = post(body.dump());
+    ASSERT_EQ(stl.status, 200);
+    EXPECT_EQ(header(stl, "X-Colors"), "false");
     body["vertex_colors"] = true;
     expect_problem(post(body.dump()), 400, "invalid_field", "vertex_colors");
     body.erase("colors");
     body["output"] = {{"format", "ply"}};
     expect_problem(post(body.dump()), 422, "invalid_argument", "vertex_colors");
+}
+
+TEST(ReconstructOperation, GlbPointsAndGlbMeshVerticesAreInput) {
+    // the sphere's points with normals and colours as a Draco POINTS GLB
+    const Sphere s = sphere_cloud(3000);
+    PointCloud cloud;
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+        cloud.positions.push_back({s.points[i][0], s.points[i][1], s.points[i][2]});
+        cloud.normals.push_back({s.normals[i][0], s.normals[i][1], s.normals[i][2]});
+        cloud.colors.push_back({0.25f, 0.5f, 0.75f, 1.0f});
+    }
+    auto glb = write_points_glb(cloud);
+    ASSERT_TRUE(glb.ok()) << glb.error().message;
+    const ApiResponse r = post(*glb, "model/gltf-binary", {{"depth", "6"}, {"format", "json"}});
+    ASSERT_EQ(r.status, 200) << r.body.substr(0, 400);
+    EXPECT_EQ(header(r, "X-Input-Points"), "3000");
+    EXPECT_EQ(header(r, "X-Normals-Estimated"), "false");  // the GLB's NORMAL
+    EXPECT_EQ(header(r, "X-Colors"), "true");
+    expect_sphere(answer_mesh(r), 1, 0.5 * 2.2 / 64);
+    for (const auto& c : json::parse(r.body)["colors"]) EXPECT_NEAR(c[1].get<double>(), 0.5, 1.0 / 255);
+
+    // a triangle GLB (that answer as a GLB with vertex normals): its vertices are the points, its normals theirs
+    const ApiResponse mesh_glb =
+        post(*glb, "model/gltf-binary", {{"depth", "6"}, {"format", "glb"}, {"normals", "true"}});
+    ASSERT_EQ(mesh_glb.status, 200) << mesh_glb.body.substr(0, 400);
+    const ApiResponse again = post(mesh_glb.body, "model/gltf-binary", {{"depth", "6"}, {"format", "json"}});
+    ASSERT_EQ(again.status, 200) << again.body.substr(0, 400);
+    EXPECT_EQ(header(again, "X-Input-Points"), header(mesh_glb, "X-Output-Vertices"));
+    EXPECT_EQ(header(again, "X-Normals-Estimated"), "false");
+    expect_sphere(answer_mesh(again), 1, 2.2 / 64);
 }
 
 TEST(ReconstructOperation, EveryMeshFormatAndAccept) {

@@ -22,6 +22,7 @@
 
 #include "api/options/option_spec.h"
 #include "geometry/io/mesh_io.h"
+#include "geometry/io/pointcloud_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/uv_limit.h"
@@ -621,6 +622,25 @@ TEST_F(SurfacedCli, ReconstructWritesTheClosedSurfaceOfAPointFile) {
         run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --estimate-normals never");
     EXPECT_EQ(never.exit_code, 1) << never.err;
     EXPECT_TRUE(contains(never.err, "no normals")) << never.err;
+    // GLB points (as pointcloud writes them, with estimated normals) in: by extension, and sniffed from standard input
+    ASSERT_EQ(
+        run("pointcloud " + path("sphere.xyz") + " -o " + path("sphere.glb") + " --estimate-normals --k 12").exit_code,
+        0);
+    const CliRun glb = run("reconstruct " + path("sphere.glb") + " -o " + path("from_glb.obj") + " --depth 5");
+    ASSERT_EQ(glb.exit_code, 0) << glb.err;
+    EXPECT_FALSE(contains(glb.err + glb.out, "normals estimated")) << glb.err;
+    auto from_glb = read_obj(slurp(dir_ / "from_glb.obj"));
+    ASSERT_TRUE(from_glb.ok()) << from_glb.error().message;
+    EXPECT_TRUE(testing::is_watertight(from_glb.value()));
+    EXPECT_NEAR(testing::signed_volume(from_glb.value()), 4.0 / 3.0 * 3.14159265358979323846, 0.15);
+    const CliRun piped_glb = run("reconstruct - -o - --format off --depth 4", "sphere.glb");
+    ASSERT_EQ(piped_glb.exit_code, 0) << piped_glb.err;
+    EXPECT_TRUE(piped_glb.out.starts_with("OFF")) << piped_glb.out.substr(0, 40);
+    ASSERT_EQ(run("pointcloud " + path("sphere.glb") + " -o " + path("back.ply")).exit_code, 0);
+    auto back = read_ply_points(slurp(dir_ / "back.ply"));
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->size(), 2000u);
+    EXPECT_EQ(back->normals.size(), 2000u);
 }
 
 TEST_F(SurfacedCli, OldSpellingsSetTheirTableOptions) {

@@ -661,8 +661,8 @@ class Client:
         JSON form).
 
         Input: JSON ``points`` (with optional ``normals``, one per point, pointing out of the solid, and ``colors``),
-        or ``data``, a PLY, OBJ or XYZ file with its ``content_type`` (``application/ply``, ``model/obj``,
-        ``text/x-xyz``).
+        or ``data``, a PLY, OBJ, XYZ, GLB or glTF file with its ``content_type`` (``application/ply``,
+        ``model/obj``, ``text/x-xyz``, ``model/gltf-binary``, ``model/gltf+json``).
 
         :param normals: with JSON ``points``: their normals (a list); a bool is the output option: False leaves
             vertex normals out of the mesh (default: written).
@@ -680,8 +680,8 @@ class Client:
             keep the closed surface); 0.3 to 1 below the X-Sample-Density header is useful.
         :param island_area: with trim: pieces (and uncut low regions) smaller than this fraction of the area are
             removed (kept), 0..1 (default 0.001).
-        :param vertex_colors: carry the points' colours to the vertices (ply, obj, json); default: when the cloud has
-            colours and the format holds them.
+        :param vertex_colors: carry the points' colours to the vertices (glb, gltf, ply, obj, json); default: when
+            the cloud has colours and the format holds them.
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
         :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
@@ -708,8 +708,8 @@ class Client:
 
         Input: JSON ``points`` (with optional ``normals``, one per point, and ``colors``, ``[r, g, b(, a)]`` in 0..1),
         or ``sample`` (``{"count": n, "mesh": ...}`` or ``{"count": n, "scene": ..., "bounds": ..., "seed": s}``),
-        or ``data``, a PLY, OBJ or XYZ file with its ``content_type`` (``application/ply``, ``model/obj``,
-        ``text/x-xyz``).
+        or ``data``, a PLY, OBJ, XYZ, GLB or glTF file with its ``content_type`` (``application/ply``,
+        ``model/obj``, ``text/x-xyz``, ``model/gltf-binary``, ``model/gltf+json``).
 
         :param normals: with JSON ``points``: their normals (a list); a bool is the output option: False leaves the
             normals out of the output (default: written).
