@@ -62,21 +62,27 @@ struct PatchInfo {
     const BezierPatch* bezier = nullptr;  //!< the patch itself
 
     //! The interior bound of a triangle with these parameter corners (trimmed_surface.h): the smaller of the whole
-    //! patch's equal-parameter bound and triangle_distance_bound (both guarantees).
-    double bound(Vec2 a, Vec2 b, Vec2 c) const {
+    //! patch's equal-parameter bound and triangle_distance_bound (both guarantees). `enough`: a value at or below it
+    //! is as good as any for the caller (triangle_distance_bound then skips its finer form).
+    double bound(Vec2 a, Vec2 b, Vec2 c, double enough) const {
         const double h = (std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x})) / (u1 - u0);
         const double k = (std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y})) / (v1 - v0);
         const double whole = (d.uu * h * h + 2 * d.uv * h * k + d.vv * k * k) / 8;
+        if (whole <= enough) return whole;
         const auto local = [&](Vec2 p) {
             return Vec2{std::clamp((p.x - u0) / (u1 - u0), 0.0, 1.0), std::clamp((p.y - v0) / (v1 - v0), 0.0, 1.0)};
         };
         // memoised by the parameter box, on which the bound depends alone (the refinement passes ask again, and
-        // both triangles of a grid cell share their box)
+        // both triangles of a grid cell share their box); a value above the `enough` it was computed for is the finer
+        // form's, final
         const std::array<std::uint64_t, 4> key{bits(std::min({a.x, b.x, c.x})), bits(std::max({a.x, b.x, c.x})),
                                                bits(std::min({a.y, b.y, c.y})), bits(std::max({a.y, b.y, c.y}))};
-        const auto [it, inserted] = memo.emplace(key, 0.0);
-        if (inserted) it->second = std::min(whole, triangle_distance_bound(*bezier, local(a), local(b), local(c)));
-        return it->second;
+        const auto [it, inserted] = memo.emplace(key, Memo{});
+        if (inserted || (it->second.value > enough && it->second.value <= it->second.enough)) {
+            it->second.value = std::min(whole, triangle_distance_bound(*bezier, local(a), local(b), local(c), enough));
+            it->second.enough = enough;
+        }
+        return it->second.value;
     }
     struct KeyHash {
         std::size_t operator()(const std::array<std::uint64_t, 4>& k) const {
@@ -85,19 +91,21 @@ struct PatchInfo {
             return h;
         }
     };
-    mutable std::unordered_map<std::array<std::uint64_t, 4>, double, KeyHash> memo;
-    //! The largest bound over the cells of the nu x nv grid (both triangles of a cell share its box).
-    double grid_bound(int cu, int cv) const {
-        double worst = 0;
+    struct Memo {
+        double value = 0, enough = 0;
+    };
+    mutable std::unordered_map<std::array<std::uint64_t, 4>, Memo, KeyHash> memo;
+    //! Whether every cell of the cu x cv grid is within e (both triangles of a cell share its box).
+    bool grid_fits(int cu, int cv, double e) const {
         for (int j = 0; j < cv; ++j)
             for (int i = 0; i < cu; ++i) {
                 const double a = grid_fraction(i, cu), b = grid_fraction(i + 1, cu);
-                const double c = grid_fraction(j, cv), e = grid_fraction(j + 1, cv);
-                worst = std::max(
-                    worst, bound({u0 + a * (u1 - u0), v0 + c * (v1 - v0)}, {u0 + b * (u1 - u0), v0 + c * (v1 - v0)},
-                                 {u0 + b * (u1 - u0), v0 + e * (v1 - v0)}));
+                const double c = grid_fraction(j, cv), f = grid_fraction(j + 1, cv);
+                if (bound({u0 + a * (u1 - u0), v0 + c * (v1 - v0)}, {u0 + b * (u1 - u0), v0 + c * (v1 - v0)},
+                          {u0 + b * (u1 - u0), v0 + f * (v1 - v0)}, e) > e)
+                    return false;
             }
-        return worst;
+        return true;
     }
 };
 
@@ -188,11 +196,11 @@ struct ParamMesh {
         if (inserted) uvs.push_back(uv);
         return it->second;
     }
-    void add(const PatchInfo& patch, Vec2 a, Vec2 b, Vec2 c, bool at_trim) {
+    void add(const PatchInfo& patch, Vec2 a, Vec2 b, Vec2 c, bool at_trim, double tolerance) {
         triangles.push_back(vertex(a));
         triangles.push_back(vertex(b));
         triangles.push_back(vertex(c));
-        const double bound = patch.bound(a, b, c);
+        const double bound = patch.bound(a, b, c, at_trim ? tolerance / 2 : tolerance);
         interior_bound = std::max(interior_bound, bound);
         if (at_trim) trim_triangle_bound = std::max(trim_triangle_bound, bound);
     }
@@ -346,7 +354,8 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             };
             // triangles at a trim get half the tolerance: the trim bound adds the flattening's share (header)
             const bool at_trim = is(0, kTrim) || is(1, kTrim) || is(2, kTrim);
-            const bool size = patch.bound(at(0), at(1), at(2)) > (at_trim ? tolerance / 2 : tolerance);
+            const double limit = at_trim ? tolerance / 2 : tolerance;
+            const bool size = patch.bound(at(0), at(1), at(2), limit) > limit;
             const bool near_trim = !is(0, kGrid) || !is(1, kGrid) || !is(2, kGrid);
             if (size || (near_trim && surface_angle(v) < min_angle)) bad.push_back({static_cast<int>(t), v, size});
         }
@@ -396,7 +405,7 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
                              kind[static_cast<std::size_t>(v[1])] == kTrim ||
                              kind[static_cast<std::size_t>(v[2])] == kTrim;
         out.add(patch, uv[static_cast<std::size_t>(v[0])], uv[static_cast<std::size_t>(v[1])],
-                uv[static_cast<std::size_t>(v[2])], at_trim);
+                uv[static_cast<std::size_t>(v[2])], at_trim, tolerance);
     }
     return Ok{};
 }
@@ -466,7 +475,7 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
         const auto fits = [&](double f) {
             for (const PatchInfo& info : patches) {
                 const auto [cu, cv] = counts(info, f);
-                if (info.grid_bound(cu, cv) > e) return false;
+                if (!info.grid_fits(cu, cv, e)) return false;
             }
             return true;
         };
@@ -569,8 +578,8 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
                     for (int i = 0; i < patch.nu; ++i) {
                         const Vec2 a{patch.grid_u(i), patch.grid_v(j)}, b{patch.grid_u(i + 1), patch.grid_v(j)},
                             c{patch.grid_u(i + 1), patch.grid_v(j + 1)}, d{patch.grid_u(i), patch.grid_v(j + 1)};
-                        param.add(patch, a, b, c, false);
-                        param.add(patch, a, c, d, false);
+                        param.add(patch, a, b, c, false, e);
+                        param.add(patch, a, c, d, false, e);
                     }
             } else if (auto ok = triangulate_patch(surface, patch, patch_trims[p], rings, split, side_points, e,
                                                    options.min_angle_degrees, param, out.refinement_points,
