@@ -218,8 +218,9 @@ struct PatchTrims {
 //! Steps 3-4 of trimmed_surface.h for one patch with trims.
 Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, const PatchTrims& trims,
                          const std::vector<std::vector<Vec2>>& rings, const PreparedTrims& polygons,
-                         const SidePoints& side_points, double tolerance, double min_angle, ParamMesh& out,
-                         std::size_t& refinement_points, std::vector<Vec2>& side_requests, bool last_round) {
+                         const SidePoints& side_points, double tolerance, double min_angle,
+                         std::size_t max_refinement_points, ParamMesh& out, std::size_t& refinement_points,
+                         std::vector<Vec2>& side_requests, bool last_round) {
     ConstrainedTriangulation cdt({0, 0}, {patch.x(patch.u1), patch.y(patch.v1)});
     std::vector<Vec2> uv{{patch.u0, patch.v0}, {patch.u1, patch.v0}, {patch.u1, patch.v1}, {patch.u0, patch.v1}};
     enum Kind : char { kGrid, kTrim, kInserted };
@@ -333,7 +334,7 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
         }
         return smallest;
     };
-    const std::size_t budget = 16 * uv.size() + 4096;
+    const std::size_t budget = max_refinement_points > 0 ? max_refinement_points : 16 * uv.size() + 4096;
     std::set<std::pair<int, int>> requested;  //!< sides whose split this round asked for
     std::size_t inserted = 0;
     for (int pass = 0; pass < 400 && inserted < budget; ++pass) {
@@ -582,8 +583,8 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
                         param.add(patch, a, c, d, false, e);
                     }
             } else if (auto ok = triangulate_patch(surface, patch, patch_trims[p], rings, split, side_points, e,
-                                                   options.min_angle_degrees, param, out.refinement_points,
-                                                   side_requests, round + 1 == kRounds);
+                                                   options.min_angle_degrees, options.max_refinement_points, param,
+                                                   out.refinement_points, side_requests, round + 1 == kRounds);
                        !ok) {
                 return ok.error();
             }

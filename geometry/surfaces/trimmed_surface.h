@@ -36,12 +36,14 @@
 //    (the derivation of bezier_patch.cpp holds for any triangle, its corners' weighted variances being bounded by the
 //    extents), and triangle_distance_bound (bezier_patch.h: local, normal component plus a tangential drift absorbed
 //    by moving to another surface point of the patch). Every triangle's bound is computed; refinement makes the
-//    largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex (unless the refinement budget
-//    runs out: the bounds are then what was reached, and bound says so).
+//    largest, interior_bound, <= e, and <= e/2 over the triangles with a trim vertex. When refinement stops at its
+//    limits first (max_refinement_points, passes, side rounds: e.g. trims crowding a pole of the surface, where the
+//    local bound is weak) the bounds are what was reached, above e: bound says so, and a caller that promises e must
+//    check it (the API answers 422).
 //  - Trims: every point of a trim curve is within d + gap of its polygon in (u, v), hence within G (d + gap) of the
 //    image of a polygon point, which lies on an edge of a triangle with a trim vertex, within that triangle's bound:
-//    trim_bound = G (d + gap) + (the largest bound of those triangles) <= 0.9 e/2 + e/2 for loops closed within the
-//    closure tolerance. Conversely every point of the mesh is within interior_bound of the surface at parameters
+//    trim_bound = G (d + gap) + (the largest bound of those triangles) <= 0.9 e/2 + e/2 + G gap; the gaps (within the
+//    closure tolerance, in parameter units) are not refined away, so on a large model G gap alone can exceed e. Conversely every point of the mesh is within interior_bound of the surface at parameters
 //    inside the polygons, which are within d of the trimmed domain. bound = max(interior_bound, trim_bound) <= e.
 //  - Trim vertices are points of the trim curves (evaluated, never interpolated), so boundary vertices lie on the trims'
 //    3D images. The mesh is watertight inside the trimmed domain (every interior edge is used by two triangles, also
@@ -67,20 +69,24 @@ struct TrimmedTessellationOptions {
     int max_segments = 256;           //!< grid segments along one direction of one patch (BudgetExceeded beyond)
     std::size_t max_trim_segments = 1'000'000;  //!< chords over all loops
     std::size_t max_triangles = 20'000'000;     //!< output triangles (BudgetExceeded beyond)
-    double min_angle_degrees = 20;              //!< refinement target near the trims, in (0, 30]
-    Cancel cancel;                              //!< polled between patches
+    //! Points refinement may insert into one patch's triangulation (step 4); 0: 16 per point of its initial
+    //! triangulation + 4096. Refinement also stops after 400 passes and 6 rounds of side splits.
+    std::size_t max_refinement_points = 0;
+    double min_angle_degrees = 20;  //!< refinement target near the trims, in (0, 30]
+    Cancel cancel;                  //!< polled between patches
 };
 
 struct TrimmedTessellation {
     //! Triangles counter-clockwise in (u, v) (facing S_u x S_v), unit normals per vertex, uvs = surface parameters.
     PolygonMesh mesh;
-    std::vector<TrimPolygon> loops;     //!< the flattened, oriented loops (reversed: orientation was normalised)
-    double derivative_bound = 0;        //!< G
-    double trim_flatness = 0;           //!< d, parameter units
-    double max_gap = 0;                 //!< largest end-to-start gap between trim curves, parameter units
-    double interior_bound = 0;          //!< max over triangles of their bound
-    double trim_bound = 0;              //!< G (d + max_gap) + interior_bound
-    double bound = 0;                   //!< max(interior_bound, trim_bound): guaranteed distance, <= tolerance
+    std::vector<TrimPolygon> loops;  //!< the flattened, oriented loops (reversed: orientation was normalised)
+    double derivative_bound = 0;     //!< G
+    double trim_flatness = 0;        //!< d, parameter units
+    double max_gap = 0;              //!< largest end-to-start gap between trim curves, parameter units
+    double interior_bound = 0;       //!< max over triangles of their bound
+    double trim_bound = 0;           //!< G (d + max_gap) + the largest bound of the triangles with a trim vertex
+    double bound =
+        0;  //!< max(interior_bound, trim_bound): guaranteed distance; above tolerance only as the header says
     std::size_t refinement_points = 0;  //!< vertices inserted by refinement
 };
 

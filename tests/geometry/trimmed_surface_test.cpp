@@ -331,6 +331,27 @@ TEST(TrimmedSurface, SphereTrimmedByOuterLoopAndHole) {
     }
 }
 
+TEST(TrimmedSurface, RefinementLimitLeavesAnHonestBoundAboveTheTolerance) {
+    // one refinement point per patch cannot bring the triangles at the hole to e/2: the result says so (bound above
+    // the tolerance, measured deviation still within it), for the caller to refuse (the API's 422)
+    const double radius = 2;
+    TrimmedSurface t{sphere(radius), {}, {}};
+    TrimLoop hole;
+    hole.curves.push_back(circle_trim({0.3, 0.5}, 0.12));
+    t.holes.push_back(hole);
+    TrimmedTessellationOptions options;
+    options.tolerance = 1e-2;
+    const auto full = tessellate(t, options);
+    ASSERT_TRUE(full.ok()) << full.error().message;
+    EXPECT_LE(full->bound, options.tolerance);
+    options.max_refinement_points = 1;
+    const auto limited = tessellate(t, options);
+    ASSERT_TRUE(limited.ok()) << limited.error().message;
+    EXPECT_LT(limited->refinement_points, full->refinement_points);
+    EXPECT_GT(limited->bound, options.tolerance);
+    EXPECT_LE(mesh_to_surface(limited->mesh, [&](const Vec3& p) { return norm(p) - radius; }), limited->bound);
+}
+
 TEST(TrimmedSurface, TorusTrimmedByBSplineLoop) {
     const double R = 3, r = 1;
     TrimmedSurface t{torus(R, r), {bspline_loop({0.5, 0.5}, 0.3, 0.3)}, {}};
