@@ -17,9 +17,9 @@
 // trims), and are tessellated by trimmed_surface.h within the tolerance (a surface whose guaranteed bound stays above
 // it -- refinement stopped at its limits, or wide loop gaps on a large model -- is 422 budget_exceeded with field
 // "surfaces[i]" or its surf's line, never a 200 with X-Error-Bound above the tolerance); their meshes follow the
-// untrimmed patches' in the output, not welded to them. Budgets: trim loops, curves and control points (kMaxTrim*, api/trim_codec.h)
-// from the array sizes before decoding; the chords of the validated loops; each surface's grid triangles against
-// max_output_faces before tessellating, and the trimmed tessellator's count as it works.
+// untrimmed patches' in the output, not welded to them. Budgets: trim loops, curves and control points (kMaxTrim*,
+// api/trim_codec.h) from the array sizes before decoding; the chords of the validated loops; each surface's grid
+// triangles against max_output_faces before tessellating, and the trimmed tessellator's count as it works.
 // GET /patches/{name} (name: a built-in sample, `teapot`): the same query parameters. The response carries a strong
 // ETag (a hash of the name, the sample's data, the options and kPatchSampleRevision) and Cache-Control; a request
 // whose If-None-Match lists that ETag (or is "*") gets 304 Not Modified without any tessellation.

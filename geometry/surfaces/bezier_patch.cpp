@@ -55,8 +55,8 @@
 // a point of the patch, where |n0 . S_u(x)| <= Gn_u := |n0 . S_u(x0)| + Nuu H / 2 + Nuv K / 2 (x in B; the first term
 // is zero up to rounding), or the bound over B if smaller. Where B touches a patch side (no margin across it) the step
 // runs along the side only, direction k (u or v): with l0 = P S_k(x0) / |P S_k(x0)| and m0 = n0 x l0,
-// l0 . S_k(x) >= |P S_k(x0)| - (change of P S_k over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)), |d_k| <= e_t / s_k,
-// and
+// l0 . S_k(x) >= |P S_k(x0)| - (change of P S_k over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)),
+// |d_k| <= e_t / s_k, and
 //   T(x) - S(x + d_k) = -(a + d_k n0 . S_k) n0 - (m0 . (S(x) - T(x)) + d_k m0 . S_k) m0 - Q,
 // where m0 . (S - T) is bounded like a (the scalar net along m0), |m0 . S_k(x)| like |n0 . S_k(x)| (m0 . S_k(x0) = 0),
 // and |Q| <= (1/2) R_kk d_k^2. The triangle's bound is the smallest of e_f, |(e_n, e_t)| and these; the first two alone
@@ -69,6 +69,7 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -127,8 +128,8 @@ NetBounds second_derivative_bounds(const BezierPatch& patch) {
 }
 
 //! Bounds on the first and second partial derivatives of the polynomial patch with net `q` (u fastest).
-template <class T, class Norm>
-std::array<double, 5> net_derivative_bounds(const std::vector<T>& q, int m, int n, Norm size) {
+template <class Net, class Norm>
+std::array<double, 5> net_derivative_bounds(const Net& q, int m, int n, Norm size) {
     const auto at = [&](int i, int j) { return q[static_cast<std::size_t>(j * (m + 1) + i)]; };
     double du = 0, dv = 0, d2u = 0, d2v = 0, duv = 0;
     for (int j = 0; j <= n; ++j)
@@ -304,9 +305,9 @@ struct Region {
     //! The same for the scalar dir . S (dir a unit vector, c0 any point): the quotient rule of the top of this file
     //! dotted with dir, from the scalar net dir . w (P - c0), the weights and |dir . (S - c0)| <= max |dir . (P - c0)|.
     NetBounds along(const Vec3& dir, const Vec3& c0) const {
-        std::vector<double> q(piece.points.size());
+        std::array<double, (kMaxPatchDegree + 1) * (kMaxPatchDegree + 1)> q;  // the first |points| used
         double radius = 0;
-        for (std::size_t i = 0; i < q.size(); ++i) {
+        for (std::size_t i = 0; i < piece.points.size(); ++i) {
             const double x = dot(dir, piece.points[i] - c0);
             radius = std::max(radius, std::fabs(x));
             q[i] = piece.weights[i] * x;
@@ -331,16 +332,41 @@ NetBounds max_bounds(const NetBounds& a, const NetBounds& b) {
     return {std::max(a.uu, b.uu), std::max(a.uv, b.uv), std::max(a.vv, b.vv), std::max(a.u, b.u), std::max(a.v, b.v)};
 }
 
+//! What the two forms of triangle_distance_bound share: the triangle's box B, the derivatives at its centre, and the
+//! bounds over the grown box E (computed when first needed).
+struct Shared {
+    double u0, u1, v0, v1;
+    PatchDerivatives d;  //!< position, du and dv at the centre (the second derivatives are not used)
+    std::optional<NetBounds> grown;
+};
+
+//! S, S_u and S_v at (uc, vc) exactly (up to rounding), from the net restricted to [u0, uc] x [v0, vc]: its corner
+//! (1, 1) is that point, where the value is the last control point and the derivatives are differences of the last
+//! ones (for a rational net through the quotient rule S_s = (A_s - w_s S) / w).
+PatchDerivatives corner_frame(const BezierPatch& patch, double u0, double uc, double v0, double vc) {
+    const std::vector<Homogeneous> net = restricted_net(patch, u0, uc, v0, vc);
+    const int m = patch.degree_u, n = patch.degree_v;
+    const auto at = [&](int i, int j) { return net[static_cast<std::size_t>(j * (m + 1) + i)]; };
+    const Homogeneous q = at(m, n), qu = at(m - 1, n), qv = at(m, n - 1);
+    PatchDerivatives d;
+    d.position = Vec3{q[0], q[1], q[2]} * (1.0 / q[3]);
+    const auto derivative = [&](const Homogeneous& before, int degree, double span) {
+        const Vec3 a{degree * (q[0] - before[0]), degree * (q[1] - before[1]), degree * (q[2] - before[2])};
+        return (a - (degree * (q[3] - before[3])) * d.position) * (1.0 / (q[3] * span));
+    };
+    d.du = derivative(qu, m, uc - u0);
+    d.dv = derivative(qv, n, vc - v0);
+    return d;
+}
+
 //! triangle_distance_bound with B's bounds taken over pieces x pieces sub-boxes.
-double distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, int pieces_per_side) {
+double distance_bound(const BezierPatch& patch, Shared& shared, int pieces_per_side) {
     // The method and its proof are in the comment at the top of this file ("Distance bound of one triangle").
-    const double u0 = std::min({a.x, b.x, c.x}), u1 = std::max({a.x, b.x, c.x});
-    const double v0 = std::min({a.y, b.y, c.y}), v1 = std::max({a.y, b.y, c.y});
+    const double u0 = shared.u0, u1 = shared.u1, v0 = shared.v0, v1 = shared.v1;
     const double bu = u1 - u0, bv = v1 - v0;
     const auto quadratic = [&](const NetBounds& m) {
         return (m.uu * bu * bu + 2.0 * m.uv * bu * bv + m.vv * bv * bv) / 8.0;
     };
-    if (!(bu > 0) || !(bv > 0)) return quadratic(second_derivative_bounds(patch));  // a segment or point
     // bounds over B, the triangle's box (the Taylor argument needs them on the triangle only): the maximum over
     // kPieces x kPieces sub-boxes, each from its own net (tighter than one net over B, the Bernstein bounds
     // converging quadratically under subdivision)
@@ -360,7 +386,7 @@ double distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, int piec
     const double e_full = quadratic(full);
 
     // the frame at B's centre x0: the normal n0, tangents t1, t2
-    const PatchDerivatives d = evaluate_derivatives(patch, 0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    const PatchDerivatives& d = shared.d;
     const Vec3 n0 = normalized(cross(d.du, d.dv));
     if (!(norm(n0) > 0.5)) return e_full;
     const Vec3 c0 = d.position;
@@ -385,7 +411,8 @@ double distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, int piec
     const double ev0 = std::max(0.0, v0 - kGrow * bv), ev1 = std::min(1.0, v1 + kGrow * bv);
     const double margin_u = std::min(u0 - eu0, eu1 - u1), margin_v = std::min(v0 - ev0, ev1 - v1);
     if (!(margin_u > 0) && !(margin_v > 0)) return best;
-    const NetBounds grown = Region(patch, eu0, eu1, ev0, ev1).full();  // for the remainder R of the move, over E
+    if (!shared.grown) shared.grown = Region(patch, eu0, eu1, ev0, ev1).full();  // for the move's remainder, over E
+    const NetBounds& grown = *shared.grown;
     // |n0 . S_u(x)| over B: n0 . S_u(x0) (zero up to rounding) plus the change over half of B
     const double gn_u = std::min(normal.u, std::fabs(dot(n0, d.du)) + 0.5 * (normal.uu * bu + normal.uv * bv));
     const double gn_v = std::min(normal.v, std::fabs(dot(n0, d.dv)) + 0.5 * (normal.uv * bu + normal.vv * bv));
@@ -432,9 +459,21 @@ double distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, int piec
 }  // namespace
 
 double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, double enough) {
-    const double coarse = distance_bound(patch, a, b, c, 1);
+    Shared shared{std::min({a.x, b.x, c.x}),
+                  std::max({a.x, b.x, c.x}),
+                  std::min({a.y, b.y, c.y}),
+                  std::max({a.y, b.y, c.y}),
+                  {},
+                  std::nullopt};
+    const double bu = shared.u1 - shared.u0, bv = shared.v1 - shared.v0;
+    if (!(bu > 0) || !(bv > 0)) {  // a segment or point: the whole patch's bound
+        const NetBounds m = second_derivative_bounds(patch);
+        return (m.uu * bu * bu + 2.0 * m.uv * bu * bv + m.vv * bv * bv) / 8.0;
+    }
+    shared.d = corner_frame(patch, shared.u0, 0.5 * (shared.u0 + shared.u1), shared.v0, 0.5 * (shared.v0 + shared.v1));
+    const double coarse = distance_bound(patch, shared, 1);
     if (coarse <= enough) return coarse;
-    return std::min(coarse, distance_bound(patch, a, b, c, kPieces));
+    return std::min(coarse, distance_bound(patch, shared, kPieces));
 }
 
 namespace {

@@ -95,17 +95,41 @@ struct PatchInfo {
         double value = 0, enough = 0;
     };
     mutable std::unordered_map<std::array<std::uint64_t, 4>, Memo, KeyHash> memo;
-    //! Whether every cell of the cu x cv grid is within e (both triangles of a cell share its box).
-    bool grid_fits(int cu, int cv, double e) const {
+    //! Grid cell (i, j) of the cu x cv grid: its corners counter-clockwise from (u_i, v_j).
+    //! The same values as grid_u and grid_v (the patch's own sides exact), so vertices are shared by exact (u, v).
+    std::array<Vec2, 4> cell(int i, int j, int cu, int cv) const {
+        const auto line = [](int k, int n, double lo, double hi) {
+            return k == 0 ? lo : k == n ? hi : lo + (hi - lo) * grid_fraction(k, n);
+        };
+        const double a = line(i, cu, u0, u1), b = line(i + 1, cu, u0, u1);
+        const double c = line(j, cv, v0, v1), f = line(j + 1, cv, v0, v1);
+        return {Vec2{a, c}, Vec2{b, c}, Vec2{b, f}, Vec2{a, f}};
+    }
+    //! Whether the cell's two triangles are within e (they share its box, on which the bound depends alone).
+    bool cell_fits(const std::array<Vec2, 4>& q, double e) const { return bound(q[0], q[1], q[2], e) <= e; }
+    //! Whether the fan of four triangles about the cell's centre is within e (each has half the cell's box in one
+    //! direction: where a cell is too large by little, this costs two triangles instead of a finer grid everywhere).
+    bool fan_fits(const std::array<Vec2, 4>& q, double e) const {
+        const Vec2 m{0.5 * (q[0].x + q[2].x), 0.5 * (q[0].y + q[2].y)};
+        for (int k = 0; k < 4; ++k)
+            if (bound(q[static_cast<std::size_t>(k)], q[static_cast<std::size_t>((k + 1) % 4)], m, e) > e) return false;
+        return true;
+    }
+    //! Triangles of the cu x cv grid within e (2 per cell, 4 per cell that needs its fan), or -1 when a cell fits
+    //! neither way.
+    long grid_cost(int cu, int cv, double e) const {
+        long triangles = 0;
         for (int j = 0; j < cv; ++j)
             for (int i = 0; i < cu; ++i) {
-                const double a = grid_fraction(i, cu), b = grid_fraction(i + 1, cu);
-                const double c = grid_fraction(j, cv), f = grid_fraction(j + 1, cv);
-                if (bound({u0 + a * (u1 - u0), v0 + c * (v1 - v0)}, {u0 + b * (u1 - u0), v0 + c * (v1 - v0)},
-                          {u0 + b * (u1 - u0), v0 + f * (v1 - v0)}, e) > e)
-                    return false;
+                const auto q = cell(i, j, cu, cv);
+                if (cell_fits(q, e))
+                    triangles += 2;
+                else if (fan_fits(q, e))
+                    triangles += 4;
+                else
+                    return -1;
             }
-        return true;
+        return triangles;
     }
 };
 
@@ -299,6 +323,36 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             !cdt.constrain(a->second, b->second))
             return make_error(ErrorCode::Internal, "trim chords cross after flattening (rounding): loops too close");
     }
+    // The cells whose two triangles are over e get the fan about their centre that the grid fit found within e, as in a
+    // patch without trims: its spokes and sides constrained, so the Delaunay flips cannot trade it for triangles across
+    // two cells (larger boxes, over e). Only cells clear of the trims (no trim point within their circumcircle plus the
+    // exclusion distance, so their corners are all grid points); the others are left to the refinement.
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const auto q = patch.cell(i, j, nu, nv);
+            if (patch.cell_fits(q, tolerance)) continue;
+            const Vec2 m{0.5 * (q[0].x + q[2].x), 0.5 * (q[0].y + q[2].y)}, sm = patch.scaled(m);
+            const Vec2 s0 = patch.scaled(q[0]);
+            const double clear = std::hypot(sm.x - s0.x, sm.y - s0.y) + reach;
+            const bool near = std::any_of(trims.chords.begin(), trims.chords.end(),
+                                          [&](const auto& chord) {
+                                              const auto& ring = rings[chord.first];
+                                              return distance_to_segment(
+                                                         sm, patch.scaled(ring[chord.second]),
+                                                         patch.scaled(ring[(chord.second + 1) % ring.size()])) < clear;
+                                          }) ||
+                              std::any_of(trims.vertices.begin(), trims.vertices.end(), [&](const auto& at) {
+                                  const Vec2 t = patch.scaled(ring_point(at));  // also those on the patch sides
+                                  return std::hypot(t.x - sm.x, t.y - sm.y) < clear;
+                              });
+            if (near) continue;
+            const int centre = add(m, kGrid);
+            std::array<int, 4> corners{};
+            for (std::size_t k = 0; k < 4; ++k) corners[k] = add(q[k], kGrid);  // already there: its index
+            // (a constraint that cannot be made leaves the cell to the refinement, like one near a trim)
+            for (std::size_t k = 0; k < 4 && centre >= 0 && corners[k] >= 0; ++k)
+                if (!cdt.constrain(centre, corners[k]) || !cdt.constrain(corners[k], corners[(k + 1) % 4])) break;
+        }
     cdt.restore_delaunay();
 
     // classification and refinement
@@ -473,13 +527,17 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
             return std::pair{std::max(1, static_cast<int>(std::ceil(f * info.nu))),
                              std::max(1, static_cast<int>(std::ceil(f * info.nv)))};
         };
-        const auto fits = [&](double f) {
+        const auto cost = [&](double f) {  // triangles of all grids, or -1 when a cell fits neither way
+            long total = 0;
             for (const PatchInfo& info : patches) {
                 const auto [cu, cv] = counts(info, f);
-                if (!info.grid_fits(cu, cv, e)) return false;
+                const long c = info.grid_cost(cu, cv, e);
+                if (c < 0) return -1L;
+                total += c;
             }
-            return true;
+            return total;
         };
+        const auto fits = [&](double f) { return cost(f) >= 0; };
         double pass = 1.0, fail = 0.25;
         while (!fits(pass)) {  // the narrower side intervals widen the others a little
             fail = pass;
@@ -495,6 +553,21 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
         for (int step = 0; step < 10 && pass > fail; ++step) {
             const double mid = 0.5 * (pass + fail);
             (fits(mid) ? pass : fail) = mid;
+        }
+        // the smallest grid that fits may need many fans: a slightly finer one can have fewer triangles
+        long best = cost(pass);
+        const double smallest = pass;
+        for (int k = 1; k <= 8; ++k) {
+            const double f = smallest * (1 + 0.04 * k);
+            long cells = 0;  // 2 triangles per cell at least: no need to bound a grid that cannot do better
+            for (const PatchInfo& info : patches)
+                cells += static_cast<long>(counts(info, f).first) * counts(info, f).second;
+            if (2 * cells >= best) continue;
+            const long c = cost(f);
+            if (c >= 0 && c < best) {
+                best = c;
+                pass = f;
+            }
         }
         for (PatchInfo& info : patches) std::tie(info.nu, info.nv) = counts(info, pass);
     }
@@ -577,10 +650,14 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
                 if (!inside_trimmed_domain(split, {(patch.u0 + patch.u1) / 2, (patch.v0 + patch.v1) / 2})) continue;
                 for (int j = 0; j < patch.nv; ++j)
                     for (int i = 0; i < patch.nu; ++i) {
-                        const Vec2 a{patch.grid_u(i), patch.grid_v(j)}, b{patch.grid_u(i + 1), patch.grid_v(j)},
-                            c{patch.grid_u(i + 1), patch.grid_v(j + 1)}, d{patch.grid_u(i), patch.grid_v(j + 1)};
-                        param.add(patch, a, b, c, false, e);
-                        param.add(patch, a, c, d, false, e);
+                        const auto q = patch.cell(i, j, patch.nu, patch.nv);
+                        if (patch.cell_fits(q, e)) {
+                            param.add(patch, q[0], q[1], q[2], false, e);
+                            param.add(patch, q[0], q[2], q[3], false, e);
+                        } else {  // the grid fit found its fan within e
+                            const Vec2 m{0.5 * (q[0].x + q[2].x), 0.5 * (q[0].y + q[2].y)};
+                            for (std::size_t k = 0; k < 4; ++k) param.add(patch, q[k], q[(k + 1) % 4], m, false, e);
+                        }
                     }
             } else if (auto ok = triangulate_patch(surface, patch, patch_trims[p], rings, split, side_points, e,
                                                    options.min_angle_degrees, options.max_refinement_points, param,

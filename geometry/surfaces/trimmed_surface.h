@@ -4,9 +4,12 @@
 // Method.
 //  1. The surface is split into its Bézier patches (to_bezier) and each patch gets a grid: the counts plan_tessellation
 //     gives for e (bezier_patch.h; counts agree along shared edges) times one common factor, the smallest found by
-//     bisection for which every grid cell is within e by the interior bound below. Grid lines are uniform but for the
-//     first and last interval, 0.6 of the others (cells on a patch side get triangle_distance_bound's weaker form);
-//     the positions depend on the count alone, so patches sharing a side agree on its points.
+//     bisection for which every grid cell is within e by the interior bound below, as its two triangles or, where
+//     those are over e, as the fan of four about its centre (then of the factors up to a third larger, the one with
+//     the fewest triangles: a cell too large by little costs two triangles, not a finer grid). Grid lines are
+//     uniform but for the first and last interval, 0.6 of the others (cells on a patch side get
+//     triangle_distance_bound's weaker form); the positions depend on the count alone, so patches sharing a side
+//     agree on its points.
 //  2. Trim curves are flattened in (u, v) to the flatness d = 0.9 e / (2 G), where G bounds |dS| per unit of parameter
 //     distance over the whole surface: G = max over patches of sqrt((|S_u| / span_u)^2 + (|S_v| / span_v)^2), with
 //     derivative_bounds() (bezier_patch.h). Method: the parameter-space deviation times the first-derivative bound;
@@ -18,8 +21,9 @@
 //     and grid points on its sides, the interior grid points, and the trim vertices, with every trim chord as a
 //     constraint. Grid points closer than 0.4 grid spacings to a trim chord are left out (on a patch side: closer than
 //     0.4 spacings along that side to a trim vertex on it), so no sliver forms between a trim and a grid line; the
-//     rule on a side depends only on that side, so both patches sharing it drop the same points. Components separated
-//     by the trims are kept when inside the trimmed domain.
+//     rule on a side depends only on that side, so both patches sharing it drop the same points. A fan cell clear of
+//     the trims gets its centre, its spokes and sides constrained (the flips would otherwise join it to a neighbour
+//     in triangles over e). Components separated by the trims are kept when inside the trimmed domain.
 //  4. Refinement (Chew/Ruppert): a kept triangle is refined by inserting its circumcentre when its bound (below)
 //     exceeds e, or e/2 for a triangle with a trim vertex, or when it touches a trim or inserted vertex and its
 //     smallest angle on the surface is below min_angle_degrees. A circumcentre that would cross a trim chord, fall on
@@ -43,8 +47,9 @@
 //  - Trims: every point of a trim curve is within d + gap of its polygon in (u, v), hence within G (d + gap) of the
 //    image of a polygon point, which lies on an edge of a triangle with a trim vertex, within that triangle's bound:
 //    trim_bound = G (d + gap) + (the largest bound of those triangles) <= 0.9 e/2 + e/2 + G gap; the gaps (within the
-//    closure tolerance, in parameter units) are not refined away, so on a large model G gap alone can exceed e. Conversely every point of the mesh is within interior_bound of the surface at parameters
-//    inside the polygons, which are within d of the trimmed domain. bound = max(interior_bound, trim_bound) <= e.
+//    closure tolerance, in parameter units) are not refined away, so on a large model G gap alone can exceed e.
+//    Conversely every point of the mesh is within interior_bound of the surface at parameters inside the polygons,
+//    which are within d of the trimmed domain. bound = max(interior_bound, trim_bound) <= e.
 //  - Trim vertices are points of the trim curves (evaluated, never interpolated), so boundary vertices lie on the trims'
 //    3D images. The mesh is watertight inside the trimmed domain (every interior edge is used by two triangles, also
 //    across patch sides and welded seams) and open along the trims.
