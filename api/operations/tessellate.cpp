@@ -125,6 +125,28 @@ ApiError trimmed_error(const GeoError& error, const TrimmedInput& input) {
     return out;
 }
 
+//! A trimmed surface whose guaranteed bound stayed above the tolerance (trimmed_surface.h: refinement stopped at its
+//! limits, or the trim loops' gaps are wide for the model's size): 422 at its field or line, never a mesh out of
+//! tolerance answered as a success.
+ApiError tolerance_not_reached(const TrimmedTessellation& result, double tolerance, const TrimmedInput& input) {
+    const double gaps = result.derivative_bound * result.max_gap;
+    const bool gap_bound = gaps > tolerance / 20;  // the share trimmed_surface.h leaves them
+    const std::string where = input.line > 0 ? "the surf at line " + std::to_string(input.line) : input.field;
+    ApiError error = make_problem(
+        Problem::BudgetExceeded,
+        where + ": the guaranteed bound reached is " + format_double(result.bound) + ", above the tolerance " +
+            format_double(tolerance) +
+            (gap_bound ? ": gaps between its trim curves (up to " + format_double(result.max_gap) +
+                             " in (u, v)) are up to " + format_double(gaps) + " on the surface"
+                       : ": refinement stopped at its limits (" + std::to_string(result.refinement_points) +
+                             " points inserted), as near a pole or another point where the surface's bound is weak"),
+        input.line > 0 ? std::nullopt : std::optional<std::string>(input.field));
+    if (input.line > 0) error.line = input.line;
+    error.hint = gap_bound ? "close the trim loops more tightly (their curves' ends closer), or give a larger tolerance"
+                           : "give a larger tolerance, or keep trims away from the surface's poles";
+    return error;
+}
+
 //! What trimmed surfaces need from the options: a tolerance (the trimmed tessellator has no fixed segment count) and
 //! a mesh format (format=patches lists Bézier patches, which carry no trim loops). `where` names the first trimmed
 //! surface ("surfaces[1]", "the surf at line 12").
@@ -271,6 +293,8 @@ ApiResponse tessellate_and_encode(const PatchSet& set, const TessellateParams& p
         trim_options.cancel = cancel;
         auto tessellated = surfaced::tessellate(input.trimmed, trim_options);
         if (!tessellated) return error_response(trimmed_error(tessellated.error(), input));
+        if (tessellated->bound > *params.tolerance)
+            return error_response(tolerance_not_reached(*tessellated, *params.tolerance, input));
         append_mesh(mesh, tessellated->mesh);
         error_bound = std::max(error_bound, tessellated->bound);
     }

@@ -14,10 +14,12 @@
 // loops are validated (validate_trims) before any work: a broken rule is a 422 whose field names the loop and curve
 // ("surfaces[2].trim.holes[0][1]") or, for OBJ, the line of the trim/hole (or curv2) statement. They need a tolerance
 // (400 with segments, or with neither) and a mesh format (format=patches: 422 unsupported, Bézier patches carry no
-// trims), and are tessellated by trimmed_surface.h within the tolerance; their meshes follow the untrimmed patches'
-// in the output, not welded to them. Budgets: trim loops, curves and control points (kMaxTrim*, api/trim_codec.h)
-// from the array sizes before decoding; the chords of the validated loops; each surface's grid triangles against
-// max_output_faces before tessellating, and the trimmed tessellator's count as it works.
+// trims), and are tessellated by trimmed_surface.h within the tolerance (a surface whose guaranteed bound stays above
+// it -- refinement stopped at its limits, or wide loop gaps on a large model -- is 422 budget_exceeded with field
+// "surfaces[i]" or its surf's line, never a 200 with X-Error-Bound above the tolerance); their meshes follow the
+// untrimmed patches' in the output, not welded to them. Budgets: trim loops, curves and control points (kMaxTrim*,
+// api/trim_codec.h) from the array sizes before decoding; the chords of the validated loops; each surface's grid
+// triangles against max_output_faces before tessellating, and the trimmed tessellator's count as it works.
 // GET /patches/{name} (name: a built-in sample, `teapot`): the same query parameters. The response carries a strong
 // ETag (a hash of the name, the sample's data, the options and kPatchSampleRevision) and Cache-Control; a request
 // whose If-None-Match lists that ETag (or is "*") gets 304 Not Modified without any tessellation.

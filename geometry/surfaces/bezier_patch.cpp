@@ -28,30 +28,40 @@
 //
 // Distance bound of one triangle (triangle_distance_bound). The bound above is on |S(x) - T(x)| at equal parameters
 // and so also counts the tangential drift of a non-uniform parameterisation, which does not move the mesh off the
-// surface. Let B be the triangle's parameter box, E = B grown by a quarter of its size on each side (clipped to the
-// patch), and work in E's own parameters (the restriction of the net to E: exact de Casteljau subdivision). Bounds
-// over E: M (full second derivatives, the single-net rational bound above on E's net) and, with n0 the unit normal
-// and c0 the point at B's centre x0, Gn >= |n0 . S_u|, |n0 . S_v| and N >= |n0 . S_uu|, |n0 . S_uv|, |n0 . S_vv| --
-// the quotient rule above dotted with n0: n0 . S_uu = (n0 . A'_uu - 2 w_u (n0 . S_u) - w_uu n0 . (S - c0)) / w, with
-// A' = sum B_ij w_ij (P_ij - c0), the scalar net n0 . w_ij (P_ij - c0) bounding n0 . A' and its derivatives by
-// Bernstein convexity, and |n0 . (S - c0)| <= max |n0 . (P_ij - c0)|. For x in the triangle split
-// S(x) - T(x) = a n0 + t (t orthogonal to n0). The derivation at the top, applied to the scalar n0 . S, gives
-// |a| <= (1/8)(Nuu H^2 + 2 Nuv H K + Nvv K^2) =: e_n (H x K: the triangle's extents), and |t| <= |S(x) - T(x)| <=
-// (1/8)(Muu H^2 + 2 Muv H K + Mvv K^2) =: e_f; also |t| <= e_t := |(e_1, e_2)|, e_i the bound of the same argument on
-// the scalar t_i . S, t_1, t_2 an orthonormal basis of the plane orthogonal to n0 (and so |S - T| <= |(e_n, e_t)|).
-// Let J(x) = P DS(x), P the projection orthogonal to n0: at x0, sigma0 = its smallest singular value (computed), and
-// over B its change is at most (Weyl, Frobenius norm) drift = |(Muu H / 2 + Muv K / 2, Muv H / 2 + Mvv K / 2)|,
-// so sigma(J(x)) >= sigma = sigma0 - drift. When sigma > 0 take d with J(x) d = -t: |d| <= e_t / sigma. If x + d stays in E (|d| no more than B's margin inside E), then with
-// DS(x) d = -t + (n0 . DS(x) d) n0 and R = S(x + d) - S(x) - DS(x) d, |R| <= (1/2)(Muu + 2 Muv + Mvv) |d|^2:
-//   T(x) - S(x + d) = -(a + n0 . DS(x) d) n0 - R,   so   dist(T(x), S) <= e_n + |Gn| |d| + |R|,
-// a point of the patch. Where B touches a patch side (no margin across it) the step runs along the side only,
-// direction k (u or v): with l0 = P S_k(x0) / |P S_k(x0)| and m0 = n0 x l0, l0 . S_k >= |P S_k(x0)| - (change of S_k
-// over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)), |d_k| <= e_t / s_k, and
-//   T(x) - S(x + d_k) = -(a + d_k n0 . S_k) n0 - (m0 . (S(x) - T(x)) + d_k m0 . S_k) m0 - R,
-// where m0 . (S - T) is bounded like a (the scalar net m0 . w (P - c0)), and |R| <= (1/2) M_kk d_k^2. The triangle's
-// bound is the smallest of e_f, |(e_n, e_t)| and these; the first two alone where sigma <= 0 (vanishing du x dv), at
-// a patch corner, or where the step exceeds the margin. e_n is second order in the normal curvature only (no
-// tangential acceleration, no twist of a surface of revolution), and the correction is third order.
+// surface. Let B be the triangle's parameter box (H x K), x0 its centre, n0 the unit normal and c0 the point there.
+// Bounds over B (the Taylor argument above needs the derivatives on the triangle only, which lies in B), each the
+// maximum over 2 x 2 sub-boxes of B of the bound from that sub-box's own net (exact de Casteljau restriction; the
+// Bernstein bounds converge quadratically under subdivision, and the one-net form over B is used alone when it is
+// already small enough for the caller): M (full second derivatives, the single-net rational bound above) and, for a
+// unit direction dir, bounds on |dir . S_u|, |dir . S_v|, |dir . S_uu|, |dir . S_uv|, |dir . S_vv| -- the quotient
+// rule above dotted with dir: dir . S_uu = (dir . A'_uu - 2 w_u (dir . S_u) - w_uu dir . (S - c0)) / w, with
+// A' = sum B_ij w_ij (P_ij - c0), the scalar net dir . w_ij (P_ij - c0) bounding dir . A' and its derivatives by
+// Bernstein convexity, and |dir . (S - c0)| <= max |dir . (P_ij - c0)|. For x in the triangle split
+// S(x) - T(x) = a n0 + t (t orthogonal to n0). The derivation at the top, applied to the scalar n0 . S (bounds N),
+// gives |a| <= (1/8)(Nuu H^2 + 2 Nuv H K + Nvv K^2) =: e_n, and |t| <= |S(x) - T(x)| <= (1/8)(Muu H^2 + ...) =: e_f;
+// also |t| <= e_t := |(e_1, e_2)|, e_i the same bound for t_i . S, t_1, t_2 an orthonormal basis of the plane
+// orthogonal to n0 (so |S - T| <= |(e_n, e_t)|); and |P S_uu| <= min(Muu, |(t_1 . S_uu, t_2 . S_uu)| bounds) =: Puu
+// (P the projection orthogonal to n0; Puv, Pvv alike).
+// The move. Let E be B grown by half its size on each side, clipped to the patch, and R bounds over E (its own net).
+// J(x) = P DS(x) maps parameter steps into the tangent plane of n0. Scale the parameters by alpha = |P S_u(x0)|,
+// beta = |P S_v(x0)| (the scaled J(x0) has unit columns at an angle theta: smallest singular value
+// sigma0 = sqrt(1 - |cos theta|)); over B each scaled column moves by at most (Puu H / 2 + Puv K / 2) / alpha (and
+// (Puv H / 2 + Pvv K / 2) / beta), so by Weyl's inequality (Frobenius norm) the scaled J(x)'s smallest singular value
+// is at least sigma = sigma0 - |(those)|. When sigma > 0 take d with J(x) d = -t: |d_u| <= (e_t / sigma) / alpha,
+// |d_v| <= (e_t / sigma) / beta. If these are within B's margins inside E, x + d is in E, and with
+// DS(x) d = -t + (n0 . DS(x) d) n0 and the remainder Q = S(x + d) - S(x) - DS(x) d,
+// |Q| <= (1/2)(Ruu d_u^2 + 2 Ruv |d_u d_v| + Rvv d_v^2):
+//   T(x) - S(x + d) = -(a + n0 . DS(x) d) n0 - Q,   so   dist(T(x), S) <= e_n + Gn_u |d_u| + Gn_v |d_v| + |Q|,
+// a point of the patch, where |n0 . S_u(x)| <= Gn_u := |n0 . S_u(x0)| + Nuu H / 2 + Nuv K / 2 (x in B; the first term
+// is zero up to rounding), or the bound over B if smaller. Where B touches a patch side (no margin across it) the step
+// runs along the side only, direction k (u or v): with l0 = P S_k(x0) / |P S_k(x0)| and m0 = n0 x l0,
+// l0 . S_k(x) >= |P S_k(x0)| - (change of P S_k over B) =: s_k > 0, d_k = -(l0 . t) / (l0 . S_k(x)),
+// |d_k| <= e_t / s_k, and
+//   T(x) - S(x + d_k) = -(a + d_k n0 . S_k) n0 - (m0 . (S(x) - T(x)) + d_k m0 . S_k) m0 - Q,
+// where m0 . (S - T) is bounded like a (the scalar net along m0), |m0 . S_k(x)| like |n0 . S_k(x)| (m0 . S_k(x0) = 0),
+// and |Q| <= (1/2) R_kk d_k^2. The triangle's bound is the smallest of e_f, |(e_n, e_t)| and these; the first two alone
+// where du x dv vanishes, at a patch corner, or where the step exceeds the margin. e_n is second order in the normal
+// curvature only (no tangential acceleration, no twist of a surface of revolution), and the correction is third order.
 #include "geometry/surfaces/bezier_patch.h"
 
 #include <algorithm>
@@ -59,6 +69,7 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -117,8 +128,8 @@ NetBounds second_derivative_bounds(const BezierPatch& patch) {
 }
 
 //! Bounds on the first and second partial derivatives of the polynomial patch with net `q` (u fastest).
-template <class T, class Norm>
-std::array<double, 5> net_derivative_bounds(const std::vector<T>& q, int m, int n, Norm size) {
+template <class Net, class Norm>
+std::array<double, 5> net_derivative_bounds(const Net& q, int m, int n, Norm size) {
     const auto at = [&](int i, int j) { return q[static_cast<std::size_t>(j * (m + 1) + i)]; };
     double du = 0, dv = 0, d2u = 0, d2v = 0, duv = 0;
     for (int j = 0; j <= n; ++j)
@@ -236,6 +247,9 @@ NetBounds rational_second_derivative_bounds(const BezierPatch& patch) {
 
 // ---- local distance bound of one triangle ----------------------------------------------------------------------
 
+constexpr int kPieces = 2;
+constexpr double kGrow = 0.5;
+
 //! The homogeneous net of `patch` restricted to [u0, u1] x [v0, v1] (exact de Casteljau subdivision; weights 1 for a
 //! polynomial patch).
 std::vector<Homogeneous> restricted_net(const BezierPatch& patch, double u0, double u1, double v0, double v1) {
@@ -253,113 +267,213 @@ std::vector<Homogeneous> restricted_net(const BezierPatch& patch, double u0, dou
 
 }  // namespace
 
-double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c) {
+namespace {
+
+//! The patch restricted to one parameter box (exact de Casteljau subdivision of the homogeneous net), with what the
+//! bounds below need of it: its Euclidean points, its weights and bounds on their derivatives.
+struct Region {
+    double su = 1, sv = 1;  //!< the box's size in patch parameters (the restricted net's parameters are [0, 1]^2)
+    BezierPatch piece;      //!< the restricted net, Euclidean points and weights
+    double wmin = 1;
+    std::array<double, 5> wa{};  //!< net_derivative_bounds of the weights
+
+    Region(const BezierPatch& patch, double u0, double u1, double v0, double v1) : su(u1 - u0), sv(v1 - v0) {
+        const std::vector<Homogeneous> net = restricted_net(patch, u0, u1, v0, v1);
+        piece.degree_u = patch.degree_u;
+        piece.degree_v = patch.degree_v;
+        piece.points.resize(net.size());
+        piece.weights.resize(net.size());
+        wmin = net[0][3];
+        for (std::size_t k = 0; k < net.size(); ++k) {
+            piece.weights[k] = net[k][3];
+            piece.points[k] = Vec3{net[k][0], net[k][1], net[k][2]} * (1.0 / net[k][3]);
+            wmin = std::min(wmin, net[k][3]);
+        }
+        wa =
+            net_derivative_bounds(piece.weights, piece.degree_u, piece.degree_v, [](double x) { return std::fabs(x); });
+    }
+    //! Bounds on |S_u|, |S_v|, |S_uu|, |S_uv|, |S_vv| over the box, in patch parameters.
+    NetBounds full() const {
+        NetBounds b = single_net_rational_bounds(piece);
+        b.u /= su;
+        b.v /= sv;
+        b.uu /= su * su;
+        b.uv /= su * sv;
+        b.vv /= sv * sv;
+        return b;
+    }
+    //! The same for the scalar dir . S (dir a unit vector, c0 any point): the quotient rule of the top of this file
+    //! dotted with dir, from the scalar net dir . w (P - c0), the weights and |dir . (S - c0)| <= max |dir . (P - c0)|.
+    NetBounds along(const Vec3& dir, const Vec3& c0) const {
+        std::array<double, (kMaxPatchDegree + 1) * (kMaxPatchDegree + 1)> q;  // the first |points| used
+        double radius = 0;
+        for (std::size_t i = 0; i < piece.points.size(); ++i) {
+            const double x = dot(dir, piece.points[i] - c0);
+            radius = std::max(radius, std::fabs(x));
+            q[i] = piece.weights[i] * x;
+        }
+        const auto qa = net_derivative_bounds(q, piece.degree_u, piece.degree_v, [](double x) { return std::fabs(x); });
+        NetBounds b;
+        b.u = (qa[0] + wa[0] * radius) / wmin;
+        b.v = (qa[1] + wa[1] * radius) / wmin;
+        b.uu = (qa[2] + wa[2] * radius + 2 * wa[0] * b.u) / wmin;
+        b.vv = (qa[3] + wa[3] * radius + 2 * wa[1] * b.v) / wmin;
+        b.uv = (qa[4] + wa[4] * radius + wa[0] * b.v + wa[1] * b.u) / wmin;
+        b.u /= su;
+        b.v /= sv;
+        b.uu /= su * su;
+        b.uv /= su * sv;
+        b.vv /= sv * sv;
+        return b;
+    }
+};
+
+NetBounds max_bounds(const NetBounds& a, const NetBounds& b) {
+    return {std::max(a.uu, b.uu), std::max(a.uv, b.uv), std::max(a.vv, b.vv), std::max(a.u, b.u), std::max(a.v, b.v)};
+}
+
+//! What the two forms of triangle_distance_bound share: the triangle's box B, the derivatives at its centre, and the
+//! bounds over the grown box E (computed when first needed).
+struct Shared {
+    double u0, u1, v0, v1;
+    PatchDerivatives d;  //!< position, du and dv at the centre (the second derivatives are not used)
+    std::optional<NetBounds> grown;
+};
+
+//! S, S_u and S_v at (uc, vc) exactly (up to rounding), from the net restricted to [u0, uc] x [v0, vc]: its corner
+//! (1, 1) is that point, where the value is the last control point and the derivatives are differences of the last
+//! ones (for a rational net through the quotient rule S_s = (A_s - w_s S) / w).
+PatchDerivatives corner_frame(const BezierPatch& patch, double u0, double uc, double v0, double vc) {
+    const std::vector<Homogeneous> net = restricted_net(patch, u0, uc, v0, vc);
+    const int m = patch.degree_u, n = patch.degree_v;
+    const auto at = [&](int i, int j) { return net[static_cast<std::size_t>(j * (m + 1) + i)]; };
+    const Homogeneous q = at(m, n), qu = at(m - 1, n), qv = at(m, n - 1);
+    PatchDerivatives d;
+    d.position = Vec3{q[0], q[1], q[2]} * (1.0 / q[3]);
+    const auto derivative = [&](const Homogeneous& before, int degree, double span) {
+        const Vec3 a{degree * (q[0] - before[0]), degree * (q[1] - before[1]), degree * (q[2] - before[2])};
+        return (a - (degree * (q[3] - before[3])) * d.position) * (1.0 / (q[3] * span));
+    };
+    d.du = derivative(qu, m, uc - u0);
+    d.dv = derivative(qv, n, vc - v0);
+    return d;
+}
+
+//! triangle_distance_bound with B's bounds taken over pieces x pieces sub-boxes.
+double distance_bound(const BezierPatch& patch, Shared& shared, int pieces_per_side) {
     // The method and its proof are in the comment at the top of this file ("Distance bound of one triangle").
-    const double u0 = std::min({a.x, b.x, c.x}), u1 = std::max({a.x, b.x, c.x});
-    const double v0 = std::min({a.y, b.y, c.y}), v1 = std::max({a.y, b.y, c.y});
+    const double u0 = shared.u0, u1 = shared.u1, v0 = shared.v0, v1 = shared.v1;
     const double bu = u1 - u0, bv = v1 - v0;
-    if (!(bu > 0) || !(bv > 0)) {  // a segment or point: the whole patch's bound (its extents are zero or tiny)
+    const auto quadratic = [&](const NetBounds& m) {
+        return (m.uu * bu * bu + 2.0 * m.uv * bu * bv + m.vv * bv * bv) / 8.0;
+    };
+    // bounds over B, the triangle's box (the Taylor argument needs them on the triangle only): the maximum over
+    // kPieces x kPieces sub-boxes, each from its own net (tighter than one net over B, the Bernstein bounds
+    // converging quadratically under subdivision)
+    const int np = pieces_per_side;
+    std::vector<Region> pieces;
+    pieces.reserve(static_cast<std::size_t>(np * np));
+    for (int j = 0; j < np; ++j)
+        for (int i = 0; i < np; ++i)
+            pieces.emplace_back(patch, u0 + bu * i / np, u0 + bu * (i + 1) / np, v0 + bv * j / np,
+                                v0 + bv * (j + 1) / np);
+    const auto over_b = [&](auto&& bounds) {
+        NetBounds out = bounds(pieces[0]);
+        for (std::size_t k = 1; k < pieces.size(); ++k) out = max_bounds(out, bounds(pieces[k]));
+        return out;
+    };
+    const NetBounds full = over_b([](const Region& r) { return r.full(); });
+    const double e_full = quadratic(full);
+
+    // the frame at B's centre x0: the normal n0, tangents t1, t2
+    const PatchDerivatives& d = shared.d;
+    const Vec3 n0 = normalized(cross(d.du, d.dv));
+    if (!(norm(n0) > 0.5)) return e_full;
+    const Vec3 c0 = d.position;
+    const auto along = [&](const Vec3& dir) { return over_b([&](const Region& r) { return r.along(dir, c0); }); };
+    const NetBounds normal = along(n0);
+    const double e_n = quadratic(normal);
+    // the tangential part t of S(x) - T(x) and bounds on the projected second derivatives |P S_uu|, ...
+    double e_t = e_full;
+    NetBounds projected = full;
+    const Vec3 t1 = normalized(d.du - dot(n0, d.du) * n0);
+    if (norm(t1) > 0.5) {
+        const NetBounds b1 = along(t1), b2 = along(cross(n0, t1));
+        e_t = std::min(e_t, std::hypot(quadratic(b1), quadratic(b2)));
+        projected.uu = std::min(full.uu, std::hypot(b1.uu, b2.uu));
+        projected.uv = std::min(full.uv, std::hypot(b1.uv, b2.uv));
+        projected.vv = std::min(full.vv, std::hypot(b1.vv, b2.vv));
+    }
+    double best = std::min(e_full, std::hypot(e_n, e_t));
+
+    // E: B grown by kGrow of its size on each side inside the patch; B's margins inside it (zero on a patch side)
+    const double eu0 = std::max(0.0, u0 - kGrow * bu), eu1 = std::min(1.0, u1 + kGrow * bu);
+    const double ev0 = std::max(0.0, v0 - kGrow * bv), ev1 = std::min(1.0, v1 + kGrow * bv);
+    const double margin_u = std::min(u0 - eu0, eu1 - u1), margin_v = std::min(v0 - ev0, ev1 - v1);
+    if (!(margin_u > 0) && !(margin_v > 0)) return best;
+    if (!shared.grown) shared.grown = Region(patch, eu0, eu1, ev0, ev1).full();  // for the move's remainder, over E
+    const NetBounds& grown = *shared.grown;
+    // |n0 . S_u(x)| over B: n0 . S_u(x0) (zero up to rounding) plus the change over half of B
+    const double gn_u = std::min(normal.u, std::fabs(dot(n0, d.du)) + 0.5 * (normal.uu * bu + normal.uv * bv));
+    const double gn_v = std::min(normal.v, std::fabs(dot(n0, d.dv)) + 0.5 * (normal.uv * bu + normal.vv * bv));
+    // the change of P S_u and P S_v from x0 over B
+    const double change_u = 0.5 * (projected.uu * bu + projected.uv * bv);
+    const double change_v = 0.5 * (projected.uv * bu + projected.vv * bv);
+    const Vec3 ju = d.du - dot(n0, d.du) * n0, jv = d.dv - dot(n0, d.dv) * n0;
+    const double alpha = norm(ju), beta = norm(jv);
+
+    // a move in both directions, in parameters scaled by alpha and beta (the projected Jacobian's columns at x0 made
+    // unit): sigma bounds the scaled Jacobian's smallest singular value over B from below
+    if (alpha > 0 && beta > 0 && margin_u > 0 && margin_v > 0) {
+        const double cosine = std::min(1.0, std::fabs(dot(ju, jv)) / (alpha * beta));
+        const double sigma0 = norm(cross(ju, jv)) / (alpha * beta) / std::sqrt(1 + cosine);
+        const double sigma = sigma0 * (1 - 1e-12) - std::hypot(change_u / alpha, change_v / beta);
+        if (sigma > 0) {
+            const double step = e_t / sigma, du = step / alpha, dv = step / beta;
+            if (du <= margin_u && dv <= margin_v)
+                best = std::min(best, e_n + gn_u * du + gn_v * dv +
+                                          0.5 * (grown.uu * du * du + 2.0 * grown.uv * du * dv + grown.vv * dv * dv));
+        }
+    }
+    // a move along one direction only (B on a patch side running that way): the drift across, along m0, stays
+    for (int k = 0; k < 2; ++k) {
+        const Vec3& j = k == 0 ? ju : jv;
+        const double length = k == 0 ? alpha : beta, margin = k == 0 ? margin_u : margin_v;
+        if (!(length > 0) || !(margin > 0)) continue;
+        const double speed = length * (1 - 1e-12) - (k == 0 ? change_u : change_v);  // <= l0 . S_k over B
+        if (!(speed > 0)) continue;
+        const double step = e_t / speed;
+        if (!(step <= margin)) continue;
+        const Vec3 l0 = j * (1.0 / length), m0 = cross(n0, l0);
+        const NetBounds across = along(m0);
+        const Vec3& s_k = k == 0 ? d.du : d.dv;
+        const double gm = k == 0
+                              ? std::min(across.u, std::fabs(dot(m0, s_k)) + 0.5 * (across.uu * bu + across.uv * bv))
+                              : std::min(across.v, std::fabs(dot(m0, s_k)) + 0.5 * (across.uv * bu + across.vv * bv));
+        const double g = (k == 0 ? gn_u : gn_v) + gm;
+        best = std::min(best, e_n + quadratic(across) + g * step + 0.5 * (k == 0 ? grown.uu : grown.vv) * step * step);
+    }
+    return best;
+}
+
+}  // namespace
+
+double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, double enough) {
+    Shared shared{std::min({a.x, b.x, c.x}),
+                  std::max({a.x, b.x, c.x}),
+                  std::min({a.y, b.y, c.y}),
+                  std::max({a.y, b.y, c.y}),
+                  {},
+                  std::nullopt};
+    const double bu = shared.u1 - shared.u0, bv = shared.v1 - shared.v0;
+    if (!(bu > 0) || !(bv > 0)) {  // a segment or point: the whole patch's bound
         const NetBounds m = second_derivative_bounds(patch);
         return (m.uu * bu * bu + 2.0 * m.uv * bu * bv + m.vv * bv * bv) / 8.0;
     }
-    // the box B of the triangle, grown by a quarter of its size on each side inside the patch: the box E
-    constexpr double kGrow = 0.25;
-    const double eu0 = std::max(0.0, u0 - kGrow * bu), eu1 = std::min(1.0, u1 + kGrow * bu);
-    const double ev0 = std::max(0.0, v0 - kGrow * bv), ev1 = std::min(1.0, v1 + kGrow * bv);
-    const double su = eu1 - eu0, sv = ev1 - ev0;
-    const std::vector<Homogeneous> net = restricted_net(patch, eu0, eu1, ev0, ev1);
-    const int m = patch.degree_u, n = patch.degree_v;
-    BezierPatch piece;
-    piece.degree_u = m;
-    piece.degree_v = n;
-    piece.points.resize(net.size());
-    piece.weights.resize(net.size());
-    for (std::size_t k = 0; k < net.size(); ++k) {
-        piece.weights[k] = net[k][3];
-        piece.points[k] = Vec3{net[k][0], net[k][1], net[k][2]} * (1.0 / net[k][3]);
-    }
-    // all in E's own parameters (s, t) in [0, 1]^2: the triangle spans H x K of them
-    const NetBounds full = single_net_rational_bounds(piece);
-    const double h = bu / su, k = bv / sv;
-    const double e_full = (full.uu * h * h + 2.0 * full.uv * h * k + full.vv * k * k) / 8.0;
-
-    // the normal n0 and the point c0 at B's centre, derivatives in E's parameters
-    const double uc = 0.5 * (u0 + u1), vc = 0.5 * (v0 + v1);
-    const PatchDerivatives d = evaluate_derivatives(patch, uc, vc);
-    const Vec3 su_vec = d.du * su, sv_vec = d.dv * sv;
-    const Vec3 n0 = normalized(cross(su_vec, sv_vec));
-    if (!(norm(n0) > 0.5)) return e_full;
-    const Vec3 c0 = d.position;
-
-    // bounds on |dir . S_s|, |dir . S_ss|, ... over E from the scalar nets dir . w (P - c0) and w
-    std::vector<double> q(net.size()), w(net.size());
-    double wmin = net[0][3];
-    for (std::size_t i = 0; i < net.size(); ++i) {
-        w[i] = net[i][3];
-        wmin = std::min(wmin, w[i]);
-    }
-    const auto wa = net_derivative_bounds(w, m, n, [](double x) { return std::fabs(x); });
-    struct Directional {
-        double g_u, g_v, error;  //!< |dir . S_s|, |dir . S_t| over E; the bound on |dir . (S(x) - T(x))|
-    };
-    const auto directional = [&](const Vec3& dir) {
-        double radius = 0;
-        for (std::size_t i = 0; i < net.size(); ++i) {
-            const double along = dot(dir, piece.points[i] - c0);
-            radius = std::max(radius, std::fabs(along));
-            q[i] = w[i] * along;
-        }
-        const auto qa = net_derivative_bounds(q, m, n, [](double x) { return std::fabs(x); });
-        const double g_u = (qa[0] + wa[0] * radius) / wmin, g_v = (qa[1] + wa[1] * radius) / wmin;
-        const double uu = (qa[2] + wa[2] * radius + 2 * wa[0] * g_u) / wmin;
-        const double vv = (qa[3] + wa[3] * radius + 2 * wa[1] * g_v) / wmin;
-        const double uv = (qa[4] + wa[4] * radius + wa[0] * g_v + wa[1] * g_u) / wmin;
-        return Directional{g_u, g_v, (uu * h * h + 2.0 * uv * h * k + vv * k * k) / 8.0};
-    };
-    const Directional normal = directional(n0);
-    double best = e_full;
-    // the tangential part t of S(x) - T(x), from the scalar nets along two tangent directions at x0 (orthonormal with
-    // n0, so |t|^2 is the sum of the two squared components); without a move |S(x) - T(x)| is bounded the same way
-    double tangential = e_full;
-    {
-        const Vec3 t1 = normalized(su_vec - dot(n0, su_vec) * n0), t2 = cross(n0, t1);
-        if (norm(t1) > 0.5) tangential = std::min(tangential, std::hypot(directional(t1).error, directional(t2).error));
-    }
-    best = std::min(best, std::hypot(normal.error, tangential));
-    // B's margin inside E along u and v (zero where B touches a patch side)
-    const double margin_u = std::min((u0 - eu0) / su, (eu1 - u1) / su);
-    const double margin_v = std::min((v0 - ev0) / sv, (ev1 - v1) / sv);
-
-    // a move in both directions: |t| <= tangential, cancelled by a parameter step |d| <= e_full / sigma, where sigma
-    // bounds the smallest singular value of the projected Jacobian over B from below
-    const Vec3 ju = su_vec - dot(n0, su_vec) * n0, jv = sv_vec - dot(n0, sv_vec) * n0;
-    const double ee = dot(ju, ju), ff = dot(ju, jv), gg = dot(jv, jv);
-    const double largest = std::sqrt(0.5 * (ee + gg) + std::hypot(0.5 * (ee - gg), ff));
-    if (largest > 0) {
-        const double sigma0 = norm(cross(ju, jv)) / largest;
-        const double drift = std::hypot(0.5 * (full.uu * h + full.uv * k), 0.5 * (full.uv * h + full.vv * k));
-        const double sigma = sigma0 * (1 - 1e-12) - drift;
-        const double step = tangential / sigma;
-        if (sigma > 0 && step <= std::min(margin_u, margin_v))
-            best = std::min(best, normal.error + std::hypot(normal.g_u, normal.g_v) * step +
-                                      0.5 * (full.uu + 2.0 * full.uv + full.vv) * step * step);
-    }
-    // a move along one direction only (B on a patch side running that way): the drift across, along m0, stays
-    for (int along = 0; along < 2; ++along) {
-        const Vec3& j = along == 0 ? ju : jv;
-        const double length = norm(j);
-        if (!(length > 0)) continue;
-        const Vec3 l0 = j * (1.0 / length), m0 = cross(n0, l0);
-        const double change = along == 0 ? 0.5 * (full.uu * h + full.uv * k) : 0.5 * (full.uv * h + full.vv * k);
-        const double speed = length * (1 - 1e-12) - change;  // <= l0 . S_s (or S_t) over B
-        const double step = tangential / speed;
-        if (!(speed > 0) || !(step <= (along == 0 ? margin_u : margin_v))) continue;
-        const Directional across = directional(m0);
-        const double g = along == 0 ? normal.g_u + across.g_u : normal.g_v + across.g_v;
-        const double second = along == 0 ? full.uu : full.vv;
-        best = std::min(best, normal.error + across.error + g * step + 0.5 * second * step * step);
-    }
-    return best;
+    shared.d = corner_frame(patch, shared.u0, 0.5 * (shared.u0 + shared.u1), shared.v0, 0.5 * (shared.v0 + shared.v1));
+    const double coarse = distance_bound(patch, shared, 1);
+    if (coarse <= enough) return coarse;
+    return std::min(coarse, distance_bound(patch, shared, kPieces));
 }
 
 namespace {

@@ -97,13 +97,15 @@ PatchDerivativeBounds derivative_bounds(const BezierPatch& patch);
 
 //! Upper bound on the distance from every point of the flat triangle through S(a), S(b), S(c) to the patch (a, b, c
 //! in [0, 1]^2). Local and normal-aware, so far tighter than tessellation_error_bound on curved patches: bounds over
-//! the triangle's parameter box (grown by a quarter inside the patch) from that box's own control net, with the
-//! equal-parameter error split into its component along the normal n0 at the box's centre (bounded through n0 . S_uu,
-//! n0 . S_uv, n0 . S_vv) and a tangential drift that is absorbed by moving to another surface point (derivation in
-//! bezier_patch.cpp). Where the box touches a patch side the move runs along that side and the drift across it is
-//! added; at a patch corner, where du x dv vanishes or the move would leave the grown box, it is the box's
-//! equal-parameter bound. A guarantee, not an estimate; costs one subdivision of the net and one evaluation.
-double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c);
+//! the triangle's parameter box from that box's own control net (the maximum over its 2 x 2 sub-boxes' nets), with
+//! the equal-parameter error split into its component along the normal n0 at the box's centre (bounded through
+//! n0 . S_uu, n0 . S_uv, n0 . S_vv) and a tangential drift that is absorbed by moving to another surface point of the
+//! box grown by half its size (derivation in bezier_patch.cpp). Where the box touches a patch side the move runs along
+//! that side and the drift across it is added; at a patch corner, where du x dv vanishes or the move would leave the
+//! grown box, it is the box's equal-parameter bound. A guarantee, not an estimate. `enough`: when the bound from one
+//! net over the box is already at most this, it is returned without the sub-boxes (a caller comparing against a
+//! threshold passes it; 0 always takes the finer form). Costs a few net subdivisions and one evaluation.
+double triangle_distance_bound(const BezierPatch& patch, Vec2 a, Vec2 b, Vec2 c, double enough = 0);
 
 struct TessellationOptions {
     //! When set: the largest allowed distance between the triangles and the surface (in model units); segment

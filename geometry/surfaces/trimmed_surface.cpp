@@ -62,21 +62,27 @@ struct PatchInfo {
     const BezierPatch* bezier = nullptr;  //!< the patch itself
 
     //! The interior bound of a triangle with these parameter corners (trimmed_surface.h): the smaller of the whole
-    //! patch's equal-parameter bound and triangle_distance_bound (both guarantees).
-    double bound(Vec2 a, Vec2 b, Vec2 c) const {
+    //! patch's equal-parameter bound and triangle_distance_bound (both guarantees). `enough`: a value at or below it
+    //! is as good as any for the caller (triangle_distance_bound then skips its finer form).
+    double bound(Vec2 a, Vec2 b, Vec2 c, double enough) const {
         const double h = (std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x})) / (u1 - u0);
         const double k = (std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y})) / (v1 - v0);
         const double whole = (d.uu * h * h + 2 * d.uv * h * k + d.vv * k * k) / 8;
+        if (whole <= enough) return whole;
         const auto local = [&](Vec2 p) {
             return Vec2{std::clamp((p.x - u0) / (u1 - u0), 0.0, 1.0), std::clamp((p.y - v0) / (v1 - v0), 0.0, 1.0)};
         };
         // memoised by the parameter box, on which the bound depends alone (the refinement passes ask again, and
-        // both triangles of a grid cell share their box)
+        // both triangles of a grid cell share their box); a value above the `enough` it was computed for is the finer
+        // form's, final
         const std::array<std::uint64_t, 4> key{bits(std::min({a.x, b.x, c.x})), bits(std::max({a.x, b.x, c.x})),
                                                bits(std::min({a.y, b.y, c.y})), bits(std::max({a.y, b.y, c.y}))};
-        const auto [it, inserted] = memo.emplace(key, 0.0);
-        if (inserted) it->second = std::min(whole, triangle_distance_bound(*bezier, local(a), local(b), local(c)));
-        return it->second;
+        const auto [it, inserted] = memo.emplace(key, Memo{});
+        if (inserted || (it->second.value > enough && it->second.value <= it->second.enough)) {
+            it->second.value = std::min(whole, triangle_distance_bound(*bezier, local(a), local(b), local(c), enough));
+            it->second.enough = enough;
+        }
+        return it->second.value;
     }
     struct KeyHash {
         std::size_t operator()(const std::array<std::uint64_t, 4>& k) const {
@@ -85,19 +91,45 @@ struct PatchInfo {
             return h;
         }
     };
-    mutable std::unordered_map<std::array<std::uint64_t, 4>, double, KeyHash> memo;
-    //! The largest bound over the cells of the nu x nv grid (both triangles of a cell share its box).
-    double grid_bound(int cu, int cv) const {
-        double worst = 0;
+    struct Memo {
+        double value = 0, enough = 0;
+    };
+    mutable std::unordered_map<std::array<std::uint64_t, 4>, Memo, KeyHash> memo;
+    //! Grid cell (i, j) of the cu x cv grid: its corners counter-clockwise from (u_i, v_j).
+    //! The same values as grid_u and grid_v (the patch's own sides exact), so vertices are shared by exact (u, v).
+    std::array<Vec2, 4> cell(int i, int j, int cu, int cv) const {
+        const auto line = [](int k, int n, double lo, double hi) {
+            return k == 0 ? lo : k == n ? hi : lo + (hi - lo) * grid_fraction(k, n);
+        };
+        const double a = line(i, cu, u0, u1), b = line(i + 1, cu, u0, u1);
+        const double c = line(j, cv, v0, v1), f = line(j + 1, cv, v0, v1);
+        return {Vec2{a, c}, Vec2{b, c}, Vec2{b, f}, Vec2{a, f}};
+    }
+    //! Whether the cell's two triangles are within e (they share its box, on which the bound depends alone).
+    bool cell_fits(const std::array<Vec2, 4>& q, double e) const { return bound(q[0], q[1], q[2], e) <= e; }
+    //! Whether the fan of four triangles about the cell's centre is within e (each has half the cell's box in one
+    //! direction: where a cell is too large by little, this costs two triangles instead of a finer grid everywhere).
+    bool fan_fits(const std::array<Vec2, 4>& q, double e) const {
+        const Vec2 m{0.5 * (q[0].x + q[2].x), 0.5 * (q[0].y + q[2].y)};
+        for (int k = 0; k < 4; ++k)
+            if (bound(q[static_cast<std::size_t>(k)], q[static_cast<std::size_t>((k + 1) % 4)], m, e) > e) return false;
+        return true;
+    }
+    //! Triangles of the cu x cv grid within e (2 per cell, 4 per cell that needs its fan), or -1 when a cell fits
+    //! neither way.
+    long grid_cost(int cu, int cv, double e) const {
+        long triangles = 0;
         for (int j = 0; j < cv; ++j)
             for (int i = 0; i < cu; ++i) {
-                const double a = grid_fraction(i, cu), b = grid_fraction(i + 1, cu);
-                const double c = grid_fraction(j, cv), e = grid_fraction(j + 1, cv);
-                worst = std::max(
-                    worst, bound({u0 + a * (u1 - u0), v0 + c * (v1 - v0)}, {u0 + b * (u1 - u0), v0 + c * (v1 - v0)},
-                                 {u0 + b * (u1 - u0), v0 + e * (v1 - v0)}));
+                const auto q = cell(i, j, cu, cv);
+                if (cell_fits(q, e))
+                    triangles += 2;
+                else if (fan_fits(q, e))
+                    triangles += 4;
+                else
+                    return -1;
             }
-        return worst;
+        return triangles;
     }
 };
 
@@ -188,11 +220,11 @@ struct ParamMesh {
         if (inserted) uvs.push_back(uv);
         return it->second;
     }
-    void add(const PatchInfo& patch, Vec2 a, Vec2 b, Vec2 c, bool at_trim) {
+    void add(const PatchInfo& patch, Vec2 a, Vec2 b, Vec2 c, bool at_trim, double tolerance) {
         triangles.push_back(vertex(a));
         triangles.push_back(vertex(b));
         triangles.push_back(vertex(c));
-        const double bound = patch.bound(a, b, c);
+        const double bound = patch.bound(a, b, c, at_trim ? tolerance / 2 : tolerance);
         interior_bound = std::max(interior_bound, bound);
         if (at_trim) trim_triangle_bound = std::max(trim_triangle_bound, bound);
     }
@@ -210,8 +242,9 @@ struct PatchTrims {
 //! Steps 3-4 of trimmed_surface.h for one patch with trims.
 Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, const PatchTrims& trims,
                          const std::vector<std::vector<Vec2>>& rings, const PreparedTrims& polygons,
-                         const SidePoints& side_points, double tolerance, double min_angle, ParamMesh& out,
-                         std::size_t& refinement_points, std::vector<Vec2>& side_requests, bool last_round) {
+                         const SidePoints& side_points, double tolerance, double min_angle,
+                         std::size_t max_refinement_points, ParamMesh& out, std::size_t& refinement_points,
+                         std::vector<Vec2>& side_requests, bool last_round) {
     ConstrainedTriangulation cdt({0, 0}, {patch.x(patch.u1), patch.y(patch.v1)});
     std::vector<Vec2> uv{{patch.u0, patch.v0}, {patch.u1, patch.v0}, {patch.u1, patch.v1}, {patch.u0, patch.v1}};
     enum Kind : char { kGrid, kTrim, kInserted };
@@ -290,6 +323,36 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             !cdt.constrain(a->second, b->second))
             return make_error(ErrorCode::Internal, "trim chords cross after flattening (rounding): loops too close");
     }
+    // The cells whose two triangles are over e get the fan about their centre that the grid fit found within e, as in a
+    // patch without trims: its spokes and sides constrained, so the Delaunay flips cannot trade it for triangles across
+    // two cells (larger boxes, over e). Only cells clear of the trims (no trim point within their circumcircle plus the
+    // exclusion distance, so their corners are all grid points); the others are left to the refinement.
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const auto q = patch.cell(i, j, nu, nv);
+            if (patch.cell_fits(q, tolerance)) continue;
+            const Vec2 m{0.5 * (q[0].x + q[2].x), 0.5 * (q[0].y + q[2].y)}, sm = patch.scaled(m);
+            const Vec2 s0 = patch.scaled(q[0]);
+            const double clear = std::hypot(sm.x - s0.x, sm.y - s0.y) + reach;
+            const bool near = std::any_of(trims.chords.begin(), trims.chords.end(),
+                                          [&](const auto& chord) {
+                                              const auto& ring = rings[chord.first];
+                                              return distance_to_segment(
+                                                         sm, patch.scaled(ring[chord.second]),
+                                                         patch.scaled(ring[(chord.second + 1) % ring.size()])) < clear;
+                                          }) ||
+                              std::any_of(trims.vertices.begin(), trims.vertices.end(), [&](const auto& at) {
+                                  const Vec2 t = patch.scaled(ring_point(at));  // also those on the patch sides
+                                  return std::hypot(t.x - sm.x, t.y - sm.y) < clear;
+                              });
+            if (near) continue;
+            const int centre = add(m, kGrid);
+            std::array<int, 4> corners{};
+            for (std::size_t k = 0; k < 4; ++k) corners[k] = add(q[k], kGrid);  // already there: its index
+            // (a constraint that cannot be made leaves the cell to the refinement, like one near a trim)
+            for (std::size_t k = 0; k < 4 && centre >= 0 && corners[k] >= 0; ++k)
+                if (!cdt.constrain(centre, corners[k]) || !cdt.constrain(corners[k], corners[(k + 1) % 4])) break;
+        }
     cdt.restore_delaunay();
 
     // classification and refinement
@@ -325,7 +388,7 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
         }
         return smallest;
     };
-    const std::size_t budget = 16 * uv.size() + 4096;
+    const std::size_t budget = max_refinement_points > 0 ? max_refinement_points : 16 * uv.size() + 4096;
     std::set<std::pair<int, int>> requested;  //!< sides whose split this round asked for
     std::size_t inserted = 0;
     for (int pass = 0; pass < 400 && inserted < budget; ++pass) {
@@ -346,7 +409,8 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             };
             // triangles at a trim get half the tolerance: the trim bound adds the flattening's share (header)
             const bool at_trim = is(0, kTrim) || is(1, kTrim) || is(2, kTrim);
-            const bool size = patch.bound(at(0), at(1), at(2)) > (at_trim ? tolerance / 2 : tolerance);
+            const double limit = at_trim ? tolerance / 2 : tolerance;
+            const bool size = patch.bound(at(0), at(1), at(2), limit) > limit;
             const bool near_trim = !is(0, kGrid) || !is(1, kGrid) || !is(2, kGrid);
             if (size || (near_trim && surface_angle(v) < min_angle)) bad.push_back({static_cast<int>(t), v, size});
         }
@@ -396,7 +460,7 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
                              kind[static_cast<std::size_t>(v[1])] == kTrim ||
                              kind[static_cast<std::size_t>(v[2])] == kTrim;
         out.add(patch, uv[static_cast<std::size_t>(v[0])], uv[static_cast<std::size_t>(v[1])],
-                uv[static_cast<std::size_t>(v[2])], at_trim);
+                uv[static_cast<std::size_t>(v[2])], at_trim, tolerance);
     }
     return Ok{};
 }
@@ -463,13 +527,17 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
             return std::pair{std::max(1, static_cast<int>(std::ceil(f * info.nu))),
                              std::max(1, static_cast<int>(std::ceil(f * info.nv)))};
         };
-        const auto fits = [&](double f) {
+        const auto cost = [&](double f) {  // triangles of all grids, or -1 when a cell fits neither way
+            long total = 0;
             for (const PatchInfo& info : patches) {
                 const auto [cu, cv] = counts(info, f);
-                if (info.grid_bound(cu, cv) > e) return false;
+                const long c = info.grid_cost(cu, cv, e);
+                if (c < 0) return -1L;
+                total += c;
             }
-            return true;
+            return total;
         };
+        const auto fits = [&](double f) { return cost(f) >= 0; };
         double pass = 1.0, fail = 0.25;
         while (!fits(pass)) {  // the narrower side intervals widen the others a little
             fail = pass;
@@ -485,6 +553,21 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
         for (int step = 0; step < 10 && pass > fail; ++step) {
             const double mid = 0.5 * (pass + fail);
             (fits(mid) ? pass : fail) = mid;
+        }
+        // the smallest grid that fits may need many fans: a slightly finer one can have fewer triangles
+        long best = cost(pass);
+        const double smallest = pass;
+        for (int k = 1; k <= 8; ++k) {
+            const double f = smallest * (1 + 0.04 * k);
+            long cells = 0;  // 2 triangles per cell at least: no need to bound a grid that cannot do better
+            for (const PatchInfo& info : patches)
+                cells += static_cast<long>(counts(info, f).first) * counts(info, f).second;
+            if (2 * cells >= best) continue;
+            const long c = cost(f);
+            if (c >= 0 && c < best) {
+                best = c;
+                pass = f;
+            }
         }
         for (PatchInfo& info : patches) std::tie(info.nu, info.nv) = counts(info, pass);
     }
@@ -567,14 +650,18 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
                 if (!inside_trimmed_domain(split, {(patch.u0 + patch.u1) / 2, (patch.v0 + patch.v1) / 2})) continue;
                 for (int j = 0; j < patch.nv; ++j)
                     for (int i = 0; i < patch.nu; ++i) {
-                        const Vec2 a{patch.grid_u(i), patch.grid_v(j)}, b{patch.grid_u(i + 1), patch.grid_v(j)},
-                            c{patch.grid_u(i + 1), patch.grid_v(j + 1)}, d{patch.grid_u(i), patch.grid_v(j + 1)};
-                        param.add(patch, a, b, c, false);
-                        param.add(patch, a, c, d, false);
+                        const auto q = patch.cell(i, j, patch.nu, patch.nv);
+                        if (patch.cell_fits(q, e)) {
+                            param.add(patch, q[0], q[1], q[2], false, e);
+                            param.add(patch, q[0], q[2], q[3], false, e);
+                        } else {  // the grid fit found its fan within e
+                            const Vec2 m{0.5 * (q[0].x + q[2].x), 0.5 * (q[0].y + q[2].y)};
+                            for (std::size_t k = 0; k < 4; ++k) param.add(patch, q[k], q[(k + 1) % 4], m, false, e);
+                        }
                     }
             } else if (auto ok = triangulate_patch(surface, patch, patch_trims[p], rings, split, side_points, e,
-                                                   options.min_angle_degrees, param, out.refinement_points,
-                                                   side_requests, round + 1 == kRounds);
+                                                   options.min_angle_degrees, options.max_refinement_points, param,
+                                                   out.refinement_points, side_requests, round + 1 == kRounds);
                        !ok) {
                 return ok.error();
             }

@@ -270,6 +270,28 @@ TEST(TessellateTrim, OptionsAndBudgets) {
     EXPECT_EQ(post(request({surface}, 1e-2), small).status, 200);
 }
 
+TEST(TessellateTrim, BoundAboveTheToleranceIs422NamingTheSurface) {
+    // The plane scaled to 1e6 units with a square hole whose last side stops 5e-8 short of its start (within the
+    // closure tolerance, 1e-7 of the domain): that gap alone puts the trim 5e-8 x |dS| ~ 0.07 units from its polygon,
+    // far above the tolerance, so the guaranteed bound cannot reach it. Never a 200 with X-Error-Bound above the
+    // tolerance: 422 naming the surface.
+    constexpr double kSize = 1e6;
+    json big = plane();
+    big["points"] = {{0, 0, 0}, {kSize, 0, 0}, {0, kSize, 0}, {kSize, kSize, 0}};
+    json hole = square(0.25, 0.75);
+    hole[3] = line(0.25, 0.75, 0.25, 0.25 + 5e-8);
+    big["trim"] = {{"holes", {hole}}};
+    const ApiResponse response = post(request({plane(), big}, 1e-3));
+    expect_problem(response, 422, "budget_exceeded", "surfaces[1]");
+    EXPECT_NE(response.body.find("above the tolerance 0.001"), std::string::npos) << response.body;
+    EXPECT_NE(response.body.find("gaps between its trim curves"), std::string::npos) << response.body;
+    // closed exactly, the same surface is within the tolerance
+    big["trim"] = {{"holes", {square(0.25, 0.75)}}};
+    const ApiResponse closed = post(request({plane(), big}, 1e-3));
+    ASSERT_EQ(closed.status, 200) << closed.body;
+    EXPECT_LE(std::stod(header(closed, "X-Error-Bound")), 1e-3);
+}
+
 constexpr const char* kPlaneObjWithHole = R"(# the plane z = 0 over [0, 2]^2 less a square hole
 v 0 0 0
 v 2 0 0

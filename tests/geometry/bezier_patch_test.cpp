@@ -546,6 +546,11 @@ TEST(RationalPatch, TriangleDistanceBoundHoldsOnRandomPatches) {
             const double bound = triangle_distance_bound(patch, a, b, c);
             const double measured = triangle_deviation(patch, a, b, c);
             EXPECT_GE(bound * (1 + 1e-9) + 1e-14, measured) << "seed " << seed << " triangle " << k;
+            // the one-net form (what a caller satisfied with any value below `enough` gets) is a guarantee too, and
+            // never tighter than the sub-box form
+            const double coarse = triangle_distance_bound(patch, a, b, c, 1e300);
+            EXPECT_GE(coarse * (1 + 1e-9) + 1e-14, measured) << "seed " << seed << " triangle " << k;
+            EXPECT_LE(bound, coarse) << "seed " << seed << " triangle " << k;
             // the whole patch's equal-parameter bound for these extents (a guarantee too): never beaten by much less
             const PatchDerivativeBounds db = derivative_bounds(patch);
             const double whole = (db.uu * w * w + 2 * db.uv * w * h + db.vv * h * h) / 8;
