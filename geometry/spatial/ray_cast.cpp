@@ -389,10 +389,10 @@ struct WideEntry {
     float t;      //!< entry distance, a lower bound
 };
 
-//! Starts loading what an entered child will read (a node; for a leaf, the float parts of its blocks), while its
-//! parent's other children are sorted and pushed, or the nearer ones walked. The copies of the triangles the exact
-//! test reads are requested by for_leaf_candidates for the lanes the filter keeps. Always inlined: GCC finds a
-//! function that only prefetches free of side effects and drops the calls to it.
+//! Starts loading what an entered child will read (a node; for a leaf, its whole blocks: the float parts the filter
+//! reads and the copies of the triangles the exact test reads), while its parent's other children are sorted and
+//! pushed, or the nearer ones walked. Always inlined: GCC finds a function that only prefetches free of side effects
+//! and drops the calls to it.
 [[gnu::always_inline]] inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
     if (e.count == 0) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_nodes[e.child]);
@@ -401,7 +401,7 @@ struct WideEntry {
     }
     for (Index b = e.child / 4; b <= (e.child + e.count - 1) / 4; ++b) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[b]);
-        for (std::size_t offset = 0; offset < sizeof(RayTriangles::p); offset += 64)
+        for (std::size_t offset = 0; offset < sizeof(RayTriangles); offset += 64)
             _mm_prefetch(p + offset, _MM_HINT_T0);
     }
 }
