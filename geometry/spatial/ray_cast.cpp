@@ -407,27 +407,19 @@ struct WideEntry {
 }
 
 //! Calls hit(i) for each triangle i of the leaf (triangles first .. first + count) that the filter keeps, i naming
-//! ray_triangles[i / 4].triangle[i % 4]. Every block is filtered first and the kept triangles' copies requested, so
-//! that their loads overlap.
+//! ray_triangles[i / 4].triangle[i % 4] (whose copies prefetch requested with the float parts).
 template <class Hit>
 inline void for_leaf_candidates(const TriangleBvh& bvh, const WideRay& w, Index first, Index count, Hit&& hit) {
     const Index end = first + count;
-    Index kept[64];
-    int size = 0;
     for (Index t = first; t < end;) {
         const Index block = t / 4, lane = t % 4, lanes_end = std::min<Index>(4, lane + (end - t));
         int lanes = filter_triangles(bvh.ray_triangles[block], w) & ((1 << lanes_end) - (1 << lane));
         while (lanes != 0) {
-            const Index i = 4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
-            const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[block].triangle[i % 4]);
-            _mm_prefetch(p, _MM_HINT_T0);
-            _mm_prefetch(p + sizeof(BvhTriangle) - 1, _MM_HINT_T0);
-            kept[size++] = i;
+            hit(4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes))));
             lanes &= lanes - 1;
         }
         t = 4 * block + 4;
     }
-    for (int k = 0; k < size; ++k) hit(kept[k]);
 }
 
 //! The SSE box test, as a parameter of the traversals.
