@@ -349,9 +349,9 @@ inline int filter_triangles(const RayTriangles& block, const WideRay& w) {
     const __m128 v = _mm_sub_ps(_mm_mul_ps(x[0], y[2]), _mm_mul_ps(y[0], x[2]));
     const __m128 t = _mm_sub_ps(_mm_mul_ps(x[1], y[0]), _mm_mul_ps(y[1], x[0]));
     m = _mm_add_ps(m, _mm_set1_ps(w.eps));
-    const __m128 e = _mm_add_ps(
-        _mm_mul_ps(m, _mm_add_ps(_mm_set1_ps(w.bound_linear), _mm_mul_ps(_mm_set1_ps(kBoundSquare), m))),
-        _mm_set1_ps(kBoundFloor));
+    const __m128 e =
+        _mm_add_ps(_mm_mul_ps(m, _mm_add_ps(_mm_set1_ps(w.bound_linear), _mm_mul_ps(_mm_set1_ps(kBoundSquare), m))),
+                   _mm_set1_ps(kBoundFloor));
     const __m128 ne = _mm_sub_ps(_mm_setzero_ps(), e);
     const __m128 below = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, ne), _mm_cmplt_ps(v, ne)), _mm_cmplt_ps(t, ne));
     const __m128 above = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, e), _mm_cmpgt_ps(v, e)), _mm_cmpgt_ps(t, e));
@@ -401,8 +401,7 @@ struct WideEntry {
     }
     for (Index b = e.child / 4; b <= (e.child + e.count - 1) / 4; ++b) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[b]);
-        for (std::size_t offset = 0; offset < sizeof(RayTriangles); offset += 64)
-            _mm_prefetch(p + offset, _MM_HINT_T0);
+        for (std::size_t offset = 0; offset < sizeof(RayTriangles); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
     }
 }
 
