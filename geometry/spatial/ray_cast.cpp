@@ -290,8 +290,8 @@ inline bool prepare_wide(const Ray& ray, const Vec3& bvh_centre, double bvh_exte
     r.t_min = ray.t_min;
     r.t_max = ray.t_max;
 
-    // the box test: the origin rounded towards the far side of each plane (see bound_up; the rounding to nearest is
-    // symmetric, so f - delta is bound_down)
+    // the box test: the origin rounded towards the far side of each plane (f + delta is bound_up; rounding to nearest
+    // is symmetric, so f - delta is its mirror, a float at or below the origin)
     for (int k = 0; k < 3; ++k) {
         const int negative = std::signbit(d[k]) ? 1 : 0;
         const float f = static_cast<float>(o[k]);
