@@ -240,55 +240,84 @@ inline float bound_up(double x) {
     const float f = static_cast<float>(x);
     return f + (std::fabs(f) * 0x1p-23f + 0x1p-126f);
 }
-inline float bound_down(double x) { return -bound_up(-x); }
 
+//! What the float traversal reads of a ray, as scalars that the box and triangle tests broadcast.
 struct WideRay {
-    __m128 origin_near[3], origin_far[3], inv[3];
+    float origin_near[3], origin_far[3], inv[3];
     int near_plane[3], far_plane[3];  //!< rows of RayNode::box met first and last along each axis
     float t_lo = 0;                   //!< t_min rounded down
     // the triangle filter: the origin relative to TriangleBvh::ray_centre in the order kx, ky, kz, the shear, and the
     // constants of the error bound
     int axis[3];
-    __m128 origin[3], sx, sy, bound_linear, bound_square, bound_floor, eps;
+    float origin[3], sx, sy, bound_linear, eps;
 };
+constexpr float kBoundSquare = static_cast<float>(4.5 * 0x1p-24), kBoundFloor = 0x1p-120f;
 
-bool prepare_wide(const PreparedRay& r, const Vec3& bvh_centre, double bvh_extent, WideRay& w) {
-    const double o[3] = {r.origin.x, r.origin.y, r.origin.z};
-    const double d[3] = {r.direction.x, r.direction.y, r.direction.z};
-    const double largest = std::max({std::fabs(d[0]), std::fabs(d[1]), std::fabs(d[2])});
-    if (!(largest >= kWideDirectionMin && largest <= kWideDirectionMax)) return false;
+//! Both forms of the ray at once, for a ray the float layout takes: the fields of PreparedRay that the exact test and
+//! the hit read (computed as prepare computes them, so the exact test gives the same answers), and the WideRay.
+//! False for rays outside the float range, or that prepare would refuse (non-finite, NaN or reversed [t_min, t_max],
+//! zero direction): those take prepare and the binary nodes. One pass without branches on the direction's signs or
+//! largest axis, which are random from one ray to the next.
+inline bool prepare_wide(const Ray& ray, const Vec3& bvh_centre, double bvh_extent, PreparedRay& r, WideRay& w) {
+    const double o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    const double d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+    const double ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+    // comparisons false for NaN: every component is checked on its own
+    const bool in_range = (ax <= kWideDirectionMax) & (ay <= kWideDirectionMax) & (az <= kWideDirectionMax) &
+                          (std::max(ax, std::max(ay, az)) >= kWideDirectionMin) &
+                          (std::fabs(o[0]) <= kWideOriginLimit) & (std::fabs(o[1]) <= kWideOriginLimit) &
+                          (std::fabs(o[2]) <= kWideOriginLimit) & (ray.t_min <= ray.t_max);
+    if (!in_range) return false;
+
+    // the exact test's ray, as prepare computes it, in arithmetic rather than branches
+    const int x_ge_y = ax >= ay, x_ge_z = ax >= az, y_ge_z = ay >= az;
+    const int kz = 2 - 2 * (x_ge_y & x_ge_z) - ((1 - x_ge_y) & y_ge_z);
+    constexpr int kNext[3] = {1, 2, 0};
+    const int kx = kNext[kz], ky = kNext[kx];
+    const int flip = -static_cast<int>(d[kz] < 0);  // all ones when the direction points down the new z
+    r.origin = ray.origin;
+    r.direction = ray.direction;
+    r.kz = kz;
+    r.kx = kx ^ ((kx ^ ky) & flip);
+    r.ky = ky ^ ((kx ^ ky) & flip);
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double inv[3];
+    for (int k = 0; k < 3; ++k) inv[k] = d[k] == 0 ? std::copysign(kInf, d[k]) : 1.0 / d[k];
+    const double dz = d[kz];
+    r.sx = d[r.kx] / dz;
+    r.sy = d[r.ky] / dz;
+    r.sz = inv[kz];  // 1 / dz
+    r.t_min = ray.t_min;
+    r.t_max = ray.t_max;
+
+    // the box test: the origin rounded towards the far side of each plane (f + delta is bound_up; rounding to nearest
+    // is symmetric, so f - delta is its mirror, a float at or below the origin)
     for (int k = 0; k < 3; ++k) {
-        if (!(std::fabs(o[k]) <= kWideOriginLimit)) return false;
-        // indices rather than branches on the sign, which is random from one ray to the next
         const int negative = std::signbit(d[k]) ? 1 : 0;
-        constexpr float kInf = std::numeric_limits<float>::infinity();
-        const float inv = d[k] == 0 ? std::copysign(kInf, static_cast<float>(d[k])) : static_cast<float>(r.inv[k]);
-        const float bound[2] = {bound_up(o[k]), bound_down(o[k])};
+        const float f = static_cast<float>(o[k]);
+        const float delta = std::fabs(f) * 0x1p-23f + 0x1p-126f;
+        const float bound[2] = {f + delta, f - delta};  // indices rather than branches on the sign
         w.near_plane[k] = k + 3 * negative;
         w.far_plane[k] = k + 3 - 3 * negative;
-        w.origin_near[k] = _mm_set1_ps(bound[negative]);
-        w.origin_far[k] = _mm_set1_ps(bound[1 - negative]);
-        w.inv[k] = _mm_set1_ps(inv);
+        w.origin_near[k] = bound[negative];
+        w.origin_far[k] = bound[1 - negative];
+        w.inv[k] = static_cast<float>(inv[k]);
     }
-    w.t_lo = round_down(r.t_min);
+    w.t_lo = round_down(ray.t_min);
 
-    const double c[3] = {bvh_centre.x, bvh_centre.y, bvh_centre.z};
-    const int axis[3] = {r.kx, r.ky, r.kz};
-    double origin_extent = 0;
-    for (int k = 0; k < 3; ++k) {
-        w.axis[k] = axis[k];
-        w.origin[k] = _mm_set1_ps(static_cast<float>(o[axis[k]] - c[axis[k]]));
-        origin_extent = std::max(origin_extent, std::fabs(o[k] - c[k]));
-    }
-    w.sx = _mm_set1_ps(static_cast<float>(r.sx));
-    w.sy = _mm_set1_ps(static_cast<float>(r.sy));
+    // the triangle filter
+    const double rel[3] = {o[0] - bvh_centre.x, o[1] - bvh_centre.y, o[2] - bvh_centre.z};
+    const double origin_extent = std::max({std::fabs(rel[0]), std::fabs(rel[1]), std::fabs(rel[2])});
+    w.axis[0] = r.kx;
+    w.axis[1] = r.ky;
+    w.axis[2] = r.kz;
+    for (int k = 0; k < 3; ++k) w.origin[k] = static_cast<float>(rel[w.axis[k]]);
+    w.sx = static_cast<float>(r.sx);
+    w.sy = static_cast<float>(r.sy);
     // absolute error of each sheared float coordinate (see filter_triangles), and the bound's constants
     constexpr double u = 0x1p-24;
-    const float eps = bound_up(8.5 * u * (bvh_extent + origin_extent) + 0x1p-140);
-    w.eps = _mm_set1_ps(eps);
-    w.bound_linear = _mm_set1_ps(bound_up(4.5 * static_cast<double>(eps)));
-    w.bound_square = _mm_set1_ps(static_cast<float>(4.5 * u));
-    w.bound_floor = _mm_set1_ps(0x1p-120f);
+    w.eps = bound_up(8.5 * u * (bvh_extent + origin_extent) + 0x1p-140);
+    w.bound_linear = bound_up(4.5 * static_cast<double>(w.eps));
     return true;
 }
 
@@ -309,19 +338,20 @@ inline int filter_triangles(const RayTriangles& block, const WideRay& w) {
     __m128 m = _mm_setzero_ps();
     const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     for (int c = 0; c < 3; ++c) {
-        const __m128 az = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[2]]), w.origin[2]);
-        const __m128 ax = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[0]]), w.origin[0]);
-        const __m128 ay = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[1]]), w.origin[1]);
-        x[c] = _mm_sub_ps(ax, _mm_mul_ps(w.sx, az));
-        y[c] = _mm_sub_ps(ay, _mm_mul_ps(w.sy, az));
+        const __m128 az = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[2]]), _mm_set1_ps(w.origin[2]));
+        const __m128 ax = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[0]]), _mm_set1_ps(w.origin[0]));
+        const __m128 ay = _mm_sub_ps(_mm_load_ps(block.p[3 * c + w.axis[1]]), _mm_set1_ps(w.origin[1]));
+        x[c] = _mm_sub_ps(ax, _mm_mul_ps(_mm_set1_ps(w.sx), az));
+        y[c] = _mm_sub_ps(ay, _mm_mul_ps(_mm_set1_ps(w.sy), az));
         m = _mm_max_ps(m, _mm_max_ps(_mm_and_ps(x[c], abs_mask), _mm_and_ps(y[c], abs_mask)));
     }
     const __m128 u = _mm_sub_ps(_mm_mul_ps(x[2], y[1]), _mm_mul_ps(y[2], x[1]));
     const __m128 v = _mm_sub_ps(_mm_mul_ps(x[0], y[2]), _mm_mul_ps(y[0], x[2]));
     const __m128 t = _mm_sub_ps(_mm_mul_ps(x[1], y[0]), _mm_mul_ps(y[1], x[0]));
-    m = _mm_add_ps(m, w.eps);
+    m = _mm_add_ps(m, _mm_set1_ps(w.eps));
     const __m128 e =
-        _mm_add_ps(_mm_mul_ps(m, _mm_add_ps(w.bound_linear, _mm_mul_ps(w.bound_square, m))), w.bound_floor);
+        _mm_add_ps(_mm_mul_ps(m, _mm_add_ps(_mm_set1_ps(w.bound_linear), _mm_mul_ps(_mm_set1_ps(kBoundSquare), m))),
+                   _mm_set1_ps(kBoundFloor));
     const __m128 ne = _mm_sub_ps(_mm_setzero_ps(), e);
     const __m128 below = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, ne), _mm_cmplt_ps(v, ne)), _mm_cmplt_ps(t, ne));
     const __m128 above = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, e), _mm_cmpgt_ps(v, e)), _mm_cmpgt_ps(t, e));
@@ -337,9 +367,11 @@ inline int enter_children(const RayNode& node, const WideRay& w, float t_hi, flo
         __m128 lo = _mm_set1_ps(w.t_lo), hi = _mm_set1_ps(t_hi);
         for (int k = 0; k < 3; ++k) {
             const __m128 tn =
-                _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.near_plane[k]] + h), w.origin_near[k]), w.inv[k]);
+                _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.near_plane[k]] + h), _mm_set1_ps(w.origin_near[k])),
+                           _mm_set1_ps(w.inv[k]));
             const __m128 tf =
-                _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.far_plane[k]] + h), w.origin_far[k]), w.inv[k]);
+                _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.box[w.far_plane[k]] + h), _mm_set1_ps(w.origin_far[k])),
+                           _mm_set1_ps(w.inv[k]));
             lo = _mm_max_ps(tn, lo);  // NaN in tn: lo
             hi = _mm_min_ps(tf, hi);
         }
@@ -357,10 +389,11 @@ struct WideEntry {
     float t;      //!< entry distance, a lower bound
 };
 
-//! Starts loading what an entered child will read (a node; for a leaf, the float parts of its blocks), while its
-//! parent's other children are sorted and pushed, or the nearer ones walked. The copies of the triangles the exact
-//! test reads are requested by for_leaf_candidates for the lanes the filter keeps.
-inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
+//! Starts loading what an entered child will read (a node; for a leaf, its whole blocks: the float parts the filter
+//! reads and the copies of the triangles the exact test reads), while its parent's other children are sorted and
+//! pushed, or the nearer ones walked. Always inlined: GCC finds a function that only prefetches free of side effects
+//! and drops the calls to it.
+[[gnu::always_inline]] inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
     if (e.count == 0) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_nodes[e.child]);
         for (std::size_t offset = 0; offset < sizeof(RayNode); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
@@ -368,33 +401,24 @@ inline void prefetch(const TriangleBvh& bvh, const WideEntry& e) {
     }
     for (Index b = e.child / 4; b <= (e.child + e.count - 1) / 4; ++b) {
         const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[b]);
-        for (std::size_t offset = 0; offset < sizeof(RayTriangles::p); offset += 64)
-            _mm_prefetch(p + offset, _MM_HINT_T0);
+        for (std::size_t offset = 0; offset < sizeof(RayTriangles); offset += 64) _mm_prefetch(p + offset, _MM_HINT_T0);
     }
 }
 
 //! Calls hit(i) for each triangle i of the leaf (triangles first .. first + count) that the filter keeps, i naming
-//! ray_triangles[i / 4].triangle[i % 4]. Every block is filtered first and the kept triangles' copies requested, so
-//! that their loads overlap.
+//! ray_triangles[i / 4].triangle[i % 4] (whose copies prefetch requested with the float parts).
 template <class Hit>
 inline void for_leaf_candidates(const TriangleBvh& bvh, const WideRay& w, Index first, Index count, Hit&& hit) {
     const Index end = first + count;
-    Index kept[64];
-    int size = 0;
     for (Index t = first; t < end;) {
         const Index block = t / 4, lane = t % 4, lanes_end = std::min<Index>(4, lane + (end - t));
         int lanes = filter_triangles(bvh.ray_triangles[block], w) & ((1 << lanes_end) - (1 << lane));
         while (lanes != 0) {
-            const Index i = 4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes)));
-            const char* p = reinterpret_cast<const char*>(&bvh.ray_triangles[block].triangle[i % 4]);
-            _mm_prefetch(p, _MM_HINT_T0);
-            _mm_prefetch(p + sizeof(BvhTriangle) - 1, _MM_HINT_T0);
-            kept[size++] = i;
+            hit(4 * block + static_cast<Index>(__builtin_ctz(static_cast<unsigned>(lanes))));
             lanes &= lanes - 1;
         }
         t = 4 * block + 4;
     }
-    for (int k = 0; k < size; ++k) hit(kept[k]);
 }
 
 //! The SSE box test, as a parameter of the traversals.
@@ -414,11 +438,11 @@ struct EnterAvx {
         __m256 lo = _mm256_set1_ps(w.t_lo), hi = _mm256_set1_ps(t_hi);
         for (int k = 0; k < 3; ++k) {
             const __m256 tn = _mm256_mul_ps(
-                _mm256_sub_ps(_mm256_load_ps(node.box[w.near_plane[k]]), _mm256_broadcast_ps(&w.origin_near[k])),
-                _mm256_broadcast_ps(&w.inv[k]));
+                _mm256_sub_ps(_mm256_load_ps(node.box[w.near_plane[k]]), _mm256_broadcast_ss(&w.origin_near[k])),
+                _mm256_broadcast_ss(&w.inv[k]));
             const __m256 tf = _mm256_mul_ps(
-                _mm256_sub_ps(_mm256_load_ps(node.box[w.far_plane[k]]), _mm256_broadcast_ps(&w.origin_far[k])),
-                _mm256_broadcast_ps(&w.inv[k]));
+                _mm256_sub_ps(_mm256_load_ps(node.box[w.far_plane[k]]), _mm256_broadcast_ss(&w.origin_far[k])),
+                _mm256_broadcast_ss(&w.inv[k]));
             lo = _mm256_max_ps(tn, lo);  // NaN in tn: lo
             hi = _mm256_min_ps(tf, hi);
         }
@@ -551,12 +575,13 @@ std::optional<RayTriangleHit> ray_triangle(const Ray& ray, const Vec3& a, const 
 }
 
 std::optional<RayHit> ray_first_hit(const TriangleBvh& bvh, const Ray& ray) {
+    if (bvh.empty()) return std::nullopt;
     PreparedRay r;
-    if (bvh.empty() || !prepare(ray, r)) return std::nullopt;
 #if SURFACED_RAY_SIMD
-    if (WideRay w; !bvh.ray_nodes.empty() && prepare_wide(r, bvh.ray_centre, bvh.ray_extent, w))
+    if (WideRay w; !bvh.ray_nodes.empty() && prepare_wide(ray, bvh.ray_centre, bvh.ray_extent, r, w))
         return wide_first_hit(bvh, r, w);
 #endif
+    if (!prepare(ray, r)) return std::nullopt;
     double best_t = r.t_max;
     std::size_t best = SIZE_MAX;
     RayTriangleHit best_hit;
@@ -603,15 +628,15 @@ std::optional<RayHit> ray_first_hit(const TriangleBvh& bvh, const Ray& ray) {
 
 std::vector<RayHit> ray_all_hits(const TriangleBvh& bvh, const Ray& ray) {
     std::vector<RayHit> hits;
+    if (bvh.empty()) return hits;
     PreparedRay r;
-    if (bvh.empty() || !prepare(ray, r)) return hits;
 #if SURFACED_RAY_SIMD
-    if (WideRay w; !bvh.ray_nodes.empty() && prepare_wide(r, bvh.ray_centre, bvh.ray_extent, w))
+    if (WideRay w; !bvh.ray_nodes.empty() && prepare_wide(ray, bvh.ray_centre, bvh.ray_extent, r, w))
         wide_all_hits(bvh, r, w, hits);
-    else
+    else if (prepare(ray, r))
         binary_all_hits(bvh, r, hits);
 #else
-    binary_all_hits(bvh, r, hits);
+    if (prepare(ray, r)) binary_all_hits(bvh, r, hits);
 #endif
     std::sort(hits.begin(), hits.end(),
               [](const RayHit& x, const RayHit& y) { return x.t < y.t || (x.t == y.t && x.face < y.face); });

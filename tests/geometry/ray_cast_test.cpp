@@ -225,6 +225,35 @@ TEST(RayCast, ParityOnClosedSphereAndRayLimits) {
     EXPECT_FALSE(ray_first_hit(*bvh, {{0, 0, 0}, {inf, 0, 0}}).has_value());
 }
 
+TEST(RayCast, RaysWithoutAMeaningHitNothingAndUnboundedOnesHitBothWays) {
+    // refused by both layouts: NaN or infinite coordinates, NaN or reversed t limits
+    const PolygonMesh sphere = testing::icosphere(2);
+    auto bvh = build_bvh(sphere);
+    ASSERT_TRUE(bvh.ok());
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    const Vec3 o{0.1, -0.2, 3}, d{0, 0.1, -1};
+    for (const Ray& ray : {Ray{{nan, 0, 3}, d}, Ray{{0, 0, -inf}, d}, Ray{o, {0, nan, -1}}, Ray{o, d, nan, inf},
+                           Ray{o, d, 0, nan}, Ray{o, d, 3, 2}}) {
+        EXPECT_FALSE(ray_first_hit(*bvh, ray).has_value());
+        EXPECT_TRUE(ray_all_hits(*bvh, ray).empty());
+    }
+    // from the centre with t unbounded below: the crossing behind (t < 0) comes first, the same in both layouts
+    BvhOptions binary_only;
+    binary_only.ray_nodes = false;
+    auto binary = build_bvh(sphere, binary_only);
+    ASSERT_TRUE(binary.ok());
+    const Ray both_ways{{0, 0, 0}, {0.2113, 0.3719, -0.9041}, -inf, inf};  // through no edge or vertex
+    const auto hits = ray_all_hits(*bvh, both_ways);
+    ASSERT_EQ(hits.size(), 2u);
+    EXPECT_LT(hits[0].t, 0);
+    EXPECT_GT(hits[1].t, 0);
+    const auto first = ray_first_hit(*bvh, both_ways), first_binary = ray_first_hit(*binary, both_ways);
+    ASSERT_TRUE(first.has_value() && first_binary.has_value());
+    EXPECT_EQ(first->t, hits[0].t);
+    EXPECT_EQ(first->t, first_binary->t);
+    EXPECT_EQ(first->face, first_binary->face);
+}
+
 // ---- the float ray layout (TriangleBvh::ray_nodes) against the binary double path and brute force --------------
 
 //! Every hit by brute force with the same triangle test, as (t, face, corners) by increasing t then face.
