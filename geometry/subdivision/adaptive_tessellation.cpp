@@ -157,6 +157,12 @@ constexpr double kBoundedWidth = 1.0 / (1 << kBoundedDepth);
 struct Overlap {
     Bounds m;
     bool uncovered = false;
+    P2 uncovered_lo{1, 1}, uncovered_hi{0, 0};  //!< the box of the uncovered parts (when uncovered)
+    void uncover(double s0, double t0, double w) {
+        uncovered = true;
+        uncovered_lo = {std::min(uncovered_lo.s, s0), std::min(uncovered_lo.t, t0)};
+        uncovered_hi = {std::max(uncovered_hi.s, s0 + w), std::max(uncovered_hi.t, t0 + w)};
+    }
     struct Piece {
         std::uint32_t patch;
         double s0, t0, w;  //!< the patch's square in the domain
@@ -169,7 +175,7 @@ void query(const FaceData& fd, std::size_t node, double s0, double t0, double w,
     if (hi.s <= s0 || lo.s >= s0 + w || hi.t <= t0 || lo.t >= t0 + w) return;  // positive-area overlap only
     const LimitFaceSurface::Node& n = fd.surface->nodes()[node];
     if (n.patch >= 0 && w < kBoundedWidth) {
-        out.uncovered = true;
+        out.uncover(s0, t0, w);
         return;
     }
     if (n.patch >= 0) {
@@ -178,7 +184,7 @@ void query(const FaceData& fd, std::size_t node, double s0, double t0, double w,
         return;
     }
     if (n.first_child < 0) {
-        out.uncovered = true;
+        out.uncover(s0, t0, w);
         return;
     }
     const double h = 0.5 * w;
@@ -377,6 +383,8 @@ struct LocalMesh {
 
 //! A uniform domain whose sides carry its inner rates: a regular grid, no transition strips.
 bool is_grid(const LimitTessellationPlan::Domain& d) {
+    for (const auto& lines : d.side_lines)
+        if (!lines.empty()) return false;
     return d.s_lines.empty() && d.t_lines.empty() && d.side[0] == d.nu && d.side[2] == d.nu && d.side[1] == d.nv &&
            d.side[3] == d.nv;
 }
@@ -405,10 +413,10 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
     const std::uint32_t offset[4] = {0, std::uint32_t(r[0]), std::uint32_t(r[0] + r[1]),
                                      std::uint32_t(r[0] + r[1] + r[2])};
     const std::uint32_t ring = std::uint32_t(r[0] + r[1] + r[2] + r[3]);
-    for (int i = 0; i < r[0]; ++i) out.points.push_back({double(i) / r[0], 0.0});
-    for (int i = 0; i < r[1]; ++i) out.points.push_back({1.0, double(i) / r[1]});
-    for (int i = 0; i < r[2]; ++i) out.points.push_back({1.0 - double(i) / r[2], 1.0});
-    for (int i = 0; i < r[3]; ++i) out.points.push_back({0.0, 1.0 - double(i) / r[3]});
+    for (int i = 0; i < r[0]; ++i) out.points.push_back({d.side_at(0, i), 0.0});
+    for (int i = 0; i < r[1]; ++i) out.points.push_back({1.0, d.side_at(1, i)});
+    for (int i = 0; i < r[2]; ++i) out.points.push_back({1.0 - d.side_at(2, i), 1.0});
+    for (int i = 0; i < r[3]; ++i) out.points.push_back({0.0, 1.0 - d.side_at(3, i)});
     const auto on_side = [&](int k, int i) { return (offset[k] + std::uint32_t(i)) % ring; };
     const int nu = d.nu, nv = d.nv;
     const auto inner = [&](int i, int j) { return ring + std::uint32_t((j - 1) * (nu - 1) + (i - 1)); };
@@ -451,7 +459,7 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
         const int a = r[k], b = static_cast<int>(in.size()) - 1;
         int io = 0, ii = 0;
         while (io < a || ii < b) {
-            const bool outer = ii == b || (io < a && double(io + 1) / a <= in[std::size_t(ii + 1)].second);
+            const bool outer = ii == b || (io < a && d.side_at(k, io + 1) <= in[std::size_t(ii + 1)].second);
             if (outer) {
                 out.triangles.push_back({on_side(k, io), on_side(k, io + 1), in[std::size_t(ii)].first});
                 ++io;
@@ -464,6 +472,30 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
     return out;
 }
 
+//! Bins of a domain direction for graded grids: as fine as the shallowest patches that are sampled rather than
+//! bounded, so that every bounded patch covers whole bins.
+constexpr int kBins = 1 << kBoundedDepth;
+//! Segments per unit length a direction needs, per bin.
+using Density = std::array<double, kBins>;
+
+//! The points along a base edge (or along one half of an edge of an N-gon, whose midpoint is a vertex) or along a
+//! spoke: graded by a density over the slot's own parameter, 0 to 1 in its canonical direction (an edge's first face's
+//! direction; a spoke from its edge midpoint to the centre). Every domain side on it reads the same points.
+struct Slot {
+    Density rho{};
+    int count = 1;
+    std::vector<double> lines;  //!< count + 1 values from 0 to 1; empty: uniform
+    double at(int i) const { return lines.empty() ? double(i) / count : lines[std::size_t(i)]; }
+};
+
+//! The part [q0, q1] of a domain side (its fraction from corner k to corner k + 1) that a slot covers; reversed: the
+//! slot's parameter runs from q1 down to q0.
+struct SidePart {
+    std::size_t slot = 0;
+    double q0 = 0, q1 = 1;
+    bool reversed = false;
+};
+
 struct EdgeUse {
     std::size_t edge;
     bool forward;  //!< the face runs along the edge's canonical direction
@@ -471,6 +503,8 @@ struct EdgeUse {
 
 //! Everything the plan and the execution share.
 struct Context {
+    Context(const LimitSurfaceEvaluator& e, const PolygonMesh& b, const LimitTessellationOptions& o)
+        : evaluator(e), base(b), options(o) {}
     const LimitSurfaceEvaluator& evaluator;
     const PolygonMesh& base;
     const LimitTessellationOptions& options;
@@ -481,9 +515,46 @@ struct Context {
     std::vector<std::uint32_t> edge_owner_side;  //!< its corner index there
     std::vector<std::vector<EdgeUse>> face_edges;
     std::vector<std::size_t> first_domain;  //!< per face, its first domain (domains of a face are contiguous)
-    std::vector<std::size_t> first_spoke;   //!< per face, index of its spoke 0 in spoke_rates (N-gons)
-    std::vector<int> spoke_rates;
-    std::vector<int> edge_faces;  //!< per edge, how many non-hole faces use it (1: an open boundary)
+    std::vector<std::size_t> first_spoke;   //!< per face, index of its spoke 0 (N-gons)
+    std::size_t spokes = 0;
+    std::vector<int> edge_faces;         //!< per edge, how many non-hole faces use it (1: an open boundary)
+    std::vector<bool> halved;            //!< per edge: an N-gon uses it, so its midpoint is a vertex (two slots)
+    std::vector<std::size_t> edge_slot;  //!< per edge, its first slot (halves in canonical order)
+    std::size_t first_spoke_slot = 0;
+    std::vector<Slot> slots;
+
+    std::size_t spoke_slot(std::size_t face, std::size_t j) const { return first_spoke_slot + first_spoke[face] + j; }
+    //! Segments of edge e, and the canonical index of its midpoint when it is halved.
+    int edge_count(std::size_t e) const {
+        return slots[edge_slot[e]].count + (halved[e] ? slots[edge_slot[e] + 1].count : 0);
+    }
+    //! Canonical fraction of edge e's point i.
+    double edge_at(std::size_t e, int i) const {
+        const Slot& a = slots[edge_slot[e]];
+        if (!halved[e]) return a.at(i);
+        return i <= a.count ? 0.5 * a.at(i) : 0.5 + 0.5 * slots[edge_slot[e] + 1].at(i - a.count);
+    }
+    //! The slots along side k of a domain, in the side's order.
+    std::array<SidePart, 2> side_parts(const LimitTessellationPlan::Domain& d, int k, int& parts) const {
+        const std::size_t f = d.face, n = faces[f].size;
+        parts = 1;
+        if (d.subface < 0) {
+            const EdgeUse& use = face_edges[f][std::size_t(k)];
+            const std::size_t s0 = edge_slot[use.edge];
+            if (!halved[use.edge]) return {SidePart{s0, 0.0, 1.0, !use.forward}, SidePart{}};
+            parts = 2;
+            if (use.forward) return {SidePart{s0, 0.0, 0.5, false}, SidePart{s0 + 1, 0.5, 1.0, false}};
+            return {SidePart{s0 + 1, 0.0, 0.5, true}, SidePart{s0, 0.5, 1.0, true}};
+        }
+        const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
+        if (k == 1) return {SidePart{spoke_slot(f, j), 0.0, 1.0, false}, SidePart{}};
+        if (k == 2) return {SidePart{spoke_slot(f, prev), 0.0, 1.0, true}, SidePart{}};
+        // side 0: the first half of edge j in the face's direction; side 3: the second half of the previous edge
+        const EdgeUse& use = face_edges[f][k == 0 ? j : prev];
+        const std::size_t s0 = edge_slot[use.edge];
+        const bool first = (k == 0) == use.forward;  // canonical first half
+        return {SidePart{first ? s0 : s0 + 1, 0.0, 1.0, !use.forward}, SidePart{}};
+    }
 };
 
 Status check_budget(std::uint64_t triangles, const LimitTessellationOptions& options) {
@@ -501,12 +572,6 @@ GeoError too_many_segments(double needed, const LimitTessellationOptions& option
                              std::to_string(face) + "; max_segments is " + std::to_string(options.max_segments),
                          ElementKind::Face, static_cast<std::int64_t>(face));
 }
-
-//! Bins of a domain direction for graded grids: as fine as the shallowest patches that are sampled rather than
-//! bounded, so that every bounded patch covers whole bins.
-constexpr int kBins = 1 << kBoundedDepth;
-//! Segments per unit length a direction needs, per bin.
-using Density = std::array<double, kBins>;
 
 //! Grid lines from 0 to 1 spaced in proportion to 1 / rho (the spacing in bin b at most 1 / rho[b]): their count
 //! of segments, and the lines (empty when they are uniform: rho constant, or one segment).
@@ -637,17 +702,39 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                 const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
                 Overlap o;
                 query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
-                const Bounds lower =
-                    plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)), lo, c10, hi);
-                const Bounds upper =
-                    plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)), lo, hi, c01);
+                const std::optional<Vec3> n_lower = unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)),
+                                          n_upper = unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+                const Bounds lower = plane_bounds(fd, o, n_lower, lo, c10, hi);
+                const Bounds upper = plane_bounds(fd, o, n_upper, lo, hi, c01);
                 const double rl = triangle_bound(lower, lo, c10, hi) / tol,
                              ru = triangle_bound(upper, lo, hi, c01) / tol;
                 double fs = 1, ft = 1;
                 if (rl > 1 || ru > 1) {
-                    Bounds m = lower;
-                    m.include(upper, 1.0);
-                    std::tie(fs, ft) = shrink(m, hs, ht, std::max(rl, ru));
+                    // a patch that fails on its own (a narrow band of high curvature inside a coarse cell) refines
+                    // the grid around itself, by as much as the cell would need; the whole cell only when none does
+                    bool local = false;
+                    for (const auto& piece : o.patches) {
+                        Overlap one;
+                        one.m.include(fd.patches[piece.patch].m, 1.0 / (piece.w * piece.w));
+                        one.patches = {piece};
+                        Bounds m = plane_bounds(fd, one, n_lower, lo, c10, hi);
+                        const Bounds mu = plane_bounds(fd, one, n_upper, lo, hi, c01);
+                        const double r =
+                            std::max(triangle_bound(m, lo, c10, hi), triangle_bound(mu, lo, hi, c01)) / tol;
+                        if (r <= 1) continue;
+                        local = true;
+                        m.include(mu, 1.0);
+                        const auto [ps, pt] = shrink(m, hs, ht, r);
+                        const double ws = 0.5 * hs / ps, wt = 0.5 * ht / pt;
+                        raise(next_s, std::max(lo.s, piece.s0 - ws), std::min(hi.s, piece.s0 + piece.w + ws), ps / hs);
+                        raise(next_t, std::max(lo.t, piece.t0 - wt), std::min(hi.t, piece.t0 + piece.w + wt), pt / ht);
+                        fail = true;
+                    }
+                    if (!local) {
+                        Bounds m = lower;
+                        m.include(upper, 1.0);
+                        std::tie(fs, ft) = shrink(m, hs, ht, std::max(rl, ru));
+                    }
                 }
                 if (o.uncovered) {  // the parts no patch bounds (deep at irregular vertices) are sampled
                     double e = 0;
@@ -658,9 +745,16 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                     }
                     const double ratio = e / (tol / kSampledSafety);
                     if (ratio > 1) {
+                        // the cells next to the uncovered parts shrink by f: the density rises over a cell's width
+                        // around them, not over the whole cell (a coarse cell that reaches an irregular vertex
+                        // would otherwise refine everything it spans)
                         const double f = std::min(4.0, std::max(1.1, std::sqrt(ratio)));
-                        fs = std::max(fs, f);
-                        ft = std::max(ft, f);
+                        const double ws = 0.5 * hs / f, wt = 0.5 * ht / f;
+                        fail = true;
+                        raise(next_s, std::max(lo.s, o.uncovered_lo.s - ws), std::min(hi.s, o.uncovered_hi.s + ws),
+                              f / hs);
+                        raise(next_t, std::max(lo.t, o.uncovered_lo.t - wt), std::min(hi.t, o.uncovered_hi.t + wt),
+                              f / ht);
                     }
                 }
                 if (fs > 1 || ft > 1) {
@@ -790,7 +884,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
     std::map<std::pair<Index, Index>, std::size_t> edge_ids;
     for (std::size_t f = 0; f < face_count; ++f) {
         cx.first_domain[f] = out.domains.size();
-        cx.first_spoke[f] = cx.spoke_rates.size();
+        cx.first_spoke[f] = cx.spokes;
         if (cx.hole[f]) continue;
         const auto fv = base.face(f);
         const std::size_t n = fv.size();
@@ -802,23 +896,80 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                 cx.edges.push_back({a, b});
                 cx.edge_owner.push_back(f);
                 cx.edge_owner_side.push_back(std::uint32_t(k));
+                cx.edge_faces.push_back(0);
+                cx.halved.push_back(false);
             }
             cx.face_edges[f].push_back({it->second, cx.edges[it->second][0] == a});
-            if (cx.edge_faces.size() < cx.edges.size()) cx.edge_faces.resize(cx.edges.size(), 0);
             ++cx.edge_faces[it->second];
+            if (n != 4) cx.halved[it->second] = true;
         }
         if (n == 4) {
-            out.domains.push_back({std::uint32_t(f), -1, 1, 1, {1, 1, 1, 1}, {}, {}});
+            out.domains.push_back({std::uint32_t(f), -1, 1, 1, {1, 1, 1, 1}, {}, {}, {}});
         } else {
             for (std::size_t j = 0; j < n; ++j)
-                out.domains.push_back({std::uint32_t(f), std::int32_t(j), 1, 1, {1, 1, 1, 1}, {}, {}});
-            cx.spoke_rates.resize(cx.spoke_rates.size() + n, 1);
+                out.domains.push_back({std::uint32_t(f), std::int32_t(j), 1, 1, {1, 1, 1, 1}, {}, {}, {}});
+            cx.spokes += n;
         }
     }
     cx.first_domain[face_count] = out.domains.size();
-    cx.first_spoke[face_count] = cx.spoke_rates.size();
+    cx.first_spoke[face_count] = cx.spokes;
+    // slots: each edge's (two for a halved one), then each spoke's; and a face to name in errors
+    std::vector<std::size_t> slot_face;
+    cx.edge_slot.resize(cx.edges.size());
+    for (std::size_t e = 0; e < cx.edges.size(); ++e) {
+        cx.edge_slot[e] = slot_face.size();
+        slot_face.insert(slot_face.end(), cx.halved[e] ? 2 : 1, cx.edge_owner[e]);
+    }
+    cx.first_spoke_slot = slot_face.size();
+    for (std::size_t f = 0; f < face_count; ++f)
+        slot_face.insert(slot_face.end(), cx.first_spoke[f + 1] - cx.first_spoke[f], f);
+    cx.slots.assign(slot_face.size(), Slot{});
+    for (Slot& slot : cx.slots) slot.rho.fill(1.0);
     out.edge_rates.assign(cx.edges.size(), 1);
-    std::vector<bool> even(cx.edges.size(), false);
+
+    // raises the slots along side k of domain d, over its fractions [lo, hi], to rho segments per unit of the side
+    const auto raise_side = [&](const LimitTessellationPlan::Domain& d, int k, double lo, double hi, double rho) {
+        int parts = 0;
+        const auto sides = cx.side_parts(d, k, parts);
+        for (int p = 0; p < parts; ++p) {
+            const SidePart& part = sides[std::size_t(p)];
+            const double a = std::max(lo, part.q0), b = std::min(hi, part.q1);
+            if (!(b > a)) continue;
+            const double w = part.q1 - part.q0;
+            double x0 = (a - part.q0) / w, x1 = (b - part.q0) / w;
+            if (part.reversed) std::tie(x0, x1) = std::pair{1.0 - x1, 1.0 - x0};
+            raise(cx.slots[part.slot].rho, x0, x1, rho * w);
+        }
+    };
+    // the sides follow the domain's inner densities (s along sides 0 and 2, t along 1 and 3; sides 2 and 3 run
+    // backwards), so that an edge is fine only where a face on it is
+    const auto push_density = [&](const LimitTessellationPlan::Domain& d, const Density& rs, const Density& rt) {
+        for (int k = 0; k < 4; ++k)
+            for (int b = 0; b < kBins; ++b) {
+                const Density& rho = k % 2 == 0 ? rs : rt;
+                raise_side(d, k, double(b) / kBins, double(b + 1) / kBins, rho[std::size_t(k < 2 ? b : kBins - 1 - b)]);
+            }
+    };
+    const auto update_slots = [&]() -> Status {
+        // measured rates never raise a side, so a halved edge keeps equal halves at the larger rate (the sides
+        // stay at least as fine as every inner grid next to them)
+        for (std::size_t e = 0; e < cx.edges.size() && !options.guaranteed; ++e)
+            if (cx.halved[e]) {
+                Density& a = cx.slots[cx.edge_slot[e]].rho;
+                Density& b = cx.slots[cx.edge_slot[e] + 1].rho;
+                const double top =
+                    std::max(*std::max_element(a.begin(), a.end()), *std::max_element(b.begin(), b.end()));
+                a.fill(top);
+                b.fill(top);
+            }
+        for (std::size_t i = 0; i < cx.slots.size(); ++i) {
+            Slot& slot = cx.slots[i];
+            std::tie(slot.count, slot.lines) = grid_lines(slot.rho);
+            if (slot.count > options.max_segments) return too_many_segments(slot.count, options, slot_face[i]);
+        }
+        for (std::size_t e = 0; e < cx.edges.size(); ++e) out.edge_rates[e] = cx.edge_count(e);
+        return Ok{};
+    };
 
     // demands
     std::vector<Graded> grades(out.domains.size());
@@ -833,10 +984,8 @@ Result<LimitTessellationPlan> plan(Context& cx) {
         fd.size = base.face_size(f);
         fd.patches.resize(fd.surface->patch_count());
         for (std::size_t p = 0; p < fd.patches.size(); ++p) fd.patches[p] = patch_data(fd.surface->patch_points(p));
-        const std::size_t n = fd.size;
         for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di) {
             auto& d = out.domains[di];
-            int along_s = 1, along_t = 1;  // what the sides along s and along t need
             if (options.guaranteed) {
                 auto demand = graded_demand(fd, f, d.subface, options);
                 if (!demand) return demand.error();
@@ -844,65 +993,54 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                 d.nv = demand->nv;
                 d.s_lines = demand->s_lines;
                 d.t_lines = demand->t_lines;
-                along_s = d.nu;  // the sides start at the inner counts; the strips' check raises them
-                along_t = d.nv;
                 grades[di] = std::move(demand.value());
+                push_density(d, grades[di].rs, grades[di].rt);
                 // rates only grow from here: the grids so far are a lower bound on the output
                 demanded += 2 * std::uint64_t(d.nu) * std::uint64_t(d.nv);
                 if (auto status = check_budget(demanded, options); !status) return status.error();
             } else {
                 auto demand = domain_demand(fd, f, d.subface, options);
                 if (!demand) return demand.error();
-                d.nu = along_s = demand->first;
-                d.nv = along_t = demand->second;
-            }
-            if (d.subface < 0) {
-                for (std::size_t k = 0; k < 4; ++k) {
-                    int& rate = out.edge_rates[cx.face_edges[f][k].edge];
-                    rate = std::max(rate, k % 2 == 0 ? along_s : along_t);
-                }
-            } else {
-                const auto j = std::size_t(d.subface);
-                const std::size_t prev = (j + n - 1) % n;
-                int& e0 = out.edge_rates[cx.face_edges[f][j].edge];
-                int& e3 = out.edge_rates[cx.face_edges[f][prev].edge];
-                e0 = std::max(e0, 2 * along_s);
-                e3 = std::max(e3, 2 * along_t);
-                even[cx.face_edges[f][j].edge] = true;
-                int& s1 = cx.spoke_rates[cx.first_spoke[f] + j];
-                int& s2 = cx.spoke_rates[cx.first_spoke[f] + prev];
-                s1 = std::max(s1, along_t);
-                s2 = std::max(s2, along_s);
+                d.nu = demand->first;
+                d.nv = demand->second;
+                Density rs, rt;
+                rs.fill(double(d.nu));
+                rt.fill(double(d.nv));
+                push_density(d, rs, rt);
             }
         }
     }
-    for (std::size_t e = 0; e < cx.edges.size(); ++e) {
-        if (even[e] && out.edge_rates[e] % 2 != 0) ++out.edge_rates[e];
-        if (out.edge_rates[e] > options.max_segments * (even[e] ? 2 : 1))
-            return too_many_segments(out.edge_rates[e], options, cx.edge_owner[e]);
-    }
+    if (auto status = update_slots(); !status) return status.error();
 
     // sides, then the transition check: every triangle of the actual layout bounded (or sampled) within tolerance.
-    // A graded domain's failing triangles raise its densities where they lie and, in a transition strip, the rate of
-    // that side's edge or spoke (then every domain on it is checked again); a uniform domain's raise its inner rates.
+    // A graded domain's failing triangles raise its densities where they lie and, in a transition strip, the density
+    // of that side's edge or spoke over the part the triangle spans (then every domain on it is checked again); a
+    // uniform domain's raise its inner rates.
     const auto count = [&] {
         std::uint64_t triangles = 0;
         for (auto& d : out.domains) triangles += domain_triangles(d);
         return triangles;
     };
-    // where each domain side's rate lives: (edge, halved) or (spoke)
-    const auto side_slot = [&](const LimitTessellationPlan::Domain& d, int k) -> std::pair<int*, bool> {
-        const std::size_t f = d.face, n = cx.faces[f].size;
-        if (d.subface < 0) return {&out.edge_rates[cx.face_edges[f][std::size_t(k)].edge], false};
-        const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
-        if (k == 0) return {&out.edge_rates[cx.face_edges[f][j].edge], true};
-        if (k == 3) return {&out.edge_rates[cx.face_edges[f][prev].edge], true};
-        return {&cx.spoke_rates[cx.first_spoke[f] + (k == 1 ? j : prev)], false};
-    };
+    // each side's points from its slots: a side of a quad on a halved edge runs over both halves
     const auto set_sides = [&](LimitTessellationPlan::Domain& d) {
         for (int k = 0; k < 4; ++k) {
-            const auto [rate, halved] = side_slot(d, k);
-            d.side[k] = halved ? *rate / 2 : *rate;
+            int parts = 0;
+            const auto sides = cx.side_parts(d, k, parts);
+            std::vector<double> lines{0.0};
+            for (int p = 0; p < parts; ++p) {
+                const SidePart& part = sides[std::size_t(p)];
+                const Slot& slot = cx.slots[part.slot];
+                for (int i = 1; i <= slot.count; ++i) {
+                    const double x = part.reversed ? 1.0 - slot.at(slot.count - i) : slot.at(i);
+                    lines.push_back(part.q0 + (part.q1 - part.q0) * x);
+                }
+            }
+            const int r = int(lines.size()) - 1;
+            d.side[k] = r;
+            bool uniform = true;
+            for (int i = 0; i <= r && uniform; ++i) uniform = std::abs(lines[std::size_t(i)] - double(i) / r) <= 1e-12;
+            if (uniform) lines.clear();
+            d.side_lines[std::size_t(k)] = std::move(lines);
         }
         fix_inner(d);
     };
@@ -911,8 +1049,6 @@ Result<LimitTessellationPlan> plan(Context& cx) {
     std::vector<bool> dirty(out.domains.size(), true);
     std::vector<double> domain_bound(out.domains.size(), 0.0), domain_sampled(out.domains.size(), 0.0);
     for (int pass = 0;; ++pass) {
-        std::vector<std::pair<int*, double>> raised;  // side rates to raise: (slot, factor)
-        std::vector<bool> halved_slot;
         bool any = false;
         for (std::size_t di = 0; di < out.domains.size(); ++di) {
             if (!dirty[di]) continue;
@@ -934,7 +1070,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                     }
                 }
                 const std::uint32_t ring = std::uint32_t(d.side[0] + d.side[1] + d.side[2] + d.side[3]);
-                double bound = 0, sampled = 0, side_factor[4] = {1, 1, 1, 1};
+                double bound = 0, sampled = 0;
                 bool inner_fail = false;
                 for (const auto& tri : local.triangles) {
                     const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
@@ -980,28 +1116,25 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                     raise(next_s, lo_s, hi_s, f / std::max(hi_s - lo_s, 1e-9));
                     raise(next_t, lo_t, hi_t, f / std::max(hi_t - lo_t, 1e-9));
                     inner_fail = true;
-                    int strip = -1;
-                    for (std::uint32_t v : tri)
-                        if (v < ring) {
-                            // the side holding ring point v that the triangle runs along (a corner belongs to two)
+                    // the strip's side: the side every ring vertex of the triangle lies on (a corner is on two)
+                    bool on_ring = false;
+                    for (std::uint32_t v : tri) on_ring = on_ring || v < ring;
+                    int side = -1;
+                    for (int k = 0; k < 4 && side < 0 && on_ring; ++k) {
+                        bool all = true;
+                        for (std::uint32_t v : tri) {
+                            if (v >= ring) continue;
                             const P2& q = local.points[v];
-                            const int k = q.t == 0 ? 0 : q.s == 1 ? 1 : q.t == 1 ? 2 : 3;
-                            if (strip < 0) strip = k;
+                            const bool on = k == 0 ? q.t == 0 : k == 1 ? q.s == 1 : k == 2 ? q.t == 1 : q.s == 0;
+                            all = all && on;
                         }
-                    if (strip >= 0) {
-                        // the strip's side: the side every ring vertex of the triangle lies on
-                        int side = -1;
-                        for (int k = 0; k < 4 && side < 0; ++k) {
-                            bool all = true;
-                            for (std::uint32_t v : tri) {
-                                if (v >= ring) continue;
-                                const P2& q = local.points[v];
-                                const bool on = k == 0 ? q.t == 0 : k == 1 ? q.s == 1 : k == 2 ? q.t == 1 : q.s == 0;
-                                all = all && on;
-                            }
-                            if (all) side = k;
-                        }
-                        if (side >= 0) side_factor[side] = std::max(side_factor[side], f);
+                        if (all) side = k;
+                    }
+                    if (side >= 0) {
+                        // the triangle's span along the side (sides 2 and 3 run backwards)
+                        const double lo = side == 0 ? lo_s : side == 1 ? lo_t : side == 2 ? 1.0 - hi_s : 1.0 - hi_t;
+                        const double hi = side == 0 ? hi_s : side == 1 ? hi_t : side == 2 ? 1.0 - lo_s : 1.0 - lo_t;
+                        raise_side(d, side, lo, hi, f / std::max(hi - lo, 1e-9));
                     }
                 }
                 const bool ok = bound <= options.tolerance && sampled <= options.tolerance / kSampledSafety;
@@ -1010,8 +1143,6 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                     domain_sampled[di] = sampled;
                     if (ok || pass >= 30) break;
                     any = true;
-                    for (int k = 0; k < 4; ++k)
-                        if (side_factor[k] > 1) raised.emplace_back(side_slot(d, k).first, side_factor[k]);
                     if (inner_fail) {
                         g.rs = next_s;
                         g.rt = next_t;
@@ -1032,20 +1163,15 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             }
         }
         if (!any) break;
-        for (const auto& [slot, factor] : raised) *slot = std::max(*slot, int(std::ceil(*slot * factor)));
-        for (std::size_t e = 0; e < cx.edges.size(); ++e) {
-            if (even[e] && out.edge_rates[e] % 2 != 0) ++out.edge_rates[e];
-            if (out.edge_rates[e] > options.max_segments * (even[e] ? 2 : 1))
-                return too_many_segments(out.edge_rates[e], options, cx.edge_owner[e]);
-        }
+        if (auto status = update_slots(); !status) return status.error();
         for (std::size_t di = 0; di < out.domains.size(); ++di) {
             auto& d = out.domains[di];
             const int before[4] = {d.side[0], d.side[1], d.side[2], d.side[3]};
+            const auto lines_before = d.side_lines;
             set_sides(d);
             for (int k = 0; k < 4; ++k)
-                if (d.side[k] != before[k]) dirty[di] = true;
-            if (std::max({d.side[0], d.side[1], d.side[2], d.side[3]}) > options.max_segments)
-                return too_many_segments(std::max({d.side[0], d.side[1], d.side[2], d.side[3]}), options, d.face);
+                if (d.side[k] != before[k] || d.side_lines[std::size_t(k)] != lines_before[std::size_t(k)])
+                    dirty[di] = true;
         }
         if (auto status = check_budget(count(), options); !status) return status.error();
     }
@@ -1069,7 +1195,8 @@ Result<LimitTessellationPlan> plan(Context& cx) {
     for (int r : out.edge_rates) vertices += std::uint64_t(r - 1);
     for (std::size_t f = 0; f < face_count; ++f)
         if (!cx.hole[f] && cx.faces[f].size != 4) ++vertices;
-    for (int r : cx.spoke_rates) vertices += std::uint64_t(r - 1);
+    for (std::size_t sp = 0; sp < cx.spokes; ++sp)
+        vertices += std::uint64_t(cx.slots[cx.first_spoke_slot + sp].count - 1);
     for (const auto& d : out.domains) vertices += std::uint64_t(d.nu - 1) * std::uint64_t(d.nv - 1);
     out.vertices = vertices;
     return out;
@@ -1090,7 +1217,7 @@ std::pair<double, double> edge_uv(std::size_t n, std::size_t k, double a) {
 
 Result<LimitTessellationPlan> plan_limit_tessellation(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
                                                       const LimitTessellationOptions& options) {
-    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    Context cx(evaluator, base, options);
     return plan(cx);
 }
 
@@ -1098,7 +1225,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
                                            const LimitTessellationOptions& options) {
     if (evaluator.face_count() != base.face_count())
         return make_error(ErrorCode::InvalidArgument, "the evaluator was created from another mesh");
-    Context cx{evaluator, base, options, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    Context cx(evaluator, base, options);
     auto planned = plan(cx);
     if (!planned) return planned.error();
     LimitTessellation out;
@@ -1128,12 +1255,12 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         const std::size_t f = cx.edge_owner[e];
         for (int i = 1; i < r; ++i) {
             pts.push_back(Index(sites.size()));
-            const auto [u, v] = edge_uv(base.face_size(f), cx.edge_owner_side[e], double(i) / r);
+            const auto [u, v] = edge_uv(base.face_size(f), cx.edge_owner_side[e], cx.edge_at(e, i));
             sites.push_back({std::uint32_t(f), u, v});
         }
         pts.push_back(vertex_id[cx.edges[e][1]]);
     }
-    std::vector<std::vector<Index>> spoke_points(cx.spoke_rates.size());
+    std::vector<std::vector<Index>> spoke_points(cx.spokes);
     for (std::size_t f = 0; f < face_count; ++f) {
         if (cx.hole[f] || base.face_size(f) == 4) continue;
         const std::size_t n = base.face_size(f);
@@ -1142,14 +1269,15 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         sites.push_back({std::uint32_t(f), cu, cv});
         for (std::size_t j = 0; j < n; ++j) {
             const std::size_t sp = cx.first_spoke[f] + j;
-            const int r = cx.spoke_rates[sp];
+            const Slot& slot = cx.slots[cx.spoke_slot(f, j)];
+            const int r = slot.count;
             const auto& use = cx.face_edges[f][j];
-            const int half = p.edge_rates[use.edge] / 2;
+            const int half = cx.slots[cx.edge_slot[use.edge]].count;  // the midpoint's canonical index
             auto& pts = spoke_points[sp];
             pts.push_back(edge_points[use.edge][std::size_t(half)]);
             for (int i = 1; i < r; ++i) {
                 pts.push_back(Index(sites.size()));
-                const auto [u, v] = face_uv(n, int(j), 1.0, double(i) / r);
+                const auto [u, v] = face_uv(n, int(j), 1.0, slot.at(i));
                 sites.push_back({std::uint32_t(f), u, v});
             }
             pts.push_back(centre);
@@ -1213,7 +1341,10 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         } else {
             const auto j = std::size_t(d.subface), prev = (j + n - 1) % n;
             side[0] = edge_range(j, 0, d.side[0] + 1);
-            side[3] = edge_range(prev, d.side[3], d.side[3] + 1);
+            // the previous edge's second half in the face's direction: from its midpoint to corner j
+            const auto& use = cx.face_edges[f][prev];
+            const int mid = cx.slots[cx.edge_slot[use.edge] + (use.forward ? 0 : 1)].count;
+            side[3] = edge_range(prev, mid, d.side[3] + 1);
             side[1] = spoke_points[cx.first_spoke[f] + j];
             side[2] = spoke_points[cx.first_spoke[f] + prev];
             std::reverse(side[2].begin(), side[2].end());
