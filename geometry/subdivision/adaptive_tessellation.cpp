@@ -626,6 +626,9 @@ void apply(const Graded& g, LimitTessellationPlan::Domain& d) {
     fix_inner(d);
 }
 
+//! The ratio (bound / tolerance) a graded grid's coarsening aims its cells at.
+constexpr double kCoarsenTarget = 0.97;
+
 //! How much to shrink a failing triangle of parameter extents (hs, ht) whose bound is `ratio` times the tolerance:
 //! per direction, by the share of the bound that direction carries (the bound is a quadratic form in the extents).
 std::pair<double, double> shrink(const Bounds& m, double hs, double ht, double ratio) {
@@ -675,9 +678,14 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
             }
         }
     }
+    std::optional<Graded> best;  // the grid before coarsening
+    bool coarsened = false, iteration_failed = false;
     for (int iteration = 0;; ++iteration) {
         if (auto status = regrade(g, options, face); !status) return status.error();
-        if (iteration > 40) break;
+        if (iteration > 40) {
+            iteration_failed = true;
+            break;
+        }
         const int nu = g.nu, nv = g.nv;
         const auto s_at = [&](int i) { return g.s_lines.empty() ? double(i) / nu : g.s_lines[std::size_t(i)]; };
         const auto t_at = [&](int j) { return g.t_lines.empty() ? double(j) / nv : g.t_lines[std::size_t(j)]; };
@@ -694,6 +702,7 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
             }
         const auto at = [&](int i, int j) { return grid[std::size_t(j) * std::size_t(nu + 1) + std::size_t(i)]; };
         Density next_s = g.rs, next_t = g.rt;
+        Density worst_s{}, worst_t{};  // per bin, the largest ratio (bound / tolerance) of the cells over it
         bool fail = false;
         for (int j = 0; j < nv; ++j)
             for (int i = 0; i < nu; ++i) {
@@ -708,7 +717,7 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                 const Bounds upper = plane_bounds(fd, o, n_upper, lo, hi, c01);
                 const double rl = triangle_bound(lower, lo, c10, hi) / tol,
                              ru = triangle_bound(upper, lo, hi, c01) / tol;
-                double fs = 1, ft = 1;
+                double fs = 1, ft = 1, cell_ratio = std::max(rl, ru);
                 if (rl > 1 || ru > 1) {
                     // a patch that fails on its own (a narrow band of high curvature inside a coarse cell) refines
                     // the grid around itself, by as much as the cell would need; the whole cell only when none does
@@ -744,6 +753,7 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                         e = std::max(e, *sampled);
                     }
                     const double ratio = e / (tol / kSampledSafety);
+                    cell_ratio = std::max(cell_ratio, ratio);
                     if (ratio > 1) {
                         // the cells next to the uncovered parts shrink by f: the density rises over a cell's width
                         // around them, not over the whole cell (a coarse cell that reaches an irregular vertex
@@ -762,12 +772,35 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                     raise(next_s, lo.s, hi.s, fs / hs);
                     raise(next_t, lo.t, hi.t, ft / ht);
                 }
+                raise(worst_s, lo.s, hi.s, cell_ratio);
+                raise(worst_t, lo.t, hi.t, cell_ratio);
             }
-        if (!fail) break;
+        if (!fail) {
+            if (coarsened) break;
+            // the raises overshoot (a factor at least 1.05, lines rounded up): once every cell is within the
+            // tolerance, the densities fall where the cells over a bin all have room (the bounds go with the
+            // squares of the cells' sizes), once; the refinement above then repairs what that breaks, and the
+            // coarser of the two grids is kept
+            best = g;
+            coarsened = true;
+            bool lower = false;
+            for (int b = 0; b < kBins; ++b)
+                for (auto [rho, worst] : {std::pair{&g.rs, &worst_s}, std::pair{&g.rt, &worst_t}}) {
+                    const double f = std::sqrt(std::max((*worst)[std::size_t(b)], 0.0625) / kCoarsenTarget);
+                    if (f >= 1) continue;
+                    (*rho)[std::size_t(b)] = std::max(1.0, (*rho)[std::size_t(b)] * f);
+                    lower = true;
+                }
+            if (!lower) break;
+            continue;
+        }
         g.rs = next_s;
         g.rt = next_t;
         if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
     }
+    if (best && (iteration_failed ||
+                 std::uint64_t(best->nu) * std::uint64_t(best->nv) <= std::uint64_t(g.nu) * std::uint64_t(g.nv)))
+        return *best;
     return g;
 }
 
