@@ -628,6 +628,8 @@ void apply(const Graded& g, LimitTessellationPlan::Domain& d) {
 
 //! The ratio (bound / tolerance) a graded grid's coarsening aims its cells at.
 constexpr double kCoarsenTarget = 0.97;
+//! How many times a graded grid within the tolerance is coarsened.
+constexpr int kCoarsenRounds = 3;
 
 //! How much to shrink a failing triangle of parameter extents (hs, ht) whose bound is `ratio` times the tolerance:
 //! per direction, by the share of the bound that direction carries (the bound is a quadratic form in the extents).
@@ -678,14 +680,11 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
             }
         }
     }
-    std::optional<Graded> best;  // the grid before coarsening
-    bool coarsened = false, iteration_failed = false;
+    std::optional<Graded> best;  // the smallest grid within the tolerance so far
+    int coarsenings = 0;
     for (int iteration = 0;; ++iteration) {
         if (auto status = regrade(g, options, face); !status) return status.error();
-        if (iteration > 40) {
-            iteration_failed = true;
-            break;
-        }
+        if (iteration > 40) break;
         const int nu = g.nu, nv = g.nv;
         const auto s_at = [&](int i) { return g.s_lines.empty() ? double(i) / nu : g.s_lines[std::size_t(i)]; };
         const auto t_at = [&](int j) { return g.t_lines.empty() ? double(j) / nv : g.t_lines[std::size_t(j)]; };
@@ -776,13 +775,14 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                 raise(worst_t, lo.t, hi.t, cell_ratio);
             }
         if (!fail) {
-            if (coarsened) break;
             // the raises overshoot (a factor at least 1.05, lines rounded up): once every cell is within the
             // tolerance, the densities fall where the cells over a bin all have room (the bounds go with the
-            // squares of the cells' sizes), once; the refinement above then repairs what that breaks, and the
-            // coarser of the two grids is kept
-            best = g;
-            coarsened = true;
+            // squares of the cells' sizes); the refinement above then repairs what that breaks, and the smallest
+            // grid that passed is kept
+            if (!best || std::uint64_t(nu) * std::uint64_t(nv) < std::uint64_t(best->nu) * std::uint64_t(best->nv))
+                best = g;
+            if (coarsenings == kCoarsenRounds) break;
+            ++coarsenings;
             bool lower = false;
             for (int b = 0; b < kBins; ++b)
                 for (auto [rho, worst] : {std::pair{&g.rs, &worst_s}, std::pair{&g.rt, &worst_t}}) {
@@ -798,9 +798,7 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
         g.rt = next_t;
         if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
     }
-    if (best && (iteration_failed ||
-                 std::uint64_t(best->nu) * std::uint64_t(best->nv) <= std::uint64_t(g.nu) * std::uint64_t(g.nv)))
-        return *best;
+    if (best) return *best;
     return g;
 }
 
