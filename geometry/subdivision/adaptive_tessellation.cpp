@@ -228,6 +228,7 @@ Basis bernstein_of_basis(int d, double a, double b) {
     static constexpr double kFactorial[4] = {1, 1, 2, 6};
     static constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
     const double h = b - a;
+    const double ap[4] = {1.0, a, a * a, a * a * a}, hp[4] = {1.0, h, h * h, h * h * h};
     Basis out{};
     for (int i = 0; i <= d; ++i) {
         // q(y) = N_i(a + h y) in powers of y
@@ -235,7 +236,7 @@ Basis bernstein_of_basis(int d, double a, double b) {
         for (int k = 0; k <= d; ++k) {
             const double c = kPower[d][i][k] / kFactorial[d];
             // (a + h y)^k = sum_l C(k, l) a^(k - l) h^l y^l
-            for (int l = 0; l <= k; ++l) q[l] += c * kBinomial[k][l] * std::pow(a, k - l) * std::pow(h, l);
+            for (int l = 0; l <= k; ++l) q[l] += c * kBinomial[k][l] * ap[k - l] * hp[l];
         }
         // power to Bernstein: b_j = sum_{l <= j} C(j, l) / C(d, l) q_l
         for (int j = 0; j <= d; ++j) {
@@ -274,10 +275,14 @@ Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, dou
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 2; ++c) vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
     for (std::size_t i = 0; i < 9; ++i) uv[i] = dot(n, p.uv[i]);
-    const Basis s1b = bernstein_of_basis(1, s0, s1), s2b = bernstein_of_basis(2, s0, s1),
-                s3b = bernstein_of_basis(3, s0, s1);
-    const Basis t1b = bernstein_of_basis(1, t0, t1), t2b = bernstein_of_basis(2, t0, t1),
-                t3b = bernstein_of_basis(3, t0, t1);
+    // the whole span is the common case (a patch inside the box): its bases once
+    static const std::array<Basis, 4> kWhole = {Basis{}, bernstein_of_basis(1, 0.0, 1.0),
+                                                bernstein_of_basis(2, 0.0, 1.0), bernstein_of_basis(3, 0.0, 1.0)};
+    const auto basis = [](int d, double lo, double hi) {
+        return lo == 0.0 && hi == 1.0 ? kWhole[std::size_t(d)] : bernstein_of_basis(d, lo, hi);
+    };
+    const Basis s1b = basis(1, s0, s1), s2b = basis(2, s0, s1), s3b = basis(3, s0, s1);
+    const Basis t1b = basis(1, t0, t1), t2b = basis(2, t0, t1), t3b = basis(3, t0, t1);
     return {box_max(uu, 1, 3, s1b, t3b), box_max(uv, 2, 2, s2b, t2b), box_max(vv, 3, 1, s3b, t1b)};
 }
 
