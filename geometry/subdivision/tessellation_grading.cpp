@@ -17,6 +17,8 @@ constexpr double kCoarsenTarget = 0.97;
 
 //! How many times a graded grid within the tolerance is coarsened.
 constexpr int kCoarsenRounds = 3;
+//! How many single-line trims a graded grid within the tolerance tries after its coarsenings.
+constexpr int kTrimTrials = 4;
 
 //! How much to shrink a failing triangle of parameter extents (hs, ht) whose bound is `ratio` times the tolerance:
 //! per direction, by the share of the bound that direction carries (the bound is a quadratic form in the extents).
@@ -126,9 +128,23 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
     }
     std::optional<Graded> best;  // the smallest grid within the tolerance so far
     int coarsenings = 0;
+    // last, one line fewer along s (trim 0), then along t (trim 1), as long as the grid passes: a trial that fails
+    // is dropped, not refined
+    int trim = -1, trials = 0;
+    const auto next_trial = [&]() {
+        for (; trim <= 1; ++trim) {
+            const int n = trim == 0 ? best->nu : best->nv;
+            if (n <= 1 || trials >= kTrimTrials) continue;
+            ++trials;
+            g = *best;
+            for (double& r : trim == 0 ? g.rs : g.rt) r *= double(n - 1) / n;
+            return true;
+        }
+        return false;
+    };
     for (int iteration = 0;; ++iteration) {
         if (auto status = regrade(g, options, face); !status) return status.error();
-        if (iteration > 40) break;
+        if (iteration > 40 && trim < 0) break;
         const int nu = g.nu, nv = g.nv;
         const auto s_at = [&](int i) { return g.s_lines.empty() ? double(i) / nu : g.s_lines[std::size_t(i)]; };
         const auto t_at = [&](int j) { return g.t_lines.empty() ? double(j) / nv : g.t_lines[std::size_t(j)]; };
@@ -218,6 +234,15 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                 raise(worst_s, lo.s, hi.s, cell_ratio);
                 raise(worst_t, lo.t, hi.t, cell_ratio);
             }
+        if (trim >= 0) {
+            if (fail) {
+                ++trim;
+            } else if (std::uint64_t(nu) * std::uint64_t(nv) < std::uint64_t(best->nu) * std::uint64_t(best->nv)) {
+                best = g;
+            }
+            if (!next_trial()) break;
+            continue;
+        }
         if (!fail) {
             // the raises overshoot (a factor at least 1.05, lines rounded up): once every cell is within the
             // tolerance, the densities fall where the cells over a bin all have room (the bounds go with the
@@ -225,7 +250,11 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
             // grid that passed is kept
             if (!best || std::uint64_t(nu) * std::uint64_t(nv) < std::uint64_t(best->nu) * std::uint64_t(best->nv))
                 best = g;
-            if (coarsenings == kCoarsenRounds) break;
+            if (coarsenings == kCoarsenRounds) {
+                trim = 0;
+                if (!next_trial()) break;
+                continue;
+            }
             ++coarsenings;
             bool lower = false;
             for (int b = 0; b < kBins; ++b)
@@ -235,7 +264,10 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                     (*rho)[std::size_t(b)] = std::max(1.0, (*rho)[std::size_t(b)] * f);
                     lower = true;
                 }
-            if (!lower) break;
+            if (!lower) {
+                trim = 0;
+                if (!next_trial()) break;
+            }
             continue;
         }
         g.rs = next_s;
