@@ -55,11 +55,12 @@
 
 namespace surfaced {
 
-//! Local refinements prepared per base face to bound the surface (every semi-sharp feature has decayed by then).
-inline constexpr int kTreeLevels = 12;
 //! Patches deeper than this in a domain (within 2^-kBoundedDepth of an irregular vertex or a semi-sharp feature)
 //! are sampled rather than bounded.
 inline constexpr int kBoundedDepth = 5;
+//! Local refinements prepared per base face: the deepest bounded patches of an N-gon's sub-face domain (one level
+//! below the face). Deeper parts are sampled, and evaluating there resumes the descent (exact either way).
+inline constexpr int kTreeLevels = kBoundedDepth + 1;
 //! Triangles at irregular vertices, which are sampled rather than bounded, must measure tolerance / kSampledSafety.
 inline constexpr double kSampledSafety = 2.0;
 
