@@ -3,12 +3,14 @@
 //
 // Domains. Every base face that is not a hole is tessellated in its own parameterization (limit_evaluation.h): a quad
 // is one domain, the unit square; an N-gon is N domains, its quad sub-faces, each tessellated as a quad. A domain has
-// an inner grid (nu x nv segments, its lines uniform or graded: spaced where the surface needs them) and a rate on
-// each of its four sides, whose points are uniform along it. A side is a base edge (a quad's) or half of one (an
-// N-gon's) or a spoke of an N-gon (from an edge midpoint to the centre). One rate per base edge and per spoke, the
-// largest any of its domains needs (even on edges of N-gons, so that the halves are equal); the vertices on an edge
-// are evaluated once and shared by index by every face on it, so the output is watertight where the input is closed
-// and has no T-junctions. A uniform domain whose sides all carry its inner rates is a regular grid; otherwise its
+// an inner grid (nu x nv segments, its lines uniform or graded: spaced where the surface needs them) and points on
+// each of its four sides. A side is a base edge (a quad's) or half of one (an N-gon's, whose midpoint is then a
+// vertex) or a spoke of an N-gon (from an edge midpoint to the centre). The points along a base edge (each half of
+// an N-gon's edge) and along a spoke are graded once, by a density per 1/32 of its length that is the largest any
+// domain on it needs there (its inner grid's density along that direction, raised where its transition strip
+// fails), so that an edge running into a crease is fine only at that end; the vertices on an edge are evaluated
+// once and shared by index by every face on it, so the output is watertight where the input is closed and has no
+// T-junctions. A uniform domain whose sides all carry its inner rates, uniformly, is a regular grid; otherwise its
 // inner grid of (nu - 1) x (nv - 1) points is joined to the sides by one transition strip per side
 // (Bfr::Tessellation's layout).
 //
@@ -25,13 +27,14 @@
 // point whose projection on that plane falls outside the triangle is next to a neighbour's, except beyond an open
 // boundary: a triangle with an edge there is bounded on |S(x) - T(x)| (the full second derivatives). Each domain's
 // grid lines are graded: densities per 1/32 of s and of t, started from each patch's second derivatives along its
-// mean normal (an estimate, not a bound), raised where a cell's two triangles exceed the tolerance, so that a narrow band of high curvature (a semi-sharp crease) is fine only where it lies; the sides
-// start at the inner counts and a transition strip's failing triangle raises its side's edge or spoke (its other
-// domains are checked again). Patches deeper than kBoundedDepth, and leaves without a patch (at irregular vertices,
-// where the second derivatives grow without bound for valences above 4), are not bounded: a triangle that overlaps
-// them is bounded over the rest and also checked by sampling: the distance from S(x) to the triangle's plane at the
-// 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must be at most tolerance /
-// kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported error is the
+// mean normal (an estimate, not a bound), raised where a cell's two triangles exceed the tolerance (around a
+// patch whose own bound fails, else over the cell), so that a narrow band of high curvature (a semi-sharp crease) is
+// fine only where it lies; a transition strip's failing triangle raises its edge's or spoke's density over the part
+// of the side it spans (its other domains are checked again). Patches deeper than kBoundedDepth, and leaves without
+// a patch (at irregular vertices, where the second derivatives grow without bound for valences above 4), are not
+// bounded: a triangle that overlaps them is bounded over the rest and also checked by sampling: the distance from
+// S(x) to the triangle's plane at the 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must
+// be at most tolerance / kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported error is the
 // largest of the bounds and of the measured distances.
 //
 // Output. Triangles, counter-clockwise as the base faces; per-vertex exact limit normals (normalize(du x dv), the
@@ -40,6 +43,7 @@
 // edge midpoints and centre take the averages of its corner UVs), which is not the subdivided UV layout.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -51,11 +55,12 @@
 
 namespace surfaced {
 
-//! Local refinements prepared per base face to bound the surface (every semi-sharp feature has decayed by then).
-inline constexpr int kTreeLevels = 12;
 //! Patches deeper than this in a domain (within 2^-kBoundedDepth of an irregular vertex or a semi-sharp feature)
 //! are sampled rather than bounded.
 inline constexpr int kBoundedDepth = 5;
+//! Local refinements prepared per base face: the deepest bounded patches of an N-gon's sub-face domain (one level
+//! below the face). Deeper parts are sampled, and evaluating there resumes the descent (exact either way).
+inline constexpr int kTreeLevels = kBoundedDepth + 1;
 //! Triangles at irregular vertices, which are sampled rather than bounded, must measure tolerance / kSampledSafety.
 inline constexpr double kSampledSafety = 2.0;
 
@@ -87,11 +92,20 @@ struct LimitTessellationPlan {
         //! Graded inner grid: its lines s = s_lines[i] (nu + 1 values from 0 to 1) and t = t_lines[j]; empty: the
         //! uniform i / nu, j / nv. A graded domain is always joined to its sides by transition strips.
         std::vector<double> s_lines, t_lines;
+        //! Points of side k at fractions side_lines[k][i] along it (side[k] + 1 values from 0 to 1, in the side's
+        //! direction: corner k to corner k + 1); empty: the uniform i / side[k]. They follow their base edge's or
+        //! spoke's grading, the same for every domain on it.
+        std::array<std::vector<double>, 4> side_lines;
         double s_at(int i) const { return s_lines.empty() ? double(i) / nu : s_lines[std::size_t(i)]; }
         double t_at(int j) const { return t_lines.empty() ? double(j) / nv : t_lines[std::size_t(j)]; }
+        double side_at(int k, int i) const {
+            const auto& lines = side_lines[std::size_t(k)];
+            return lines.empty() ? double(i) / side[k] : lines[std::size_t(i)];
+        }
     };
     std::vector<Domain> domains;
-    std::vector<int> edge_rates;  //!< per base edge in the order of first use by faces (0: only holes use it)
+    //! Segments per base edge (both halves of an N-gon's), in the order of first use by faces.
+    std::vector<int> edge_rates;
     std::uint64_t triangles = 0;  //!< exact output triangle count
     std::uint64_t vertices = 0;   //!< exact output vertex count
     double error_bound = 0;       //!< largest true bound over the bounded triangles

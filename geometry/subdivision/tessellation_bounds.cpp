@@ -1,0 +1,293 @@
+#include "geometry/subdivision/tessellation_bounds.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/spatial/closest_point.h"
+
+namespace surfaced::tessellation_detail {
+namespace {
+
+//! Bounds on the component along a unit direction n: |n . S_xx| <= max |n . coefficient|.
+Bounds along(const PatchData& p, const Vec3& n) {
+    Bounds b;
+    for (const Vec3& d : p.uu) b.uu = std::max(b.uu, std::abs(dot(n, d)));
+    for (const Vec3& d : p.vv) b.vv = std::max(b.vv, std::abs(dot(n, d)));
+    for (const Vec3& d : p.uv) b.uv = std::max(b.uv, std::abs(dot(n, d)));
+    return b;
+}
+
+//! min(M, Mn + delta M) componentwise: the bound on |m . S_xx| for a unit m within delta of n (|m . v| <= |v| and
+//! |m . v| <= |n . v| + |m - n| |v|).
+Bounds tilted(const Bounds& m, const Bounds& mn, double delta) {
+    return {std::min(m.uu, mn.uu + delta * m.uu), std::min(m.uv, mn.uv + delta * m.uv),
+            std::min(m.vv, mn.vv + delta * m.vv)};
+}
+
+//! |m - n| for unit vectors at an angle whose sine is at most `sine` (< 1; the angle below 90 degrees).
+double chord_of_sine(double sine) {
+    if (!(sine < 1)) return 2.0;
+    return std::sqrt(std::max(0.0, 2.0 - 2.0 * std::sqrt(1.0 - sine * sine)));
+}
+
+//! Bernstein coefficients over [a, b] (within [0, 1]) of the uniform B-spline basis functions of degree d (1..3)
+//! of one span: out[i][j] is basis i's j-th coefficient. A polynomial lies in the convex hull of its Bernstein
+//! coefficients over an interval, which shrinks to its range as the interval does.
+using Basis = std::array<std::array<double, 4>, 4>;
+
+Basis bernstein_of_basis(int d, double a, double b) {
+    // power coefficients (in x) of each basis function, times d!
+    static constexpr double kPower[4][4][4] = {{},
+                                               {{1, -1, 0, 0}, {0, 1, 0, 0}},
+                                               {{1, -2, 1, 0}, {1, 2, -2, 0}, {0, 0, 1, 0}},
+                                               {{1, -3, 3, -1}, {4, 0, -6, 3}, {1, 3, 3, -3}, {0, 0, 0, 1}}};
+    static constexpr double kFactorial[4] = {1, 1, 2, 6};
+    static constexpr double kBinomial[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    const double h = b - a;
+    const double ap[4] = {1.0, a, a * a, a * a * a}, hp[4] = {1.0, h, h * h, h * h * h};
+    Basis out{};
+    for (int i = 0; i <= d; ++i) {
+        // q(y) = N_i(a + h y) in powers of y
+        double q[4] = {0, 0, 0, 0};
+        for (int k = 0; k <= d; ++k) {
+            const double c = kPower[d][i][k] / kFactorial[d];
+            // (a + h y)^k = sum_l C(k, l) a^(k - l) h^l y^l
+            for (int l = 0; l <= k; ++l) q[l] += c * kBinomial[k][l] * ap[k - l] * hp[l];
+        }
+        // power to Bernstein: b_j = sum_{l <= j} C(j, l) / C(d, l) q_l
+        for (int j = 0; j <= d; ++j) {
+            double v = 0;
+            for (int l = 0; l <= j; ++l) v += kBinomial[j][l] / kBinomial[d][l] * q[l];
+            out[std::size_t(i)][std::size_t(j)] = v;
+        }
+    }
+    return out;
+}
+
+//! max |sum_ij c[i][j] B_i(s) C_j(t)| over the box, from the Bernstein coefficients: c are the B-spline
+//! coefficients (ds + 1 along s, dt + 1 along t, c[i + (ds + 1) j]), bs and bt the bases' Bernstein coefficients.
+double box_max(const double* c, int ds, int dt, const Basis& bs, const Basis& bt) {
+    double worst = 0;
+    for (int js = 0; js <= ds; ++js)
+        for (int jt = 0; jt <= dt; ++jt) {
+            double v = 0;
+            for (int i = 0; i <= ds; ++i)
+                for (int j = 0; j <= dt; ++j)
+                    v +=
+                        c[i + (ds + 1) * j] * bs[std::size_t(i)][std::size_t(js)] * bt[std::size_t(j)][std::size_t(jt)];
+            worst = std::max(worst, std::abs(v));
+        }
+    return worst;
+}
+
+}  // namespace
+
+PatchData patch_data(const std::array<Vec3, 16>& p) {
+    PatchData d;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 3; ++c) {
+            d.du[std::size_t(3 * r + c)] = p[4 * r + c + 1] - p[4 * r + c];
+            d.dv[std::size_t(3 * r + c)] = p[4 * (c + 1) + r] - p[4 * c + r];
+        }
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 2; ++c) {
+            d.uu[std::size_t(2 * r + c)] = p[4 * r + c] - 2.0 * p[4 * r + c + 1] + p[4 * r + c + 2];
+            d.vv[std::size_t(2 * r + c)] = p[4 * c + r] - 2.0 * p[4 * (c + 1) + r] + p[4 * (c + 2) + r];
+        }
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            d.uv[std::size_t(3 * r + c)] =
+                p[4 * (r + 1) + c + 1] - p[4 * (r + 1) + c] - p[4 * r + c + 1] + p[4 * r + c];
+    for (const Vec3& v : d.uu) d.m.uu = std::max(d.m.uu, norm(v));
+    for (const Vec3& v : d.vv) d.m.vv = std::max(d.m.vv, norm(v));
+    for (const Vec3& v : d.uv) d.m.uv = std::max(d.m.uv, norm(v));
+    for (std::size_t i = 0; i < 12; ++i) {
+        d.a0 += d.du[i] * (1.0 / 12);
+        d.b0 += d.dv[i] * (1.0 / 12);
+    }
+    // normal cone: S_s = a0 + da, S_t = b0 + db with |da| <= ra, |db| <= rb, so |S_s x S_t - a0 x b0| <= e
+    double ra = 0, rb = 0;
+    for (std::size_t i = 0; i < 12; ++i) {
+        ra = std::max(ra, norm(d.du[i] - d.a0));
+        rb = std::max(rb, norm(d.dv[i] - d.b0));
+    }
+    const Vec3 n0 = cross(d.a0, d.b0);
+    const double length = norm(n0);
+    const double e = norm(d.a0) * rb + ra * norm(d.b0) + ra * rb;
+    d.plane = d.m;
+    if (length > 0) {
+        d.n0 = n0 * (1.0 / length);
+        d.plane = tilted(d.m, along(d, d.n0), chord_of_sine(e / length));
+    }
+    return d;
+}
+
+std::pair<double, double> rates_for(const Bounds& m, double tolerance) {
+    return {std::max(1.0, std::ceil(std::sqrt((m.uu + m.uv) / (4.0 * tolerance)))),
+            std::max(1.0, std::ceil(std::sqrt((m.uv + m.vv) / (4.0 * tolerance))))};
+}
+
+double triangle_bound(const Bounds& m, const P2& p0, const P2& p1, const P2& p2) {
+    const double ds = std::max({p0.s, p1.s, p2.s}) - std::min({p0.s, p1.s, p2.s});
+    const double dt = std::max({p0.t, p1.t, p2.t}) - std::min({p0.t, p1.t, p2.t});
+    const double k = ds > 0 && dt > 0 ? dt / ds : 1.0;
+    const double a = std::sqrt(m.uu + k * m.uv), c = std::sqrt(m.vv + m.uv / k);
+    const double x0 = a * p0.s, y0 = c * p0.t, x1 = a * p1.s, y1 = c * p1.t, x2 = a * p2.s, y2 = c * p2.t;
+    const double l0 = (x1 - x2) * (x1 - x2) + (y1 - y2) * (y1 - y2);
+    const double l1 = (x0 - x2) * (x0 - x2) + (y0 - y2) * (y0 - y2);
+    const double l2 = (x0 - x1) * (x0 - x1) + (y0 - y1) * (y0 - y1);
+    const double longest = std::max({l0, l1, l2});
+    const double twice_area = std::abs((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0));
+    double value;
+    if (longest >= l0 + l1 + l2 - longest || twice_area <= 0)
+        value = longest / 4.0;
+    else
+        value = l0 * l1 * l2 / (4.0 * twice_area * twice_area);  // R^2 = l0 l1 l2 / (16 area^2)
+    return 0.5 * value;
+}
+
+int subface_columns(std::size_t n) {
+    return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
+}
+
+void query(const FaceData& fd, std::size_t node, double s0, double t0, double w, const P2& lo, const P2& hi,
+           Overlap& out) {
+    if (hi.s <= s0 || lo.s >= s0 + w || hi.t <= t0 || lo.t >= t0 + w) return;  // positive-area overlap only
+    const LimitFaceSurface::Node& n = fd.surface->nodes()[node];
+    if (n.patch >= 0 && w < kBoundedWidth) {
+        out.uncover(s0, t0, w);
+        return;
+    }
+    if (n.patch >= 0) {
+        out.m.include(fd.patches[static_cast<std::size_t>(n.patch)].m, 1.0 / (w * w));
+        out.patches.push_back({std::uint32_t(n.patch), s0, t0, w});
+        return;
+    }
+    if (n.first_child < 0) {
+        out.uncover(s0, t0, w);
+        return;
+    }
+    const double h = 0.5 * w;
+    const auto c = static_cast<std::size_t>(n.first_child);
+    query(fd, c, s0, t0, h, lo, hi, out);
+    query(fd, c + 1, s0 + h, t0, h, lo, hi, out);
+    query(fd, c + 2, s0 + h, t0 + h, h, lo, hi, out);
+    query(fd, c + 3, s0, t0 + h, h, lo, hi, out);
+}
+
+std::size_t domain_root(const FaceData& fd, int subface) {
+    return subface < 0 ? 0 : static_cast<std::size_t>(fd.surface->nodes()[0].first_child + subface);
+}
+
+std::pair<double, double> face_uv(std::size_t n, int subface, double s, double t) {
+    if (subface < 0) return {s, t};
+    const int columns = subface_columns(n);
+    return {subface % columns + 0.5 * s, subface / columns + 0.5 * t};
+}
+
+Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
+    Overlap o;
+    const P2 lo{std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})};
+    const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
+    query(fd, domain_root(fd, subface), 0.0, 0.0, 1.0, lo, hi, o);
+    return o;
+}
+
+Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
+    double uu[8], vv[8], uv[9];
+    // uu[2r + c]: c along s (linear), r along t (cubic); vv[2r + c]: r along s (cubic), c along t (linear);
+    // uv[3r + c]: c along s, r along t (quadratic both)
+    for (std::size_t i = 0; i < 8; ++i) uu[i] = dot(n, p.uu[i]);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 2; ++c) vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
+    for (std::size_t i = 0; i < 9; ++i) uv[i] = dot(n, p.uv[i]);
+    // the whole span is the common case (a patch inside the box): its bases once
+    static const std::array<Basis, 4> kWhole = {Basis{}, bernstein_of_basis(1, 0.0, 1.0),
+                                                bernstein_of_basis(2, 0.0, 1.0), bernstein_of_basis(3, 0.0, 1.0)};
+    const auto basis = [](int d, double lo, double hi) {
+        return lo == 0.0 && hi == 1.0 ? kWhole[std::size_t(d)] : bernstein_of_basis(d, lo, hi);
+    };
+    const Basis s1b = basis(1, s0, s1), s2b = basis(2, s0, s1), s3b = basis(3, s0, s1);
+    const Basis t1b = basis(1, t0, t1), t2b = basis(2, t0, t1), t3b = basis(3, t0, t1);
+    return {box_max(uu, 1, 3, s1b, t3b), box_max(uv, 2, 2, s2b, t2b), box_max(vv, 3, 1, s3b, t1b)};
+}
+
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo, const P2& hi) {
+    if (!m) return o.m;
+    Bounds out;
+    for (const auto& piece : o.patches) {
+        const double inv = 1.0 / piece.w;
+        const double s0 = std::clamp((lo.s - piece.s0) * inv, 0.0, 1.0),
+                     s1 = std::clamp((hi.s - piece.s0) * inv, 0.0, 1.0);
+        const double t0 = std::clamp((lo.t - piece.t0) * inv, 0.0, 1.0),
+                     t1 = std::clamp((hi.t - piece.t0) * inv, 0.0, 1.0);
+        out.include(along_in_box(fd.patches[piece.patch], *m, s0, s1, t0, t1), inv * inv);
+    }
+    return out;
+}
+
+Bounds full_bounds(const FaceData& fd, const Overlap& o, const P2& lo, const P2& hi) {
+    Bounds axis[3];
+    for (int k = 0; k < 3; ++k) {
+        Vec3 e{};
+        (k == 0 ? e.x : k == 1 ? e.y : e.z) = 1.0;
+        axis[k] = plane_bounds(fd, o, e, lo, hi);
+    }
+    const auto len = [](double a, double b, double c) { return std::sqrt(a * a + b * b + c * c); };
+    return {len(axis[0].uu, axis[1].uu, axis[2].uu), len(axis[0].uv, axis[1].uv, axis[2].uv),
+            len(axis[0].vv, axis[1].vv, axis[2].vv)};
+}
+
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
+                    const P2& c) {
+    return plane_bounds(fd, o, m, {std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})},
+                        {std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})});
+}
+
+std::optional<Vec3> unit_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 n = cross(b - a, c - a);
+    const double length = norm(n);
+    if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
+    return n * (1.0 / length);
+}
+
+Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p) {
+    const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
+    auto sample = fd.surface->evaluate(u, v);
+    if (!sample) return sample.error();
+    return sample->position;
+}
+
+Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
+    const auto at = [&](const P2& p) -> Result<Vec3> {
+        const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
+        auto sample = fd.surface->evaluate(u, v);
+        if (!sample) return sample.error();
+        return sample->position;
+    };
+    auto sa = at(a), sb = at(b), sc = at(c);
+    if (!sa) return sa.error();
+    if (!sb) return sb.error();
+    if (!sc) return sc.error();
+    // distance to the triangle's plane: a point whose projection falls just outside the triangle is near its
+    // neighbour's, which the distance to this triangle alone (its edge) would overstate by the tangential offset
+    const Vec3 n = cross(*sb - *sa, *sc - *sa);
+    const double area2 = norm(n);
+    constexpr int kSteps = 6;
+    double worst = 0;
+    for (int i = 0; i <= kSteps; ++i)
+        for (int j = 0; i + j <= kSteps; ++j) {
+            const int k = kSteps - i - j;
+            if (i == kSteps || j == kSteps || k == kSteps) continue;
+            const double li = double(i) / kSteps, lj = double(j) / kSteps, lk = double(k) / kSteps;
+            const P2 x{li * a.s + lj * b.s + lk * c.s, li * a.t + lj * b.t + lk * c.t};
+            auto s = at(x);
+            if (!s) return s.error();
+            const double d = area2 > 0 ? std::abs(dot(*s - *sa, n)) / area2
+                                       : norm(*s - triangle_closest_point(*s, *sa, *sb, *sc).point);
+            worst = std::max(worst, d);
+        }
+    return worst;
+}
+
+}  // namespace surfaced::tessellation_detail

@@ -1,0 +1,140 @@
+// Bounds on the Catmull-Clark limit surface over parts of a tessellation domain, for tessellate_limit
+// (adaptive_tessellation.h): each patch's second-difference B-spline coefficients, their Bernstein bounds over a box
+// projected on a triangle's normal, the interpolation-error bound of a triangle from them, and the measured distance
+// of a triangle that no patch bounds. Internal to geometry/subdivision.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "geometry/core/result.h"
+#include "geometry/core/types.h"
+#include "geometry/subdivision/adaptive_tessellation.h"
+#include "geometry/subdivision/limit_evaluation.h"
+
+namespace surfaced::tessellation_detail {
+
+struct P2 {
+    double s = 0, t = 0;
+};
+
+//! Bounds on |S_ss|, |S_st|, |S_tt| over a region.
+struct Bounds {
+    double uu = 0, uv = 0, vv = 0;
+    void include(const Bounds& b, double scale) {
+        uu = std::max(uu, b.uu * scale);
+        uv = std::max(uv, b.uv * scale);
+        vv = std::max(vv, b.vv * scale);
+    }
+};
+
+//! A uniform bicubic B-spline patch's differences over its [0, 1]^2. S_s is a B-spline (quadratic in s, cubic in t)
+//! of the first differences along s, S_ss a linear-by-cubic one of the second differences, S_st a biquadratic one of
+//! the mixed differences; B-spline bases are >= 0 and sum to 1, so each derivative lies in the convex hull of its
+//! coefficients: its norm, and its component along any direction, are bounded by theirs.
+struct PatchData {
+    std::array<Vec3, 12> du, dv;
+    std::array<Vec3, 8> uu, vv;
+    std::array<Vec3, 9> uv;
+    Vec3 a0, b0;   //!< mean first differences along s and t (the centres used for the tangent cones)
+    Bounds m;      //!< |S_ss|, |S_st|, |S_tt| over the patch
+    Bounds plane;  //!< the same, for the component normal to any plane whose normal is in the patch's normal cone
+    Vec3 n0;       //!< the unit normal a0 x b0 (zero when it has none)
+};
+
+PatchData patch_data(const std::array<Vec3, 16>& p);
+
+//! Segments (nu, nv) with (1/8)(A/nu^2 + 2B/(nu nv) + C/nv^2) <= tolerance: each half <= tolerance / 2 when
+//! nu >= sqrt((A + B) / (4 tol)) and nv >= sqrt((B + C) / (4 tol)) (2B/(nu nv) <= B/nu^2 + B/nv^2).
+std::pair<double, double> rates_for(const Bounds& m, double tolerance);
+
+//! (1/2) max over the triangle of sum l_i Q(p_i - x): Q is bounded by the diagonal form a ds^2 + c dt^2 with
+//! a = Muu + k Muv, c = Mvv + Muv / k (2|ds dt| <= k ds^2 + dt^2 / k), k the box's aspect; in coordinates scaled
+//! by (sqrt a, sqrt c) the maximum is the squared circumradius when the circumcentre is inside, else a quarter of
+//! the longest edge squared.
+double triangle_bound(const Bounds& m, const P2& p0, const P2& p1, const P2& p2);
+
+//! The quad sub-face tile width of an N-gon in Bfr's parameterization (limit_evaluation.h).
+int subface_columns(std::size_t n);
+
+//! One base face's prepared surface and the bounds of its patches.
+struct FaceData {
+    std::optional<LimitFaceSurface> surface;
+    std::vector<PatchData> patches;
+    std::size_t size = 0;
+};
+
+//! Patches narrower than this (deeper than kBoundedDepth in the domain) are sampled, not bounded: their bounds grow
+//! without limit towards an extraordinary vertex of valence > 4 (curvature diverges there), which would drive the
+//! rates of the whole domain.
+constexpr double kBoundedWidth = 1.0 / (1 << kBoundedDepth);
+
+//! What a region of a domain overlaps: the largest patch bounds (scaled to the domain) and whether it reaches a
+//! leaf without a patch.
+struct Overlap {
+    Bounds m;
+    bool uncovered = false;
+    P2 uncovered_lo{1, 1}, uncovered_hi{0, 0};  //!< the box of the uncovered parts (when uncovered)
+    void uncover(double s0, double t0, double w) {
+        uncovered = true;
+        uncovered_lo = {std::min(uncovered_lo.s, s0), std::min(uncovered_lo.t, t0)};
+        uncovered_hi = {std::max(uncovered_hi.s, s0 + w), std::max(uncovered_hi.t, t0 + w)};
+    }
+    struct Piece {
+        std::uint32_t patch;
+        double s0, t0, w;  //!< the patch's square in the domain
+    };
+    std::vector<Piece> patches;
+};
+
+//! Adds to `out` what the box [lo, hi] overlaps (with positive area) below tree node `node`, whose square in the
+//! domain is [s0, s0 + w] x [t0, t0 + w].
+void query(const FaceData& fd, std::size_t node, double s0, double t0, double w, const P2& lo, const P2& hi,
+           Overlap& out);
+
+//! Root node of a domain in its face's tree.
+std::size_t domain_root(const FaceData& fd, int subface);
+
+//! Face (u, v) of domain (s, t).
+std::pair<double, double> face_uv(std::size_t n, int subface, double s, double t);
+
+Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c);
+
+//! Bounds on |n . S_ss|, |n . S_st|, |n . S_tt| over the box [s0, s1] x [t0, t1] of a patch's [0, 1]^2 (patch
+//! units): the Bernstein coefficients of the three derivatives (linear x cubic, biquadratic, cubic x linear
+//! B-splines of the patch's differences) over the box. Never above `along`'s bounds over the whole patch.
+Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1);
+
+//! Second-derivative bounds of the component of S along the unit normal `m` of a triangle's plane, over the parts
+//! of the patches `o` holds inside the box [lo, hi] (the rest is `o.uncovered`), for triangle_bound: the distance
+//! from S(x) to the plane of the triangle of S at its corners is |m . (S(x) - T(x))|, the interpolation error of
+//! the scalar m . S, whose second derivatives are bounded by the Bernstein coefficients, over the box, of the
+//! patches' differences projected on m. Only the surface's bending away from the plane counts, not the
+//! parameterization's tangential non-uniformity. Without a normal (a degenerate triangle): the bounds on |S_xx|.
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo, const P2& hi);
+
+//! Bounds on |S_ss|, |S_st|, |S_tt| (the full vectors) over the box [lo, hi]: the norm of the per-axis bounds. For a
+//! triangle with an edge on an open boundary, where a point of S whose projection falls outside the triangle has no
+//! neighbour to be near: the distance to the triangle is at most |S(x) - T(x)|, bounded by these.
+Bounds full_bounds(const FaceData& fd, const Overlap& o, const P2& lo, const P2& hi);
+
+//! plane_bounds over a triangle's bounding box.
+Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
+                    const P2& c);
+
+//! Unit normal of the triangle (a, b, c), if it has one.
+std::optional<Vec3> unit_normal(const Vec3& a, const Vec3& b, const Vec3& c);
+
+//! S at domain point p.
+Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p);
+
+//! Measured max distance from S(x) to the plane of the triangle of S at the corners, over the non-corner points x of
+//! a barycentric grid of step 1/6 of the triangle in (s, t). (Not |S(x) - T(x)|: at an extraordinary vertex the parameterization
+//! is singular, and the parametric difference falls only as fast as the triangle shrinks.)
+Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c);
+
+}  // namespace surfaced::tessellation_detail
