@@ -24,52 +24,10 @@
 #include <vector>
 
 #include "bench/trim_peers.h"
+#include "tests/support/occt_nurbs.h"
 
 namespace surfaced::bench {
 namespace {
-
-//! Distinct knot values and their multiplicities.
-void knots_and_multiplicities(const std::vector<double>& knots, TColStd_Array1OfReal*& values,
-                              TColStd_Array1OfInteger*& mults) {
-    std::vector<double> v;
-    std::vector<int> m;
-    for (double k : knots) {
-        if (!v.empty() && v.back() == k) {
-            ++m.back();
-        } else {
-            v.push_back(k);
-            m.push_back(1);
-        }
-    }
-    values = new TColStd_Array1OfReal(1, static_cast<int>(v.size()));
-    mults = new TColStd_Array1OfInteger(1, static_cast<int>(v.size()));
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        values->SetValue(static_cast<int>(i) + 1, v[i]);
-        mults->SetValue(static_cast<int>(i) + 1, m[i]);
-    }
-}
-
-Handle(Geom_BSplineSurface) make_surface(const BSplineSurface& s) {
-    TColgp_Array2OfPnt poles(1, s.count_u, 1, s.count_v);
-    TColStd_Array2OfReal weights(1, s.count_u, 1, s.count_v);
-    for (int j = 0; j < s.count_v; ++j)
-        for (int i = 0; i < s.count_u; ++i) {
-            const Vec3& p = s.at(i, j);
-            poles.SetValue(i + 1, j + 1, gp_Pnt(p.x, p.y, p.z));
-            weights.SetValue(i + 1, j + 1, s.weight(i, j));
-        }
-    TColStd_Array1OfReal *uk = nullptr, *vk = nullptr;
-    TColStd_Array1OfInteger *um = nullptr, *vm = nullptr;
-    knots_and_multiplicities(s.knots_u, uk, um);
-    knots_and_multiplicities(s.knots_v, vk, vm);
-    Handle(Geom_BSplineSurface) out =
-        new Geom_BSplineSurface(poles, weights, *uk, *vk, *um, *vm, s.degree_u, s.degree_v);
-    delete uk;
-    delete vk;
-    delete um;
-    delete vm;
-    return out;
-}
 
 Handle(Geom2d_BSplineCurve) make_curve(const TrimCurve& c) {
     const int n = static_cast<int>(c.points.size());
@@ -80,20 +38,17 @@ Handle(Geom2d_BSplineCurve) make_curve(const TrimCurve& c) {
                        gp_Pnt2d(c.points[static_cast<std::size_t>(i)].x, c.points[static_cast<std::size_t>(i)].y));
         weights.SetValue(i + 1, c.weights.empty() ? 1.0 : c.weights[static_cast<std::size_t>(i)]);
     }
-    TColStd_Array1OfReal* k = nullptr;
-    TColStd_Array1OfInteger* m = nullptr;
-    knots_and_multiplicities(c.knots, k, m);
-    Handle(Geom2d_BSplineCurve) out = new Geom2d_BSplineCurve(poles, weights, *k, *m, c.degree);
-    delete k;
-    delete m;
-    return out;
+    TColStd_Array1OfReal k(1, 1);
+    TColStd_Array1OfInteger m(1, 1);
+    testing::occt_knots(c.knots, k, m);
+    return new Geom2d_BSplineCurve(poles, weights, k, m, c.degree);
 }
 
 }  // namespace
 
 PeerMesh occt_mesh(const TrimmedSurface& trimmed, double deflection, int runs) {
     PeerMesh out;
-    Handle(Geom_BSplineSurface) surface = make_surface(trimmed.surface);
+    Handle(Geom_BSplineSurface) surface = testing::to_occt_surface(trimmed.surface);
     BRepBuilderAPI_MakeFace natural(surface, Precision::Confusion());
     if (!natural.IsDone()) {
         out.error = "natural face";
@@ -148,7 +103,7 @@ PeerMesh occt_mesh(const TrimmedSurface& trimmed, double deflection, int runs) {
 }
 
 double occt_evaluate(const BSplineSurface& surface, const std::vector<double>& uv, int order, double& checksum) {
-    Handle(Geom_BSplineSurface) s = make_surface(surface);
+    Handle(Geom_BSplineSurface) s = testing::to_occt_surface(surface);
     double sum = 0;
     const auto t0 = std::chrono::steady_clock::now();
     gp_Pnt p;

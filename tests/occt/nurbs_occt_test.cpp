@@ -22,50 +22,13 @@
 #include "geometry/surfaces/bezier_patch.h"
 #include "geometry/surfaces/bspline_surface.h"
 #include "tests/support/nurbs_surfaces.h"
+#include "tests/support/occt_nurbs.h"
 
 namespace surfaced {
 namespace {
 
 using testing::random_surface;
-
-//! Distinct knot values and their multiplicities, OCCT's form of a knot vector.
-void distinct_knots(const std::vector<double>& knots, TColStd_Array1OfReal& values, TColStd_Array1OfInteger& mults) {
-    std::vector<double> v;
-    std::vector<int> m;
-    for (double k : knots) {
-        if (!v.empty() && v.back() == k) {
-            ++m.back();
-        } else {
-            v.push_back(k);
-            m.push_back(1);
-        }
-    }
-    values.Resize(1, static_cast<int>(v.size()), false);
-    mults.Resize(1, static_cast<int>(v.size()), false);
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        values.SetValue(static_cast<int>(i) + 1, v[i]);
-        mults.SetValue(static_cast<int>(i) + 1, m[i]);
-    }
-}
-
-//! The same surface as an OCCT Geom_BSplineSurface (non-periodic; OCCT reads an unclamped knot vector as ours does,
-//! the domain being [U[p], U[nu]]).
-Handle(Geom_BSplineSurface) to_occt(const BSplineSurface& s) {
-    TColgp_Array2OfPnt poles(1, s.count_u, 1, s.count_v);
-    TColStd_Array2OfReal weights(1, s.count_u, 1, s.count_v);
-    for (int j = 0; j < s.count_v; ++j)
-        for (int i = 0; i < s.count_u; ++i) {
-            const Vec3& p = s.at(i, j);
-            poles.SetValue(i + 1, j + 1, gp_Pnt(p.x, p.y, p.z));
-            weights.SetValue(i + 1, j + 1, s.weight(i, j));
-        }
-    TColStd_Array1OfReal ku(1, 1), kv(1, 1);
-    TColStd_Array1OfInteger mu(1, 1), mv(1, 1);
-    distinct_knots(s.knots_u, ku, mu);
-    distinct_knots(s.knots_v, kv, mv);
-    if (s.rational()) return new Geom_BSplineSurface(poles, weights, ku, kv, mu, mv, s.degree_u, s.degree_v);
-    return new Geom_BSplineSurface(poles, ku, kv, mu, mv, s.degree_u, s.degree_v);
-}
+using testing::to_occt_surface;
 
 Vec3 vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 Vec3 vec(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
@@ -161,7 +124,7 @@ TEST(NurbsAgainstOcct, EvaluationAndDerivativesOnRandomSurfaces) {
     for (unsigned seed = 1; seed <= kSurfaces; ++seed) {
         const BSplineSurface s = random_surface(seed);
         ASSERT_TRUE(validate(s).ok());
-        const Handle(Geom_BSplineSurface) reference = to_occt(s);
+        const Handle(Geom_BSplineSurface) reference = to_occt_surface(s);
         std::mt19937 rng(seed);
         const std::vector<double> us = parameters(s, SurfaceDirection::U, rng);
         const std::vector<double> vs = parameters(s, SurfaceDirection::V, rng);
@@ -196,7 +159,7 @@ TEST(NurbsAgainstOcct, KnotInsertionAndDegreeElevationKeepOcctsSurface) {
     Worst inserted, elevated;
     for (unsigned seed = 1; seed <= kSurfaces / 2; ++seed) {
         const BSplineSurface s = random_surface(seed);
-        const Handle(Geom_BSplineSurface) reference = to_occt(s);
+        const Handle(Geom_BSplineSurface) reference = to_occt_surface(s);
         std::mt19937 rng(seed * 7 + 1);
         // a fresh knot along u inserted up to the degree, one along v once
         const auto [u_lo, u_hi] = domain_u(s);
@@ -232,7 +195,7 @@ TEST(NurbsAgainstOcct, BezierPatchesAreOcctsSurfacePieceByPiece) {
     Worst worst;
     for (unsigned seed = 1; seed <= kSurfaces / 2; ++seed) {
         const BSplineSurface s = random_surface(seed);
-        const Handle(Geom_BSplineSurface) reference = to_occt(s);
+        const Handle(Geom_BSplineSurface) reference = to_occt_surface(s);
         auto bezier = to_bezier(s);
         ASSERT_TRUE(bezier.ok()) << bezier.error().message;
         const std::size_t nu = bezier->breaks_u.size() - 1;
