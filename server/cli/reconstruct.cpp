@@ -6,6 +6,7 @@
 
 #include "geometry/io/pointcloud_io.h"
 #include "server/cli/commands.h"
+#include "server/cli/point_input.h"
 #include "server/cli/requests.h"
 #include "server/cli/table_options.h"
 
@@ -32,20 +33,11 @@ int reconstruct(Args& args) {
     const api::options::OperationOptions& operation = *api::options::operation_options("reconstruct");
     std::vector<Option> options = table_options(operation, api::options::kQuery);
     options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
-    options.push_back(
-        Option{.name = "--input-format",
-               .check = one_of_names({"ply", "obj", "xyz", "glb", "gltf"}),
-               .synopsis = "--input-format NAME",
-               .description = "IN's format instead of its extension: ply obj xyz glb gltf (IN -: from the bytes)"});
+    options.push_back(point_input_format_option());
     const auto parsed = parse_file_command(args, "reconstruct",
                                            std::string(kReconstructHelp) + options_help(operation, options), options);
     if (!parsed) return kExitOk;
-    std::optional<PointFormat> in_format;
-    if (parsed->has("--input-format"))
-        in_format = point_format_from_extension("." + parsed->value("--input-format"));
-    else if (!parsed->from_stdin() && !(in_format = point_format_from_extension(parsed->input)))
-        throw UsageError{"cannot tell the point format of " + parsed->input +
-                         " from its extension (use .ply .obj .xyz .glb .gltf, or --input-format)"};
+    std::optional<PointFormat> in_format = point_input_format(*parsed);
     const api::OutputFormat out_format = output_format(*parsed, operation);
 
     const auto bytes = read_input(parsed->input);
