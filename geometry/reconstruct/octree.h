@@ -59,28 +59,34 @@ std::uint64_t cell_key(const Vec3& p, int depth);
 
 //! Values at a level's support vertices interpolated to the next finer level's support vertices (a fine vertex is a
 //! coarse vertex, or the midpoint of 2, 4 or 8 of them); exact for the coarse level's trilinear functions. T: double
-//! or Vec3.
+//! or Vec3. Scattered from the coarse vertices, one sorted pass per offset (fine key = 2 coarse key + offset grows
+//! with the coarse key), no hashing; each fine value sums its coarse ones in (k, j, i) order.
 template <class T>
 std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
                                     const OctreeLevel& fine) {
     std::vector<T> out(fine.support_vertices.size(), T{});
+    const std::int64_t limit = std::int64_t{1} << fine.depth;
+    const std::vector<std::uint64_t>& coarse_keys = coarse.support_vertices.keys;
+    // offsets +1, 0, -1 on each axis, k outermost: a fine vertex sums its lower coarse neighbour before the upper
+    for (int oc = 1; oc >= -1; --oc)
+        for (int ob = 1; ob >= -1; --ob)
+            for (int oa = 1; oa >= -1; --oa) {
+                const std::uint64_t delta = offset_delta(oa, ob, oc);
+                SortedCursor cursor(fine.support_vertices.keys);
+                for (std::size_t c = 0; c < coarse_keys.size(); ++c) {
+                    const std::uint64_t doubled = 2 * coarse_keys[c];
+                    const std::int64_t i = 2 * std::int64_t{key_i(coarse_keys[c])} + oa;
+                    const std::int64_t j = 2 * std::int64_t{key_j(coarse_keys[c])} + ob;
+                    const std::int64_t k = 2 * std::int64_t{key_k(coarse_keys[c])} + oc;
+                    if (i < 0 || j < 0 || k < 0 || i > limit || j > limit || k > limit) continue;
+                    const std::uint32_t u = cursor.seek(doubled + delta);
+                    if (u != SortedCursor::kNone) out[u] += coarse_values[c];
+                }
+            }
     for (std::size_t u = 0; u < out.size(); ++u) {
         const std::uint64_t key = fine.support_vertices.keys[u];
-        const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
-        std::uint32_t lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = idx[a] / 2;
-            hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
-        }
-        const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
-        T sum{};
-        for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
-            for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
-                for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
-                    const std::uint32_t v = coarse.support_vertices.find(pack_key(i, j, k));
-                    if (v != KeyMap::kNone) sum += coarse_values[v];
-                }
-        out[u] = sum * weight;
+        const int odd = static_cast<int>(key_i(key) % 2 + key_j(key) % 2 + key_k(key) % 2);
+        if (odd > 0) out[u] = out[u] * (odd == 1 ? 0.5 : odd == 2 ? 0.25 : 0.125);
     }
     return out;
 }

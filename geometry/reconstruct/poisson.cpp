@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "geometry/reconstruct/extract_surface.h"
 #include "geometry/reconstruct/octree.h"
@@ -69,6 +71,41 @@ double estimate_area(const OrientedSamples& samples, int max_depth, double sampl
     return area;
 }
 
+//! Interleaves the bits of a cell's coordinates (Morton order): cells close in space are close in this order on
+//! every level, since a coarser cell's code is the finer one's shifted.
+std::uint64_t morton_code(std::uint64_t key) {
+    auto spread = [](std::uint64_t x) {
+        x &= 0x1fffff;
+        x = (x | x << 32) & 0x1f00000000ffffull;
+        x = (x | x << 16) & 0x1f0000ff0000ffull;
+        x = (x | x << 8) & 0x100f00f00f00f00full;
+        x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+        x = (x | x << 2) & 0x1249249249249249ull;
+        return x;
+    };
+    return spread(reconstruct::key_i(key)) | spread(reconstruct::key_j(key)) << 1 |
+           spread(reconstruct::key_k(key)) << 2;
+}
+
+//! Puts the samples in Morton order of their finest cells, so that every per-sample pass of every level (splats,
+//! screening, lookups of the samples' cells) walks the level's arrays nearly in order instead of at random. Ties
+//! keep the input order, so the result depends on the cloud only.
+void sort_spatially(OrientedSamples& samples, int depth) {
+    const std::size_t n = samples.positions.size();
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> order(n);
+    for (std::size_t i = 0; i < n; ++i)
+        order[i] = {morton_code(reconstruct::cell_key(samples.positions[i], depth)), static_cast<std::uint32_t>(i)};
+    std::sort(order.begin(), order.end());
+    auto permute = [&](auto& values) {
+        std::remove_reference_t<decltype(values)> sorted(n);
+        for (std::size_t i = 0; i < n; ++i) sorted[i] = values[order[i].second];
+        values = std::move(sorted);
+    };
+    permute(samples.positions);
+    permute(samples.normals);
+    permute(samples.weights);
+}
+
 }  // namespace
 
 Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const PoissonOptions& options,
@@ -108,6 +145,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     const Vec3 origin = center - Vec3{side, side, side} * 0.5;
     samples.positions.reserve(positions.size());
     for (const Vec3& p : positions) samples.positions.push_back((p - origin) * (1.0 / side));
+    sort_spatially(samples, options.depth);
     samples.area = estimate_area(samples, options.depth, options.samples_per_node);
     reconstruct::assign_splat_depths(samples, kMinDepth, options.depth, options.samples_per_node);
     reconstruct::assign_area_shares(samples, std::max(kMinDepth, options.depth - kDensityLevels));

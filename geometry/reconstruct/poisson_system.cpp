@@ -203,6 +203,9 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
     std::vector<std::vector<Vec3>> splat(levels);
     for (std::size_t l = 0; l < levels; ++l) splat[l].assign(tree.levels[l].dofs.size(), Vec3{});
     std::vector<char> used(levels, 0);
+    std::size_t last_level = levels;
+    std::uint64_t last_cell = 0;
+    std::uint32_t cell_dofs[8] = {};
     for (std::size_t i = 0; i < samples.positions.size(); ++i) {
         const int depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
         const auto l = static_cast<std::size_t>(depth - tree.min_depth);
@@ -212,11 +215,15 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         corner_weights(samples.positions[i], depth, cell, w);
         const double a = samples.area_shares.empty() ? samples.area * samples.weights[i] / samples.weight_sum
                                                      : samples.area_shares[i];
-        for (int c = 0; c < 8; ++c) {
-            const std::uint32_t dof = level.dofs.find(corner_key(cell, c));
-            assert(dof != KeyMap::kNone);
-            splat[l][dof] += samples.normals[i] * (a * w[c]);
+        if (l != last_level || cell != last_cell) {  // samples in space order: runs share their cell
+            for (int c = 0; c < 8; ++c) {
+                cell_dofs[c] = level.dofs.find(corner_key(cell, c));
+                assert(cell_dofs[c] != KeyMap::kNone);
+            }
+            last_level = l;
+            last_cell = cell;
         }
+        for (int c = 0; c < 8; ++c) splat[l][cell_dofs[c]] += samples.normals[i] * (a * w[c]);
         used[l] = 1;
     }
 
@@ -286,7 +293,10 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
 
     fixed_.assign(dofs, 0);
     if (dirichlet)
-        for (std::size_t v = 0; v < dofs; ++v) fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
+        for (std::size_t v = 0; v < dofs; ++v) {
+            fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
+            any_fixed_ = any_fixed_ || fixed_[v];
+        }
 
     // one sorted pass per offset: the dofs' keys plus the offset are increasing
     neighbours_.assign(dofs * 27, KeyMap::kNone);
@@ -310,6 +320,8 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     sample_cells_.resize(count);
     sample_weights_.resize(count * 8);
     screening_.assign(count, 0.0);
+    std::uint64_t last_cell = ~std::uint64_t{0};
+    std::uint32_t cell_dofs[8] = {};
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint64_t cell = cell_key(samples.positions[i], depth);
         sample_cells_[i] = cell;
@@ -319,9 +331,15 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
             screening_[i] = beta_ * samples.weights[i];
         double* w = &sample_weights_[i * 8];
         corner_weights(samples.positions[i], depth, cell, w);
+        if (cell != last_cell) {  // samples come in space order (poisson.cpp): runs share their cell
+            for (int c = 0; c < 8; ++c) {
+                cell_dofs[c] = level_.dofs.find(corner_key(cell, c));
+                assert(cell_dofs[c] != KeyMap::kNone);
+            }
+            last_cell = cell;
+        }
         for (int c = 0; c < 8; ++c) {
-            const std::uint32_t dof = level_.dofs.find(corner_key(cell, c));
-            assert(dof != KeyMap::kNone);
+            const std::uint32_t dof = cell_dofs[c];
             sample_dofs_[i * 8 + static_cast<std::size_t>(c)] = dof;
             diagonal_[dof] += screening_[i] * w[c] * w[c];
         }
@@ -335,13 +353,25 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
     const std::size_t middle = dofs / 2;
     run_two_parts(threaded, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
+        if (any_fixed_) {
+            for (std::size_t v = begin; v < end; ++v) {
+                if (fixed_[v]) continue;
+                const std::uint32_t* nb = &neighbours_[v * 27];
+                double sum = 0;
+                for (int o = 0; o < 27; ++o) {
+                    const std::uint32_t w = nb[o];
+                    if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+                }
+                y[v] = sum * h_;
+            }
+            return;
+        }
         for (std::size_t v = begin; v < end; ++v) {
-            if (fixed_[v]) continue;
             const std::uint32_t* nb = &neighbours_[v * 27];
             double sum = 0;
             for (int o = 0; o < 27; ++o) {
                 const std::uint32_t w = nb[o];
-                if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
+                if (w != KeyMap::kNone) sum += kStiffness.w[o] * x[w];
             }
             y[v] = sum * h_;
         }
@@ -351,11 +381,17 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
         const double* w = &sample_weights_[i * 8];
         const std::uint32_t* d = &sample_dofs_[i * 8];
         double value = 0;
-        for (int c = 0; c < 8; ++c)
-            if (!fixed_[d[c]]) value += w[c] * x[d[c]];
+        if (any_fixed_) {
+            for (int c = 0; c < 8; ++c)
+                if (!fixed_[d[c]]) value += w[c] * x[d[c]];
+            value *= screening_[i];
+            for (int c = 0; c < 8; ++c)
+                if (!fixed_[d[c]]) y[d[c]] += w[c] * value;
+            continue;
+        }
+        for (int c = 0; c < 8; ++c) value += w[c] * x[d[c]];
         value *= screening_[i];
-        for (int c = 0; c < 8; ++c)
-            if (!fixed_[d[c]]) y[d[c]] += w[c] * value;
+        for (int c = 0; c < 8; ++c) y[d[c]] += w[c] * value;
     }
 }
 

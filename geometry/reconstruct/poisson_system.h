@@ -93,6 +93,7 @@ private:
     double h_ = 1;
     double beta_ = 0;
     bool threaded_ = false;
+    bool any_fixed_ = false;  //!< whether any dof is fixed (Dirichlet conditions); the products skip the checks if not
     std::vector<std::uint32_t> neighbours_;    //!< 27 per dof, KeyMap::kNone where the neighbour is not a dof
     std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
