@@ -6,10 +6,10 @@
 namespace surfaced::reconstruct {
 namespace {
 
-KeySet make_set(std::vector<std::uint64_t> keys) {  // keys sorted and distinct
+KeySet make_set(std::vector<std::uint64_t> keys, bool indexed = true) {  // keys sorted and distinct
     KeySet set;
     set.keys = std::move(keys);
-    set.index.assign(set.keys);
+    if (indexed) set.index.assign(set.keys);
     return set;
 }
 
@@ -110,7 +110,7 @@ Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int 
         level.support_cells = make_set(dilate(cells, n));
         level.support_vertices = make_set(corners(level.support_cells.keys));
         level.dofs = make_set(corners(cells));
-        level.cells = make_set(std::move(cells));
+        level.cells = make_set(std::move(cells), false);  // only ever walked in order
         tree.levels.push_back(std::move(level));
     }
     return tree;

@@ -9,8 +9,8 @@
 //    form an octree, refined to max_depth around the samples only, whose neighbourhoods are complete (the 2:1-like
 //    condition the basis functions need: every function centred on an active cell's corner has its whole support
 //    on the level's grid, and every sample's cell has all its neighbours).
-// Each level carries three sets, each as a sorted key list with a KeyMap from key to position:
-//  - cells: the active cells;
+// Each level carries four sets, each as a sorted key list with a KeyMap from key to position:
+//  - cells: the active cells (without a KeyMap: nothing looks them up);
 //  - dofs: the corners of the active cells, one trilinear "hat" basis function each (the unknowns of the level);
 //  - support cells: the active cells and their 1-ring, i.e. every cell on which a level function is non-zero, and
 //    support vertices: their corners, where the solver keeps the values of the reconstructed function. A support
