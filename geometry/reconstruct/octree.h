@@ -59,32 +59,35 @@ std::uint64_t cell_key(const Vec3& p, int depth);
 
 //! Values at a level's support vertices interpolated to the next finer level's support vertices (a fine vertex is a
 //! coarse vertex, or the midpoint of 2, 4 or 8 of them); exact for the coarse level's trilinear functions. T: double
-//! or Vec3. Scattered from the coarse vertices, one sorted pass per offset (fine key = 2 coarse key + offset grows
-//! with the coarse key), no hashing; each fine value sums its coarse ones in (k, j, i) order.
+//! or Vec3. Scattered from the coarse vertices, one sorted pass per row offset (b, c): coarse vertex (i, j, k) feeds
+//! the fine vertices (2i - 1 .. 2i + 1, 2j + b, 2k + c), consecutive keys that grow with the coarse key; no hashing.
+//! Each fine value sums its coarse ones in (k, j, i) order.
 template <class T>
 std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
                                     const OctreeLevel& fine) {
     std::vector<T> out(fine.support_vertices.size(), T{});
-    const std::int64_t limit = std::int64_t{1} << fine.depth;
+    const std::uint32_t limit = std::uint32_t{1} << fine.depth;
     const std::vector<std::uint64_t>& coarse_keys = coarse.support_vertices.keys;
-    // offsets +1, 0, -1 on each axis, k outermost: a fine vertex sums its lower coarse neighbour before the upper
+    const std::vector<std::uint64_t>& fine_keys = fine.support_vertices.keys;
+    // rows +1, 0, -1 on each axis, k outermost: a fine vertex sums its lower coarse neighbour before the upper
     for (int oc = 1; oc >= -1; --oc)
-        for (int ob = 1; ob >= -1; --ob)
-            for (int oa = 1; oa >= -1; --oa) {
-                const std::uint64_t delta = offset_delta(oa, ob, oc);
-                SortedCursor cursor(fine.support_vertices.keys);
-                for (std::size_t c = 0; c < coarse_keys.size(); ++c) {
-                    const std::uint64_t doubled = 2 * coarse_keys[c];
-                    const std::int64_t i = 2 * std::int64_t{key_i(coarse_keys[c])} + oa;
-                    const std::int64_t j = 2 * std::int64_t{key_j(coarse_keys[c])} + ob;
-                    const std::int64_t k = 2 * std::int64_t{key_k(coarse_keys[c])} + oc;
-                    if (i < 0 || j < 0 || k < 0 || i > limit || j > limit || k > limit) continue;
-                    const std::uint32_t u = cursor.seek(doubled + delta);
-                    if (u != SortedCursor::kNone) out[u] += coarse_values[c];
-                }
+        for (int ob = 1; ob >= -1; --ob) {
+            std::size_t position = 0;
+            for (std::size_t c = 0; c < coarse_keys.size(); ++c) {
+                const std::uint64_t key = coarse_keys[c];
+                const std::int64_t j = 2 * std::int64_t{key_j(key)} + ob, k = 2 * std::int64_t{key_k(key)} + oc;
+                if (j < 0 || k < 0 || j > limit || k > limit) continue;
+                const std::uint32_t i = 2 * key_i(key);
+                const std::uint64_t centre = pack_key(i, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(k));
+                const std::uint64_t first = i > 0 ? centre - 1 : centre;
+                while (position < fine_keys.size() && fine_keys[position] < first) ++position;
+                // (2i + 1, ...) with 2i = limit would be i = limit + 1, which no fine key has
+                for (std::size_t u = position; u < fine_keys.size() && fine_keys[u] <= centre + 1; ++u)
+                    out[u] += coarse_values[c];
             }
+        }
     for (std::size_t u = 0; u < out.size(); ++u) {
-        const std::uint64_t key = fine.support_vertices.keys[u];
+        const std::uint64_t key = fine_keys[u];
         const int odd = static_cast<int>(key_i(key) % 2 + key_j(key) % 2 + key_k(key) % 2);
         if (odd > 0) out[u] = out[u] * (odd == 1 ? 0.5 : odd == 2 ? 0.25 : 0.125);
     }
