@@ -47,16 +47,19 @@ Status check_options(const PoissonOptions& o) {
 //! Area of the sampled surface in unit-cube units, from the cells holding samples on the deepest level where they
 //! hold samples_per_node samples each on average. Samples fall into the surface's M cells about like a Poisson
 //! process: with lambda = N / M per cell, M (1 - e^-lambda) cells are occupied, which is solved for M.
+//! \pre the samples are in Morton order (sort_spatially), so that each cell's samples are consecutive on every level.
 double estimate_area(const OrientedSamples& samples, int max_depth, double samples_per_node) {
-    std::vector<std::uint64_t> keys;
-    keys.reserve(samples.positions.size());
     const auto n = static_cast<double>(samples.positions.size());
     double area = 0;
     for (int depth = kMinDepth; depth <= max_depth; ++depth) {
-        keys.clear();
-        for (const Vec3& p : samples.positions) keys.push_back(reconstruct::cell_key(p, depth));
-        std::sort(keys.begin(), keys.end());
-        const auto occupied = static_cast<double>(std::unique(keys.begin(), keys.end()) - keys.begin());
+        std::size_t runs = 0;  // = occupied cells
+        std::uint64_t previous = 0;
+        for (std::size_t i = 0; i < samples.positions.size(); ++i) {
+            const std::uint64_t cell = reconstruct::cell_key(samples.positions[i], depth);
+            runs += i == 0 || cell != previous ? 1 : 0;
+            previous = cell;
+        }
+        const auto occupied = static_cast<double>(runs);
         const double mean = n / occupied;  // = lambda / (1 - e^-lambda), increasing in lambda
         if (depth > kMinDepth && mean < samples_per_node) break;
         double lo = 0, hi = mean;

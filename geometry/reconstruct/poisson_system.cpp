@@ -144,22 +144,22 @@ void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth,
     samples.splat_depths.assign(n, min_depth);
     std::vector<char> done(n, 0);
     for (int depth = max_depth; depth > min_depth; --depth) {
-        KeyCollector collector;
-        std::vector<std::uint64_t> cells(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            cells[i] = cell_key(samples.positions[i], depth);
-            collector.insert(cells[i]);
+        // in Morton order the samples of one cell are consecutive on every level: a cell's count is its run's length
+        // (samples per cell are counted, whatever their confidence)
+        std::size_t begin = 0;
+        std::uint64_t cell = n > 0 ? cell_key(samples.positions[0], depth) : 0;
+        for (std::size_t end = 1; end <= n; ++end) {
+            const std::uint64_t next = end < n ? cell_key(samples.positions[end], depth) : 0;
+            if (end < n && next == cell) continue;
+            if (static_cast<double>(end - begin) >= samples_per_node)
+                for (std::size_t i = begin; i < end; ++i)
+                    if (!done[i]) {
+                        samples.splat_depths[i] = depth;
+                        done[i] = 1;
+                    }
+            begin = end;
+            cell = next;
         }
-        const std::vector<std::uint64_t> keys = collector.take();
-        KeyMap index;
-        index.assign(keys);
-        std::vector<double> weight(keys.size(), 0.0);  // samples per cell (a count, whatever their confidence)
-        for (std::size_t i = 0; i < n; ++i) weight[index.find(cells[i])] += 1.0;
-        for (std::size_t i = 0; i < n; ++i)
-            if (!done[i] && weight[index.find(cells[i])] >= samples_per_node) {
-                samples.splat_depths[i] = depth;
-                done[i] = 1;
-            }
     }
 }
 

@@ -42,6 +42,8 @@ struct OrientedSamples {
 //! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006): each sample goes to the
 //! finest level whose cell around it holds at least `samples_per_node` samples, so that where samples
 //! are sparse for the finest cells V is smoothed over coarser ones instead of being a set of isolated spikes.
+//! \pre the samples are in Morton order of their cells on level max_depth, so that each cell's samples are
+//! consecutive on every level.
 void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node);
 
 //! Shares of the area inversely proportional to the local sampling density (after Kazhdan & Hoppe 2013): the
