@@ -222,9 +222,9 @@ PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& optio
     const double surface_cells = kCellsPerArea * area * std::ldexp(1.0, 2 * depth);
     e.grid_cells = static_cast<std::uint64_t>(surface_cells);
     // per active cell: its key sets and their hash maps, the values, right-hand sides and solver vectors, the finest
-    // level's neighbour table (about 250 bytes, measured); per point: the samples, their splat levels and per-level
+    // level's stencil rows (about 205 bytes, measured); per point: the samples, their splat levels and per-level
     // corner indices and weights; per surface cell: the extraction's tables and the output mesh (about 2 triangles)
-    e.bytes = static_cast<std::uint64_t>(250 * active_total + 120 * static_cast<double>(points) + 100 * surface_cells);
+    e.bytes = static_cast<std::uint64_t>(205 * active_total + 120 * static_cast<double>(points) + 100 * surface_cells);
     return e;
 }
 
