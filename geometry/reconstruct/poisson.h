@@ -53,7 +53,7 @@ struct PoissonOptions {
     double scale = 1.1;
     //! Conjugate-gradient iterations per level, at most, and the relative residual that ends them.
     int max_iterations = 100;
-    double tolerance = 1e-3;
+    double tolerance = 1e-4;
     //! 1: everything on the calling thread; anything else (>= 0): a second thread for the assembly and the conjugate
     //! gradients of levels with 65,536 unknowns or more. The mesh is bit-identical either way.
     int threads = 1;
