@@ -9,10 +9,11 @@
 // time, peak heap against estimate_poisson's prediction, the time of each phase).
 //
 // Usage: bench_poisson [--quick] [--scale] [--points N]
-//                      [--scale-depth D] [--threads T] [--levels]
+//                      [--scale-depth D] [--threads T] [--levels] [--tolerance E] [--iterations N]
 //   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only (scale-depth: at depth D only);
 //   points: per cloud, 50000; threads: PoissonOptions::threads of the scale table (1); levels: each scale row's
-//   cells, unknowns and solver iterations per level, on stderr
+//   cells, unknowns and solver iterations per level, on stderr; tolerance, iterations: the scale table's
+//   PoissonOptions::tolerance and max_iterations (the defaults)
 #include <algorithm>
 #include <atomic>
 #include <cmath>
