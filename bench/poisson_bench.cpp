@@ -9,9 +9,11 @@
 // time, peak heap against estimate_poisson's prediction, the time of each phase).
 //
 // Usage: bench_poisson [--quick] [--scale] [--points N]
-//                      [--scale-depth D] [--threads T]
+//                      [--scale-depth D] [--threads T] [--levels] [--tolerance E] [--iterations N]
 //   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only (scale-depth: at depth D only);
-//   points: per cloud, 50000; threads: PoissonOptions::threads of the scale table (1)
+//   points: per cloud, 50000; threads: PoissonOptions::threads of the scale table (1); levels: each scale row's
+//   cells, unknowns and solver iterations per level, on stderr; tolerance, iterations: the scale table's
+//   PoissonOptions::tolerance and max_iterations (the defaults)
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -189,6 +191,9 @@ void run(const char* shape, const PolygonMesh& truth, std::size_t points, const 
 }
 
 int g_threads = 1;
+bool g_levels = false;
+double g_tolerance = PoissonOptions{}.tolerance;
+int g_iterations = PoissonOptions{}.max_iterations;
 
 //! 1M points at depths 9 and 10: time, memory and accuracy at scale.
 void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<int>& depths) {
@@ -202,6 +207,8 @@ void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<in
         PoissonOptions options;
         options.depth = depth;
         options.threads = g_threads;
+        options.tolerance = g_tolerance;
+        options.max_iterations = g_iterations;
         Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
         const Timing t = time_once([&] { result = reconstruct_poisson(*cloud, options); });
         if (!result) {
@@ -217,6 +224,10 @@ void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<in
                     s.seconds_extract, t.peak_mib, estimate_mib, result->mesh.face_count(), d.rms,
                     100.0 * d.rms / truth.bounds().diagonal());
         std::fflush(stdout);
+        if (g_levels)
+            for (std::size_t l = 0; l < s.dofs.size(); ++l)
+                std::fprintf(stderr, "  level %zu: %zu cells, %zu unknowns, %d iterations, residual %.1e\n", l + 2,
+                             s.cells[l], s.dofs[l], s.iterations[l], s.residuals[l]);
     }
 }
 
@@ -229,6 +240,9 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--scale") == 0) scale_only = true;
+        if (std::strcmp(argv[i], "--levels") == 0) g_levels = true;
+        if (std::strcmp(argv[i], "--tolerance") == 0 && i + 1 < argc) g_tolerance = std::atof(argv[++i]);
+        if (std::strcmp(argv[i], "--iterations") == 0 && i + 1 < argc) g_iterations = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) g_threads = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--scale-depth") == 0 && i + 1 < argc) {
             scale_only = true;

@@ -77,9 +77,11 @@ public:
         out.face_offsets.reserve(2 * cells.size() + 1);
         out.face_indices.reserve(6 * cells.size());
         std::size_t surface = 0;
+        // the corners of cells taken in key order have increasing keys, corner by corner: found by cursors
+        std::vector<SortedCursor> corners(8, SortedCursor(finest_.support_vertices.keys));
         for (std::size_t n = 0; n < cells.size(); ++n) {
             if (n % kPollEvery == 0 && cancel_.requested()) return cancelled();
-            surface += mesh_cell(cells[n], out) ? 1 : 0;
+            surface += mesh_cell(cells[n], corners, out) ? 1 : 0;
         }
         if (broken_) return make_error(ErrorCode::Internal, "poisson: a marching-cubes loop did not close");
         out.positions = std::move(positions_);
@@ -153,22 +155,26 @@ private:
             const std::vector<double>& values = chi_.values[li];
             const int shift = depth_ - level.depth;
             const std::int64_t level_n = std::int64_t{1} << level.depth;
+            // children (2 key + corner) and corners (key + corner) of cells in key order have increasing keys,
+            // corner by corner: found by cursors
+            std::vector<SortedCursor> children(8, SortedCursor(next.support_cells.keys));
+            std::vector<SortedCursor> corners(8, SortedCursor(level.support_vertices.keys));
             for (std::size_t n = 0; n < level.support_cells.size(); ++n) {
                 if (n % kPollEvery == 0 && cancel_.requested()) return cancelled();
                 const std::uint64_t key = level.support_cells.keys[n];
                 const std::uint32_t i = key_i(key), j = key_j(key), k = key_k(key);
                 int missing = 0;  // children that are not support cells of the next level
                 for (int c = 0; c < 8; ++c)
-                    if (next.support_cells.find(pack_key(2 * i + bit(c, 0), 2 * j + bit(c, 1), 2 * k + bit(c, 2))) ==
-                        KeyMap::kNone)
+                    if (children[static_cast<std::size_t>(c)].seek(
+                            pack_key(2 * i + bit(c, 0), 2 * j + bit(c, 1), 2 * k + bit(c, 2))) == SortedCursor::kNone)
                         missing |= 1 << c;
                 if (missing == 0) continue;
                 Leaf leaf;
                 double low = 0, high = 0, magnitude = std::fabs(iso_);
                 for (int c = 0; c < 8; ++c) {
-                    const std::uint32_t v =
-                        level.support_vertices.find(pack_key(i + bit(c, 0), j + bit(c, 1), k + bit(c, 2)));
-                    assert(v != KeyMap::kNone);
+                    const std::uint32_t v = corners[static_cast<std::size_t>(c)].seek(
+                        pack_key(i + bit(c, 0), j + bit(c, 1), k + bit(c, 2)));
+                    assert(v != SortedCursor::kNone);
                     leaf.v[c] = values[v] - iso_;
                     magnitude = std::max(magnitude, std::fabs(values[v]));
                     low = c == 0 ? leaf.v[c] : std::min(low, leaf.v[c]);
@@ -261,12 +267,12 @@ private:
         return sum - iso_;
     }
 
-    //! The one value of a node that every cell around it uses.
-    double node_value(std::int64_t i, std::int64_t j, std::int64_t k) {
+    //! The one value of a node that every cell around it uses; `cursor` seeks it among the finest support vertices.
+    double node_value(std::int64_t i, std::int64_t j, std::int64_t k, SortedCursor& cursor) {
         const std::uint64_t key =
             pack_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(k));
-        const std::uint32_t u = finest_.support_vertices.find(key);
-        if (u != KeyMap::kNone) return adjust(finest_values_[u] - iso_, i, j, k);
+        const std::uint32_t u = cursor.seek(key);
+        if (u != SortedCursor::kNone) return adjust(finest_values_[u] - iso_, i, j, k);
         bool inserted = false;
         const std::uint32_t m = memo_.insert(key, inserted);
         if (inserted) memo_values_.push_back(adjust(interpolate_node(i, j, k), i, j, k));
@@ -298,12 +304,13 @@ private:
 
     // ---- marching cubes ----------------------------------------------------------------------------------------
 
-    bool mesh_cell(std::uint64_t key, PolygonMesh& out) {
+    bool mesh_cell(std::uint64_t key, std::vector<SortedCursor>& corners, PolygonMesh& out) {
         const std::int64_t cell[3] = {key_i(key), key_j(key), key_k(key)};
         double v[8];
         int inside = 0;
         for (int c = 0; c < 8; ++c) {
-            v[c] = node_value(cell[0] + bit(c, 0), cell[1] + bit(c, 1), cell[2] + bit(c, 2));
+            v[c] = node_value(cell[0] + bit(c, 0), cell[1] + bit(c, 1), cell[2] + bit(c, 2),
+                              corners[static_cast<std::size_t>(c)]);
             if (v[c] < 0) inside |= 1 << c;
         }
         if (inside == 0 || inside == 255) return false;

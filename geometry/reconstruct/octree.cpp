@@ -6,10 +6,10 @@
 namespace surfaced::reconstruct {
 namespace {
 
-KeySet make_set(std::vector<std::uint64_t> keys) {  // keys sorted and distinct
+KeySet make_set(std::vector<std::uint64_t> keys, bool indexed = true) {  // keys sorted and distinct
     KeySet set;
     set.keys = std::move(keys);
-    set.index.assign(set.keys);
+    if (indexed) set.index.assign(set.keys);
     return set;
 }
 
@@ -103,14 +103,20 @@ Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int 
                         cells.push_back(pack_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j),
                                                  static_cast<std::uint32_t>(k)));
         } else {
-            KeyCollector occupied;
-            for (const Vec3& p : unit_positions) occupied.insert(cell_key(p, depth));
-            cells = dilate(occupied.take(), n);
+            // samples in space order (poisson.cpp) come in runs of one cell: keep each run's key, then sort
+            std::vector<std::uint64_t> occupied;
+            for (const Vec3& p : unit_positions) {
+                const std::uint64_t key = cell_key(p, depth);
+                if (occupied.empty() || occupied.back() != key) occupied.push_back(key);
+            }
+            std::sort(occupied.begin(), occupied.end());
+            occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
+            cells = dilate(occupied, n);
         }
         level.support_cells = make_set(dilate(cells, n));
         level.support_vertices = make_set(corners(level.support_cells.keys));
         level.dofs = make_set(corners(cells));
-        level.cells = make_set(std::move(cells));
+        level.cells = make_set(std::move(cells), false);  // only ever walked in order
         tree.levels.push_back(std::move(level));
     }
     return tree;

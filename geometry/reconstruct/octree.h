@@ -9,8 +9,8 @@
 //    form an octree, refined to max_depth around the samples only, whose neighbourhoods are complete (the 2:1-like
 //    condition the basis functions need: every function centred on an active cell's corner has its whole support
 //    on the level's grid, and every sample's cell has all its neighbours).
-// Each level carries three sets, each as a sorted key list with a KeyMap from key to position:
-//  - cells: the active cells;
+// Each level carries four sets, each as a sorted key list with a KeyMap from key to position:
+//  - cells: the active cells (without a KeyMap: nothing looks them up);
 //  - dofs: the corners of the active cells, one trilinear "hat" basis function each (the unknowns of the level);
 //  - support cells: the active cells and their 1-ring, i.e. every cell on which a level function is non-zero, and
 //    support vertices: their corners, where the solver keeps the values of the reconstructed function. A support
@@ -59,28 +59,37 @@ std::uint64_t cell_key(const Vec3& p, int depth);
 
 //! Values at a level's support vertices interpolated to the next finer level's support vertices (a fine vertex is a
 //! coarse vertex, or the midpoint of 2, 4 or 8 of them); exact for the coarse level's trilinear functions. T: double
-//! or Vec3.
+//! or Vec3. Scattered from the coarse vertices, one sorted pass per row offset (b, c): coarse vertex (i, j, k) feeds
+//! the fine vertices (2i - 1 .. 2i + 1, 2j + b, 2k + c), consecutive keys that grow with the coarse key; no hashing.
+//! Each fine value sums its coarse ones in (k, j, i) order.
 template <class T>
 std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
                                     const OctreeLevel& fine) {
     std::vector<T> out(fine.support_vertices.size(), T{});
-    for (std::size_t u = 0; u < out.size(); ++u) {
-        const std::uint64_t key = fine.support_vertices.keys[u];
-        const std::uint32_t idx[3] = {key_i(key), key_j(key), key_k(key)};
-        std::uint32_t lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = idx[a] / 2;
-            hi[a] = (idx[a] % 2) ? lo[a] + 1 : lo[a];
+    const std::uint32_t limit = std::uint32_t{1} << fine.depth;
+    const std::vector<std::uint64_t>& coarse_keys = coarse.support_vertices.keys;
+    const std::vector<std::uint64_t>& fine_keys = fine.support_vertices.keys;
+    // rows +1, 0, -1 on each axis, k outermost: a fine vertex sums its lower coarse neighbour before the upper
+    for (int oc = 1; oc >= -1; --oc)
+        for (int ob = 1; ob >= -1; --ob) {
+            std::size_t position = 0;
+            for (std::size_t c = 0; c < coarse_keys.size(); ++c) {
+                const std::uint64_t key = coarse_keys[c];
+                const std::int64_t j = 2 * std::int64_t{key_j(key)} + ob, k = 2 * std::int64_t{key_k(key)} + oc;
+                if (j < 0 || k < 0 || j > limit || k > limit) continue;
+                const std::uint32_t i = 2 * key_i(key);
+                const std::uint64_t centre = pack_key(i, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(k));
+                const std::uint64_t first = i > 0 ? centre - 1 : centre;
+                while (position < fine_keys.size() && fine_keys[position] < first) ++position;
+                // (2i + 1, ...) with 2i = limit would be i = limit + 1, which no fine key has
+                for (std::size_t u = position; u < fine_keys.size() && fine_keys[u] <= centre + 1; ++u)
+                    out[u] += coarse_values[c];
+            }
         }
-        const double weight = ((idx[0] % 2) ? 0.5 : 1.0) * ((idx[1] % 2) ? 0.5 : 1.0) * ((idx[2] % 2) ? 0.5 : 1.0);
-        T sum{};
-        for (std::uint32_t k = lo[2]; k <= hi[2]; ++k)
-            for (std::uint32_t j = lo[1]; j <= hi[1]; ++j)
-                for (std::uint32_t i = lo[0]; i <= hi[0]; ++i) {
-                    const std::uint32_t v = coarse.support_vertices.find(pack_key(i, j, k));
-                    if (v != KeyMap::kNone) sum += coarse_values[v];
-                }
-        out[u] = sum * weight;
+    for (std::size_t u = 0; u < out.size(); ++u) {
+        const std::uint64_t key = fine_keys[u];
+        const int odd = static_cast<int>(key_i(key) % 2 + key_j(key) % 2 + key_k(key) % 2);
+        if (odd > 0) out[u] = out[u] * (odd == 1 ? 0.5 : odd == 2 ? 0.25 : 0.125);
     }
     return out;
 }

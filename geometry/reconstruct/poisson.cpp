@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "geometry/reconstruct/extract_surface.h"
 #include "geometry/reconstruct/octree.h"
@@ -45,16 +47,19 @@ Status check_options(const PoissonOptions& o) {
 //! Area of the sampled surface in unit-cube units, from the cells holding samples on the deepest level where they
 //! hold samples_per_node samples each on average. Samples fall into the surface's M cells about like a Poisson
 //! process: with lambda = N / M per cell, M (1 - e^-lambda) cells are occupied, which is solved for M.
+//! \pre the samples are in Morton order (sort_spatially), so that each cell's samples are consecutive on every level.
 double estimate_area(const OrientedSamples& samples, int max_depth, double samples_per_node) {
-    std::vector<std::uint64_t> keys;
-    keys.reserve(samples.positions.size());
     const auto n = static_cast<double>(samples.positions.size());
     double area = 0;
     for (int depth = kMinDepth; depth <= max_depth; ++depth) {
-        keys.clear();
-        for (const Vec3& p : samples.positions) keys.push_back(reconstruct::cell_key(p, depth));
-        std::sort(keys.begin(), keys.end());
-        const auto occupied = static_cast<double>(std::unique(keys.begin(), keys.end()) - keys.begin());
+        std::size_t runs = 0;  // = occupied cells
+        std::uint64_t previous = 0;
+        for (std::size_t i = 0; i < samples.positions.size(); ++i) {
+            const std::uint64_t cell = reconstruct::cell_key(samples.positions[i], depth);
+            runs += i == 0 || cell != previous ? 1 : 0;
+            previous = cell;
+        }
+        const auto occupied = static_cast<double>(runs);
         const double mean = n / occupied;  // = lambda / (1 - e^-lambda), increasing in lambda
         if (depth > kMinDepth && mean < samples_per_node) break;
         double lo = 0, hi = mean;
@@ -67,6 +72,41 @@ double estimate_area(const OrientedSamples& samples, int max_depth, double sampl
         area = cells * std::ldexp(1.0, -2 * depth) / kCellsPerArea;
     }
     return area;
+}
+
+//! Interleaves the bits of a cell's coordinates (Morton order): cells close in space are close in this order on
+//! every level, since a coarser cell's code is the finer one's shifted.
+std::uint64_t morton_code(std::uint64_t key) {
+    auto spread = [](std::uint64_t x) {
+        x &= 0x1fffff;
+        x = (x | x << 32) & 0x1f00000000ffffull;
+        x = (x | x << 16) & 0x1f0000ff0000ffull;
+        x = (x | x << 8) & 0x100f00f00f00f00full;
+        x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+        x = (x | x << 2) & 0x1249249249249249ull;
+        return x;
+    };
+    return spread(reconstruct::key_i(key)) | spread(reconstruct::key_j(key)) << 1 |
+           spread(reconstruct::key_k(key)) << 2;
+}
+
+//! Puts the samples in Morton order of their finest cells, so that every per-sample pass of every level (splats,
+//! screening, lookups of the samples' cells) walks the level's arrays nearly in order instead of at random. Ties
+//! keep the input order, so the result depends on the cloud only.
+void sort_spatially(OrientedSamples& samples, int depth) {
+    const std::size_t n = samples.positions.size();
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> order(n);
+    for (std::size_t i = 0; i < n; ++i)
+        order[i] = {morton_code(reconstruct::cell_key(samples.positions[i], depth)), static_cast<std::uint32_t>(i)};
+    std::sort(order.begin(), order.end());
+    auto permute = [&](auto& values) {
+        std::remove_reference_t<decltype(values)> sorted(n);
+        for (std::size_t i = 0; i < n; ++i) sorted[i] = values[order[i].second];
+        values = std::move(sorted);
+    };
+    permute(samples.positions);
+    permute(samples.normals);
+    permute(samples.weights);
 }
 
 }  // namespace
@@ -108,6 +148,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     const Vec3 origin = center - Vec3{side, side, side} * 0.5;
     samples.positions.reserve(positions.size());
     for (const Vec3& p : positions) samples.positions.push_back((p - origin) * (1.0 / side));
+    sort_spatially(samples, options.depth);
     samples.area = estimate_area(samples, options.depth, options.samples_per_node);
     reconstruct::assign_splat_depths(samples, kMinDepth, options.depth, options.samples_per_node);
     reconstruct::assign_area_shares(samples, std::max(kMinDepth, options.depth - kDensityLevels));
@@ -181,9 +222,9 @@ PoissonEstimate estimate_poisson(std::size_t points, const PoissonOptions& optio
     const double surface_cells = kCellsPerArea * area * std::ldexp(1.0, 2 * depth);
     e.grid_cells = static_cast<std::uint64_t>(surface_cells);
     // per active cell: its key sets and their hash maps, the values, right-hand sides and solver vectors, the finest
-    // level's neighbour table (about 250 bytes, measured); per point: the samples, their splat levels and per-level
+    // level's stencil rows (about 205 bytes, measured); per point: the samples, their splat levels and per-level
     // corner indices and weights; per surface cell: the extraction's tables and the output mesh (about 2 triangles)
-    e.bytes = static_cast<std::uint64_t>(250 * active_total + 120 * static_cast<double>(points) + 100 * surface_cells);
+    e.bytes = static_cast<std::uint64_t>(205 * active_total + 120 * static_cast<double>(points) + 100 * surface_cells);
     return e;
 }
 

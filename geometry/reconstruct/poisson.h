@@ -51,9 +51,10 @@ struct PoissonOptions {
     bool use_confidence = false;
     //! The bounding cube is the points' bounding box's largest side times this, centred on the box; >= 1.
     double scale = 1.1;
-    //! Conjugate-gradient iterations per level, at most, and the relative residual that ends them.
+    //! Conjugate-gradient iterations per level, at most, and the relative residual that ends them (the coarser levels
+    //! have fixed the low frequencies, so 1e-4 costs no accuracy).
     int max_iterations = 100;
-    double tolerance = 1e-6;
+    double tolerance = 1e-4;
     //! 1: everything on the calling thread; anything else (>= 0): a second thread for the assembly and the conjugate
     //! gradients of levels with 65,536 unknowns or more. The mesh is bit-identical either way.
     int threads = 1;
@@ -93,9 +94,9 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
 //! Predicted size of a reconstruction, for budgets before any work: octree cells summed over the levels, the finest
 //! cells the extraction meshes, and peak bytes. Assumes a closed surface about as large as the bounding cube allows
 //! (a sphere filling it); clouds of thin or small parts need less. An estimate, not a bound: for the benchmark's
-//! 50,000-point sphere (area 0.83 of that assumption) it predicts 32 / 111 / 427 MiB at depths 6 / 7 / 8 against
-//! 38 / 115 / 405 MiB measured (peak heap), for its 1,000,000-point sphere 1,803 / 6,868 MiB at depths 9 / 10
-//! against 1,892 / 6,615 MiB.
+//! 50,000-point sphere (area 0.83 of that assumption) it predicts 27 / 93 / 357 MiB at depths 6 / 7 / 8 against
+//! 32 / 94 / 342 MiB measured (peak heap), for its 1,000,000-point sphere 1,520 / 5,738 MiB at depths 9 / 10
+//! against 1,555 / 5,567 MiB.
 struct PoissonEstimate {
     std::uint64_t octree_cells = 0;
     std::uint64_t grid_cells = 0;  //!< finest-level cells the surface crosses (no dense grid is built)

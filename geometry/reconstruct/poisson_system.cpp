@@ -67,7 +67,68 @@ void halves(std::size_t n, bool threaded, F&& body) {
     });
 }
 
+//! sum_o stencil[o] * values[neighbour o of dof v] over the neighbours inside the grid, in the order of o; values
+//! has rows.padded_size() entries (zero in the padding).
+inline double stencil_sum(const StencilRows& rows, std::size_t v, const double* values, const double* stencil) {
+    const std::uint32_t* r = &rows.rows[9 * v];
+    double sum = 0;
+    if (rows.on_edge[v] == 0) {
+        for (int q = 0; q < 9; ++q) {
+            const double* x = values + r[q] - 1;
+            sum += stencil[3 * q] * x[0];
+            sum += stencil[3 * q + 1] * x[1];
+            sum += stencil[3 * q + 2] * x[2];
+        }
+        return sum;
+    }
+    const int first = rows.on_edge[v] == 1 ? 1 : 0, last = rows.on_edge[v] == 2 ? 1 : 2;
+    for (int q = 0; q < 9; ++q)
+        for (int a = first; a <= last; ++a) sum += stencil[3 * q + a] * values[r[q] + a - 1];
+    return sum;
+}
+
+//! The same for a vector field against a vector stencil (dot products).
+inline double stencil_dot(const StencilRows& rows, std::size_t v, const Vec3* values, const Vec3* stencil) {
+    const std::uint32_t* r = &rows.rows[9 * v];
+    double sum = 0;
+    const int first = rows.on_edge[v] == 1 ? 1 : 0, last = rows.on_edge[v] == 2 ? 1 : 2;
+    for (int q = 0; q < 9; ++q)
+        for (int a = first; a <= last; ++a) sum += dot(values[r[q] + a - 1], stencil[3 * q + a]);
+    return sum;
+}
+
 }  // namespace
+
+StencilRows StencilRows::build(const OctreeLevel& level, bool threaded) {
+    StencilRows out;
+    const std::size_t dofs = level.dofs.size();
+    out.support = level.support_vertices.size();
+    const auto padding = static_cast<std::uint32_t>(out.support + 1);  // reads padding - 1 .. padding + 1
+    const std::uint32_t n = std::uint32_t{1} << level.depth;
+    out.rows.resize(dofs * 9);
+    out.on_edge.resize(dofs);
+    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) {
+            const std::uint32_t i = key_i(level.dofs.keys[v]);
+            out.on_edge[v] = i == 0 ? 1 : i == n ? 2 : 0;
+        }
+        for (int q = 0; q < 9; ++q) {
+            const int b = q % 3 - 1, c = q / 3 - 1;
+            const std::uint64_t delta = offset_delta(0, b, c);
+            SortedCursor cursor(level.support_vertices.keys);
+            for (std::size_t v = begin; v < end; ++v) {
+                const std::uint64_t key = level.dofs.keys[v];
+                std::uint32_t position = padding;
+                if (offset_inside(key, 0, b, c, n)) {
+                    position = cursor.seek(key + delta);
+                    assert(position != SortedCursor::kNone);
+                }
+                out.rows[v * 9 + static_cast<std::size_t>(q)] = position;
+            }
+        }
+    });
+    return out;
+}
 
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]) {
     const double n = std::ldexp(1.0, depth);
@@ -83,22 +144,22 @@ void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth,
     samples.splat_depths.assign(n, min_depth);
     std::vector<char> done(n, 0);
     for (int depth = max_depth; depth > min_depth; --depth) {
-        KeyCollector collector;
-        std::vector<std::uint64_t> cells(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            cells[i] = cell_key(samples.positions[i], depth);
-            collector.insert(cells[i]);
+        // in Morton order the samples of one cell are consecutive on every level: a cell's count is its run's length
+        // (samples per cell are counted, whatever their confidence)
+        std::size_t begin = 0;
+        std::uint64_t cell = n > 0 ? cell_key(samples.positions[0], depth) : 0;
+        for (std::size_t end = 1; end <= n; ++end) {
+            const std::uint64_t next = end < n ? cell_key(samples.positions[end], depth) : 0;
+            if (end < n && next == cell) continue;
+            if (static_cast<double>(end - begin) >= samples_per_node)
+                for (std::size_t i = begin; i < end; ++i)
+                    if (!done[i]) {
+                        samples.splat_depths[i] = depth;
+                        done[i] = 1;
+                    }
+            begin = end;
+            cell = next;
         }
-        const std::vector<std::uint64_t> keys = collector.take();
-        KeyMap index;
-        index.assign(keys);
-        std::vector<double> weight(keys.size(), 0.0);  // samples per cell (a count, whatever their confidence)
-        for (std::size_t i = 0; i < n; ++i) weight[index.find(cells[i])] += 1.0;
-        for (std::size_t i = 0; i < n; ++i)
-            if (!done[i] && weight[index.find(cells[i])] >= samples_per_node) {
-                samples.splat_depths[i] = depth;
-                done[i] = 1;
-            }
     }
 }
 
@@ -143,54 +204,31 @@ Vec3 gradient_stencil(int a, int b, int c) {
     return {kMixed[a] * kMass[b] * kMass[c], kMass[a] * kMixed[b] * kMass[c], kMass[a] * kMass[b] * kMixed[c]};
 }
 
-//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3 (splats given at the level's dofs),
-//! gathered at every dof from its 27 neighbours w = v + o, one sorted pass per offset.
-void add_own_splats(const OctreeLevel& level, const std::vector<Vec3>& splat, std::vector<double>& out, bool threaded) {
+//! The gradient stencil of every offset o = a + 3 b + 9 c.
+struct GradientStencil {
+    Vec3 w[27];
+    GradientStencil() {
+        for (int o = 0; o < 27; ++o) w[o] = gradient_stencil(o % 3, (o / 3) % 3, o / 9);
+    }
+};
+
+//! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3, the field given at the level's support
+//! vertices (padded, StencilRows), gathered at every dof from its 27 neighbours.
+void add_support_field(const OctreeLevel& level, const StencilRows& rows, const std::vector<Vec3>& padded_field,
+                       std::vector<double>& out, bool threaded) {
+    static const GradientStencil stencil;
     const double h = std::ldexp(1.0, -level.depth);
-    const std::uint32_t n = std::uint32_t{1} << level.depth;
-    const std::size_t dofs = level.dofs.size();
-    std::vector<double> sum(dofs, 0.0);
-    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
-        for (int o = 0; o < 27; ++o) {
-            const int a = o % 3, b = (o / 3) % 3, c = o / 9;
-            const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
-            const Vec3 stencil = gradient_stencil(a, b, c);
-            SortedCursor cursor(level.dofs.keys);
-            for (std::size_t v = begin; v < end; ++v) {
-                const std::uint64_t key = level.dofs.keys[v];
-                if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                const std::uint32_t w = cursor.seek(key + delta);
-                if (w != SortedCursor::kNone) sum[v] += dot(splat[w], stencil);
-            }
-        }
+    halves(level.dofs.size(), threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) out[v] += stencil_dot(rows, v, padded_field.data(), stencil.w) / h;
     });
-    for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
 }
 
-//! out[v] += integral grad phi_v . V for V = sum_u field_u phi_u / h^3 given at the level's support vertices,
-//! gathered at every dof.
-void add_support_field(const OctreeLevel& level, const std::vector<Vec3>& field, std::vector<double>& out,
-                       bool threaded) {
-    const double h = std::ldexp(1.0, -level.depth);
-    const std::uint32_t n = std::uint32_t{1} << level.depth;
-    const std::size_t dofs = level.dofs.size();
-    std::vector<double> sum(dofs, 0.0);
-    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
-        for (int o = 0; o < 27; ++o) {  // one sorted pass per offset, summing in the stencil's order
-            const int a = o % 3, b = (o / 3) % 3, c = o / 9;
-            const std::uint64_t delta = offset_delta(a - 1, b - 1, c - 1);
-            const Vec3 stencil = gradient_stencil(a, b, c);
-            SortedCursor cursor(level.support_vertices.keys);
-            for (std::size_t v = begin; v < end; ++v) {
-                const std::uint64_t key = level.dofs.keys[v];
-                if (!offset_inside(key, a - 1, b - 1, c - 1, n)) continue;
-                const std::uint32_t s = cursor.seek(key + delta);
-                assert(s != SortedCursor::kNone);
-                sum[v] += dot(field[s], stencil);
-            }
-        }
-    });
-    for (std::size_t v = 0; v < dofs; ++v) out[v] += sum[v] / h;
+//! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3 (splats given at the level's dofs).
+void add_own_splats(const OctreeLevel& level, const StencilRows& rows, const std::vector<Vec3>& splat,
+                    std::vector<double>& out, bool threaded) {
+    std::vector<Vec3> spread(rows.padded_size(), Vec3{});
+    for (std::size_t v = 0; v < splat.size(); ++v) spread[rows.rows[9 * v + 4]] = splat[v];
+    add_support_field(level, rows, spread, out, threaded);
 }
 
 }  // namespace
@@ -203,6 +241,9 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
     std::vector<std::vector<Vec3>> splat(levels);
     for (std::size_t l = 0; l < levels; ++l) splat[l].assign(tree.levels[l].dofs.size(), Vec3{});
     std::vector<char> used(levels, 0);
+    std::size_t last_level = levels;
+    std::uint64_t last_cell = 0;
+    std::uint32_t cell_dofs[8] = {};
     for (std::size_t i = 0; i < samples.positions.size(); ++i) {
         const int depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
         const auto l = static_cast<std::size_t>(depth - tree.min_depth);
@@ -212,11 +253,15 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         corner_weights(samples.positions[i], depth, cell, w);
         const double a = samples.area_shares.empty() ? samples.area * samples.weights[i] / samples.weight_sum
                                                      : samples.area_shares[i];
-        for (int c = 0; c < 8; ++c) {
-            const std::uint32_t dof = level.dofs.find(corner_key(cell, c));
-            assert(dof != KeyMap::kNone);
-            splat[l][dof] += samples.normals[i] * (a * w[c]);
+        if (l != last_level || cell != last_cell) {  // samples in space order: runs share their cell
+            for (int c = 0; c < 8; ++c) {
+                cell_dofs[c] = level.dofs.find(corner_key(cell, c));
+                assert(cell_dofs[c] != KeyMap::kNone);
+            }
+            last_level = l;
+            last_cell = cell;
         }
+        for (int c = 0; c < 8; ++c) splat[l][cell_dofs[c]] += samples.normals[i] * (a * w[c]);
         used[l] = 1;
     }
 
@@ -227,7 +272,7 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         const OctreeLevel& to = tree.levels[li];
         std::vector<double>& coarse = rhs[li];
         coarse.assign(to.dofs.size(), 0.0);
-        if (used[li]) add_own_splats(to, splat[li], coarse, threaded);
+        if (used[li]) add_own_splats(to, StencilRows::build(to, threaded), splat[li], coarse, threaded);
         if (li + 1 == levels) continue;
         const OctreeLevel& from = tree.levels[li + 1];
         const std::vector<double>& f = rhs[li + 1];
@@ -271,7 +316,9 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         }
         carried = interpolate_to_finer(level, carried, next);
         for (Vec3& v : carried) v *= 0.125;
-        add_support_field(next, carried, rhs[li + 1], threaded);
+        carried.resize(next.support_vertices.size() + 3, Vec3{});  // the padding read through StencilRows
+        add_support_field(next, StencilRows::build(next, threaded), carried, rhs[li + 1], threaded);
+        carried.resize(next.support_vertices.size());
     }
     return rhs;
 }
@@ -286,22 +333,13 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
 
     fixed_.assign(dofs, 0);
     if (dirichlet)
-        for (std::size_t v = 0; v < dofs; ++v) fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
-
-    // one sorted pass per offset: the dofs' keys plus the offset are increasing
-    neighbours_.assign(dofs * 27, KeyMap::kNone);
-    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
-        for (int o = 0; o < 27; ++o) {
-            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
-            const std::uint64_t delta = offset_delta(a, b, c);
-            SortedCursor cursor(level_.dofs.keys);
-            for (std::size_t v = begin; v < end; ++v) {
-                const std::uint64_t key = level_.dofs.keys[v];
-                if (offset_inside(key, a, b, c, n))
-                    neighbours_[v * 27 + static_cast<std::size_t>(o)] = cursor.seek(key + delta);
-            }
+        for (std::size_t v = 0; v < dofs; ++v) {
+            fixed_[v] = on_boundary(level_.dofs.keys[v], n) ? 1 : 0;
+            any_fixed_ = any_fixed_ || fixed_[v];
         }
-    });
+
+    rows_ = StencilRows::build(level_, threaded);
+    spread_.assign(rows_.padded_size(), 0.0);
     threaded_ = threaded;
 
     diagonal_.assign(dofs, kStiffness.w[13] * h_);
@@ -310,6 +348,8 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     sample_cells_.resize(count);
     sample_weights_.resize(count * 8);
     screening_.assign(count, 0.0);
+    std::uint64_t last_cell = ~std::uint64_t{0};
+    std::uint32_t cell_dofs[8] = {};
     for (std::size_t i = 0; i < count; ++i) {
         const std::uint64_t cell = cell_key(samples.positions[i], depth);
         sample_cells_[i] = cell;
@@ -319,9 +359,15 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
             screening_[i] = beta_ * samples.weights[i];
         double* w = &sample_weights_[i * 8];
         corner_weights(samples.positions[i], depth, cell, w);
+        if (cell != last_cell) {  // samples come in space order (poisson.cpp): runs share their cell
+            for (int c = 0; c < 8; ++c) {
+                cell_dofs[c] = level_.dofs.find(corner_key(cell, c));
+                assert(cell_dofs[c] != KeyMap::kNone);
+            }
+            last_cell = cell;
+        }
         for (int c = 0; c < 8; ++c) {
-            const std::uint32_t dof = level_.dofs.find(corner_key(cell, c));
-            assert(dof != KeyMap::kNone);
+            const std::uint32_t dof = cell_dofs[c];
             sample_dofs_[i * 8 + static_cast<std::size_t>(c)] = dof;
             diagonal_[dof] += screening_[i] * w[c] * w[c];
         }
@@ -335,50 +381,39 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
     const std::size_t middle = dofs / 2;
     run_two_parts(threaded, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
-        for (std::size_t v = begin; v < end; ++v) {
-            if (fixed_[v]) continue;
-            const std::uint32_t* nb = &neighbours_[v * 27];
-            double sum = 0;
-            for (int o = 0; o < 27; ++o) {
-                const std::uint32_t w = nb[o];
-                if (w != KeyMap::kNone && !fixed_[w]) sum += kStiffness.w[o] * x[w];
-            }
-            y[v] = sum * h_;
-        }
+        for (std::size_t v = begin; v < end; ++v) spread_[rows_.rows[9 * v + 4]] = fixed_[v] ? 0.0 : x[v];
+    });
+    run_two_parts(threaded, [&](int part) {
+        const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
+        for (std::size_t v = begin; v < end; ++v)
+            if (!fixed_[v]) y[v] = stencil_sum(rows_, v, spread_.data(), kStiffness.w) * h_;
     });
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
         if (screening_[i] == 0) continue;
         const double* w = &sample_weights_[i * 8];
         const std::uint32_t* d = &sample_dofs_[i * 8];
         double value = 0;
-        for (int c = 0; c < 8; ++c)
-            if (!fixed_[d[c]]) value += w[c] * x[d[c]];
+        if (any_fixed_) {
+            for (int c = 0; c < 8; ++c)
+                if (!fixed_[d[c]]) value += w[c] * x[d[c]];
+            value *= screening_[i];
+            for (int c = 0; c < 8; ++c)
+                if (!fixed_[d[c]]) y[d[c]] += w[c] * value;
+            continue;
+        }
+        for (int c = 0; c < 8; ++c) value += w[c] * x[d[c]];
         value *= screening_[i];
-        for (int c = 0; c < 8; ++c)
-            if (!fixed_[d[c]]) y[d[c]] += w[c] * value;
+        for (int c = 0; c < 8; ++c) y[d[c]] += w[c] * value;
     }
 }
 
 void LevelSystem::subtract_stiffness(const std::vector<double>& support_values, std::vector<double>& out) const {
-    const std::uint32_t n = std::uint32_t{1} << level_.depth;
     const std::size_t dofs = fixed_.size();
-    // one sorted pass per offset (the support vertices' keys are sorted too), summing in the stencil's order
-    std::vector<double> sum(dofs, 0.0);
+    std::copy(support_values.begin(), support_values.end(), spread_.begin());
     halves(dofs, threaded_, [&](std::size_t begin, std::size_t end) {
-        for (int o = 0; o < 27; ++o) {
-            const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
-            const std::uint64_t delta = offset_delta(a, b, c);
-            SortedCursor cursor(level_.support_vertices.keys);
-            for (std::size_t v = begin; v < end; ++v) {
-                const std::uint64_t key = level_.dofs.keys[v];
-                if (!offset_inside(key, a, b, c, n)) continue;
-                const std::uint32_t s = cursor.seek(key + delta);
-                assert(s != SortedCursor::kNone);
-                sum[v] += kStiffness.w[o] * support_values[s];
-            }
-        }
+        for (std::size_t v = begin; v < end; ++v) out[v] -= stencil_sum(rows_, v, spread_.data(), kStiffness.w) * h_;
     });
-    for (std::size_t v = 0; v < dofs; ++v) out[v] -= sum[v] * h_;
+    std::fill(spread_.begin(), spread_.end(), 0.0);
 }
 
 void LevelSystem::subtract_screening(const std::vector<double>& sample_values, std::vector<double>& out) const {
@@ -401,8 +436,9 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 }
 
 std::size_t LevelSystem::memory_bytes() const {
-    return neighbours_.capacity() * 4 + sample_dofs_.capacity() * 4 + sample_cells_.capacity() * 8 +
-           sample_weights_.capacity() * 8 + screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
+    return rows_.rows.capacity() * 4 + rows_.on_edge.capacity() + spread_.capacity() * 8 + sample_dofs_.capacity() * 4 +
+           sample_cells_.capacity() * 8 + sample_weights_.capacity() * 8 + screening_.capacity() * 8 +
+           fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

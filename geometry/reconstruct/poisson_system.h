@@ -42,6 +42,8 @@ struct OrientedSamples {
 //! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006): each sample goes to the
 //! finest level whose cell around it holds at least `samples_per_node` samples, so that where samples
 //! are sparse for the finest cells V is smoothed over coarser ones instead of being a set of isolated spikes.
+//! \pre the samples are in Morton order of their cells on level max_depth, so that each cell's samples are
+//! consecutive on every level.
 void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node);
 
 //! Shares of the area inversely proportional to the local sampling density (after Kazhdan & Hoppe 2013): the
@@ -61,6 +63,22 @@ void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights
 //! `threaded`: the sorted passes of large levels on two threads (the result does not depend on it).
 std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples,
                                                 bool threaded = false);
+
+//! The 27-point neighbourhoods of a level's dofs, as positions among the level's support vertices (every neighbour of
+//! a dof inside the cube is one, octree.h): rows[9 v + (b + 1) + 3 (c + 1)] is the position of (i, j + b, k + c) for
+//! dof v = (i, j, k), and its neighbours (i -/+ 1, j + b, k + c) are the positions just before and after it (the keys
+//! are sorted with i fastest, and all three are support vertices). A row whose j + b or k + c leaves the grid points
+//! into a padding of zeros after the support vertices, so arrays read through the rows have padded_size() entries.
+//! Dofs with i = 0 or i = 2^d (on_edge: 1 and 2) lack the -1 or +1 neighbour and are read with checks.
+struct StencilRows {
+    std::vector<std::uint32_t> rows;  //!< 9 per dof
+    std::vector<char> on_edge;        //!< per dof: 1 for i = 0, 2 for i = 2^d, else 0
+    std::size_t support = 0;          //!< the level's support vertices
+
+    std::size_t padded_size() const { return support + 3; }
+    //! Nine sorted passes (one per row), on two threads for a large level when `threaded`.
+    static StencilRows build(const OctreeLevel& level, bool threaded);
+};
 
 //! The operator A_d of one level, applied without assembling it: the stiffness stencil over a neighbour table and
 //! the screening term through the samples. Dofs on the cube's boundary are fixed at zero for Dirichlet conditions.
@@ -93,7 +111,11 @@ private:
     double h_ = 1;
     double beta_ = 0;
     bool threaded_ = false;
-    std::vector<std::uint32_t> neighbours_;    //!< 27 per dof, KeyMap::kNone where the neighbour is not a dof
+    bool any_fixed_ = false;  //!< whether any dof is fixed (Dirichlet conditions); the products skip the checks if not
+    StencilRows rows_;
+    //! apply()'s argument spread over the support vertices (zero off the dofs), read through rows_; apply() is
+    //! therefore not safe to call concurrently on one LevelSystem
+    mutable std::vector<double> spread_;
     std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
     std::vector<double> sample_weights_;       //!< 8 per screening sample: the trilinear weights of its corners

@@ -130,10 +130,10 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
             return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
 
         // add this level's hats to the values and to chi at the samples
+        SortedCursor cursor(level.support_vertices.keys);  // the dofs are support vertices, both lists sorted
         for (std::size_t v = 0; v < x.size(); ++v) {
-            if (x[v] == 0) continue;
-            const std::uint32_t s = level.support_vertices.find(level.dofs.keys[v]);
-            values[s] += x[v];
+            const std::uint32_t s = cursor.seek(level.dofs.keys[v]);
+            if (x[v] != 0) values[s] += x[v];
         }
         system.evaluate_at_samples(x, correction_at_samples);
         for (std::size_t i = 0; i < correction_at_samples.size(); ++i) out.at_samples[i] += correction_at_samples[i];

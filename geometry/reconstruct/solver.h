@@ -19,7 +19,7 @@ struct SolverOptions {
     double alpha = 4;          //!< screening weight (PoissonOptions::point_weight)
     bool dirichlet = false;    //!< chi = 0 on the cube's boundary; otherwise natural (Neumann) conditions
     int max_iterations = 100;  //!< conjugate-gradient iterations per level, at most
-    double tolerance = 1e-6;   //!< stop when |residual| <= tolerance * |right-hand side| on the level
+    double tolerance = 1e-4;   //!< stop when |residual| <= tolerance * |right-hand side| on the level
     //! 1: one thread; anything else: a second thread for the products and sums of large levels (bit-identical).
     int threads = 1;
     Cancel cancel;  //!< polled every iteration
