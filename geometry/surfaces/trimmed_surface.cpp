@@ -24,6 +24,12 @@ using detail::ConstrainedTriangulation;
 //! Grid points closer to a trim than this many grid spacings are left out (no sliver between trim and grid line).
 constexpr double kExclusion = 0.4;
 constexpr double kPi = 3.14159265358979323846;
+//! Ratio of the largest to the smallest stretch of the map from the scaled plane to the surface over one triangle up
+//! to which the refinement keeps asking for its surface angle alone. Beyond it (near a pole, where the length along u
+//! shrinks to nothing while the plane keeps it), a triangle already well shaped in the plane is left as it is: its
+//! thinness on the surface comes from the map, which circumcentres inserted in the plane do not change (every new
+//! triangle there is as thin), so asking for it only inserts points until the budget runs out.
+constexpr double kMildDistortion = 2;
 
 std::uint64_t bits(double x) {
     x += 0.0;  // -0 as +0
@@ -51,6 +57,8 @@ struct PatchInfo {
     int nu = 1, nv = 1;                     //!< grid segments
     PatchDerivativeBounds d;                //!< in patch units
     double lx = 1, ly = 1;                  //!< scaled size: about the surface's length along u and v
+    //! Sides v = v0, v = v1, u = u0, u = u1 whose control points coincide: the side is one surface point (a pole)
+    std::array<bool, 4> collapsed{};
 
     double x(double u) const { return (u - u0) * (lx / (u1 - u0)); }
     double y(double v) const { return (v - v0) * (ly / (v1 - v0)); }
@@ -374,12 +382,15 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
     };
     // the smallest angle of a triangle on the surface (its corners evaluated once), which the refinement improves
     std::vector<Vec3> corner_points;
-    const auto surface_angle = [&](const std::array<int, 3>& v) {
+    const auto evaluate_corners = [&] {
         while (corner_points.size() < uv.size()) {
             const Vec2 q = uv[corner_points.size()];
             auto point = evaluate(surface, q.x, q.y);
             corner_points.push_back(point ? *point : Vec3{});
         }
+    };
+    const auto surface_angle = [&](const std::array<int, 3>& v) {
+        evaluate_corners();
         const auto at = [&](int i) { return corner_points[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])]; };
         double smallest = 180;
         for (int i = 0; i < 3; ++i) {
@@ -387,6 +398,37 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             smallest = std::min(smallest, std::atan2(norm(cross(p, q)), dot(p, q)) * 180.0 / kPi);
         }
         return smallest;
+    };
+    // the smallest angle of a triangle in the scaled plane, where the circumcentre insertion works
+    const auto plane_angle = [&](const std::array<int, 3>& v) {
+        const auto& pts = cdt.points();
+        const auto at = [&](int i) { return pts[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])]; };
+        double smallest = 180;
+        for (int i = 0; i < 3; ++i) {
+            const Vec2 o = at(i), p{at((i + 1) % 3).x - o.x, at((i + 1) % 3).y - o.y},
+                       q{at((i + 2) % 3).x - o.x, at((i + 2) % 3).y - o.y};
+            smallest =
+                std::min(smallest, std::atan2(std::fabs(p.x * q.y - p.y * q.x), p.x * q.x + p.y * q.y) * 180.0 / kPi);
+        }
+        return smallest;
+    };
+    // the ratio of the largest to the smallest singular value of the affine map taking the triangle in the scaled
+    // plane to its triangle on the surface (kMildDistortion)
+    const auto distortion = [&](const std::array<int, 3>& v) {
+        evaluate_corners();
+        const auto& pts = cdt.points();
+        const auto p = [&](int i) { return pts[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])]; };
+        const auto x = [&](int i) { return corner_points[static_cast<std::size_t>(v[static_cast<std::size_t>(i)])]; };
+        // the affine map from the plane triangle to the surface triangle: A = X P^-1 (X: 3 x 2 edges, P: 2 x 2)
+        const double p11 = p(1).x - p(0).x, p21 = p(1).y - p(0).y, p12 = p(2).x - p(0).x, p22 = p(2).y - p(0).y;
+        const double det = p11 * p22 - p12 * p21;
+        if (!(std::fabs(det) > 0)) return 1e300;
+        const Vec3 x1 = x(1) - x(0), x2 = x(2) - x(0);
+        const Vec3 a1 = (p22 * x1 - p21 * x2) * (1 / det), a2 = (p11 * x2 - p12 * x1) * (1 / det);
+        const double g11 = dot(a1, a1), g12 = dot(a1, a2), g22 = dot(a2, a2);
+        const double mean = 0.5 * (g11 + g22), radius = std::hypot(0.5 * (g11 - g22), g12);
+        const double low = mean - radius;
+        return low > 0 ? std::sqrt((mean + radius) / low) : 1e300;
     };
     const std::size_t budget = max_refinement_points > 0 ? max_refinement_points : 16 * uv.size() + 4096;
     std::set<std::pair<int, int>> requested;  //!< sides whose split this round asked for
@@ -412,7 +454,9 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
             const double limit = at_trim ? tolerance / 2 : tolerance;
             const bool size = patch.bound(at(0), at(1), at(2), limit) > limit;
             const bool near_trim = !is(0, kGrid) || !is(1, kGrid) || !is(2, kGrid);
-            if (size || (near_trim && surface_angle(v) < min_angle)) bad.push_back({static_cast<int>(t), v, size});
+            if (size || (near_trim && surface_angle(v) < min_angle &&
+                         (plane_angle(v) < min_angle || distortion(v) <= kMildDistortion)))
+                bad.push_back({static_cast<int>(t), v, size});
         }
         if (bad.empty()) break;
         bool progress = false;
@@ -432,10 +476,14 @@ Status triangulate_patch(const BSplineSurface& surface, const PatchInfo& patch, 
                 const auto [first, second] = cdt.refused_side();
                 const std::pair<int, int> side{std::min(first, second), std::max(first, second)};
                 if (requested.count(side)) continue;
+                // Never a collapsed side (a pole): its points are all one surface point, so splitting it adds
+                // nothing there but more triangles whose circumcentres fall beyond it again.
+                const Vec2 u0 = uv[static_cast<std::size_t>(first)], u1 = uv[static_cast<std::size_t>(second)];
+                const bool pole = (u0.y == u1.y && patch.collapsed[u0.y == patch.v0 ? 0 : 1]) ||
+                                  (u0.x == u1.x && patch.collapsed[u0.x == patch.u0 ? 2 : 3]);
                 const Vec2 s0 = pts[static_cast<std::size_t>(first)], s1 = pts[static_cast<std::size_t>(second)];
                 const auto length = [](Vec2 x, Vec2 y) { return std::hypot(x.x - y.x, x.y - y.y); };
-                if (b.size || length(s0, s1) > 2 * std::min({length(a, p), length(p, c), length(c, a)})) {
-                    const Vec2 u0 = uv[static_cast<std::size_t>(first)], u1 = uv[static_cast<std::size_t>(second)];
+                if (!pole && (b.size || length(s0, s1) > 2 * std::min({length(a, p), length(p, c), length(c, a)}))) {
                     side_requests.push_back({0.5 * (u0.x + u1.x), 0.5 * (u0.y + u1.y)});
                     requested.insert(side);
                     continue;
@@ -518,6 +566,13 @@ Result<TrimmedTessellation> tessellate(const TrimmedSurface& trimmed, const Trim
             const double fallback = std::max({lx, ly, 1e-300});
             info.lx = lx > 1e-9 * fallback ? lx : fallback;
             info.ly = ly > 1e-9 * fallback ? ly : fallback;
+            const auto same = [&](int i0, int j0, int di, int dj, int count) {
+                for (int k = 1; k <= count; ++k)
+                    if (!(bp.at(i0 + k * di, j0 + k * dj) == bp.at(i0, j0))) return false;
+                return true;
+            };
+            info.collapsed = {same(0, 0, 1, 0, bp.degree_u), same(0, bp.degree_v, 1, 0, bp.degree_u),
+                              same(0, 0, 0, 1, bp.degree_v), same(bp.degree_u, 0, 0, 1, bp.degree_v)};
             g = std::max(g, std::hypot(info.d.u / (info.u1 - info.u0), info.d.v / (info.v1 - info.v0)));
         }
     // Grid counts: the plan's, scaled by one common factor f (so counts stay equal along shared sides), the smallest

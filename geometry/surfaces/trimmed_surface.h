@@ -26,10 +26,14 @@
 //     in triangles over e). Components separated by the trims are kept when inside the trimmed domain.
 //  4. Refinement (Chew/Ruppert): a kept triangle is refined by inserting its circumcentre when its bound (below)
 //     exceeds e, or e/2 for a triangle with a trim vertex, or when it touches a trim or inserted vertex and its
-//     smallest angle on the surface is below min_angle_degrees. A circumcentre that would cross a trim chord, fall on
-//     an edge or encroach on a trim chord is not inserted (a triangle over its size bound then gets its centroid). One
-//     beyond or encroaching on a patch side asks for that side's midpoint instead: all patches are triangulated again
-//     (up to 6 rounds) with it on the side, in both patches sharing it, so the sides still match and the mesh welds.
+//     smallest angle on the surface is below min_angle_degrees -- unless its angles in the scaled plane are all at
+//     least that and the map from the plane to the surface stretches one direction over twice as much as the other
+//     on it (near a pole): the thinness is then the parameterisation's, which points inserted in the plane do not
+//     remove. A circumcentre that would cross a trim chord, fall on an edge or encroach on a trim chord is not
+//     inserted (a triangle over its size bound then gets its centroid). One beyond or encroaching on a patch side
+//     asks for that side's midpoint instead: all patches are triangulated again (up to 6 rounds) with it on the
+//     side, in both patches sharing it, so the sides still match and the mesh welds; a side collapsed to one point
+//     (a pole) is never split (the triangle gets its centroid when over its size bound, else is left).
 //  5. Vertices are shared by exact (u, v); positions and normals are the surface's exact point and unit normal there
 //     (unit_normal: limits at poles). Vertices that coincide in 3D (a closed surface's seam, a pole) are welded within
 //     1e-10 of the model size, and triangles that collapse are dropped. uvs (face-varying) are the (u, v).

@@ -454,6 +454,48 @@ TEST(TrimmedSurface, RandomHoles) {
     }
 }
 
+//! A small hole near a pole costs about what the same hole costs away from it. Near the pole the scaled parameter
+//! plane stretches the surface's u direction many times (to nothing at the pole), so triangles well shaped in the
+//! plane stay thin on the surface however many points the refinement inserts, and the pole side, one surface point,
+//! gains nothing from being split. Asking for the surface angle there anyway took about 72,000 triangles (6 rounds of
+//! side splits, each patch at its refinement budget) against 2,170 away from the pole, within the tolerance all
+//! the same.
+TEST(TrimmedSurface, SmallHoleNearAPoleCostsAboutWhatItCostsElsewhere) {
+    const double r = 0.03;
+    const auto run = [&](Vec2 c, double tolerance) {
+        TrimmedSurface t{sphere(1), {}, {}};
+        TrimLoop hole;
+        hole.curves.push_back(circle_trim(c, r));
+        t.holes.push_back(hole);
+        TrimmedTessellationOptions options;
+        options.tolerance = tolerance;
+        auto result = tessellate(t, options);
+        EXPECT_TRUE(result.ok()) << result.error().message;
+        if (!result.ok()) return std::size_t{0};
+        const PolygonMesh& mesh = result->mesh;
+        EXPECT_LE(result->bound, tolerance) << c.x << " " << c.y;
+        for (const Vec3& p : mesh.positions) EXPECT_NEAR(norm(p), 1, 1e-12);
+        boundary_edges(mesh);  // each edge at most once per direction
+        const double out = mesh_to_surface(mesh, [](const Vec3& p) { return norm(p) - 1; });
+        EXPECT_LE(out, result->bound) << c.x << " " << c.y;
+        EXPECT_LE(out, tolerance) << c.x << " " << c.y;
+        const auto inside = [&](Vec2 p) { return std::hypot(p.x - c.x, p.y - c.y) > r; };
+        EXPECT_LE(samples_to_mesh(t.surface, mesh, inside, 200), tolerance) << c.x << " " << c.y;
+        return mesh.face_count();
+    };
+    for (const double tolerance : {1e-2, 1e-3}) {
+        const std::size_t away = run({0.3, 0.5}, tolerance);
+        ASSERT_GT(away, 0u);
+        // near the south pole (v = 0), the north pole (v = 1), and across the patch side u = 0.25 next to the pole
+        for (const Vec2 c : {Vec2{0.3, 0.04}, Vec2{0.3, 0.96}, Vec2{0.25, 0.04}}) {
+            const std::size_t near = run(c, tolerance);
+            EXPECT_GT(near, 0u);
+            EXPECT_LE(near, away * 3 / 2) << "hole at " << c.x << " " << c.y << ", tolerance " << tolerance << ": "
+                                          << near << " triangles, " << away << " away from the poles";
+        }
+    }
+}
+
 // ---- the constrained triangulation --------------------------------------------------------------------------------
 
 //! Random points (some on the rectangle's sides and on a grid, so that orientations are exactly 0) and random
