@@ -16,7 +16,7 @@ namespace {
 constexpr double kCoarsenTarget = 0.97;
 
 //! How many times a graded grid within the tolerance is coarsened.
-constexpr int kCoarsenRounds = 3;
+constexpr int kCoarsenRounds = 6;
 //! How many single-line trims a graded grid within the tolerance tries after its coarsenings.
 constexpr int kTrimTrials = 4;
 
