@@ -14,28 +14,29 @@
 // inner grid of (nu - 1) x (nv - 1) points is joined to the sides by one transition strip per side
 // (Bfr::Tessellation's layout).
 //
-// Rates (guaranteed). The limit surface over a domain is a tree of bicubic B-spline patches (LimitFaceSurface,
-// prepared to kTreeLevels local refinements) plus, at irregular vertices (and semi-sharp features not decayed by
-// then), leaves without a patch. For a triangle T with parameter corners p_i and unit normal m (of the triangle of S
-// at its corners), the distance from S(x) to T's plane is |m . (S(x) - sum l_i S(p_i))|, the linear interpolation
-// error of the scalar m . S: at most (1/2) max_x sum l_i Q(p_i - x) (Taylor at x along the segments to the corners),
-// with Q(d) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 bounding m . S_ss, m . S_st, m . S_tt by the Bernstein
-// coefficients, over the part of each patch the triangle's bounding box covers, of the patches' second-difference
-// B-splines projected on m, scaled by 4^depth. Only the surface's bending away from the plane counts, not the
-// parameterization's tangential non-uniformity (which a bound on |S(x) - T(x)| at equal parameters would). This is a
-// guarantee (up to rounding) on the distance to the triangle's plane for every triangle that overlaps only patches; a
-// point whose projection on that plane falls outside the triangle is next to a neighbour's, except beyond an open
-// boundary: a triangle with an edge there is bounded on |S(x) - T(x)| (the full second derivatives). Each domain's
-// grid lines are graded: densities per 1/32 of s and of t, started from each patch's second derivatives along its
-// mean normal (an estimate, not a bound), raised where a cell's two triangles exceed the tolerance (around a
-// patch whose own bound fails, else over the cell), so that a narrow band of high curvature (a semi-sharp crease) is
-// fine only where it lies; a transition strip's failing triangle raises its edge's or spoke's density over the part
-// of the side it spans (its other domains are checked again). Patches deeper than kBoundedDepth, and leaves without
-// a patch (at irregular vertices, where the second derivatives grow without bound for valences above 4), are not
-// bounded: a triangle that overlaps them is bounded over the rest and also checked by sampling: the distance from
-// S(x) to the triangle's plane at the 25 non-corner points of a barycentric grid of step 1/6, evaluated exactly, must
-// be at most tolerance / kSampledSafety. The sampled part is a measurement with a safety factor, not a guarantee. The reported error is the
-// largest of the bounds and of the measured distances.
+// Rates (guaranteed). The limit surface over a domain is a tree of bicubic B-spline patches (LimitFaceSurface, prepared
+// to kTreeLevels local refinements) plus, at irregular vertices (and semi-sharp features not decayed by then), leaves
+// without a patch. For a triangle T with parameter corners p_i and unit normal m (of the triangle of S at its corners),
+// the distance from S(x) to T's plane is |m . (S(x) - sum l_i S(p_i))|, the linear interpolation error of the scalar m
+// . S: at most (1/2) max_x sum l_i Q(p_i - x) (Taylor at x along the segments to the corners), with Q(d) = Muu du^2 + 2
+// Muv |du dv| + Mvv dv^2 bounding m . S_ss, m . S_st, m . S_tt by the Bernstein coefficients, over the part of each
+// patch the triangle's bounding box covers, of the patches' second-difference B-splines projected on m, scaled by
+// 4^depth; the signs of m . S_ss and m . S_tt are kept apart (the error lies between the negative side's bound and the
+// positive side's), so where the surface is saddle-shaped each side carries one direction's curvature only. Only the
+// surface's bending away from the plane counts, not the parameterization's tangential non-uniformity (which a bound on
+// |S(x) - T(x)| at equal parameters would). This is a guarantee (up to rounding) on the distance to the triangle's
+// plane for every triangle that overlaps only patches; a point whose projection on that plane falls outside the
+// triangle is next to a neighbour's, except beyond an open boundary: a triangle with an edge there is bounded on |S(x)
+// - T(x)| (the full second derivatives). Each domain's grid lines are graded: densities per 1/32 of s and of t, started
+// from each patch's second derivatives along its mean normal (an estimate, not a bound), raised where a cell's two
+// triangles exceed the tolerance (around a patch whose own bound fails, else over the cell), so that a narrow band of
+// high curvature (a semi-sharp crease) is fine only where it lies; a transition strip's failing triangle raises its
+// edge's or spoke's density over the part of the side it spans (its other domains are checked again). Patches deeper
+// than kBoundedDepth, and leaves without a patch (at irregular vertices, where the second derivatives grow without
+// bound for valences above 4), are not bounded: a triangle that overlaps them is bounded over the rest and also checked
+// by sampling: the distance from S(x) to the triangle's plane at the 25 non-corner points of a barycentric grid of step
+// 1/6, evaluated exactly, must be at most tolerance / kSampledSafety. The sampled part is a measurement with a safety
+// factor, not a guarantee. The reported error is the largest of the bounds and of the measured distances.
 //
 // Output. Triangles, counter-clockwise as the base faces; per-vertex exact limit normals (normalize(du x dv), the
 // limit-mask normal at an irregular vertex; a vertex on a crease takes the normal of the face that evaluated it);

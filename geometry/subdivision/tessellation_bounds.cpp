@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/spatial/closest_point.h"
 
@@ -66,8 +67,8 @@ Basis bernstein_of_basis(int d, double a, double b) {
 
 //! max |sum_ij c[i][j] B_i(s) C_j(t)| over the box, from the Bernstein coefficients: c are the B-spline
 //! coefficients (ds + 1 along s, dt + 1 along t, c[i + (ds + 1) j]), bs and bt the bases' Bernstein coefficients.
-double box_max(const double* c, int ds, int dt, const Basis& bs, const Basis& bt) {
-    double worst = 0;
+std::pair<double, double> box_range(const double* c, int ds, int dt, const Basis& bs, const Basis& bt) {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
     for (int js = 0; js <= ds; ++js)
         for (int jt = 0; jt <= dt; ++jt) {
             double v = 0;
@@ -75,9 +76,15 @@ double box_max(const double* c, int ds, int dt, const Basis& bs, const Basis& bt
                 for (int j = 0; j <= dt; ++j)
                     v +=
                         c[i + (ds + 1) * j] * bs[std::size_t(i)][std::size_t(js)] * bt[std::size_t(j)][std::size_t(jt)];
-            worst = std::max(worst, std::abs(v));
+            low = std::min(low, v);
+            high = std::max(high, v);
         }
-    return worst;
+    return {low, high};
+}
+
+double box_max(const double* c, int ds, int dt, const Basis& bs, const Basis& bt) {
+    const auto [low, high] = box_range(c, ds, dt, bs, bt);
+    return std::max(-low, high);
 }
 
 }  // namespace
@@ -146,6 +153,12 @@ double triangle_bound(const Bounds& m, const P2& p0, const P2& p1, const P2& p2)
     return 0.5 * value;
 }
 
+double triangle_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2& p2, Bounds* dominant) {
+    const double up = triangle_bound(m.up, p0, p1, p2), down = triangle_bound(m.down, p0, p1, p2);
+    if (dominant) *dominant = up >= down ? m.up : m.down;
+    return std::max(up, down);
+}
+
 int subface_columns(std::size_t n) {
     return n < 10 ? 2 + (n > 4 ? 1 : 0) : 1 + static_cast<int>(std::sqrt(static_cast<float>(n - 1)));
 }
@@ -212,16 +225,39 @@ Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, dou
     return {box_max(uu, 1, 3, s1b, t3b), box_max(uv, 2, 2, s2b, t2b), box_max(vv, 3, 1, s3b, t1b)};
 }
 
-Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo, const P2& hi) {
-    if (!m) return o.m;
-    Bounds out;
+SignedBounds signed_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
+    double uu[8], vv[8], uv[9];
+    for (std::size_t i = 0; i < 8; ++i) uu[i] = dot(n, p.uu[i]);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 2; ++c) vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
+    for (std::size_t i = 0; i < 9; ++i) uv[i] = dot(n, p.uv[i]);
+    static const std::array<Basis, 4> kWhole = {Basis{}, bernstein_of_basis(1, 0.0, 1.0),
+                                                bernstein_of_basis(2, 0.0, 1.0), bernstein_of_basis(3, 0.0, 1.0)};
+    const auto basis = [](int d, double lo, double hi) {
+        return lo == 0.0 && hi == 1.0 ? kWhole[std::size_t(d)] : bernstein_of_basis(d, lo, hi);
+    };
+    const Basis s1b = basis(1, s0, s1), s2b = basis(2, s0, s1), s3b = basis(3, s0, s1);
+    const Basis t1b = basis(1, t0, t1), t2b = basis(2, t0, t1), t3b = basis(3, t0, t1);
+    const auto [uu_low, uu_high] = box_range(uu, 1, 3, s1b, t3b);
+    const auto [vv_low, vv_high] = box_range(vv, 3, 1, s3b, t1b);
+    const double mixed = box_max(uv, 2, 2, s2b, t2b);
+    SignedBounds out;
+    out.up = {std::max(0.0, uu_high), mixed, std::max(0.0, vv_high)};
+    out.down = {std::max(0.0, -uu_low), mixed, std::max(0.0, -vv_low)};
+    return out;
+}
+
+SignedBounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo,
+                          const P2& hi) {
+    if (!m) return SignedBounds::symmetric(o.m);
+    SignedBounds out;
     for (const auto& piece : o.patches) {
         const double inv = 1.0 / piece.w;
         const double s0 = std::clamp((lo.s - piece.s0) * inv, 0.0, 1.0),
                      s1 = std::clamp((hi.s - piece.s0) * inv, 0.0, 1.0);
         const double t0 = std::clamp((lo.t - piece.t0) * inv, 0.0, 1.0),
                      t1 = std::clamp((hi.t - piece.t0) * inv, 0.0, 1.0);
-        out.include(along_in_box(fd.patches[piece.patch], *m, s0, s1, t0, t1), inv * inv);
+        out.include(signed_in_box(fd.patches[piece.patch], *m, s0, s1, t0, t1), inv * inv);
     }
     return out;
 }
@@ -231,15 +267,15 @@ Bounds full_bounds(const FaceData& fd, const Overlap& o, const P2& lo, const P2&
     for (int k = 0; k < 3; ++k) {
         Vec3 e{};
         (k == 0 ? e.x : k == 1 ? e.y : e.z) = 1.0;
-        axis[k] = plane_bounds(fd, o, e, lo, hi);
+        axis[k] = plane_bounds(fd, o, e, lo, hi).magnitude();
     }
     const auto len = [](double a, double b, double c) { return std::sqrt(a * a + b * b + c * c); };
     return {len(axis[0].uu, axis[1].uu, axis[2].uu), len(axis[0].uv, axis[1].uv, axis[2].uv),
             len(axis[0].vv, axis[1].vv, axis[2].vv)};
 }
 
-Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
-                    const P2& c) {
+SignedBounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
+                          const P2& c) {
     return plane_bounds(fd, o, m, {std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})},
                         {std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})});
 }

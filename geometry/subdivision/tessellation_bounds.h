@@ -32,6 +32,26 @@ struct Bounds {
     }
 };
 
+//! Bounds on the two signs of n . S_ss and n . S_tt (n a plane's normal) and on |n . S_st| over a region: `up` on
+//! max(0, n . S_ss), |n . S_st|, max(0, n . S_tt); `down` on max(0, -n . S_ss), |n . S_st|, max(0, -n . S_tt). Where
+//! the surface is saddle-shaped (S_ss and S_tt curve to opposite sides of the plane) each sign has one direction's
+//! term only.
+struct SignedBounds {
+    Bounds up, down;
+    void include(const SignedBounds& b, double scale) {
+        up.include(b.up, scale);
+        down.include(b.down, scale);
+    }
+    //! Bounds on |n . S_ss|, |n . S_st|, |n . S_tt|.
+    Bounds magnitude() const {
+        Bounds m = up;
+        m.include(down, 1.0);
+        return m;
+    }
+    //! Bounds known only in magnitude.
+    static SignedBounds symmetric(const Bounds& m) { return {m, m}; }
+};
+
 //! A uniform bicubic B-spline patch's differences over its [0, 1]^2. S_s is a B-spline (quadratic in s, cubic in t)
 //! of the first differences along s, S_ss a linear-by-cubic one of the second differences, S_st a biquadratic one of
 //! the mixed differences; B-spline bases are >= 0 and sum to 1, so each derivative lies in the convex hull of its
@@ -57,6 +77,12 @@ std::pair<double, double> rates_for(const Bounds& m, double tolerance);
 //! by (sqrt a, sqrt c) the maximum is the squared circumradius when the circumcentre is inside, else a quarter of
 //! the longest edge squared.
 double triangle_bound(const Bounds& m, const P2& p0, const P2& p1, const P2& p2);
+
+//! The same for a scalar whose second derivatives have signed bounds: with d_i = p_i - x, the interpolant minus the
+//! scalar at x is (1/2) sum l_i d_i^T H_i d_i, H_i a weighted mean of the Hessian along [x, p_i], so it lies between
+//! -(1/2) sum l_i Q_down(d_i) and (1/2) sum l_i Q_up(d_i), each side bounded as above: the larger of the two sides'
+//! bounds. `dominant` (when given) receives the bounds of the larger side.
+double triangle_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2& p2, Bounds* dominant = nullptr);
 
 //! The quad sub-face tile width of an N-gon in Bfr's parameterization (limit_evaluation.h).
 int subface_columns(std::size_t n);
@@ -109,13 +135,17 @@ Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, co
 //! B-splines of the patch's differences) over the box. Never above `along`'s bounds over the whole patch.
 Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1);
 
+//! along_in_box with the signs of n . S_ss and n . S_tt kept apart (the smallest and largest Bernstein coefficient).
+SignedBounds signed_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1);
+
 //! Second-derivative bounds of the component of S along the unit normal `m` of a triangle's plane, over the parts
 //! of the patches `o` holds inside the box [lo, hi] (the rest is `o.uncovered`), for triangle_bound: the distance
 //! from S(x) to the plane of the triangle of S at its corners is |m . (S(x) - T(x))|, the interpolation error of
 //! the scalar m . S, whose second derivatives are bounded by the Bernstein coefficients, over the box, of the
 //! patches' differences projected on m. Only the surface's bending away from the plane counts, not the
 //! parameterization's tangential non-uniformity. Without a normal (a degenerate triangle): the bounds on |S_xx|.
-Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo, const P2& hi);
+SignedBounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo,
+                          const P2& hi);
 
 //! Bounds on |S_ss|, |S_st|, |S_tt| (the full vectors) over the box [lo, hi]: the norm of the per-axis bounds. For a
 //! triangle with an edge on an open boundary, where a point of S whose projection falls outside the triangle has no
@@ -123,8 +153,8 @@ Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Ve
 Bounds full_bounds(const FaceData& fd, const Overlap& o, const P2& lo, const P2& hi);
 
 //! plane_bounds over a triangle's bounding box.
-Bounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
-                    const P2& c);
+SignedBounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& a, const P2& b,
+                          const P2& c);
 
 //! Unit normal of the triangle (a, b, c), if it has one.
 std::optional<Vec3> unit_normal(const Vec3& a, const Vec3& b, const Vec3& c);

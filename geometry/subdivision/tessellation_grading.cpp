@@ -16,7 +16,7 @@ namespace {
 constexpr double kCoarsenTarget = 0.97;
 
 //! How many times a graded grid within the tolerance is coarsened.
-constexpr int kCoarsenRounds = 3;
+constexpr int kCoarsenRounds = 6;
 //! How many single-line trims a graded grid within the tolerance tries after its coarsenings.
 constexpr int kTrimTrials = 4;
 
@@ -172,10 +172,11 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                 query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
                 const std::optional<Vec3> n_lower = unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)),
                                           n_upper = unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-                const Bounds lower = plane_bounds(fd, o, n_lower, lo, c10, hi);
-                const Bounds upper = plane_bounds(fd, o, n_upper, lo, hi, c01);
-                const double rl = triangle_bound(lower, lo, c10, hi) / tol,
-                             ru = triangle_bound(upper, lo, hi, c01) / tol;
+                const SignedBounds lower = plane_bounds(fd, o, n_lower, lo, c10, hi);
+                const SignedBounds upper = plane_bounds(fd, o, n_upper, lo, hi, c01);
+                Bounds lower_side, upper_side;  // the bounds of each triangle's larger side, for shrink
+                const double rl = triangle_bound(lower, lo, c10, hi, &lower_side) / tol,
+                             ru = triangle_bound(upper, lo, hi, c01, &upper_side) / tol;
                 double fs = 1, ft = 1, cell_ratio = std::max(rl, ru);
                 if (rl > 1 || ru > 1) {
                     // a patch that fails on its own (a narrow band of high curvature inside a coarse cell) refines
@@ -185,10 +186,11 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                         Overlap one;
                         one.m.include(fd.patches[piece.patch].m, 1.0 / (piece.w * piece.w));
                         one.patches = {piece};
-                        Bounds m = plane_bounds(fd, one, n_lower, lo, c10, hi);
-                        const Bounds mu = plane_bounds(fd, one, n_upper, lo, hi, c01);
+                        Bounds m, mu;
                         const double r =
-                            std::max(triangle_bound(m, lo, c10, hi), triangle_bound(mu, lo, hi, c01)) / tol;
+                            std::max(triangle_bound(plane_bounds(fd, one, n_lower, lo, c10, hi), lo, c10, hi, &m),
+                                     triangle_bound(plane_bounds(fd, one, n_upper, lo, hi, c01), lo, hi, c01, &mu)) /
+                            tol;
                         if (r <= 1) continue;
                         local = true;
                         m.include(mu, 1.0);
@@ -199,8 +201,8 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                         fail = true;
                     }
                     if (!local) {
-                        Bounds m = lower;
-                        m.include(upper, 1.0);
+                        Bounds m = lower_side;
+                        m.include(upper_side, 1.0);
                         std::tie(fs, ft) = shrink(m, hs, ht, std::max(rl, ru));
                     }
                 }
@@ -332,9 +334,9 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                 // sampled as well
                 if (bounded) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
-                    const Bounds lower =
+                    const SignedBounds lower =
                         plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)), lo, c10, hi);
-                    const Bounds upper =
+                    const SignedBounds upper =
                         plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)), lo, hi, c01);
                     worst_ratio = std::max({worst_ratio, triangle_bound(lower, lo, c10, hi) / tol,
                                             triangle_bound(upper, lo, hi, c01) / tol});

@@ -52,7 +52,7 @@ void apply(const Graded& g, LimitTessellationPlan::Domain& d);
 //! its mean normal, an estimate), then every cell's two triangles are bounded with their own planes (sampled where
 //! no patch bounds them) and the densities raised where a cell exceeds the tolerance (around a patch whose own bound
 //! fails, else over the cell), until none does; the grid is then coarsened where every cell over a bin has room and
-//! refined again (three times), then one line fewer is tried along s, then along t, while the grid passes; the
+//! refined again (six times), then one line fewer is tried along s, then along t, while the grid passes; the
 //! smallest grid within the tolerance is kept.
 Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                              const LimitTessellationOptions& options);

@@ -22,6 +22,7 @@
 #include "geometry/spatial/closest_point.h"
 #include "geometry/subdivision/adaptive_tessellation.h"
 #include "geometry/subdivision/limit_evaluation.h"
+#include "geometry/subdivision/tessellation_bounds.h"
 #include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
@@ -431,6 +432,48 @@ TEST(AdaptiveTessellation, GridsAreGradedTowardsSemiSharpCreases) {
     for (const auto& [edge, uses] : edge_uses(result->mesh)) {
         ASSERT_EQ(uses.size(), 2u);
         EXPECT_EQ(uses[0].first, uses[1].second);
+    }
+}
+
+// A saddle patch z = a x^2 - b y^2 (control points on it): the bounds keep the signs of z_ss and z_tt apart, and the
+// triangle's bound is then the exact largest interpolation error (one direction's curvature per side), below the
+// bound from the magnitudes alone (both directions added).
+TEST(AdaptiveTessellation, SignedBoundsOnASaddleAreExact) {
+    using namespace tessellation_detail;
+    const double a = 0.3, b = 0.2;
+    std::array<Vec3, 16> points{};
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) points[std::size_t(4 * r + c)] = {double(c), double(r), a * c * c - b * r * r};
+    const PatchData patch = patch_data(points);
+    const SignedBounds sb = signed_in_box(patch, {0, 0, 1}, 0.0, 1.0, 0.0, 1.0);
+    EXPECT_NEAR(sb.up.uu, 2 * a, 1e-12);
+    EXPECT_NEAR(sb.up.vv, 0.0, 1e-12);
+    EXPECT_NEAR(sb.down.uu, 0.0, 1e-12);
+    EXPECT_NEAR(sb.down.vv, 2 * b, 1e-12);
+    EXPECT_NEAR(sb.up.uv, 0.0, 1e-12);
+    const Bounds magnitude = along_in_box(patch, {0, 0, 1}, 0.0, 1.0, 0.0, 1.0);
+    EXPECT_NEAR(magnitude.uu, 2 * a, 1e-12);
+    EXPECT_NEAR(magnitude.vv, 2 * b, 1e-12);
+    // the interpolation error of z over triangles with corners p_i, sampled densely (z's linear part cancels)
+    const auto z = [&](double s, double t) { return a * s * s - b * t * t; };
+    for (const double h : {0.5, 0.25}) {
+        SCOPED_TRACE(h);
+        const P2 p0{0.25, 0.25}, p1{0.25 + h, 0.25}, p2{0.25 + h, 0.25 + 0.5 * h};
+        double largest = 0;
+        constexpr int kSteps = 200;
+        for (int i = 0; i <= kSteps; ++i)
+            for (int j = 0; i + j <= kSteps; ++j) {
+                const double l1 = double(i) / kSteps, l2 = double(j) / kSteps, l0 = 1 - l1 - l2;
+                const double s = l0 * p0.s + l1 * p1.s + l2 * p2.s, t = l0 * p0.t + l1 * p1.t + l2 * p2.t;
+                const double linear = l0 * z(p0.s, p0.t) + l1 * z(p1.s, p1.t) + l2 * z(p2.s, p2.t);
+                largest = std::max(largest, std::abs(linear - z(s, t)));
+            }
+        Bounds dominant;
+        const double bound = triangle_bound(sb, p0, p1, p2, &dominant);
+        EXPECT_GE(bound, largest * (1 - 1e-12));
+        EXPECT_NEAR(bound, largest, 1e-3 * largest);
+        EXPECT_NEAR(dominant.uu, 2 * a, 1e-12);  // the s side: its edge along s is the longer
+        EXPECT_LT(bound, 0.9 * triangle_bound(magnitude, p0, p1, p2));
     }
 }
 
