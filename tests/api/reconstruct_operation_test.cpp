@@ -351,7 +351,8 @@ TEST(ReconstructOperation, GlbPointsAndGlbMeshVerticesAreInput) {
     EXPECT_EQ(header(r, "X-Normals-Estimated"), "false");  // the GLB's NORMAL
     EXPECT_EQ(header(r, "X-Colors"), "true");
     expect_sphere(answer_mesh(r), 1, 0.5 * 2.2 / 64);
-    for (const auto& c : json::parse(r.body)["colors"]) EXPECT_NEAR(c[1].get<double>(), 0.5, 1.0 / 255);
+    const json answer = json::parse(r.body);  // held: a range-for over a temporary's member would dangle
+    for (const auto& c : answer["colors"]) EXPECT_NEAR(c[1].get<double>(), 0.5, 1.0 / 255);
 
     // a triangle GLB (that answer as a GLB with vertex normals): its vertices are the points, its normals theirs
     const ApiResponse mesh_glb =
