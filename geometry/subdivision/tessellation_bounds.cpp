@@ -206,41 +206,46 @@ Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, co
     return o;
 }
 
-Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
-    double uu[8], vv[8], uv[9];
-    // uu[2r + c]: c along s (linear), r along t (cubic); vv[2r + c]: r along s (cubic), c along t (linear);
+namespace {
+
+//! A patch's second derivatives projected on a direction n, with the Bernstein bases of the sub-box
+//! [s0, s1] x [t0, t1] of its domain: what the unsigned and the signed bounds over that box are taken from.
+struct ProjectedBox {
+    // uu[2r + c]: c along s (linear), r along t (cubic); vv[r + 4c]: r along s (cubic), c along t (linear);
     // uv[3r + c]: c along s, r along t (quadratic both)
-    for (std::size_t i = 0; i < 8; ++i) uu[i] = dot(n, p.uu[i]);
+    double uu[8], vv[8], uv[9];
+    Basis s1, s2, s3, t1, t2, t3;
+};
+
+ProjectedBox project_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
+    ProjectedBox b;
+    for (std::size_t i = 0; i < 8; ++i) b.uu[i] = dot(n, p.uu[i]);
     for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 2; ++c) vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
-    for (std::size_t i = 0; i < 9; ++i) uv[i] = dot(n, p.uv[i]);
+        for (int c = 0; c < 2; ++c) b.vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
+    for (std::size_t i = 0; i < 9; ++i) b.uv[i] = dot(n, p.uv[i]);
     // the whole span is the common case (a patch inside the box): its bases once
     static const std::array<Basis, 4> kWhole = {Basis{}, bernstein_of_basis(1, 0.0, 1.0),
                                                 bernstein_of_basis(2, 0.0, 1.0), bernstein_of_basis(3, 0.0, 1.0)};
     const auto basis = [](int d, double lo, double hi) {
         return lo == 0.0 && hi == 1.0 ? kWhole[std::size_t(d)] : bernstein_of_basis(d, lo, hi);
     };
-    const Basis s1b = basis(1, s0, s1), s2b = basis(2, s0, s1), s3b = basis(3, s0, s1);
-    const Basis t1b = basis(1, t0, t1), t2b = basis(2, t0, t1), t3b = basis(3, t0, t1);
-    return {box_max(uu, 1, 3, s1b, t3b), box_max(uv, 2, 2, s2b, t2b), box_max(vv, 3, 1, s3b, t1b)};
+    b.s1 = basis(1, s0, s1), b.s2 = basis(2, s0, s1), b.s3 = basis(3, s0, s1);
+    b.t1 = basis(1, t0, t1), b.t2 = basis(2, t0, t1), b.t3 = basis(3, t0, t1);
+    return b;
+}
+
+}  // namespace
+
+Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
+    const ProjectedBox b = project_in_box(p, n, s0, s1, t0, t1);
+    return {box_max(b.uu, 1, 3, b.s1, b.t3), box_max(b.uv, 2, 2, b.s2, b.t2), box_max(b.vv, 3, 1, b.s3, b.t1)};
 }
 
 SignedBounds signed_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
-    double uu[8], vv[8], uv[9];
-    for (std::size_t i = 0; i < 8; ++i) uu[i] = dot(n, p.uu[i]);
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 2; ++c) vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
-    for (std::size_t i = 0; i < 9; ++i) uv[i] = dot(n, p.uv[i]);
-    static const std::array<Basis, 4> kWhole = {Basis{}, bernstein_of_basis(1, 0.0, 1.0),
-                                                bernstein_of_basis(2, 0.0, 1.0), bernstein_of_basis(3, 0.0, 1.0)};
-    const auto basis = [](int d, double lo, double hi) {
-        return lo == 0.0 && hi == 1.0 ? kWhole[std::size_t(d)] : bernstein_of_basis(d, lo, hi);
-    };
-    const Basis s1b = basis(1, s0, s1), s2b = basis(2, s0, s1), s3b = basis(3, s0, s1);
-    const Basis t1b = basis(1, t0, t1), t2b = basis(2, t0, t1), t3b = basis(3, t0, t1);
-    const auto [uu_low, uu_high] = box_range(uu, 1, 3, s1b, t3b);
-    const auto [vv_low, vv_high] = box_range(vv, 3, 1, s3b, t1b);
-    const double mixed = box_max(uv, 2, 2, s2b, t2b);
+    const ProjectedBox b = project_in_box(p, n, s0, s1, t0, t1);
+    const auto [uu_low, uu_high] = box_range(b.uu, 1, 3, b.s1, b.t3);
+    const auto [vv_low, vv_high] = box_range(b.vv, 3, 1, b.s3, b.t1);
+    const double mixed = box_max(b.uv, 2, 2, b.s2, b.t2);
     SignedBounds out;
     out.up = {std::max(0.0, uu_high), mixed, std::max(0.0, vv_high)};
     out.down = {std::max(0.0, -uu_low), mixed, std::max(0.0, -vv_low)};
