@@ -225,6 +225,18 @@ TEST_F(GeometryHttp, ReconstructPlyBodyWithQueryOptionsAndJsonBody) {
     ASSERT_TRUE(glb_mesh.ok()) << glb_mesh.error().message;
     EXPECT_GT(testing::signed_volume(glb_mesh.value()), 0.9 * 4.0 / 3.0 * std::numbers::pi);
 
+    // that GLB posted back as the body: a mesh GLB's vertices are the points (normals estimated: it has none)
+    auto again = client().Post("/reconstruct?depth=5&format=obj", glb->body, "model/gltf-binary");
+    ASSERT_TRUE(again) << httplib::to_string(again.error());
+    ASSERT_EQ(again->status, 200) << again->body;
+    EXPECT_EQ(again->get_header_value("X-Input-Points"), glb->get_header_value("X-Output-Vertices"));
+    auto again_mesh = read_obj(again->body);
+    ASSERT_TRUE(again_mesh.ok()) << again_mesh.error().message;
+    EXPECT_TRUE(testing::is_watertight(again_mesh.value()));
+    EXPECT_GT(testing::signed_volume(again_mesh.value()), 0.9 * 4.0 / 3.0 * std::numbers::pi);
+    expect_http_problem(client().Post("/reconstruct", std::string("glTF\x02\0\0\0", 8), "model/gltf-binary"), 400,
+                        "parse_error");
+
     expect_http_problem(client().Post("/reconstruct?depth=1", ply, "application/ply"), 400, "invalid_field", "depth");
     expect_http_problem(client().Post("/reconstruct?depth=9", ply, "application/ply"), 422, "budget_exceeded", "depth");
 }
