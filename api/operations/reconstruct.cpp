@@ -291,17 +291,6 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
     Timing timing{
         t_start,
         {{"decode", t_decoded}, {"normals", t_normals}, {"reconstruct", t_reconstructed}, {"trim", t_trimmed}}};
-    if (!colors.empty() && params.output.format != OutputFormat::Json) {
-        ApiResponse response;
-        response.content_type = std::string(output_media_type(params.output.format));
-        auto encoded = encode_mesh_file(result.mesh, params.output, d.source, {colors, d.cloud.has_alpha});
-        if (!encoded) return error_response(std::move(encoded.error()));
-        response.body = std::move(encoded.value());
-        timing.stages.emplace_back("encode", Clock::now());
-        append_timing_headers(headers, timing);
-        response.headers = std::move(headers);
-        return response;
-    }
     const auto encode_json = [&](const PolygonMesh& m) {
         std::string out = encode_mesh_with_stats(m, json_text(stats));
         if (colors.empty()) return out;
@@ -315,7 +304,8 @@ ApiResponse run(const ApiRequest& sent, const ApiContext& context) {
         const auto at = out.rfind(",\"stats\":");
         return out.substr(0, at) + ",\"colors\":" + json_text(list) + out.substr(at);
     };
-    return mesh_response(result.mesh, params.output, d.source, encode_json, std::move(headers), std::move(timing));
+    return mesh_response(result.mesh, params.output, d.source, encode_json, std::move(headers), std::move(timing),
+                         {colors, d.cloud.has_alpha});
 }
 
 }  // namespace

@@ -270,25 +270,26 @@ struct VertexColors {
 //! vertex) into glTF, PLY and OBJ.
 ApiResult<std::string> encode_mesh_file(PolygonMesh& mesh, const OutputOptions& out, Source source,
                                         VertexColors colors = {});
-//! encode_mesh_file, or for format json `encode_json(mesh)` with the mesh's normals prepared (prepare_normals), so
+//! encode_mesh_file (with `colors`), or for format json `encode_json(mesh)` with the mesh's normals prepared (prepare_normals), so
 //! that a JSON mesh carries "normals" exactly when the other formats would.
 template <class EncodeJson>
 ApiResult<std::string> encode_mesh_output(PolygonMesh& mesh, const OutputOptions& out, Source source,
-                                          EncodeJson&& encode_json) {
+                                          EncodeJson&& encode_json, VertexColors colors = {}) {
     if (out.format == OutputFormat::Json) {
         prepare_normals(mesh, out);
         return encode_json(mesh);
     }
-    return encode_mesh_file(mesh, out, source);
+    return encode_mesh_file(mesh, out, source, colors);
 }
-//! A mesh operation's response: the mesh in the requested format (JSON by `encode_json`), its media type, and the
-//! headers: `headers` (counts, the operation's own), then the timing ones with a last stage "encode" ending now.
+//! A mesh operation's response: the mesh in the requested format (JSON by `encode_json`; `colors` as in
+//! encode_mesh_file), its media type, and the headers: `headers` (counts, the operation's own), then the timing ones
+//! with a last stage "encode" ending now.
 template <class EncodeJson>
 ApiResponse mesh_response(PolygonMesh& mesh, const OutputOptions& out, Source source, EncodeJson&& encode_json,
-                          Headers headers, Timing timing) {
+                          Headers headers, Timing timing, VertexColors colors = {}) {
     ApiResponse response;
     response.content_type = std::string(output_media_type(out.format));
-    auto encoded = encode_mesh_output(mesh, out, source, std::forward<EncodeJson>(encode_json));
+    auto encoded = encode_mesh_output(mesh, out, source, std::forward<EncodeJson>(encode_json), colors);
     if (!encoded) return error_response(std::move(encoded.error()));
     response.body = std::move(encoded.value());
     timing.stages.emplace_back("encode", Clock::now());
