@@ -293,15 +293,7 @@ struct Region {
             net_derivative_bounds(piece.weights, piece.degree_u, piece.degree_v, [](double x) { return std::fabs(x); });
     }
     //! Bounds on |S_u|, |S_v|, |S_uu|, |S_uv|, |S_vv| over the box, in patch parameters.
-    NetBounds full() const {
-        NetBounds b = single_net_rational_bounds(piece);
-        b.u /= su;
-        b.v /= sv;
-        b.uu /= su * su;
-        b.uv /= su * sv;
-        b.vv /= sv * sv;
-        return b;
-    }
+    NetBounds full() const { return to_patch_parameters(single_net_rational_bounds(piece)); }
     //! The same for the scalar dir . S (dir a unit vector, c0 any point): the quotient rule of the top of this file
     //! dotted with dir, from the scalar net dir . w (P - c0), the weights and |dir . (S - c0)| <= max |dir . (P - c0)|.
     NetBounds along(const Vec3& dir, const Vec3& c0) const {
@@ -319,6 +311,10 @@ struct Region {
         b.uu = (qa[2] + wa[2] * radius + 2 * wa[0] * b.u) / wmin;
         b.vv = (qa[3] + wa[3] * radius + 2 * wa[1] * b.v) / wmin;
         b.uv = (qa[4] + wa[4] * radius + wa[0] * b.v + wa[1] * b.u) / wmin;
+        return to_patch_parameters(b);
+    }
+    //! Bounds in the box's own parameters (each in [0, 1]) as bounds in the patch's: d/du = (1 / su) d/ds.
+    NetBounds to_patch_parameters(NetBounds b) const {
         b.u /= su;
         b.v /= sv;
         b.uu /= su * su;
