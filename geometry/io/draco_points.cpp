@@ -7,6 +7,9 @@
 #include <exception>
 #include <memory>
 #include <new>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
@@ -90,8 +93,34 @@ Result<std::vector<T>> extract(const draco::PointCloud& cloud, int unique_id, in
     return values;
 }
 
+//! The point count a Draco point-cloud stream announces, read before Draco allocates for it (its decoder sizes every
+//! attribute by that count before reading any value, so a few bytes could ask for gigabytes). The header is "DRACO",
+//! major and minor version, encoder type (0: point cloud), encoder method and 16 flag bits; a point cloud's geometry
+//! data then starts with its point count as a little-endian int32. Streams with metadata (flag 0x8000) are refused:
+//! the count then sits after a variable-length block. Mesh streams (type 1) are left to Draco (their count is in the
+//! connectivity data). Empty when the stream is a mesh.
+Result<std::optional<std::uint32_t>> announced_point_count(std::span<const std::uint8_t> bytes) {
+    constexpr std::size_t kHeader = 11;
+    if (bytes.size() < kHeader || std::string_view(reinterpret_cast<const char*>(bytes.data()), 5) != "DRACO")
+        return make_error(ErrorCode::ParseError, "Draco data does not start with a Draco header");
+    if (bytes[7] != 0) return std::optional<std::uint32_t>{};
+    const unsigned flags = bytes[9] | (unsigned(bytes[10]) << 8);
+    if (flags & 0x8000u) return make_error(ErrorCode::ParseError, "Draco point clouds with metadata are not read");
+    if (bytes.size() < kHeader + 4) return make_error(ErrorCode::ParseError, "Draco point cloud ends in its header");
+    const std::uint32_t count = bytes[kHeader] | (std::uint32_t(bytes[kHeader + 1]) << 8) |
+                                (std::uint32_t(bytes[kHeader + 2]) << 16) | (std::uint32_t(bytes[kHeader + 3]) << 24);
+    if (count > 0x7fffffffu) return make_error(ErrorCode::ParseError, "Draco point cloud has a negative point count");
+    return std::optional<std::uint32_t>{count};
+}
+
 Result<PointData> decode_unchecked(std::span<const std::uint8_t> bytes, const AttributeIds& ids,
                                    std::size_t max_points) {
+    auto announced = announced_point_count(bytes);
+    if (!announced) return announced.error();
+    if (*announced && **announced > max_points)
+        return make_error(ErrorCode::BudgetExceeded, "Draco point cloud announces " + std::to_string(**announced) +
+                                                         " points, more than the limit of " +
+                                                         std::to_string(max_points));
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     draco::Decoder decoder;

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geometry/io/draco_points.h"
 #include "geometry/io/gltf.h"
 #include "geometry/io/gltf_points.h"
 #include "geometry/io/pointcloud_glb.h"
@@ -356,6 +357,24 @@ TEST(GltfPoints, PointBudgetIsCheckedBeforeReading) {
         options.max_points = 100;
         EXPECT_TRUE(read_glb_points(*glb, options).ok());
     }
+}
+
+TEST(GltfPoints, DracoPointCountIsCheckedBeforeDracoAllocates) {
+    // a Draco kd-tree point cloud header announcing 1,694,433,304 points in a few bytes (Draco would size its
+    // attributes, 20 GB, before reading a value): refused from the announced count
+    std::vector<std::uint8_t> stream = {'D', 'R', 'A', 'C', 'O', 2, 3, 0, 1, 0, 0, 0x18, 0x00, 0xff, 0x64, 1, 3, 0, 9};
+    draco_points::AttributeIds ids;
+    ids.position = 0;
+    auto decoded = draco_points::decode(stream, ids, 1'000'000);
+    ASSERT_FALSE(decoded.ok());
+    EXPECT_EQ(decoded.error().code, ErrorCode::BudgetExceeded);
+    EXPECT_NE(decoded.error().message.find("announces 1694433304 points"), std::string::npos)
+        << decoded.error().message;
+    // metadata (flag 0x8000) hides the count: refused; a truncated header is a parse error
+    std::vector<std::uint8_t> with_metadata = stream;
+    with_metadata[10] = 0x80;
+    EXPECT_EQ(draco_points::decode(with_metadata, ids, 1'000'000).error().code, ErrorCode::ParseError);
+    EXPECT_EQ(draco_points::decode(std::span(stream).first(12), ids, 1'000'000).error().code, ErrorCode::ParseError);
 }
 
 TEST(GltfPoints, FormatDetection) {
