@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "geometry/subdivision/tessellation_bounds.h"
+#include "geometry/subdivision/tessellation_decimation.h"
 #include "geometry/subdivision/tessellation_grading.h"
 #include "geometry/subdivision/tessellation_strips.h"
 
@@ -96,6 +97,21 @@ struct Context {
         return {SidePart{first ? s0 : s0 + 1, 0.0, 1.0, !use.forward}, SidePart{}};
     }
 };
+
+//! Which sides of domain d lie on an open boundary of the mesh (an edge with one face): a triangle with an edge
+//! there has no neighbour beyond it, so it is bounded on its full distance.
+std::array<bool, 4> open_sides(const Context& cx, const LimitTessellationPlan::Domain& d) {
+    std::array<bool, 4> open{};
+    const std::size_t n = cx.faces[d.face].size;
+    for (int k = 0; k < 4; ++k) {
+        if (d.subface >= 0 && (k == 1 || k == 2)) continue;  // spokes
+        const std::size_t fe = d.subface < 0 ? std::size_t(k)
+                               : k == 0      ? std::size_t(d.subface)
+                                             : (std::size_t(d.subface) + n - 1) % n;
+        open[std::size_t(k)] = cx.edge_faces[cx.face_edges[d.face][fe].edge] == 1;
+    }
+    return open;
+}
 
 //! Builds edges, prepares every face, and plans.
 Result<LimitTessellationPlan> plan(Context& cx) {
@@ -307,42 +323,16 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                 const std::uint32_t ring = std::uint32_t(d.side[0] + d.side[1] + d.side[2] + d.side[3]);
                 double bound = 0, sampled = 0;
                 bool inner_fail = false;
+                const std::array<bool, 4> open = open_sides(cx, d);
                 for (const auto& tri : local.triangles) {
                     const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
-                    const Overlap o = overlap_of(fd, d.subface, a, b, c);
-                    double e = 0, tb = 0;
-                    if (o.uncovered || !options.guaranteed) {
-                        auto measured = sampled_error(fd, d.subface, a, b, c);
-                        if (!measured) return measured.error();
-                        e = *measured;
-                        sampled = std::max(sampled, e);
-                    }
-                    // an edge on an open boundary: the full bound (no neighbour beyond it)
-                    bool open_edge = false;
-                    for (int k = 0; k < 4 && options.guaranteed; ++k) {
-                        if (d.subface >= 0 && (k == 1 || k == 2)) continue;
-                        const std::size_t fe = d.subface < 0 ? std::size_t(k)
-                                               : k == 0      ? std::size_t(d.subface)
-                                                             : (std::size_t(d.subface) + fd.size - 1) % fd.size;
-                        if (cx.edge_faces[cx.face_edges[d.face][fe].edge] != 1) continue;
-                        int on = 0;
-                        for (const P2* q : {&a, &b, &c})
-                            on += k == 0 ? q->t == 0 : k == 1 ? q->s == 1 : k == 2 ? q->t == 1 : q->s == 0;
-                        open_edge = open_edge || on >= 2;
-                    }
-                    if (options.guaranteed && open_edge) {
-                        tb = triangle_bound(full_bounds(fd, o, {std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})},
-                                                        {std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})}),
-                                            a, b, c);
-                        bound = std::max(bound, tb);
-                    } else if (options.guaranteed) {
-                        tb = triangle_bound(
-                            plane_bounds(fd, o, unit_normal(positions[tri[0]], positions[tri[1]], positions[tri[2]]), a,
-                                         b, c),
-                            a, b, c);
-                        bound = std::max(bound, tb);
-                    }
-                    const double ratio = std::max(tb / options.tolerance, e / (options.tolerance / kSampledSafety));
+                    std::array<Vec3, 3> corners{};
+                    if (options.guaranteed) corners = {positions[tri[0]], positions[tri[1]], positions[tri[2]]};
+                    auto error = triangle_error(fd, d.subface, open, a, b, c, corners, options.guaranteed);
+                    if (!error) return error.error();
+                    bound = std::max(bound, error->bound);
+                    sampled = std::max(sampled, error->sampled);
+                    const double ratio = error->ratio(options.tolerance);
                     if (!options.guaranteed || ratio <= 1) continue;
                     // graded: refine where the triangle lies, and its side when it is in a transition strip
                     const double f = std::min(4.0, std::max(1.1, std::sqrt(ratio)));
@@ -548,11 +538,9 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         }
     }
 
-    // 3. triangles (and UVs) per domain
-    const bool uvs = base.has_uvs();
-    mesh.face_offsets.reserve(p.triangles + 1);
-    mesh.face_indices.reserve(3 * p.triangles);
-    out.face_of_triangle.reserve(p.triangles);
+    // 3. triangles per domain, with their corners' (s, t)
+    std::vector<DomainTriangle> triangles;
+    triangles.reserve(p.triangles);
     for (std::size_t di = 0; di < p.domains.size(); ++di) {
         const auto& d = p.domains[di];
         const std::size_t f = d.face, n = base.face_size(f);
@@ -589,9 +577,60 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         for (int k = 0; k < 4; ++k)
             for (int i = 0; i < d.side[k]; ++i) ids.push_back(side[std::size_t(k)][std::size_t(i)]);
         for (int i = 0; i < (d.nu - 1) * (d.nv - 1); ++i) ids.push_back(first_inner[di] + Index(i));
-        // corner UVs of the domain: the face's, or for a sub-face its corner, edge midpoints and the centre
-        std::array<Vec2, 4> corner_uv{};
-        if (uvs) {
+        for (const auto& tri : local.triangles)
+            triangles.push_back({std::uint32_t(di),
+                                 {ids[tri[0]], ids[tri[1]], ids[tri[2]]},
+                                 {local.points[tri[0]], local.points[tri[1]], local.points[tri[2]]}});
+    }
+
+    // 4. vertices the tolerance does not need removed, then the unused ones dropped
+    double error_bound = p.error_bound, sampled_error = p.sampled_error;
+    if (options.guaranteed && options.decimate) {
+        std::vector<DecimationDomain> domains;
+        domains.reserve(p.domains.size());
+        for (const auto& d : p.domains) domains.push_back({&cx.faces[d.face], d.subface, open_sides(cx, d)});
+        auto decimated = decimate(triangles, mesh.positions, domains, options);
+        if (!decimated) return decimated.error();
+        out.removed_vertices = decimated->removed_vertices;
+        error_bound = decimated->worst.bound;
+        sampled_error = decimated->worst.sampled;
+        if (out.removed_vertices > 0) {
+            std::vector<Index> remap(sites.size(), kInvalidIndex);
+            for (const auto& t : triangles)
+                for (Index v : t.v) remap[v] = 0;
+            Index next = 0;
+            for (std::size_t i = 0; i < sites.size(); ++i)
+                if (remap[i] != kInvalidIndex) {
+                    remap[i] = next;
+                    sites[next] = sites[i];
+                    mesh.positions[next] = mesh.positions[i];
+                    mesh.normals[next] = mesh.normals[i];
+                    ++next;
+                }
+            sites.resize(next);
+            mesh.positions.resize(next);
+            mesh.normals.resize(next);
+            for (auto& t : triangles)
+                for (Index& v : t.v) v = remap[v];
+        }
+    }
+
+    // 5. the output triangles, with UVs bilinear in each domain's (s, t) between its corners' UVs
+    const bool uvs = base.has_uvs();
+    mesh.face_offsets.reserve(triangles.size() + 1);
+    mesh.face_indices.reserve(3 * triangles.size());
+    out.face_of_triangle.reserve(triangles.size());
+    std::size_t uv_domain = p.domains.size();
+    std::array<Vec2, 4> corner_uv{};
+    for (const DomainTriangle& tri : triangles) {
+        const auto& d = p.domains[tri.domain];
+        const std::size_t f = d.face, n = base.face_size(f);
+        mesh.add_face(std::span<const Index>(tri.v.data(), 3));
+        out.face_of_triangle.push_back(Index(f));
+        if (!uvs) continue;
+        if (uv_domain != tri.domain) {
+            // corner UVs of the domain: the face's, or for a sub-face its corner, edge midpoints and the centre
+            uv_domain = tri.domain;
             const auto uv_at = [&](std::size_t k) { return base.uvs[base.uv_indices[base.face_offsets[f] + k]]; };
             if (d.subface < 0) {
                 for (std::size_t k = 0; k < 4; ++k) corner_uv[k] = uv_at(k);
@@ -609,25 +648,18 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
                              mid(uv_at(j), uv_at((j + n - 1) % n))};
             }
         }
-        for (const auto& tri : local.triangles) {
-            const Index t[3] = {ids[tri[0]], ids[tri[1]], ids[tri[2]]};
-            mesh.add_face(std::span<const Index>(t, 3));
-            out.face_of_triangle.push_back(Index(f));
-            if (uvs)
-                for (std::uint32_t c : tri) {
-                    const P2& q = local.points[c];
-                    mesh.uv_indices.push_back(Index(mesh.uvs.size()));
-                    const double w[4] = {(1 - q.s) * (1 - q.t), q.s * (1 - q.t), q.s * q.t, (1 - q.s) * q.t};
-                    Vec2 uv{};
-                    for (int k = 0; k < 4; ++k) {
-                        uv.x += w[k] * corner_uv[std::size_t(k)].x;
-                        uv.y += w[k] * corner_uv[std::size_t(k)].y;
-                    }
-                    mesh.uvs.push_back(uv);
-                }
+        for (const P2& q : tri.p) {
+            mesh.uv_indices.push_back(Index(mesh.uvs.size()));
+            const double w[4] = {(1 - q.s) * (1 - q.t), q.s * (1 - q.t), q.s * q.t, (1 - q.s) * q.t};
+            Vec2 uv{};
+            for (int k = 0; k < 4; ++k) {
+                uv.x += w[k] * corner_uv[std::size_t(k)].x;
+                uv.y += w[k] * corner_uv[std::size_t(k)].y;
+            }
+            mesh.uvs.push_back(uv);
         }
     }
-    out.achieved_error = std::max(p.error_bound, p.sampled_error);
+    out.achieved_error = std::max(error_bound, sampled_error);
     return out;
 }
 

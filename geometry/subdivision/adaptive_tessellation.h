@@ -38,6 +38,12 @@
 // 1/6, evaluated exactly, must be at most tolerance / kSampledSafety. The sampled part is a measurement with a safety
 // factor, not a guarantee. The reported error is the largest of the bounds and of the measured distances.
 //
+// Decimation (options.decimate, with guaranteed rates). A grid's lines span its domain, so the lines a narrow band
+// needs also cross the rest of the face. After the output vertices are evaluated, the vertices the tolerance does not
+// need are removed by half-edge collapses (tessellation_decimation.h), each accepted only when every triangle it
+// creates passes the same bound (or sampled measurement) as the grids' triangles; a vertex on a base edge or spoke
+// moves only along it, domain corners never move, so the output stays watertight and keeps its Euler characteristic.
+//
 // Output. Triangles, counter-clockwise as the base faces; per-vertex exact limit normals (normalize(du x dv), the
 // limit-mask normal at an irregular vertex; a vertex on a crease takes the normal of the face that evaluated it);
 // face-varying UVs when the mesh has them, bilinear in each domain's (s, t) between its corners' UVs (an N-gon's
@@ -76,6 +82,9 @@ struct LimitTessellationOptions {
     //! rates per domain from the measured distance of every triangle (25 points, within tolerance /
     //! kSampledSafety), no guarantee (docs/benchmarks.md compares them).
     bool guaranteed = true;
+    //! With guaranteed rates: afterwards remove the vertices the tolerance does not need (bounded half-edge
+    //! collapses, tessellation_decimation.h), so that lines a narrow band needs do not cross the rest of a face.
+    bool decimate = true;
     //! Polled between faces; when it fires the result is Cancelled.
     Cancel cancel;
 };
@@ -107,8 +116,8 @@ struct LimitTessellationPlan {
     std::vector<Domain> domains;
     //! Segments per base edge (both halves of an N-gon's), in the order of first use by faces.
     std::vector<int> edge_rates;
-    std::uint64_t triangles = 0;  //!< exact output triangle count
-    std::uint64_t vertices = 0;   //!< exact output vertex count
+    std::uint64_t triangles = 0;  //!< output triangle count before decimation (exact without it)
+    std::uint64_t vertices = 0;   //!< output vertex count before decimation
     double error_bound = 0;       //!< largest true bound over the bounded triangles
     double sampled_error = 0;     //!< largest measured error over the sampled triangles
 };
@@ -118,7 +127,7 @@ struct LimitTessellationPlan {
 Result<LimitTessellationPlan> plan_limit_tessellation(const LimitSurfaceEvaluator& evaluator, const PolygonMesh& base,
                                                       const LimitTessellationOptions& options);
 
-//! The output triangle count of a plan (= plan.triangles), for budgets.
+//! The output triangle count of a plan (= plan.triangles; decimation only removes triangles), for budgets.
 inline std::uint64_t predict_triangles(const LimitTessellationPlan& plan) { return plan.triangles; }
 
 //! Where an output vertex lies: base face and its (u, v) (limit_evaluation.h's parameterization).
@@ -132,7 +141,10 @@ struct LimitTessellation {
     std::vector<LimitSite> sites;         //!< per output vertex: the point of the limit surface it is
     std::vector<Index> face_of_triangle;  //!< base face each output triangle lies on
     LimitTessellationPlan plan;
-    double achieved_error = 0;  //!< max(plan.error_bound, plan.sampled_error)
+    //! The largest bound and measured error over the output triangles (max(plan.error_bound, plan.sampled_error)
+    //! without decimation).
+    double achieved_error = 0;
+    std::size_t removed_vertices = 0;  //!< by decimation: the output has plan.vertices minus these
 };
 
 //! `base` must be the mesh `evaluator` was created from. Plans, then evaluates each output vertex once.

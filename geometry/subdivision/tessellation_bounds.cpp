@@ -331,4 +331,31 @@ Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const
     return worst;
 }
 
+Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std::array<bool, 4>& open_sides,
+                                     const P2& a, const P2& b, const P2& c, const std::array<Vec3, 3>& corners,
+                                     bool guaranteed) {
+    TriangleError out;
+    const Overlap o = overlap_of(fd, subface, a, b, c);
+    if (o.uncovered || !guaranteed) {
+        auto measured = sampled_error(fd, subface, a, b, c);
+        if (!measured) return measured.error();
+        out.sampled = *measured;
+    }
+    if (!guaranteed) return out;
+    // an edge on an open boundary: the full bound (no neighbour beyond it)
+    bool open_edge = false;
+    for (int k = 0; k < 4; ++k) {
+        if (!open_sides[std::size_t(k)]) continue;
+        int on = 0;
+        for (const P2* q : {&a, &b, &c}) on += k == 0 ? q->t == 0 : k == 1 ? q->s == 1 : k == 2 ? q->t == 1 : q->s == 0;
+        open_edge = open_edge || on >= 2;
+    }
+    const P2 lo{std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})};
+    const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
+    out.bound = open_edge ? triangle_bound(full_bounds(fd, o, lo, hi), a, b, c)
+                          : triangle_bound(plane_bounds(fd, o, unit_normal(corners[0], corners[1], corners[2]), lo, hi),
+                                           a, b, c);
+    return out;
+}
+
 }  // namespace surfaced::tessellation_detail

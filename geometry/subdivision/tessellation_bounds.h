@@ -167,4 +167,19 @@ Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p);
 //! is singular, and the parametric difference falls only as fast as the triangle shrinks.)
 Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c);
 
+//! What one triangle of a domain is held to: `bound`, the guaranteed bound on its distance to the surface (0 when
+//! not guaranteed), and `sampled`, the measured distance where no patch bounds it (everywhere when not guaranteed).
+struct TriangleError {
+    double bound = 0, sampled = 0;
+    //! The larger of bound / tolerance and sampled / (tolerance / kSampledSafety): at most 1 passes.
+    double ratio(double tolerance) const { return std::max(bound / tolerance, sampled * kSampledSafety / tolerance); }
+};
+
+//! The error of the triangle (a, b, c) of a domain, whose corners are `corners` on S: bounded over the patches its
+//! bounding box overlaps with its own plane (with the full second derivatives when it has an edge on a side
+//! `open_sides` marks as an open boundary of the mesh), and sampled where it reaches a part no patch bounds.
+Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std::array<bool, 4>& open_sides,
+                                     const P2& a, const P2& b, const P2& c, const std::array<Vec3, 3>& corners,
+                                     bool guaranteed);
+
 }  // namespace surfaced::tessellation_detail
