@@ -118,8 +118,43 @@ Result<std::vector<float>> extract(const draco::Mesh& mesh, int unique_id, int c
     return values;
 }
 
+//! A little-endian uint32 at `at`, advancing it.
+bool read_u32(std::span<const std::uint8_t> bytes, std::size_t& at, std::uint32_t& out) {
+    if (bytes.size() - at < 4) return false;
+    out = bytes[at] | (std::uint32_t(bytes[at + 1]) << 8) | (std::uint32_t(bytes[at + 2]) << 16) |
+          (std::uint32_t(bytes[at + 3]) << 24);
+    at += 4;
+    return true;
+}
+
+//! A Draco varint (7 bits per byte, low first, at most 5 bytes for 32 bits) at `at`, advancing it.
+bool read_varint(std::span<const std::uint8_t> bytes, std::size_t& at, std::uint32_t& out) {
+    std::uint64_t value = 0;
+    for (int shift = 0; shift < 35; shift += 7) {
+        if (at >= bytes.size()) return false;
+        const std::uint8_t byte = bytes[at++];
+        value |= std::uint64_t(byte & 0x7f) << shift;
+        if (!(byte & 0x80)) {
+            if (value > 0xffffffffu) return false;
+            out = std::uint32_t(value);
+            return true;
+        }
+    }
+    return false;
+}
+
 Result<MeshData> decode_unchecked(std::span<const std::uint8_t> bytes, const AttributeIds& ids,
                                   const DecodeLimits& limits) {
+    auto announced = announced_mesh_counts(bytes);
+    if (!announced) return announced.error();
+    if (announced->faces > limits.max_triangles)
+        return make_error(ErrorCode::BudgetExceeded, "Draco mesh announces " + std::to_string(announced->faces) +
+                                                         " triangles, more than the limit of " +
+                                                         std::to_string(limits.max_triangles));
+    if (announced->points > limits.max_points)
+        return make_error(ErrorCode::BudgetExceeded, "Draco mesh announces " + std::to_string(announced->points) +
+                                                         " vertices, more than the limit of " +
+                                                         std::to_string(limits.max_points));
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     draco::Decoder decoder;
@@ -208,6 +243,36 @@ Result<Encoded> encode(const MeshData& mesh, const EncodeOptions& options) {
     } catch (const std::exception&) {
         return make_error(ErrorCode::Internal, "Draco encoder failed");
     }
+}
+
+Result<AnnouncedCounts> announced_mesh_counts(std::span<const std::uint8_t> bytes) {
+    constexpr std::size_t kHeader = 11;
+    if (bytes.size() < kHeader || std::string_view(reinterpret_cast<const char*>(bytes.data()), 5) != "DRACO")
+        return make_error(ErrorCode::ParseError, "Draco data does not start with a Draco header");
+    const unsigned version = (unsigned(bytes[5]) << 8) | bytes[6];
+    if (bytes[7] != 1) return make_error(ErrorCode::ParseError, "Draco data does not hold a triangle mesh");
+    const unsigned flags = bytes[9] | (unsigned(bytes[10]) << 8);
+    if (flags & 0x8000u) return make_error(ErrorCode::ParseError, "Draco meshes with metadata are not read");
+    const auto ends = [] { return make_error(ErrorCode::ParseError, "Draco mesh ends in its connectivity header"); };
+    // counts are uint32 before bitstream 2.0 (sequential: 2.2), varints from then on
+    const auto count = [&](std::size_t& at, std::uint32_t& out, unsigned varint_from) {
+        return version < varint_from ? read_u32(bytes, at, out) : read_varint(bytes, at, out);
+    };
+    std::size_t at = kHeader;
+    AnnouncedCounts out;
+    if (bytes[8] == 0) {  // sequential: faces, points
+        if (!count(at, out.faces, 0x0202) || !count(at, out.points, 0x0202)) return ends();
+    } else if (bytes[8] == 1) {  // edgebreaker: traversal type, [new vertices before 2.2], vertices, faces
+        std::uint32_t ignored = 0;
+        if (at >= bytes.size()) return ends();
+        ++at;
+        if (version < 0x0202 && !count(at, ignored, 0x0200)) return ends();
+        if (!count(at, out.points, 0x0200) || !count(at, out.faces, 0x0200)) return ends();
+    } else {
+        return make_error(ErrorCode::ParseError,
+                          "Draco mesh has an unknown encoding method " + std::to_string(bytes[8]));
+    }
+    return out;
 }
 
 Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds& ids, const DecodeLimits& limits) {

@@ -62,9 +62,21 @@ struct DecodeLimits {
     std::size_t max_triangles = 0;
 };
 
+//! The counts a Draco mesh stream announces in its connectivity header: Draco sizes its buffers by them before it
+//! reads the data they describe, so a few bytes could ask for gigabytes; decode refuses them over its limits first.
+//! The header is "DRACO", major, minor, encoder type (1: triangular mesh), method (0: sequential, then the face and
+//! point counts; 1: edgebreaker, then its traversal type and the vertex and face counts), uint16 flags. `points`
+//! is the encoded vertex count (edgebreaker splits vertices on attribute seams, at most 3 per face). ParseError for a
+//! stream that is not a Draco mesh, ends in the header, or has metadata (flag 0x8000, which would hide the counts).
+struct AnnouncedCounts {
+    std::uint32_t faces = 0, points = 0;
+};
+Result<AnnouncedCounts> announced_mesh_counts(std::span<const std::uint8_t> bytes);
+
 //! Decodes a Draco mesh and extracts the attributes named by `ids` (position required; normal/texcoord/color
-//! optional, -1 = skip) as floats (normalised integer colours as 0..1). Every index and attribute mapping is checked. Errors: ParseError (not a valid Draco mesh,
-//! missing attribute, wrong component count), BudgetExceeded (beyond `limits`).
+//! optional, -1 = skip) as floats (normalised integer colours as 0..1). Every index and attribute mapping is checked.
+//! Errors: ParseError (not a valid Draco mesh, missing attribute, wrong component count), BudgetExceeded (beyond
+//! `limits`, from the announced counts before Draco allocates, and from the decoded ones).
 Result<MeshData> decode(std::span<const std::uint8_t> bytes, const AttributeIds& ids, const DecodeLimits& limits);
 
 }  // namespace surfaced::draco_codec
