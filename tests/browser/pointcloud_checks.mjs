@@ -38,7 +38,7 @@ export async function checkPointCloudView(page, { check, shot, canvasPixels }) {
         demoPixels.n > 0.005 * demoPixels.total,
         `demo cloud sampled and drawn: ${demo.points} points, normals ${demo.normals}, ${demoPixels.n} pixels (${await shot('09-pointcloud-demo')})`);
 
-  // 1b. a GLB of points (Draco-compressed POINTS, as POST /pointcloud writes them) is read in the page, sent as JSON
+  // 1b. a GLB of points (Draco-compressed POINTS, as POST /pointcloud writes them) is sent as it is: the service reads it
   const glb = await page.evaluate(async () => {
     const tetra = { positions: [[1, 1, 1], [-1, -1, 1], [-1, 1, -1], [1, -1, -1]], faces: [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]] };
     const r = await fetch('/pointcloud', { method: 'POST', headers: { 'Content-Type': 'application/json' },
@@ -51,7 +51,7 @@ export async function checkPointCloudView(page, { check, shot, canvasPixels }) {
                                     !document.getElementById('error').hidden, beforeGlb, { timeout: 60000 });
   const fromGlb = await stats();
   check(!(await page.isVisible('#error')) && fromGlb.points === '300' && fromGlb.normals === 'given',
-        `uploaded GLB of 300 Draco points read in the page: ${fromGlb.points} points, normals ${fromGlb.normals}`);
+        `uploaded GLB of 300 Draco points read by the service: ${fromGlb.points} points, normals ${fromGlb.normals}`);
 
   // 2. an uploaded PLY without normals: the server estimates and orients them; on the sphere they point outward
   const before = await updates();

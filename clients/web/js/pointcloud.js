@@ -1,19 +1,19 @@
-// Point cloud view: a scan (PLY, XYZ, OBJ, or the points of a GLB) or a sampled demo cloud, drawn as points with their
+// Point cloud view: a scan (PLY, XYZ, OBJ, or the points of a GLB or glTF) or a sampled demo cloud, drawn as points with their
 // normals, and its screened Poisson reconstruction. POST /pointcloud reads the file (or samples the demo) and
 // estimates and orients normals when the cloud has none; its PLY answer is drawn and is what POST /reconstruct is
 // sent. The reconstruction is shown twice, closed and trimmed, side by side (or one of them), with the server's report.
 // The tab appears when /openapi.json lists POST /pointcloud; reconstruction when it lists POST /reconstruct.
 import * as THREE from 'three';
 import { call } from './api.js';
-import { readPlyPoints, gltfPoints, demoClouds, typicalDensity } from './pointdata.js';
+import { readPlyPoints, demoClouds, typicalDensity } from './pointdata.js';
 
 const $ = (id) => document.getElementById(id);
 
-/** The media type POST /pointcloud expects for a point file, from its extension; null for glTF (read here). */
+/** The media type POST /pointcloud expects for a point file, from its extension (the service sniffs the rest). */
 function pointMediaType(fileName) {
   const ext = fileName.toLowerCase().split('.').pop();
-  if (ext === 'glb' || ext === 'gltf') return null;
-  return { ply: 'application/ply', obj: 'model/obj', xyz: 'text/x-xyz' }[ext] ?? 'application/octet-stream';
+  return { ply: 'application/ply', obj: 'model/obj', xyz: 'text/x-xyz', glb: 'model/gltf-binary',
+           gltf: 'model/gltf+json' }[ext] ?? 'application/octet-stream';
 }
 
 /** The report of an answer as lines ("iso value: 0.49"): its X- headers but the request id, the triangle count first
@@ -62,8 +62,7 @@ export class PointCloudView {
       const name = file.name.replace(/\.[^.]*$/, '');
       try {
         const bytes = await file.arrayBuffer();
-        const type = pointMediaType(file.name);
-        await this.load(type ? { bytes, type } : { json: await gltfPoints(this.viewer.loader, bytes) }, name);
+        await this.load({ bytes, type: pointMediaType(file.name) }, name);
       } catch (err) {
         this.app.showError(err, `Could not read ${file.name}`);
       }

@@ -1,6 +1,4 @@
-// Point data for the point cloud view: the PLY the service answers with (read here), the points of a GLB (which the
-// service does not read: taken from the file here and sent as JSON), and the demo clouds' sources.
-import * as THREE from 'three';
+// Point data for the point cloud view: the PLY the service answers with (read here) and the demo clouds' sources.
 import { bumpySphere } from './meshes.js';
 
 const PLY_TYPES = {
@@ -77,35 +75,6 @@ export function readPlyPoints(buffer) {
     throw new Error(`PLY: unknown format ${format}`);
   }
   return { count, positions, normals };
-}
-
-/**
- * The points of a GLB or glTF file as the JSON POST /pointcloud takes ({points, normals?}), in the scene's frame:
- * every POINTS primitive, or, when there is none, the vertices of the meshes. Normals go with them only when every
- * primitive has them.
- */
-export async function gltfPoints(loader, bytes) {
-  const gltf = await loader.parseAsync(bytes, '');
-  gltf.scene.updateMatrixWorld(true);
-  const found = { points: [], meshes: [] };
-  gltf.scene.traverse((o) => {
-    if (o.isPoints) found.points.push(o);
-    else if (o.isMesh) found.meshes.push(o);
-  });
-  const objects = found.points.length ? found.points : found.meshes;
-  if (!objects.length) throw new Error('the file has no points and no meshes');
-  const withNormals = objects.every((o) => o.geometry.attributes.normal);
-  const points = [], normals = [];
-  const v = new THREE.Vector3(), normalMatrix = new THREE.Matrix3();
-  for (const o of objects) {
-    const { position, normal } = o.geometry.attributes;
-    normalMatrix.getNormalMatrix(o.matrixWorld);
-    for (let i = 0; i < position.count; ++i) {
-      points.push(v.fromBufferAttribute(position, i).applyMatrix4(o.matrixWorld).toArray());
-      if (withNormals) normals.push(v.fromBufferAttribute(normal, i).applyMatrix3(normalMatrix).normalize().toArray());
-    }
-  }
-  return withNormals ? { points, normals } : { points };
 }
 
 /** The part of the bumpy sphere above y = -0.45, vertices renumbered: an open surface, as a scan of a bowl is. */
