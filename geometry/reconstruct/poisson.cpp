@@ -19,7 +19,8 @@ using reconstruct::OrientedSamples;
 
 // The coarsest octree level (4 cells per side), complete over the cube.
 constexpr int kMinDepth = 2;
-// The sampling density that weights the samples' normals is measured this many levels above the finest.
+// The sampling density that weights the samples' normals and sets their splatting depths is measured this many levels
+// above the finest.
 constexpr int kDensityLevels = 1;
 // Cells a plane crosses per unit area in a grid of unit cells, averaged over orientations: E|nx|+|ny|+|nz| = 1.5.
 constexpr double kCellsPerArea = 1.5;
