@@ -19,7 +19,8 @@ using reconstruct::OrientedSamples;
 
 // The coarsest octree level (4 cells per side), complete over the cube.
 constexpr int kMinDepth = 2;
-// The sampling density that weights the samples' normals is measured this many levels above the finest.
+// The sampling density that weights the samples' normals and sets their splatting depths is measured this many levels
+// above the finest.
 constexpr int kDensityLevels = 1;
 // Cells a plane crosses per unit area in a grid of unit cells, averaged over orientations: E|nx|+|ny|+|nz| = 1.5.
 constexpr double kCellsPerArea = 1.5;
@@ -150,8 +151,11 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     for (const Vec3& p : positions) samples.positions.push_back((p - origin) * (1.0 / side));
     sort_spatially(samples, options.depth);
     samples.area = estimate_area(samples, options.depth, options.samples_per_node);
-    reconstruct::assign_splat_depths(samples, kMinDepth, options.depth, options.samples_per_node);
-    reconstruct::assign_area_shares(samples, std::max(kMinDepth, options.depth - kDensityLevels));
+    const int density_depth = std::max(kMinDepth, options.depth - kDensityLevels);
+    const std::vector<double> density = reconstruct::sample_density(samples, density_depth);
+    reconstruct::assign_splat_depths(samples, density, density_depth, kMinDepth, options.depth,
+                                     options.samples_per_node);
+    reconstruct::assign_area_shares(samples, density);
 
     Result<reconstruct::PoissonOctree> tree =
         reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);

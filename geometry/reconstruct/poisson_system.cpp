@@ -50,6 +50,11 @@ std::uint64_t corner_key(std::uint64_t cell, int c) {
                     key_k(cell) + static_cast<std::uint32_t>(c >> 2));
 }
 
+// A plane crosses a cell of side h over h^2 / 1.5 on average, and sample_density counts about that many samples' worth
+// (sigma h^2 / 1.5 at sigma samples per unit area): the samples a square of side h of the surface holds are 1.5 times
+// it. samples_per_node counts those (as the trimming's density value and the area estimate do).
+constexpr double kSquarePerCell = 1.5;
+
 // Levels with fewer dofs than this are assembled on one thread (a second one would cost more than it saves).
 constexpr std::size_t kThreadedSize = 1 << 16;
 
@@ -139,31 +144,7 @@ void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights
         weights[c] = ((c & 1) ? tx : 1 - tx) * ((c & 2) ? ty : 1 - ty) * ((c & 4) ? tz : 1 - tz);
 }
 
-void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node) {
-    const std::size_t n = samples.positions.size();
-    samples.splat_depths.assign(n, min_depth);
-    std::vector<char> done(n, 0);
-    for (int depth = max_depth; depth > min_depth; --depth) {
-        // in Morton order the samples of one cell are consecutive on every level: a cell's count is its run's length
-        // (samples per cell are counted, whatever their confidence)
-        std::size_t begin = 0;
-        std::uint64_t cell = n > 0 ? cell_key(samples.positions[0], depth) : 0;
-        for (std::size_t end = 1; end <= n; ++end) {
-            const std::uint64_t next = end < n ? cell_key(samples.positions[end], depth) : 0;
-            if (end < n && next == cell) continue;
-            if (static_cast<double>(end - begin) >= samples_per_node)
-                for (std::size_t i = begin; i < end; ++i)
-                    if (!done[i]) {
-                        samples.splat_depths[i] = depth;
-                        done[i] = 1;
-                    }
-            begin = end;
-            cell = next;
-        }
-    }
-}
-
-void assign_area_shares(OrientedSamples& samples, int depth) {
+std::vector<double> sample_density(const OrientedSamples& samples, int depth) {
     const std::size_t n = samples.positions.size();
     std::vector<std::uint64_t> cells(n);
     KeyCollector collector;
@@ -176,25 +157,44 @@ void assign_area_shares(OrientedSamples& samples, int depth) {
     index.assign(keys);
     std::vector<std::uint32_t> corners(n * 8);
     std::vector<double> weights(n * 8);
-    std::vector<double> density(keys.size(), 0.0);
+    std::vector<double> counts(keys.size(), 0.0);
     for (std::size_t i = 0; i < n; ++i) {
         corner_weights(samples.positions[i], depth, cells[i], &weights[i * 8]);
         for (int c = 0; c < 8; ++c) {
             const std::size_t slot = i * 8 + static_cast<std::size_t>(c);
             corners[slot] = index.find(corner_key(cells[i], c));
-            density[corners[slot]] += weights[slot];
+            counts[corners[slot]] += weights[slot];
         }
     }
+    std::vector<double> density(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t slot = i * 8; slot < i * 8 + 8; ++slot) density[i] += weights[slot] * counts[corners[slot]];
+    return density;  // each >= the sample's own contribution sum_c w_c^2 >= 1/8 > 0
+}
+
+void assign_splat_depths(OrientedSamples& samples, const std::vector<double>& density, int density_depth, int min_depth,
+                         int max_depth, double samples_per_node) {
+    const std::size_t n = samples.positions.size();
+    samples.splat_depths.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double depth = density_depth + 0.5 * std::log2(kSquarePerCell * density[i] / samples_per_node);
+        samples.splat_depths[i] = std::clamp(depth, static_cast<double>(min_depth), static_cast<double>(max_depth));
+    }
+}
+
+void assign_area_shares(OrientedSamples& samples, const std::vector<double>& density) {
+    const std::size_t n = samples.positions.size();
     samples.area_shares.resize(n);
     double sum = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        double d = 0;
-        for (std::size_t slot = i * 8; slot < i * 8 + 8; ++slot) d += weights[slot] * density[corners[slot]];
-        // d >= the sample's own contribution sum_c w_c^2 >= 1/8 > 0
-        samples.area_shares[i] = samples.weights[i] / d;
+        samples.area_shares[i] = samples.weights[i] / density[i];
         sum += samples.area_shares[i];
     }
     for (double& a : samples.area_shares) a *= samples.area / sum;
+}
+
+void assign_area_shares(OrientedSamples& samples, int depth) {
+    assign_area_shares(samples, sample_density(samples, depth));
 }
 
 namespace {
@@ -237,32 +237,40 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
                                                 bool threaded) {
     const std::size_t levels = tree.levels.size();
 
-    // splat: n_{d,w} = sum_i a_i N_i phi_{d,w}(p_i) on each sample's level
+    // splat: n_{d,w} = sum_i a_i N_i phi_{d,w}(p_i), each sample's share split between the two levels around its
+    // splatting depth
     std::vector<std::vector<Vec3>> splat(levels);
     for (std::size_t l = 0; l < levels; ++l) splat[l].assign(tree.levels[l].dofs.size(), Vec3{});
     std::vector<char> used(levels, 0);
-    std::size_t last_level = levels;
-    std::uint64_t last_cell = 0;
-    std::uint32_t cell_dofs[8] = {};
+    // per level, the last cell looked up and its corners' dofs (samples in space order: runs share their cell)
+    std::vector<std::uint64_t> last_cell(levels, ~std::uint64_t{0});
+    std::vector<std::uint32_t> cell_dofs(levels * 8, 0);
     for (std::size_t i = 0; i < samples.positions.size(); ++i) {
-        const int depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
-        const auto l = static_cast<std::size_t>(depth - tree.min_depth);
-        const OctreeLevel& level = tree.levels[l];
-        const std::uint64_t cell = cell_key(samples.positions[i], depth);
-        double w[8];
-        corner_weights(samples.positions[i], depth, cell, w);
+        const double depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
+        const int lower = std::min(static_cast<int>(std::floor(depth)), tree.max_depth);
+        const double t = depth - lower;  // the share of level lower + 1
         const double a = samples.area_shares.empty() ? samples.area * samples.weights[i] / samples.weight_sum
                                                      : samples.area_shares[i];
-        if (l != last_level || cell != last_cell) {  // samples in space order: runs share their cell
-            for (int c = 0; c < 8; ++c) {
-                cell_dofs[c] = level.dofs.find(corner_key(cell, c));
-                assert(cell_dofs[c] != KeyMap::kNone);
+        for (int part = 0; part < 2; ++part) {
+            const double share = part == 0 ? 1 - t : t;
+            if (share <= 0) continue;
+            const int d = lower + part;
+            const auto l = static_cast<std::size_t>(d - tree.min_depth);
+            const OctreeLevel& level = tree.levels[l];
+            const std::uint64_t cell = cell_key(samples.positions[i], d);
+            double w[8];
+            corner_weights(samples.positions[i], d, cell, w);
+            std::uint32_t* dofs = &cell_dofs[l * 8];
+            if (cell != last_cell[l]) {
+                for (int c = 0; c < 8; ++c) {
+                    dofs[c] = level.dofs.find(corner_key(cell, c));
+                    assert(dofs[c] != KeyMap::kNone);
+                }
+                last_cell[l] = cell;
             }
-            last_level = l;
-            last_cell = cell;
+            for (int c = 0; c < 8; ++c) splat[l][dofs[c]] += samples.normals[i] * (a * share * w[c]);
+            used[l] = 1;
         }
-        for (int c = 0; c < 8; ++c) splat[l][cell_dofs[c]] += samples.normals[i] * (a * w[c]);
-        used[l] = 1;
     }
 
     // splats of the level and finer ones: integrated on their level, restricted to coarser hats (a coarse hat is
@@ -355,8 +363,10 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
         sample_cells_[i] = cell;
         // a sample screens the levels down to its splatting level only: on finer ones, around a sample too isolated
         // for their cells, pulling chi to the iso-value would raise a bubble around it
-        if (samples.splat_depths.empty() || samples.splat_depths[i] >= depth)
-            screening_[i] = beta_ * samples.weights[i];
+        // (with a fractional depth D + t, level D + 1 screens with weight t, as it gets a share t of the normal)
+        const double share =
+            samples.splat_depths.empty() ? 1.0 : std::clamp(samples.splat_depths[i] - depth + 1, 0.0, 1.0);
+        screening_[i] = beta_ * samples.weights[i] * share;
         double* w = &sample_weights_[i * 8];
         corner_weights(samples.positions[i], depth, cell, w);
         if (cell != last_cell) {  // samples come in space order (poisson.cpp): runs share their cell

@@ -8,14 +8,14 @@
 // Energy (Kazhdan & Hoppe 2013, eq. 3), in unit-cube coordinates:
 //   E(chi) = integral |grad chi - V|^2 + beta * sum_i w_i chi(p_i)^2,   beta = alpha * 2^d * area / sum_i w_i,
 // the screening weight scaled by 2^d on level d so that it keeps the same proportion to the Laplacian (whose
-// entries shrink like the cell size) on every level; a sample screens the levels down to its splatting level only
-// (assign_splat_depths). Its Galerkin system on level d is
+// entries shrink like the cell size) on every level; a sample screens the levels down to its splatting depth only
+// (assign_splat_depths; the level just finer than a fractional depth D + t with weight t). Its Galerkin system on level d is
 //   A_d x = b_d,  A_d(v, w) = integral grad phi_v . grad phi_w + beta sum_i w_i phi_v(p_i) phi_w(p_i),
 //                 b_d(v) = integral grad phi_v . V.
 // V is splatted from the oriented samples: V = sum_i a_i N_i delta_{p_i}, each delta smoothed into the eight hats of
-// the sample's cell on its splatting level (a_i = area * w_i / sum w, the share of the surface the sample stands
-// for, assign_area_shares), so V = sum_d sum_w n_{d,w} phi_{d,w} / h_d^3; the integrals of products of hats and their derivatives are
-// closed-form 27-point stencils. With outward normals chi increases outwards (chi < iso inside).
+// the sample's cells on the two levels around its splatting depth (a_i = area * w_i / sum w, the share of the
+// surface the sample stands for, assign_area_shares), so V = sum_d sum_w n_{d,w} phi_{d,w} / h_d^3; the integrals
+// of products of hats and their derivatives are closed-form 27-point stencils. With outward normals chi increases outwards (chi < iso inside).
 #pragma once
 
 #include <cstdint>
@@ -32,26 +32,36 @@ struct OrientedSamples {
     std::vector<double> weights;  //!< > 0 (confidence; 1 when not used)
     double weight_sum = 0;
     double area = 0;  //!< estimated area of the sampled surface, unit-cube units
-    //! The level each sample is splatted on (empty: the finest); see assign_splat_depths.
-    std::vector<int> splat_depths;
+    //! The real-valued depth each sample is splatted at (empty: the finest); see assign_splat_depths. Depth
+    //! D + t (D integer, 0 <= t < 1) puts 1 - t of the sample's normal on level D and t on level D + 1.
+    std::vector<double> splat_depths;
     //! The area each sample's normal stands for, summing to `area` (empty: area * w_i / weight_sum); see
     //! assign_area_shares.
     std::vector<double> area_shares;
 };
 
-//! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006): each sample goes to the
-//! finest level whose cell around it holds at least `samples_per_node` samples, so that where samples
-//! are sparse for the finest cells V is smoothed over coarser ones instead of being a set of isolated spikes.
-//! \pre the samples are in Morton order of their cells on level max_depth, so that each cell's samples are
-//! consecutive on every level.
-void assign_splat_depths(OrientedSamples& samples, int min_depth, int max_depth, double samples_per_node);
+//! The local sampling density at each sample: the count of samples splatted trilinearly on the corners of level
+//! `depth` and interpolated back at the sample (a kernel about two cells wide), about the number of samples per cell
+//! of that level around the sample.
+std::vector<double> sample_density(const OrientedSamples& samples, int depth);
 
-//! Shares of the area inversely proportional to the local sampling density (after Kazhdan & Hoppe 2013): the
-//! density at each sample is the count of samples splatted trilinearly on the corners of level `depth` and
-//! interpolated back, and sample i stands for area * (w_i / density_i) / sum_j (w_j / density_j). On an evenly
+//! Density-adapted splatting (Kazhdan & Hoppe 2013 sec. 4.1, after Kazhdan et al. 2006), with a continuous depth:
+//! each sample goes to the real-valued depth at which a square of the surface a cell wide would hold
+//! `samples_per_node` samples, density_depth + log4(1.5 density_i / samples_per_node) (a plane crosses a cell over
+//! h^2 / 1.5 on average; on a surface the samples per cell shrink by 4 per level), clamped to
+//! [min_depth, max_depth]. `density` is sample_density(samples, density_depth). Where samples are sparse
+//! for the finest cells, V is thus smoothed over coarser ones instead of being a set of isolated spikes, and the
+//! split between the two bracketing levels avoids the jump of a whole level between neighbouring samples.
+void assign_splat_depths(OrientedSamples& samples, const std::vector<double>& density, int density_depth, int min_depth,
+                         int max_depth, double samples_per_node);
+
+//! Shares of the area inversely proportional to the local sampling density (after Kazhdan & Hoppe 2013):
+//! sample i stands for area * (w_i / density_i) / sum_j (w_j / density_j), density = sample_density(samples, depth)
+//! (computed when not given). On an evenly
 //! sampled surface every sample gets area * w_i / sum w; where samples crowd, each stands for less, so that V has
 //! the same strength per unit of area on densely and sparsely sampled sides.
 void assign_area_shares(OrientedSamples& samples, int depth);
+void assign_area_shares(OrientedSamples& samples, const std::vector<double>& density);
 
 //! Trilinear weights of the eight corners of p's cell on level `depth` (corner c = bits (x, y, z)).
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]);
@@ -119,7 +129,7 @@ private:
     std::vector<std::uint32_t> sample_dofs_;   //!< 8 per sample: the corners of its cell
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
     std::vector<double> sample_weights_;       //!< 8 per screening sample: the trilinear weights of its corners
-    std::vector<double> screening_;            //!< beta w_i, or 0 for samples splatted on a coarser level
+    std::vector<double> screening_;            //!< beta w_i, times the share of the level at a fractional depth
     std::vector<char> fixed_;
     std::vector<double> diagonal_;
 };

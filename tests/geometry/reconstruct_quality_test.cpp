@@ -163,26 +163,26 @@ void expect_close(const char* name, const PointCloud& cloud, const PolygonMesh& 
 }
 
 // Closed surfaces, untrimmed: watertight, manifold, and within the stated distance of the true surface, in finest
-// cells h (mesh_distance, both ways). Measured (depth 6 / 7): sphere Hausdorff 0.22 / 0.22 h, RMS 0.033 / 0.038 h.
+// cells h (mesh_distance, both ways). Measured (depth 6 / 7): sphere Hausdorff 0.18 / 0.18 h, RMS 0.025 / 0.026 h.
 TEST(ReconstructQuality, Sphere) {
     const PolygonMesh& truth = fine_sphere();
     expect_close("sphere", sample(truth, 20'000, 0, 1), truth, 6, 0.35, 0.06);
     expect_close("sphere", sample(truth, 40'000, 0, 1), truth, 7, 0.35, 0.06);
-    // Gaussian noise of 0.5% of the radius per coordinate: measured Hausdorff 0.29 h, RMS 0.052 h
+    // Gaussian noise of 0.5% of the radius per coordinate: measured Hausdorff 0.21 h, RMS 0.047 h
     expect_close("sphere noisy 0.5%", sample(truth, 20'000, 0.005, 2), truth, 6, 0.45, 0.07);
 }
 
 // Ten times as many samples near the north pole as near the south pole. Each sample's normal stands for an area
 // inversely proportional to the local sampling density, which keeps the vector field even; what remains is the
-// sparse side being splatted on coarser levels (smoothed more): measured Hausdorff 1.44 h, RMS 0.165 h (2.0 h and
-// 0.21 h with equal shares), against 0.22 h and 0.033 h uniformly sampled.
+// sparse side being splatted on coarser levels (smoothed more): measured Hausdorff 1.61 h, RMS 0.160 h, against
+// 0.18 h and 0.025 h uniformly sampled.
 TEST(ReconstructQuality, SphereUnevenDensity) {
     const PolygonMesh& truth = fine_sphere();
     expect_close("sphere uneven 10:1",
                  sample(truth, 40'000, 0, 3, [](const Vec3& p) { return 0.1 + 0.45 * (p.z + 1); }), truth, 6, 1.7, 0.2);
 }
 
-// Measured: Hausdorff 0.27 h, RMS 0.028 h; with noise 0.20 h, 0.035 h.
+// Measured: Hausdorff 0.19 h, RMS 0.024 h; with noise 0.17 h, 0.033 h.
 TEST(ReconstructQuality, Torus) {
     const PolygonMesh truth = fine_torus();
     expect_close("torus", sample(truth, 20'000, 0, 4), truth, 6, 0.35, 0.05);
@@ -190,13 +190,13 @@ TEST(ReconstructQuality, Torus) {
 }
 
 // Sharp edges and corners are rounded off by the smooth indicator: the Hausdorff distance sits at the corners.
-// Measured: Hausdorff 1.26 h, RMS 0.13 h.
+// Measured: Hausdorff 1.21 h, RMS 0.11 h.
 TEST(ReconstructQuality, BoxWithSharpEdges) {
     const PolygonMesh truth = shapes::cube();
     expect_close("box", sample(truth, 20'000, 0, 6), truth, 6, 1.4, 0.17);
 }
 
-// The Stanford bunny (closed, 69,666 triangles). Measured: Hausdorff 0.52 h, RMS 0.063 h; with noise of 0.1% of
+// The Stanford bunny (closed, 69,666 triangles). Measured: Hausdorff 0.52 h, RMS 0.060 h; with noise of 0.1% of
 // the diagonal 0.56 h, 0.066 h.
 TEST(ReconstructQuality, Bunny) {
     const PolygonMesh& bunny = testing::spatial_bunny();
