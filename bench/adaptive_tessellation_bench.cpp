@@ -17,7 +17,6 @@
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -36,14 +35,12 @@
 #include "geometry/subdivision/adaptive_tessellation.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/subdivide.h"
+#include "bench/support/timing.h"
 
 namespace {
 
 using namespace surfaced;
 using namespace OpenSubdiv;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh) {
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
@@ -165,14 +162,14 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     const std::vector<Vec3> samples = limit_samples(*evaluator, mesh, 24);
 
     // ours
-    auto t0 = Clock::now();
+    bench::Stopwatch watch;
     auto fresh = LimitSurfaceEvaluator::create(mesh, {});
     LimitTessellationOptions options;
     options.tolerance = tolerance;
     options.max_segments = 1024;
     options.guaranteed = guaranteed;
     auto ours = tessellate_limit(*fresh, mesh, options);
-    const double ours_ms = ms_since(t0);
+    const double ours_ms = watch.ms();
     if (!ours) {
         std::printf("%s: %s\n", name, ours.error().message.c_str());
         return;
@@ -187,9 +184,9 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
         SubdivisionOptions sub;
         sub.levels = l;
         sub.limit_surface = true;
-        t0 = Clock::now();
+        watch.restart();
         auto refined = subdivide(mesh, sub);
-        uniform_ms = ms_since(t0);
+        uniform_ms = watch.ms();
         uniform_error = max_distance(samples, *refined);
         uniform_triangles = 0;
         for (std::size_t f = 0; f < refined->face_count(); ++f) uniform_triangles += refined->face_size(f) - 2;
@@ -207,9 +204,9 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
         const int mid = (lo + hi) / 2;
         (max_distance(samples, bfr_tessellate(mesh, mid)) > tolerance ? lo : hi) = mid;
     }
-    t0 = Clock::now();
+    watch.restart();
     const PolygonMesh bfr = bfr_tessellate(mesh, hi);
-    const double bfr_ms = ms_since(t0);
+    const double bfr_ms = watch.ms();
     const double bfr_error = max_distance(samples, bfr);
 
     std::printf("| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n",

@@ -1,71 +1,36 @@
-// Mesh -> narrow-band signed distance grid (geometry/implicit/distance_grid.h), one thread: time and peak heap per
-// mesh and voxel size, and in bench_grid_openvdb the same conversion by OpenVDB's meshToLevelSet (one TBB thread),
-// timed in turn round by round (process CPU time, so that other load on the machine does not count), with the
-// values of the two grids compared at every node inside both narrow bands.
-// Peak memory is the peak of live heap bytes during the conversion, counted by the global operator new below (what
-// OpenVDB allocates through TBB's scalable allocator is not counted; its grid's own memUsage is printed too). Ours
-// is a dense grid of doubles (the level_set node's form), OpenVDB's a sparse tree of floats. Bench only, never linked
-// into the service.
+// Mesh -> narrow-band signed distance grid (geometry/implicit/distance_grid.h), one thread: time and peak heap per mesh
+// and voxel size, and in bench_grid_openvdb the same conversion by OpenVDB's meshToLevelSet (one TBB thread), timed in
+// turn round by round (process CPU time, so that other load on the machine does not count), with the values of the two
+// grids compared at every node inside both narrow bands. Peak memory is the peak of live heap bytes during the
+// conversion, counted by the global operator new of bench/support/peak_memory.cpp (what OpenVDB allocates through TBB's
+// scalable allocator is not counted; its grid's own memUsage is printed too). Ours is a dense grid of doubles (the
+// level_set node's form), OpenVDB's a sparse tree of floats. Bench only, never linked into the service.
 //
 // Usage: bench_grid [--quick] [--rounds N] [--band W] [--only NAME]   (quick: the coarser voxel size only; rounds:
 // fastest of N, default 3; band: voxels, default 3; only: the meshes whose name starts with NAME)
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
-#include <fstream>
 #include <functional>
 #include <memory>
-#include <new>
 #include <numbers>
 #include <utility>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "geometry/implicit/distance_grid.h"
 #include "geometry/io/bez.h"
-#include "geometry/io/mesh_io.h"
-#include "geometry/mesh/shapes.h"
 #include "geometry/mesh/triangulate.h"
-#include "geometry/subdivision/subdivide.h"
 #include "geometry/surfaces/bezier_patch.h"
 #include "geometry/spatial/closest_point.h"
 #include "geometry/spatial/winding_number.h"
+#include "bench/support/bench_data.h"
+#include "bench/support/peak_memory.h"
 #if SURFACED_BENCH_OPENVDB
 #include "bench/grid_peers.h"
 #endif
-
-// ---- counting allocator -------------------------------------------------------------------------------------------
-namespace {
-std::atomic<long long> g_live{0}, g_peak{0};
-void note_alloc(long long n) {
-    const long long live = g_live.fetch_add(n) + n;
-    long long peak = g_peak.load();
-    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-    void* p = std::malloc(n + 16);
-    if (!p) throw std::bad_alloc();
-    *static_cast<std::size_t*>(p) = n;
-    note_alloc(static_cast<long long>(n));
-    return static_cast<char*>(p) + 16;
-}
-void operator delete(void* p) noexcept {
-    if (!p) return;
-    char* base = static_cast<char*>(p) - 16;
-    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
-    std::free(base);
-}
-void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
 
 namespace {
 
@@ -75,42 +40,11 @@ int g_rounds = 3;
 //! --only: run the meshes whose name starts with this
 std::string g_only;
 
-struct Timing {
-    double seconds = 1e300;
-    double peak_mib = 0;
-};
+using Timing = bench::Measurement;
 
-//! CPU time of the process, all threads (both sides run on one): robust to other processes sharing the machine.
-double cpu_seconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-//! One run of `step`: its CPU time and the live-heap peak above the start, in MiB.
-Timing time_once(const std::function<void()>& step) {
-    Timing t;
-    const long long before = g_live.load();
-    g_peak.store(before);
-    const double start = cpu_seconds();
-    step();
-    t.seconds = cpu_seconds() - start;
-    t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
-    return t;
-}
-
-PolygonMesh read_bunny() {
-    const char* path = "/usr/share/glmark2/models/bunny.obj";
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    auto mesh = read_obj(text.str());
-    if (!mesh) {
-        std::fprintf(stderr, "%s missing or unreadable (Debian glmark2-data)\n", path);
-        return {};
-    }
-    return std::move(mesh.value());
-}
+//! One run of `step`: its CPU time (the process's, all threads: both sides run on one, and other processes sharing the
+//! machine do not count) and the live-heap peak above the start, in MiB.
+Timing time_once(const std::function<void()>& step) { return bench::measure(step, bench::Clock::ProcessCpu); }
 
 //! The Utah teapot (the built-in patch sample), 32 segments per patch side: 65,536 triangles, open (no lid rim
 //! seal, the spout and handle ends open and running into the body), so signs take the open-surface path.
@@ -121,16 +55,6 @@ PolygonMesh teapot() {
     options.segments = 32;
     auto tessellated = tessellate_patches(read->patches, options);
     return tessellated ? std::move(tessellated->mesh) : PolygonMesh{};
-}
-
-//! The icosahedron Loop-subdivided `levels` times, projected on the unit sphere (20 * 4^levels triangles).
-PolygonMesh icosphere(int levels) {
-    SubdivisionOptions options;
-    options.scheme = SubdivisionScheme::Loop;
-    options.levels = levels;
-    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
-    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
-    return mesh;
 }
 
 void run(const std::string& name, const PolygonMesh& input, int cells, int band) {
@@ -274,8 +198,8 @@ int main(int argc, char** argv) {
     std::printf("| mesh | triangles | voxel size | grid | band nodes | ours ms | ours peak MiB | winding queries |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
 #endif
-    const PolygonMesh bunny = read_bunny();
-    const PolygonMesh sphere = icosphere(6);
+    const PolygonMesh bunny = bench::read_bunny();
+    const PolygonMesh sphere = bench::icosphere(6);
     const PolygonMesh pot = teapot();
     std::vector<int> resolutions = {128};
     if (!quick) resolutions.push_back(256);

@@ -7,7 +7,6 @@
 // Usage: bench_limit_api [--quick]
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -19,13 +18,11 @@
 #include "geometry/io/base64.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/limit_evaluation.h"
+#include "bench/support/timing.h"
 
 namespace {
 
 using namespace surfaced;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 struct Point {
     std::size_t face;
@@ -73,9 +70,9 @@ double operation_seconds(const std::string& body) {
     request.path = "/limit/evaluate";
     request.content_type = "application/json";
     request.body = body;
-    const auto t0 = Clock::now();
+    const bench::Stopwatch watch;
     const api::ApiResponse response = api::dispatch(request, api::ApiContext{});
-    const double seconds = seconds_since(t0);
+    const double seconds = watch.seconds();
     if (response.status != 200) std::printf("status %d: %.200s\n", response.status, response.body.c_str());
     return seconds;
 }
@@ -84,9 +81,9 @@ void run(const char* name, const PolygonMesh& mesh, std::size_t count) {
     const std::vector<Point> points = random_points(mesh, count, 7);
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     double checksum = 0;
-    auto t0 = Clock::now();
+    const bench::Stopwatch watch;
     for (const Point& p : points) checksum += evaluator->evaluate(p.face, p.u, p.v)->position.x;
-    const double geometry = seconds_since(t0);
+    const double geometry = watch.seconds();
 
     std::string list;
     std::string packed;
@@ -118,17 +115,17 @@ void prepared(const char* name, const PolygonMesh& mesh, std::size_t k) {
             for (std::size_t i = 0; i < k; ++i) points.push_back({f, unit(rng), unit(rng)});
     const int repeats = static_cast<int>(std::max<std::size_t>(1, 20000 / points.size()));
     double checksum = 0;
-    auto t0 = Clock::now();
+    bench::Stopwatch watch;
     for (int r = 0; r < repeats; ++r)
         for (const Point& p : points) checksum += evaluator->evaluate(p.face, p.u, p.v)->position.x;
-    const double single = seconds_since(t0);
-    t0 = Clock::now();
+    const double single = watch.seconds();
+    watch.restart();
     for (int r = 0; r < repeats; ++r)
         for (std::size_t i = 0; i < points.size(); i += k) {
             auto surface = evaluator->face_surface(points[i].face);
             for (std::size_t j = i; j < i + k; ++j) checksum += surface->evaluate(points[j].u, points[j].v)->position.x;
         }
-    const double grouped = seconds_since(t0);
+    const double grouped = watch.seconds();
     std::printf("%-22s %4zu %12.3g %12.3g   %.2f\n", name, k, repeats * points.size() / single,
                 repeats * points.size() / grouped, single / grouped);
     if (checksum == 12345.678) std::printf("\n");

@@ -1,9 +1,9 @@
 // Screened Poisson reconstruction (geometry/reconstruct/poisson.h) by depth, on clouds sampled from a sphere, a torus
-// and the bunny (area-uniform, with the faces' normals), and in bench_poisson_cgal CGAL 5.5's Poisson reconstruction
-// on the same clouds: CPU time, peak heap, triangles, and Hausdorff / RMS distance to the mesh the cloud was sampled
-// from (geometry/simplify/mesh_distance.h, 100k samples a side), one thread each.
-// Peak memory is the peak of live heap bytes during the call, counted by the global operator new below (CGAL's and
-// Eigen's allocations included). Bench only, never linked into the service.
+// and the bunny (area-uniform, with the faces' normals), and in bench_poisson_cgal CGAL 5.5's Poisson reconstruction on
+// the same clouds: CPU time, peak heap, triangles, and Hausdorff / RMS distance to the mesh the cloud was sampled from
+// (geometry/simplify/mesh_distance.h, 100k samples a side), one thread each. Peak memory is the peak of live heap bytes
+// during the call, counted by the global operator new of bench/support/peak_memory.cpp (CGAL's and Eigen's allocations
+// included). Bench only, never linked into the service.
 //
 // The scale table: 1,000,000 points sampled from the sphere and the bunny at depths 9 and 10 (ours only; CPU and wall
 // time, peak heap against estimate_poisson's prediction, the time of each phase).
@@ -15,59 +15,25 @@
 //   cells, unknowns and solver iterations per level, on stderr; tolerance, iterations: the scale table's
 //   PoissonOptions::tolerance and max_iterations (the defaults)
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <chrono>
-#include <ctime>
-#include <fstream>
 #include <functional>
-#include <new>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/mesh/triangulate.h"
 #include "geometry/pointcloud/sampling.h"
 #include "geometry/reconstruct/poisson.h"
 #include "geometry/simplify/mesh_distance.h"
-#include "geometry/subdivision/subdivide.h"
+#include "bench/support/bench_data.h"
+#include "bench/support/peak_memory.h"
 #if SURFACED_BENCH_CGAL
 #include "bench/poisson_peer.h"
 #endif
-
-// ---- counting allocator -------------------------------------------------------------------------------------------
-namespace {
-std::atomic<long long> g_live{0}, g_peak{0};
-void note_alloc(long long n) {
-    const long long live = g_live.fetch_add(n) + n;
-    long long peak = g_peak.load();
-    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-    void* p = std::malloc(n + 16);
-    if (!p) throw std::bad_alloc();
-    *static_cast<std::size_t*>(p) = n;
-    note_alloc(static_cast<long long>(n));
-    return static_cast<char*>(p) + 16;
-}
-void operator delete(void* p) noexcept {
-    if (!p) return;
-    char* base = static_cast<char*>(p) - 16;
-    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
-    std::free(base);
-}
-void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
 
 namespace {
 
@@ -79,46 +45,15 @@ struct Timing {
     double peak_mib = 0;
 };
 
-double cpu_seconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 Timing time_once(const std::function<void()>& step) {
-    Timing t;
-    const long long before = g_live.load();
-    g_peak.store(before);
-    const double start = cpu_seconds();
-    const auto wall_start = std::chrono::steady_clock::now();
+    const bench::HeapPeak peak;
+    const bench::Stopwatch cpu(bench::Clock::ProcessCpu), wall(bench::Clock::Wall);
     step();
-    t.seconds = cpu_seconds() - start;
-    t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
+    Timing t;
+    t.seconds = cpu.seconds();
+    t.wall = wall.seconds();
+    t.peak_mib = peak.mib();
     return t;
-}
-
-PolygonMesh read_bunny() {
-    const char* path = "/usr/share/glmark2/models/bunny.obj";
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    auto mesh = read_obj(text.str());
-    if (!mesh) {
-        std::fprintf(stderr, "%s missing or unreadable (Debian glmark2-data)\n", path);
-        return {};
-    }
-    return std::move(mesh.value());
-}
-
-//! The icosahedron Loop-subdivided 6 times and projected on the unit sphere (81,920 triangles).
-PolygonMesh icosphere() {
-    SubdivisionOptions options;
-    options.scheme = SubdivisionScheme::Loop;
-    options.levels = 6;
-    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
-    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
-    return mesh;
 }
 
 void print_row(const char* shape, const char* method, std::size_t points, const Timing& t, std::size_t triangles,
@@ -250,12 +185,12 @@ int main(int argc, char** argv) {
         }
         if (std::strcmp(argv[i], "--points") == 0 && i + 1 < argc) points = std::strtoull(argv[++i], nullptr, 10);
     }
-    const PolygonMesh bunny = read_bunny();
+    const PolygonMesh bunny = bench::read_bunny();
     if (!scale_only) {
         const std::vector<int> depths = quick ? std::vector<int>{6, 7} : std::vector<int>{6, 7, 8};
         std::printf("| shape | points | method | CPU s | peak MiB | triangles | Hausdorff | RMS | RMS / diagonal |\n");
         std::printf("|---|---|---|---|---|---|---|---|---|\n");
-        run("sphere", icosphere(), points, depths, !quick);
+        run("sphere", bench::icosphere(6), points, depths, !quick);
         run("torus", triangulate(shapes::torus(512, 256, 1.0, 0.4)), points, depths, !quick);
         if (bunny.face_count() > 0) run("bunny", bunny, points, depths, !quick);
     }
@@ -264,7 +199,7 @@ int main(int argc, char** argv) {
         "\n| shape | points | depth | CPU s | wall s | octree / system / solve / extract s | peak MiB | "
         "estimate MiB | triangles | RMS | RMS / diagonal |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
-    run_scale("sphere", icosphere(), scale_depths);
+    run_scale("sphere", bench::icosphere(6), scale_depths);
     if (bunny.face_count() > 0) run_scale("bunny", bunny, scale_depths);
     return 0;
 }

@@ -1,89 +1,34 @@
-// Mesh repair against the simplification it precedes, in one run: on the bunny after two Loop levels (1.1M
-// triangles; an icosphere of 1.3M when glmark2-data is missing), clean, with one duplicate face appended, and as a
-// soup (every triangle with its own three vertices, as STL stores it), it times needs_repair (audit_mesh),
-// validate + check_manifold (the manifold rules /simplify and /remesh apply before running), repair_mesh, simplify_qem on the mesh as sent (what `repair: auto` tries first: on broken input, the time until it
-// refuses) and simplify_qem to 1% on the repaired mesh, and prints the ratios we hold repair to (repair / simplify
-// <= 0.1; the check on clean input as well). Peak memory is the peak of live heap bytes during the call, counted by
-// the global operator new below (the aligned one too: BlockVector's blocks), minus what was live before it. Bench
-// only, never linked into the service.
+// Mesh repair against the simplification it precedes, in one run: on the bunny after two Loop levels (1.1M triangles;
+// an icosphere of 1.3M when glmark2-data is missing), clean, with one duplicate face appended, and as a soup (every
+// triangle with its own three vertices, as STL stores it), it times needs_repair (audit_mesh), validate +
+// check_manifold (the manifold rules /simplify and /remesh apply before running), repair_mesh, simplify_qem on the mesh
+// as sent (what `repair: auto` tries first: on broken input, the time until it refuses) and simplify_qem to 1% on the
+// repaired mesh, and prints the ratios we hold repair to (repair / simplify <= 0.1; the check on clean input as well).
+// Peak memory is the peak of live heap bytes during the call, counted by the global operator new of
+// bench/support/peak_memory.cpp (the aligned one too: BlockVector's blocks), minus what was live before it. Bench only,
+// never linked into the service.
 //
 // Usage: bench_repair [--rounds N] [--repair-only] [--cpu]   (rounds: each step's fastest of N runs, the steps in turn,
 // default 3; --repair-only: needs_repair and repair_mesh alone, for profiling; --cpu: the thread's CPU time instead of
 // wall time)
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <functional>
-#include <new>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "geometry/core/block_pool.h"
-#include "geometry/io/mesh_io.h"
-#include "geometry/mesh/shapes.h"
 #include "geometry/repair/repair.h"
 #include "geometry/simplify/qem.h"
 #include "geometry/subdivision/subdivide.h"
-
-// ---- counting allocator -------------------------------------------------------------------------------------------
-namespace {
-std::atomic<long long> g_live{0}, g_peak{0};
-void note_alloc(long long n) {
-    const long long live = g_live.fetch_add(n) + n;
-    long long peak = g_peak.load();
-    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-    void* p = std::malloc(n + 16);
-    if (!p) throw std::bad_alloc();
-    *static_cast<std::size_t*>(p) = n;
-    note_alloc(static_cast<long long>(n));
-    return static_cast<char*>(p) + 16;
-}
-void operator delete(void* p) noexcept {
-    if (!p) return;
-    char* base = static_cast<char*>(p) - 16;
-    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
-    std::free(base);
-}
-void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
-// Over-aligned arrays (BlockVector's 2 MiB blocks): the block's start and size are kept just below the aligned pointer.
-void* operator new(std::size_t n, std::align_val_t align) {
-    const std::size_t a = std::max(static_cast<std::size_t>(align), std::size_t{16});
-    void* base = std::aligned_alloc(a, (n + a + a - 1) / a * a);
-    if (!base) throw std::bad_alloc();
-    char* p = static_cast<char*>(base) + a;
-    reinterpret_cast<std::size_t*>(p)[-1] = n;
-    reinterpret_cast<void**>(p)[-2] = base;
-    note_alloc(static_cast<long long>(n));
-    return p;
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-    if (!p) return;
-    g_live.fetch_sub(static_cast<long long>(reinterpret_cast<std::size_t*>(p)[-1]));
-    std::free(reinterpret_cast<void**>(p)[-2]);
-}
-void operator delete(void* p, std::size_t, std::align_val_t align) noexcept { operator delete(p, align); }
-void* operator new[](std::size_t n, std::align_val_t align) { return operator new(n, align); }
-void operator delete[](void* p, std::align_val_t align) noexcept { operator delete(p, align); }
-void operator delete[](void* p, std::size_t, std::align_val_t align) noexcept { operator delete(p, align); }
+#include "bench/support/bench_data.h"
+#include "bench/support/peak_memory.h"
 
 namespace {
 
 using namespace surfaced;
-using Clock = std::chrono::steady_clock;
 
 //! simplify_qem takes its large arrays from one pool for the process, with the service's limit
 //! (api/operations/simplify.cpp), so that it is timed as the service runs it.
@@ -93,29 +38,13 @@ BlockPool& block_pool() {
 }
 
 //! One step's fastest run and the peak heap of its last run.
-struct Timing {
-    double seconds = 1e300;
-    double peak_mib = 0;
-};
-
-bool g_cpu_time = false;
+using Timing = bench::Measurement;
 
 //! Wall time, or with --cpu the thread's CPU time (steadier than wall time on a machine other work preempts us on).
-double now_seconds() {
-    if (!g_cpu_time) return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
+bool g_cpu_time = false;
 
 void time_once(const std::function<void()>& step, Timing& t) {
-    const long long before = g_live.load();
-    g_peak.store(before);
-    const double start = now_seconds();
-    step();
-    const double seconds = now_seconds() - start;
-    t.seconds = std::min(t.seconds, seconds);
-    t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
+    bench::keep_fastest(t, bench::measure(step, g_cpu_time ? bench::Clock::ThreadCpu : bench::Clock::Wall));
 }
 
 Result<SimplifyResult> simplify(const PolygonMesh& mesh) {
@@ -222,23 +151,15 @@ void run(const std::string& name, const PolygonMesh& mesh, int rounds) {
 PolygonMesh large_mesh(std::string& name) {
     SubdivisionOptions options;
     options.scheme = SubdivisionScheme::Loop;
-    const char* bunny_path = "/usr/share/glmark2/models/bunny.obj";
-    if (std::filesystem::exists(bunny_path)) {
-        std::ifstream in(bunny_path, std::ios::binary);
-        std::stringstream text;
-        text << in.rdbuf();
-        if (auto bunny = read_obj(text.str())) {
-            options.levels = 2;
-            name = "bunny, Loop 2";
-            return subdivide(bunny.value(), options).value();
-        }
+    const PolygonMesh bunny = bench::read_bunny();
+    if (bunny.face_count() > 0) {
+        options.levels = 2;
+        name = "bunny, Loop 2";
+        return subdivide(bunny, options).value();
     }
-    std::fprintf(stderr, "%s missing (Debian glmark2-data): icosphere 8 instead\n", bunny_path);
-    options.levels = 8;
+    std::fprintf(stderr, "icosphere 8 instead of the bunny\n");
     name = "icosphere 8";
-    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
-    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
-    return mesh;
+    return bench::icosphere(8);
 }
 
 }  // namespace

@@ -2,33 +2,25 @@
 // time and memory; closest points per second against brute force and, in bench_spatial_peers, CGAL's AABB_tree;
 // first-hit rays per second against brute force and Embree 3's single-ray path (rtcIntersect1); hierarchical winding
 // numbers per second against the exact direct sum, with the largest error seen and the largest error bound; signed
-// distances per second. Peak memory is the peak of live heap bytes during the build, counted by the global operator
-// new below (Embree allocates its own memory and is not counted). Against a peer, the two sides are timed in turn,
-// round by round. Queries are timed in thread CPU time, builds in wall time. Bench only, never linked into the
-// service.
+// distances per second. Peak memory is the peak of live heap bytes during the build, counted by the global operator new
+// of bench/support/peak_memory.cpp (Embree allocates its own memory and is not counted). Against a peer, the two sides
+// are timed in turn, round by round. Queries are timed in thread CPU time, builds in wall time. Bench only, never
+// linked into the service.
 //
 // Usage: bench_spatial [--quick] [--rounds N] [--rays]   (quick: the bunny only and fewer queries; rounds: each
 // measurement's fastest of N runs, default 3; rays: the builds and the ray rows only)
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <memory>
-#include <new>
 #include <utility>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/mesh/triangulate.h"
 #include "geometry/spatial/closest_point.h"
@@ -36,60 +28,15 @@
 #include "geometry/spatial/signed_distance.h"
 #include "geometry/spatial/winding_number.h"
 #include "geometry/subdivision/subdivide.h"
+#include "bench/support/bench_data.h"
+#include "bench/support/peak_memory.h"
 #if SURFACED_BENCH_PEERS
 #include "bench/spatial_peers.h"
 #endif
 
-// ---- counting allocator -------------------------------------------------------------------------------------------
-namespace {
-std::atomic<long long> g_live{0}, g_peak{0};
-void note_alloc(long long n) {
-    const long long live = g_live.fetch_add(n) + n;
-    long long peak = g_peak.load();
-    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-    void* p = std::malloc(n + 16);
-    if (!p) throw std::bad_alloc();
-    *static_cast<std::size_t*>(p) = n;
-    note_alloc(static_cast<long long>(n));
-    return static_cast<char*>(p) + 16;
-}
-void operator delete(void* p) noexcept {
-    if (!p) return;
-    char* base = static_cast<char*>(p) - 16;
-    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
-    std::free(base);
-}
-void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
-void* operator new(std::size_t n, std::align_val_t a) {
-    // the block starts `a` (at least 16) bytes in; the size sits just before it
-    const auto align = std::max<std::size_t>(static_cast<std::size_t>(a), 16);
-    void* p = std::aligned_alloc(align, (n + 2 * align - 1) / align * align);
-    if (!p) throw std::bad_alloc();
-    char* user = static_cast<char*>(p) + align;
-    reinterpret_cast<std::size_t*>(user)[-1] = n;
-    reinterpret_cast<std::size_t*>(user)[-2] = align;
-    note_alloc(static_cast<long long>(n));
-    return user;
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-    if (!p) return;
-    char* user = static_cast<char*>(p);
-    g_live.fetch_sub(static_cast<long long>(reinterpret_cast<std::size_t*>(user)[-1]));
-    std::free(user - reinterpret_cast<std::size_t*>(user)[-2]);
-}
-void operator delete(void* p, std::size_t, std::align_val_t a) noexcept { operator delete(p, a); }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
-
 namespace {
 
 using namespace surfaced;
-using Clock = std::chrono::steady_clock;
 
 int g_rounds = 3;
 
@@ -102,39 +49,15 @@ std::string mib(std::size_t bytes) {
 bool g_rays_only = false;
 
 //! Fastest of g_rounds runs, in seconds, and the live-heap peak above the start of the last run, in MiB.
-struct Timing {
-    double seconds = 1e300;
-    double peak_mib = 0;
-};
+using Timing = bench::Measurement;
 
-//! Seconds of CPU time of the calling thread: on a machine shared with other work, a query loop's wall time also
-//! counts the time slices the scheduler gives other processes, its thread time does not.
-double thread_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-//! Queries (single-threaded, ours and every peer's) are timed by thread CPU time; builds by wall time
-//! (thread_cpu false), since a peer may build on threads of its own.
+//! Queries (single-threaded, ours and every peer's) are timed by the calling thread's CPU time: on a machine shared
+//! with other work, a query loop's wall time also counts the time slices the scheduler gives other processes, its
+//! thread time does not. Builds by wall time (thread_cpu false), since a peer may build on threads of its own.
 Timing time_best(const std::function<void()>& step, int rounds = g_rounds, bool thread_cpu = true) {
     Timing t;
-    for (int r = 0; r < rounds; ++r) {
-        const long long before = g_live.load();
-        g_peak.store(before);
-        double seconds = 0;
-        if (thread_cpu) {
-            const double start = thread_seconds();
-            step();
-            seconds = thread_seconds() - start;
-        } else {
-            const auto start = Clock::now();
-            step();
-            seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        }
-        t.seconds = std::min(t.seconds, seconds);
-        t.peak_mib = static_cast<double>(g_peak.load() - before) / (1024.0 * 1024.0);
-    }
+    for (int r = 0; r < rounds; ++r)
+        bench::keep_fastest(t, bench::measure(step, thread_cpu ? bench::Clock::ThreadCpu : bench::Clock::Wall));
     return t;
 }
 
@@ -406,19 +329,6 @@ void run(const std::string& name, const PolygonMesh& input, std::size_t point_qu
     g_builds.push_back(build);
 }
 
-PolygonMesh read_bunny() {
-    const char* path = "/usr/share/glmark2/models/bunny.obj";
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    auto mesh = read_obj(text.str());
-    if (!mesh) {
-        std::fprintf(stderr, "%s missing or unreadable (Debian glmark2-data)\n", path);
-        return {};
-    }
-    return std::move(mesh.value());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -429,7 +339,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) g_rounds = std::max(1, std::atoi(argv[++i]));
     }
     const std::size_t queries = quick ? 20'000 : 100'000;
-    const PolygonMesh bunny = read_bunny();
+    const PolygonMesh bunny = bench::read_bunny();
     if (bunny.face_count() > 0) run("bunny", bunny, queries, quick ? 50 : 200);
     if (!quick) {
         // 250 x 200 quads, split in two: 100k triangles

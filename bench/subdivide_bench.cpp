@@ -1,10 +1,10 @@
 // Uniform subdivision: ours vs OpenSubdiv Far on the same meshes, in one run.
 //
-// OpenSubdiv's side is what a user of Far does for the same result: TopologyRefinerFactory::Create, RefineUniform,
-// then PrimvarRefinerReal<double>::Interpolate level by level (double positions, like ours). Times are the best of
-// several repetitions (OpenSubdiv, ours, ours with two threads, interleaved), single-threaded but for the two-thread
-// column. Peak memory is the peak of live heap bytes during the call, counted by the global operator new below (both
-// libraries allocate through it), minus what was live before the call.
+// OpenSubdiv's side is what a user of Far does for the same result: TopologyRefinerFactory::Create, RefineUniform, then
+// PrimvarRefinerReal<double>::Interpolate level by level (double positions, like ours). Times are the best of several
+// repetitions (OpenSubdiv, ours, ours with two threads, interleaved), single-threaded but for the two-thread column.
+// Peak memory is the peak of live heap bytes during the call, counted by the global operator new of
+// bench/support/peak_memory.cpp (both libraries allocate through it), minus what was live before the call.
 //
 // Steady state, as in a long-running service: glibc is told to keep freed memory (M_MMAP_THRESHOLD/M_TRIM_THRESHOLD)
 // so that neither side pays page faults for memory it allocated in the previous repetition; --cold measures without.
@@ -18,48 +18,18 @@
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <malloc.h>
 #include <memory>
-#include <new>
 #include <string>
 #include <vector>
 
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/subdivide.h"
-
-// ---- counting allocator -------------------------------------------------------------------------------------------
-namespace {
-std::atomic<long long> g_live{0}, g_peak{0};
-void note_alloc(long long n) {
-    const long long live = g_live.fetch_add(n) + n;
-    long long peak = g_peak.load();
-    while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {}
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-    void* p = std::malloc(n + 16);
-    if (!p) throw std::bad_alloc();
-    *static_cast<std::size_t*>(p) = n;
-    note_alloc(static_cast<long long>(n));
-    return static_cast<char*>(p) + 16;
-}
-void operator delete(void* p) noexcept {
-    if (!p) return;
-    char* base = static_cast<char*>(p) - 16;
-    g_live.fetch_sub(static_cast<long long>(*reinterpret_cast<std::size_t*>(base)));
-    std::free(base);
-}
-void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
+#include "bench/support/peak_memory.h"
 
 namespace {
 using namespace surfaced;
@@ -132,22 +102,18 @@ std::size_t run_ours(const PolygonMesh& mesh, SubdivisionScheme scheme, int leve
     return out->face_count();
 }
 
+//! The fastest of the repetitions, the peak of the last one, and the faces out.
 struct Measure {
-    double ms = 0;
-    double peak_mb = 0;
+    bench::Measurement best;
     std::size_t faces = 0;
+    double ms() const { return 1e3 * best.seconds; }
+    double peak_mb() const { return best.peak_mib; }
 };
 
-// One repetition of f into m (best time, peak of the last run).
+// One repetition of f into m.
 template <class F>
 void measure_once(F&& f, Measure& m) {
-    const long long before = g_live.load();
-    g_peak.store(before);
-    const auto t0 = std::chrono::steady_clock::now();
-    m.faces = f();
-    const auto t1 = std::chrono::steady_clock::now();
-    m.ms = std::min(m.ms, std::chrono::duration<double, std::milli>(t1 - t0).count());
-    m.peak_mb = double(g_peak.load() - before) / (1024.0 * 1024.0);
+    bench::keep_fastest(m.best, bench::measure([&] { m.faces = f(); }, bench::Clock::Wall));
 }
 
 PolygonMesh triangulated(const PolygonMesh& quads) {
@@ -222,7 +188,6 @@ int main(int argc, char** argv) {
             // the three are interleaved, repetition by repetition, so that a busy moment on a shared machine hits
             // all of them rather than one
             Measure osd, ours, ours2;
-            osd.ms = ours.ms = ours2.ms = 1e300;
             for (int r = 0; r < reps; ++r) {
                 measure_once([&] { return run_osd(c.mesh, c.scheme, level); }, osd);
                 measure_once([&] { return run_ours(c.mesh, c.scheme, level, 1); }, ours);
@@ -234,8 +199,9 @@ int main(int argc, char** argv) {
             }
             std::printf("| %s | %s | %zu | %d | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f | %.1f | %.2f |\n",
                         c.name.c_str(), c.scheme == SubdivisionScheme::Loop ? "Loop" : "Catmull-Clark",
-                        c.mesh.face_count(), level, ours.faces, osd.ms, ours.ms, ours.ms / osd.ms, ours2.ms,
-                        ours2.ms / osd.ms, osd.peak_mb, ours.peak_mb, ours.peak_mb / std::max(osd.peak_mb, 1e-9));
+                        c.mesh.face_count(), level, ours.faces, osd.ms(), ours.ms(), ours.ms() / osd.ms(), ours2.ms(),
+                        ours2.ms() / osd.ms(), osd.peak_mb(), ours.peak_mb(),
+                        ours.peak_mb() / std::max(osd.peak_mb(), 1e-9));
             std::fflush(stdout);
         }
     }

@@ -1,0 +1,35 @@
+#include "bench/support/bench_data.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+#include "geometry/io/mesh_io.h"
+#include "geometry/mesh/shapes.h"
+#include "geometry/subdivision/subdivide.h"
+
+namespace surfaced::bench {
+
+PolygonMesh read_bunny() {
+    std::ifstream in(kBunnyPath, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    auto mesh = read_obj(text.str());
+    if (!mesh) {
+        std::fprintf(stderr, "%s missing or unreadable (Debian glmark2-data)\n", kBunnyPath);
+        return {};
+    }
+    return std::move(mesh.value());
+}
+
+PolygonMesh icosphere(int levels) {
+    SubdivisionOptions options;
+    options.scheme = SubdivisionScheme::Loop;
+    options.levels = levels;
+    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
+    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
+    return mesh;
+}
+
+}  // namespace surfaced::bench
