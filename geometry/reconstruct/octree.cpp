@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/core/two_parts.h"
+
 namespace surfaced::reconstruct {
 namespace {
 
@@ -83,42 +85,76 @@ std::size_t PoissonOctree::memory_bytes() const {
     return bytes;
 }
 
+namespace {
+
+//! The active cells of level `depth`: the whole grid on the coarsest level, else the cells holding a sample and
+//! their 1-ring.
+std::vector<std::uint64_t> active_cells(const std::vector<Vec3>& unit_positions, int depth, bool coarsest) {
+    const std::int64_t n = std::int64_t{1} << depth;
+    std::vector<std::uint64_t> cells;
+    if (coarsest) {
+        // the coarsest level is complete, so the reconstructed function is defined on the whole cube
+        cells.reserve(static_cast<std::size_t>(n * n * n));
+        for (std::int64_t k = 0; k < n; ++k)
+            for (std::int64_t j = 0; j < n; ++j)
+                for (std::int64_t i = 0; i < n; ++i)
+                    cells.push_back(pack_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j),
+                                             static_cast<std::uint32_t>(k)));
+        return cells;
+    }
+    // samples in space order (poisson.cpp) come in runs of one cell: keep each run's key, then sort
+    std::vector<std::uint64_t> occupied;
+    for (const Vec3& p : unit_positions) {
+        const std::uint64_t key = cell_key(p, depth);
+        if (occupied.empty() || occupied.back() != key) occupied.push_back(key);
+    }
+    std::sort(occupied.begin(), occupied.end());
+    occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
+    return dilate(occupied, n);
+}
+
+//! The support sets of a level from its active cells (the larger share of a level's work).
+void add_support(OctreeLevel& level, const std::vector<std::uint64_t>& cells) {
+    level.support_cells = make_set(dilate(cells, std::int64_t{1} << level.depth));
+    level.support_vertices = make_set(corners(level.support_cells.keys));
+}
+
+}  // namespace
+
 Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int min_depth, int max_depth,
-                                   const Cancel& cancel) {
+                                   const Cancel& cancel, bool threaded) {
     PoissonOctree tree;
     tree.min_depth = min_depth;
     tree.max_depth = max_depth;
-    for (int depth = min_depth; depth <= max_depth; ++depth) {
-        if (cancel.requested()) return make_error(ErrorCode::Cancelled, "poisson: cancelled while building the octree");
-        const std::int64_t n = std::int64_t{1} << depth;
-        OctreeLevel level;
-        level.depth = depth;
-        std::vector<std::uint64_t> cells;
-        if (depth == min_depth) {
-            // the coarsest level is complete, so the reconstructed function is defined on the whole cube
-            cells.reserve(static_cast<std::size_t>(n * n * n));
-            for (std::int64_t k = 0; k < n; ++k)
-                for (std::int64_t j = 0; j < n; ++j)
-                    for (std::int64_t i = 0; i < n; ++i)
-                        cells.push_back(pack_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j),
-                                                 static_cast<std::uint32_t>(k)));
-        } else {
-            // samples in space order (poisson.cpp) come in runs of one cell: keep each run's key, then sort
-            std::vector<std::uint64_t> occupied;
-            for (const Vec3& p : unit_positions) {
-                const std::uint64_t key = cell_key(p, depth);
-                if (occupied.empty() || occupied.back() != key) occupied.push_back(key);
-            }
-            std::sort(occupied.begin(), occupied.end());
-            occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
-            cells = dilate(occupied, n);
+    tree.levels.resize(static_cast<std::size_t>(max_depth - min_depth + 1));
+    for (int depth = min_depth; depth <= max_depth; ++depth) tree.levels[std::size_t(depth - min_depth)].depth = depth;
+    if (cancel.requested()) return make_error(ErrorCode::Cancelled, "poisson: cancelled while building the octree");
+    // the finest level holds most of the cells: its support sets on one part; its dofs and every coarser level on
+    // the other (about as much work); each level is built from the samples alone, so the result does not depend on
+    // whether the parts run concurrently
+    OctreeLevel& finest = tree.levels.back();
+    std::vector<std::uint64_t> finest_cells = active_cells(unit_positions, max_depth, max_depth == min_depth);
+    bool cancelled = false;
+    run_two_parts(threaded, [&](int part) {
+        if (part == 0) {
+            add_support(finest, finest_cells);
+            return;
         }
-        level.support_cells = make_set(dilate(cells, n));
-        level.support_vertices = make_set(corners(level.support_cells.keys));
-        level.dofs = make_set(corners(cells));
-        level.cells = make_set(std::move(cells), false);  // only ever walked in order
-        tree.levels.push_back(std::move(level));
-    }
+        finest.dofs = make_set(corners(finest_cells));
+        for (int depth = min_depth; depth < max_depth; ++depth) {
+            if (cancel.requested()) {
+                cancelled = true;
+                return;
+            }
+            OctreeLevel& level = tree.levels[std::size_t(depth - min_depth)];
+            std::vector<std::uint64_t> cells = active_cells(unit_positions, depth, depth == min_depth);
+            add_support(level, cells);
+            level.dofs = make_set(corners(cells));
+            level.cells = make_set(std::move(cells), false);  // only ever walked in order
+        }
+    });
+    finest.cells = make_set(std::move(finest_cells), false);
+    if (cancelled) return make_error(ErrorCode::Cancelled, "poisson: cancelled while building the octree");
     return tree;
 }
 

@@ -95,8 +95,9 @@ std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector
 }
 
 //! Builds the octree for samples given in unit-cube coordinates. 1 <= min_depth <= max_depth <= 20.
-//! Errors: Cancelled.
+//! With `threaded`, the finest level's support sets are built on a second thread while its dofs and the coarser
+//! levels are built on this one (the same octree either way). Errors: Cancelled.
 Result<PoissonOctree> build_octree(const std::vector<Vec3>& unit_positions, int min_depth, int max_depth,
-                                   const Cancel& cancel);
+                                   const Cancel& cancel, bool threaded = false);
 
 }  // namespace surfaced::reconstruct

@@ -158,7 +158,7 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     reconstruct::assign_area_shares(samples, density);
 
     Result<reconstruct::PoissonOctree> tree =
-        reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel);
+        reconstruct::build_octree(samples.positions, kMinDepth, options.depth, cancel, options.threads != 1);
     if (!tree) return tree.error();
     const double seconds_octree = seconds_since(start);
 
