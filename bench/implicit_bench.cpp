@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_data.h"
 #include "geometry/implicit/mesh_field.h"
 #include "geometry/implicit/operators.h"
 #include "geometry/implicit/triangle_mesh_field.h"
@@ -24,6 +25,7 @@
 namespace {
 
 using namespace surfaced;
+using bench::icosphere;
 using namespace surfaced::implicit;
 
 class Sphere : public Field {
@@ -106,16 +108,6 @@ PolygonMesh cube_mesh() {
         mesh.add_face({q[0], q[1], q[2]});
         mesh.add_face({q[0], q[2], q[3]});
     }
-    return mesh;
-}
-
-//! The icosahedron Loop-subdivided `levels` times, projected onto the unit sphere: 20 * 4^levels triangles.
-PolygonMesh icosphere(int levels) {
-    SubdivisionOptions options;
-    options.scheme = SubdivisionScheme::Loop;
-    options.levels = levels;
-    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
-    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
     return mesh;
 }
 

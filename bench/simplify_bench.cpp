@@ -25,6 +25,7 @@
 #include "bench/cgal_peer.h"
 #endif
 
+#include "bench/support/bench_data.h"
 #include "geometry/core/block_pool.h"
 #include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
@@ -36,6 +37,7 @@
 namespace {
 
 using namespace surfaced;
+using bench::icosphere;
 using Clock = std::chrono::steady_clock;
 
 //! Shared machines change speed between seconds, so the peers run in turn, and each one's fastest run is the
@@ -62,15 +64,6 @@ struct Row {
     double seconds = 0, hausdorff = 0, rms = 0;
     std::size_t non_manifold = 0, duplicates = 0;
 };
-
-PolygonMesh icosphere(int levels) {
-    SubdivisionOptions options;
-    options.scheme = SubdivisionScheme::Loop;
-    options.levels = levels;
-    PolygonMesh mesh = subdivide(shapes::icosahedron(), options).value();
-    for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
-    return mesh;
-}
 
 //! Edges used by more than two faces, and faces on the same vertex set as another.
 void invariants(const PolygonMesh& mesh, Row& row) {
