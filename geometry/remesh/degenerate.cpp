@@ -108,14 +108,8 @@ bool Remesher::degenerate_move_ok(Index v, const Vec3& p, Index skip) const {
 //! flip_ok for an edge with a degenerate face on one side: the new faces must be thicker than the thinner old one
 //! and face like the thicker one (a degenerate face has no normal to compare with).
 bool Remesher::degenerate_flip_ok(Index e) {
-    const Index h = 2 * e, o = 2 * e + 1;
-    if (e_constrained_[e] || boundary_h(h) || boundary_h(o)) return false;
-    const Index a = h_to_[o], b = h_to_[h], c = h_to_[h_next_[h]], d = h_to_[h_next_[o]];
-    if (c == d) return false;
-    bool connected = false;
-    for_out(c, [&](Index g) { connected = connected || h_to_[g] == d; });
-    if (connected) return false;
-    if (valence(a) <= (boundary_v(a) ? 2u : 3u) || valence(b) <= (boundary_v(b) ? 2u : 3u)) return false;
+    if (!flippable(e)) return false;
+    const Index a = h_to_[2 * e + 1], b = h_to_[2 * e], c = h_to_[h_next_[2 * e]], d = h_to_[h_next_[2 * e + 1]];
     const Vec3 &pa = pos_[a], &pb = pos_[b], &pc = pos_[c], &pd = pos_[d];
     const double t1 = thinness(pa, pb, pc), t2 = thinness(pb, pa, pd);
     const Vec3 reference = t1 >= t2 ? cross(pb - pa, pc - pa) : cross(pa - pb, pd - pb);

@@ -12,7 +12,7 @@ namespace surfaced::remesh_detail {
 // A flip that does not worsen valences is made when the angles opposite the edge exceed pi by this (radians).
 constexpr double kDelaunaySlack = 0.05;
 
-bool Remesher::flip_ok(Index e) {
+bool Remesher::flippable(Index e) {
     const Index h = 2 * e, o = 2 * e + 1;
     if (e_constrained_[e] || boundary_h(h) || boundary_h(o)) return false;
     const Index a = h_to_[o], b = h_to_[h], c = h_to_[h_next_[h]], d = h_to_[h_next_[o]];
@@ -20,7 +20,12 @@ bool Remesher::flip_ok(Index e) {
     bool connected = false;
     for_out(c, [&](Index g) { connected = connected || h_to_[g] == d; });
     if (connected) return false;
-    if (valence(a) <= (boundary_v(a) ? 2u : 3u) || valence(b) <= (boundary_v(b) ? 2u : 3u)) return false;
+    return valence(a) > (boundary_v(a) ? 2u : 3u) && valence(b) > (boundary_v(b) ? 2u : 3u);
+}
+
+bool Remesher::flip_ok(Index e) {
+    if (!flippable(e)) return false;
+    const Index a = h_to_[2 * e + 1], b = h_to_[2 * e], c = h_to_[h_next_[2 * e]], d = h_to_[h_next_[2 * e + 1]];
     const Vec3 &pa = pos_[a], &pb = pos_[b], &pc = pos_[c], &pd = pos_[d];
     const Vec3 m1 = unit(cross(pb - pa, pc - pa)), m2 = unit(cross(pa - pb, pd - pb));
     const Vec3 n1 = unit(cross(pd - pa, pc - pa)), n2 = unit(cross(pc - pb, pd - pb));

@@ -182,6 +182,9 @@ private:
     // ---- flip (flip.cpp) --------------------------------------------------------------------------------------------
 
     int target_valence(Index v) const { return boundary_v(v) ? 4 : 6; }
+    //! The topology allows flipping e: an interior, unconstrained edge whose flip makes no existing edge and leaves
+    //! both of its ends a valence above 3 (2 on a boundary).
+    bool flippable(Index e);
     bool flip_ok(Index e);
     void flip(Index e);
     bool non_delaunay(Index e) const;
