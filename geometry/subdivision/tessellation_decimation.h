@@ -8,7 +8,9 @@
 // domain side (a base edge or a spoke) moves only along that side, onto a neighbour on it in every domain it is in,
 // so the sides stay shared by index and the output stays watertight; domain corners (base vertices, an N-gon's
 // centre and edge midpoints) never move; the link condition keeps the surface manifold. Collapses go cheapest first
-// (the smallest largest error ratio of the triangles they create). Internal to geometry/subdivision.
+// (the smallest largest error ratio of the triangles they create), in two rounds, each followed by a pass of edge
+// flips inside a domain that lower the larger error ratio of an edge's two triangles. Internal to
+// geometry/subdivision.
 #pragma once
 
 #include <array>
