@@ -12,8 +12,6 @@ namespace surfaced::api::operations::curve_request {
 
 using namespace json;  // the shared readers (api/json_util.h)
 
-std::string at(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
 ApiResult<double> read_parameter(const Json& value, const std::string& field) {
     auto t = read_number(value, field);
     if (!t) return t;
@@ -25,7 +23,7 @@ ApiResult<std::vector<double>> read_parameters(const Json& value, const std::str
     if (!value.is_array()) return invalid(field, field + " must be an array of parameters in [0, 1]");
     std::vector<double> out;
     for (std::size_t i = 0; i < value.size(); ++i) {
-        auto t = read_parameter(value[i], at(field, i));
+        auto t = read_parameter(value[i], index_path(field, i));
         if (!t) return std::move(t.error());
         out.push_back(t.value());
     }
@@ -38,7 +36,7 @@ ApiResult<std::vector<double>> read_parameters_in(const Json& value, const std::
     if (!value.is_array()) return invalid(field, field + " must be an array of parameters");
     std::vector<double> out;
     for (std::size_t i = 0; i < value.size(); ++i) {
-        const std::string item = at(field, i);
+        const std::string item = index_path(field, i);
         auto t = read_number(value[i], item);
         if (!t) return std::move(t.error());
         if (t.value() < lo || t.value() > hi)
@@ -54,7 +52,7 @@ ApiResult<Vec3> read_point(const Json& value, const std::string& field, std::siz
         return invalid(field, field + " must be [x, y" + (dimension == 3 ? ", z]" : "]"));
     Vec3 p;
     for (std::size_t c = 0; c < dimension; ++c) {
-        auto x = read_number(value[c], at(field, c));
+        auto x = read_number(value[c], index_path(field, c));
         if (!x) return std::move(x.error());
         p[static_cast<int>(c)] = x.value();
     }
@@ -84,7 +82,7 @@ std::optional<ApiError> read_control_points(const Json& points, const std::strin
                                             std::vector<Vec3>& out) {
     out.reserve(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
-        auto p = read_point(points[i], at(path, i), dimension);
+        auto p = read_point(points[i], index_path(path, i), dimension);
         if (!p) return std::move(p.error());
         out.push_back(p.value());
     }
@@ -96,9 +94,9 @@ std::optional<ApiError> read_weights(const Json& weights, const std::string& pat
     if (!weights.is_array() || weights.size() != count)
         return invalid(path, path + " must be an array with one number per point");
     for (std::size_t i = 0; i < weights.size(); ++i) {
-        auto w = read_number(weights[i], at(path, i));
+        auto w = read_number(weights[i], index_path(path, i));
         if (!w) return std::move(w.error());
-        if (w.value() <= 0) return invalid(at(path, i), at(path, i) + " must be > 0");
+        if (w.value() <= 0) return invalid(index_path(path, i), index_path(path, i) + " must be > 0");
         out.push_back(w.value());
     }
     return std::nullopt;

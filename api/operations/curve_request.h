@@ -27,8 +27,6 @@ namespace surfaced::api::operations::curve_request {
 
 using Json = json::Json;
 
-std::string at(const std::string& path, std::size_t i);
-
 ApiResult<double> read_parameter(const Json& value, const std::string& field);
 
 ApiResult<std::vector<double>> read_parameters(const Json& value, const std::string& field);

@@ -65,7 +65,7 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
             return invalid("bspline.knots", "bspline.knots must be an array of points + degree + 1 = " +
                                                 std::to_string(expected) + " numbers");
         for (std::size_t i = 0; i < knots->size(); ++i) {
-            auto u = read_number((*knots)[i], at("bspline.knots", i));
+            auto u = read_number((*knots)[i], index_path("bspline.knots", i));
             if (!u) return std::move(u.error());
             curve.knots.push_back(u.value());
         }
@@ -93,11 +93,11 @@ ApiResult<BSplineCurve> decode_bspline(const Json& value, std::size_t& dimension
         const GeoError& e = s.error();
         std::string field = "bspline";
         if (e.element >= 0 && e.element_kind == ElementKind::Vertex)
-            field = at(curve.is_rational() && e.message.find("weight") != std::string::npos ? "bspline.weights"
-                                                                                            : "bspline.points",
-                       static_cast<std::size_t>(e.element));
+            field = index_path(curve.is_rational() && e.message.find("weight") != std::string::npos ? "bspline.weights"
+                                                                                                    : "bspline.points",
+                               static_cast<std::size_t>(e.element));
         else if (e.element >= 0 && knots != value.end())
-            field = at("bspline.knots", static_cast<std::size_t>(e.element));
+            field = index_path("bspline.knots", static_cast<std::size_t>(e.element));
         else if (knots != value.end())
             field = "bspline.knots";
         return error_at(e, field);

@@ -42,7 +42,7 @@ ApiResult<BezierChain> decode_chain(const Json& value, std::size_t& dimension) {
     // shapes and sizes of every piece before reading any point
     std::size_t total = 0;
     for (std::size_t i = 0; i < pieces->size(); ++i) {
-        const std::string path = at("chain.pieces", i);
+        const std::string path = index_path("chain.pieces", i);
         const Json& piece = (*pieces)[i];
         if (!piece.is_object()) return invalid(path, path + R"( must be {"points": [...], "weights"?: [...]})");
         if (auto error = check_members(piece, path, {"points", "weights"})) return std::move(*error);
@@ -62,7 +62,7 @@ ApiResult<BezierChain> decode_chain(const Json& value, std::size_t& dimension) {
     dimension = (*pieces)[0]["points"][0].size() == 2 ? 2 : 3;
     chain.pieces.resize(pieces->size());
     for (std::size_t i = 0; i < pieces->size(); ++i) {
-        const std::string path = at("chain.pieces", i);
+        const std::string path = index_path("chain.pieces", i);
         const Json& piece = (*pieces)[i];
         BezierCurve& curve = chain.pieces[i];
         if (auto error = read_control_points(piece["points"], path + ".points", dimension, curve.points))
@@ -73,7 +73,7 @@ ApiResult<BezierChain> decode_chain(const Json& value, std::size_t& dimension) {
     }
     if (Status s = validate(chain); !s) {
         const std::int64_t piece = s.error().element;
-        return error_at(s.error(), piece >= 0 ? at("chain.pieces", static_cast<std::size_t>(piece)) : "chain");
+        return error_at(s.error(), piece >= 0 ? index_path("chain.pieces", static_cast<std::size_t>(piece)) : "chain");
     }
     return chain;
 }
@@ -161,7 +161,7 @@ ApiResult<EnforceOptions> read_enforce(const Json& value, std::size_t max_joints
     if (auto it = value.find("joints"); it != value.end()) {
         if (!it->is_array()) return invalid("enforce_c1.joints", "enforce_c1.joints must be an array of joint indices");
         for (std::size_t i = 0; i < it->size(); ++i) {
-            const std::string field = at("enforce_c1.joints", i);
+            const std::string field = index_path("enforce_c1.joints", i);
             auto j = read_integer((*it)[i], field);
             if (!j) return std::move(j.error());
             if (j.value() < 0 || static_cast<std::size_t>(j.value()) >= max_joints)

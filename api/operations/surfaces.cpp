@@ -19,8 +19,6 @@ namespace {
 
 using namespace json;  // the shared readers (api/json_util.h)
 
-std::string at(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
 ApiError budget(std::string detail, const std::string& field) {
     return make_problem(Problem::BudgetExceeded, std::move(detail), field);
 }
@@ -42,16 +40,16 @@ ApiResult<std::vector<std::pair<double, double>>> read_parameters(const Json& va
     std::vector<std::pair<double, double>> out;
     out.reserve(value.size());
     for (std::size_t i = 0; i < value.size(); ++i) {
-        const std::string item = at(field, i);
+        const std::string item = index_path(field, i);
         if (!value[i].is_array() || value[i].size() != 2) return invalid(item, item + " must be [u, v]");
         double uv[2];
         for (std::size_t c = 0; c < 2; ++c) {
-            auto x = read_number(value[i][c], at(item, c));
+            auto x = read_number(value[i][c], index_path(item, c));
             if (!x) return std::move(x.error());
             const double lo = c == 0 ? d.u0 : d.v0, hi = c == 0 ? d.u1 : d.v1;
             if (x.value() < lo || x.value() > hi)
-                return json::geometry_error(ErrorCode::InvalidArgument, at(item, c),
-                                            at(item, c) + " = " + format_double(x.value()) +
+                return json::geometry_error(ErrorCode::InvalidArgument, index_path(item, c),
+                                            index_path(item, c) + " = " + format_double(x.value()) +
                                                 " is outside the domain of " + (c == 0 ? "u" : "v") + " [" +
                                                 format_double(lo) + ", " + format_double(hi) + "]");
             uv[c] = x.value();
@@ -126,7 +124,7 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
                           "closest");
         std::vector<Vec3> points;
         for (std::size_t i = 0; i < it->size(); ++i) {
-            auto p = read_vec3((*it)[i], at("closest", i));
+            auto p = read_vec3((*it)[i], index_path("closest", i));
             if (!p) return std::move(p.error());
             points.push_back(p.value());
         }
@@ -278,7 +276,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         Json answers = Json::array();
         for (std::size_t i = 0; i < q.closest->size(); ++i) {
             auto c = closest_point(*patches, (*q.closest)[i], options);
-            if (!c) return error_response(error_at(c.error(), at("closest", i)));
+            if (!c) return error_response(error_at(c.error(), index_path("closest", i)));
             answers.push_back({{"uv", Json::array({c->u, c->v})},
                                {"point", vec3_json(c->point)},
                                {"distance", c->distance},
