@@ -248,7 +248,7 @@ private:
         std::size_t l = 0;
         int shift = 0;
         while (l + 1 < tree_.levels.size() &&
-               tree_.levels[l + 1].support_cells.find(cell_at(l + 1, shift)) != KeyMap::kNone)
+               tree_.levels[l + 1].support_cells.find(cell_at(l + 1, shift)) != RowIndex::kNone)
             ++l;
         const std::uint64_t cell = cell_at(l, shift);
         const OctreeLevel& level = tree_.levels[l];
@@ -260,7 +260,7 @@ private:
         for (std::uint32_t c = 0; c < 8; ++c) {
             const std::uint32_t v = level.support_vertices.find(
                 pack_key(key_i(cell) + (c & 1), key_j(cell) + ((c >> 1) & 1), key_k(cell) + (c >> 2)));
-            assert(v != KeyMap::kNone);
+            assert(v != RowIndex::kNone);
             sum += ((c & 1) ? t[0] : 1 - t[0]) * ((c & 2) ? t[1] : 1 - t[1]) * ((c & 4) ? t[2] : 1 - t[2]) *
                    chi_.values[l][v];
         }

@@ -27,7 +27,7 @@ void IndicatorField::locate(const Vec3& q, std::size_t& level, double corners[8]
     };
     level = 0;
     while (level + 1 < tree_.levels.size() &&
-           tree_.levels[level + 1].support_cells.find(cell_at(level + 1)) != KeyMap::kNone)
+           tree_.levels[level + 1].support_cells.find(cell_at(level + 1)) != RowIndex::kNone)
         ++level;
     const OctreeLevel& l = tree_.levels[level];
     const std::uint64_t cell = cell_at(level);

@@ -110,6 +110,47 @@ private:
     std::size_t mask_ = 0;
 };
 
+//! Positions of a sorted list of distinct keys, found through their grid rows: keys sorted by (k, j, i) come in rows
+//! of equal (j, k), so a dense table of where each row starts (one entry per (j, k), a few MB on the finest octree
+//! level against several hundred for a hash table of its keys) narrows a lookup to one row, searched by bisection.
+//! Built in one linear pass over the keys, with no random writes.
+class RowIndex {
+public:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
+
+    //! Indexes `keys` (sorted, distinct); they must outlive the index and stay unchanged.
+    void assign(const std::vector<std::uint64_t>& keys) {
+        keys_ = &keys;
+        std::uint32_t side = 1;
+        for (const std::uint64_t key : keys) side = std::max({side, key_j(key) + 1, key_k(key) + 1});
+        side_ = side;
+        starts_.assign(std::size_t{side} * side + 1, 0);
+        for (const std::uint64_t key : keys) ++starts_[row(key) + 1];
+        for (std::size_t r = 1; r < starts_.size(); ++r) starts_[r] += starts_[r - 1];
+    }
+
+    //! Position of `key` in the indexed list, or kNone.
+    std::uint32_t find(std::uint64_t key) const {
+        if (starts_.empty() || key_j(key) >= side_ || key_k(key) >= side_) return kNone;
+        const std::size_t r = row(key);
+        const std::uint64_t* first = keys_->data() + starts_[r];
+        const std::uint64_t* last = keys_->data() + starts_[r + 1];
+        const std::uint64_t* at = std::lower_bound(first, last, key);
+        return at != last && *at == key ? static_cast<std::uint32_t>(at - keys_->data()) : kNone;
+    }
+
+    std::size_t memory_bytes() const { return starts_.capacity() * 4; }
+    //! Points the index at another copy of the same keys (KeySet's copies and moves).
+    void rebind(const std::vector<std::uint64_t>& keys) { keys_ = &keys; }
+
+private:
+    std::size_t row(std::uint64_t key) const { return std::size_t{key_k(key)} * side_ + key_j(key); }
+
+    const std::vector<std::uint64_t>* keys_ = nullptr;
+    std::uint32_t side_ = 0;
+    std::vector<std::uint32_t> starts_;  //!< per row (j, k), the position of its first key; then the list's size
+};
+
 //! A growing map from keys to dense indices (open addressing, linear probing): insert() hands out 0, 1, 2, ... in
 //! order of first insertion, so with a deterministic insertion order the indices are deterministic too.
 class GrowingKeyMap {

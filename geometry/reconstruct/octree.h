@@ -9,8 +9,8 @@
 //    form an octree, refined to max_depth around the samples only, whose neighbourhoods are complete (the 2:1-like
 //    condition the basis functions need: every function centred on an active cell's corner has its whole support
 //    on the level's grid, and every sample's cell has all its neighbours).
-// Each level carries four sets, each as a sorted key list with a KeyMap from key to position:
-//  - cells: the active cells (without a KeyMap: nothing looks them up);
+// Each level carries four sets, each as a sorted key list with a RowIndex from key to position:
+//  - cells: the active cells (without an index: nothing looks them up);
 //  - dofs: the corners of the active cells, one trilinear "hat" basis function each (the unknowns of the level);
 //  - support cells: the active cells and their 1-ring, i.e. every cell on which a level function is non-zero, and
 //    support vertices: their corners, where the solver keeps the values of the reconstructed function. A support
@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "geometry/core/cancel.h"
@@ -30,11 +31,33 @@ namespace surfaced::reconstruct {
 
 struct KeySet {
     std::vector<std::uint64_t> keys;  //!< sorted, distinct
-    KeyMap index;                     //!< key -> position in keys
+    RowIndex index;                   //!< key -> position in keys
+
+    KeySet() = default;
+    // the index points into `keys`: a copy or a move re-indexes (a moved vector keeps its buffer, a copy does not)
+    KeySet(const KeySet& other) : keys(other.keys) { reindex(other); }
+    KeySet(KeySet&& other) noexcept : keys(std::move(other.keys)), index(std::move(other.index)) { index.rebind(keys); }
+    KeySet& operator=(const KeySet& other) {
+        keys = other.keys;
+        reindex(other);
+        return *this;
+    }
+    KeySet& operator=(KeySet&& other) noexcept {
+        keys = std::move(other.keys);
+        index = std::move(other.index);
+        index.rebind(keys);
+        return *this;
+    }
 
     std::size_t size() const { return keys.size(); }
     std::uint32_t find(std::uint64_t key) const { return index.find(key); }
     std::size_t memory_bytes() const { return keys.capacity() * 8 + index.memory_bytes(); }
+
+private:
+    void reindex(const KeySet& other) {
+        index = other.index;
+        index.rebind(keys);
+    }
 };
 
 struct OctreeLevel {
@@ -62,10 +85,11 @@ std::uint64_t cell_key(const Vec3& p, int depth);
 //! or Vec3. Scattered from the coarse vertices, one sorted pass per row offset (b, c): coarse vertex (i, j, k) feeds
 //! the fine vertices (2i - 1 .. 2i + 1, 2j + b, 2k + c), consecutive keys that grow with the coarse key; no hashing.
 //! Each fine value sums its coarse ones in (k, j, i) order.
+//! `out` is resized to the fine level's support vertices (its capacity kept, so a buffer can be reused).
 template <class T>
-std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
-                                    const OctreeLevel& fine) {
-    std::vector<T> out(fine.support_vertices.size(), T{});
+void interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values, const OctreeLevel& fine,
+                          std::vector<T>& out) {
+    out.assign(fine.support_vertices.size(), T{});
     const std::uint32_t limit = std::uint32_t{1} << fine.depth;
     const std::vector<std::uint64_t>& coarse_keys = coarse.support_vertices.keys;
     const std::vector<std::uint64_t>& fine_keys = fine.support_vertices.keys;
@@ -91,6 +115,12 @@ std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector
         const int odd = static_cast<int>(key_i(key) % 2 + key_j(key) % 2 + key_k(key) % 2);
         if (odd > 0) out[u] = out[u] * (odd == 1 ? 0.5 : odd == 2 ? 0.25 : 0.125);
     }
+}
+template <class T>
+std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
+                                    const OctreeLevel& fine) {
+    std::vector<T> out;
+    interpolate_to_finer(coarse, coarse_values, fine, out);
     return out;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 #include "geometry/core/two_parts.h"
 
@@ -224,17 +225,18 @@ void add_support_field(const OctreeLevel& level, const StencilRows& rows, const 
 }
 
 //! out[v] += integral grad phi_v . V_l for V_l = sum_w splat_w phi_w / h^3 (splats given at the level's dofs).
+//! `spread`: a scratch buffer, all zero (and left so), of at least the level's padded size.
 void add_own_splats(const OctreeLevel& level, const StencilRows& rows, const std::vector<Vec3>& splat,
-                    std::vector<double>& out, bool threaded) {
-    std::vector<Vec3> spread(rows.padded_size(), Vec3{});
+                    std::vector<double>& out, std::vector<Vec3>& spread, bool threaded) {
     for (std::size_t v = 0; v < splat.size(); ++v) spread[rows.rows[9 * v + 4]] = splat[v];
     add_support_field(level, rows, spread, out, threaded);
+    for (std::size_t v = 0; v < splat.size(); ++v) spread[rows.rows[9 * v + 4]] = Vec3{};
 }
 
 }  // namespace
 
 std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples,
-                                                bool threaded) {
+                                                const std::vector<StencilRows>& rows, bool threaded) {
     const std::size_t levels = tree.levels.size();
 
     // splat: n_{d,w} = sum_i a_i N_i phi_{d,w}(p_i), each sample's share split between the two levels around its
@@ -264,7 +266,7 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
             if (cell != last_cell[l]) {
                 for (int c = 0; c < 8; ++c) {
                     dofs[c] = level.dofs.find(corner_key(cell, c));
-                    assert(dofs[c] != KeyMap::kNone);
+                    assert(dofs[c] != RowIndex::kNone);
                 }
                 last_cell[l] = cell;
             }
@@ -276,11 +278,14 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
     // splats of the level and finer ones: integrated on their level, restricted to coarser hats (a coarse hat is
     // sum 2^-(odd offsets) of the fine hats around its centre)
     std::vector<std::vector<double>> rhs(levels);
+    // scratch fields over the support vertices, allocated once at the finest level's size and reused level by level
+    const std::size_t largest = rows.back().padded_size();
+    std::vector<Vec3> scratch(largest, Vec3{}), carried;
     for (std::size_t li = levels; li-- > 0;) {
         const OctreeLevel& to = tree.levels[li];
         std::vector<double>& coarse = rhs[li];
         coarse.assign(to.dofs.size(), 0.0);
-        if (used[li]) add_own_splats(to, StencilRows::build(to, threaded), splat[li], coarse, threaded);
+        if (used[li]) add_own_splats(to, rows[li], splat[li], coarse, scratch, threaded);
         if (li + 1 == levels) continue;
         const OctreeLevel& from = tree.levels[li + 1];
         const std::vector<double>& f = rhs[li + 1];
@@ -305,7 +310,8 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
 
     // splats of coarser levels: V_{<d} carried down as values at each level's support vertices, in the level's own
     // normalisation (V = sum field_u phi_u / h^3, so a coarser level's values shrink by 8 per level)
-    std::vector<Vec3> carried(tree.levels[0].support_vertices.size(), Vec3{});
+    carried.reserve(largest);
+    carried.assign(tree.levels[0].support_vertices.size(), Vec3{});
     bool any = false;
     for (std::size_t li = 0; li + 1 < levels; ++li) {
         const OctreeLevel& level = tree.levels[li];
@@ -322,18 +328,19 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
             carried.assign(next.support_vertices.size(), Vec3{});
             continue;
         }
-        carried = interpolate_to_finer(level, carried, next);
+        interpolate_to_finer(level, carried, next, scratch);
+        std::swap(carried, scratch);
         for (Vec3& v : carried) v *= 0.125;
         carried.resize(next.support_vertices.size() + 3, Vec3{});  // the padding read through StencilRows
-        add_support_field(next, StencilRows::build(next, threaded), carried, rhs[li + 1], threaded);
+        add_support_field(next, rows[li + 1], carried, rhs[li + 1], threaded);
         carried.resize(next.support_vertices.size());
     }
     return rhs;
 }
 
 LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha,
-                         bool dirichlet, bool threaded)
-    : tree_(tree), level_(tree.level(depth)), samples_(samples) {
+                         bool dirichlet, StencilRows rows, bool threaded)
+    : tree_(tree), level_(tree.level(depth)), samples_(samples), rows_(std::move(rows)) {
     h_ = std::ldexp(1.0, -depth);
     beta_ = samples.weight_sum > 0 ? alpha * std::ldexp(1.0, depth) * samples.area / samples.weight_sum : 0.0;
     const std::uint32_t n = std::uint32_t{1} << depth;
@@ -346,7 +353,6 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
             any_fixed_ = any_fixed_ || fixed_[v];
         }
 
-    rows_ = StencilRows::build(level_, threaded);
     spread_.assign(rows_.padded_size(), 0.0);
     threaded_ = threaded;
 
@@ -372,7 +378,7 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
         if (cell != last_cell) {  // samples come in space order (poisson.cpp): runs share their cell
             for (int c = 0; c < 8; ++c) {
                 cell_dofs[c] = level_.dofs.find(corner_key(cell, c));
-                assert(cell_dofs[c] != KeyMap::kNone);
+                assert(cell_dofs[c] != RowIndex::kNone);
             }
             last_cell = cell;
         }

@@ -66,14 +66,6 @@ void assign_area_shares(OrientedSamples& samples, const std::vector<double>& den
 //! Trilinear weights of the eight corners of p's cell on level `depth` (corner c = bits (x, y, z)).
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]);
 
-//! b_d for every level (indexed like PoissonOctree::levels, each over the level's dofs): the splatted normal field
-//! against the level's hats. Splats of the level and finer ones are integrated on their own level and restricted
-//! level by level to coarser hats; splats of coarser levels are interpolated to the level's grid and integrated
-//! there (both exact, the spaces being nested).
-//! `threaded`: the sorted passes of large levels on two threads (the result does not depend on it).
-std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples,
-                                                bool threaded = false);
-
 //! The 27-point neighbourhoods of a level's dofs, as positions among the level's support vertices (every neighbour of
 //! a dof inside the cube is one, octree.h): rows[9 v + (b + 1) + 3 (c + 1)] is the position of (i, j + b, k + c) for
 //! dof v = (i, j, k), and its neighbours (i -/+ 1, j + b, k + c) are the positions just before and after it (the keys
@@ -90,13 +82,22 @@ struct StencilRows {
     static StencilRows build(const OctreeLevel& level, bool threaded);
 };
 
+//! b_d for every level (indexed like PoissonOctree::levels, each over the level's dofs): the splatted normal field
+//! against the level's hats. Splats of the level and finer ones are integrated on their own level and restricted
+//! level by level to coarser hats; splats of coarser levels are interpolated to the level's grid and integrated
+//! there (both exact, the spaces being nested). `rows`: StencilRows::build of every level.
+//! `threaded`: the sorted passes of large levels on two threads (the result does not depend on it).
+std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const OrientedSamples& samples,
+                                                const std::vector<StencilRows>& rows, bool threaded = false);
+
 //! The operator A_d of one level, applied without assembling it: the stiffness stencil over a neighbour table and
 //! the screening term through the samples. Dofs on the cube's boundary are fixed at zero for Dirichlet conditions.
 class LevelSystem {
 public:
-    //! `threaded`: the neighbour table and subtract_stiffness of a large level on two threads (same result).
+    //! `rows`: StencilRows::build of the level (the system keeps them). `threaded`: subtract_stiffness of a large
+    //! level on two threads (same result).
     LevelSystem(const PoissonOctree& tree, int depth, const OrientedSamples& samples, double alpha, bool dirichlet,
-                bool threaded = false);
+                StencilRows rows, bool threaded = false);
 
     std::size_t size() const { return fixed_.size(); }
     //! y = A x on the free dofs (0 on fixed ones); the stiffness rows on two threads when `threaded` (each row is

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include "geometry/core/two_parts.h"
 
@@ -98,7 +99,13 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
 Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const OrientedSamples& samples,
                                        const SolverOptions& options, std::vector<LevelSolveStats>* stats) {
     auto start = std::chrono::steady_clock::now();
-    const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples, options.threads != 1);
+    // the levels' neighbour tables, shared by the right-hand side and each level's system (built once: they are the
+    // largest arrays of a level after its key sets)
+    const bool threaded = options.threads != 1;
+    std::vector<StencilRows> rows;
+    rows.reserve(tree.levels.size());
+    for (const OctreeLevel& level : tree.levels) rows.push_back(StencilRows::build(level, threaded));
+    const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples, rows, threaded);
     IndicatorValues out;
     out.values.resize(tree.levels.size());
     out.at_samples.assign(samples.positions.size(), 0.0);
@@ -106,7 +113,8 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
     for (std::size_t li = 0; li < tree.levels.size(); ++li) {
         if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "poisson: cancelled while solving");
         const OctreeLevel& level = tree.levels[li];
-        const LevelSystem system(tree, level.depth, samples, options.alpha, options.dirichlet, options.threads != 1);
+        const LevelSystem system(tree, level.depth, samples, options.alpha, options.dirichlet, std::move(rows[li]),
+                                 threaded);
 
         // the coarser levels' function on this level's grid
         std::vector<double>& values = out.values[li];
