@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "geometry/core/two_parts.h"
 #include "geometry/implicit/cell_faces.h"
 #include "geometry/reconstruct/key_map.h"
 
@@ -16,6 +17,8 @@ constexpr std::uint64_t kStepJ = std::uint64_t{1} << 21;
 constexpr std::uint64_t kStepK = std::uint64_t{1} << 42;
 //! Cells between two polls of the cancel flag.
 constexpr std::size_t kPollEvery = 4096;
+//! Fewer cells than this are meshed on one thread (a second would cost more than it saves).
+constexpr std::size_t kThreadedCells = 1 << 15;
 
 // ---- cell-local numbering (cell_faces.h) ----------------------------------------------------------------------------
 using cell_faces::bit;
@@ -53,6 +56,50 @@ struct Leaf {
     double margin;        //!< rounding margin on interpolated values
 };
 
+//! One part's meshing state: its node values off the finest support, its crossing vertices and its faces.
+struct MeshPart {
+    GrowingKeyMap memo;  //!< nodes off the finest level's support -> memo_values
+    std::vector<double> memo_values;
+    GrowingKeyMap edges;  //!< crossed grid edges (doubled midpoint coordinates) -> edge_vertices, edge_keys
+    std::vector<Index> edge_vertices;
+    std::vector<std::uint64_t> edge_keys;
+    std::vector<Vec3> positions;
+    PolygonMesh out;
+    std::size_t surface = 0;  //!< cells the surface crosses
+    bool broken = false;
+    bool cancelled = false;
+
+    std::size_t memory_bytes() const {
+        return memo.memory_bytes() + memo_values.capacity() * 8 + edges.memory_bytes() + edge_vertices.capacity() * 4 +
+               edge_keys.capacity() * 8;
+    }
+};
+
+//! The mesh of two parts: the first's vertices and faces, then the second's, its vertices on edges the first
+//! crossed too replaced by the first's.
+PolygonMesh merge(MeshPart& first, MeshPart& second) {
+    PolygonMesh out = std::move(first.out);
+    out.positions = std::move(first.positions);
+    constexpr Index kNew = ~Index{0};
+    std::vector<Index> remap(second.positions.size(), kNew);
+    for (std::size_t e = 0; e < second.edge_keys.size(); ++e) {
+        const std::uint32_t shared = first.edges.find(second.edge_keys[e]);
+        if (shared != GrowingKeyMap::kNone) remap[second.edge_vertices[e]] = first.edge_vertices[shared];
+    }
+    for (std::size_t v = 0; v < remap.size(); ++v)
+        if (remap[v] == kNew) {
+            remap[v] = static_cast<Index>(out.positions.size());
+            out.positions.push_back(second.positions[v]);
+        }
+    out.face_offsets.reserve(out.face_offsets.size() + second.out.face_count());
+    out.face_indices.reserve(out.face_indices.size() + second.out.face_indices.size());
+    for (const Index v : second.out.face_indices) out.face_indices.push_back(remap[v]);
+    const Index base = out.face_offsets.back();
+    for (std::size_t f = 1; f < second.out.face_offsets.size(); ++f)
+        out.face_offsets.push_back(base + second.out.face_offsets[f]);
+    return out;
+}
+
 class Extractor {
 public:
     Extractor(const PoissonOctree& tree, const IndicatorValues& chi, double iso, const Cancel& cancel)
@@ -70,30 +117,41 @@ public:
         return scan_leaves();
     }
 
-    Result<PolygonMesh> mesh(ExtractionStats* stats) {
+    //! Meshes the cells found, as two parts (the first and second half of the cells in key order), concurrently
+    //! when `threaded`; the second part's vertices on edges the first part also crossed are merged into the first's.
+    //! The cut depends on the cells alone, so the mesh is the same either way.
+    Result<PolygonMesh> mesh(ExtractionStats* stats, bool threaded) {
         const std::size_t collect_bytes = candidates_.memory_bytes();
         const std::vector<std::uint64_t> cells = candidates_.take();
-        PolygonMesh out;
-        out.face_offsets.reserve(2 * cells.size() + 1);
-        out.face_indices.reserve(6 * cells.size());
-        std::size_t surface = 0;
-        // the corners of cells taken in key order have increasing keys, corner by corner: found by cursors
-        std::vector<SortedCursor> corners(8, SortedCursor(finest_.support_vertices.keys));
-        for (std::size_t n = 0; n < cells.size(); ++n) {
-            if (n % kPollEvery == 0 && cancel_.requested()) return cancelled();
-            surface += mesh_cell(cells[n], corners, out) ? 1 : 0;
-        }
-        if (broken_) return make_error(ErrorCode::Internal, "poisson: a marching-cubes loop did not close");
-        out.positions = std::move(positions_);
+        const std::size_t middle = cells.size() / 2;
+        MeshPart parts[2];
+        run_two_parts(threaded && cells.size() >= kThreadedCells, [&](int p) {
+            MeshPart& part = parts[p];
+            const std::size_t begin = p == 0 ? 0 : middle, end = p == 0 ? middle : cells.size();
+            part.out.face_offsets.reserve(2 * (end - begin) + 1);
+            part.out.face_indices.reserve(6 * (end - begin));
+            // the corners of cells taken in key order have increasing keys, corner by corner: found by cursors
+            std::vector<SortedCursor> corners(8, SortedCursor(finest_.support_vertices.keys));
+            for (std::size_t n = begin; n < end; ++n) {
+                if ((n - begin) % kPollEvery == 0 && cancel_.requested()) {
+                    part.cancelled = true;
+                    return;
+                }
+                part.surface += mesh_cell(cells[n], corners, part) ? 1 : 0;
+            }
+        });
+        if (parts[0].cancelled || parts[1].cancelled) return cancelled();
+        if (parts[0].broken || parts[1].broken)
+            return make_error(ErrorCode::Internal, "poisson: a marching-cubes loop did not close");
         if (stats) {
             stats->candidate_cells = cells.size();
-            stats->surface_cells = surface;
-            stats->interpolated_nodes = memo_.size();
-            const std::size_t mesh_bytes = cells.capacity() * 8 + memo_.memory_bytes() + memo_values_.capacity() * 8 +
-                                           edges_.memory_bytes() + edge_vertices_.capacity() * 4;
+            stats->surface_cells = parts[0].surface + parts[1].surface;
+            stats->interpolated_nodes = parts[0].memo.size() + parts[1].memo.size();
+            std::size_t mesh_bytes = cells.capacity() * 8;
+            for (const MeshPart& part : parts) mesh_bytes += part.memory_bytes();
             stats->bytes = std::max(collect_bytes, mesh_bytes);
         }
-        return out;
+        return merge(parts[0], parts[1]);
     }
 
 private:
@@ -268,20 +326,20 @@ private:
     }
 
     //! The one value of a node that every cell around it uses; `cursor` seeks it among the finest support vertices.
-    double node_value(std::int64_t i, std::int64_t j, std::int64_t k, SortedCursor& cursor) {
+    double node_value(std::int64_t i, std::int64_t j, std::int64_t k, SortedCursor& cursor, MeshPart& part) const {
         const std::uint64_t key =
             pack_key(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(k));
         const std::uint32_t u = cursor.seek(key);
         if (u != SortedCursor::kNone) return adjust(finest_values_[u] - iso_, i, j, k);
         bool inserted = false;
-        const std::uint32_t m = memo_.insert(key, inserted);
-        if (inserted) memo_values_.push_back(adjust(interpolate_node(i, j, k), i, j, k));
-        return memo_values_[m];
+        const std::uint32_t m = part.memo.insert(key, inserted);
+        if (inserted) part.memo_values.push_back(adjust(interpolate_node(i, j, k), i, j, k));
+        return part.memo_values[m];
     }
 
     //! The vertex on cell edge e (corner values v): created by the first cell that asks, at the crossing of the
     //! linear interpolation of its end values.
-    Index crossing_vertex(const std::int64_t cell[3], int e, const double v[8]) {
+    Index crossing_vertex(const std::int64_t cell[3], int e, const double v[8], MeshPart& part) const {
         const int axis = e / 4, c0 = edge_start_corner(e);
         std::int64_t node[3];
         for (int a = 0; a < 3; ++a) node[a] = cell[a] + bit(c0, a);
@@ -289,28 +347,29 @@ private:
                                            static_cast<std::uint32_t>(2 * node[1] + (axis == 1)),
                                            static_cast<std::uint32_t>(2 * node[2] + (axis == 2)));
         bool inserted = false;
-        const std::uint32_t id = edges_.insert(key, inserted);
-        if (!inserted) return edge_vertices_[id];
+        const std::uint32_t id = part.edges.insert(key, inserted);
+        if (!inserted) return part.edge_vertices[id];
         const double v0 = v[c0], v1 = v[c0 | (1 << axis)];
         const double t = v0 / (v0 - v1);  // the ends differ in sign: v0 - v1 != 0, t in (0, 1]
         const double inverse_n = 1.0 / static_cast<double>(n_);
         Vec3 p{static_cast<double>(node[0]), static_cast<double>(node[1]), static_cast<double>(node[2])};
         p[axis] += t;
-        const Index vertex = static_cast<Index>(positions_.size());
-        positions_.push_back(p * inverse_n);
-        edge_vertices_.push_back(vertex);
+        const Index vertex = static_cast<Index>(part.positions.size());
+        part.positions.push_back(p * inverse_n);
+        part.edge_vertices.push_back(vertex);
+        part.edge_keys.push_back(key);
         return vertex;
     }
 
     // ---- marching cubes ----------------------------------------------------------------------------------------
 
-    bool mesh_cell(std::uint64_t key, std::vector<SortedCursor>& corners, PolygonMesh& out) {
+    bool mesh_cell(std::uint64_t key, std::vector<SortedCursor>& corners, MeshPart& part) const {
         const std::int64_t cell[3] = {key_i(key), key_j(key), key_k(key)};
         double v[8];
         int inside = 0;
         for (int c = 0; c < 8; ++c) {
             v[c] = node_value(cell[0] + bit(c, 0), cell[1] + bit(c, 1), cell[2] + bit(c, 2),
-                              corners[static_cast<std::size_t>(c)]);
+                              corners[static_cast<std::size_t>(c)], part);
             if (v[c] < 0) inside |= 1 << c;
         }
         if (inside == 0 || inside == 255) return false;
@@ -332,25 +391,27 @@ private:
             int length = 0;
             for (int e = start; !visited[e]; e = next[e]) {
                 if (next[e] < 0) {  // cannot happen: the segments around the inside corners form closed loops
-                    broken_ = true;
+                    part.broken = true;
                     return true;
                 }
                 visited[e] = true;
-                loop[length++] = crossing_vertex(cell, e, v);
+                loop[length++] = crossing_vertex(cell, e, v, part);
             }
-            triangulate(loop, length, out);
+            triangulate(loop, length, part);
         }
         return true;
     }
 
-    void triangulate(const Index* loop, int length, PolygonMesh& out) {
+    static void triangulate(const Index* loop, int length, MeshPart& part) {
+        PolygonMesh& out = part.out;
+        std::vector<Vec3>& positions = part.positions;
         if (length == 3) {
             out.add_face({loop[0], loop[1], loop[2]});
             return;
         }
         if (length == 4) {
-            const Vec3 &p0 = positions_[loop[0]], &p1 = positions_[loop[1]], &p2 = positions_[loop[2]],
-                       &p3 = positions_[loop[3]];
+            const Vec3 &p0 = positions[loop[0]], &p1 = positions[loop[1]], &p2 = positions[loop[2]],
+                       &p3 = positions[loop[3]];
             if (norm(p2 - p0) <= norm(p3 - p1)) {
                 out.add_face({loop[0], loop[1], loop[2]});
                 out.add_face({loop[0], loop[2], loop[3]});
@@ -361,9 +422,9 @@ private:
             return;
         }
         Vec3 centroid;
-        for (int q = 0; q < length; ++q) centroid += positions_[loop[q]];
-        const Index centre = static_cast<Index>(positions_.size());
-        positions_.push_back(centroid * (1.0 / length));
+        for (int q = 0; q < length; ++q) centroid += positions[loop[q]];
+        const Index centre = static_cast<Index>(positions.size());
+        positions.push_back(centroid * (1.0 / length));
         for (int q = 0; q < length; ++q) out.add_face({centre, loop[q], loop[(q + 1) % length]});
     }
 
@@ -376,21 +437,15 @@ private:
     int depth_;
     std::int64_t n_;  //!< finest cells per side
     KeyCollector candidates_;
-    GrowingKeyMap memo_;  //!< nodes off the finest level's support -> memo_values_
-    std::vector<double> memo_values_;
-    GrowingKeyMap edges_;  //!< crossed grid edges (doubled midpoint coordinates) -> edge_vertices_
-    std::vector<Index> edge_vertices_;
-    std::vector<Vec3> positions_;
-    bool broken_ = false;
 };
 
 }  // namespace
 
 Result<PolygonMesh> extract_surface(const PoissonOctree& tree, const IndicatorValues& chi, double iso,
-                                    const Cancel& cancel, ExtractionStats* stats) {
+                                    const Cancel& cancel, ExtractionStats* stats, bool threaded) {
     Extractor extractor(tree, chi, iso, cancel);
     if (Status s = extractor.find_cells(); !s) return s.error();
-    return extractor.mesh(stats);
+    return extractor.mesh(stats, threaded);
 }
 
 }  // namespace surfaced::reconstruct

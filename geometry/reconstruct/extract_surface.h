@@ -44,8 +44,9 @@ struct ExtractionStats {
 };
 
 //! Meshes chi = iso on the finest level (see the top of this file); positions are in the octree's unit cube.
+//! `threaded`: the marching cubes of the two halves of the cells on two threads (the same mesh either way).
 //! Errors: Cancelled (polled between blocks of cells).
 Result<PolygonMesh> extract_surface(const PoissonOctree& tree, const IndicatorValues& chi, double iso,
-                                    const Cancel& cancel, ExtractionStats* stats = nullptr);
+                                    const Cancel& cancel, ExtractionStats* stats = nullptr, bool threaded = false);
 
 }  // namespace surfaced::reconstruct
