@@ -198,7 +198,8 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
     }
     const auto extract_start = std::chrono::steady_clock::now();
     reconstruct::ExtractionStats extraction;
-    Result<PolygonMesh> mesh = reconstruct::extract_surface(*tree, *chi, iso, cancel, &extraction, options.threads != 1);
+    Result<PolygonMesh> mesh =
+        reconstruct::extract_surface(*tree, *chi, iso, cancel, &extraction, options.threads != 1);
     if (!mesh) return mesh.error();
     result.mesh = std::move(*mesh);
     for (Vec3& p : result.mesh.positions) p = origin + p * side;
