@@ -56,6 +56,10 @@ std::uint64_t corner_key(std::uint64_t cell, int c) {
 // it. samples_per_node counts those (as the trimming's density value and the area estimate do).
 constexpr double kSquarePerCell = 1.5;
 
+// A level whose cells hold at least this many samples each on average screens through per-cell matrices (64 values
+// a cell against 8 weights and 8 indices a sample).
+constexpr std::size_t kSamplesPerScreeningCell = 16;
+
 // Levels with fewer dofs than this are assembled on one thread (a second one would cost more than it saves).
 constexpr std::size_t kThreadedSize = 1 << 16;
 
@@ -290,19 +294,24 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         const OctreeLevel& from = tree.levels[li + 1];
         const std::vector<double>& f = rhs[li + 1];
         // gathered: coarse hat v is the fine hats 2v + o, o in {-1, 0, 1}^3, weighted 2^-(non-zero offsets); one
-        // sorted pass per offset
+        // sorted pass per row offset (b, c), the three offsets along i being consecutive targets of one cursor
         const std::uint32_t fine_n = std::uint32_t{1} << from.depth;
         halves(to.dofs.size(), threaded, [&](std::size_t begin, std::size_t end) {
-            for (int o = 0; o < 27; ++o) {
-                const int a = o % 3 - 1, b = (o / 3) % 3 - 1, c = o / 9 - 1;
-                const double weight = (a ? 0.5 : 1.0) * (b ? 0.5 : 1.0) * (c ? 0.5 : 1.0);
-                const std::uint64_t delta = offset_delta(a, b, c);
+            for (int q = 0; q < 9; ++q) {
+                const int b = q % 3 - 1, c = q / 3 - 1;
+                const double row_weight = (b ? 0.5 : 1.0) * (c ? 0.5 : 1.0);
                 SortedCursor cursor(from.dofs.keys);
                 for (std::size_t v = begin; v < end; ++v) {
                     const std::uint64_t doubled = 2 * to.dofs.keys[v];
-                    if (!offset_inside(doubled, a, b, c, fine_n)) continue;
-                    const std::uint32_t u = cursor.seek(doubled + delta);
-                    if (u != SortedCursor::kNone) coarse[v] += weight * f[u];
+                    if (!offset_inside(doubled, 0, b, c, fine_n)) continue;
+                    const std::uint64_t centre = doubled + offset_delta(0, b, c);
+                    double sum = 0;
+                    for (int a = -1; a <= 1; ++a) {
+                        if (!offset_inside(doubled, a, b, c, fine_n)) continue;
+                        const std::uint32_t u = cursor.seek(centre + offset_delta(a, 0, 0));
+                        if (u != SortedCursor::kNone) sum += (a ? 0.5 : 1.0) * f[u];
+                    }
+                    coarse[v] += row_weight * sum;
                 }
             }
         });
@@ -362,30 +371,56 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     sample_cells_.resize(count);
     sample_weights_.resize(count * 8);
     screening_.assign(count, 0.0);
-    std::uint64_t last_cell = ~std::uint64_t{0};
-    std::uint32_t cell_dofs[8] = {};
-    for (std::size_t i = 0; i < count; ++i) {
-        const std::uint64_t cell = cell_key(samples.positions[i], depth);
-        sample_cells_[i] = cell;
-        // a sample screens the levels down to its splatting level only: on finer ones, around a sample too isolated
-        // for their cells, pulling chi to the iso-value would raise a bubble around it
-        // (with a fractional depth D + t, level D + 1 screens with weight t, as it gets a share t of the normal)
-        const double share =
-            samples.splat_depths.empty() ? 1.0 : std::clamp(samples.splat_depths[i] - depth + 1, 0.0, 1.0);
-        screening_[i] = beta_ * samples.weights[i] * share;
-        double* w = &sample_weights_[i * 8];
-        corner_weights(samples.positions[i], depth, cell, w);
-        if (cell != last_cell) {  // samples come in space order (poisson.cpp): runs share their cell
-            for (int c = 0; c < 8; ++c) {
-                cell_dofs[c] = level_.dofs.find(corner_key(cell, c));
-                assert(cell_dofs[c] != RowIndex::kNone);
+    // each sample's cell, corner weights and corner dofs, on two threads for a large cloud (each half keeps its own
+    // last cell); then the diagonal, summed in sample order
+    halves(count, threaded, [&](std::size_t begin, std::size_t end) {
+        std::uint64_t last_cell = ~std::uint64_t{0};
+        std::uint32_t cell_dofs[8] = {};
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint64_t cell = cell_key(samples.positions[i], depth);
+            sample_cells_[i] = cell;
+            // a sample screens the levels down to its splatting level only: on finer ones, around a sample too
+            // isolated for their cells, pulling chi to the iso-value would raise a bubble around it (with a
+            // fractional depth D + t, level D + 1 screens with weight t, as it gets a share t of the normal)
+            const double share =
+                samples.splat_depths.empty() ? 1.0 : std::clamp(samples.splat_depths[i] - depth + 1, 0.0, 1.0);
+            screening_[i] = beta_ * samples.weights[i] * share;
+            corner_weights(samples.positions[i], depth, cell, &sample_weights_[i * 8]);
+            if (cell != last_cell) {  // samples come in space order (poisson.cpp): runs share their cell
+                for (int c = 0; c < 8; ++c) {
+                    cell_dofs[c] = level_.dofs.find(corner_key(cell, c));
+                    assert(cell_dofs[c] != RowIndex::kNone);
+                }
+                last_cell = cell;
             }
-            last_cell = cell;
+            for (int c = 0; c < 8; ++c) sample_dofs_[i * 8 + static_cast<std::size_t>(c)] = cell_dofs[c];
         }
-        for (int c = 0; c < 8; ++c) {
-            const std::uint32_t dof = cell_dofs[c];
-            sample_dofs_[i * 8 + static_cast<std::size_t>(c)] = dof;
-            diagonal_[dof] += screening_[i] * w[c] * w[c];
+    });
+    for (std::size_t i = 0; i < count; ++i) {
+        if (screening_[i] == 0) continue;
+        for (std::size_t c = 0; c < 8; ++c) {
+            const double w = sample_weights_[i * 8 + c];
+            diagonal_[sample_dofs_[i * 8 + c]] += screening_[i] * w * w;
+        }
+    }
+    // on a level whose cells hold many samples each, the screening is summed per cell once, as the 8 x 8 matrix
+    // sum_i beta w_i phi_c(p_i) phi_c'(p_i) of the cell's corners, so that each product costs a cell, not its samples
+    // (the samples of a cell are consecutive: Morton order on the finest level is Morton order on every level)
+    std::size_t runs = 0;
+    for (std::size_t i = 0; i < count; ++i) runs += i == 0 || sample_cells_[i] != sample_cells_[i - 1] ? 1 : 0;
+    if (runs * kSamplesPerScreeningCell <= count) {
+        cell_dofs_.reserve(runs * 8);
+        cell_screening_.reserve(runs * 64);
+        for (std::size_t i = 0; i < count; ++i) {
+            if (i == 0 || sample_cells_[i] != sample_cells_[i - 1]) {
+                cell_dofs_.insert(cell_dofs_.end(), &sample_dofs_[i * 8], &sample_dofs_[i * 8] + 8);
+                cell_screening_.resize(cell_screening_.size() + 64, 0.0);
+            }
+            if (screening_[i] == 0) continue;
+            double* m = &cell_screening_[cell_screening_.size() - 64];
+            const double* w = &sample_weights_[i * 8];
+            for (int r = 0; r < 8; ++r)
+                for (int c = 0; c < 8; ++c) m[r * 8 + c] += screening_[i] * w[r] * w[c];
         }
     }
     (void)tree_;
@@ -404,6 +439,21 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
         for (std::size_t v = begin; v < end; ++v)
             if (!fixed_[v]) y[v] = stencil_sum(rows_, v, spread_.data(), kStiffness.w) * h_;
     });
+    if (!cell_dofs_.empty()) {
+        for (std::size_t cell = 0; cell < cell_dofs_.size() / 8; ++cell) {
+            const std::uint32_t* d = &cell_dofs_[cell * 8];
+            const double* m = &cell_screening_[cell * 64];
+            double xs[8];
+            for (int c = 0; c < 8; ++c) xs[c] = any_fixed_ && fixed_[d[c]] ? 0.0 : x[d[c]];
+            for (int r = 0; r < 8; ++r) {
+                if (any_fixed_ && fixed_[d[r]]) continue;
+                double sum = 0;
+                for (int c = 0; c < 8; ++c) sum += m[r * 8 + c] * xs[c];
+                y[d[r]] += sum;
+            }
+        }
+        return;
+    }
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
         if (screening_[i] == 0) continue;
         const double* w = &sample_weights_[i * 8];
@@ -453,8 +503,8 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 
 std::size_t LevelSystem::memory_bytes() const {
     return rows_.rows.capacity() * 4 + rows_.on_edge.capacity() + spread_.capacity() * 8 + sample_dofs_.capacity() * 4 +
-           sample_cells_.capacity() * 8 + sample_weights_.capacity() * 8 + screening_.capacity() * 8 +
-           fixed_.capacity() + diagonal_.capacity() * 8;
+           cell_dofs_.capacity() * 4 + cell_screening_.capacity() * 8 + sample_cells_.capacity() * 8 +
+           sample_weights_.capacity() * 8 + screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

@@ -131,6 +131,10 @@ private:
     std::vector<std::uint64_t> sample_cells_;  //!< the cell of each sample on this level
     std::vector<double> sample_weights_;       //!< 8 per screening sample: the trilinear weights of its corners
     std::vector<double> screening_;            //!< beta w_i, times the share of the level at a fractional depth
+    //! on levels with many samples per cell: per cell holding samples, its 8 corner dofs and the 8 x 8 screening
+    //! matrix of its samples (apply() uses these instead of the samples)
+    std::vector<std::uint32_t> cell_dofs_;
+    std::vector<double> cell_screening_;
     std::vector<char> fixed_;
     std::vector<double> diagonal_;
 };
