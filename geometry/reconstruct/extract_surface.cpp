@@ -4,6 +4,7 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <vector>
 
 #include "geometry/core/two_parts.h"
@@ -112,17 +113,27 @@ public:
           depth_(tree.max_depth),
           n_(std::int64_t{1} << tree.max_depth) {}
 
-    Status find_cells() {
-        if (Status s = scan_finest(); !s) return s;
-        return scan_leaves();
+    //! Steps 1 and 2 below, concurrently when `threaded`, each collecting its own cells; then their union, sorted.
+    Status find_cells(bool threaded) {
+        KeyCollector found[2];
+        Status status[2] = {Ok{}, Ok{}};
+        run_two_parts(threaded,
+                      [&](int part) { status[part] = part == 0 ? scan_finest(found[0]) : scan_leaves(found[1]); });
+        for (const Status& s : status)
+            if (!s) return s;
+        collect_bytes_ = found[0].memory_bytes() + found[1].memory_bytes();
+        const std::vector<std::uint64_t> a = found[0].take(), b = found[1].take();
+        cells_.reserve(a.size() + b.size());
+        std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(cells_));
+        return Ok{};
     }
 
     //! Meshes the cells found, as two parts (the first and second half of the cells in key order), concurrently
     //! when `threaded`; the second part's vertices on edges the first part also crossed are merged into the first's.
     //! The cut depends on the cells alone, so the mesh is the same either way.
     Result<PolygonMesh> mesh(ExtractionStats* stats, bool threaded) {
-        const std::size_t collect_bytes = candidates_.memory_bytes();
-        const std::vector<std::uint64_t> cells = candidates_.take();
+        const std::size_t collect_bytes = collect_bytes_;
+        const std::vector<std::uint64_t> cells = std::move(cells_);
         const std::size_t middle = cells.size() / 2;
         MeshPart parts[2];
         run_two_parts(threaded && cells.size() >= kThreadedCells, [&](int p) {
@@ -168,7 +179,7 @@ private:
 
     // ---- finding the cells ------------------------------------------------------------------------------------
 
-    void add_edge_cells(int axis, std::int64_t i, std::int64_t j, std::int64_t k) {
+    void add_edge_cells(int axis, std::int64_t i, std::int64_t j, std::int64_t k, KeyCollector& found) const {
         const int b = (axis + 1) % 3, c = (axis + 2) % 3;
         for (int ob = 0; ob < 2; ++ob)
             for (int oc = 0; oc < 2; ++oc) {
@@ -176,14 +187,14 @@ private:
                 cell[b] -= ob;
                 cell[c] -= oc;
                 if (cell[b] < 0 || cell[c] < 0 || cell[b] >= n_ || cell[c] >= n_) continue;
-                candidates_.insert(pack_key(static_cast<std::uint32_t>(cell[0]), static_cast<std::uint32_t>(cell[1]),
-                                            static_cast<std::uint32_t>(cell[2])));
+                found.insert(pack_key(static_cast<std::uint32_t>(cell[0]), static_cast<std::uint32_t>(cell[1]),
+                                      static_cast<std::uint32_t>(cell[2])));
             }
     }
 
     //! 1. Edges between neighbouring support vertices of the finest level whose ends differ in sign. The keys are
     //! sorted by (k, j, i), so each neighbour is found by a pointer that only moves forward.
-    Status scan_finest() {
+    Status scan_finest(KeyCollector& found) const {
         const std::vector<std::uint64_t>& keys = finest_.support_vertices.keys;
         const std::size_t count = keys.size();
         auto value = [&](std::size_t u) {
@@ -196,17 +207,18 @@ private:
             const std::uint64_t key = keys[u];
             const bool inside = value(u) < 0;
             const std::int64_t i = key_i(key), j = key_j(key), k = key_k(key);
-            if (u + 1 < count && keys[u + 1] == key + 1 && (value(u + 1) < 0) != inside) add_edge_cells(0, i, j, k);
+            if (u + 1 < count && keys[u + 1] == key + 1 && (value(u + 1) < 0) != inside)
+                add_edge_cells(0, i, j, k, found);
             while (py < count && keys[py] < key + kStepJ) ++py;
-            if (py < count && keys[py] == key + kStepJ && (value(py) < 0) != inside) add_edge_cells(1, i, j, k);
+            if (py < count && keys[py] == key + kStepJ && (value(py) < 0) != inside) add_edge_cells(1, i, j, k, found);
             while (pz < count && keys[pz] < key + kStepK) ++pz;
-            if (pz < count && keys[pz] == key + kStepK && (value(pz) < 0) != inside) add_edge_cells(2, i, j, k);
+            if (pz < count && keys[pz] == key + kStepK && (value(pz) < 0) != inside) add_edge_cells(2, i, j, k, found);
         }
         return Ok{};
     }
 
     //! 2. The finest cells inside non-support children of coarser leaves whose sign may change.
-    Status scan_leaves() {
+    Status scan_leaves(KeyCollector& found) const {
         for (std::size_t li = 0; li + 1 < tree_.levels.size(); ++li) {
             const OctreeLevel& level = tree_.levels[li];
             const OctreeLevel& next = tree_.levels[li + 1];
@@ -252,7 +264,7 @@ private:
                         descend(leaf,
                                 {leaf.lo[0] + bit(c, 0) * half, leaf.lo[1] + bit(c, 1) * half,
                                  leaf.lo[2] + bit(c, 2) * half},
-                                half);
+                                half, found);
             }
         }
         return Ok{};
@@ -269,7 +281,7 @@ private:
     }
 
     //! Sub-cube [lo, lo + size) of a leaf: the finest cells in it whose sign may change.
-    void descend(const Leaf& leaf, std::array<std::int64_t, 3> lo, std::int64_t size) {
+    void descend(const Leaf& leaf, std::array<std::int64_t, 3> lo, std::int64_t size, KeyCollector& found) const {
         double low = 0, high = 0;
         for (int c = 0; c < 8; ++c) {
             const std::int64_t node[3] = {lo[0] + bit(c, 0) * size, lo[1] + bit(c, 1) * size, lo[2] + bit(c, 2) * size};
@@ -281,13 +293,13 @@ private:
             lo[0] == 0 || lo[1] == 0 || lo[2] == 0 || lo[0] + size == n_ || lo[1] + size == n_ || lo[2] + size == n_;
         if (low > leaf.margin || (high < -leaf.margin && !touches)) return;
         if (size == 1) {
-            candidates_.insert(pack_key(static_cast<std::uint32_t>(lo[0]), static_cast<std::uint32_t>(lo[1]),
-                                        static_cast<std::uint32_t>(lo[2])));
+            found.insert(pack_key(static_cast<std::uint32_t>(lo[0]), static_cast<std::uint32_t>(lo[1]),
+                                  static_cast<std::uint32_t>(lo[2])));
             return;
         }
         const std::int64_t half = size / 2;
         for (int c = 0; c < 8; ++c)
-            descend(leaf, {lo[0] + bit(c, 0) * half, lo[1] + bit(c, 1) * half, lo[2] + bit(c, 2) * half}, half);
+            descend(leaf, {lo[0] + bit(c, 0) * half, lo[1] + bit(c, 1) * half, lo[2] + bit(c, 2) * half}, half, found);
     }
 
     // ---- node values and crossings -----------------------------------------------------------------------------
@@ -435,8 +447,9 @@ private:
     double iso_;
     const Cancel& cancel_;
     int depth_;
-    std::int64_t n_;  //!< finest cells per side
-    KeyCollector candidates_;
+    std::int64_t n_;                    //!< finest cells per side
+    std::vector<std::uint64_t> cells_;  //!< the cells find_cells found, sorted
+    std::size_t collect_bytes_ = 0;     //!< the peak of find_cells' tables
 };
 
 }  // namespace
@@ -444,7 +457,7 @@ private:
 Result<PolygonMesh> extract_surface(const PoissonOctree& tree, const IndicatorValues& chi, double iso,
                                     const Cancel& cancel, ExtractionStats* stats, bool threaded) {
     Extractor extractor(tree, chi, iso, cancel);
-    if (Status s = extractor.find_cells(); !s) return s.error();
+    if (Status s = extractor.find_cells(threaded); !s) return s.error();
     return extractor.mesh(stats, threaded);
 }
 

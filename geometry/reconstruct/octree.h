@@ -24,6 +24,7 @@
 
 #include "geometry/core/cancel.h"
 #include "geometry/core/result.h"
+#include "geometry/core/two_parts.h"
 #include "geometry/core/types.h"
 #include "geometry/reconstruct/key_map.h"
 
@@ -86,30 +87,38 @@ std::uint64_t cell_key(const Vec3& p, int depth);
 //! the fine vertices (2i - 1 .. 2i + 1, 2j + b, 2k + c), consecutive keys that grow with the coarse key; no hashing.
 //! Each fine value sums its coarse ones in (k, j, i) order.
 //! `out` is resized to the fine level's support vertices (its capacity kept, so a buffer can be reused).
+//! `threaded`: the passes in two parts on two threads for a large level (the same sums either way).
 template <class T>
 void interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values, const OctreeLevel& fine,
-                          std::vector<T>& out) {
+                          std::vector<T>& out, bool threaded = false) {
     out.assign(fine.support_vertices.size(), T{});
     const std::uint32_t limit = std::uint32_t{1} << fine.depth;
     const std::vector<std::uint64_t>& coarse_keys = coarse.support_vertices.keys;
     const std::vector<std::uint64_t>& fine_keys = fine.support_vertices.keys;
-    // rows +1, 0, -1 on each axis, k outermost: a fine vertex sums its lower coarse neighbour before the upper
-    for (int oc = 1; oc >= -1; --oc)
-        for (int ob = 1; ob >= -1; --ob) {
-            std::size_t position = 0;
-            for (std::size_t c = 0; c < coarse_keys.size(); ++c) {
-                const std::uint64_t key = coarse_keys[c];
-                const std::int64_t j = 2 * std::int64_t{key_j(key)} + ob, k = 2 * std::int64_t{key_k(key)} + oc;
-                if (j < 0 || k < 0 || j > limit || k > limit) continue;
-                const std::uint32_t i = 2 * key_i(key);
-                const std::uint64_t centre = pack_key(i, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(k));
-                const std::uint64_t first = i > 0 ? centre - 1 : centre;
-                while (position < fine_keys.size() && fine_keys[position] < first) ++position;
-                // (2i + 1, ...) with 2i = limit would be i = limit + 1, which no fine key has
-                for (std::size_t u = position; u < fine_keys.size() && fine_keys[u] <= centre + 1; ++u)
-                    out[u] += coarse_values[c];
+    // rows +1, 0, -1 on each axis, k outermost: a fine vertex sums its lower coarse neighbour before the upper.
+    // A fine row (J, K) is written by the passes whose offsets have J's and K's parities only, so the passes split
+    // into two parts that never write the same row: offsets with equal parities (both even or both odd) and the
+    // others; each part keeps the passes' order, so the sums do not depend on whether the parts run concurrently.
+    run_two_parts(threaded && coarse_keys.size() >= (std::size_t{1} << 16), [&](int part) {
+        for (int oc = 1; oc >= -1; --oc)
+            for (int ob = 1; ob >= -1; --ob) {
+                if (((ob != 0) == (oc != 0)) != (part == 0)) continue;
+                std::size_t position = 0;
+                for (std::size_t c = 0; c < coarse_keys.size(); ++c) {
+                    const std::uint64_t key = coarse_keys[c];
+                    const std::int64_t j = 2 * std::int64_t{key_j(key)} + ob, k = 2 * std::int64_t{key_k(key)} + oc;
+                    if (j < 0 || k < 0 || j > limit || k > limit) continue;
+                    const std::uint32_t i = 2 * key_i(key);
+                    const std::uint64_t centre =
+                        pack_key(i, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(k));
+                    const std::uint64_t first = i > 0 ? centre - 1 : centre;
+                    while (position < fine_keys.size() && fine_keys[position] < first) ++position;
+                    // (2i + 1, ...) with 2i = limit would be i = limit + 1, which no fine key has
+                    for (std::size_t u = position; u < fine_keys.size() && fine_keys[u] <= centre + 1; ++u)
+                        out[u] += coarse_values[c];
+                }
             }
-        }
+    });
     for (std::size_t u = 0; u < out.size(); ++u) {
         const std::uint64_t key = fine_keys[u];
         const int odd = static_cast<int>(key_i(key) % 2 + key_j(key) % 2 + key_k(key) % 2);
@@ -118,9 +127,9 @@ void interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coars
 }
 template <class T>
 std::vector<T> interpolate_to_finer(const OctreeLevel& coarse, const std::vector<T>& coarse_values,
-                                    const OctreeLevel& fine) {
+                                    const OctreeLevel& fine, bool threaded = false) {
     std::vector<T> out;
-    interpolate_to_finer(coarse, coarse_values, fine, out);
+    interpolate_to_finer(coarse, coarse_values, fine, out, threaded);
     return out;
 }
 

@@ -232,9 +232,13 @@ void add_support_field(const OctreeLevel& level, const StencilRows& rows, const 
 //! `spread`: a scratch buffer, all zero (and left so), of at least the level's padded size.
 void add_own_splats(const OctreeLevel& level, const StencilRows& rows, const std::vector<Vec3>& splat,
                     std::vector<double>& out, std::vector<Vec3>& spread, bool threaded) {
-    for (std::size_t v = 0; v < splat.size(); ++v) spread[rows.rows[9 * v + 4]] = splat[v];
+    halves(splat.size(), threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) spread[rows.rows[9 * v + 4]] = splat[v];
+    });
     add_support_field(level, rows, spread, out, threaded);
-    for (std::size_t v = 0; v < splat.size(); ++v) spread[rows.rows[9 * v + 4]] = Vec3{};
+    halves(splat.size(), threaded, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) spread[rows.rows[9 * v + 4]] = Vec3{};
+    });
 }
 
 }  // namespace
@@ -251,33 +255,38 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
     // per level, the last cell looked up and its corners' dofs (samples in space order: runs share their cell)
     std::vector<std::uint64_t> last_cell(levels, ~std::uint64_t{0});
     std::vector<std::uint32_t> cell_dofs(levels * 8, 0);
-    for (std::size_t i = 0; i < samples.positions.size(); ++i) {
-        const double depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
-        const int lower = std::min(static_cast<int>(std::floor(depth)), tree.max_depth);
-        const double t = depth - lower;  // the share of level lower + 1
-        const double a = samples.area_shares.empty() ? samples.area * samples.weights[i] / samples.weight_sum
-                                                     : samples.area_shares[i];
-        for (int part = 0; part < 2; ++part) {
-            const double share = part == 0 ? 1 - t : t;
-            if (share <= 0) continue;
-            const int d = lower + part;
-            const auto l = static_cast<std::size_t>(d - tree.min_depth);
-            const OctreeLevel& level = tree.levels[l];
-            const std::uint64_t cell = cell_key(samples.positions[i], d);
-            double w[8];
-            corner_weights(samples.positions[i], d, cell, w);
-            std::uint32_t* dofs = &cell_dofs[l * 8];
-            if (cell != last_cell[l]) {
-                for (int c = 0; c < 8; ++c) {
-                    dofs[c] = level.dofs.find(corner_key(cell, c));
-                    assert(dofs[c] != RowIndex::kNone);
+    // the even levels on one part, the odd ones on the other: each level is written by one part, in sample order,
+    // so the sums do not depend on whether the parts run concurrently
+    run_two_parts(threaded && samples.positions.size() >= kThreadedSize, [&](int parity) {
+        for (std::size_t i = 0; i < samples.positions.size(); ++i) {
+            const double depth = samples.splat_depths.empty() ? tree.max_depth : samples.splat_depths[i];
+            const int lower = std::min(static_cast<int>(std::floor(depth)), tree.max_depth);
+            const double t = depth - lower;  // the share of level lower + 1
+            const double a = samples.area_shares.empty() ? samples.area * samples.weights[i] / samples.weight_sum
+                                                         : samples.area_shares[i];
+            for (int part = 0; part < 2; ++part) {
+                const double share = part == 0 ? 1 - t : t;
+                if (share <= 0) continue;
+                const int d = lower + part;
+                if (d % 2 != parity) continue;
+                const auto l = static_cast<std::size_t>(d - tree.min_depth);
+                const OctreeLevel& level = tree.levels[l];
+                const std::uint64_t cell = cell_key(samples.positions[i], d);
+                double w[8];
+                corner_weights(samples.positions[i], d, cell, w);
+                std::uint32_t* dofs = &cell_dofs[l * 8];
+                if (cell != last_cell[l]) {
+                    for (int c = 0; c < 8; ++c) {
+                        dofs[c] = level.dofs.find(corner_key(cell, c));
+                        assert(dofs[c] != RowIndex::kNone);
+                    }
+                    last_cell[l] = cell;
                 }
-                last_cell[l] = cell;
+                for (int c = 0; c < 8; ++c) splat[l][dofs[c]] += samples.normals[i] * (a * share * w[c]);
+                used[l] = 1;
             }
-            for (int c = 0; c < 8; ++c) splat[l][dofs[c]] += samples.normals[i] * (a * share * w[c]);
-            used[l] = 1;
         }
-    }
+    });
 
     // splats of the level and finer ones: integrated on their level, restricted to coarser hats (a coarse hat is
     // sum 2^-(odd offsets) of the fine hats around its centre)
@@ -337,7 +346,7 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
             carried.assign(next.support_vertices.size(), Vec3{});
             continue;
         }
-        interpolate_to_finer(level, carried, next, scratch);
+        interpolate_to_finer(level, carried, next, scratch, threaded);
         std::swap(carried, scratch);
         for (Vec3& v : carried) v *= 0.125;
         carried.resize(next.support_vertices.size() + 3, Vec3{});  // the padding read through StencilRows

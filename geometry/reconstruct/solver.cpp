@@ -121,7 +121,7 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         if (li == 0)
             values.assign(level.support_vertices.size(), 0.0);
         else
-            values = interpolate_to_finer(tree.levels[li - 1], out.values[li - 1], level);
+            values = interpolate_to_finer(tree.levels[li - 1], out.values[li - 1], level, threaded);
 
         std::vector<double> b = rhs[li];
         if (li > 0) {
