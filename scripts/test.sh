@@ -33,13 +33,15 @@ fi
 
 if [ "${SURFACED_SKIP_TSAN:-0}" != 1 ]; then
   # ThreadSanitizer over the tests that run geometry on two threads (subdivision and QEM simplification with threads 2,
-  # and the simplifier's block pool): only the geometry tests are built in this tree
+  # the simplifier's block pool, Poisson reconstruction with threads 2): only those tests are built in this tree
   cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="-fsanitize=thread" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DSURFACED_BUILD_BENCH=OFF -DSURFACED_WERROR=ON >/dev/null
-  cmake --build build-tsan -j"$(nproc)" --target geometry_tests
+  cmake --build build-tsan -j"$(nproc)" --target geometry_tests reconstruct_tests
   TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
     build-tsan/tests/geometry_tests --gtest_filter='*Thread*:Qem.IsDeterministicOnReusedMemory' --gtest_brief=1
+  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+    build-tsan/tests/reconstruct_tests --gtest_filter='*Thread*' --gtest_brief=1
   echo "== thread sanitizer done in $(( $(date +%s) - start )) s"
 fi
 
