@@ -417,6 +417,25 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
     // (the samples of a cell are consecutive: Morton order on the finest level is Morton order on every level)
     std::size_t runs = 0;
     for (std::size_t i = 0; i < count; ++i) runs += i == 0 || sample_cells_[i] != sample_cells_[i - 1] ? 1 : 0;
+    if (runs * kSamplesPerScreeningCell > count && threaded && count >= kThreadedSize) {
+        // otherwise, for products on two threads: the screening's scatter turned into a gather per dof, each dof's
+        // terms in sample order (as the scatter adds them), found through the slots (sample, corner) sorted by dof
+        std::vector<std::uint32_t> first(dofs + 1, 0);
+        for (std::size_t slot = 0; slot < count * 8; ++slot)
+            if (screening_[slot / 8] != 0) ++first[sample_dofs_[slot] + 1];
+        for (std::size_t v = 0; v < dofs; ++v) first[v + 1] += first[v];
+        screen_slots_.resize(first[dofs]);
+        std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+        for (std::size_t slot = 0; slot < count * 8; ++slot)
+            if (screening_[slot / 8] != 0) screen_slots_[fill[sample_dofs_[slot]]++] = static_cast<std::uint32_t>(slot);
+        for (std::size_t v = 0; v < dofs; ++v)
+            if (first[v + 1] > first[v]) {
+                screen_dofs_.push_back(static_cast<std::uint32_t>(v));
+                screen_offsets_.push_back(first[v]);
+            }
+        screen_offsets_.push_back(first[dofs]);
+        sample_values_.assign(count, 0.0);
+    }
     if (runs * kSamplesPerScreeningCell <= count) {
         cell_dofs_.reserve(runs * 8);
         cell_screening_.reserve(runs * 64);
@@ -461,6 +480,32 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
                 y[d[r]] += sum;
             }
         }
+        return;
+    }
+    if (!screen_dofs_.empty()) {
+        halves(sample_cells_.size(), threaded, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                if (screening_[i] == 0) continue;
+                const double* w = &sample_weights_[i * 8];
+                const std::uint32_t* d = &sample_dofs_[i * 8];
+                double value = 0;
+                for (int c = 0; c < 8; ++c)
+                    if (!any_fixed_ || !fixed_[d[c]]) value += w[c] * x[d[c]];
+                sample_values_[i] = value * screening_[i];
+            }
+        });
+        halves(screen_dofs_.size(), threaded, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t t = begin; t < end; ++t) {
+                const std::uint32_t v = screen_dofs_[t];
+                if (any_fixed_ && fixed_[v]) continue;
+                double sum = y[v];
+                for (std::uint32_t q = screen_offsets_[t]; q < screen_offsets_[t + 1]; ++q) {
+                    const std::uint32_t slot = screen_slots_[q];
+                    sum += sample_weights_[slot] * sample_values_[slot / 8];
+                }
+                y[v] = sum;
+            }
+        });
         return;
     }
     for (std::size_t i = 0; i < sample_cells_.size(); ++i) {
@@ -512,8 +557,10 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 
 std::size_t LevelSystem::memory_bytes() const {
     return rows_.rows.capacity() * 4 + rows_.on_edge.capacity() + spread_.capacity() * 8 + sample_dofs_.capacity() * 4 +
-           cell_dofs_.capacity() * 4 + cell_screening_.capacity() * 8 + sample_cells_.capacity() * 8 +
-           sample_weights_.capacity() * 8 + screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
+           cell_dofs_.capacity() * 4 + cell_screening_.capacity() * 8 + screen_dofs_.capacity() * 4 +
+           screen_offsets_.capacity() * 4 + screen_slots_.capacity() * 4 + sample_values_.capacity() * 8 +
+           sample_cells_.capacity() * 8 + sample_weights_.capacity() * 8 + screening_.capacity() * 8 +
+           fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

@@ -135,6 +135,13 @@ private:
     //! matrix of its samples (apply() uses these instead of the samples)
     std::vector<std::uint32_t> cell_dofs_;
     std::vector<double> cell_screening_;
+    //! on other levels, with two threads: the dofs samples screen (ascending), where each one's slots start in
+    //! screen_slots_, and the slots (8 sample + corner) sorted by dof, in sample order within a dof; apply() gathers
+    //! through them into y, after the samples' values are formed in sample_values_ (so not safe concurrently)
+    std::vector<std::uint32_t> screen_dofs_;
+    std::vector<std::uint32_t> screen_offsets_;
+    std::vector<std::uint32_t> screen_slots_;
+    mutable std::vector<double> sample_values_;
     std::vector<char> fixed_;
     std::vector<double> diagonal_;
 };

@@ -57,7 +57,7 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
     const std::vector<double>& diag = system.diagonal();
     const std::vector<char>& fixed = system.fixed();
     x.assign(n, 0.0);
-    std::vector<double> r = rhs, z(n), p(n), ap, partial;
+    std::vector<double> r = rhs, z(n), p(n), ap, partial, partial_rz;
     for (std::size_t i = 0; i < n; ++i)
         if (fixed[i]) r[i] = 0;
     const double rhs_norm = std::sqrt(dot_product(r, r, threaded, partial));
@@ -73,18 +73,31 @@ bool conjugate_gradients(const LevelSystem& system, const std::vector<double>& r
         const double pap = dot_product(p, ap, threaded, partial);
         if (!(pap > 0)) break;
         const double step = rz / pap;
+        // the update and the two dot products of the new residual in one pass, over the same chunks as
+        // dot_product's (so the sums are the same)
+        partial.assign((n + kChunk - 1) / kChunk, 0.0);
+        partial_rz.assign(partial.size(), 0.0);
         split(n, threaded, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-                x[i] += step * p[i];
-                r[i] -= step * ap[i];
-                z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
+            for (std::size_t c = begin; c < end; c += kChunk) {
+                double rr_sum = 0, rz_sum = 0;
+                for (std::size_t i = c; i < std::min(end, c + kChunk); ++i) {
+                    x[i] += step * p[i];
+                    r[i] -= step * ap[i];
+                    z[i] = fixed[i] ? 0.0 : r[i] / diag[i];
+                    rr_sum += r[i] * r[i];
+                    rz_sum += r[i] * z[i];
+                }
+                partial[c / kChunk] = rr_sum;
+                partial_rz[c / kChunk] = rz_sum;
             }
         });
+        double rr = 0, rz_next = 0;
+        for (const double v : partial) rr += v;
+        for (const double v : partial_rz) rz_next += v;
         stats.iterations = it + 1;
-        const double residual = std::sqrt(dot_product(r, r, threaded, partial)) / rhs_norm;
+        const double residual = std::sqrt(rr) / rhs_norm;
         stats.relative_residual = residual;
         if (residual <= options.tolerance) break;
-        const double rz_next = dot_product(r, z, threaded, partial);
         const double beta = rz_next / rz;
         rz = rz_next;
         split(n, threaded, [&](std::size_t begin, std::size_t end) {
