@@ -80,30 +80,34 @@ void halves(std::size_t n, bool threaded, F&& body) {
 //! sum_o stencil[o] * values[neighbour o of dof v] over the neighbours inside the grid, in the order of o; values
 //! has rows.padded_size() entries (zero in the padding).
 inline double stencil_sum(const StencilRows& rows, std::size_t v, const double* values, const double* stencil) {
-    const std::uint32_t* r = &rows.rows[9 * v];
+    const std::uint32_t r = rows.run[v];
+    const std::uint32_t* base = &rows.rows[9 * std::size_t{r}];
+    const double* x = values + (v - rows.first[r]);
     double sum = 0;
     if (rows.on_edge[v] == 0) {
         for (int q = 0; q < 9; ++q) {
-            const double* x = values + r[q] - 1;
-            sum += stencil[3 * q] * x[0];
-            sum += stencil[3 * q + 1] * x[1];
-            sum += stencil[3 * q + 2] * x[2];
+            const double* at = x + base[q] - 1;
+            sum += stencil[3 * q] * at[0];
+            sum += stencil[3 * q + 1] * at[1];
+            sum += stencil[3 * q + 2] * at[2];
         }
         return sum;
     }
-    const int first = rows.on_edge[v] == 1 ? 1 : 0, last = rows.on_edge[v] == 2 ? 1 : 2;
+    const int from = rows.on_edge[v] == 1 ? 1 : 0, to = rows.on_edge[v] == 2 ? 1 : 2;
     for (int q = 0; q < 9; ++q)
-        for (int a = first; a <= last; ++a) sum += stencil[3 * q + a] * values[r[q] + a - 1];
+        for (int a = from; a <= to; ++a) sum += stencil[3 * q + a] * (x + base[q])[a - 1];
     return sum;
 }
 
 //! The same for a vector field against a vector stencil (dot products).
 inline double stencil_dot(const StencilRows& rows, std::size_t v, const Vec3* values, const Vec3* stencil) {
-    const std::uint32_t* r = &rows.rows[9 * v];
+    const std::uint32_t r = rows.run[v];
+    const std::uint32_t* base = &rows.rows[9 * std::size_t{r}];
+    const Vec3* x = values + (v - rows.first[r]);
     double sum = 0;
-    const int first = rows.on_edge[v] == 1 ? 1 : 0, last = rows.on_edge[v] == 2 ? 1 : 2;
+    const int from = rows.on_edge[v] == 1 ? 1 : 0, to = rows.on_edge[v] == 2 ? 1 : 2;
     for (int q = 0; q < 9; ++q)
-        for (int a = first; a <= last; ++a) sum += dot(values[r[q] + a - 1], stencil[3 * q + a]);
+        for (int a = from; a <= to; ++a) sum += dot((x + base[q])[a - 1], stencil[3 * q + a]);
     return sum;
 }
 
@@ -112,28 +116,37 @@ inline double stencil_dot(const StencilRows& rows, std::size_t v, const Vec3* va
 StencilRows StencilRows::build(const OctreeLevel& level, bool threaded) {
     StencilRows out;
     const std::size_t dofs = level.dofs.size();
+    const std::vector<std::uint64_t>& keys = level.dofs.keys;
     out.support = level.support_vertices.size();
-    const auto padding = static_cast<std::uint32_t>(out.support + 1);  // reads padding - 1 .. padding + 1
     const std::uint32_t n = std::uint32_t{1} << level.depth;
-    out.rows.resize(dofs * 9);
+    out.run.resize(dofs);
     out.on_edge.resize(dofs);
-    halves(dofs, threaded, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t v = begin; v < end; ++v) {
-            const std::uint32_t i = key_i(level.dofs.keys[v]);
-            out.on_edge[v] = i == 0 ? 1 : i == n ? 2 : 0;
+    for (std::size_t v = 0; v < dofs; ++v) {
+        if (v == 0 || keys[v] != keys[v - 1] + 1) {  // (i + 1, j, k) follows (i, j, k) within a row
+            if (!out.first.empty()) out.longest = std::max<std::size_t>(out.longest, v - out.first.back());
+            out.first.push_back(static_cast<std::uint32_t>(v));
         }
+        out.run[v] = static_cast<std::uint32_t>(out.first.size() - 1);
+        const std::uint32_t i = key_i(keys[v]);
+        out.on_edge[v] = i == 0 ? 1 : i == n ? 2 : 0;
+    }
+    if (!out.first.empty()) out.longest = std::max<std::size_t>(out.longest, dofs - out.first.back());
+    const auto padding = static_cast<std::uint32_t>(out.support + 1);  // reads padding - 1 .. padding + longest
+    const std::size_t runs = out.first.size();
+    out.rows.resize(runs * 9);
+    halves(runs, threaded, [&](std::size_t begin, std::size_t end) {
         for (int q = 0; q < 9; ++q) {
             const int b = q % 3 - 1, c = q / 3 - 1;
             const std::uint64_t delta = offset_delta(0, b, c);
             SortedCursor cursor(level.support_vertices.keys);
-            for (std::size_t v = begin; v < end; ++v) {
-                const std::uint64_t key = level.dofs.keys[v];
+            for (std::size_t r = begin; r < end; ++r) {
+                const std::uint64_t key = keys[out.first[r]];
                 std::uint32_t position = padding;
                 if (offset_inside(key, 0, b, c, n)) {
                     position = cursor.seek(key + delta);
                     assert(position != SortedCursor::kNone);
                 }
-                out.rows[v * 9 + static_cast<std::size_t>(q)] = position;
+                out.rows[r * 9 + static_cast<std::size_t>(q)] = position;
             }
         }
     });
@@ -233,11 +246,11 @@ void add_support_field(const OctreeLevel& level, const StencilRows& rows, const 
 void add_own_splats(const OctreeLevel& level, const StencilRows& rows, const std::vector<Vec3>& splat,
                     std::vector<double>& out, std::vector<Vec3>& spread, bool threaded) {
     halves(splat.size(), threaded, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t v = begin; v < end; ++v) spread[rows.rows[9 * v + 4]] = splat[v];
+        for (std::size_t v = begin; v < end; ++v) spread[rows.position(v, 4)] = splat[v];
     });
     add_support_field(level, rows, spread, out, threaded);
     halves(splat.size(), threaded, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t v = begin; v < end; ++v) spread[rows.rows[9 * v + 4]] = Vec3{};
+        for (std::size_t v = begin; v < end; ++v) spread[rows.position(v, 4)] = Vec3{};
     });
 }
 
@@ -292,7 +305,8 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
     // sum 2^-(odd offsets) of the fine hats around its centre)
     std::vector<std::vector<double>> rhs(levels);
     // scratch fields over the support vertices, allocated once at the finest level's size and reused level by level
-    const std::size_t largest = rows.back().padded_size();
+    std::size_t largest = 0;
+    for (const StencilRows& r : rows) largest = std::max(largest, r.padded_size());
     std::vector<Vec3> scratch(largest, Vec3{}), carried;
     for (std::size_t li = levels; li-- > 0;) {
         const OctreeLevel& to = tree.levels[li];
@@ -349,7 +363,7 @@ std::vector<std::vector<double>> divergence_rhs(const PoissonOctree& tree, const
         interpolate_to_finer(level, carried, next, scratch, threaded);
         std::swap(carried, scratch);
         for (Vec3& v : carried) v *= 0.125;
-        carried.resize(next.support_vertices.size() + 3, Vec3{});  // the padding read through StencilRows
+        carried.resize(rows[li + 1].padded_size(), Vec3{});  // the padding read through StencilRows
         add_support_field(next, rows[li + 1], carried, rhs[li + 1], threaded);
         carried.resize(next.support_vertices.size());
     }
@@ -460,7 +474,7 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
     const std::size_t middle = dofs / 2;
     run_two_parts(threaded, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
-        for (std::size_t v = begin; v < end; ++v) spread_[rows_.rows[9 * v + 4]] = fixed_[v] ? 0.0 : x[v];
+        for (std::size_t v = begin; v < end; ++v) spread_[rows_.position(v, 4)] = fixed_[v] ? 0.0 : x[v];
     });
     run_two_parts(threaded, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
@@ -556,11 +570,10 @@ void LevelSystem::evaluate_at_samples(const std::vector<double>& x, std::vector<
 }
 
 std::size_t LevelSystem::memory_bytes() const {
-    return rows_.rows.capacity() * 4 + rows_.on_edge.capacity() + spread_.capacity() * 8 + sample_dofs_.capacity() * 4 +
-           cell_dofs_.capacity() * 4 + cell_screening_.capacity() * 8 + screen_dofs_.capacity() * 4 +
-           screen_offsets_.capacity() * 4 + screen_slots_.capacity() * 4 + sample_values_.capacity() * 8 +
-           sample_cells_.capacity() * 8 + sample_weights_.capacity() * 8 + screening_.capacity() * 8 +
-           fixed_.capacity() + diagonal_.capacity() * 8;
+    return rows_.memory_bytes() + spread_.capacity() * 8 + sample_dofs_.capacity() * 4 + cell_dofs_.capacity() * 4 +
+           cell_screening_.capacity() * 8 + screen_dofs_.capacity() * 4 + screen_offsets_.capacity() * 4 +
+           screen_slots_.capacity() * 4 + sample_values_.capacity() * 8 + sample_cells_.capacity() * 8 +
+           sample_weights_.capacity() * 8 + screening_.capacity() * 8 + fixed_.capacity() + diagonal_.capacity() * 8;
 }
 
 }  // namespace surfaced::reconstruct

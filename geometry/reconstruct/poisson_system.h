@@ -67,18 +67,32 @@ void assign_area_shares(OrientedSamples& samples, const std::vector<double>& den
 void corner_weights(const Vec3& p, int depth, std::uint64_t cell, double weights[8]);
 
 //! The 27-point neighbourhoods of a level's dofs, as positions among the level's support vertices (every neighbour of
-//! a dof inside the cube is one, octree.h): rows[9 v + (b + 1) + 3 (c + 1)] is the position of (i, j + b, k + c) for
-//! dof v = (i, j, k), and its neighbours (i -/+ 1, j + b, k + c) are the positions just before and after it (the keys
-//! are sorted with i fastest, and all three are support vertices). A row whose j + b or k + c leaves the grid points
-//! into a padding of zeros after the support vertices, so arrays read through the rows have padded_size() entries.
-//! Dofs with i = 0 or i = 2^d (on_edge: 1 and 2) lack the -1 or +1 neighbour and are read with checks.
+//! a dof inside the cube is one, octree.h). The position of (i, j + b, k + c) for dof v = (i, j, k) is
+//! position(v, (b + 1) + 3 (c + 1)), and its neighbours (i -/+ 1, j + b, k + c) are the positions just before and
+//! after it (the keys are sorted with i fastest, and all three are support vertices). Dofs come in runs of
+//! consecutive i in one (j, k) row, and so do each of their neighbour rows (all are support vertices), so the
+//! positions are stored once per run: a run's first dof's nine, and each dof's offset from it. A row whose j + b or
+//! k + c leaves the grid points into a padding of zeros after the support vertices (as long as the longest run), so
+//! arrays read through the rows have padded_size() entries. Dofs with i = 0 or i = 2^d (on_edge: 1 and 2) lack the
+//! -1 or +1 neighbour and are read with checks.
 struct StencilRows {
-    std::vector<std::uint32_t> rows;  //!< 9 per dof
-    std::vector<char> on_edge;        //!< per dof: 1 for i = 0, 2 for i = 2^d, else 0
-    std::size_t support = 0;          //!< the level's support vertices
+    std::vector<std::uint32_t> run;    //!< per dof: its run
+    std::vector<std::uint32_t> first;  //!< per run: its first dof
+    std::vector<std::uint32_t> rows;   //!< 9 per run: the positions of its first dof's neighbour rows
+    std::vector<char> on_edge;         //!< per dof: 1 for i = 0, 2 for i = 2^d, else 0
+    std::size_t support = 0;           //!< the level's support vertices
+    std::size_t longest = 0;           //!< the longest run
 
-    std::size_t padded_size() const { return support + 3; }
-    //! Nine sorted passes (one per row), on two threads for a large level when `threaded`.
+    std::size_t padded_size() const { return support + longest + 3; }
+    //! The position of dof v's neighbour row q = (b + 1) + 3 (c + 1).
+    std::uint32_t position(std::size_t v, int q) const {
+        const std::uint32_t r = run[v];
+        return rows[9 * std::size_t{r} + static_cast<std::size_t>(q)] + static_cast<std::uint32_t>(v - first[r]);
+    }
+    std::size_t memory_bytes() const {
+        return run.capacity() * 4 + first.capacity() * 4 + rows.capacity() * 4 + on_edge.capacity();
+    }
+    //! Nine sorted passes (one per row) over the runs' first dofs, on two threads for a large level when `threaded`.
     static StencilRows build(const OctreeLevel& level, bool threaded);
 };
 
