@@ -38,8 +38,8 @@ RUN mkdir -p /out && strip -o /out/surfaced /build/server/surfaced \
 # optional: the whole test suite (not part of the default build; `docker build --target test .`)
 FROM deps AS test
 RUN apt-get update -qq \
- && apt-get install -y -qq --no-install-recommends git libosd-dev libocct-modeling-data-dev libocct-foundation-dev libgtest-dev libgmock-dev draco glmark2-data \
-      python3-yaml python3-venv python3-pip python3-setuptools python3-wheel nodejs npm \
+ && apt-get install -y -qq --no-install-recommends git libosd-dev libocct-modeling-data-dev libocct-foundation-dev libtbb-dev libgtest-dev libgmock-dev draco \
+      glmark2-data python3-yaml python3-venv python3-pip python3-setuptools python3-wheel nodejs npm \
  && rm -rf /var/lib/apt/lists/*
 COPY . /src
 WORKDIR /src

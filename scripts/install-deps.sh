@@ -10,6 +10,7 @@ packages=(
   clang-format          # tests: scripts/check-format.sh (the code follows .clang-format)
   libosd-dev            # OpenSubdiv: the reference in tests and benchmarks (never linked into the service)
   libocct-modeling-data-dev libocct-foundation-dev  # OpenCASCADE: the NURBS reference in tests (never linked into the service)
+  libtbb-dev            # OpenCASCADE's CMake targets link /usr/lib/x86_64-linux-gnu/libtbb.so, which only this package has
   libcpp-httplib-dev    # HTTP server
   nlohmann-json3-dev    # JSON
   libdraco-dev draco    # Draco compression (library + CLI tools)
