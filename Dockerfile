@@ -39,7 +39,7 @@ RUN mkdir -p /out && strip -o /out/surfaced /build/server/surfaced \
 FROM deps AS test
 RUN apt-get update -qq \
  && apt-get install -y -qq --no-install-recommends git libosd-dev libocct-modeling-data-dev libocct-foundation-dev libtbb-dev libgtest-dev libgmock-dev draco \
-      glmark2-data python3-yaml python3-venv python3-pip python3-setuptools python3-wheel nodejs npm \
+      python3-yaml python3-venv python3-pip python3-setuptools python3-wheel nodejs npm \
  && rm -rf /var/lib/apt/lists/*
 COPY . /src
 WORKDIR /src

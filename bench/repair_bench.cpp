@@ -1,5 +1,5 @@
 // Mesh repair against the simplification it precedes, in one run: on the bunny after two Loop levels (1.1M triangles;
-// an icosphere of 1.3M when glmark2-data is missing), clean, with one duplicate face appended, and as a soup (every
+// an icosphere of 1.3M when tests/data/bunny is missing), clean, with one duplicate face appended, and as a soup (every
 // triangle with its own three vertices, as STL stores it), it times needs_repair (audit_mesh), validate +
 // check_manifold (the manifold rules /simplify and /remesh apply before running), repair_mesh, simplify_qem on the mesh
 // as sent (what `repair: auto` tries first: on broken input, the time until it refuses) and simplify_qem to 1% on the

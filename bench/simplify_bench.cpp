@@ -317,16 +317,8 @@ int main(int argc, char** argv) {
         "time ours/CGAL | Hausdorff | Hausdorff ours/meshopt | RMS | RMS ours/CGAL | non-manifold edges | "
         "duplicate faces |\n");
     std::printf("|---|---:|---:|---:|---:|---|---|---:|---:|---|---:|---|---:|---|---|\n");
-    const char* bunny_path = "/usr/share/glmark2/models/bunny.obj";
-    if (std::filesystem::exists(bunny_path)) {
-        std::ifstream in(bunny_path, std::ios::binary);
-        std::stringstream text;
-        text << in.rdbuf();
-        auto bunny = read_obj(text.str());
-        if (bunny) run("bunny (glmark2-data)", bunny.value());
-    } else {
-        std::fprintf(stderr, "%s missing (Debian glmark2-data): bunny skipped\n", bunny_path);
-    }
+    const PolygonMesh bunny = bench::read_bunny();
+    if (bunny.face_count() > 0) run("bunny", bunny);
     run("icosphere 6", icosphere(6));
     if (!quick) {
         run("icosphere 8", icosphere(8));

@@ -24,11 +24,10 @@ done
 # The build dependencies come from scripts/install-deps.sh (run it first on a fresh machine); here only the bench-only
 # peers: meshoptimizer, CGAL (header-only; pulls Boost, GMP, MPFR) and Eigen (CGAL's Garland-Heckbert policies use
 # it), Embree 3 (the spatial queries' ray peer), OpenVDB (the distance grid's peer; its CMake Find module needs
-# Boost.Iostreams), and glmark2-data for the scanned bunny.
+# Boost.Iostreams). The scanned bunny is tests/data/bunny.
 command -v cmake >/dev/null && dpkg-query -W libosd-dev >/dev/null 2>&1 ||
   { echo "run scripts/install-deps.sh first (build dependencies)" >&2; exit 1; }
-bench_packages=(libmeshoptimizer-dev libcgal-dev libeigen3-dev libembree-dev libopenvdb-dev libboost-iostreams-dev
-  glmark2-data)
+bench_packages=(libmeshoptimizer-dev libcgal-dev libeigen3-dev libembree-dev libopenvdb-dev libboost-iostreams-dev)
 missing=()
 for p in "${bench_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -17,7 +17,6 @@ packages=(
   libtinygltf-dev       # glTF writer/reader (compiled into our own TU)
   libeigen3-dev         # needed by Draco's headers
   libgtest-dev libgmock-dev
-  glmark2-data          # tests: the Stanford bunny (a real scanned mesh) for simplification
   libmeshoptimizer-dev  # benchmarks only: meshoptimizer as the simplification peer (never linked into the service)
   python3-yaml          # tests: deploy/ (Kubernetes manifests) parsed by tests/deploy/manifests_test.py
   python3-venv python3-pip python3-setuptools python3-wheel  # tests: pip install of clients/python into a venv

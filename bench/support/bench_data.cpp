@@ -17,7 +17,7 @@ PolygonMesh read_bunny() {
     text << in.rdbuf();
     auto mesh = read_obj(text.str());
     if (!mesh) {
-        std::fprintf(stderr, "%s missing or unreadable (Debian glmark2-data)\n", kBunnyPath);
+        std::fprintf(stderr, "%s missing or unreadable\n", kBunnyPath);
         return {};
     }
     return std::move(mesh.value());

@@ -1,12 +1,12 @@
-// Meshes several benchmarks load or build: the Stanford bunny that Debian's glmark2-data ships, and icospheres.
+// Meshes several benchmarks load or build: the Stanford bunny of tests/data/bunny, and icospheres.
 #pragma once
 
 #include "geometry/mesh/polygon_mesh.h"
 
 namespace surfaced::bench {
 
-//! Where Debian's glmark2-data installs the bunny (34,834 vertices, 69,451 triangles).
-inline constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
+//! The bunny in the repository (34,835 vertices, 69,666 triangles).
+inline constexpr const char* kBunnyPath = SURFACED_SOURCE_DIR "/tests/data/bunny/bunny.obj";
 
 //! The bunny, or an empty mesh (and a line on stderr) when the file is missing or unreadable.
 PolygonMesh read_bunny();

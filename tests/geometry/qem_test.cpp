@@ -25,8 +25,8 @@ namespace {
 using testing::boundary_loop_count;
 using testing::edge_stats;
 
-// Debian's glmark2-data package (scripts/install-deps.sh): the Stanford bunny, 34835 vertices, 69666 triangles.
-constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
+// The Stanford bunny (tests/data/bunny): 34835 vertices, 69666 triangles.
+const std::string kBunnyPath = SURFACED_TEST_DATA_DIR "/bunny/bunny.obj";
 
 //! The invariants every output must satisfy; `input` is the (triangulated) input for the flip check.
 void expect_clean(const PolygonMesh& out, const PolygonMesh& input, const std::string& what) {
@@ -43,7 +43,7 @@ void expect_clean(const PolygonMesh& out, const PolygonMesh& input, const std::s
 
 PolygonMesh bunny() {
     if (!std::filesystem::exists(kBunnyPath)) {
-        ADD_FAILURE() << kBunnyPath << " is missing: install the Debian package glmark2-data (scripts/install-deps.sh)";
+        ADD_FAILURE() << kBunnyPath << " is missing";
         return {};
     }
     auto mesh = read_obj(testing::read_file(kBunnyPath));

@@ -25,8 +25,8 @@ using testing::boundary_loop_count;
 using testing::edge_stats;
 using testing::euler_characteristic;
 
-// Debian's glmark2-data package (scripts/install-deps.sh): the Stanford bunny, 34835 vertices, 69666 triangles.
-constexpr const char* kBunnyPath = "/usr/share/glmark2/models/bunny.obj";
+// The Stanford bunny (tests/data/bunny): 34835 vertices, 69666 triangles.
+const std::string kBunnyPath = SURFACED_TEST_DATA_DIR "/bunny/bunny.obj";
 
 //! Latitude-longitude unit sphere: thin triangles at the poles (valence `around`), quads split in two elsewhere.
 PolygonMesh uv_sphere(int around, int rings) {
@@ -91,7 +91,7 @@ PolygonMesh sliver_plane(int n) {
 
 PolygonMesh bunny() {
     if (!std::filesystem::exists(kBunnyPath)) {
-        ADD_FAILURE() << kBunnyPath << " is missing: install the Debian package glmark2-data (scripts/install-deps.sh)";
+        ADD_FAILURE() << kBunnyPath << " is missing";
         return {};
     }
     auto mesh = read_obj(testing::read_file(kBunnyPath));

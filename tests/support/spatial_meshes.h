@@ -17,8 +17,8 @@
 
 namespace surfaced::testing {
 
-// Debian's glmark2-data package (scripts/install-deps.sh): the Stanford bunny, 34835 vertices, 69666 triangles.
-inline constexpr const char* kSpatialBunnyPath = "/usr/share/glmark2/models/bunny.obj";
+// The Stanford bunny (tests/data/bunny): 34835 vertices, 69666 triangles.
+inline constexpr const char* kSpatialBunnyPath = SURFACED_TEST_DATA_DIR "/bunny/bunny.obj";
 
 //! Read once per test binary (several tests use it).
 inline const PolygonMesh& spatial_bunny() {
@@ -28,7 +28,7 @@ inline const PolygonMesh& spatial_bunny() {
         return mesh.ok() ? std::move(mesh.value()) : PolygonMesh{};
     }();
     if (bunny.face_count() == 0)
-        ADD_FAILURE() << kSpatialBunnyPath << " is missing or unreadable: install the Debian package glmark2-data";
+        ADD_FAILURE() << kSpatialBunnyPath << " is missing or unreadable";
     return bunny;
 }
 
