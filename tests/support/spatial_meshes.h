@@ -27,8 +27,7 @@ inline const PolygonMesh& spatial_bunny() {
         auto mesh = read_obj(read_file(kSpatialBunnyPath));
         return mesh.ok() ? std::move(mesh.value()) : PolygonMesh{};
     }();
-    if (bunny.face_count() == 0)
-        ADD_FAILURE() << kSpatialBunnyPath << " is missing or unreadable";
+    if (bunny.face_count() == 0) ADD_FAILURE() << kSpatialBunnyPath << " is missing or unreadable";
     return bunny;
 }
 
