@@ -69,13 +69,6 @@ ApiResult<double> read_tolerance(const Json& value, const std::string& path) {
     return e;
 }
 
-//! `true` (or `false`: the query is not run) for the switch queries (to_bezier, bounding_box, continuity).
-ApiResult<bool> read_switch(const Json& root, const char* name) {
-    const auto it = root.find(name);
-    if (it == root.end()) return false;
-    return read_bool(*it, name);
-}
-
 //! Control points at `path` (an array of [x, y] or [x, y, z] of `dimension`) and the weights at `weights_path`
 //! (when `weights` is not null) into `curve`. The single-curve form's wording is the original one.
 std::optional<ApiError> read_control_points(const Json& points, const std::string& path, std::size_t dimension,
@@ -100,17 +93,6 @@ std::optional<ApiError> read_weights(const Json& weights, const std::string& pat
         out.push_back(w.value());
     }
     return std::nullopt;
-}
-
-ApiError budget(std::string detail, const std::string& field) {
-    return make_problem(Problem::BudgetExceeded, std::move(detail), field);
-}
-
-//! A geometry error about the request's `field`.
-ApiError error_at(const GeoError& error, const std::string& field) {
-    ApiError out = from_geo_error(error);
-    out.field = field;
-    return out;
 }
 
 // ---- output --------------------------------------------------------------------------------------------------------
@@ -148,13 +130,6 @@ ApiResponse polyline_response(const std::vector<Polyline>& polylines, OutputForm
                         {"X-Output-Points", std::to_string(points)},
                         {"X-Segments", std::to_string(segments)},
                         {"X-Error-Bound", format_double(bound)}};
-    return response;
-}
-
-ApiResponse json_response(const Json& out) {
-    ApiResponse response;
-    response.content_type = "application/json";
-    response.body = json_text(out);
     return response;
 }
 

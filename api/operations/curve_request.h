@@ -14,6 +14,7 @@
 #include "api/json_util.h"
 #include "api/operation.h"
 #include "api/operations/curves.h"
+#include "api/operations/json_request.h"
 #include "api/dto.h"
 #include "api/limits.h"
 #include "geometry/core/result.h"
@@ -26,6 +27,10 @@
 namespace surfaced::api::operations::curve_request {
 
 using Json = json::Json;
+using operations::budget;
+using operations::error_at;
+using operations::json_response;
+using operations::read_switch;
 
 ApiResult<double> read_parameter(const Json& value, const std::string& field);
 
@@ -39,9 +44,6 @@ ApiResult<Vec3> read_point(const Json& value, const std::string& field, std::siz
 
 ApiResult<double> read_tolerance(const Json& value, const std::string& path);
 
-//! `true` (or `false`: the query is not run) for the switch queries (to_bezier, bounding_box, continuity).
-ApiResult<bool> read_switch(const Json& root, const char* name);
-
 //! Control points at `path` (an array of [x, y] or [x, y, z] of `dimension`) and the weights at `weights_path`
 //! (when `weights` is not null) into `curve`. The single-curve form's wording is the original one.
 std::optional<ApiError> read_control_points(const Json& points, const std::string& path, std::size_t dimension,
@@ -49,11 +51,6 @@ std::optional<ApiError> read_control_points(const Json& points, const std::strin
 
 std::optional<ApiError> read_weights(const Json& weights, const std::string& path, std::size_t count,
                                      std::vector<double>& out);
-
-ApiError budget(std::string detail, const std::string& field);
-
-//! A geometry error about the request's `field`.
-ApiError error_at(const GeoError& error, const std::string& field);
 
 // ---- output --------------------------------------------------------------------------------------------------------
 
@@ -64,8 +61,6 @@ std::optional<ApiError> check_gltf_request(const Json& root, OutputFormat format
 
 ApiResponse polyline_response(const std::vector<Polyline>& polylines, OutputFormat format, std::size_t segments,
                               double bound);
-
-ApiResponse json_response(const Json& out);
 
 //! Members of the root that the form does not take: 400 naming the first.
 std::optional<ApiError> check_form_members(const Json& root, std::string_view form, std::string_view description,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "api/operations/json_request.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
 #include "api/scene_codec.h"
@@ -168,10 +169,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         }
         out["rays"] = encode_hits(hits.value());
     }
-    ApiResponse response;
-    response.content_type = "application/json";
-    response.body = json_text(out);
-    return response;
+    return json_response(out);
 }
 
 }  // namespace

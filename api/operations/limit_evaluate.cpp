@@ -11,6 +11,7 @@
 
 #include "api/json_codec.h"
 #include "api/json_util.h"
+#include "api/operations/json_request.h"
 #include "api/operations/query_forms.h"
 #include "api/operations/request_forms.h"
 #include "api/options/mesh_params.h"
@@ -296,10 +297,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
         for (const auto& column : columns) packed[std::string(column.first)] = encode_column(*column.second, encoding);
         body["points"] = std::move(packed);
     }
-    ApiResponse response;
-    response.content_type = "application/json";
-    response.body = json_text(body);
-    return response;
+    return json_response(body);
 }
 
 }  // namespace

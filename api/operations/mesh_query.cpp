@@ -12,6 +12,7 @@
 
 #include "api/json_codec.h"
 #include "api/json_util.h"
+#include "api/operations/json_request.h"
 #include "api/operations/query_forms.h"
 #include "api/operations/request_forms.h"
 #include "api/options/option_reader.h"
@@ -236,10 +237,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
                        {"normal", encode_column(normal, encoding)}};
     }
     if (auto error = check_deadline_before_encoding(context.cancel)) return error_response(std::move(*error));
-    ApiResponse response;
-    response.content_type = "application/json";
-    response.body = json_text(out);
-    return response;
+    return json_response(out);
 }
 
 }  // namespace

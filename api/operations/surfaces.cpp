@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "api/json_util.h"
+#include "api/operations/json_request.h"
 #include "api/operations/request_forms.h"
 #include "api/surface_codec.h"
 #include "geometry/surfaces/bspline_surface.h"
@@ -18,16 +19,6 @@ namespace surfaced::api::operations {
 namespace {
 
 using namespace json;  // the shared readers (api/json_util.h)
-
-ApiError budget(std::string detail, const std::string& field) {
-    return make_problem(Problem::BudgetExceeded, std::move(detail), field);
-}
-
-ApiError error_at(const GeoError& error, const std::string& field) {
-    ApiError out = from_geo_error(error);
-    out.field = field;
-    return out;
-}
 
 struct Domain {
     double u0, u1, v0, v1;
@@ -96,12 +87,6 @@ struct Queries {
     std::optional<Elevate> elevate;
     bool to_bezier = false, bounding_box = false;
 };
-
-ApiResult<bool> read_switch(const Json& root, const char* name) {
-    const auto it = root.find(name);
-    if (it == root.end()) return false;
-    return read_bool(*it, name);
-}
 
 std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, const Domain& d, const Limits& limits,
                                      Queries& q) {
@@ -207,13 +192,6 @@ std::optional<ApiError> read_queries(const Json& root, const BSplineSurface& s, 
 }
 
 Json box_json(const Box3& box) { return {{"min", vec3_json(box.min)}, {"max", vec3_json(box.max)}}; }
-
-ApiResponse json_response(const Json& out) {
-    ApiResponse response;
-    response.content_type = "application/json";
-    response.body = json_text(out);
-    return response;
-}
 
 ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     const Limits& limits = context.limits;
