@@ -57,6 +57,9 @@ Params params_from(const options::OptionValues& values) {
     values.get("island_area", params.trim.island_area);
     params.trim.samples_per_node = params.poisson.samples_per_node;
     values.get("vertex_colors", params.vertex_colors);
+    std::int64_t threads = params.poisson.threads;
+    values.get("threads", threads);
+    params.poisson.threads = static_cast<int>(threads);
     values.get_output(params.output);
     return params;
 }

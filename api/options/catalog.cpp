@@ -485,6 +485,12 @@ constexpr OptionSpec kReconstruct[] = {
      .type = OptionType::Bool,
      .description = "Carry the points' colours to the vertices (glb, gltf, ply, obj, json); unset: when the cloud has "
                     "colours and the format holds them"},
+    {.name = "threads",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(2),
+     .default_json = "1",
+     .description = "2: the octree, assembly, solver and meshing of large levels on two threads (the same mesh)"},
 };
 
 // ---- POST /mesh/query: a JSON body (the mesh, points and rays, what is wanted, how winding numbers are computed) ---

@@ -467,6 +467,8 @@ export interface ReconstructOptions {
   island_area?: number;
   /** carry the colours of the points to the vertices (glb, gltf, ply, obj, json); unset: when the cloud has colours */
   vertex_colors?: boolean;
+  /** 1 or 2: a second thread for the large levels (the same mesh). @default 1 */
+  threads?: number;
   output?: Output<OutputFormat>;
   /** @default 'glb' */
   format?: OutputFormat;

@@ -55,8 +55,9 @@ struct PoissonOptions {
     //! have fixed the low frequencies, so 1e-4 costs no accuracy).
     int max_iterations = 100;
     double tolerance = 1e-4;
-    //! 1: everything on the calling thread; anything else (>= 0): a second thread for the assembly and the conjugate
-    //! gradients of levels with 65,536 unknowns or more. The mesh is bit-identical either way.
+    //! 1: everything on the calling thread; anything else (>= 0): a second thread for the finest octree level, the
+    //! assembly, the splats, the interpolation between levels, the conjugate gradients and the marching cubes of
+    //! large levels (65,536 unknowns or samples; 32,768 cells). The mesh is bit-identical either way.
     int threads = 1;
 };
 

@@ -149,6 +149,25 @@ TEST(ReconstructOperation, OptionsReachTheReconstruction) {
         EXPECT_FALSE(mesh_of(run(extra)) == mesh_of(base)) << extra.dump();
 }
 
+// threads 2 gives the same mesh as 1 (on a cloud large enough for the second thread), and only 1 or 2 are taken.
+TEST(ReconstructOperation, TwoThreadsGiveTheSameMesh) {
+    const Sphere s = sphere_cloud(70'000);
+    const auto run = [&](int threads) {
+        const json body = {{"points", s.points},
+                           {"normals", s.normals},
+                           {"depth", 7},
+                           {"threads", threads},
+                           {"output", {{"format", "json"}}}};
+        return post(body.dump());
+    };
+    const ApiResponse one = run(1), two = run(2);
+    ASSERT_EQ(one.status, 200) << one.body;
+    ASSERT_EQ(two.status, 200) << two.body;
+    EXPECT_TRUE(json::parse(one.body)["mesh"] == json::parse(two.body)["mesh"]);
+    expect_problem(run(3), 400, "invalid_field", "threads");
+    expect_problem(post(s.xyz, "text/x-xyz", {{"depth", "5"}, {"threads", "0"}}), 400, "invalid_field", "threads");
+}
+
 TEST(ReconstructOperation, ConfidenceWeighsPointsByTheirNormalsLength) {
     Sphere s = sphere_cloud(1500);
     // points of zero weight far off the sphere: ignored with confidence, an error without it

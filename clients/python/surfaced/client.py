@@ -654,7 +654,7 @@ class Client:
                     samples_per_node: float = 1.5, boundary: PoissonBoundary = "neumann", scale: float = 1.1,
                     confidence: bool = False, estimate_normals: NormalEstimation = "auto", k: int = 16,
                     trim: float = 0, island_area: float = 0.001, vertex_colors: Optional[bool] = None,
-                    output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
+                    threads: int = 1, output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
                     quantize_position: int = 14) -> Result:
         """POST /reconstruct: a closed, outward-oriented triangle mesh through a point cloud (screened Poisson
         reconstruction). Counts, the iso-value and the octree size come in the X-* headers (and ``stats`` of the
@@ -682,6 +682,7 @@ class Client:
             removed (kept), 0..1 (default 0.001).
         :param vertex_colors: carry the points' colours to the vertices (glb, gltf, ply, obj, json); default: when
             the cloud has colours and the format holds them.
+        :param threads: 1 (default) or 2: a second thread for the large levels (the same mesh).
         :param output: ``{"format", "compression", "quantize_position", "normals"}``, or the same as keywords:
         :param format: ``"glb"`` (default), ``"gltf"``, ``"obj"``, ``"ply"``, ``"json"``, ``"stl"`` or ``"off"``.
         :param compression: GLB/glTF: ``"draco"`` (default) or ``"none"``.
