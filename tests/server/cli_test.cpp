@@ -333,8 +333,8 @@ TEST_F(SurfacedCli, EveryTableOptionIsAFlagInTheHelp) {
         }
         // and every flag of the Options section is a table option, or one of the hand-written ones
         const std::vector<std::string> hand_written = {
-            "--output", "--format",         "--input-format", "--help", "--max-output-faces",
-            "--bounds", "--max-grid-cells", "--points",       "--rays", "--want"};
+            "--output",         "--format", "--input-format", "--help", "--max-output-faces",      "--bounds",
+            "--max-grid-cells", "--points", "--rays",         "--want", "--max-reconstruct-bytes", "--max-points"};
         const std::vector<std::pair<std::string, std::string>> deprecated = {{"--no-draco", "compression"},
                                                                              {"--free-boundary", "keep_boundary"}};
         const std::string options = help.out.substr(help.out.find("\nOptions:\n"));
@@ -610,6 +610,14 @@ TEST_F(SurfacedCli, ReconstructWritesTheClosedSurfaceOfAPointFile) {
     EXPECT_TRUE(piped.out.starts_with("OFF")) << piped.out.substr(0, 40);
     // a budget is a failure (1), a value out of range or a rule of the options bad usage (2), naming the flag
     EXPECT_EQ(run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --depth 9").exit_code, 1);
+    // ... which the budget flags raise (depth 9's 512^3 grid), and lower (the point count)
+    const CliRun raised = run("reconstruct " + path("sphere.xyz") + " -o " + path("x9.obj") +
+                              " --depth 9 --max-grid-cells 200000000 --threads 2");
+    EXPECT_EQ(raised.exit_code, 0) << raised.err;
+    const CliRun few =
+        run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --depth 4 --max-points 100");
+    EXPECT_EQ(few.exit_code, 1);
+    EXPECT_TRUE(contains(few.err, "points")) << few.err;
     const CliRun depth = run("reconstruct " + path("sphere.xyz") + " -o " + path("x.obj") + " --depth 1");
     EXPECT_EQ(depth.exit_code, 2);
     EXPECT_TRUE(contains(depth.err, "reconstruct --depth: ")) << depth.err;
