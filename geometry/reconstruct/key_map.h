@@ -1,6 +1,7 @@
-// A map from packed integer grid coordinates to dense indices, for the sparse levels of the Poisson octree: open
-// addressing with linear probing over a power-of-two table. No per-process hash seed, and key lists always come out
-// sorted, so everything built on them is deterministic.
+// Maps from packed integer grid coordinates to dense indices, for the sparse levels of the Poisson octree: a row
+// index over a sorted key list (RowIndex: the octree's key sets), and open addressing with linear probing over a
+// power-of-two table (KeyCollector, KeyMap, GrowingKeyMap: sets collected in any order). No per-process hash seed,
+// and key lists always come out sorted, so everything built on them is deterministic.
 #pragma once
 
 #include <algorithm>
