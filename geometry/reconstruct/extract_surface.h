@@ -18,7 +18,8 @@
 // the inside on their right seen from outside the cell, form loops, each a polygon triangulated inside the cell
 // (3 vertices: a triangle; 4: along the shorter diagonal; more: a fan around the loop's centroid, a vertex of its
 // own). Every grid node has one value (the stored one, or the interpolant of the finest leaf containing it,
-// computed once), so cells sharing a face or an edge see the same signs and the same vertices: the output is closed,
+// computed once in each half of the cells, the same in both), so cells sharing a face or an edge see the same signs
+// and the same vertices (the halves' vertices on shared edges are merged by edge): the output is closed,
 // every edge is shared by two triangles traversing it in opposite directions, every vertex has one fan, and the
 // triangles' normals point to chi > iso (out of the sampled solid). Grid nodes on the cube's faces count as
 // outside, so a surface leaving the cube is closed by caps on its faces.

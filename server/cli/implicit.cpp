@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/cli/commands.h"
+#include "server/cli/limit_flags.h"
 #include "server/cli/requests.h"
 #include "server/cli/table_options.h"
 
@@ -83,17 +84,15 @@ int implicit(Args& args) {
                              .check = checked_bounds,
                              .synopsis = "--bounds X0,Y0,Z0,X1,Y1,Z1",
                              .description = "the box to mesh in (default: the file's; required for a scene alone)"});
-    options.push_back(Option{.name = "--max-grid-cells",
-                             .check = integer(1, 1'000'000'000'000LL),
-                             .synopsis = "--max-grid-cells N",
-                             .description = "refuse larger grids (default 16777216)"});
+    options.push_back(limit_option("--max-grid-cells"));
     const auto parsed = parse_file_command(
         args, "implicit", std::string(kImplicitHelp) + options_help(operation, options), options, "SCENE.json");
     if (!parsed) return kExitOk;
     if (parsed->param("resolution") && parsed->param("cell_size"))
         throw UsageError{"implicit: give --resolution or --cell-size, not both"};
     const api::OutputFormat out_format = output_format(*parsed, operation);
-    if (parsed->has("--max-grid-cells")) context.limits.max_grid_cells = std::stoull(parsed->value("--max-grid-cells"));
+    if (parsed->has("--max-grid-cells"))
+        apply_limit_flag("--max-grid-cells", parsed->value("--max-grid-cells"), context.limits);
 
     const auto bytes = read_input(parsed->input);
     if (!bytes) return kExitFailed;

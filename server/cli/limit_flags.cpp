@@ -1,6 +1,7 @@
 #include "server/cli/limit_flags.h"
 
 #include <cstdint>
+#include <stdexcept>
 #include <variant>
 
 #include "server/cli/args.h"
@@ -23,7 +24,8 @@ const LimitFlag kLimitFlags[] = {
     {"--max-input-vertices", &api::Limits::max_input_vertices, 1, kMany, "largest input mesh, in vertices"},
     {"--max-patches", &api::Limits::max_patches, 1, kMany, "Bezier patches in one request"},
     {"--max-patch-segments", &api::Limits::max_patch_segments, 1, 65536, "segments along one direction of one patch"},
-    {"--max-grid-cells", &api::Limits::max_grid_cells, 8, kMany, "implicit meshing grid cells"},
+    {"--max-grid-cells", &api::Limits::max_grid_cells, 8, kMany,
+     "grid cells of implicit meshing, and of /reconstruct's finest level ((2^depth)^3)"},
     {"--max-scene-nodes", &api::Limits::max_scene_nodes, 1, kMany, "nodes in one implicit scene"},
     {"--max-expression-nodes", &api::Limits::max_expression_nodes, 1, kMany, "nodes of one algebraic expression"},
     {"--max-expression-depth", &api::Limits::max_expression_depth, 1, 512, "nesting depth of one expression"},
@@ -65,16 +67,29 @@ bool apply_limit_flag(std::string_view flag, const std::string& text, api::Limit
     return false;
 }
 
+//! The default of a budget, from a default-constructed api::Limits.
+static long long default_of(const LimitFlag& f) {
+    static const api::Limits defaults;
+    return std::visit([&](auto member) { return static_cast<long long>(defaults.*member); }, f.member);
+}
+
+Option limit_option(std::string_view flag) {
+    for (const LimitFlag& f : kLimitFlags)
+        if (f.flag == flag)
+            return Option{.name = std::string(f.flag),
+                          .check = integer(f.min, f.max),
+                          .synopsis = std::string(f.flag) + " N",
+                          .description = std::string(f.help) + " (default " + std::to_string(default_of(f)) + ")"};
+    throw std::logic_error("limit_option: no budget flag " + std::string(flag));
+}
+
 std::string limit_flags_help() {
-    const api::Limits defaults;
     std::string out;
     for (const LimitFlag& f : kLimitFlags) {
         // the help column of `serve --help`; a longer flag gets its help on the next line
         std::string synopsis = "  " + std::string(f.flag) + " N";
         synopsis += synopsis.size() < 25 ? std::string(25 - synopsis.size(), ' ') : "\n" + std::string(25, ' ');
-        const long long value =
-            std::visit([&](auto member) { return static_cast<long long>(defaults.*member); }, f.member);
-        out += synopsis + std::string(f.help) + " (default " + std::to_string(value) + ")\n";
+        out += synopsis + std::string(f.help) + " (default " + std::to_string(default_of(f)) + ")\n";
     }
     return out;
 }

@@ -37,32 +37,14 @@ int reconstruct(Args& args) {
     std::vector<Option> options = table_options(operation, api::options::kQuery);
     options.push_back(deprecated_switch(operation, "--no-draco", "compression", "none"));
     options.push_back(point_input_format_option());
-    // the budgets a large reconstruction meets, as `surfaced serve` takes them (server/cli/limit_flags.h)
-    const api::Limits defaults;
-    const struct {
-        const char* name;
-        const char* synopsis;
-        std::string description;
-    } budgets[] = {
-        {"--max-grid-cells", "--max-grid-cells N",
-         "refuse depths whose finest grid, (2^depth)^3 cells, is larger (default " +
-             std::to_string(defaults.max_grid_cells) + ": depth 8)"},
-        {"--max-reconstruct-bytes", "--max-reconstruct-bytes N",
-         "refuse reconstructions predicted to take more memory (default " +
-             std::to_string(defaults.max_reconstruct_bytes) + ")"},
-        {"--max-points", "--max-points N",
-         "refuse larger clouds (default " + std::to_string(defaults.max_points) + ")"},
-    };
-    for (const auto& b : budgets)
-        options.push_back(Option{.name = b.name,
-                                 .check = integer(1, 1'000'000'000'000LL),
-                                 .synopsis = b.synopsis,
-                                 .description = b.description});
+    // the budgets a large reconstruction meets, as `surfaced serve` takes them
+    constexpr std::string_view kBudgets[] = {"--max-grid-cells", "--max-reconstruct-bytes", "--max-points"};
+    for (const std::string_view flag : kBudgets) options.push_back(limit_option(flag));
     const auto parsed = parse_file_command(args, "reconstruct",
                                            std::string(kReconstructHelp) + options_help(operation, options), options);
     if (!parsed) return kExitOk;
-    for (const auto& b : budgets)
-        if (parsed->has(b.name)) apply_limit_flag(b.name, parsed->value(b.name), context.limits);
+    for (const std::string_view flag : kBudgets)
+        if (parsed->has(flag)) apply_limit_flag(flag, parsed->value(flag), context.limits);
     std::optional<PointFormat> in_format = point_input_format(*parsed);
     const api::OutputFormat out_format = output_format(*parsed, operation);
 
