@@ -8,9 +8,10 @@
 // The scale table: 1,000,000 points sampled from the sphere and the bunny at depths 9 and 10 (ours only; CPU and wall
 // time, peak heap against estimate_poisson's prediction, the time of each phase).
 //
-// Usage: bench_poisson [--quick] [--scale] [--points N]
+// Usage: bench_poisson [--quick] [--scale] [--points N] [--no-fit]
 //                      [--scale-depth D] [--threads T] [--levels] [--tolerance E] [--iterations N]
 //   quick: depths 6 and 7 only, no CGAL, no scale table; scale: the scale table only (scale-depth: at depth D only);
+//   no-fit: the scale table without PoissonOptions::fit_to_samples;
 //   points: per cloud, 50000; threads: PoissonOptions::threads of the scale table (1); levels: each scale row's
 //   cells, unknowns and solver iterations per level, on stderr; tolerance, iterations: the scale table's
 //   PoissonOptions::tolerance and max_iterations (the defaults)
@@ -75,16 +76,15 @@ void run(const char* shape, const PolygonMesh& truth, std::size_t points, const 
     const double diagonal = truth.bounds().diagonal();
     MeshDistanceOptions mo;
     mo.samples = 100'000;
-    // the defaults by depth, then from depth 7 every sample splatted on the finest level (samples_per_node 1:
-    // clean, evenly sampled clouds)
-    std::vector<std::pair<int, double>> runs;
-    for (const int depth : depths) runs.emplace_back(depth, PoissonOptions{}.samples_per_node);
+    // the defaults by depth, then from depth 7 the iso-surface as meshed (without the fit to the samples)
+    std::vector<std::pair<int, bool>> runs;
+    for (const int depth : depths) runs.emplace_back(depth, true);
     for (const int depth : depths)
-        if (depth >= 7) runs.emplace_back(depth, 1.0);
-    for (const auto& [depth, per_node] : runs) {
+        if (depth >= 7) runs.emplace_back(depth, false);
+    for (const auto& [depth, fit] : runs) {
         PoissonOptions options;
         options.depth = depth;
-        options.samples_per_node = per_node;
+        options.fit_to_samples = fit;
         Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
         const Timing t = time_once([&] { result = reconstruct_poisson(*cloud, options); });
         if (!result) {
@@ -92,7 +92,7 @@ void run(const char* shape, const PolygonMesh& truth, std::size_t points, const 
             continue;
         }
         char method[64];
-        std::snprintf(method, sizeof method, "ours, depth %d, samples/node %g", depth, per_node);
+        std::snprintf(method, sizeof method, "ours, depth %d%s", depth, fit ? "" : ", not fitted");
         print_row(shape, method, points, t, result->mesh.face_count(), mesh_distance(result->mesh, truth, mo),
                   diagonal);
     }
@@ -129,6 +129,7 @@ int g_threads = 1;
 bool g_levels = false;
 double g_tolerance = PoissonOptions{}.tolerance;
 int g_iterations = PoissonOptions{}.max_iterations;
+bool g_fit = true;
 
 //! 1M points at depths 9 and 10: time, memory and accuracy at scale.
 void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<int>& depths) {
@@ -144,6 +145,7 @@ void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<in
         options.threads = g_threads;
         options.tolerance = g_tolerance;
         options.max_iterations = g_iterations;
+        options.fit_to_samples = g_fit;
         Result<PoissonResult> result = make_error(ErrorCode::Internal, "not run");
         const Timing t = time_once([&] { result = reconstruct_poisson(*cloud, options); });
         if (!result) {
@@ -154,10 +156,11 @@ void run_scale(const char* shape, const PolygonMesh& truth, const std::vector<in
         const MeshDistance d = mesh_distance(result->mesh, truth, mo);
         const double estimate_mib =
             static_cast<double>(estimate_poisson(cloud->size(), options).bytes) / (1024.0 * 1024.0);
-        std::printf("| %s | %zu | %d | %.1f | %.1f | %.1f / %.1f / %.1f / %.1f | %.0f | %.0f | %zu | %.2e | %.3f%% |\n",
-                    shape, cloud->size(), depth, t.seconds, t.wall, s.seconds_octree, s.seconds_system, s.seconds_solve,
-                    s.seconds_extract, t.peak_mib, estimate_mib, result->mesh.face_count(), d.rms,
-                    100.0 * d.rms / truth.bounds().diagonal());
+        std::printf(
+            "| %s | %zu | %d | %.1f | %.1f | %.1f / %.1f / %.1f / %.1f / %.1f | %.0f | %.0f | %zu | %.2e | %.3f%% |\n",
+            shape, cloud->size(), depth, t.seconds, t.wall, s.seconds_octree, s.seconds_system, s.seconds_solve,
+            s.seconds_extract, s.seconds_fit, t.peak_mib, estimate_mib, result->mesh.face_count(), d.rms,
+            100.0 * d.rms / truth.bounds().diagonal());
         std::fflush(stdout);
         if (g_levels)
             for (std::size_t l = 0; l < s.dofs.size(); ++l)
@@ -176,6 +179,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--scale") == 0) scale_only = true;
         if (std::strcmp(argv[i], "--levels") == 0) g_levels = true;
+        if (std::strcmp(argv[i], "--no-fit") == 0) g_fit = false;
         if (std::strcmp(argv[i], "--tolerance") == 0 && i + 1 < argc) g_tolerance = std::atof(argv[++i]);
         if (std::strcmp(argv[i], "--iterations") == 0 && i + 1 < argc) g_iterations = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) g_threads = std::atoi(argv[++i]);

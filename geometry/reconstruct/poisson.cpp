@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "geometry/reconstruct/extract_surface.h"
+#include "geometry/reconstruct/fit_to_samples.h"
 #include "geometry/reconstruct/octree.h"
 #include "geometry/reconstruct/poisson_system.h"
 #include "geometry/reconstruct/solver.h"
@@ -202,11 +203,18 @@ Result<PoissonResult> reconstruct_poisson(const PointCloud& cloud, const Poisson
         reconstruct::extract_surface(*tree, *chi, iso, cancel, &extraction, options.threads != 1);
     if (!mesh) return mesh.error();
     result.mesh = std::move(*mesh);
+    result.stats.seconds_extract = seconds_since(extract_start);
+    if (options.fit_to_samples) {
+        const auto fit_start = std::chrono::steady_clock::now();
+        const double cell = std::ldexp(1.0, -options.depth);
+        if (Status s = reconstruct::fit_to_samples(result.mesh, samples, cell, cancel, options.threads != 1); !s)
+            return s.error();
+        result.stats.seconds_fit = seconds_since(fit_start);
+    }
     for (Vec3& p : result.mesh.positions) p = origin + p * side;
     result.stats.field_evaluations = extraction.interpolated_nodes;
     result.stats.surface_cells = extraction.surface_cells;
     result.stats.extraction_bytes = extraction.bytes;
-    result.stats.seconds_extract = seconds_since(extract_start);
     return result;
 }
 

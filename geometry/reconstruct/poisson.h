@@ -15,6 +15,8 @@
 //  4. The iso-value is the mean of chi at the samples weighted by their area shares, and chi = iso is meshed by marching cubes on the
 //     finest level's grid (2^depth cells per side), visiting only the cells the surface can cross, in coarse regions
 //     too (extract_surface.h): memory and time grow with the surface, not with the cube's volume.
+//  5. Unless fit_to_samples is off, each vertex is moved onto the tangent planes of the samples around it
+//     (fit_to_samples.h), which the grid's cell size no longer limits where the cloud is dense and clean.
 // The output is a closed, manifold, consistently oriented triangle mesh with normals pointing out of the sampled
 // solid. Deterministic: the same cloud and options give the same mesh bit for bit, with one thread or two.
 #pragma once
@@ -59,6 +61,10 @@ struct PoissonOptions {
     //! assembly, the splats, the interpolation between levels, the conjugate gradients and the marching cubes of
     //! large levels (65,536 unknowns or samples; 32,768 cells). The mesh is bit-identical either way.
     int threads = 1;
+    //! After meshing, move each vertex onto the tangent planes of the samples around it (fit_to_samples.h): sharp
+    //! edges and curved parts follow the samples below the cell size where the cloud is dense enough, and a noisy
+    //! cloud's vertices move little. false: the iso-surface of chi as it is (as PoissonRecon gives it).
+    bool fit_to_samples = true;
 };
 
 struct PoissonStats {
@@ -72,8 +78,8 @@ struct PoissonStats {
     std::size_t extraction_bytes = 0;     //!< peak of the extraction's tables (the output mesh excluded)
     double area_estimate = 0;             //!< of the sampled surface, model units
     //! Wall-clock seconds of the phases: the samples and the octree; the operators and right-hand sides; conjugate
-    //! gradients; the surface extraction.
-    double seconds_octree = 0, seconds_system = 0, seconds_solve = 0, seconds_extract = 0;
+    //! gradients; the surface extraction; the fit of the vertices to the samples.
+    double seconds_octree = 0, seconds_system = 0, seconds_solve = 0, seconds_extract = 0, seconds_fit = 0;
 };
 
 struct PoissonResult {
