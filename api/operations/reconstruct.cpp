@@ -49,6 +49,7 @@ Params params_from(const options::OptionValues& values) {
     values.get("samples_per_node", params.poisson.samples_per_node);
     values.get("boundary", kPoissonBoundaryNames, params.poisson.boundary);
     values.get("scale", params.poisson.scale);
+    values.get("fit_to_samples", params.poisson.fit_to_samples);
     values.get("confidence", params.poisson.use_confidence);
     values.get("estimate_normals", kNormalEstimationNames, params.estimate);
     values.get("k", params.k);

@@ -452,6 +452,12 @@ constexpr OptionSpec kReconstruct[] = {
      .max = at_most(100),
      .default_json = "1.1",
      .description = "Bounding cube side over the points' bounding box's largest side"},
+    {.name = "fit_to_samples",
+     .type = OptionType::Bool,
+     .default_json = "true",
+     .description = "Move each vertex onto the points' tangent planes after meshing (sharper creases, curved parts "
+                    "closer where the cloud is dense; a noisy cloud's vertices move little); false: the indicator's "
+                    "iso-surface as meshed"},
     {.name = "confidence",
      .type = OptionType::Bool,
      .default_json = "false",

@@ -455,6 +455,8 @@ export interface ReconstructOptions {
   boundary?: PoissonBoundary;
   /** bounding cube side over the bounding box's largest side, 1..100. @default 1.1 */
   scale?: number;
+  /** move each vertex onto the points' tangent planes after meshing (false: the iso-surface as meshed). @default true */
+  fit_to_samples?: boolean;
   /** weight each point by its PLY confidence, else its normal length. @default false */
   confidence?: boolean;
   /** estimate normals when the cloud has none (auto), always, or never. @default 'auto' */

@@ -233,8 +233,9 @@ export class Client {
   implicitMesh(request) { return this.request('POST', '/implicit/mesh', { json: request }); }
 
   /** POST /reconstruct: {points, normals (an array), colors} | {data, contentType} (PLY/OBJ/XYZ), with depth,
-   *  point_weight, samples_per_node, boundary, scale, confidence, estimate_normals ('auto' | 'always' | 'never'), k,
-   *  trim, island_area, threads and output -> a closed mesh (open where trimmed); a boolean `normals` is the output option. */
+   *  point_weight, samples_per_node, boundary, scale, fit_to_samples, confidence, estimate_normals ('auto' | 'always' |
+   *  'never'), k, trim, island_area, threads and output -> a closed mesh (open where trimmed); a boolean `normals` is
+   *  the output option. */
   reconstruct({ normals, output, ...options }) {
     const out = { ...(output ?? {}) };
     if (typeof normals === 'boolean') {

@@ -41,8 +41,8 @@ struct SampleGrid {
     double cell = 0;
     std::uint32_t cells_per_side = 0;
     std::vector<GridSample> samples;
-    std::vector<std::uint64_t> keys;      //!< sorted, distinct
-    std::vector<std::uint32_t> starts;    //!< keys.size() + 1 entries
+    std::vector<std::uint64_t> keys;    //!< sorted, distinct
+    std::vector<std::uint32_t> starts;  //!< keys.size() + 1 entries
 
     std::uint32_t coordinate(double x) const {
         const double c = std::floor(x / cell);
@@ -197,8 +197,9 @@ Vec3 fit_vertex(const Vec3& position, const Vec3& normal, const Candidates& c, d
             Float4 t = 1.0f - (dx * dx + dy * dy + dz * dz) * inverse_cutoff;
             t = t > zero ? t : zero;
             const Float4 w = scratch.weight[i] * t * t * t;
-            const Float4 offset = b.nx * dx + b.ny * dy + b.nz * dz +
-                                  scratch.bend[i] * ((bent_x - b.nx) * dx + (bent_y - b.ny) * dy + (bent_z - b.nz) * dz);
+            const Float4 offset =
+                b.nx * dx + b.ny * dy + b.nz * dz +
+                scratch.bend[i] * ((bent_x - b.nx) * dx + (bent_y - b.ny) * dy + (bent_z - b.nz) * dz);
             const Float4 ws = w * offset;
             w_sum += w;
             w2_sum += w * w;
@@ -258,8 +259,9 @@ Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double 
             const std::size_t count = candidates_of_group.count;
             // h^2: about the squared distance to the 6th nearest sample, at least a finest cell squared
             const double bandwidth2 =
-                count == 0 ? 0
-                           : std::max(cell * cell, kBandwidthFactor * grid.cell * grid.cell / static_cast<double>(count));
+                count == 0
+                    ? 0
+                    : std::max(cell * cell, kBandwidthFactor * grid.cell * grid.cell / static_cast<double>(count));
             std::size_t next = g;
             for (; next < order.size() && order[next].first == key; ++next) {
                 if (next % kPollEvery == 0 && (cancelled.load(std::memory_order_relaxed) || cancel.requested())) {

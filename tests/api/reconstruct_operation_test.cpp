@@ -135,17 +135,13 @@ TEST(ReconstructOperation, OptionsReachTheReconstruction) {
     // scale: a larger cube, coarser cells, fewer triangles
     EXPECT_LT(std::stoll(header(run({{"scale", 2}}), "X-Output-Faces")), std::stoll(header(base, "X-Output-Faces")));
     // the other options change the result, and the defaults given explicitly do not
-    const json defaults = {{"point_weight", 4},
-                           {"samples_per_node", 1.5},
-                           {"boundary", "neumann"},
-                           {"scale", 1.1},
-                           {"confidence", false},
-                           {"estimate_normals", "auto"},
-                           {"k", 16}};
+    const json defaults = {
+        {"point_weight", 4},      {"samples_per_node", 1.5}, {"boundary", "neumann"},      {"scale", 1.1},
+        {"fit_to_samples", true}, {"confidence", false},     {"estimate_normals", "auto"}, {"k", 16}};
     const auto mesh_of = [](const ApiResponse& r) { return json::parse(r.body)["mesh"]; };
     EXPECT_TRUE(mesh_of(run(defaults)) == mesh_of(base));
-    for (const json& extra :
-         {json{{"point_weight", 0}}, json{{"samples_per_node", 4}}, json{{"boundary", "dirichlet"}}})
+    for (const json& extra : {json{{"point_weight", 0}}, json{{"samples_per_node", 4}}, json{{"boundary", "dirichlet"}},
+                              json{{"fit_to_samples", false}}})
         EXPECT_FALSE(mesh_of(run(extra)) == mesh_of(base)) << extra.dump();
 }
 

@@ -115,6 +115,23 @@ export async function checkPointCloudView(page, { check, shot, canvasPixels }) {
   check(closed.highest > CUT + 2 * cell && closed.offSphere < cell,
         `the closed mesh reaches z = ${closed.highest.toFixed(3)} above the cut at ${CUT}, and below z = ${CUT - 0.25} ` +
         `lies within ${closed.offSphere.toFixed(4)} of the sphere (cell ${cell.toFixed(4)})`);
+  // the iso-surface as meshed, without the fit of its vertices to the points: farther from the sphere
+  if (await page.isEnabled('#pc-fit')) {
+    await page.uncheck('#pc-fit');
+    const m = await updates();
+    await page.click('#pc-run');
+    await page.waitForFunction((k) => Number(document.getElementById('stats').dataset.updates) > k ||
+                                      !document.getElementById('error').hidden, m, { timeout: 60000 });
+    const meshed = await measure('result');
+    check(!(await page.isVisible('#error')) && meshed.offSphere > closed.offSphere,
+          `without the fit to the points the mesh lies within ${meshed.offSphere.toFixed(4)} of the sphere, with it ` +
+          `${closed.offSphere.toFixed(4)}`);
+    await page.check('#pc-fit');
+    const k = await updates();
+    await page.click('#pc-run');
+    await page.waitForFunction((j) => Number(document.getElementById('stats').dataset.updates) > j ||
+                                      !document.getElementById('error').hidden, k, { timeout: 60000 });
+  }
   if (!trimming) {
     const pixels = await canvasPixels();
     check(pixels.n > 0.03 * pixels.total, `the closed mesh drawn: ${pixels.n} pixels (${await shot('09c-reconstructed')})`);

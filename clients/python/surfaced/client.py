@@ -652,9 +652,10 @@ class Client:
                     content_type: Optional[str] = None, normals: Union[Sequence[Vec3], bool, None] = None,
                     colors: Optional[Sequence[Sequence[float]]] = None, depth: int = 8, point_weight: float = 4,
                     samples_per_node: float = 1.5, boundary: PoissonBoundary = "neumann", scale: float = 1.1,
-                    confidence: bool = False, estimate_normals: NormalEstimation = "auto", k: int = 16,
-                    trim: float = 0, island_area: float = 0.001, vertex_colors: Optional[bool] = None,
-                    threads: int = 1, output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
+                    fit_to_samples: bool = True, confidence: bool = False,
+                    estimate_normals: NormalEstimation = "auto", k: int = 16, trim: float = 0,
+                    island_area: float = 0.001, vertex_colors: Optional[bool] = None, threads: int = 1,
+                    output: Optional[Output] = None, format: OutputFormat = "glb", compression: Compression = "draco",
                     quantize_position: int = 14) -> Result:
         """POST /reconstruct: a closed, outward-oriented triangle mesh through a point cloud (screened Poisson
         reconstruction). Counts, the iso-value and the octree size come in the X-* headers (and ``stats`` of the
@@ -672,6 +673,8 @@ class Client:
         :param samples_per_node: samples per cell on a point's splatting level, > 0 (default 1.5).
         :param boundary: ``"neumann"`` (default) or ``"dirichlet"``.
         :param scale: bounding cube side over the points' bounding box's largest side, 1..100 (default 1.1).
+        :param fit_to_samples: move each vertex onto the points' tangent planes after meshing (default True; False:
+            the indicator's iso-surface as meshed).
         :param confidence: weight each point by a PLY file's confidence property, else its normal's length (default
             False).
         :param estimate_normals: ``"auto"`` (default: when the cloud has none), ``"always"`` or ``"never"``.

@@ -50,6 +50,8 @@ export class PointCloudView {
       if (schema?.maximum !== undefined) $(id).max = String(schema.maximum);
     }
     this.canTrim = !!parameter('trim');
+    this.canFit = !!parameter('fit_to_samples');
+    $('pc-fit').disabled = !this.canFit;
     $('pc-run').disabled = !this.canReconstruct;
     $('pc-trim').disabled = !this.canTrim;
     $('pc-layout').disabled = !this.canTrim;
@@ -200,13 +202,14 @@ export class PointCloudView {
 
   options() {
     return { depth: Number($('pc-depth').value), point_weight: Number($('pc-point-weight').value),
-             trim: this.canTrim ? Number($('pc-trim').value) : 0 };
+             trim: this.canTrim ? Number($('pc-trim').value) : 0, fit: $('pc-fit').checked };
   }
 
   /** POST /reconstruct with the cloud's PLY; `trimmed`: with the trim option (otherwise the closed surface). */
   send(o, trimmed, format) {
     const q = new URLSearchParams({ depth: String(o.depth), point_weight: String(o.point_weight), format });
     if (trimmed) q.set('trim', String(o.trim));
+    if (this.canFit && !o.fit) q.set('fit_to_samples', 'false');
     return call('POST', `/reconstruct?${q}`, { body: this.cloud.ply, contentType: 'application/ply' });
   }
 
