@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "geometry/core/two_parts.h"
-#include "geometry/mesh/normals.h"
 #include "geometry/reconstruct/key_map.h"
 
 namespace surfaced::reconstruct {
@@ -233,12 +232,30 @@ Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double 
     if (n == 0 || samples.positions.empty()) return Ok{};
     const double spacing = std::sqrt(samples.area / static_cast<double>(samples.positions.size()));
     const SampleGrid grid = build_grid(samples, std::max({2 * cell, kSpacingsPerCell * spacing, 1e-6}));
-    const std::vector<Vec3> normals = compute_vertex_normals(mesh);
+    // the mesh's normal at each vertex, for the facing test only (so neither normalised nor weighted beyond the
+    // triangles' areas): the sum of its triangles' cross products, each half of the vertices on its own thread
+    // reading all the triangles
+    std::vector<Vec3> normals(n, Vec3{0, 0, 0});
+    const std::size_t middle = n / 2;
+    run_two_parts(threaded && n >= kThreadedVertices, [&](int part) {
+        const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : n;
+        const std::vector<Index>& corners = mesh.face_indices;
+        for (std::size_t f = 0; f + 1 < mesh.face_offsets.size(); ++f) {
+            const std::size_t first = mesh.face_offsets[f], count = mesh.face_offsets[f + 1] - first;
+            for (std::size_t c = 0; c < count; ++c) {
+                const Index v = corners[first + c];
+                if (v < begin || v >= end) continue;
+                const Vec3& p = mesh.positions[v];
+                const Vec3& next = mesh.positions[corners[first + (c + 1) % count]];
+                const Vec3& previous = mesh.positions[corners[first + (c + count - 1) % count]];
+                normals[v] += cross(next - p, previous - p);
+            }
+        }
+    });
 
     std::atomic<bool> cancelled{false};
     std::size_t candidates[2] = {0, 0};
     std::size_t group_bytes[2] = {0, 0};
-    const std::size_t middle = n / 2;
     run_two_parts(threaded && n >= kThreadedVertices, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : n;
         std::vector<std::pair<std::uint64_t, std::uint32_t>> order;

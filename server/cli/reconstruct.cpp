@@ -24,7 +24,7 @@ oriented consistently (outward on closed shapes) first, unless --estimate-normal
   OUT: a mesh format by extension or --format (.glb: Draco; vertex colours in .glb .ply .obj .json)
 Depth 8 has a 256^3 finest grid (meshed where the surface crosses it: about a second and 150 MB for 50,000
 points); each level more is 8x the grid, so depths 9 and 10 need --max-grid-cells (and, for large clouds,
---max-reconstruct-bytes) raised: the reconstruction of 1,000,000 points at depth 10 takes 2-3 GB and 12-18 s
+--max-reconstruct-bytes) raised: the reconstruction of 1,000,000 points at depth 10 takes 2-3 GB and 13-20 s
 with --threads 2 on two cores.
 
 )";
