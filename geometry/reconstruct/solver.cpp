@@ -118,7 +118,7 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
     std::vector<StencilRows> rows;
     rows.reserve(tree.levels.size());
     for (const OctreeLevel& level : tree.levels) rows.push_back(StencilRows::build(level, threaded));
-    const std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples, rows, threaded);
+    std::vector<std::vector<double>> rhs = divergence_rhs(tree, samples, rows, threaded);
     IndicatorValues out;
     out.values.resize(tree.levels.size());
     out.at_samples.assign(samples.positions.size(), 0.0);
@@ -136,7 +136,7 @@ Result<IndicatorValues> solve_cascadic(const PoissonOctree& tree, const Oriented
         else
             values = interpolate_to_finer(tree.levels[li - 1], out.values[li - 1], level, threaded);
 
-        std::vector<double> b = rhs[li];
+        std::vector<double> b = std::move(rhs[li]);  // each level's right-hand side is used once
         if (li > 0) {
             system.subtract_stiffness(values, b);
             system.subtract_screening(out.at_samples, b);
