@@ -470,7 +470,7 @@ LevelSystem::LevelSystem(const PoissonOctree& tree, int depth, const OrientedSam
 
 void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bool threaded) const {
     const std::size_t dofs = fixed_.size();
-    y.assign(dofs, 0.0);
+    y.resize(dofs);  // every entry is written below (no clearing pass over the level first)
     const std::size_t middle = dofs / 2;
     run_two_parts(threaded, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
@@ -479,7 +479,7 @@ void LevelSystem::apply(const std::vector<double>& x, std::vector<double>& y, bo
     run_two_parts(threaded, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : dofs;
         for (std::size_t v = begin; v < end; ++v)
-            if (!fixed_[v]) y[v] = stencil_sum(rows_, v, spread_.data(), kStiffness.w) * h_;
+            y[v] = fixed_[v] ? 0.0 : stencil_sum(rows_, v, spread_.data(), kStiffness.w) * h_;
     });
     if (!cell_dofs_.empty()) {
         for (std::size_t cell = 0; cell < cell_dofs_.size() / 8; ++cell) {
