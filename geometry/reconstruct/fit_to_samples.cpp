@@ -227,7 +227,7 @@ Vec3 fit_vertex(const Vec3& position, const Vec3& normal, const Candidates& c, d
 }  // namespace
 
 Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double cell, const Cancel& cancel,
-                      bool threaded, FitStats* stats) {
+                      bool threaded) {
     const std::size_t n = mesh.positions.size();
     if (n == 0 || samples.positions.empty()) return Ok{};
     const double spacing = std::sqrt(samples.area / static_cast<double>(samples.positions.size()));
@@ -254,8 +254,6 @@ Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double 
     });
 
     std::atomic<bool> cancelled{false};
-    std::size_t candidates[2] = {0, 0};
-    std::size_t group_bytes[2] = {0, 0};
     run_two_parts(threaded && n >= kThreadedVertices, [&](int part) {
         const std::size_t begin = part == 0 ? 0 : middle, end = part == 0 ? middle : n;
         std::vector<std::pair<std::uint64_t, std::uint32_t>> order;
@@ -263,7 +261,6 @@ Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double 
         for (std::size_t v = begin; v < end; ++v)
             order.emplace_back(grid.key(mesh.positions[v]), static_cast<std::uint32_t>(v));
         std::sort(order.begin(), order.end());
-        group_bytes[part] = order.capacity() * sizeof(order[0]);
         std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges;
         Candidates candidates_of_group;
         VertexScratch scratch;
@@ -289,18 +286,11 @@ Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double 
                 const std::uint32_t v = order[next].second;
                 mesh.positions[v] =
                     fit_vertex(mesh.positions[v], normals[v], candidates_of_group, bandwidth2, cell, scratch);
-                candidates[part] += count;
             }
             g = next;
         }
     });
     if (cancelled) return make_error(ErrorCode::Cancelled, "poisson: cancelled while fitting the mesh to the samples");
-    if (stats) {
-        stats->grid_cell = grid.cell;
-        stats->candidates = candidates[0] + candidates[1];
-        stats->bytes = grid.samples.capacity() * sizeof(GridSample) + grid.keys.capacity() * 8 +
-                       grid.starts.capacity() * 4 + normals.capacity() * sizeof(Vec3) + group_bytes[0] + group_bytes[1];
-    }
     return Ok{};
 }
 

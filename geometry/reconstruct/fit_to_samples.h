@@ -36,16 +36,10 @@
 
 namespace surfaced::reconstruct {
 
-struct FitStats {
-    double grid_cell = 0;        //!< width of the neighbour grid's cells, unit-cube units
-    std::size_t candidates = 0;  //!< samples examined, summed over the vertices (one step)
-    std::size_t bytes = 0;       //!< the grid's and the groups' tables
-};
-
 //! Moves `mesh`'s vertices (unit-cube coordinates, as extract_surface gives them) onto the samples' tangent planes
 //! (see the top of this file). `cell`: the finest cell's width. `threaded`: the vertices in two halves on two threads
 //! for large meshes (the same positions either way). Errors: Cancelled (polled every few thousand vertices).
 Status fit_to_samples(PolygonMesh& mesh, const OrientedSamples& samples, double cell, const Cancel& cancel,
-                      bool threaded = false, FitStats* stats = nullptr);
+                      bool threaded = false);
 
 }  // namespace surfaced::reconstruct
