@@ -244,6 +244,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                 d.nv = demand->nv;
                 d.s_lines = demand->s_lines;
                 d.t_lines = demand->t_lines;
+                d.staggered = demand->staggered;
                 grades[di] = std::move(demand.value());
                 push_density(d, grades[di].rs, grades[di].rt);
                 // rates only grow from here: the grids so far are a lower bound on the output
@@ -422,7 +423,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
         if (!cx.hole[f] && cx.faces[f].size != 4) ++vertices;
     for (std::size_t sp = 0; sp < cx.spokes; ++sp)
         vertices += std::uint64_t(cx.slots[cx.first_spoke_slot + sp].count - 1);
-    for (const auto& d : out.domains) vertices += std::uint64_t(d.nu - 1) * std::uint64_t(d.nv - 1);
+    for (const auto& d : out.domains) vertices += inner_points(d).size();
     out.vertices = vertices;
     return out;
 }
@@ -512,11 +513,10 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
     for (std::size_t di = 0; di < p.domains.size(); ++di) {
         const auto& d = p.domains[di];
         first_inner[di] = Index(sites.size());
-        for (int j = 1; j < d.nv; ++j)
-            for (int i = 1; i < d.nu; ++i) {
-                const auto [u, v] = face_uv(cx.faces[d.face].size, d.subface, d.s_at(i), d.t_at(j));
-                sites.push_back({d.face, u, v});
-            }
+        for (const P2& q : inner_points(d)) {
+            const auto [u, v] = face_uv(cx.faces[d.face].size, d.subface, q.s, q.t);
+            sites.push_back({d.face, u, v});
+        }
     }
 
     // 2. evaluate every vertex once, face by face
@@ -576,7 +576,8 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         ids.reserve(local.points.size());
         for (int k = 0; k < 4; ++k)
             for (int i = 0; i < d.side[k]; ++i) ids.push_back(side[std::size_t(k)][std::size_t(i)]);
-        for (int i = 0; i < (d.nu - 1) * (d.nv - 1); ++i) ids.push_back(first_inner[di] + Index(i));
+        const std::size_t ring = ids.size();
+        for (std::size_t i = ring; i < local.points.size(); ++i) ids.push_back(first_inner[di] + Index(i - ring));
         for (const auto& tri : local.triangles)
             triangles.push_back({std::uint32_t(di),
                                  {ids[tri[0]], ids[tri[1]], ids[tri[2]]},

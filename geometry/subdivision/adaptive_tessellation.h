@@ -11,8 +11,10 @@
 // fails), so that an edge running into a crease is fine only at that end; the vertices on an edge are evaluated
 // once and shared by index by every face on it, so the output is watertight where the input is closed and has no
 // T-junctions. A uniform domain whose sides all carry its inner rates, uniformly, is a regular grid; otherwise its
-// inner grid of (nu - 1) x (nv - 1) points is joined to the sides by one transition strip per side
-// (Bfr::Tessellation's layout).
+// inner grid's points are joined to the sides by one transition strip per side (Bfr::Tessellation's layout). A grid
+// is plain (each cell two right triangles) or staggered (odd rows at the midpoints of the s intervals, isosceles
+// triangles, which meet a bound with about 0.78 times the points where the surface curves both ways), whichever the
+// grading finds takes fewer triangles (tessellation_strips.h).
 //
 // Rates (guaranteed). The limit surface over a domain is a tree of bicubic B-spline patches (LimitFaceSurface, prepared
 // to kTreeLevels local refinements) plus, at irregular vertices (and semi-sharp features not decayed by then), leaves
@@ -28,8 +30,8 @@
 // plane for every triangle that overlaps only patches; a point whose projection on that plane falls outside the
 // triangle is next to a neighbour's, except beyond an open boundary: a triangle with an edge there is bounded on |S(x)
 // - T(x)| (the full second derivatives). Each domain's grid lines are graded: densities per 1/32 of s and of t, started
-// from each patch's second derivatives along its mean normal (an estimate, not a bound), raised where a cell's two
-// triangles exceed the tolerance (around a patch whose own bound fails, else over the cell), so that a narrow band of
+// from each patch's second derivatives along its mean normal (an estimate, not a bound), raised where a triangle of
+// the grid exceeds the tolerance (around a patch whose own bound fails, else over the triangle), so that a narrow band of
 // high curvature (a semi-sharp crease) is fine only where it lies; a transition strip's failing triangle raises its
 // edge's or spoke's density over the part of the side it spans (its other domains are checked again). Patches deeper
 // than kBoundedDepth, and leaves without a patch (at irregular vertices, where the second derivatives grow without
@@ -106,6 +108,8 @@ struct LimitTessellationPlan {
         //! direction: corner k to corner k + 1); empty: the uniform i / side[k]. They follow their base edge's or
         //! spoke's grading, the same for every domain on it.
         std::array<std::vector<double>, 4> side_lines;
+        //! Odd rows at the midpoints of the s intervals (tessellation_strips.h), where that takes fewer triangles.
+        bool staggered = false;
         double s_at(int i) const { return s_lines.empty() ? double(i) / nu : s_lines[std::size_t(i)]; }
         double t_at(int j) const { return t_lines.empty() ? double(j) / nv : t_lines[std::size_t(j)]; }
         double side_at(int k, int i) const {

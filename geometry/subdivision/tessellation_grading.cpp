@@ -17,6 +17,9 @@ constexpr double kCoarsenTarget = 0.97;
 
 //! How many times a graded grid within the tolerance is coarsened.
 constexpr int kCoarsenRounds = 6;
+//! Staggered grids are used from this many segments each way (on smaller ones, the vertex removal that follows
+//! does better from the plain grid).
+constexpr int kStaggerFrom = 4;
 //! How many single-line trims a graded grid within the tolerance tries after its coarsenings.
 constexpr int kTrimTrials = 4;
 
@@ -90,42 +93,23 @@ void apply(const Graded& g, LimitTessellationPlan::Domain& d) {
     d.t_lines = g.t_lines;
     d.nu = g.nu;
     d.nv = g.nv;
+    d.staggered = g.staggered;
     fix_inner(d);
 }
 
-Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
-                             const LimitTessellationOptions& options) {
+namespace {
+
+//! Triangles of a graded grid whose sides carry its lines.
+std::uint64_t grid_triangles(const Graded& g) {
+    const auto cells = 2 * std::uint64_t(g.nu) * std::uint64_t(g.nv);
+    return staggered(g.staggered, g.nu, g.nv) ? cells + 2 * std::uint64_t(g.nv / 2) : cells;
+}
+
+//! graded_demand's checks, coarsenings and trims from the first densities in `g`, for its layout.
+Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const LimitTessellationOptions& options,
+                      Graded g) {
     const double tol = options.tolerance;
     const std::size_t root = domain_root(fd, subface);
-    Graded g;
-    g.rs.fill(1.0);
-    g.rt.fill(1.0);
-    {
-        std::vector<std::tuple<std::size_t, double, double, double>> stack{{root, 0.0, 0.0, 1.0}};
-        while (!stack.empty()) {
-            const auto [node, s0, t0, w] = stack.back();
-            stack.pop_back();
-            if (w < kBoundedWidth) continue;
-            const auto& n = fd.surface->nodes()[node];
-            if (n.patch >= 0) {
-                // a first guess, not a bound: the second derivatives along the patch's mean normal (the checks
-                // below bound every cell with its triangles' own planes and raise the densities where needed)
-                const PatchData& pd = fd.patches[std::size_t(n.patch)];
-                Bounds m;
-                m.include(norm(pd.n0) > 0 ? along_in_box(pd, pd.n0, 0, 1, 0, 1) : pd.plane, 1.0 / (w * w));
-                const auto [ru, rv] = rates_for(m, tol);
-                raise(g.rs, s0, s0 + w, ru);
-                raise(g.rt, t0, t0 + w, rv);
-            } else if (n.first_child >= 0) {
-                const double h = 0.5 * w;
-                const auto c = std::size_t(n.first_child);
-                stack.emplace_back(c, s0, t0, h);
-                stack.emplace_back(c + 1, s0 + h, t0, h);
-                stack.emplace_back(c + 2, s0 + h, t0 + h, h);
-                stack.emplace_back(c + 3, s0, t0 + h, h);
-            }
-        }
-    }
     std::optional<Graded> best;  // the smallest grid within the tolerance so far
     int coarsenings = 0;
     // last, one line fewer along s (trim 0), then along t (trim 1), as long as the grid passes: a trial that fails
@@ -146,96 +130,101 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
         if (auto status = regrade(g, options, face); !status) return status.error();
         if (iteration > 40 && trim < 0) break;
         const int nu = g.nu, nv = g.nv;
-        const auto s_at = [&](int i) { return g.s_lines.empty() ? double(i) / nu : g.s_lines[std::size_t(i)]; };
         const auto t_at = [&](int j) { return g.t_lines.empty() ? double(j) / nv : g.t_lines[std::size_t(j)]; };
         // the output has at least this domain's grid: refuse before evaluating more than the budget allows
         if (auto status = check_budget(2 * std::uint64_t(nu) * std::uint64_t(nv), options); !status)
             return status.error();
-        std::vector<Vec3> grid;  // S at the grid points, for the triangles' planes
-        grid.reserve(std::size_t(nu + 1) * std::size_t(nv + 1));
-        for (int j = 0; j <= nv; ++j)
-            for (int i = 0; i <= nu; ++i) {
-                auto p = position_at(fd, subface, {s_at(i), t_at(j)});
-                if (!p) return p.error();
-                grid.push_back(*p);
+        // the domain's layout as triangulate() makes it for a grid whose sides carry its lines: rows of points
+        // (staggered ones at the midpoints), S at each for the triangles' planes, and the bands' triangles
+        std::vector<P2> points;
+        std::vector<Vec3> grid;
+        std::vector<std::array<std::uint32_t, 3>> triangles;
+        {
+            std::vector<std::uint32_t> lower, upper;
+            std::vector<double> lower_s, upper_s;
+            for (int j = 0; j <= nv; ++j) {
+                upper_s = row_s(g.s_lines, nu, nv, j, staggered(g.staggered, nu, nv));
+                upper.clear();
+                for (double x : upper_s) {
+                    upper.push_back(std::uint32_t(points.size()));
+                    points.push_back({x, t_at(j)});
+                    auto p = position_at(fd, subface, points.back());
+                    if (!p) return p.error();
+                    grid.push_back(*p);
+                }
+                if (j > 0) {
+                    if (staggered(g.staggered, nu, nv)) {
+                        zigzag(lower, lower_s, upper, upper_s, triangles);
+                    } else {
+                        for (std::size_t i = 0; i + 1 < lower.size(); ++i) {
+                            triangles.push_back({lower[i], lower[i + 1], upper[i + 1]});
+                            triangles.push_back({lower[i], upper[i + 1], upper[i]});
+                        }
+                    }
+                }
+                std::swap(lower, upper);
+                std::swap(lower_s, upper_s);
             }
-        const auto at = [&](int i, int j) { return grid[std::size_t(j) * std::size_t(nu + 1) + std::size_t(i)]; };
+        }
         Density next_s = g.rs, next_t = g.rt;
-        Density worst_s{}, worst_t{};  // per bin, the largest ratio (bound / tolerance) of the cells over it
+        Density worst_s{}, worst_t{};  // per bin, the largest ratio (bound / tolerance) of the triangles over it
         bool fail = false;
-        for (int j = 0; j < nv; ++j)
-            for (int i = 0; i < nu; ++i) {
-                const P2 lo{s_at(i), t_at(j)}, hi{s_at(i + 1), t_at(j + 1)};
-                const double hs = hi.s - lo.s, ht = hi.t - lo.t;
-                const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
-                Overlap o;
-                query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
-                const std::optional<Vec3> n_lower = unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)),
-                                          n_upper = unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-                const SignedBounds lower = plane_bounds(fd, o, n_lower, lo, c10, hi);
-                const SignedBounds upper = plane_bounds(fd, o, n_upper, lo, hi, c01);
-                Bounds lower_side, upper_side;  // the bounds of each triangle's larger side, for shrink
-                const double rl = triangle_bound(lower, lo, c10, hi, &lower_side) / tol,
-                             ru = triangle_bound(upper, lo, hi, c01, &upper_side) / tol;
-                double fs = 1, ft = 1, cell_ratio = std::max(rl, ru);
-                if (rl > 1 || ru > 1) {
-                    // a patch that fails on its own (a narrow band of high curvature inside a coarse cell) refines
-                    // the grid around itself, by as much as the cell would need; the whole cell only when none does
-                    bool local = false;
-                    for (const auto& piece : o.patches) {
-                        Overlap one;
-                        one.m.include(fd.patches[piece.patch].m, 1.0 / (piece.w * piece.w));
-                        one.patches = {piece};
-                        Bounds m, mu;
-                        const double r =
-                            std::max(triangle_bound(plane_bounds(fd, one, n_lower, lo, c10, hi), lo, c10, hi, &m),
-                                     triangle_bound(plane_bounds(fd, one, n_upper, lo, hi, c01), lo, hi, c01, &mu)) /
-                            tol;
-                        if (r <= 1) continue;
-                        local = true;
-                        m.include(mu, 1.0);
-                        const auto [ps, pt] = shrink(m, hs, ht, r);
-                        const double ws = 0.5 * hs / ps, wt = 0.5 * ht / pt;
-                        raise(next_s, std::max(lo.s, piece.s0 - ws), std::min(hi.s, piece.s0 + piece.w + ws), ps / hs);
-                        raise(next_t, std::max(lo.t, piece.t0 - wt), std::min(hi.t, piece.t0 + piece.w + wt), pt / ht);
-                        fail = true;
-                    }
-                    if (!local) {
-                        Bounds m = lower_side;
-                        m.include(upper_side, 1.0);
-                        std::tie(fs, ft) = shrink(m, hs, ht, std::max(rl, ru));
-                    }
-                }
-                if (o.uncovered) {  // the parts no patch bounds (deep at irregular vertices) are sampled
-                    double e = 0;
-                    for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
-                        auto sampled = sampled_error(fd, subface, lo, p, q);
-                        if (!sampled) return sampled.error();
-                        e = std::max(e, *sampled);
-                    }
-                    const double ratio = e / (tol / kSampledSafety);
-                    cell_ratio = std::max(cell_ratio, ratio);
-                    if (ratio > 1) {
-                        // the cells next to the uncovered parts shrink by f: the density rises over a cell's width
-                        // around them, not over the whole cell (a coarse cell that reaches an irregular vertex
-                        // would otherwise refine everything it spans)
-                        const double f = std::min(4.0, std::max(1.1, std::sqrt(ratio)));
-                        const double ws = 0.5 * hs / f, wt = 0.5 * ht / f;
-                        fail = true;
-                        raise(next_s, std::max(lo.s, o.uncovered_lo.s - ws), std::min(hi.s, o.uncovered_hi.s + ws),
-                              f / hs);
-                        raise(next_t, std::max(lo.t, o.uncovered_lo.t - wt), std::min(hi.t, o.uncovered_hi.t + wt),
-                              f / ht);
-                    }
-                }
-                if (fs > 1 || ft > 1) {
+        for (const auto& tri : triangles) {
+            const P2 &a = points[tri[0]], &b = points[tri[1]], &c = points[tri[2]];
+            const P2 lo{std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})};
+            const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
+            const double hs = hi.s - lo.s, ht = hi.t - lo.t;
+            Overlap o;
+            query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
+            const std::optional<Vec3> n = unit_normal(grid[tri[0]], grid[tri[1]], grid[tri[2]]);
+            Bounds larger_side;  // the bounds of the triangle's larger side, for shrink
+            const double ratio = triangle_bound(plane_bounds(fd, o, n, a, b, c), a, b, c, &larger_side) / tol;
+            double fs = 1, ft = 1, cell_ratio = ratio;
+            if (ratio > 1) {
+                // a patch that fails on its own (a narrow band of high curvature inside a coarse triangle) refines
+                // the grid around itself, by as much as the triangle would need; the whole triangle only when none
+                // does
+                bool local = false;
+                for (const auto& piece : o.patches) {
+                    Overlap one;
+                    one.m.include(fd.patches[piece.patch].m, 1.0 / (piece.w * piece.w));
+                    one.patches = {piece};
+                    Bounds m;
+                    const double r = triangle_bound(plane_bounds(fd, one, n, a, b, c), a, b, c, &m) / tol;
+                    if (r <= 1) continue;
+                    local = true;
+                    const auto [ps, pt] = shrink(m, hs, ht, r);
+                    const double ws = 0.5 * hs / ps, wt = 0.5 * ht / pt;
+                    raise(next_s, std::max(lo.s, piece.s0 - ws), std::min(hi.s, piece.s0 + piece.w + ws), ps / hs);
+                    raise(next_t, std::max(lo.t, piece.t0 - wt), std::min(hi.t, piece.t0 + piece.w + wt), pt / ht);
                     fail = true;
-                    raise(next_s, lo.s, hi.s, fs / hs);
-                    raise(next_t, lo.t, hi.t, ft / ht);
                 }
-                raise(worst_s, lo.s, hi.s, cell_ratio);
-                raise(worst_t, lo.t, hi.t, cell_ratio);
+                if (!local) std::tie(fs, ft) = shrink(larger_side, hs, ht, ratio);
             }
+            if (o.uncovered) {  // the parts no patch bounds (deep at irregular vertices) are sampled
+                auto sampled = sampled_error(fd, subface, a, b, c);
+                if (!sampled) return sampled.error();
+                const double sampled_ratio = *sampled / (tol / kSampledSafety);
+                cell_ratio = std::max(cell_ratio, sampled_ratio);
+                if (sampled_ratio > 1) {
+                    // the triangles next to the uncovered parts shrink by f: the density rises over a triangle's
+                    // width around them, not over the whole triangle (a coarse one that reaches an irregular vertex
+                    // would otherwise refine everything it spans)
+                    const double f = std::min(4.0, std::max(1.1, std::sqrt(sampled_ratio)));
+                    const double ws = 0.5 * hs / f, wt = 0.5 * ht / f;
+                    fail = true;
+                    raise(next_s, std::max(lo.s, o.uncovered_lo.s - ws), std::min(hi.s, o.uncovered_hi.s + ws), f / hs);
+                    raise(next_t, std::max(lo.t, o.uncovered_lo.t - wt), std::min(hi.t, o.uncovered_hi.t + wt), f / ht);
+                }
+            }
+            if (fs > 1 || ft > 1) {
+                fail = true;
+                raise(next_s, lo.s, hi.s, fs / hs);
+                raise(next_t, lo.t, hi.t, ft / ht);
+            }
+            raise(worst_s, lo.s, hi.s, cell_ratio);
+            raise(worst_t, lo.t, hi.t, cell_ratio);
+        }
         if (trim >= 0) {
             if (fail) {
                 ++trim;
@@ -278,6 +267,53 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
     }
     if (best) return *best;
     return g;
+}
+
+}  // namespace
+
+Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
+                             const LimitTessellationOptions& options) {
+    const double tol = options.tolerance;
+    const std::size_t root = domain_root(fd, subface);
+    Graded g;
+    g.rs.fill(1.0);
+    g.rt.fill(1.0);
+    {
+        std::vector<std::tuple<std::size_t, double, double, double>> stack{{root, 0.0, 0.0, 1.0}};
+        while (!stack.empty()) {
+            const auto [node, s0, t0, w] = stack.back();
+            stack.pop_back();
+            if (w < kBoundedWidth) continue;
+            const auto& n = fd.surface->nodes()[node];
+            if (n.patch >= 0) {
+                // a first guess, not a bound: the second derivatives along the patch's mean normal (the checks
+                // below bound every cell with its triangles' own planes and raise the densities where needed)
+                const PatchData& pd = fd.patches[std::size_t(n.patch)];
+                Bounds m;
+                m.include(norm(pd.n0) > 0 ? along_in_box(pd, pd.n0, 0, 1, 0, 1) : pd.plane, 1.0 / (w * w));
+                const auto [ru, rv] = rates_for(m, tol);
+                raise(g.rs, s0, s0 + w, ru);
+                raise(g.rt, t0, t0 + w, rv);
+            } else if (n.first_child >= 0) {
+                const double h = 0.5 * w;
+                const auto c = std::size_t(n.first_child);
+                stack.emplace_back(c, s0, t0, h);
+                stack.emplace_back(c + 1, s0 + h, t0, h);
+                stack.emplace_back(c + 2, s0 + h, t0 + h, h);
+                stack.emplace_back(c + 3, s0, t0 + h, h);
+            }
+        }
+    }
+    Graded stagger = g;
+    stagger.staggered = true;
+    auto plain = refine(fd, face, subface, options, std::move(g));
+    if (!plain) return plain.error();
+    auto staggered_grid = refine(fd, face, subface, options, std::move(stagger));
+    // a staggered grid that would exceed the budget where the plain one does not is not needed
+    if (!staggered_grid && staggered_grid.error().code == ErrorCode::BudgetExceeded) return *plain;
+    if (!staggered_grid) return staggered_grid.error();
+    const bool large = std::min(staggered_grid->nu, staggered_grid->nv) >= kStaggerFrom;
+    return large && grid_triangles(*staggered_grid) < grid_triangles(*plain) ? *staggered_grid : *plain;
 }
 
 Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, int subface,

@@ -40,6 +40,7 @@ struct Graded {
     Density rs{}, rt{};
     int nu = 1, nv = 1;
     std::vector<double> s_lines, t_lines;
+    bool staggered = false;  //!< odd rows at the midpoints (tessellation_strips.h)
 };
 
 //! The lines of `g` from its densities; BudgetExceeded above options.max_segments.
@@ -53,7 +54,9 @@ void apply(const Graded& g, LimitTessellationPlan::Domain& d);
 //! no patch bounds them) and the densities raised where a cell exceeds the tolerance (around a patch whose own bound
 //! fails, else over the cell), until none does; the grid is then coarsened where every cell over a bin has room and
 //! refined again (six times), then one line fewer is tried along s, then along t, while the grid passes; the
-//! smallest grid within the tolerance is kept.
+//! smallest grid within the tolerance is kept. This is done for the plain and the staggered layout
+//! (tessellation_strips.h), and the one with fewer triangles is returned (the staggered one only from
+//! kStaggerFrom segments each way, and never when it alone would exceed the budget).
 Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
                              const LimitTessellationOptions& options);
 

@@ -23,6 +23,7 @@
 #include "geometry/subdivision/adaptive_tessellation.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/tessellation_bounds.h"
+#include "geometry/subdivision/tessellation_strips.h"
 #include "tests/support/opensubdiv_shapes.h"
 #include "tests/support/mesh_asserts.h"
 #include "tests/support/osd_reference.h"
@@ -491,6 +492,93 @@ TEST(AdaptiveTessellation, SignedBoundsOnASaddleAreExact) {
         EXPECT_NEAR(dominant.uu, 2 * a, 1e-12);  // the s side: its edge along s is the longer
         EXPECT_LT(bound, 0.9 * triangle_bound(magnitude, p0, p1, p2));
     }
+}
+
+// A staggered grid (odd rows at the midpoints of the s intervals) tiles its domain exactly, in both of
+// triangulate()'s layouts (a grid whose sides carry its lines, and an inner grid joined to graded sides by strips):
+// every triangle counter-clockwise, the areas summing to the square, every inner edge used once each way and the
+// boundary edges exactly the sides' segments; the counts are the ones the budget predicts. Its triangles are bounded
+// by 0.78 of a square cell's right triangles (circumradius 0.625 against 0.707 of the side).
+TEST(AdaptiveTessellation, StaggeredGridsTileTheirDomain) {
+    using namespace tessellation_detail;
+    const auto check = [](const LimitTessellationPlan::Domain& d) {
+        const LocalMesh local = triangulate(d);
+        EXPECT_EQ(local.triangles.size(), domain_triangles(d));
+        const std::size_t ring = std::size_t(d.side[0] + d.side[1] + d.side[2] + d.side[3]);
+        const std::vector<P2> inner = inner_points(d);
+        ASSERT_EQ(local.points.size(), ring + inner.size());
+        for (std::size_t i = 0; i < inner.size(); ++i) {
+            EXPECT_EQ(local.points[ring + i].s, inner[i].s);
+            EXPECT_EQ(local.points[ring + i].t, inner[i].t);
+            EXPECT_GT(inner[i].s, 0.0);
+            EXPECT_LT(inner[i].s, 1.0);
+        }
+        double area = 0;
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+        for (const auto& tri : local.triangles) {
+            const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
+            const double twice = (b.s - a.s) * (c.t - a.t) - (b.t - a.t) * (c.s - a.s);
+            EXPECT_GT(twice, 0.0);
+            area += 0.5 * twice;
+            for (int k = 0; k < 3; ++k) ++edges[{tri[std::size_t(k)], tri[std::size_t((k + 1) % 3)]}];
+        }
+        EXPECT_NEAR(area, 1.0, 1e-12);
+        for (const auto& [edge, count] : edges) {
+            EXPECT_EQ(count, 1);
+            const bool boundary = edge.first < ring && edge.second < ring && (edge.first + 1) % ring == edge.second;
+            EXPECT_EQ(edges.count({edge.second, edge.first}), boundary ? 0u : 1u) << edge.first << " " << edge.second;
+        }
+    };
+    for (const int nu : {2, 3, 5})
+        for (const int nv : {2, 3, 4, 7}) {
+            SCOPED_TRACE(std::to_string(nu) + " x " + std::to_string(nv));
+            LimitTessellationPlan::Domain grid;
+            grid.nu = nu;
+            grid.nv = nv;
+            grid.side[0] = grid.side[2] = nu;
+            grid.side[1] = grid.side[3] = nv;
+            grid.staggered = true;
+            ASSERT_TRUE(is_grid(grid));
+            check(grid);
+            EXPECT_EQ(domain_triangles(grid), 2u * nu * nv + 2u * (nv / 2));
+            // graded inner lines, sides with their own counts and lines
+            LimitTessellationPlan::Domain strips = grid;
+            strips.s_lines = {0.0};
+            for (int i = 1; i < nu; ++i) strips.s_lines.push_back(std::pow(double(i) / nu, 1.5));
+            strips.s_lines.push_back(1.0);
+            strips.side[0] = nu + 2;
+            strips.side[1] = 3;
+            strips.side[2] = 1;
+            strips.side[3] = nv + 1;
+            strips.side_lines[3] = {0.0};
+            for (int i = 1; i <= nv; ++i) strips.side_lines[3].push_back(std::sqrt(double(i) / (nv + 1)));
+            strips.side_lines[3].push_back(1.0);
+            ASSERT_FALSE(is_grid(strips));
+            check(strips);
+        }
+    // the bound of an isotropic form over a square cell's right triangle and over the staggered triangle
+    const Bounds isotropic{1.0, 0.0, 1.0};
+    const double right = triangle_bound(isotropic, {0, 0}, {1, 0}, {1, 1});
+    const double stagger = triangle_bound(isotropic, {0, 0}, {1, 0}, {0.5, 1});
+    EXPECT_NEAR(right, 0.25, 1e-15);
+    EXPECT_NEAR(stagger / right, 0.78125, 1e-12);
+}
+
+// Where the curvature is elliptic and the grid is large enough, the planner staggers (it keeps the layout with fewer
+// triangles): some of the smooth cube's domains are staggered at 1e-3 of its diagonal, and the tolerance holds.
+TEST(AdaptiveTessellation, EllipticFacesAreStaggered) {
+    const PolygonMesh mesh = shapes::cube();
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 1e-3 * diagonal(mesh);
+    auto result = tessellate_limit(*evaluator, mesh, options);
+    ASSERT_TRUE(result.ok()) << result.error().message;
+    std::size_t staggered = 0;
+    for (const auto& d : result->plan.domains) staggered += d.staggered ? 1 : 0;
+    EXPECT_GT(staggered, 0u);
+    EXPECT_LE(result->achieved_error, options.tolerance);
+    EXPECT_LE(sampled_distance(*evaluator, mesh, result->mesh), options.tolerance);
 }
 
 }  // namespace
