@@ -8,8 +8,9 @@
 // bounding-box diagonal. Times: ours includes creating the evaluator; Bfr includes its factory and tessellation
 // objects and the evaluation; uniform is subdivide() alone.
 //
-// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R]   (from the repository root, which holds
-// tests/data; --only runs the rows whose mesh name contains NAME, --relative one tolerance R of the diagonal)
+// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain]   (from the repository root,
+// which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative one tolerance R of the
+// diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger = false)
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/bfr/tessellation.h>
@@ -26,6 +27,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/io/mesh_io.h"
@@ -149,8 +151,9 @@ PolygonMesh bfr_tessellate(const PolygonMesh& mesh, int rate) {
 
 std::string g_only;
 double g_relative = 0;
+bool g_plain = false;
 
-void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed) {
+void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed, bool stagger = true) {
     if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     if (!evaluator) {
@@ -168,6 +171,7 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     options.tolerance = tolerance;
     options.max_segments = 1024;
     options.guaranteed = guaranteed;
+    options.stagger = stagger;
     auto ours = tessellate_limit(*fresh, mesh, options);
     const double ours_ms = watch.ms();
     if (!ours) {
@@ -209,11 +213,14 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     const double bfr_ms = watch.ms();
     const double bfr_error = max_distance(samples, bfr);
 
-    std::printf("| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n",
-                name, guaranteed ? "" : " (measured)", mesh.face_count(), relative, ours->mesh.face_count(), ours_ms,
-                ours_error / tolerance, level, uniform_triangles, uniform_ms, uniform_error / tolerance,
-                double(ours->mesh.face_count()) / double(uniform_triangles), hi, bfr.face_count(),
-                bfr_error / tolerance, ours_ms / bfr_ms);
+    std::printf(
+        "| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n", name,
+        !guaranteed ? " (measured)"
+        : stagger   ? ""
+                    : " (plain)",
+        mesh.face_count(), relative, ours->mesh.face_count(), ours_ms, ours_error / tolerance, level, uniform_triangles,
+        uniform_ms, uniform_error / tolerance, double(ours->mesh.face_count()) / double(uniform_triangles), hi,
+        bfr.face_count(), bfr_error / tolerance, ours_ms / bfr_ms);
     std::fflush(stdout);
 }
 
@@ -235,6 +242,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--quick") == 0) quick = true;
         if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) g_only = argv[++i];
         if (std::strcmp(argv[i], "--relative") == 0 && i + 1 < argc) g_relative = std::atof(argv[++i]);
+        if (std::strcmp(argv[i], "--plain") == 0) g_plain = true;
     }
     std::printf(
         "| mesh | faces | tolerance | ours tris | ours ms | ours err/tol | uniform level | uniform tris | "
@@ -246,17 +254,21 @@ int main(int argc, char** argv) {
     for (Index v : {4u, 5u, 6u, 7u}) top_sharp.tags.creases.push_back({v, v == 7 ? 4u : v + 1, 10.0});
     std::vector<double> relatives = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-2, 1e-3};
     if (g_relative > 0) relatives = {g_relative};
+    // guaranteed rates, then with plain grids only (--plain), then measured rates
+    std::vector<std::pair<bool, bool>> kinds{{true, true}};
+    if (g_plain) kinds.emplace_back(true, false);
+    kinds.emplace_back(false, true);
     for (double relative : relatives)
-        for (bool guaranteed : {true, false}) {
-            run("cube", shapes::cube(), relative, guaranteed);
-            run("cube, edge loop sharpness 2.5", creased, relative, guaranteed);
-            run("cube, top loop infinitely sharp", top_sharp, relative, guaranteed);
-            run("thin torus 12x8 (r = R/8)", shapes::torus(12, 8, 1.0, 0.125), relative, guaranteed);
-            run("irregular torus", shapes::irregular_torus(), relative, guaranteed);
+        for (const auto& [guaranteed, stagger] : kinds) {
+            run("cube", shapes::cube(), relative, guaranteed, stagger);
+            run("cube, edge loop sharpness 2.5", creased, relative, guaranteed, stagger);
+            run("cube, top loop infinitely sharp", top_sharp, relative, guaranteed, stagger);
+            run("thin torus 12x8 (r = R/8)", shapes::torus(12, 8, 1.0, 0.125), relative, guaranteed, stagger);
+            run("irregular torus", shapes::irregular_torus(), relative, guaranteed, stagger);
             for (const char* name : {"catmark_pyramid_creases1", "catmark_torus_creases0", "catmark_car"}) {
                 const PolygonMesh mesh = load(name);
                 if (mesh.face_count() > 0 && !(quick && std::strcmp(name, "catmark_car") == 0))
-                    run(name, mesh, relative, guaranteed);
+                    run(name, mesh, relative, guaranteed, stagger);
             }
         }
     return 0;

@@ -87,6 +87,9 @@ struct LimitTessellationOptions {
     //! With guaranteed rates: afterwards remove the vertices the tolerance does not need (bounded half-edge
     //! collapses, tessellation_decimation.h), so that lines a narrow band needs do not cross the rest of a face.
     bool decimate = true;
+    //! With guaranteed rates: also grade each face as a staggered grid (tessellation_strips.h) and keep whichever
+    //! layout takes fewer triangles; false: plain grids only.
+    bool stagger = true;
     //! Polled between faces; when it fires the result is Cancelled.
     Cancel cancel;
 };

@@ -307,7 +307,7 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
     Graded stagger = g;
     stagger.staggered = true;
     auto plain = refine(fd, face, subface, options, std::move(g));
-    if (!plain) return plain.error();
+    if (!plain || !options.stagger) return plain;
     auto staggered_grid = refine(fd, face, subface, options, std::move(stagger));
     // a staggered grid that would exceed the budget where the plain one does not is not needed
     if (!staggered_grid && staggered_grid.error().code == ErrorCode::BudgetExceeded) return *plain;
