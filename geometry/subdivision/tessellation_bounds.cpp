@@ -68,14 +68,19 @@ Basis bernstein_of_basis(int d, double a, double b) {
 //! max |sum_ij c[i][j] B_i(s) C_j(t)| over the box, from the Bernstein coefficients: c are the B-spline
 //! coefficients (ds + 1 along s, dt + 1 along t, c[i + (ds + 1) j]), bs and bt the bases' Bernstein coefficients.
 std::pair<double, double> box_range(const double* c, int ds, int dt, const Basis& bs, const Basis& bt) {
+    // the tensor product's coefficients one direction at a time: along s for each t row, then along t
+    double along_s[4][4];  // [js][j]
+    for (int j = 0; j <= dt; ++j)
+        for (int js = 0; js <= ds; ++js) {
+            double v = 0;
+            for (int i = 0; i <= ds; ++i) v += c[i + (ds + 1) * j] * bs[std::size_t(i)][std::size_t(js)];
+            along_s[js][j] = v;
+        }
     double low = std::numeric_limits<double>::infinity(), high = -low;
     for (int js = 0; js <= ds; ++js)
         for (int jt = 0; jt <= dt; ++jt) {
             double v = 0;
-            for (int i = 0; i <= ds; ++i)
-                for (int j = 0; j <= dt; ++j)
-                    v +=
-                        c[i + (ds + 1) * j] * bs[std::size_t(i)][std::size_t(js)] * bt[std::size_t(j)][std::size_t(jt)];
+            for (int j = 0; j <= dt; ++j) v += along_s[js][j] * bt[std::size_t(j)][std::size_t(jt)];
             low = std::min(low, v);
             high = std::max(high, v);
         }

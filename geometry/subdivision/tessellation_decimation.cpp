@@ -5,6 +5,7 @@
 #include <optional>
 #include <queue>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 
 namespace surfaced::tessellation_detail {
@@ -77,7 +78,7 @@ public:
         return removed;
     }
 
-    Result<TriangleError> worst() const {
+    Result<TriangleError> worst() {
         TriangleError out;
         for (std::size_t t = 0; t < tris_.size(); ++t) {
             if (!alive_[t]) continue;
@@ -152,11 +153,33 @@ private:
         return ratio_[t];
     }
 
-    Result<TriangleError> error_of(const DomainTriangle& t) const {
+    //! A triangle's error, computed once: the same candidate triangles come back each time a ring is looked at
+    //! again (a vertex's (s, t) in a domain is fixed, so the domain and the vertex ids name the triangle).
+    Result<TriangleError> error_of(const DomainTriangle& t) {
+        std::array<Index, 3> ids = t.v;
+        std::sort(ids.begin(), ids.end());
+        const Key key{t.domain, ids[0], ids[1], ids[2]};
+        if (const auto found = known_.find(key); found != known_.end()) return found->second;
         const DecimationDomain& d = domains_[t.domain];
-        return triangle_error(*d.face, d.subface, d.open_sides, t.p[0], t.p[1], t.p[2],
-                              {positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]]}, true);
+        auto e = triangle_error(*d.face, d.subface, d.open_sides, t.p[0], t.p[1], t.p[2],
+                                {positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]]}, true);
+        if (e) known_.emplace(key, *e);
+        return e;
     }
+
+    struct Key {
+        std::uint32_t domain;
+        Index a, b, c;
+        bool operator==(const Key& o) const { return domain == o.domain && a == o.a && b == o.b && c == o.c; }
+    };
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const {
+            std::uint64_t h = k.domain;
+            for (Index v : {k.a, k.b, k.c}) h = (h ^ v) * 0x9E3779B97F4A7C15ull;
+            return std::size_t(h ^ (h >> 32));
+        }
+    };
+    std::unordered_map<Key, TriangleError, KeyHash> known_;
 
     //! The live triangles around v (dropping the dead ones from its list).
     const std::vector<std::uint32_t>& live(Index v) {

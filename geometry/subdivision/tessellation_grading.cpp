@@ -307,7 +307,8 @@ Result<Graded> graded_demand(const FaceData& fd, std::size_t face, int subface,
     Graded stagger = g;
     stagger.staggered = true;
     auto plain = refine(fd, face, subface, options, std::move(g));
-    if (!plain || !options.stagger) return plain;
+    // a staggered grid needs fewer lines than the plain one, so below kStaggerFrom each way it would not be kept
+    if (!plain || !options.stagger || std::min(plain->nu, plain->nv) < kStaggerFrom) return plain;
     auto staggered_grid = refine(fd, face, subface, options, std::move(stagger));
     // a staggered grid that would exceed the budget where the plain one does not is not needed
     if (!staggered_grid && staggered_grid.error().code == ErrorCode::BudgetExceeded) return *plain;
