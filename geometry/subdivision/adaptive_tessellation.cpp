@@ -8,6 +8,7 @@
 #include <tuple>
 #include <utility>
 
+#include "geometry/core/two_parts.h"
 #include "geometry/subdivision/tessellation_bounds.h"
 #include "geometry/subdivision/tessellation_decimation.h"
 #include "geometry/subdivision/tessellation_grading.h"
@@ -222,45 +223,85 @@ Result<LimitTessellationPlan> plan(Context& cx) {
         return Ok{};
     };
 
-    // demands
+    // demands: each face's patches and the grids its domains need, on their own (on two threads when allowed:
+    // the faces cut in two halves by count, every face computed the same way), then applied in face order
     std::vector<Graded> grades(out.domains.size());
+    std::vector<std::optional<GeoError>> failed(face_count);  // per face, the error its work stopped at
+    std::vector<char> computed(out.domains.size(), 0);
+    const std::size_t half = options.threads == 1 ? face_count : face_count / 2;
+    run_two_parts(options.threads != 1 && half > 0, [&](int part) {
+        const std::size_t from = part == 0 ? 0 : half, to = part == 0 ? half : face_count;
+        std::uint64_t own = 0;  // this part's grids so far: a lower bound on the output
+        for (std::size_t f = from; f < to; ++f) {
+            if (cx.hole[f]) continue;
+            if (options.cancel.requested()) {
+                failed[f] = make_error(ErrorCode::Cancelled, "tessellation cancelled");
+                return;
+            }
+            auto surface = cx.evaluator.face_surface(f, kTreeLevels);
+            if (!surface) {
+                failed[f] = surface.error();
+                return;
+            }
+            FaceData& fd = cx.faces[f];
+            fd.surface = std::move(surface.value());
+            fd.size = base.face_size(f);
+            fd.patches.resize(fd.surface->patch_count());
+            for (std::size_t p = 0; p < fd.patches.size(); ++p) fd.patches[p] = patch_data(fd.surface->patch_points(p));
+            for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di) {
+                auto& d = out.domains[di];
+                if (options.guaranteed) {
+                    auto demand = graded_demand(fd, f, d.subface, options);
+                    if (!demand) {
+                        failed[f] = demand.error();
+                        return;
+                    }
+                    grades[di] = std::move(demand.value());
+                    computed[di] = 1;
+                    // this part's grids alone over the budget: so is the running total in face order, at this
+                    // domain or before it, where the application below stops
+                    own += 2 * std::uint64_t(grades[di].nu) * std::uint64_t(grades[di].nv);
+                    if (options.max_triangles > 0 && own > options.max_triangles) return;
+                } else {
+                    auto demand = domain_demand(fd, f, d.subface, options);
+                    if (!demand) {
+                        failed[f] = demand.error();
+                        return;
+                    }
+                    d.nu = demand->first;
+                    d.nv = demand->second;
+                    computed[di] = 1;
+                }
+            }
+        }
+    });
+    // in face order, as one thread would have: the running total over the budget, or the first error
     std::uint64_t demanded = 0;
     for (std::size_t f = 0; f < face_count; ++f) {
         if (cx.hole[f]) continue;
-        if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
-        auto surface = cx.evaluator.face_surface(f, kTreeLevels);
-        if (!surface) return surface.error();
-        FaceData& fd = cx.faces[f];
-        fd.surface = std::move(surface.value());
-        fd.size = base.face_size(f);
-        fd.patches.resize(fd.surface->patch_count());
-        for (std::size_t p = 0; p < fd.patches.size(); ++p) fd.patches[p] = patch_data(fd.surface->patch_points(p));
-        for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di) {
+        for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1] && computed[di]; ++di) {
             auto& d = out.domains[di];
             if (options.guaranteed) {
-                auto demand = graded_demand(fd, f, d.subface, options);
-                if (!demand) return demand.error();
-                d.nu = demand->nu;
-                d.nv = demand->nv;
-                d.s_lines = demand->s_lines;
-                d.t_lines = demand->t_lines;
-                d.staggered = demand->staggered;
-                grades[di] = std::move(demand.value());
-                push_density(d, grades[di].rs, grades[di].rt);
+                const Graded& g = grades[di];
+                d.nu = g.nu;
+                d.nv = g.nv;
+                d.s_lines = g.s_lines;
+                d.t_lines = g.t_lines;
+                d.staggered = g.staggered;
+                push_density(d, g.rs, g.rt);
                 // rates only grow from here: the grids so far are a lower bound on the output
                 demanded += 2 * std::uint64_t(d.nu) * std::uint64_t(d.nv);
                 if (auto status = check_budget(demanded, options); !status) return status.error();
             } else {
-                auto demand = domain_demand(fd, f, d.subface, options);
-                if (!demand) return demand.error();
-                d.nu = demand->first;
-                d.nv = demand->second;
                 Density rs, rt;
                 rs.fill(double(d.nu));
                 rt.fill(double(d.nv));
                 push_density(d, rs, rt);
             }
         }
+        if (failed[f]) return *failed[f];
+        for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di)
+            if (!computed[di]) return make_error(ErrorCode::BudgetExceeded, "tessellation stopped over the budget");
     }
     if (auto status = update_slots(); !status) return status.error();
 

@@ -90,6 +90,9 @@ struct LimitTessellationOptions {
     //! With guaranteed rates: also grade each face as a staggered grid (tessellation_strips.h) and keep whichever
     //! layout takes fewer triangles; false: plain grids only.
     bool stagger = true;
+    //! 1: plan on the calling thread; anything else: prepare and grade the two halves of the faces on two threads
+    //! (the faces' work is independent; the result is the same).
+    int threads = 1;
     //! Polled between faces; when it fires the result is Cancelled.
     Cancel cancel;
 };

@@ -588,5 +588,41 @@ TEST(AdaptiveTessellation, EllipticFacesAreStaggered) {
     EXPECT_LT(result->mesh.face_count(), plain->mesh.face_count());
 }
 
+// With threads = 2 the faces' patches and grids are prepared in two halves on two threads: the output is the same,
+// vertex for vertex, and so is a budget error (the running total in face order, as one thread reports it).
+TEST(AdaptiveTessellation, TwoThreadsGiveTheSameOutput) {
+    for (const char* name : {"catmark_torus_creases0", "catmark_pyramid_creases1", "catmark_nonquads"}) {
+        SCOPED_TRACE(name);
+        const PolygonMesh mesh = load_opensubdiv_shape(name);
+        auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+        ASSERT_TRUE(evaluator.ok());
+        LimitTessellationOptions options;
+        options.tolerance = 2e-3 * diagonal(mesh);
+        auto one = tessellate_limit(*evaluator, mesh, options);
+        options.threads = 2;
+        auto two = tessellate_limit(*evaluator, mesh, options);
+        ASSERT_TRUE(one.ok() && two.ok());
+        EXPECT_EQ(one->mesh.face_indices, two->mesh.face_indices);
+        ASSERT_EQ(one->mesh.positions.size(), two->mesh.positions.size());
+        for (std::size_t i = 0; i < one->mesh.positions.size(); ++i) {
+            EXPECT_EQ(one->mesh.positions[i].x, two->mesh.positions[i].x);
+            EXPECT_EQ(one->mesh.positions[i].y, two->mesh.positions[i].y);
+            EXPECT_EQ(one->mesh.positions[i].z, two->mesh.positions[i].z);
+        }
+        EXPECT_EQ(one->plan.triangles, two->plan.triangles);
+        EXPECT_EQ(one->achieved_error, two->achieved_error);
+        // a budget the grids alone exceed part of the way through the faces
+        options.max_triangles = one->plan.triangles / 3;
+        options.threads = 1;
+        auto over_one = tessellate_limit(*evaluator, mesh, options);
+        options.threads = 2;
+        auto over_two = tessellate_limit(*evaluator, mesh, options);
+        ASSERT_FALSE(over_one.ok());
+        ASSERT_FALSE(over_two.ok());
+        EXPECT_EQ(over_one.error().code, ErrorCode::BudgetExceeded);
+        EXPECT_EQ(over_one.error().message, over_two.error().message);
+    }
+}
+
 }  // namespace
 }  // namespace surfaced
