@@ -50,6 +50,7 @@ struct SubdivideParams {
     OutputOptions output;
     //! format "patches": the limit surface as Bézier patches (`levels` given: the isolation level) instead of a mesh
     bool patches = false;
+    std::int64_t threads = 1;  //!< 1 or 2 (SubdivisionOptions::threads, LimitTessellationOptions::threads)
 };
 
 struct SubdivideStats {

@@ -137,6 +137,7 @@ ApiResponse tessellate_limit_surface(const SubdivideParams& params, const Polygo
     tess.tolerance = *params.tolerance;
     tess.max_segments = limits.max_patch_segments;
     tess.max_triangles = limits.max_output_faces;
+    tess.threads = options.threads;
     tess.cancel = context.cancel;
     auto tessellated = tessellate_limit(*evaluator, mesh, tess);
     if (!tessellated) {
@@ -193,6 +194,7 @@ ApiResponse run(const ApiRequest& request, const ApiContext& context) {
     options.limit_surface = params.limit_surface;
     options.uv_interpolation = params.uv_interpolation;
     options.loop_weights = params.loop_weights;
+    options.threads = static_cast<int>(params.threads);
     if (params.boundary) {
         options.boundary = *params.boundary;
         options.use_mesh_boundary_tag = false;  // an explicit request wins over the file's tag

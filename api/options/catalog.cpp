@@ -158,6 +158,13 @@ constexpr OptionSpec kSubdivide[] = {
      .type = OptionType::Bool,
      .default_json = "false",
      .description = "Project onto the limit surface; normals come from limit tangents"},
+    {.name = "threads",
+     .type = OptionType::Integer,
+     .min = at_least(1),
+     .max = at_most(2),
+     .default_json = "1",
+     .description = "2: a second thread for large levels and, with tolerance, for preparing and grading half of the "
+                    "faces (the same mesh bit for bit as with 1)"},
 };
 
 constexpr OptionSpec kSimplify[] = {

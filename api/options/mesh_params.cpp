@@ -15,6 +15,7 @@ SubdivideParams subdivide_params(const OptionValues& values) {
     values.get("uv_interpolation", kUvInterpolationNames, params.uv_interpolation);
     values.get("loop_weights", kLoopWeightNames, params.loop_weights);
     values.get("limit_surface", params.limit_surface);
+    values.get("threads", params.threads);
     values.get_output(params.output);
     params.patches = values.given_as("format", "patches");
     return params;

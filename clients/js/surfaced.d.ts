@@ -184,6 +184,9 @@ export interface SubdivideOptions extends MeshInput, OutputOptions<OutputFormat>
   loop_weights?: LoopWeights;
   /** @default false */
   limit_surface?: boolean;
+  /** 1 or 2: a second thread for large levels and, with tolerance, for half of the faces' planning (the same
+   *  mesh). @default 1 */
+  threads?: number;
   /** JSON only */
   creases?: Crease[];
   /** JSON only */

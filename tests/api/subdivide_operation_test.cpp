@@ -675,6 +675,23 @@ TEST(SubdivideOperation, ToleranceTessellatesTheLimitSurface) {
     EXPECT_EQ(mesh->face_count(), expected->mesh.face_count());
 }
 
+// threads 2 gives the same answer as 1 (uniform levels and tolerance alike); outside [1, 2] it is 400 naming it.
+TEST(SubdivideOperation, TwoThreadsGiveTheSameAnswer) {
+    const PolygonMesh torus = shapes::irregular_torus();
+    for (const char* options :
+         {R"(,"tolerance":0.005,"output":{"format":"obj"})", R"(,"levels":3,"output":{"format":"obj"})"}) {
+        const auto one = call("application/json", json_request(torus, std::string(options)));
+        const auto two = call("application/json", json_request(torus, std::string(R"(,"threads":2)") + options));
+        ASSERT_EQ(one.status, 200) << one.body;
+        ASSERT_EQ(two.status, 200) << two.body;
+        EXPECT_EQ(one.body, two.body) << options;
+    }
+    for (const char* bad : {"0", "3", "x"}) {
+        const auto json = expect_problem(call("model/obj", kCubeObj, {{"threads", bad}}), 400, "invalid_field");
+        EXPECT_EQ(json.value("field", ""), "threads") << bad;
+    }
+}
+
 TEST(SubdivideOperation, ToleranceExcludesLevelsAndTargetFaces) {
     for (const char* extra : {R"(,"tolerance":0.01,"levels":2)", R"(,"tolerance":0.01,"target_faces":100)",
                               R"(,"tolerance":0.01,"scheme":"loop")"}) {

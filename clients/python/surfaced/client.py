@@ -333,7 +333,7 @@ class Client:
                   scheme: Scheme = "catmull-clark", levels: int = 1, tolerance: Optional[float] = None,
                   target_faces: Optional[int] = None, boundary: Optional[Boundary] = None, crease_method: CreaseMethod = "uniform",
                   triangle_rule: TriangleRule = "catmark", uv_interpolation: UvInterpolation = "corners-plus1",
-                  loop_weights: LoopWeights = "loop", limit_surface: bool = False,
+                  loop_weights: LoopWeights = "loop", limit_surface: bool = False, threads: int = 1,
                   creases: Optional[Sequence[Crease]] = None, corners: Optional[Sequence[Corner]] = None,
                   holes: Optional[Sequence[int]] = None, output: Optional[Output] = None,
                   format: OutputFormat = "glb", compression: Compression = "draco", quantize_position: int = 14,
@@ -357,6 +357,8 @@ class Client:
             (default), ``"corners-plus2"``, ``"boundaries"``, ``"all"``.
         :param loop_weights: Loop's vertex weights: ``"loop"`` (default) or ``"warren"``.
         :param limit_surface: project the result onto the limit surface (default False).
+        :param threads: 1 (default) or 2: a second thread for large levels and, with ``tolerance``, for half of the
+            faces' planning (the same mesh).
         :param creases: JSON only: ``[{"edge": [i, j], "sharpness": s}]`` (10 or more: infinitely sharp).
         :param corners: JSON only: ``[{"vertex": i, "sharpness": s}]``.
         :param holes: JSON only: indices of faces that are holes.
