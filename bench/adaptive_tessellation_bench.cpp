@@ -8,9 +8,10 @@
 // bounding-box diagonal. Times: ours includes creating the evaluator; Bfr includes its factory and tessellation
 // objects and the evaluation; uniform is subdivide() alone.
 //
-// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain]   (from the repository root,
-// which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative one tolerance R of the
-// diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger = false)
+// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain] [--threads N]   (from the
+// repository root, which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative one
+// tolerance R of the diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger =
+// false; --threads N plans ours with LimitTessellationOptions::threads = N, default 1)
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/bfr/tessellation.h>
@@ -152,6 +153,7 @@ PolygonMesh bfr_tessellate(const PolygonMesh& mesh, int rate) {
 std::string g_only;
 double g_relative = 0;
 bool g_plain = false;
+int g_threads = 1;
 
 void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed, bool stagger = true) {
     if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
@@ -172,6 +174,7 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     options.max_segments = 1024;
     options.guaranteed = guaranteed;
     options.stagger = stagger;
+    options.threads = g_threads;
     auto ours = tessellate_limit(*fresh, mesh, options);
     const double ours_ms = watch.ms();
     if (!ours) {
@@ -243,6 +246,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) g_only = argv[++i];
         if (std::strcmp(argv[i], "--relative") == 0 && i + 1 < argc) g_relative = std::atof(argv[++i]);
         if (std::strcmp(argv[i], "--plain") == 0) g_plain = true;
+        if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) g_threads = std::atoi(argv[++i]);
     }
     std::printf(
         "| mesh | faces | tolerance | ours tris | ours ms | ours err/tol | uniform level | uniform tris | "
