@@ -156,10 +156,7 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
                     if (staggered(g.staggered, nu, nv)) {
                         zigzag(lower, lower_s, upper, upper_s, triangles);
                     } else {
-                        for (std::size_t i = 0; i + 1 < lower.size(); ++i) {
-                            triangles.push_back({lower[i], lower[i + 1], upper[i + 1]});
-                            triangles.push_back({lower[i], upper[i + 1], upper[i]});
-                        }
+                        cells(lower, upper, triangles);
                     }
                 }
                 std::swap(lower, upper);

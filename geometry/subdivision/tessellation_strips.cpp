@@ -42,6 +42,14 @@ void zigzag(std::span<const std::uint32_t> bottom, std::span<const double> botto
     }
 }
 
+void cells(std::span<const std::uint32_t> bottom, std::span<const std::uint32_t> top,
+           std::vector<std::array<std::uint32_t, 3>>& out) {
+    for (std::size_t i = 0; i + 1 < bottom.size(); ++i) {
+        out.push_back({bottom[i], bottom[i + 1], top[i + 1]});
+        out.push_back({bottom[i], top[i + 1], top[i]});
+    }
+}
+
 bool is_grid(const LimitTessellationPlan::Domain& d) {
     for (const auto& lines : d.side_lines)
         if (!lines.empty()) return false;
@@ -101,7 +109,7 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
     for (int j = 1; j < nv; ++j) {
         row_points[std::size_t(j)] = row_s(d.s_lines, nu, nv, j, staggers(d));
         const std::vector<double>& s = row_points[std::size_t(j)];
-        row_start[std::size_t(j)] = std::uint32_t(ring + (out.points.size() - ring));
+        row_start[std::size_t(j)] = std::uint32_t(out.points.size());
         for (std::size_t i = 1; i + 1 < s.size(); ++i) out.points.push_back({s[i], d.t_at(j)});
     }
     // inner row j's ids and s, without the sides' points
@@ -135,11 +143,7 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
             for (int j = 0; j < nv; ++j) {
                 whole_row(j, lower, lower_s);
                 whole_row(j + 1, upper, upper_s);
-                for (int i = 0; i < nu; ++i) {
-                    out.triangles.push_back(
-                        {lower[std::size_t(i)], lower[std::size_t(i) + 1], upper[std::size_t(i) + 1]});
-                    out.triangles.push_back({lower[std::size_t(i)], upper[std::size_t(i) + 1], upper[std::size_t(i)]});
-                }
+                cells(lower, upper, out.triangles);
             }
             return out;
         }
@@ -158,10 +162,7 @@ LocalMesh triangulate(const LimitTessellationPlan::Domain& d) {
             zigzag(lower, lower_s, upper, upper_s, out.triangles);
             continue;
         }
-        for (std::size_t i = 0; i + 1 < lower.size(); ++i) {
-            out.triangles.push_back({lower[i], lower[i + 1], upper[i + 1]});
-            out.triangles.push_back({lower[i], upper[i + 1], upper[i]});
-        }
+        cells(lower, upper, out.triangles);
     }
     // one transition strip per side, between the side's points and the inner grid's outermost row or column, both
     // running from corner to corner; positions along the side decide which advances (the inner row is on the left)

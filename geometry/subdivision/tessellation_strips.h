@@ -45,6 +45,11 @@ std::vector<double> row_s(const std::vector<double>& s_lines, int nu, int nv, in
 void zigzag(std::span<const std::uint32_t> bottom, std::span<const double> bottom_s, std::span<const std::uint32_t> top,
             std::span<const double> top_s, std::vector<std::array<std::uint32_t, 3>>& out);
 
+//! Triangulates the band between two rows of the same number of points at the same s: each cell's two right
+//! triangles, on the diagonal from its lower left to its upper right corner.
+void cells(std::span<const std::uint32_t> bottom, std::span<const std::uint32_t> top,
+           std::vector<std::array<std::uint32_t, 3>>& out);
+
 //! A uniform domain whose sides carry its inner rates: a regular grid, no transition strips.
 bool is_grid(const LimitTessellationPlan::Domain& d);
 
