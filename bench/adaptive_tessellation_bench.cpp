@@ -154,6 +154,7 @@ std::string g_only;
 double g_relative = 0;
 bool g_plain = false;
 int g_threads = 1;
+double g_straddle = 0;
 
 void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed, bool stagger = true) {
     if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
@@ -175,6 +176,7 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     options.guaranteed = guaranteed;
     options.stagger = stagger;
     options.threads = g_threads;
+    options.straddle = g_straddle;
     auto ours = tessellate_limit(*fresh, mesh, options);
     const double ours_ms = watch.ms();
     if (!ours) {
@@ -247,6 +249,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--relative") == 0 && i + 1 < argc) g_relative = std::atof(argv[++i]);
         if (std::strcmp(argv[i], "--plain") == 0) g_plain = true;
         if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) g_threads = std::atoi(argv[++i]);
+        if (std::strcmp(argv[i], "--straddle") == 0 && i + 1 < argc) g_straddle = std::atof(argv[++i]);
     }
     std::printf(
         "| mesh | faces | tolerance | ours tris | ours ms | ours err/tol | uniform level | uniform tris | "

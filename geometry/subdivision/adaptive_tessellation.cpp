@@ -59,7 +59,8 @@ struct Context {
     std::vector<std::size_t> first_domain;  //!< per face, its first domain (domains of a face are contiguous)
     std::vector<std::size_t> first_spoke;   //!< per face, index of its spoke 0 (N-gons)
     std::size_t spokes = 0;
-    std::vector<int> edge_faces;         //!< per edge, how many non-hole faces use it (1: an open boundary)
+    std::vector<int> edge_faces;                 //!< per edge, how many non-hole faces use it (1: an open boundary)
+    std::vector<bool> fixed_edge, fixed_vertex;  //!< per edge and base vertex: C0 there, vertices stay on S
     std::vector<bool> halved;            //!< per edge: an N-gon uses it, so its midpoint is a vertex (two slots)
     std::vector<std::size_t> edge_slot;  //!< per edge, its first slot (halves in canonical order)
     std::size_t first_spoke_slot = 0;
@@ -122,6 +123,8 @@ Result<LimitTessellationPlan> plan(Context& cx) {
         return make_error(ErrorCode::InvalidArgument, "tolerance must be a finite number > 0");
     if (options.max_segments < 1 || options.max_segments > 4096)
         return make_error(ErrorCode::InvalidArgument, "max_segments must be in [1, 4096]");
+    if (!(options.straddle >= 0 && options.straddle < 1))
+        return make_error(ErrorCode::InvalidArgument, "straddle must be at least 0 and below 1");
     const std::size_t face_count = base.face_count();
     cx.hole.assign(face_count, false);
     for (Index h : base.tags.holes)
@@ -165,6 +168,24 @@ Result<LimitTessellationPlan> plan(Context& cx) {
     }
     cx.first_domain[face_count] = out.domains.size();
     cx.first_spoke[face_count] = cx.spokes;
+    // where the surface is only C0 (infinitely sharp creases and corners, open boundaries, non-manifold edges): the
+    // faces there have different normals, so vertices stay on the surface (straddle_offset is per face)
+    cx.fixed_edge.assign(cx.edges.size(), false);
+    cx.fixed_vertex.assign(base.vertex_count(), false);
+    {
+        std::map<std::pair<Index, Index>, double> sharp;
+        for (const auto& c : base.tags.creases)
+            sharp[std::minmax(c.v0, c.v1)] = std::max(sharp[std::minmax(c.v0, c.v1)], c.sharpness);
+        for (std::size_t e = 0; e < cx.edges.size(); ++e) {
+            const auto found = sharp.find(std::minmax(cx.edges[e][0], cx.edges[e][1]));
+            cx.fixed_edge[e] =
+                cx.edge_faces[e] != 2 || (found != sharp.end() && found->second >= double(kInfiniteSharpness));
+            if (cx.fixed_edge[e]) cx.fixed_vertex[cx.edges[e][0]] = cx.fixed_vertex[cx.edges[e][1]] = true;
+        }
+        for (const auto& c : base.tags.corners)
+            if (c.vertex < base.vertex_count() && c.sharpness >= double(kInfiniteSharpness))
+                cx.fixed_vertex[c.vertex] = true;
+    }
     // slots: each edge's (two for a halved one), then each spoke's; and a face to name in errors
     std::vector<std::size_t> slot_face;
     cx.edge_slot.resize(cx.edges.size());
@@ -246,6 +267,14 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             FaceData& fd = cx.faces[f];
             fd.surface = std::move(surface.value());
             fd.size = base.face_size(f);
+            fd.lift = options.guaranteed ? options.straddle * options.tolerance : 0.0;
+            if (fd.lift > 0) {
+                const auto fv = base.face(f);
+                for (std::size_t k = 0; k < fv.size(); ++k) {
+                    fd.fixed_edge.push_back(cx.fixed_edge[cx.face_edges[f][k].edge]);
+                    fd.fixed_vertex.push_back(cx.fixed_vertex[fv[k]]);
+                }
+            }
             fd.patches.resize(fd.surface->patch_count());
             for (std::size_t p = 0; p < fd.patches.size(); ++p) fd.patches[p] = patch_data(fd.surface->patch_points(p));
             for (std::size_t di = cx.first_domain[f]; di < cx.first_domain[f + 1]; ++di) {
@@ -353,11 +382,11 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             Density next_s = g.rs, next_t = g.rt;
             for (int attempt = 0;; ++attempt) {
                 const LocalMesh local = triangulate(d);
-                std::vector<Vec3> positions;  // S at the local points, for the triangles' planes
+                std::vector<OffsetPoint> positions;  // the vertices at the local points, for the triangles' planes
                 if (options.guaranteed) {
                     positions.reserve(local.points.size());
                     for (const P2& q : local.points) {
-                        auto p = position_at(fd, d.subface, q);
+                        auto p = corner_at(fd, d.subface, q);
                         if (!p) return p.error();
                         positions.push_back(*p);
                     }
@@ -368,7 +397,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                 const std::array<bool, 4> open = open_sides(cx, d);
                 for (const auto& tri : local.triangles) {
                     const P2 &a = local.points[tri[0]], &b = local.points[tri[1]], &c = local.points[tri[2]];
-                    std::array<Vec3, 3> corners{};
+                    std::array<OffsetPoint, 3> corners{};
                     if (options.guaranteed) corners = {positions[tri[0]], positions[tri[1]], positions[tri[2]]};
                     auto error = triangle_error(fd, d.subface, open, a, b, c, corners, options.guaranteed);
                     if (!error) return error.error();
@@ -404,7 +433,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                         raise_side(d, side, lo, hi, f / std::max(hi - lo, 1e-9));
                     }
                 }
-                const bool ok = bound <= options.tolerance && sampled <= options.tolerance / kSampledSafety;
+                const bool ok = bound <= options.tolerance && sampled * kSampledSafety + fd.lift <= options.tolerance;
                 if (options.guaranteed) {
                     domain_bound[di] = bound;
                     domain_sampled[di] = sampled;
@@ -504,12 +533,14 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
     std::vector<LimitSite>& sites = out.sites;
     sites.reserve(p.vertices);
     std::vector<Index> vertex_id(base.vertex_count(), kInvalidIndex);
+    std::vector<bool> fixed;  // per site: on a C0 feature (Context::fixed_edge), so on the surface
     for (std::size_t f = 0; f < face_count; ++f) {
         if (cx.hole[f]) continue;
         const auto fv = base.face(f);
         for (std::size_t k = 0; k < fv.size(); ++k)
             if (vertex_id[fv[k]] == kInvalidIndex) {
                 vertex_id[fv[k]] = Index(sites.size());
+                fixed.push_back(cx.fixed_vertex[fv[k]]);
                 const auto [u, v] = edge_uv(fv.size(), k, 0.0);
                 sites.push_back({std::uint32_t(f), u, v});
             }
@@ -522,6 +553,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         const std::size_t f = cx.edge_owner[e];
         for (int i = 1; i < r; ++i) {
             pts.push_back(Index(sites.size()));
+            fixed.push_back(cx.fixed_edge[e]);
             const auto [u, v] = edge_uv(base.face_size(f), cx.edge_owner_side[e], cx.edge_at(e, i));
             sites.push_back({std::uint32_t(f), u, v});
         }
@@ -564,6 +596,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
     PolygonMesh& mesh = out.mesh;
     mesh.positions.resize(sites.size());
     mesh.normals.resize(sites.size());
+    std::vector<Vec3> offsets(sites.size());  // each vertex's offset from the surface (straddle)
     {
         std::vector<std::vector<Index>> by_face(face_count);
         for (std::size_t i = 0; i < sites.size(); ++i) by_face[sites[i].face].push_back(Index(i));
@@ -571,9 +604,10 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
             if (by_face[f].empty()) continue;
             if (options.cancel.requested()) return make_error(ErrorCode::Cancelled, "tessellation cancelled");
             for (Index i : by_face[f]) {
-                auto sample = cx.faces[f].surface->evaluate(sites[i].u, sites[i].v);
+                auto sample = cx.faces[f].surface->evaluate(sites[i].u, sites[i].v, cx.faces[f].lift > 0);
                 if (!sample) return sample.error();
-                mesh.positions[i] = sample->position;
+                if (i >= fixed.size() || !fixed[i]) offsets[i] = straddle_offset(*sample, cx.faces[f].lift);
+                mesh.positions[i] = sample->position + offsets[i];
                 mesh.normals[i] = sample->normal;
             }
         }
@@ -631,7 +665,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
         std::vector<DecimationDomain> domains;
         domains.reserve(p.domains.size());
         for (const auto& d : p.domains) domains.push_back({&cx.faces[d.face], d.subface, open_sides(cx, d)});
-        auto decimated = decimate(triangles, mesh.positions, domains, options);
+        auto decimated = decimate(triangles, mesh.positions, offsets, domains, options);
         if (!decimated) return decimated.error();
         out.removed_vertices = decimated->removed_vertices;
         error_bound = decimated->worst.bound;
@@ -701,7 +735,9 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
             mesh.uvs.push_back(uv);
         }
     }
-    out.achieved_error = std::max(error_bound, sampled_error);
+    // a sampled triangle's vertices may be off the surface by up to the lift
+    const double lift = options.guaranteed ? options.straddle * options.tolerance : 0.0;
+    out.achieved_error = std::max(error_bound, sampled_error > 0 ? sampled_error + lift : 0.0);
     return out;
 }
 

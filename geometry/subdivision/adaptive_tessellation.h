@@ -90,6 +90,14 @@ struct LimitTessellationOptions {
     //! With guaranteed rates: also grade each face as a staggered grid (tessellation_strips.h) and keep whichever
     //! layout takes fewer triangles; false: plain grids only.
     bool stagger = true;
+    //! With guaranteed rates. 0: every vertex on the limit surface, where the triangles' distance to it lies on one
+    //! side wherever it curves one way. Above 0 (below 1): vertices move off the surface along the normal, towards
+    //! its convex side, by up to straddle x tolerance (tessellation_bounds.h's straddle_offset; not on infinitely
+    //! sharp creases and corners or open boundaries), so that the surface crosses the triangles and the distance
+    //! is split between both sides; the bound counts the offsets, so the surface stays within the tolerance of
+    //! the triangles' planes. Fewer triangles on smooth shapes (0.45: about 0.85 of them), sometimes more next to
+    //! creases (docs/benchmarks.md).
+    double straddle = 0;
     //! 1: plan on the calling thread; anything else: prepare and grade the two halves of the faces on two threads
     //! (the faces' work is independent; the result is the same).
     int threads = 1;

@@ -297,11 +297,77 @@ std::optional<Vec3> unit_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
     return n * (1.0 / length);
 }
 
+Vec3 straddle_offset(const LimitSample& sample, double lift) {
+    if (!(lift > 0) || !sample.exact) return {};
+    const Vec3& n = sample.normal;
+    const double e = dot(sample.du, sample.du), f = dot(sample.du, sample.dv), g = dot(sample.dv, sample.dv);
+    const double l = dot(sample.duu, n), m = dot(sample.duv, n), k = dot(sample.dvv, n);
+    const double det = e * g - f * f;
+    if (!(det > 0)) return {};
+    const double mean2 = (e * k - 2 * f * m + g * l) / det;                                     // k1 + k2
+    const double gauss = (l * k - m * m) / det;                                                 // k1 k2
+    const double spread = gauss >= 0 ? std::abs(mean2) : std::sqrt(mean2 * mean2 - 4 * gauss);  // |k1| + |k2|
+    if (!(spread > 0) || !std::isfinite(spread)) return {};
+    // n . S curves towards -n where k1 + k2 < 0 there: the chords lie on the -n side, the vertex moves to +n
+    return n * (-lift * mean2 / spread);
+}
+
 Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p) {
     const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
     auto sample = fd.surface->evaluate(u, v);
     if (!sample) return sample.error();
     return sample->position;
+}
+
+namespace {
+
+//! Whether domain point p lies on one of the face's fixed edges or vertices (FaceData::fixed_edge).
+bool on_fixed(const FaceData& fd, int subface, const P2& p) {
+    if (fd.fixed_edge.empty()) return false;
+    const std::size_t n = fd.size;
+    if (subface < 0) {
+        const bool on[4] = {p.t == 0, p.s == 1, p.t == 1, p.s == 0};
+        const bool at[4] = {on[3] && on[0], on[0] && on[1], on[1] && on[2], on[2] && on[3]};
+        for (std::size_t k = 0; k < 4; ++k)
+            if ((on[k] && fd.fixed_edge[k]) || (at[k] && fd.fixed_vertex[k])) return true;
+        return false;
+    }
+    // an N-gon's sub-face j: side t = 0 is the first half of edge j, s = 0 the second half of edge j - 1
+    const auto j = std::size_t(subface), prev = (j + n - 1) % n;
+    return (p.t == 0 && fd.fixed_edge[j]) || (p.s == 0 && fd.fixed_edge[prev]) ||
+           (p.s == 0 && p.t == 0 && fd.fixed_vertex[j]);
+}
+
+}  // namespace
+
+Result<OffsetPoint> corner_at(const FaceData& fd, int subface, const P2& p) {
+    const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
+    const bool moves = fd.lift > 0 && !on_fixed(fd, subface, p);
+    auto sample = fd.surface->evaluate(u, v, moves);
+    if (!sample) return sample.error();
+    const Vec3 offset = moves ? straddle_offset(*sample, fd.lift) : Vec3{};
+    return OffsetPoint{sample->position + offset, offset};
+}
+
+double offset_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2& p2, const std::optional<Vec3>& normal,
+                    const std::array<Vec3, 3>& offsets, Bounds* dominant) {
+    const double up = triangle_bound(m.up, p0, p1, p2), down = triangle_bound(m.down, p0, p1, p2);
+    double low = 0, high = 0;  // the offsets' components along the normal, interpolated: within [low, high]
+    if (normal) {
+        low = high = dot(*normal, offsets[0]);
+        for (std::size_t i = 1; i < 3; ++i) {
+            low = std::min(low, dot(*normal, offsets[i]));
+            high = std::max(high, dot(*normal, offsets[i]));
+        }
+    } else {
+        const double longest = std::max({norm(offsets[0]), norm(offsets[1]), norm(offsets[2])});
+        if (dominant) *dominant = up >= down ? m.up : m.down;
+        return std::max(up, down) + longest;
+    }
+    // the distance m . (S - T) lies in [-up - high, down - low]
+    const double below = std::abs(up + high), above = std::abs(down - low);
+    if (dominant) *dominant = below >= above ? m.up : m.down;
+    return std::max(below, above);
 }
 
 Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
@@ -337,7 +403,7 @@ Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const
 }
 
 Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std::array<bool, 4>& open_sides,
-                                     const P2& a, const P2& b, const P2& c, const std::array<Vec3, 3>& corners,
+                                     const P2& a, const P2& b, const P2& c, const std::array<OffsetPoint, 3>& corners,
                                      bool guaranteed) {
     TriangleError out;
     const Overlap o = overlap_of(fd, subface, a, b, c);
@@ -345,6 +411,7 @@ Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std:
         auto measured = sampled_error(fd, subface, a, b, c);
         if (!measured) return measured.error();
         out.sampled = *measured;
+        out.offset = fd.lift;
     }
     if (!guaranteed) return out;
     // an edge on an open boundary: the full bound (no neighbour beyond it)
@@ -357,9 +424,13 @@ Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std:
     }
     const P2 lo{std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})};
     const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
-    out.bound = open_edge ? triangle_bound(full_bounds(fd, o, lo, hi), a, b, c)
-                          : triangle_bound(plane_bounds(fd, o, unit_normal(corners[0], corners[1], corners[2]), lo, hi),
-                                           a, b, c);
+    const std::array<Vec3, 3> offsets{corners[0].offset, corners[1].offset, corners[2].offset};
+    if (open_edge) {
+        out.bound = offset_bound(SignedBounds::symmetric(full_bounds(fd, o, lo, hi)), a, b, c, std::nullopt, offsets);
+    } else {
+        const auto n = unit_normal(corners[0].position, corners[1].position, corners[2].position);
+        out.bound = offset_bound(plane_bounds(fd, o, n, lo, hi), a, b, c, n, offsets);
+    }
     return out;
 }
 

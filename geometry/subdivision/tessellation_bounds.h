@@ -92,7 +92,25 @@ struct FaceData {
     std::optional<LimitFaceSurface> surface;
     std::vector<PatchData> patches;
     std::size_t size = 0;
+    //! The largest distance a vertex moves off the surface (LimitTessellationOptions::straddle times the
+    //! tolerance; 0: vertices on the surface).
+    double lift = 0;
+    //! With a lift: per face edge and corner, whether the surface is only C0 there (an infinitely sharp crease or
+    //! corner, an open boundary): vertices on them stay on S.
+    std::vector<bool> fixed_edge, fixed_vertex;
 };
+
+//! A tessellation vertex: `position` is S at its domain point moved by `offset` (along the normal there).
+struct OffsetPoint {
+    Vec3 position, offset;
+};
+
+//! Where a vertex whose limit sample is `sample` goes: moved along the normal towards the convex side by `lift`
+//! times (k1 + k2) / (|k1| + |k2|) of the principal curvatures there (all of `lift` where the surface curves one
+//! way, none on a symmetric saddle, where the chords already cross the surface), so that the triangles' distance
+//! to the surface is split between both sides instead of lying on one. `sample` needs its second derivatives;
+//! without them (at an irregular vertex) the vertex stays on the surface.
+Vec3 straddle_offset(const LimitSample& sample, double lift);
 
 //! Patches narrower than this (deeper than kBoundedDepth in the domain) are sampled, not bounded: their bounds grow
 //! without limit towards an extraordinary vertex of valence > 4 (curvature diverges there), which would drive the
@@ -159,8 +177,16 @@ SignedBounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optio
 //! Unit normal of the triangle (a, b, c), if it has one.
 std::optional<Vec3> unit_normal(const Vec3& a, const Vec3& b, const Vec3& c);
 
-//! S at domain point p.
+//! S at domain point p, and the vertex there (the same, moved by straddle_offset with the face's lift).
 Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p);
+Result<OffsetPoint> corner_at(const FaceData& fd, int subface, const P2& p);
+
+//! The bound on the distance from S to the plane of a triangle whose corners are moved off S: with the plane's unit
+//! normal m, m . S minus its interpolant between the corners' S lies in [-up, down] (triangle_bound of `m`'s two
+//! sides), and the corners' offsets add their components along m, interpolated; without a normal (`normal` empty,
+//! `m` then bounds |S - T| in every direction) the offsets' largest length is added. `dominant` as triangle_bound.
+double offset_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2& p2, const std::optional<Vec3>& normal,
+                    const std::array<Vec3, 3>& offsets, Bounds* dominant = nullptr);
 
 //! Measured max distance from S(x) to the plane of the triangle of S at the corners, over the non-corner points x of
 //! a barycentric grid of step 1/6 of the triangle in (s, t). (Not |S(x) - T(x)|: at an extraordinary vertex the parameterization
@@ -171,15 +197,18 @@ Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const
 //! not guaranteed), and `sampled`, the measured distance where no patch bounds it (everywhere when not guaranteed).
 struct TriangleError {
     double bound = 0, sampled = 0;
-    //! The larger of bound / tolerance and sampled / (tolerance / kSampledSafety): at most 1 passes.
-    double ratio(double tolerance) const { return std::max(bound / tolerance, sampled * kSampledSafety / tolerance); }
+    double offset = 0;  //!< with `sampled`: the largest offset of a vertex from S (FaceData::lift), added to it
+    //! The larger of bound / tolerance and (sampled x kSampledSafety + offset) / tolerance: at most 1 passes.
+    double ratio(double tolerance) const {
+        return std::max(bound / tolerance, (sampled * kSampledSafety + offset) / tolerance);
+    }
 };
 
-//! The error of the triangle (a, b, c) of a domain, whose corners are `corners` on S: bounded over the patches its
+//! The error of the triangle (a, b, c) of a domain, whose vertices are `corners`: bounded over the patches its
 //! bounding box overlaps with its own plane (with the full second derivatives when it has an edge on a side
 //! `open_sides` marks as an open boundary of the mesh), and sampled where it reaches a part no patch bounds.
 Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std::array<bool, 4>& open_sides,
-                                     const P2& a, const P2& b, const P2& c, const std::array<Vec3, 3>& corners,
+                                     const P2& a, const P2& b, const P2& c, const std::array<OffsetPoint, 3>& corners,
                                      bool guaranteed);
 
 }  // namespace surfaced::tessellation_detail

@@ -37,9 +37,11 @@ struct Candidate {
 class Decimator {
 public:
     Decimator(std::vector<DomainTriangle>& triangles, const std::vector<Vec3>& positions,
-              const std::vector<DecimationDomain>& domains, const LimitTessellationOptions& options)
+              const std::vector<Vec3>& offsets, const std::vector<DecimationDomain>& domains,
+              const LimitTessellationOptions& options)
         : tris_(triangles),
           positions_(positions),
+          offsets_(offsets),
           domains_(domains),
           options_(options),
           alive_(triangles.size(), true),
@@ -161,8 +163,11 @@ private:
         const Key key{t.domain, ids[0], ids[1], ids[2]};
         if (const auto found = known_.find(key); found != known_.end()) return found->second;
         const DecimationDomain& d = domains_[t.domain];
-        auto e = triangle_error(*d.face, d.subface, d.open_sides, t.p[0], t.p[1], t.p[2],
-                                {positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]]}, true);
+        auto e = triangle_error(
+            *d.face, d.subface, d.open_sides, t.p[0], t.p[1], t.p[2],
+            {OffsetPoint{positions_[t.v[0]], offsets_[t.v[0]]}, OffsetPoint{positions_[t.v[1]], offsets_[t.v[1]]},
+             OffsetPoint{positions_[t.v[2]], offsets_[t.v[2]]}},
+            true);
         if (e) known_.emplace(key, *e);
         return e;
     }
@@ -297,6 +302,7 @@ private:
 
     std::vector<DomainTriangle>& tris_;
     const std::vector<Vec3>& positions_;
+    const std::vector<Vec3>& offsets_;
     const std::vector<DecimationDomain>& domains_;
     const LimitTessellationOptions& options_;
     std::vector<bool> alive_;
@@ -309,9 +315,9 @@ private:
 }  // namespace
 
 Result<DecimationResult> decimate(std::vector<DomainTriangle>& triangles, const std::vector<Vec3>& positions,
-                                  const std::vector<DecimationDomain>& domains,
+                                  const std::vector<Vec3>& offsets, const std::vector<DecimationDomain>& domains,
                                   const LimitTessellationOptions& options) {
-    Decimator decimator(triangles, positions, domains, options);
+    Decimator decimator(triangles, positions, offsets, domains, options);
     DecimationResult out;
     for (int round = 0; round < kRounds; ++round) {
         auto removed = decimator.run();

@@ -43,11 +43,11 @@ struct DecimationResult {
     TriangleError worst;  //!< the largest bound and sampled error over the triangles left
 };
 
-//! Removes vertices from `triangles` (whose corners are `positions`) while every triangle stays within
+//! Removes vertices from `triangles` (whose corners are `positions`, `offsets` off the surface) while every triangle stays within
 //! options.tolerance; the triangles that remain are left in `triangles`, in their original order. Errors:
 //! Cancelled, and the evaluator's.
 Result<DecimationResult> decimate(std::vector<DomainTriangle>& triangles, const std::vector<Vec3>& positions,
-                                  const std::vector<DecimationDomain>& domains,
+                                  const std::vector<Vec3>& offsets, const std::vector<DecimationDomain>& domains,
                                   const LimitTessellationOptions& options);
 
 }  // namespace surfaced::tessellation_detail

@@ -137,7 +137,7 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
         // the domain's layout as triangulate() makes it for a grid whose sides carry its lines: rows of points
         // (staggered ones at the midpoints), S at each for the triangles' planes, and the bands' triangles
         std::vector<P2> points;
-        std::vector<Vec3> grid;
+        std::vector<OffsetPoint> grid;
         std::vector<std::array<std::uint32_t, 3>> triangles;
         {
             std::vector<std::uint32_t> lower, upper;
@@ -148,7 +148,7 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
                 for (double x : upper_s) {
                     upper.push_back(std::uint32_t(points.size()));
                     points.push_back({x, t_at(j)});
-                    auto p = position_at(fd, subface, points.back());
+                    auto p = corner_at(fd, subface, points.back());
                     if (!p) return p.error();
                     grid.push_back(*p);
                 }
@@ -173,9 +173,11 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
             const double hs = hi.s - lo.s, ht = hi.t - lo.t;
             Overlap o;
             query(fd, root, 0.0, 0.0, 1.0, lo, hi, o);
-            const std::optional<Vec3> n = unit_normal(grid[tri[0]], grid[tri[1]], grid[tri[2]]);
+            const std::optional<Vec3> n =
+                unit_normal(grid[tri[0]].position, grid[tri[1]].position, grid[tri[2]].position);
+            const std::array<Vec3, 3> offsets{grid[tri[0]].offset, grid[tri[1]].offset, grid[tri[2]].offset};
             Bounds larger_side;  // the bounds of the triangle's larger side, for shrink
-            const double ratio = triangle_bound(plane_bounds(fd, o, n, a, b, c), a, b, c, &larger_side) / tol;
+            const double ratio = offset_bound(plane_bounds(fd, o, n, a, b, c), a, b, c, n, offsets, &larger_side) / tol;
             double fs = 1, ft = 1, cell_ratio = ratio;
             if (ratio > 1) {
                 // a patch that fails on its own (a narrow band of high curvature inside a coarse triangle) refines
@@ -187,7 +189,7 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
                     one.m.include(fd.patches[piece.patch].m, 1.0 / (piece.w * piece.w));
                     one.patches = {piece};
                     Bounds m;
-                    const double r = triangle_bound(plane_bounds(fd, one, n, a, b, c), a, b, c, &m) / tol;
+                    const double r = offset_bound(plane_bounds(fd, one, n, a, b, c), a, b, c, n, offsets, &m) / tol;
                     if (r <= 1) continue;
                     local = true;
                     const auto [ps, pt] = shrink(m, hs, ht, r);
@@ -201,7 +203,7 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
             if (o.uncovered) {  // the parts no patch bounds (deep at irregular vertices) are sampled
                 auto sampled = sampled_error(fd, subface, a, b, c);
                 if (!sampled) return sampled.error();
-                const double sampled_ratio = *sampled / (tol / kSampledSafety);
+                const double sampled_ratio = (*sampled * kSampledSafety + fd.lift) / tol;
                 cell_ratio = std::max(cell_ratio, sampled_ratio);
                 if (sampled_ratio > 1) {
                     // the triangles next to the uncovered parts shrink by f: the density rises over a triangle's
@@ -348,12 +350,12 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
         if (iteration > 40) break;
         double worst_ratio = 0;  // largest bound / tolerance
         bool bounded_fail = false, sampled_fail = false;
-        std::vector<Vec3> grid;  // S at the grid points, for the triangles' planes
+        std::vector<OffsetPoint> grid;  // the vertices at the grid points, for the triangles' planes
         if (bounded) {
             grid.reserve(std::size_t(nu + 1) * std::size_t(nv + 1));
             for (int j = 0; j <= nv; ++j)
                 for (int i = 0; i <= nu; ++i) {
-                    auto p = position_at(fd, subface, {double(i) / nu, double(j) / nv});
+                    auto p = corner_at(fd, subface, {double(i) / nu, double(j) / nv});
                     if (!p) return p.error();
                     grid.push_back(*p);
                 }
@@ -368,19 +370,22 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                 // sampled as well
                 if (bounded) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
-                    const SignedBounds lower =
-                        plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j), at(i + 1, j + 1)), lo, c10, hi);
-                    const SignedBounds upper =
-                        plane_bounds(fd, o, unit_normal(at(i, j), at(i + 1, j + 1), at(i, j + 1)), lo, hi, c01);
-                    worst_ratio = std::max({worst_ratio, triangle_bound(lower, lo, c10, hi) / tol,
-                                            triangle_bound(upper, lo, hi, c01) / tol});
+                    const auto bound = [&](const OffsetPoint& x, const OffsetPoint& y, const OffsetPoint& z,
+                                           const P2& px, const P2& py, const P2& pz) {
+                        const auto n = unit_normal(x.position, y.position, z.position);
+                        return offset_bound(plane_bounds(fd, o, n, px, py, pz), px, py, pz, n,
+                                            {x.offset, y.offset, z.offset});
+                    };
+                    worst_ratio =
+                        std::max({worst_ratio, bound(at(i, j), at(i + 1, j), at(i + 1, j + 1), lo, c10, hi) / tol,
+                                  bound(at(i, j), at(i + 1, j + 1), at(i, j + 1), lo, hi, c01) / tol});
                 }
                 if ((o.uncovered || !bounded) && !sampled_fail) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
                     for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
                         auto e = sampled_error(fd, subface, lo, p, q);
                         if (!e) return e.error();
-                        if (*e > tol / kSampledSafety) sampled_fail = true;
+                        if (*e * kSampledSafety + fd.lift > tol) sampled_fail = true;
                     }
                 }
             }

@@ -20,6 +20,7 @@
 #include "geometry/mesh/shapes.h"
 #include "geometry/spatial/bvh.h"
 #include "geometry/spatial/closest_point.h"
+#include "geometry/subdivision/subdivide.h"
 #include "geometry/subdivision/adaptive_tessellation.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/tessellation_bounds.h"
@@ -277,6 +278,78 @@ TEST(AdaptiveTessellation, FinerToleranceMoreTrianglesSmallerError) {
 
 // A cube whose top face's four edges are infinitely sharp: the crease is the uniform cubic B-spline of the top
 // square, in the plane z = 0.5, so every output vertex evaluated on one of those edges has z = 0.5 exactly.
+// Vertices moved off the surface towards its convex side (straddle): the distance both ways stays within the
+// tolerance (dense exact samples to the triangles; points of the triangles to a fine uniform limit mesh), each vertex
+// is within straddle x tolerance of its limit point and on it at C0 features, the mesh invariants hold, and shapes
+// that curve one way take fewer triangles than with every vertex on the surface.
+TEST(AdaptiveTessellation, StraddledVerticesStayWithinTolerance) {
+    for (const Case& c : cases()) {
+        SCOPED_TRACE(c.name);
+        const SubdivisionOptions sub;
+        auto evaluator = LimitSurfaceEvaluator::create(c.mesh, sub);
+        ASSERT_TRUE(evaluator.ok()) << evaluator.error().message;
+        LimitTessellationOptions options;
+        options.tolerance = 3e-3 * diagonal(c.mesh);
+        auto on_surface = tessellate_limit(*evaluator, c.mesh, options);
+        ASSERT_TRUE(on_surface.ok()) << on_surface.error().message;
+        options.straddle = 0.45;
+        auto result = tessellate_limit(*evaluator, c.mesh, options);
+        ASSERT_TRUE(result.ok()) << result.error().message;
+        const PolygonMesh& out = result->mesh;
+        ASSERT_TRUE(validate(out).ok());
+        EXPECT_LE(result->achieved_error, options.tolerance);
+        EXPECT_LE(sampled_distance(*evaluator, c.mesh, out), options.tolerance);
+        EXPECT_EQ(euler(out), euler(c.mesh));
+        for (const auto& [edge, uses] : edge_uses(out)) ASSERT_LE(uses.size(), 2u);
+        if (c.name == "catmark_torus_creases0" || c.name == "torus" || c.name == "catmark_cube") {
+            EXPECT_LT(double(out.face_count()), 0.9 * double(on_surface->mesh.face_count()));
+        }
+        // each vertex: within straddle x tolerance of the limit at its site, along the normal there
+        std::size_t moved = 0;
+        for (std::size_t i = 0; i < out.vertex_count(); ++i) {
+            const LimitSite& site = result->sites[i];
+            auto limit = evaluator->evaluate(site.face, site.u, site.v);
+            ASSERT_TRUE(limit.ok());
+            const Vec3 offset = out.positions[i] - limit->position;
+            EXPECT_LE(norm(offset), options.straddle * options.tolerance * (1 + 1e-12)) << "vertex " << i;
+            EXPECT_LE(norm(cross(offset, limit->normal)), 1e-12 * diagonal(c.mesh)) << "vertex " << i;
+            moved += norm(offset) > 0.1 * options.straddle * options.tolerance;
+        }
+        if (c.name == "cube" || c.name == "torus") {
+            EXPECT_GT(moved, out.vertex_count() / 2);
+        }
+        // points of the triangles (corners, edge midpoints, centroids) are near the limit surface: within the
+        // tolerance of a uniform limit mesh fine enough to be within 2% of it
+        SubdivisionOptions fine = sub;
+        fine.levels = 5;
+        fine.limit_surface = true;
+        auto dense = subdivide(c.mesh, fine);
+        ASSERT_TRUE(dense.ok());
+        auto bvh = build_bvh(*dense);
+        ASSERT_TRUE(bvh.ok());
+        const auto reverse = [&](const PolygonMesh& m) -> double {
+            double worst = 0;
+            for (std::size_t f = 0; f < m.face_count(); ++f) {
+                const auto fv = m.face(f);
+                const Vec3 &a = m.positions[fv[0]], &b = m.positions[fv[1]], &d = m.positions[fv[2]];
+                for (const Vec3& p : {a, (a + b) * 0.5, (b + d) * 0.5, (d + a) * 0.5, (a + b + d) * (1.0 / 3)}) {
+                    auto closest = closest_point(*bvh, p);
+                    if (!closest) return 1e300;
+                    worst = std::max(worst, closest->distance);
+                }
+            }
+            return worst;
+        };
+        // The guarantee is one-sided (the surface to the triangles' planes). The other way is measured: within the
+        // tolerance on the other shapes; above it on these, measured 1.66 and 1.42 of it on the irregular torus and
+        // catmark_inf_crease0 with every vertex on the surface, and 1.10 (on the surface: 0.36) on
+        // catmark_cube_creases1 with straddled vertices (docs/subdivision.md).
+        const bool known =
+            c.name == "irregular_torus" || c.name == "catmark_inf_crease0" || c.name == "catmark_cube_creases1";
+        EXPECT_LE(reverse(out), (known ? 1.5 : 1.02) * options.tolerance);
+    }
+}
+
 TEST(AdaptiveTessellation, InfinitelySharpCreasesStayOnTheCrease) {
     PolygonMesh mesh = shapes::cube();
     std::vector<Index> top;
@@ -289,28 +362,32 @@ TEST(AdaptiveTessellation, InfinitelySharpCreasesStayOnTheCrease) {
     ASSERT_EQ(mesh.tags.creases.size(), 4u);
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     ASSERT_TRUE(evaluator.ok());
-    LimitTessellationOptions options;
-    options.tolerance = 1e-3;
-    auto result = tessellate_limit(*evaluator, mesh, options);
-    ASSERT_TRUE(result.ok()) << result.error().message;
-    std::size_t on_crease = 0;
-    for (std::size_t i = 0; i < result->sites.size(); ++i) {
-        const LimitSite& s = result->sites[i];
-        if (s.u != 0 && s.u != 1 && s.v != 0 && s.v != 1) continue;  // not on a base edge
-        const auto fv = mesh.face(s.face);
-        // the base edge the site is on
-        const std::size_t k = s.v == 0 ? 0 : s.u == 1 ? 1 : s.v == 1 ? 2 : 3;
-        const bool crease = mesh.positions[fv[k]].z > 0 && mesh.positions[fv[(k + 1) % 4]].z > 0;
-        if (!crease) continue;
-        ++on_crease;
-        EXPECT_NEAR(result->mesh.positions[i].z, 0.5, 1e-12) << "vertex " << i;
+    for (double straddle : {0.0, 0.45}) {
+        SCOPED_TRACE(straddle);
+        LimitTessellationOptions options;
+        options.tolerance = 1e-3;
+        options.straddle = straddle;  // vertices on the crease stay on it when the rest move off the surface
+        auto result = tessellate_limit(*evaluator, mesh, options);
+        ASSERT_TRUE(result.ok()) << result.error().message;
+        std::size_t on_crease = 0;
+        for (std::size_t i = 0; i < result->sites.size(); ++i) {
+            const LimitSite& s = result->sites[i];
+            if (s.u != 0 && s.u != 1 && s.v != 0 && s.v != 1) continue;  // not on a base edge
+            const auto fv = mesh.face(s.face);
+            // the base edge the site is on
+            const std::size_t k = s.v == 0 ? 0 : s.u == 1 ? 1 : s.v == 1 ? 2 : 3;
+            const bool crease = mesh.positions[fv[k]].z > 0 && mesh.positions[fv[(k + 1) % 4]].z > 0;
+            if (!crease) continue;
+            ++on_crease;
+            EXPECT_NEAR(result->mesh.positions[i].z, 0.5, 1e-12) << "vertex " << i;
+        }
+        EXPECT_GT(on_crease, 4u * 4u);
+        // the surface below the crease is curved: some vertex is far from the cube's faces
+        double inside = 0;
+        for (const Vec3& p : result->mesh.positions)
+            inside = std::max(inside, 0.5 - std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+        EXPECT_GT(inside, 0.05);
     }
-    EXPECT_GT(on_crease, 4u * 4u);
-    // the surface below the crease is curved: some vertex is far from the cube's faces
-    double inside = 0;
-    for (const Vec3& p : result->mesh.positions)
-        inside = std::max(inside, 0.5 - std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
-    EXPECT_GT(inside, 0.05);
 }
 
 TEST(AdaptiveTessellation, UvsAreBilinearInTheFaceParameter) {
@@ -371,6 +448,13 @@ TEST(AdaptiveTessellation, BudgetsAndBadOptions) {
     options.max_segments = 256;
     for (double bad : {0.0, -1.0, std::nan("")}) {
         options.tolerance = bad;
+        auto result = tessellate_limit(*evaluator, mesh, options);
+        ASSERT_FALSE(result.ok());
+        EXPECT_EQ(result.error().code, ErrorCode::InvalidArgument);
+    }
+    options.tolerance = 1e-3;
+    for (double bad : {-0.1, 1.0, std::nan("")}) {
+        options.straddle = bad;
         auto result = tessellate_limit(*evaluator, mesh, options);
         ASSERT_FALSE(result.ok());
         EXPECT_EQ(result.error().code, ErrorCode::InvalidArgument);
