@@ -292,9 +292,32 @@ bool all_quads_at(const Piece& p, const Adjacency& adj, Index v) {
     return true;
 }
 
+//! Whether local vertex v is a dart: one sharp edge at it, no vertex sharpness. The smooth limit mask there is not
+//! the limit (the sharp edge's points follow the crease rule as the vertex is refined, which the smooth mask does not
+//! model): it is off by a fraction of the ring's size that falls with each level (measured on catmark_inf_crease0:
+//! Far's limit at a dart moves by 0.013 of a unit edge from level 0 to 5, converging).
+bool dart_at(const Piece& p, const Adjacency& adj, Index v) {
+    if (is_sharp(p.sharp.vertex[v])) return false;
+    const Level& L = p.level;
+    std::vector<Index> edges;
+    for (Index k = adj.vf_offsets[v]; k < adj.vf_offsets[v + 1]; ++k) {
+        const Index g = adj.vf_faces[k], n = L.face_offsets[g + 1] - L.face_offsets[g];
+        const Index s = slot_of(L, g, v);
+        edges.push_back(L.face_edges[L.face_offsets[g] + s]);
+        edges.push_back(L.face_edges[L.face_offsets[g] + (s + n - 1) % n]);
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    int sharp = 0;
+    for (Index e : edges) sharp += is_sharp(p.sharp.edge[e]) ? 1 : 0;
+    return sharp == 1;
+}
+
 //! Whether corner j of the piece's target face stays irregular under refinement: it is not regular, no semi-sharp
-//! feature at it is what prevents it, and the limit masks of limit.h apply there.
+//! feature at it is what prevents it, and the limit masks of limit.h apply there (not at a dart: there the descent
+//! goes on to max_level, where the mask's error has shrunk with the ring).
 bool irregular_for_good(bool loop, const Piece& p, const Adjacency& adj, int j) {
+    if (dart_at(p, adj, subdivision::face_vert(p.level, p.target, static_cast<Index>(j)))) return false;
     bool semi = false;
     if (loop) return !subdivision::loop_corner_regular(p, adj, p.target, j, &semi) && !semi;
     bool sharp_edge[4];

@@ -20,6 +20,16 @@ bool on_side(const P2& p, int k) { return k == 0 ? p.t == 0 : k == 1 ? p.s == 1 
 
 double area2(const P2& a, const P2& b, const P2& c) { return (b.s - a.s) * (c.t - a.t) - (b.t - a.t) * (c.s - a.s); }
 
+//! Whether the triangle (a, b, c), oriented as the sign of `sign` says, is not a sliver in the domain: twice its area at least
+//! kMinShape times its longest edge squared. The bounds take a triangle's plane from its corners: with its corners
+//! (nearly) in line in (s, t), the plane can hold the whole curve through them (a parallel circle of a torus), so
+//! that the bound is small while the triangle's inside runs far from the surface.
+constexpr double kMinShape = 1e-3;
+bool well_shaped(const P2& a, const P2& b, const P2& c, double sign) {
+    const auto sq = [](const P2& p, const P2& q) { return (p.s - q.s) * (p.s - q.s) + (p.t - q.t) * (p.t - q.t); };
+    return area2(a, b, c) * (sign > 0 ? 1.0 : -1.0) >= kMinShape * std::max({sq(a, b), sq(b, c), sq(c, a)});
+}
+
 int corner_of(const DomainTriangle& t, Index v) {
     for (int k = 0; k < 3; ++k)
         if (t.v[std::size_t(k)] == v) return k;
@@ -124,7 +134,7 @@ public:
                          pc = t.p[std::size_t((e + 2) % 3)], pd = o.p[std::size_t((kb + 2) % 3)];
                 const double sign = area2(pa, pb, pc);
                 DomainTriangle n1{t.domain, {a, d, c}, {pa, pd, pc}}, n2{t.domain, {d, b, c}, {pd, pb, pc}};
-                if (!(area2(pa, pd, pc) * sign > 0) || !(area2(pd, pb, pc) * sign > 0)) continue;
+                if (!well_shaped(pa, pd, pc, sign) || !well_shaped(pd, pb, pc, sign)) continue;
                 auto before1 = ratio_of(t1), before2 = ratio_of(t2);
                 if (!before1) return before1.error();
                 if (!before2) return before2.error();
@@ -248,8 +258,7 @@ private:
             moved.v[std::size_t(kv)] = w;
             moved.p[std::size_t(kv)] = pw;
             const double before = area2(tri.p[0], tri.p[1], tri.p[2]);
-            const double after = area2(moved.p[0], moved.p[1], moved.p[2]);
-            if (!(after * before > 0) || std::abs(after) < 1e-14) return std::optional<double>{};
+            if (!well_shaped(moved.p[0], moved.p[1], moved.p[2], before)) return std::optional<double>{};
             auto e = error_of(moved);
             if (!e) return e.error();
             const double ratio = e->ratio(options_.tolerance);

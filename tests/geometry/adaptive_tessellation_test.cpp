@@ -200,6 +200,20 @@ TEST(AdaptiveTessellation, WithinToleranceWatertightOnTheLimit) {
             for (const auto& crease : c.mesh.tags.creases) semi_sharp |= crease.sharpness > 0 && crease.sharpness < 10;
             for (const auto& corner : c.mesh.tags.corners) semi_sharp |= corner.sharpness > 0 && corner.sharpness < 10;
             const auto far = testing::osd_limit(c.mesh, sub, 0, c.mesh.vertex_count());
+            // darts (one sharp edge at a vertex): the smooth limit mask is not the limit there; Far's limit at a
+            // finer level converges to ours (catmark_inf_crease0's dart moves by 0.0126 from level 0 to 5)
+            std::vector<int> sharp_edges(c.mesh.vertex_count(), 0);
+            for (const auto& [edge, uses] : edge_uses(c.mesh)) {
+                bool sharp = uses.size() != 2;
+                for (const auto& crease : c.mesh.tags.creases)
+                    sharp |= crease.sharpness > 0 &&
+                             std::minmax(crease.v0, crease.v1) == std::minmax(edge.first, edge.second);
+                if (sharp) ++sharp_edges[edge.first], ++sharp_edges[edge.second];
+            }
+            const bool darts = std::count(sharp_edges.begin(), sharp_edges.end(), 1) > 0;
+            const auto far3 = darts ? testing::osd_limit(c.mesh, sub, 3, c.mesh.vertex_count()) : far;
+            const auto far5 = darts ? testing::osd_limit(c.mesh, sub, 5, c.mesh.vertex_count()) : far;
+            std::size_t darts_checked = 0;
             for (std::size_t i = 0; i < out.vertex_count(); ++i) {
                 const LimitSite& site = result->sites[i];
                 const bool corner =
@@ -207,7 +221,14 @@ TEST(AdaptiveTessellation, WithinToleranceWatertightOnTheLimit) {
                 if (corner) {
                     const Index bv =
                         c.mesh.face(site.face)[site.u == 0 ? (site.v == 0 ? 0 : 3) : (site.v == 0 ? 1 : 2)];
-                    if (!semi_sharp) {
+                    if (semi_sharp) {
+                    } else if (sharp_edges[bv] == 1 && c.mesh.tags.corners.empty()) {
+                        const double d3 = norm(out.positions[i] - far3.positions[bv]);
+                        const double d5 = norm(out.positions[i] - far5.positions[bv]);
+                        EXPECT_LT(d5, 0.35 * d3) << "dart " << i;
+                        EXPECT_LT(d5, 1e-4 * diagonal(c.mesh)) << "dart " << i;
+                        ++darts_checked;
+                    } else {
                         EXPECT_LT(norm(out.positions[i] - far.positions[bv]), 1e-9) << "vertex " << i;
                     }
                 } else if (i % 7 == 0) {
@@ -215,6 +236,9 @@ TEST(AdaptiveTessellation, WithinToleranceWatertightOnTheLimit) {
                     EXPECT_LT(norm(out.positions[i] - reference), 1e-6 * diagonal(c.mesh))
                         << "vertex " << i << " face " << site.face << " (" << site.u << ", " << site.v << ")";
                 }
+            }
+            if (c.name == "catmark_inf_crease0") {
+                EXPECT_GT(darts_checked, 0u);
             }
             // dense exact samples are within the tolerance of the triangles
             const double distance = sampled_distance(*evaluator, c.mesh, out);
@@ -340,13 +364,11 @@ TEST(AdaptiveTessellation, StraddledVerticesStayWithinTolerance) {
             }
             return worst;
         };
-        // The guarantee is one-sided (the surface to the triangles' planes). The other way is measured: within the
-        // tolerance on the other shapes; above it on these, measured 1.66 and 1.42 of it on the irregular torus and
-        // catmark_inf_crease0 with every vertex on the surface, and 1.10 (on the surface: 0.36) on
-        // catmark_cube_creases1 with straddled vertices (docs/subdivision.md).
-        const bool known =
-            c.name == "irregular_torus" || c.name == "catmark_inf_crease0" || c.name == "catmark_cube_creases1";
-        EXPECT_LE(reverse(out), (known ? 1.5 : 1.02) * options.tolerance);
+        // The guarantee is one-sided (the surface to the triangles' planes); the other way is measured: within the
+        // tolerance with every vertex on the surface, and with straddled vertices too except on
+        // catmark_cube_creases1, 1.10 of it (0.36 on the surface; docs/subdivision.md).
+        EXPECT_LE(reverse(on_surface->mesh), 1.02 * options.tolerance);
+        EXPECT_LE(reverse(out), (c.name == "catmark_cube_creases1" ? 1.15 : 1.02) * options.tolerance);
     }
 }
 
