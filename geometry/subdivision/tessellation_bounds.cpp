@@ -143,7 +143,7 @@ double triangle_bound(const Bounds& m, const P2& p0, const P2& p1, const P2& p2)
     const double ds = std::max({p0.s, p1.s, p2.s}) - std::min({p0.s, p1.s, p2.s});
     const double dt = std::max({p0.t, p1.t, p2.t}) - std::min({p0.t, p1.t, p2.t});
     const double k = ds > 0 && dt > 0 ? dt / ds : 1.0;
-    const double a = std::sqrt(m.uu + k * m.uv), c = std::sqrt(m.vv + m.uv / k);
+    const double a = std::sqrt(std::max(0.0, m.uu + k * m.uv)), c = std::sqrt(std::max(0.0, m.vv + m.uv / k));
     const double x0 = a * p0.s, y0 = c * p0.t, x1 = a * p1.s, y1 = c * p1.t, x2 = a * p2.s, y2 = c * p2.t;
     const double l0 = (x1 - x2) * (x1 - x2) + (y1 - y2) * (y1 - y2);
     const double l1 = (x0 - x2) * (x0 - x2) + (y0 - y2) * (y0 - y2);
@@ -252,15 +252,17 @@ SignedBounds signed_in_box(const PatchData& p, const Vec3& n, double s0, double 
     const auto [vv_low, vv_high] = box_range(b.vv, 3, 1, b.s3, b.t1);
     const double mixed = box_max(b.uv, 2, 2, b.s2, b.t2);
     SignedBounds out;
-    out.up = {std::max(0.0, uu_high), mixed, std::max(0.0, vv_high)};
-    out.down = {std::max(0.0, -uu_low), mixed, std::max(0.0, -vv_low)};
+    out.up = {uu_high, mixed, vv_high};
+    out.down = {-uu_low, mixed, -vv_low};
     return out;
 }
 
 SignedBounds plane_bounds(const FaceData& fd, const Overlap& o, const std::optional<Vec3>& m, const P2& lo,
                           const P2& hi) {
     if (!m) return SignedBounds::symmetric(o.m);
-    SignedBounds out;
+    if (o.patches.empty()) return {};
+    constexpr double kLowest = -std::numeric_limits<double>::infinity();
+    SignedBounds out{{kLowest, 0, kLowest}, {kLowest, 0, kLowest}};
     for (const auto& piece : o.patches) {
         const double inv = 1.0 / piece.w;
         const double s0 = std::clamp((lo.s - piece.s0) * inv, 0.0, 1.0),

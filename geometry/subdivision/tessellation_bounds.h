@@ -33,9 +33,11 @@ struct Bounds {
 };
 
 //! Bounds on the two signs of n . S_ss and n . S_tt (n a plane's normal) and on |n . S_st| over a region: `up` on
-//! max(0, n . S_ss), |n . S_st|, max(0, n . S_tt); `down` on max(0, -n . S_ss), |n . S_st|, max(0, -n . S_tt). Where
-//! the surface is saddle-shaped (S_ss and S_tt curve to opposite sides of the plane) each sign has one direction's
-//! term only.
+//! n . S_ss, |n . S_st|, n . S_tt (from above); `down` on -n . S_ss, |n . S_st|, -n . S_tt. A side's uu or vv is
+//! negative where the surface curves the other way throughout, and then takes back part of the mixed term: with
+//! uu + k uv and vv + uv / k (triangle_bound) both at most 0 that side is 0, as on a convex patch whose mixed
+//! derivative is small against the others. Where the surface is saddle-shaped (S_ss and S_tt curve to opposite
+//! sides of the plane) each sign has one direction's term only.
 struct SignedBounds {
     Bounds up, down;
     void include(const SignedBounds& b, double scale) {

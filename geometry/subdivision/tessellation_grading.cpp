@@ -26,7 +26,8 @@ constexpr int kTrimTrials = 4;
 //! How much to shrink a failing triangle of parameter extents (hs, ht) whose bound is `ratio` times the tolerance:
 //! per direction, by the share of the bound that direction carries (the bound is a quadratic form in the extents).
 std::pair<double, double> shrink(const Bounds& m, double hs, double ht, double ratio) {
-    const double cu = m.uu * hs * hs + m.uv * hs * ht, cv = m.vv * ht * ht + m.uv * hs * ht;
+    const double cu = std::max(0.0, m.uu * hs * hs + m.uv * hs * ht),
+                 cv = std::max(0.0, m.vv * ht * ht + m.uv * hs * ht);
     double fs = 1.05, ft = 1.05;
     if (cu + cv > 0) {
         fs = std::max(1.0, std::sqrt(2.0 * ratio * cu / (cu + cv)));

@@ -569,9 +569,10 @@ TEST(AdaptiveTessellation, SignedBoundsOnASaddleAreExact) {
         for (int c = 0; c < 4; ++c) points[std::size_t(4 * r + c)] = {double(c), double(r), a * c * c - b * r * r};
     const PatchData patch = patch_data(points);
     const SignedBounds sb = signed_in_box(patch, {0, 0, 1}, 0.0, 1.0, 0.0, 1.0);
+    // z_ss = 2a throughout and z_tt = -2b: from above z_ss <= 2a, z_tt <= -2b; from below -z_ss <= -2a, -z_tt <= 2b
     EXPECT_NEAR(sb.up.uu, 2 * a, 1e-12);
-    EXPECT_NEAR(sb.up.vv, 0.0, 1e-12);
-    EXPECT_NEAR(sb.down.uu, 0.0, 1e-12);
+    EXPECT_NEAR(sb.up.vv, -2 * b, 1e-12);
+    EXPECT_NEAR(sb.down.uu, -2 * a, 1e-12);
     EXPECT_NEAR(sb.down.vv, 2 * b, 1e-12);
     EXPECT_NEAR(sb.up.uv, 0.0, 1e-12);
     const Bounds magnitude = along_in_box(patch, {0, 0, 1}, 0.0, 1.0, 0.0, 1.0);
@@ -598,6 +599,16 @@ TEST(AdaptiveTessellation, SignedBoundsOnASaddleAreExact) {
         EXPECT_NEAR(dominant.uu, 2 * a, 1e-12);  // the s side: its edge along s is the longer
         EXPECT_LT(bound, 0.9 * triangle_bound(magnitude, p0, p1, p2));
     }
+    // convex with a small mixed term (z = 0.3 s^2 + 0.2 t^2 + 0.05 s t): z lies below its chords, nothing above them
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c)
+            points[std::size_t(4 * r + c)] = {double(c), double(r), 0.3 * c * c + 0.2 * r * r + 0.05 * r * c};
+    const SignedBounds convex = signed_in_box(patch_data(points), {0, 0, 1}, 0.0, 1.0, 0.0, 1.0);
+    EXPECT_NEAR(convex.down.uu, -0.6, 1e-12);
+    EXPECT_NEAR(convex.down.uv, 0.05, 1e-12);
+    const P2 q0{0.1, 0.1}, q1{0.6, 0.1}, q2{0.6, 0.4};
+    EXPECT_EQ(triangle_bound(convex.down, q0, q1, q2), 0.0);
+    EXPECT_GT(triangle_bound(convex.up, q0, q1, q2), 0.0);
 }
 
 // A staggered grid (odd rows at the midpoints of the s intervals) tiles its domain exactly, in both of
