@@ -392,7 +392,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                     }
                 }
                 const std::uint32_t ring = std::uint32_t(d.side[0] + d.side[1] + d.side[2] + d.side[3]);
-                double bound = 0, sampled = 0;
+                double bound = 0, sampled = 0, worst = 0;  // worst: the largest error ratio
                 bool inner_fail = false;
                 const std::array<bool, 4> open = open_sides(cx, d);
                 for (const auto& tri : local.triangles) {
@@ -404,6 +404,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                     bound = std::max(bound, error->bound);
                     sampled = std::max(sampled, error->sampled);
                     const double ratio = error->ratio(options.tolerance);
+                    worst = std::max(worst, ratio);
                     if (!options.guaranteed || ratio <= 1) continue;
                     // graded: refine where the triangle lies, and its side when it is in a transition strip
                     const double f = std::min(4.0, std::max(1.1, std::sqrt(ratio)));
@@ -433,7 +434,7 @@ Result<LimitTessellationPlan> plan(Context& cx) {
                         raise_side(d, side, lo, hi, f / std::max(hi - lo, 1e-9));
                     }
                 }
-                const bool ok = bound <= options.tolerance && sampled * kSampledSafety + fd.lift <= options.tolerance;
+                const bool ok = worst <= 1;
                 if (options.guaranteed) {
                     domain_bound[di] = bound;
                     domain_sampled[di] = sampled;
@@ -735,9 +736,7 @@ Result<LimitTessellation> tessellate_limit(const LimitSurfaceEvaluator& evaluato
             mesh.uvs.push_back(uv);
         }
     }
-    // a sampled triangle's vertices may be off the surface by up to the lift
-    const double lift = options.guaranteed ? options.straddle * options.tolerance : 0.0;
-    out.achieved_error = std::max(error_bound, sampled_error > 0 ? sampled_error + lift : 0.0);
+    out.achieved_error = std::max(error_bound, sampled_error);
     return out;
 }
 

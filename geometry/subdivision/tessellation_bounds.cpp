@@ -372,36 +372,71 @@ double offset_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2&
     return std::max(below, above);
 }
 
-Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
+Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c,
+                                   const std::array<OffsetPoint, 3>& corners) {
     const auto at = [&](const P2& p) -> Result<Vec3> {
         const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
         auto sample = fd.surface->evaluate(u, v);
         if (!sample) return sample.error();
         return sample->position;
     };
-    auto sa = at(a), sb = at(b), sc = at(c);
-    if (!sa) return sa.error();
-    if (!sb) return sb.error();
-    if (!sc) return sc.error();
-    // distance to the triangle's plane: a point whose projection falls just outside the triangle is near its
-    // neighbour's, which the distance to this triangle alone (its edge) would overstate by the tangential offset
-    const Vec3 n = cross(*sb - *sa, *sc - *sa);
-    const double area2 = norm(n);
+    // S at the corners, and the plane of the vertices
+    const std::array<Vec3, 3> on{corners[0].position - corners[0].offset, corners[1].position - corners[1].offset,
+                                 corners[2].position - corners[2].offset};
+    const auto normal = unit_normal(corners[0].position, corners[1].position, corners[2].position);
+    // with a plane: m . (S(x) - T(x)) = bend(x) - lift(x), bend = m . S(x) minus its interpolant between the corners'
+    // S (the part the samples may miss the peak of), lift = the corners' offsets along m, interpolated
+    double bend_low = 0, bend_high = 0, lift_low = 0, lift_high = 0, measured = 0, longest_offset = 0;
+    if (normal) {
+        lift_low = lift_high = dot(*normal, corners[0].offset);
+        for (std::size_t i = 1; i < 3; ++i) {
+            lift_low = std::min(lift_low, dot(*normal, corners[i].offset));
+            lift_high = std::max(lift_high, dot(*normal, corners[i].offset));
+        }
+        measured = std::max(std::abs(lift_low), std::abs(lift_high));  // at the corners
+    }
+    for (const auto& corner : corners) longest_offset = std::max(longest_offset, norm(corner.offset));
     constexpr int kSteps = 6;
-    double worst = 0;
     for (int i = 0; i <= kSteps; ++i)
         for (int j = 0; i + j <= kSteps; ++j) {
             const int k = kSteps - i - j;
             if (i == kSteps || j == kSteps || k == kSteps) continue;
             const double li = double(i) / kSteps, lj = double(j) / kSteps, lk = double(k) / kSteps;
             const P2 x{li * a.s + lj * b.s + lk * c.s, li * a.t + lj * b.t + lk * c.t};
-            auto s = at(x);
-            if (!s) return s.error();
-            const double d = area2 > 0 ? std::abs(dot(*s - *sa, n)) / area2
-                                       : norm(*s - triangle_closest_point(*s, *sa, *sb, *sc).point);
-            worst = std::max(worst, d);
+            auto sx = at(x);
+            if (!sx) return sx.error();
+            if (normal) {
+                // distance to the plane: a point whose projection falls just outside the triangle is near its
+                // neighbour's, which the distance to this triangle alone (its edge) would overstate
+                const double bend = dot(*normal, *sx - (on[0] * li + on[1] * lj + on[2] * lk));
+                const double lift =
+                    dot(*normal, corners[0].offset * li + corners[1].offset * lj + corners[2].offset * lk);
+                bend_low = std::min(bend_low, bend);
+                bend_high = std::max(bend_high, bend);
+                measured = std::max(measured, std::abs(bend - lift));
+            } else {
+                const Vec3 q =
+                    triangle_closest_point(*sx, corners[0].position, corners[1].position, corners[2].position).point;
+                measured = std::max(measured, norm(*sx - q));
+            }
         }
-    return worst;
+    SampledError out;
+    out.measured = measured;
+    out.check = normal ? std::max(std::abs(kSampledSafety * bend_low - lift_high),
+                                  std::abs(kSampledSafety * bend_high - lift_low))
+                       : kSampledSafety * measured + longest_offset;
+    return out;
+}
+
+Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c) {
+    std::array<OffsetPoint, 3> corners;
+    const P2* points[3] = {&a, &b, &c};
+    for (std::size_t k = 0; k < 3; ++k) {
+        auto corner = corner_at(fd, subface, *points[k]);
+        if (!corner) return corner.error();
+        corners[k] = *corner;
+    }
+    return sampled_error(fd, subface, a, b, c, corners);
 }
 
 Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std::array<bool, 4>& open_sides,
@@ -410,10 +445,10 @@ Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std:
     TriangleError out;
     const Overlap o = overlap_of(fd, subface, a, b, c);
     if (o.uncovered || !guaranteed) {
-        auto measured = sampled_error(fd, subface, a, b, c);
+        auto measured = guaranteed ? sampled_error(fd, subface, a, b, c, corners) : sampled_error(fd, subface, a, b, c);
         if (!measured) return measured.error();
-        out.sampled = *measured;
-        out.offset = fd.lift;
+        out.sampled = measured->measured;
+        out.check = measured->check;
     }
     if (!guaranteed) return out;
     // an edge on an open boundary: the full bound (no neighbour beyond it)

@@ -190,23 +190,35 @@ Result<OffsetPoint> corner_at(const FaceData& fd, int subface, const P2& p);
 double offset_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2& p2, const std::optional<Vec3>& normal,
                     const std::array<Vec3, 3>& offsets, Bounds* dominant = nullptr);
 
-//! Measured max distance from S(x) to the plane of the triangle of S at the corners, over the non-corner points x of
-//! a barycentric grid of step 1/6 of the triangle in (s, t). (Not |S(x) - T(x)|: at an extraordinary vertex the parameterization
-//! is singular, and the parametric difference falls only as fast as the triangle shrinks.)
-Result<double> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c);
-
-//! What one triangle of a domain is held to: `bound`, the guaranteed bound on its distance to the surface (0 when
-//! not guaranteed), and `sampled`, the measured distance where no patch bounds it (everywhere when not guaranteed).
-struct TriangleError {
-    double bound = 0, sampled = 0;
-    double offset = 0;  //!< with `sampled`: the largest offset of a vertex from S (FaceData::lift), added to it
-    //! The larger of bound / tolerance and (sampled x kSampledSafety + offset) / tolerance: at most 1 passes.
-    double ratio(double tolerance) const {
-        return std::max(bound / tolerance, (sampled * kSampledSafety + offset) / tolerance);
-    }
+//! A triangle's error measured where no patch bounds it.
+struct SampledError {
+    //! The largest distance from S(x) to the plane of the triangle's vertices, over the points x of a barycentric
+    //! grid of step 1/6 of the triangle in (s, t) and its corners. (Not |S(x) - T(x)|: at an extraordinary vertex the
+    //! parameterization is singular, and the parametric difference falls only as fast as the triangle shrinks.)
+    double measured = 0;
+    //! What the triangle is held to: the same with the surface's own bending away from the chords (m . S minus its
+    //! interpolant between the corners' S, m the plane's normal) taken kSampledSafety times, against samples missing
+    //! its peak; the vertices' offsets (straddle_offset) are known exactly. kSampledSafety x `measured` without
+    //! offsets.
+    double check = 0;
 };
 
-//! The error of the triangle (a, b, c) of a domain, whose vertices are `corners`: bounded over the patches its
+//! The sampled error of the triangle (a, b, c) of a domain whose vertices are `corners`, or, without them, the
+//! vertices corner_at places there.
+Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c,
+                                   const std::array<OffsetPoint, 3>& corners);
+Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c);
+
+//! What one triangle of a domain is held to: `bound`, the guaranteed bound on its distance to the surface (0 when
+//! not guaranteed), and where no patch bounds it (everywhere when not guaranteed) the sampled error: `sampled` as
+//! measured, `check` as tested (SampledError).
+struct TriangleError {
+    double bound = 0, sampled = 0, check = 0;
+    //! The larger of bound / tolerance and check / tolerance: at most 1 passes.
+    double ratio(double tolerance) const { return std::max(bound, check) / tolerance; }
+};
+
+//! The error of the triangle (a, b, c) of a domain, whose vertices are `corners` (read only when `guaranteed`): bounded over the patches its
 //! bounding box overlaps with its own plane (with the full second derivatives when it has an edge on a side
 //! `open_sides` marks as an open boundary of the mesh), and sampled where it reaches a part no patch bounds.
 Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std::array<bool, 4>& open_sides,

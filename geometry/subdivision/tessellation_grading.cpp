@@ -202,9 +202,9 @@ Result<Graded> refine(const FaceData& fd, std::size_t face, int subface, const L
                 if (!local) std::tie(fs, ft) = shrink(larger_side, hs, ht, ratio);
             }
             if (o.uncovered) {  // the parts no patch bounds (deep at irregular vertices) are sampled
-                auto sampled = sampled_error(fd, subface, a, b, c);
+                auto sampled = sampled_error(fd, subface, a, b, c, {grid[tri[0]], grid[tri[1]], grid[tri[2]]});
                 if (!sampled) return sampled.error();
-                const double sampled_ratio = (*sampled * kSampledSafety + fd.lift) / tol;
+                const double sampled_ratio = sampled->check / tol;
                 cell_ratio = std::max(cell_ratio, sampled_ratio);
                 if (sampled_ratio > 1) {
                     // the triangles next to the uncovered parts shrink by f: the density rises over a triangle's
@@ -386,7 +386,7 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                     for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
                         auto e = sampled_error(fd, subface, lo, p, q);
                         if (!e) return e.error();
-                        if (*e * kSampledSafety + fd.lift > tol) sampled_fail = true;
+                        if (e->check > tol) sampled_fail = true;
                     }
                 }
             }
