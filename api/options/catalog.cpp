@@ -27,6 +27,7 @@ constexpr auto kSmoothings = names_of(kRemeshSmoothingNames);
 constexpr Bound at_least(double v) { return Bound{v, false}; }
 constexpr Bound above(double v) { return Bound{v, true}; }
 constexpr Bound at_most(double v) { return Bound{v, false}; }
+constexpr Bound below(double v) { return Bound{v, true}; }
 
 // ---- the output of the operations that answer with a mesh (JSON: members of "output") ----------------------------
 // Each row once; an operation whose encoder offers fewer formats or another default composes its own list from them.
@@ -124,6 +125,15 @@ constexpr OptionSpec kSubdivide[] = {
          "Instead of levels: triangles within this distance of the Catmull-Clark limit surface, with "
          "segments per edge chosen from its curvature; excludes levels and target_faces. With format patches: the "
          "largest measured error allowed of the approximated patches"},
+    {.name = "straddle",
+     .type = OptionType::Number,
+     .min = at_least(0),
+     .max = below(1),
+     .default_json = "0",
+     .description = "With tolerance: vertices move off the limit surface along the normal, towards its convex side, "
+                    "by up to straddle x tolerance, so that the surface crosses the triangles; the distance stays "
+                    "within the tolerance, with fewer triangles where the surface curves one way; 0: every vertex on "
+                    "the surface"},
     {.name = "target_faces",
      .type = OptionType::Integer,
      .min = at_least(1),

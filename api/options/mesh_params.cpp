@@ -8,6 +8,7 @@ SubdivideParams subdivide_params(const OptionValues& values) {
     values.get("levels", params.levels);
     params.levels_given = values.has("levels");
     values.get("tolerance", params.tolerance);
+    values.get("straddle", params.straddle);
     values.get("target_faces", params.target_faces);
     values.get("boundary", kBoundaryNames, params.boundary);
     values.get("crease_method", kCreaseMethodNames, params.crease_method);

@@ -170,6 +170,10 @@ export interface SubdivideOptions extends MeshInput, OutputOptions<OutputFormat>
   /** instead of levels: triangles within this distance (model units) of the Catmull-Clark limit surface; excludes
    *  levels and target_faces */
   tolerance?: number;
+  /** with tolerance, at least 0 and below 1: vertices move off the limit surface towards its convex side by up to
+   *  straddle x tolerance, so the surface crosses the triangles (still within the tolerance; fewer triangles where
+   *  it curves one way). @default 0 */
+  straddle?: number;
   /** the largest level (up to levels, if given) whose output has at most this many faces */
   target_faces?: number;
   /** default: the OBJ `t interpolateboundary` tag, else 'edge-only' */

@@ -675,6 +675,42 @@ TEST(SubdivideOperation, ToleranceTessellatesTheLimitSurface) {
     EXPECT_EQ(mesh->face_count(), expected->mesh.face_count());
 }
 
+// straddle: the library's straddled tessellation, fewer triangles on the cube, still within the tolerance; it needs
+// tolerance, and outside [0, 1) it is 400 naming it.
+TEST(SubdivideOperation, StraddleMovesVerticesOffTheSurface) {
+    const PolygonMesh cube = shapes::cube();
+    const auto response = call("application/json",
+                               json_request(cube, R"(,"tolerance":0.002,"straddle":0.45,"output":{"format":"json"})"));
+    ASSERT_EQ(response.status, 200) << response.body;
+    const auto json = nlohmann::json::parse(response.body);
+    auto evaluator = LimitSurfaceEvaluator::create(cube, {});
+    ASSERT_TRUE(evaluator.ok());
+    LimitTessellationOptions options;
+    options.tolerance = 0.002;
+    auto on_surface = tessellate_limit(*evaluator, cube, options);
+    options.straddle = 0.45;
+    auto straddled = tessellate_limit(*evaluator, cube, options);
+    ASSERT_TRUE(on_surface.ok());
+    ASSERT_TRUE(straddled.ok());
+    EXPECT_EQ(json["mesh"]["faces"].size(), straddled->mesh.face_count());
+    EXPECT_LT(straddled->mesh.face_count(), on_surface->mesh.face_count());
+    EXPECT_LE(std::stod(header(response, "X-Achieved-Tolerance")), 0.002);
+    const auto raw = call("model/obj", kCubeObj, {{"tolerance", "0.002"}, {"straddle", "0.45"}, {"format", "obj"}});
+    ASSERT_EQ(raw.status, 200) << raw.body;
+    auto mesh = read_obj(raw.body);
+    ASSERT_TRUE(mesh.ok());
+    EXPECT_LT(mesh->face_count(), on_surface->mesh.face_count());
+
+    auto json_problem = expect_problem(call("application/json", json_request(cube, R"(,"levels":2,"straddle":0.45)")),
+                                       400, "invalid_field");
+    EXPECT_EQ(json_problem.value("field", ""), "straddle");
+    for (const char* bad : {"-0.1", "1", "x"}) {
+        const auto problem = expect_problem(call("model/obj", kCubeObj, {{"tolerance", "0.002"}, {"straddle", bad}}),
+                                            400, "invalid_field");
+        EXPECT_EQ(problem.value("field", ""), "straddle") << bad;
+    }
+}
+
 // threads 2 gives the same answer as 1 (uniform levels and tolerance alike); outside [1, 2] it is 400 naming it.
 TEST(SubdivideOperation, TwoThreadsGiveTheSameAnswer) {
     const PolygonMesh torus = shapes::irregular_torus();
