@@ -8,10 +8,11 @@
 // bounding-box diagonal. Times: ours includes creating the evaluator; Bfr includes its factory and tessellation
 // objects and the evaluation; uniform is subdivide() alone.
 //
-// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain] [--threads N]   (from the
-// repository root, which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative one
-// tolerance R of the diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger =
-// false; --threads N plans ours with LimitTessellationOptions::threads = N, default 1)
+// Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain] [--straddle F] [--threads N]
+// (from the repository root, which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative
+// one tolerance R of the diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger
+// = false; --straddle F adds rows of ours with LimitTessellationOptions::straddle = F; --threads N plans ours with
+// LimitTessellationOptions::threads = N, default 1)
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/bfr/tessellation.h>
@@ -156,7 +157,8 @@ bool g_plain = false;
 int g_threads = 1;
 double g_straddle = 0;
 
-void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed, bool stagger = true) {
+void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed, bool stagger = true,
+         double straddle = 0) {
     if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     if (!evaluator) {
@@ -176,7 +178,7 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     options.guaranteed = guaranteed;
     options.stagger = stagger;
     options.threads = g_threads;
-    options.straddle = g_straddle;
+    options.straddle = straddle;
     auto ours = tessellate_limit(*fresh, mesh, options);
     const double ours_ms = watch.ms();
     if (!ours) {
@@ -220,9 +222,10 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
 
     std::printf(
         "| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n", name,
-        !guaranteed ? " (measured)"
-        : stagger   ? ""
-                    : " (plain)",
+        !guaranteed    ? " (measured)"
+        : !stagger     ? " (plain)"
+        : straddle > 0 ? " (straddle)"
+                       : "",
         mesh.face_count(), relative, ours->mesh.face_count(), ours_ms, ours_error / tolerance, level, uniform_triangles,
         uniform_ms, uniform_error / tolerance, double(ours->mesh.face_count()) / double(uniform_triangles), hi,
         bfr.face_count(), bfr_error / tolerance, ours_ms / bfr_ms);
@@ -261,21 +264,28 @@ int main(int argc, char** argv) {
     for (Index v : {4u, 5u, 6u, 7u}) top_sharp.tags.creases.push_back({v, v == 7 ? 4u : v + 1, 10.0});
     std::vector<double> relatives = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-2, 1e-3};
     if (g_relative > 0) relatives = {g_relative};
-    // guaranteed rates, then with plain grids only (--plain), then measured rates
-    std::vector<std::pair<bool, bool>> kinds{{true, true}};
-    if (g_plain) kinds.emplace_back(true, false);
-    kinds.emplace_back(false, true);
+    // guaranteed rates, then with plain grids only (--plain), then straddled (--straddle), then measured rates
+    struct Kind {
+        bool guaranteed, stagger;
+        double straddle;
+    };
+    std::vector<Kind> kinds{{true, true, 0.0}};
+    if (g_plain) kinds.push_back({true, false, 0.0});
+    if (g_straddle > 0) kinds.push_back({true, true, g_straddle});
+    kinds.push_back({false, true, 0.0});
     for (double relative : relatives)
-        for (const auto& [guaranteed, stagger] : kinds) {
-            run("cube", shapes::cube(), relative, guaranteed, stagger);
-            run("cube, edge loop sharpness 2.5", creased, relative, guaranteed, stagger);
-            run("cube, top loop infinitely sharp", top_sharp, relative, guaranteed, stagger);
-            run("thin torus 12x8 (r = R/8)", shapes::torus(12, 8, 1.0, 0.125), relative, guaranteed, stagger);
-            run("irregular torus", shapes::irregular_torus(), relative, guaranteed, stagger);
+        for (const Kind& k : kinds) {
+            const auto row = [&](const char* name, const PolygonMesh& mesh) {
+                run(name, mesh, relative, k.guaranteed, k.stagger, k.straddle);
+            };
+            row("cube", shapes::cube());
+            row("cube, edge loop sharpness 2.5", creased);
+            row("cube, top loop infinitely sharp", top_sharp);
+            row("thin torus 12x8 (r = R/8)", shapes::torus(12, 8, 1.0, 0.125));
+            row("irregular torus", shapes::irregular_torus());
             for (const char* name : {"catmark_pyramid_creases1", "catmark_torus_creases0", "catmark_car"}) {
                 const PolygonMesh mesh = load(name);
-                if (mesh.face_count() > 0 && !(quick && std::strcmp(name, "catmark_car") == 0))
-                    run(name, mesh, relative, guaranteed, stagger);
+                if (mesh.face_count() > 0 && !(quick && std::strcmp(name, "catmark_car") == 0)) row(name, mesh);
             }
         }
     return 0;

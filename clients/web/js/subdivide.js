@@ -26,7 +26,7 @@ export class SubdivideView {
     $('sub-source').addEventListener('change', () => this.setMesh(builtins[$('sub-source').value]()));
     $('sub-file').addEventListener('change', (e) => this.upload(e.target.files[0]));
     $('sub-levels').addEventListener('input', () => { $('sub-levels-out').textContent = $('sub-levels').value; });
-    for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness', 'sub-by-tolerance', 'sub-tolerance'])
+    for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness', 'sub-by-tolerance', 'sub-tolerance', 'sub-straddle'])
       $(id).addEventListener('change', () => this.run());
     $('sub-run').addEventListener('click', () => this.run());
     $('sub-patches').addEventListener('click', () => this.showPatches());
@@ -179,7 +179,10 @@ export class SubdivideView {
       output: format === 'glb' ? { format: 'glb', normals: true } : { format },
     };
     // to a tolerance: the limit surface tessellated adaptively (Catmull-Clark; levels and limit_surface do not apply)
-    if ($('sub-by-tolerance').checked) return { ...body, tolerance: Number($('sub-tolerance').value) };
+    if ($('sub-by-tolerance').checked) {
+      const straddle = Number($('sub-straddle').value);   // vertices off the surface by up to straddle x tolerance
+      return { ...body, tolerance: Number($('sub-tolerance').value), ...(straddle > 0 ? { straddle } : {}) };
+    }
     return { ...body, levels: Number($('sub-levels').value), limit_surface: $('sub-limit').checked };
   }
 
