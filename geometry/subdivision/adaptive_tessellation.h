@@ -95,8 +95,8 @@ struct LimitTessellationOptions {
     //! its convex side, by up to straddle x tolerance (tessellation_bounds.h's straddle_offset; not on infinitely
     //! sharp creases and corners or open boundaries), so that the surface crosses the triangles and the distance
     //! is split between both sides; the bound counts the offsets, so the surface stays within the tolerance of
-    //! the triangles' planes. Fewer triangles on smooth shapes (0.45: about 0.85 of them), sometimes more next to
-    //! creases (docs/benchmarks.md).
+    //! the triangles' planes. At 0.45: 0.70 to 0.94 of the triangles on the benchmark's shapes, 1.05 on one
+    //! whose faces mostly lie along creases and saddles (docs/benchmarks.md).
     double straddle = 0;
     //! 1: plan on the calling thread; anything else: prepare and grade the two halves of the faces on two threads
     //! (the faces' work is independent; the result is the same).

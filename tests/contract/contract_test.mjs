@@ -149,6 +149,7 @@ const requires = {
   // the neighbour count of the normal estimate: /pointcloud's estimate_normals=true, /reconstruct's auto or always
   k: { estimate_normals: ['true', 'auto', 'always'] },
   vertex_colors: { format: ['ply', 'obj', 'json'] },  // colours go into these formats only (/reconstruct)
+  straddle: { tolerance: [0.05] },  // /subdivide: vertices off the surface in tolerance tessellation only
 };
 
 // "Just inside" an exclusive minimum is bound + 1e-6, except where that small a value means heavy work (which the
@@ -477,7 +478,10 @@ function withValue(example, path, value, container) {
   for (const other of excludes.get(name) ?? []) delete at[other];
   for (const [other, allowed] of Object.entries(requires[name] ?? {})) {
     const sibling = container.properties?.[other];
-    if (sibling && !allowed.includes(at[other] ?? resolve(sibling).default)) at[other] = allowed[0];
+    if (sibling && !allowed.includes(at[other] ?? resolve(sibling).default)) {
+      at[other] = allowed[0];
+      for (const excluded of excludes.get(other) ?? []) if (excluded !== name) delete at[excluded];
+    }
   }
   return body;
 }
@@ -659,8 +663,10 @@ async function walk(op) {
         for (const other of excludes.get(p.name) ?? []) delete query[other];
         for (const [other, allowed] of Object.entries(requires[p.name] ?? {})) {
           const sibling = queryParams.find((q) => q.name === other);
-          if (sibling && !allowed.includes(query[other] ?? String(resolve(sibling.schema).default)))
+          if (sibling && !allowed.includes(query[other] ?? String(resolve(sibling.schema).default))) {
             query[other] = allowed[0];
+            for (const excluded of excludes.get(other) ?? []) if (excluded !== p.name) delete query[excluded];
+          }
         }
         const out = await sendQuery(query);
         if (g) {
