@@ -323,6 +323,13 @@ Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p) {
 
 namespace {
 
+//! The smallest and largest component along n of a triangle's corner offsets (what they add to the distance to its
+//! plane, interpolated, lies between them).
+std::pair<double, double> along(const Vec3& n, const std::array<Vec3, 3>& offsets) {
+    const double a = dot(n, offsets[0]), b = dot(n, offsets[1]), c = dot(n, offsets[2]);
+    return {std::min({a, b, c}), std::max({a, b, c})};
+}
+
 //! Whether domain point p lies on one of the face's fixed edges or vertices (FaceData::fixed_edge).
 bool on_fixed(const FaceData& fd, int subface, const P2& p) {
     if (fd.fixed_edge.empty()) return false;
@@ -354,18 +361,12 @@ Result<OffsetPoint> corner_at(const FaceData& fd, int subface, const P2& p) {
 double offset_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2& p2, const std::optional<Vec3>& normal,
                     const std::array<Vec3, 3>& offsets, Bounds* dominant) {
     const double up = triangle_bound(m.up, p0, p1, p2), down = triangle_bound(m.down, p0, p1, p2);
-    double low = 0, high = 0;  // the offsets' components along the normal, interpolated: within [low, high]
-    if (normal) {
-        low = high = dot(*normal, offsets[0]);
-        for (std::size_t i = 1; i < 3; ++i) {
-            low = std::min(low, dot(*normal, offsets[i]));
-            high = std::max(high, dot(*normal, offsets[i]));
-        }
-    } else {
+    if (!normal) {
         const double longest = std::max({norm(offsets[0]), norm(offsets[1]), norm(offsets[2])});
         if (dominant) *dominant = up >= down ? m.up : m.down;
         return std::max(up, down) + longest;
     }
+    const auto [low, high] = along(*normal, offsets);
     // the distance m . (S - T) lies in [-up - high, down - low]
     const double below = std::abs(up + high), above = std::abs(down - low);
     if (dominant) *dominant = below >= above ? m.up : m.down;
@@ -386,16 +387,11 @@ Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a,
     const auto normal = unit_normal(corners[0].position, corners[1].position, corners[2].position);
     // with a plane: m . (S(x) - T(x)) = bend(x) - lift(x), bend = m . S(x) minus its interpolant between the corners'
     // S (the part the samples may miss the peak of), lift = the corners' offsets along m, interpolated
-    double bend_low = 0, bend_high = 0, lift_low = 0, lift_high = 0, measured = 0, longest_offset = 0;
-    if (normal) {
-        lift_low = lift_high = dot(*normal, corners[0].offset);
-        for (std::size_t i = 1; i < 3; ++i) {
-            lift_low = std::min(lift_low, dot(*normal, corners[i].offset));
-            lift_high = std::max(lift_high, dot(*normal, corners[i].offset));
-        }
-        measured = std::max(std::abs(lift_low), std::abs(lift_high));  // at the corners
-    }
-    for (const auto& corner : corners) longest_offset = std::max(longest_offset, norm(corner.offset));
+    const std::array<Vec3, 3> offsets{corners[0].offset, corners[1].offset, corners[2].offset};
+    const auto [lift_low, lift_high] = normal ? along(*normal, offsets) : std::pair{0.0, 0.0};
+    const double longest_offset = std::max({norm(offsets[0]), norm(offsets[1]), norm(offsets[2])});
+    double bend_low = 0, bend_high = 0;
+    double measured = std::max(std::abs(lift_low), std::abs(lift_high));  // at the corners
     constexpr int kSteps = 6;
     for (int i = 0; i <= kSteps; ++i)
         for (int j = 0; i + j <= kSteps; ++j) {
@@ -409,8 +405,7 @@ Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a,
                 // distance to the plane: a point whose projection falls just outside the triangle is near its
                 // neighbour's, which the distance to this triangle alone (its edge) would overstate
                 const double bend = dot(*normal, *sx - (on[0] * li + on[1] * lj + on[2] * lk));
-                const double lift =
-                    dot(*normal, corners[0].offset * li + corners[1].offset * lj + corners[2].offset * lk);
+                const double lift = dot(*normal, offsets[0] * li + offsets[1] * lj + offsets[2] * lk);
                 bend_low = std::min(bend_low, bend);
                 bend_high = std::max(bend_high, bend);
                 measured = std::max(measured, std::abs(bend - lift));
