@@ -32,6 +32,20 @@ using subdivision::refine;
 using subdivision::slot_of;
 using subdivision::vertex_faces;
 
+//! The distinct edges at vertex v of a level: each face's two edges at its corner v.
+std::vector<Index> edges_at(const Level& L, const Adjacency& adj, Index v) {
+    std::vector<Index> edges;
+    for (Index k = adj.vf_offsets[v]; k < adj.vf_offsets[v + 1]; ++k) {
+        const Index g = adj.vf_faces[k], n = L.face_offsets[g + 1] - L.face_offsets[g];
+        const Index s = slot_of(L, g, v);
+        edges.push_back(L.face_edges[L.face_offsets[g] + s]);
+        edges.push_back(L.face_edges[L.face_offsets[g] + (s + n - 1) % n]);
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    return edges;
+}
+
 //! Corner j of quad f: whether the limit surface over f near it is the tensor-product B-spline (smooth valence 4,
 //! a straight infinitely sharp crease or boundary with the face's side holding two quads, or a corner with the face
 //! alone between two infinitely sharp edges), given which of f's edges are infinitely sharp. `semi_sharp` is set
@@ -49,16 +63,7 @@ bool corner_regular(const Piece& p, const Adjacency& adj, Index f, int j, const 
         if (L.face_offsets[g + 1] - L.face_offsets[g] != 4) quads = false;
     }
     // the edges at v: each face's edges leaving and arriving at v
-    std::vector<Index> edges;
-    if (quads)
-        for (Index k = adj.vf_offsets[v]; k < adj.vf_offsets[v + 1]; ++k) {
-            const Index g = adj.vf_faces[k];
-            const Index s = slot_of(L, g, v);
-            edges.push_back(L.face_edges[L.face_offsets[g] + s]);
-            edges.push_back(L.face_edges[L.face_offsets[g] + (s + 3) % 4]);
-        }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    const std::vector<Index> edges = quads ? edges_at(L, adj, v) : std::vector<Index>{};
     bool semi = is_semi_sharp(vs);
     for (Index ed : edges) semi = semi || is_semi_sharp(p.sharp.edge[ed]);
     if (semi_sharp) *semi_sharp = semi;
@@ -298,18 +303,8 @@ bool all_quads_at(const Piece& p, const Adjacency& adj, Index v) {
 //! Far's limit at a dart moves by 0.013 of a unit edge from level 0 to 5, converging).
 bool dart_at(const Piece& p, const Adjacency& adj, Index v) {
     if (is_sharp(p.sharp.vertex[v])) return false;
-    const Level& L = p.level;
-    std::vector<Index> edges;
-    for (Index k = adj.vf_offsets[v]; k < adj.vf_offsets[v + 1]; ++k) {
-        const Index g = adj.vf_faces[k], n = L.face_offsets[g + 1] - L.face_offsets[g];
-        const Index s = slot_of(L, g, v);
-        edges.push_back(L.face_edges[L.face_offsets[g] + s]);
-        edges.push_back(L.face_edges[L.face_offsets[g] + (s + n - 1) % n]);
-    }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     int sharp = 0;
-    for (Index e : edges) sharp += is_sharp(p.sharp.edge[e]) ? 1 : 0;
+    for (Index e : edges_at(p.level, adj, v)) sharp += is_sharp(p.sharp.edge[e]) ? 1 : 0;
     return sharp == 1;
 }
 

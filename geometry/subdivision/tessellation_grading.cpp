@@ -384,7 +384,12 @@ Result<std::pair<int, int>> domain_demand(const FaceData& fd, std::size_t face, 
                 if ((o.uncovered || !bounded) && !sampled_fail) {
                     const P2 c01{lo.s, hi.t}, c10{hi.s, lo.t};
                     for (const auto& [p, q] : {std::pair{c10, hi}, std::pair{hi, c01}}) {
-                        auto e = sampled_error(fd, subface, lo, p, q);
+                        // the grid's vertices where it has them, else (measured rates) evaluated for these
+                        const auto grid_at = [&](const P2& x) {
+                            return at(x.s == lo.s ? i : i + 1, x.t == lo.t ? j : j + 1);
+                        };
+                        auto e = bounded ? sampled_error(fd, subface, lo, p, q, {grid_at(lo), grid_at(p), grid_at(q)})
+                                         : sampled_error(fd, subface, lo, p, q);
                         if (!e) return e.error();
                         if (e->check > tol) sampled_fail = true;
                     }
