@@ -47,7 +47,8 @@ struct SubdivideParams {
     bool levels_given = false;  //!< whether "levels" was sent (it bounds the level chosen for target_faces)
     //! Instead of levels: triangles within this distance of the Catmull-Clark limit surface (adaptive_tessellation.h)
     std::optional<double> tolerance;
-    double straddle = 0;  //!< with tolerance: LimitTessellationOptions::straddle
+    //! With tolerance: LimitTessellationOptions::straddle (unset: the library's default, kDefaultStraddle)
+    std::optional<double> straddle;
     OutputOptions output;
     //! format "patches": the limit surface as Bézier patches (`levels` given: the isolation level) instead of a mesh
     bool patches = false;

@@ -11,8 +11,9 @@
 // Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain] [--straddle F] [--threads N]
 // (from the repository root, which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative
 // one tolerance R of the diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger
-// = false; --straddle F adds rows of ours with LimitTessellationOptions::straddle = F; --threads N plans ours with
-// LimitTessellationOptions::threads = N, default 1)
+// = false; --straddle F plans ours with LimitTessellationOptions::straddle = F instead of its default, kDefaultStraddle;
+// "(on the surface)" rows are ours with straddle 0; --threads N plans ours with LimitTessellationOptions::threads = N,
+// default 1)
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/bfr/tessellation.h>
@@ -155,10 +156,16 @@ std::string g_only;
 double g_relative = 0;
 bool g_plain = false;
 int g_threads = 1;
-double g_straddle = 0;
+double g_straddle = kDefaultStraddle;
 
-void run(const char* name, const PolygonMesh& mesh, double relative, bool guaranteed, bool stagger = true,
-         double straddle = 0) {
+//! One variant of ours: its row label's suffix and its options.
+struct Kind {
+    const char* suffix;
+    bool guaranteed, stagger;
+    double straddle;
+};
+
+void run(const char* name, const PolygonMesh& mesh, double relative, const Kind& kind) {
     if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
     auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
     if (!evaluator) {
@@ -175,10 +182,10 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     LimitTessellationOptions options;
     options.tolerance = tolerance;
     options.max_segments = 1024;
-    options.guaranteed = guaranteed;
-    options.stagger = stagger;
+    options.guaranteed = kind.guaranteed;
+    options.stagger = kind.stagger;
     options.threads = g_threads;
-    options.straddle = straddle;
+    options.straddle = kind.straddle;
     auto ours = tessellate_limit(*fresh, mesh, options);
     const double ours_ms = watch.ms();
     if (!ours) {
@@ -220,15 +227,11 @@ void run(const char* name, const PolygonMesh& mesh, double relative, bool guaran
     const double bfr_ms = watch.ms();
     const double bfr_error = max_distance(samples, bfr);
 
-    std::printf(
-        "| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n", name,
-        !guaranteed    ? " (measured)"
-        : !stagger     ? " (plain)"
-        : straddle > 0 ? " (straddle)"
-                       : "",
-        mesh.face_count(), relative, ours->mesh.face_count(), ours_ms, ours_error / tolerance, level, uniform_triangles,
-        uniform_ms, uniform_error / tolerance, double(ours->mesh.face_count()) / double(uniform_triangles), hi,
-        bfr.face_count(), bfr_error / tolerance, ours_ms / bfr_ms);
+    std::printf("| %s%s | %zu | %.0e | %zu | %.3g | %.2g | %d | %zu | %.3g | %.2g | %.2f | %d | %zu | %.3g | %.2f |\n",
+                name, kind.suffix, mesh.face_count(), relative, ours->mesh.face_count(), ours_ms,
+                ours_error / tolerance, level, uniform_triangles, uniform_ms, uniform_error / tolerance,
+                double(ours->mesh.face_count()) / double(uniform_triangles), hi, bfr.face_count(),
+                bfr_error / tolerance, ours_ms / bfr_ms);
     std::fflush(stdout);
 }
 
@@ -264,20 +267,15 @@ int main(int argc, char** argv) {
     for (Index v : {4u, 5u, 6u, 7u}) top_sharp.tags.creases.push_back({v, v == 7 ? 4u : v + 1, 10.0});
     std::vector<double> relatives = quick ? std::vector<double>{1e-2} : std::vector<double>{1e-2, 1e-3};
     if (g_relative > 0) relatives = {g_relative};
-    // guaranteed rates, then with plain grids only (--plain), then straddled (--straddle), then measured rates
-    struct Kind {
-        bool guaranteed, stagger;
-        double straddle;
-    };
-    std::vector<Kind> kinds{{true, true, 0.0}};
-    if (g_plain) kinds.push_back({true, false, 0.0});
-    if (g_straddle > 0) kinds.push_back({true, true, g_straddle});
-    kinds.push_back({false, true, 0.0});
+    // guaranteed rates, then with plain grids only (--plain), then with every vertex on the surface, then measured
+    // rates (which place every vertex on the surface)
+    std::vector<Kind> kinds{{"", true, true, g_straddle}};
+    if (g_plain) kinds.push_back({" (plain)", true, false, g_straddle});
+    kinds.push_back({" (on the surface)", true, true, 0.0});
+    kinds.push_back({" (measured)", false, true, 0.0});
     for (double relative : relatives)
         for (const Kind& k : kinds) {
-            const auto row = [&](const char* name, const PolygonMesh& mesh) {
-                run(name, mesh, relative, k.guaranteed, k.stagger, k.straddle);
-            };
+            const auto row = [&](const char* name, const PolygonMesh& mesh) { run(name, mesh, relative, k); };
             row("cube", shapes::cube());
             row("cube, edge loop sharpness 2.5", creased);
             row("cube, top loop infinitely sharp", top_sharp);

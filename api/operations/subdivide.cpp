@@ -41,7 +41,7 @@ std::optional<ApiError> check_params(const SubdivideParams& params, const Limits
                                 "tolerance tessellates the Catmull-Clark limit surface; scheme must be catmull-clark",
                                 "tolerance");
     }
-    if (params.straddle > 0 && !params.tolerance)
+    if (params.straddle && !params.tolerance)
         return make_problem(Problem::InvalidField, "straddle applies to tolerance tessellation; give tolerance with it",
                             "straddle");
     if (params.levels > limits.max_levels)
@@ -141,7 +141,7 @@ ApiResponse tessellate_limit_surface(const SubdivideParams& params, const Polygo
     tess.max_segments = limits.max_patch_segments;
     tess.max_triangles = limits.max_output_faces;
     tess.threads = options.threads;
-    tess.straddle = params.straddle;
+    if (params.straddle) tess.straddle = *params.straddle;
     tess.cancel = context.cancel;
     auto tessellated = tessellate_limit(*evaluator, mesh, tess);
     if (!tessellated) {

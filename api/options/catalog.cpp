@@ -129,11 +129,11 @@ constexpr OptionSpec kSubdivide[] = {
      .type = OptionType::Number,
      .min = at_least(0),
      .max = below(1),
-     .default_json = "0",
+     .default_json = "0.45",
      .description = "With tolerance: vertices move off the limit surface along the normal, towards its convex side, "
-                    "by up to straddle x tolerance, so that the surface crosses the triangles; the distance stays "
-                    "within the tolerance, with fewer triangles where the surface curves one way; 0: every vertex on "
-                    "the surface"},
+                    "by straddle x tolerance where it curves one way (not on saddles, irregular vertices or "
+                    "infinitely sharp features), so that the surface crosses the triangles; the distance stays "
+                    "within the tolerance, with fewer triangles; 0: every vertex on the surface"},
     {.name = "target_faces",
      .type = OptionType::Integer,
      .min = at_least(1),

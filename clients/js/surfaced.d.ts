@@ -170,9 +170,9 @@ export interface SubdivideOptions extends MeshInput, OutputOptions<OutputFormat>
   /** instead of levels: triangles within this distance (model units) of the Catmull-Clark limit surface; excludes
    *  levels and target_faces */
   tolerance?: number;
-  /** with tolerance, at least 0 and below 1: vertices move off the limit surface towards its convex side by up to
-   *  straddle x tolerance, so the surface crosses the triangles (still within the tolerance; fewer triangles where
-   *  it curves one way). @default 0 */
+  /** with tolerance, at least 0 and below 1: vertices move off the limit surface towards its convex side by
+   *  straddle x tolerance where it curves one way, so the surface crosses the triangles (still within the
+   *  tolerance; fewer triangles); 0: every vertex on the surface. @default 0.45 */
   straddle?: number;
   /** the largest level (up to levels, if given) whose output has at most this many faces */
   target_faces?: number;

@@ -72,6 +72,9 @@ inline constexpr int kBoundedDepth = 5;
 inline constexpr int kTreeLevels = kBoundedDepth + 1;
 //! Triangles at irregular vertices, which are sampled rather than bounded, must measure tolerance / kSampledSafety.
 inline constexpr double kSampledSafety = 2.0;
+//! LimitTessellationOptions::straddle's default: about the fewest triangles on the benchmark's shapes (0.35 to 0.55
+//! give similar counts; above, the sides of a convex patch's bound that are not one-sided take over).
+inline constexpr double kDefaultStraddle = 0.45;
 
 struct LimitTessellationOptions {
     //! Largest allowed distance between the triangles and the limit surface (model units), finite and > 0.
@@ -90,14 +93,15 @@ struct LimitTessellationOptions {
     //! With guaranteed rates: also grade each face as a staggered grid (tessellation_strips.h) and keep whichever
     //! layout takes fewer triangles; false: plain grids only.
     bool stagger = true;
-    //! With guaranteed rates. 0: every vertex on the limit surface, where the triangles' distance to it lies on one
-    //! side wherever it curves one way. Above 0 (below 1): vertices move off the surface along the normal, towards
-    //! its convex side, by up to straddle x tolerance (tessellation_bounds.h's straddle_offset; not on infinitely
-    //! sharp creases and corners or open boundaries), so that the surface crosses the triangles and the distance
-    //! is split between both sides; the bound counts the offsets, so the surface stays within the tolerance of
-    //! the triangles' planes. At 0.45: 0.70 to 0.94 of the triangles on the benchmark's shapes, 1.05 on one
+    //! With guaranteed rates, 0 to below 1. Vertices move off the limit surface along the normal, towards its
+    //! convex side, by straddle x tolerance where both principal curvatures have one sign (tessellation_bounds.h's
+    //! straddle_offset; not on saddles, at irregular vertices, on infinitely sharp creases and corners or open
+    //! boundaries), so that the surface crosses the triangles and the distance is split between both sides; the
+    //! bound counts the offsets, so the surface stays within the tolerance of the triangles. 0: every vertex on the
+    //! limit surface, where the triangles' distance to it lies on one side wherever it curves one way. The default
+    //! takes 0.70 to 0.86 of the triangles of 0 on the benchmark's shapes at 1e-3 of their diagonal, 1.03 on one
     //! whose faces mostly lie along creases and saddles (docs/benchmarks.md).
-    double straddle = 0;
+    double straddle = kDefaultStraddle;
     //! 1: plan on the calling thread; anything else: prepare and grade the two halves of the faces on two threads
     //! (the faces' work is independent; the result is the same).
     int threads = 1;

@@ -306,12 +306,17 @@ Vec3 straddle_offset(const LimitSample& sample, double lift) {
     const double l = dot(sample.duu, n), m = dot(sample.duv, n), k = dot(sample.dvv, n);
     const double det = e * g - f * f;
     if (!(det > 0)) return {};
-    const double mean2 = (e * k - 2 * f * m + g * l) / det;                                     // k1 + k2
-    const double gauss = (l * k - m * m) / det;                                                 // k1 k2
-    const double spread = gauss >= 0 ? std::abs(mean2) : std::sqrt(mean2 * mean2 - 4 * gauss);  // |k1| + |k2|
-    if (!(spread > 0) || !std::isfinite(spread)) return {};
+    const double mean2 = (e * k - 2 * f * m + g * l) / det;  // k1 + k2
+    const double gauss = (l * k - m * m) / det;              // k1 k2
+    const double largest = 0.5 * (std::abs(mean2) + std::sqrt(std::max(0.0, mean2 * mean2 - 4 * gauss)));
+    if (!(largest > 0) || !std::isfinite(largest)) return {};
+    // on a saddle the chords already cross the surface, by amounts that depend on the triangles' extent along each
+    // principal direction, which is not known here: no offset once the smaller curvature, of the other sign,
+    // reaches kSaddleTaper of the larger (linear in between, so that rounding does not flip a vertex)
+    const double ratio = gauss / (largest * largest);  // k_small / k_large, in [-1, 1]
+    const double share = std::clamp(1 + ratio / kSaddleTaper, 0.0, 1.0);
     // n . S curves towards -n where k1 + k2 < 0 there: the chords lie on the -n side, the vertex moves to +n
-    return n * (-lift * mean2 / spread);
+    return n * (mean2 < 0 ? lift * share : -lift * share);
 }
 
 Result<Vec3> position_at(const FaceData& fd, int subface, const P2& p) {

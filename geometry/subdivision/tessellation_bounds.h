@@ -107,12 +107,15 @@ struct OffsetPoint {
     Vec3 position, offset;
 };
 
-//! Where a vertex whose limit sample is `sample` goes: moved along the normal towards the convex side by `lift`
-//! times (k1 + k2) / (|k1| + |k2|) of the principal curvatures there (all of `lift` where the surface curves one
-//! way, none on a symmetric saddle, where the chords already cross the surface), so that the triangles' distance
-//! to the surface is split between both sides instead of lying on one. `sample` needs its second derivatives;
-//! without them (at an irregular vertex) the vertex stays on the surface.
+//! Where a vertex whose limit sample is `sample` goes: moved by `lift` along the normal towards the convex side
+//! where both principal curvatures have one sign (the chords there lie on one side of the surface; moved, the
+//! triangles' distance to it is split between both sides), not at all on a saddle whose smaller curvature is at
+//! least kSaddleTaper of the larger (the chords already cross it, by amounts that depend on the triangles' extent
+//! along each principal direction, unknown when the vertex is placed), linearly in between. `sample` needs its
+//! second derivatives; without them (at an irregular vertex) the vertex stays on the surface.
 Vec3 straddle_offset(const LimitSample& sample, double lift);
+//! See straddle_offset: the ratio of a saddle's principal curvatures (smaller / larger) from which vertices stay.
+inline constexpr double kSaddleTaper = 0.05;
 
 //! Patches narrower than this (deeper than kBoundedDepth in the domain) are sampled, not bounded: their bounds grow
 //! without limit towards an extraordinary vertex of valence > 4 (curvature diverges there), which would drive the

@@ -331,7 +331,7 @@ class Client:
     def subdivide(self, mesh: Optional[Mesh] = None, *, data: Optional[bytes] = None,
                   content_type: Optional[str] = None,
                   scheme: Scheme = "catmull-clark", levels: int = 1, tolerance: Optional[float] = None,
-                  straddle: float = 0, target_faces: Optional[int] = None, boundary: Optional[Boundary] = None, crease_method: CreaseMethod = "uniform",
+                  straddle: float = 0.45, target_faces: Optional[int] = None, boundary: Optional[Boundary] = None, crease_method: CreaseMethod = "uniform",
                   triangle_rule: TriangleRule = "catmark", uv_interpolation: UvInterpolation = "corners-plus1",
                   loop_weights: LoopWeights = "loop", limit_surface: bool = False, threads: int = 1,
                   creases: Optional[Sequence[Crease]] = None, corners: Optional[Sequence[Corner]] = None,
@@ -347,9 +347,9 @@ class Client:
         :param levels: refinement levels, 0..8 (default 1).
         :param tolerance: instead of ``levels``: triangles within this distance (model units) of the Catmull-Clark
             limit surface, segments per edge chosen from its curvature; excludes ``levels`` and ``target_faces``.
-        :param straddle: with ``tolerance``, 0 (default) to below 1: vertices move off the limit surface towards its
-            convex side by up to ``straddle`` x ``tolerance``, so the surface crosses the triangles (the distance stays
-            within the tolerance; fewer triangles where the surface curves one way).
+        :param straddle: with ``tolerance``, 0 to below 1 (default 0.45): vertices move off the limit surface towards
+            its convex side by ``straddle`` x ``tolerance`` where it curves one way, so the surface crosses the
+            triangles (the distance stays within the tolerance; fewer triangles); 0: every vertex on the surface.
         :param target_faces: use the largest level (up to ``levels``, if given) whose output has at most this many
             faces, at least 1; the server still accepts its deprecated name ``max_faces``.
         :param boundary: ``"edge-only"``, ``"edge-and-corner"`` or ``"none"`` (OpenSubdiv's boundary rules);

@@ -180,8 +180,8 @@ export class SubdivideView {
     };
     // to a tolerance: the limit surface tessellated adaptively (Catmull-Clark; levels and limit_surface do not apply)
     if ($('sub-by-tolerance').checked) {
-      const straddle = Number($('sub-straddle').value);   // vertices off the surface by up to straddle x tolerance
-      return { ...body, tolerance: Number($('sub-tolerance').value), ...(straddle > 0 ? { straddle } : {}) };
+      const straddle = Number($('sub-straddle').value);   // vertices off the surface by straddle x tolerance
+      return { ...body, tolerance: Number($('sub-tolerance').value), straddle };
     }
     return { ...body, levels: Number($('sub-levels').value), limit_surface: $('sub-limit').checked };
   }
