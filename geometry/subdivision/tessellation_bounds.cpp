@@ -1,6 +1,7 @@
 #include "geometry/subdivision/tessellation_bounds.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <limits>
 
@@ -213,29 +214,47 @@ Overlap overlap_of(const FaceData& fd, int subface, const P2& a, const P2& b, co
 
 namespace {
 
+//! The Bernstein bases of degrees 1 to 3 over one interval [a, b] of a span.
+struct IntervalBases {
+    double a = -1, b = -1;
+    Basis d1, d2, d3;
+};
+
+//! interval_bases' memory: the bounds of neighbouring triangles ask for the same intervals (they share grid lines)
+//! over and over, so a few recent ones per thread, one table per direction (s and t are looked up together).
+using IntervalCache = std::array<IntervalBases, 64>;
+
+const IntervalBases& interval_bases(double a, double b, IntervalCache& cache) {
+    static const IntervalBases kWhole{0.0, 1.0, bernstein_of_basis(1, 0.0, 1.0), bernstein_of_basis(2, 0.0, 1.0),
+                                      bernstein_of_basis(3, 0.0, 1.0)};
+    if (a == 0.0 && b == 1.0) return kWhole;  // the common case: a patch inside the box
+    std::uint64_t ka, kb;
+    std::memcpy(&ka, &a, sizeof ka);
+    std::memcpy(&kb, &b, sizeof kb);
+    IntervalBases& entry = cache[((ka * 0x9E3779B97F4A7C15ull) ^ (kb * 0xC2B2AE3D27D4EB4Full)) >> 58];
+    if (entry.a != a || entry.b != b)
+        entry = {a, b, bernstein_of_basis(1, a, b), bernstein_of_basis(2, a, b), bernstein_of_basis(3, a, b)};
+    return entry;
+}
+
 //! A patch's second derivatives projected on a direction n, with the Bernstein bases of the sub-box
 //! [s0, s1] x [t0, t1] of its domain: what the unsigned and the signed bounds over that box are taken from.
 struct ProjectedBox {
     // uu[2r + c]: c along s (linear), r along t (cubic); vv[r + 4c]: r along s (cubic), c along t (linear);
     // uv[3r + c]: c along s, r along t (quadratic both)
     double uu[8], vv[8], uv[9];
-    Basis s1, s2, s3, t1, t2, t3;
+    const IntervalBases *s, *t;  //!< valid until the next project_in_box on this thread
 };
 
 ProjectedBox project_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
+    thread_local IntervalCache s_cache, t_cache;
     ProjectedBox b;
     for (std::size_t i = 0; i < 8; ++i) b.uu[i] = dot(n, p.uu[i]);
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 2; ++c) b.vv[r + 4 * c] = dot(n, p.vv[std::size_t(2 * r + c)]);
     for (std::size_t i = 0; i < 9; ++i) b.uv[i] = dot(n, p.uv[i]);
-    // the whole span is the common case (a patch inside the box): its bases once
-    static const std::array<Basis, 4> kWhole = {Basis{}, bernstein_of_basis(1, 0.0, 1.0),
-                                                bernstein_of_basis(2, 0.0, 1.0), bernstein_of_basis(3, 0.0, 1.0)};
-    const auto basis = [](int d, double lo, double hi) {
-        return lo == 0.0 && hi == 1.0 ? kWhole[std::size_t(d)] : bernstein_of_basis(d, lo, hi);
-    };
-    b.s1 = basis(1, s0, s1), b.s2 = basis(2, s0, s1), b.s3 = basis(3, s0, s1);
-    b.t1 = basis(1, t0, t1), b.t2 = basis(2, t0, t1), b.t3 = basis(3, t0, t1);
+    b.s = &interval_bases(s0, s1, s_cache);
+    b.t = &interval_bases(t0, t1, t_cache);
     return b;
 }
 
@@ -243,14 +262,15 @@ ProjectedBox project_in_box(const PatchData& p, const Vec3& n, double s0, double
 
 Bounds along_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
     const ProjectedBox b = project_in_box(p, n, s0, s1, t0, t1);
-    return {box_max(b.uu, 1, 3, b.s1, b.t3), box_max(b.uv, 2, 2, b.s2, b.t2), box_max(b.vv, 3, 1, b.s3, b.t1)};
+    return {box_max(b.uu, 1, 3, b.s->d1, b.t->d3), box_max(b.uv, 2, 2, b.s->d2, b.t->d2),
+            box_max(b.vv, 3, 1, b.s->d3, b.t->d1)};
 }
 
 SignedBounds signed_in_box(const PatchData& p, const Vec3& n, double s0, double s1, double t0, double t1) {
     const ProjectedBox b = project_in_box(p, n, s0, s1, t0, t1);
-    const auto [uu_low, uu_high] = box_range(b.uu, 1, 3, b.s1, b.t3);
-    const auto [vv_low, vv_high] = box_range(b.vv, 3, 1, b.s3, b.t1);
-    const double mixed = box_max(b.uv, 2, 2, b.s2, b.t2);
+    const auto [uu_low, uu_high] = box_range(b.uu, 1, 3, b.s->d1, b.t->d3);
+    const auto [vv_low, vv_high] = box_range(b.vv, 3, 1, b.s->d3, b.t->d1);
+    const double mixed = box_max(b.uv, 2, 2, b.s->d2, b.t->d2);
     SignedBounds out;
     out.up = {uu_high, mixed, vv_high};
     out.down = {-uu_low, mixed, -vv_low};
