@@ -59,7 +59,11 @@ struct Context {
     std::vector<std::size_t> first_domain;  //!< per face, its first domain (domains of a face are contiguous)
     std::vector<std::size_t> first_spoke;   //!< per face, index of its spoke 0 (N-gons)
     std::size_t spokes = 0;
-    std::vector<int> edge_faces;                 //!< per edge, how many non-hole faces use it (1: an open boundary)
+    std::vector<int> edge_faces;  //!< per edge, how many non-hole faces use it (1: an open boundary)
+    //! Per edge: its two faces have the same corners (glued back to back), so the surface folds onto itself there and
+    //! S near it lies in the plane of the triangles on either side, which the distance to a triangle's plane does not
+    //! see: bounded as an open boundary.
+    std::vector<bool> fold_edge;
     std::vector<bool> fixed_edge, fixed_vertex;  //!< per edge and base vertex: C0 there, vertices stay on S
     std::vector<bool> halved;            //!< per edge: an N-gon uses it, so its midpoint is a vertex (two slots)
     std::vector<std::size_t> edge_slot;  //!< per edge, its first slot (halves in canonical order)
@@ -100,8 +104,8 @@ struct Context {
     }
 };
 
-//! Which sides of domain d lie on an open boundary of the mesh (an edge with one face): a triangle with an edge
-//! there has no neighbour beyond it, so it is bounded on its full distance.
+//! Which sides of domain d lie on an open boundary of the mesh (an edge with one face) or a fold: a triangle with an
+//! edge there has no neighbour beyond it (or one in its own plane), so it is bounded on its full distance.
 std::array<bool, 4> open_sides(const Context& cx, const LimitTessellationPlan::Domain& d) {
     std::array<bool, 4> open{};
     const std::size_t n = cx.faces[d.face].size;
@@ -110,7 +114,8 @@ std::array<bool, 4> open_sides(const Context& cx, const LimitTessellationPlan::D
         const std::size_t fe = d.subface < 0 ? std::size_t(k)
                                : k == 0      ? std::size_t(d.subface)
                                              : (std::size_t(d.subface) + n - 1) % n;
-        open[std::size_t(k)] = cx.edge_faces[cx.face_edges[d.face][fe].edge] == 1;
+        const std::size_t e = cx.face_edges[d.face][fe].edge;
+        open[std::size_t(k)] = cx.edge_faces[e] == 1 || cx.fold_edge[e];
     }
     return open;
 }
@@ -168,8 +173,30 @@ Result<LimitTessellationPlan> plan(Context& cx) {
     }
     cx.first_domain[face_count] = out.domains.size();
     cx.first_spoke[face_count] = cx.spokes;
-    // where the surface is only C0 (infinitely sharp creases and corners, open boundaries, non-manifold edges): the
-    // faces there have different normals, so vertices stay on the surface (straddle_offset is per face)
+    // folds: an edge's two faces with the same corners
+    cx.fold_edge.assign(cx.edges.size(), false);
+    {
+        std::vector<std::size_t> first_face(cx.edges.size(), face_count);
+        const auto corners = [&](std::size_t f) {
+            const auto fv = base.face(f);
+            std::vector<Index> sorted(fv.begin(), fv.end());
+            std::sort(sorted.begin(), sorted.end());
+            return sorted;
+        };
+        for (std::size_t f = 0; f < face_count; ++f) {
+            if (cx.hole[f]) continue;
+            for (const EdgeUse& use : cx.face_edges[f]) {
+                if (cx.edge_faces[use.edge] != 2) continue;
+                if (first_face[use.edge] == face_count) {
+                    first_face[use.edge] = f;
+                } else {
+                    cx.fold_edge[use.edge] = corners(first_face[use.edge]) == corners(f);
+                }
+            }
+        }
+    }
+    // where the surface is only C0 (infinitely sharp creases and corners, open boundaries, non-manifold edges, folds):
+    // the faces there have different normals, so vertices stay on the surface (straddle_offset is per face)
     cx.fixed_edge.assign(cx.edges.size(), false);
     cx.fixed_vertex.assign(base.vertex_count(), false);
     {
@@ -178,8 +205,8 @@ Result<LimitTessellationPlan> plan(Context& cx) {
             sharp[std::minmax(c.v0, c.v1)] = std::max(sharp[std::minmax(c.v0, c.v1)], c.sharpness);
         for (std::size_t e = 0; e < cx.edges.size(); ++e) {
             const auto found = sharp.find(std::minmax(cx.edges[e][0], cx.edges[e][1]));
-            cx.fixed_edge[e] =
-                cx.edge_faces[e] != 2 || (found != sharp.end() && found->second >= double(kInfiniteSharpness));
+            cx.fixed_edge[e] = cx.edge_faces[e] != 2 || cx.fold_edge[e] ||
+                               (found != sharp.end() && found->second >= double(kInfiniteSharpness));
             if (cx.fixed_edge[e]) cx.fixed_vertex[cx.edges[e][0]] = cx.fixed_vertex[cx.edges[e][1]] = true;
         }
         for (const auto& c : base.tags.corners)

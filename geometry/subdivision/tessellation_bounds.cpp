@@ -399,7 +399,7 @@ double offset_bound(const SignedBounds& m, const P2& p0, const P2& p1, const P2&
 }
 
 Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c,
-                                   const std::array<OffsetPoint, 3>& corners) {
+                                   const std::array<OffsetPoint, 3>& corners, bool whole_distance) {
     const auto at = [&](const P2& p) -> Result<Vec3> {
         const auto [u, v] = face_uv(fd.size, subface, p.s, p.t);
         auto sample = fd.surface->evaluate(u, v);
@@ -409,7 +409,8 @@ Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a,
     // S at the corners, and the plane of the vertices
     const std::array<Vec3, 3> on{corners[0].position - corners[0].offset, corners[1].position - corners[1].offset,
                                  corners[2].position - corners[2].offset};
-    const auto normal = unit_normal(corners[0].position, corners[1].position, corners[2].position);
+    const auto normal =
+        whole_distance ? std::nullopt : unit_normal(corners[0].position, corners[1].position, corners[2].position);
     // with a plane: m . (S(x) - T(x)) = bend(x) - lift(x), bend = m . S(x) minus its interpolant between the corners'
     // S (the part the samples may miss the peak of), lift = the corners' offsets along m, interpolated
     const std::array<Vec3, 3> offsets{corners[0].offset, corners[1].offset, corners[2].offset};
@@ -464,14 +465,7 @@ Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std:
                                      bool guaranteed) {
     TriangleError out;
     const Overlap o = overlap_of(fd, subface, a, b, c);
-    if (o.uncovered || !guaranteed) {
-        auto measured = guaranteed ? sampled_error(fd, subface, a, b, c, corners) : sampled_error(fd, subface, a, b, c);
-        if (!measured) return measured.error();
-        out.sampled = measured->measured;
-        out.check = measured->check;
-    }
-    if (!guaranteed) return out;
-    // an edge on an open boundary: the full bound (no neighbour beyond it)
+    // an edge on an open boundary (or a fold): the full distance (no neighbour beyond it)
     bool open_edge = false;
     for (int k = 0; k < 4; ++k) {
         if (!open_sides[std::size_t(k)]) continue;
@@ -479,6 +473,14 @@ Result<TriangleError> triangle_error(const FaceData& fd, int subface, const std:
         for (const P2* q : {&a, &b, &c}) on += k == 0 ? q->t == 0 : k == 1 ? q->s == 1 : k == 2 ? q->t == 1 : q->s == 0;
         open_edge = open_edge || on >= 2;
     }
+    if (o.uncovered || !guaranteed) {
+        auto measured =
+            guaranteed ? sampled_error(fd, subface, a, b, c, corners, open_edge) : sampled_error(fd, subface, a, b, c);
+        if (!measured) return measured.error();
+        out.sampled = measured->measured;
+        out.check = measured->check;
+    }
+    if (!guaranteed) return out;
     const P2 lo{std::min({a.s, b.s, c.s}), std::min({a.t, b.t, c.t})};
     const P2 hi{std::max({a.s, b.s, c.s}), std::max({a.t, b.t, c.t})};
     const std::array<Vec3, 3> offsets{corners[0].offset, corners[1].offset, corners[2].offset};

@@ -207,9 +207,11 @@ struct SampledError {
 };
 
 //! The sampled error of the triangle (a, b, c) of a domain whose vertices are `corners`, or, without them, the
-//! vertices corner_at places there.
+//! vertices corner_at places there. `whole_distance`: the distance to the triangle itself rather than to its plane
+//! (a triangle with an edge on an open boundary or a fold, where nothing beyond that edge is near the samples whose
+//! projections fall outside it).
 Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c,
-                                   const std::array<OffsetPoint, 3>& corners);
+                                   const std::array<OffsetPoint, 3>& corners, bool whole_distance = false);
 Result<SampledError> sampled_error(const FaceData& fd, int subface, const P2& a, const P2& b, const P2& c);
 
 //! What one triangle of a domain is held to: `bound`, the guaranteed bound on its distance to the surface (0 when
