@@ -17,7 +17,7 @@
 namespace surfaced::api::operations {
 namespace {
 
-//! format "patches" without levels: the approximated patches' measured error allowed, relative to the bounding-box
+//! format "patches" without levels: the approximated patches' bounded error allowed, relative to the bounding-box
 //! diagonal.
 constexpr double kPatchTolerance = 1e-3;
 
@@ -87,7 +87,7 @@ ApiResponse patches_response(const PolygonMesh& mesh, const SubdivideParams& par
     if (!evaluator) return error_response(geometry_error(evaluator.error(), source, read_report));
     LimitPatchOptions patch_options;
     if (params.levels_given) patch_options.levels = static_cast<int>(params.levels);
-    // `tolerance`, when given, bounds the approximated patches' measured error
+    // `tolerance`, when given, caps the bound on the approximated patches' error
     patch_options.tolerance = params.tolerance ? *params.tolerance : kPatchTolerance * diagonal(mesh);
     if (!(patch_options.tolerance > 0)) patch_options.tolerance = kPatchTolerance;
     patch_options.max_levels = std::min(limits.max_levels, 10);

@@ -124,7 +124,7 @@ constexpr OptionSpec kSubdivide[] = {
      .description =
          "Instead of levels: triangles within this distance of the Catmull-Clark limit surface, with "
          "segments per edge chosen from its curvature; excludes levels and target_faces. With format patches: the "
-         "largest measured error allowed of the approximated patches"},
+         "largest error allowed of the approximated patches (a bound)"},
     {.name = "straddle",
      .type = OptionType::Number,
      .min = at_least(0),

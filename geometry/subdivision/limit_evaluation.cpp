@@ -308,11 +308,26 @@ bool dart_at(const Piece& p, const Adjacency& adj, Index v) {
     return sharp == 1;
 }
 
+//! Whether local vertex v is a smooth Catmull-Clark vertex of two faces (faces glued back to back, as in
+//! catmark_val2_back2back). limit.h gives it the corner mask (the point itself), as OpenSubdiv's Sdc does, but the
+//! surface around it converges elsewhere: to (4 v + 4 sum(edge neighbours) + sum(opposite corners)) / 14, the smooth
+//! mask's formula at valence 2, which has no tangent plane to go with it (its two subdominant eigenvalues are 1/4).
+bool valence_two_at(const Piece& p, const Adjacency& adj, Index v) {
+    if (adj.vf_offsets[v + 1] - adj.vf_offsets[v] != 2 || is_sharp(p.sharp.vertex[v])) return false;
+    const auto edges = edges_at(p.level, adj, v);
+    if (edges.size() != 2) return false;
+    for (Index e : edges)
+        if (is_sharp(p.sharp.edge[e]) || adj.edge_uses[e] != 2) return false;
+    return true;
+}
+
 //! Whether corner j of the piece's target face stays irregular under refinement: it is not regular, no semi-sharp
-//! feature at it is what prevents it, and the limit masks of limit.h apply there (not at a dart: there the descent
-//! goes on to max_level, where the mask's error has shrunk with the ring).
+//! feature at it is what prevents it, and the limit masks of limit.h apply there (not at a dart or a smooth
+//! Catmull-Clark vertex of valence 2: there the descent goes on to max_level, where the mask's error has shrunk with
+//! the ring).
 bool irregular_for_good(bool loop, const Piece& p, const Adjacency& adj, int j) {
-    if (dart_at(p, adj, subdivision::face_vert(p.level, p.target, static_cast<Index>(j)))) return false;
+    const Index v = subdivision::face_vert(p.level, p.target, static_cast<Index>(j));
+    if (dart_at(p, adj, v) || (!loop && valence_two_at(p, adj, v))) return false;
     bool semi = false;
     if (loop) return !subdivision::loop_corner_regular(p, adj, p.target, j, &semi) && !semi;
     bool sharp_edge[4];
@@ -402,6 +417,8 @@ struct LimitFaceSurface::Unresolved {
 std::size_t LimitSurfaceEvaluator::face_count() const { return data_->base.level.face_count(); }
 
 SubdivisionScheme LimitSurfaceEvaluator::scheme() const { return data_->options.scheme; }
+
+int LimitSurfaceEvaluator::max_level() const { return data_->max_level; }
 
 bool LimitSurfaceEvaluator::is_hole(std::size_t face) const {
     return !data_->base.sharp.hole.empty() && data_->base.sharp.hole[static_cast<Index>(face)];
@@ -685,9 +702,9 @@ std::vector<LimitFaceSurface::Leaf> LimitFaceSurface::leaves(int max_level) cons
     if (n != 4 && nodes_[0].first_child >= 0 && max_level >= 1) {
         const int columns = subface_columns(n);
         for (Index j = n; j-- > 0;)
-            stack.push_back(
-                {static_cast<std::size_t>(nodes_[0].first_child) + j,
-                 Leaf{static_cast<double>(j % columns), static_cast<double>(j / columns), 0.5, 1, nullptr}});
+            stack.push_back({static_cast<std::size_t>(nodes_[0].first_child) + j,
+                             Leaf{static_cast<double>(j % columns), static_cast<double>(j / columns), 0.5, 1, nullptr,
+                                  nodes_[0].first_child + static_cast<std::int32_t>(j)}});
     } else if (n != 4) {
         // an N-gon prepared to level 0: its sub-faces, none of them a patch
         const int columns = subface_columns(n);
@@ -695,7 +712,7 @@ std::vector<LimitFaceSurface::Leaf> LimitFaceSurface::leaves(int max_level) cons
             out.push_back(Leaf{static_cast<double>(j % columns), static_cast<double>(j / columns), 0.5, 1, nullptr});
         return out;
     } else {
-        stack.push_back({0, Leaf{}});
+        stack.push_back({0, Leaf{0, 0, 1, 0, nullptr, 0}});
     }
     static constexpr double kColumn[4] = {0, 1, 1, 0}, kRow[4] = {0, 0, 1, 1};
     while (!stack.empty()) {
@@ -712,9 +729,39 @@ std::vector<LimitFaceSurface::Leaf> LimitFaceSurface::leaves(int max_level) cons
         for (int j = 3; j >= 0; --j)
             stack.push_back({static_cast<std::size_t>(node.first_child) + static_cast<std::size_t>(j),
                              Leaf{current.square.u0 + kColumn[j] * half, current.square.v0 + kRow[j] * half, half,
-                                  current.square.level + 1, nullptr}});
+                                  current.square.level + 1, nullptr, node.first_child + j}});
     }
     return out;
+}
+
+namespace {
+
+//! The points of the faces that share a vertex with the piece's target face: the limit surface over the target is
+//! a convex combination of them (each child face's such points are computed from its parent's alone).
+std::vector<Vec3> one_ring_points(const Piece& piece) {
+    const Level& L = piece.level;
+    std::vector<Index> offsets, faces;
+    vertex_faces(L, offsets, faces);
+    std::vector<char> used(L.vertex_count, 0);
+    for (Index i = L.face_offsets[piece.target]; i < L.face_offsets[piece.target + 1]; ++i) {
+        const Index v = L.face_verts[i];
+        for (Index k = offsets[v]; k < offsets[v + 1]; ++k)
+            for (Index j = L.face_offsets[faces[k]]; j < L.face_offsets[faces[k] + 1]; ++j) used[L.face_verts[j]] = 1;
+    }
+    std::vector<Vec3> out;
+    for (Index v = 0; v < L.vertex_count; ++v)
+        if (used[v]) out.push_back(piece.points[v]);
+    return out;
+}
+
+}  // namespace
+
+std::vector<Vec3> LimitFaceSurface::hull_points(const Leaf& leaf) const {
+    if (leaf.bspline) return {};
+    const int at = unresolved_ && leaf.node >= 0 ? unresolved_->find(static_cast<std::size_t>(leaf.node)) : -1;
+    if (at >= 0) return one_ring_points(unresolved_->pieces[static_cast<std::size_t>(at)]);
+    const LimitSurfaceEvaluator::Data& d = *owner_.data_;
+    return one_ring_points(extract(d.base, d.vf_offsets, d.vf_faces, static_cast<Index>(face_)));
 }
 
 }  // namespace surfaced

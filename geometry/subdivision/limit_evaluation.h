@@ -118,6 +118,8 @@ public:
     bool is_hole(std::size_t face) const;
     //! The scheme the evaluator was created for.
     SubdivisionScheme scheme() const;
+    //! The deepest local refinement (LimitEvaluationOptions::max_level).
+    int max_level() const;
 
     struct Data;  //!< the base level, its sharpness, vertex-face lists and regular patches (limit_evaluation.cpp)
 
@@ -154,10 +156,17 @@ public:
         double u0 = 0, v0 = 0, size = 1;
         int level = 0;
         const std::array<Vec3, 16>* bspline = nullptr;
+        std::int32_t node = -1;  //!< its node in nodes(); -1 for an N-gon's sub-face when the face is not prepared
     };
     //! Every leaf down to `max_level` (Catmull-Clark surfaces; a Loop surface's patches are triangles: none listed) (a node at max_level that has children is a leaf without a patch there),
     //! covering the face's domain once (an N-gon's leaves lie in its quad sub-faces' tiles).
     std::vector<Leaf> leaves(int max_level = 1 << 30) const;
+
+    //! Points whose convex hull holds the limit surface over `leaf` (one of leaves()): for a leaf without a patch,
+    //! the points of the local refinement kept there (or of the base face's neighbourhood when none is kept); every
+    //! Catmull-Clark and Loop rule (smooth, crease, corner, fractional, triangle) is a convex combination, so each
+    //! refinement keeps the surface inside the previous points' hull. Empty for a leaf with a patch.
+    std::vector<Vec3> hull_points(const Leaf& leaf) const;
 
     struct Node {
         std::int32_t patch = -1;        //!< a regular sub-face: index into patches_

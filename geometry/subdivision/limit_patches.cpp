@@ -74,8 +74,9 @@ BezierPatch to_patch(const Grid& grid) {
     return patch;
 }
 
-//! Levels prepared below the layout's for sampling and measuring.
-constexpr int kMeasureLevels = 4;
+//! Levels prepared below the layout's for bounding the approximated squares (and sampling them): the leaves left
+//! without a patch there, next to irregular vertices, are 2^-6 of the square's side.
+constexpr int kBoundLevels = 10;
 
 //! Every leaf of every face prepared to `levels`, with the patches it needs, for one level.
 struct Layout {
@@ -88,7 +89,7 @@ struct Layout {
         bool exact;
     };
     std::vector<Square> approximate;  //!< the squares without a B-spline patch, approximated
-    double max_error = 0;
+    double max_error = 0;             //!< bounded (bound_error)
 };
 
 Result<Grid> approximate_square(const LimitFaceSurface& surface, const LimitFaceSurface::Leaf& leaf) {
@@ -105,21 +106,62 @@ Result<Grid> approximate_square(const LimitFaceSurface& surface, const LimitFace
     return separable(samples, [](const Vec3(&line)[4], Vec3(&out)[4], int) { interpolate_1d(line, out); });
 }
 
-//! Parameters of the error measurement: a grid between the interpolation nodes, graded towards the square's sides
-//! (the error of interpolating near an extraordinary vertex peaks close to it).
-constexpr double kMeasure[] = {0.004, 0.015, 0.035, 0.07, 0.12, 0.17, 0.23,  0.29,  0.4,  0.5,
-                               0.6,   0.71,  0.77,  0.83, 0.88, 0.93, 0.965, 0.985, 0.996};
-
-//! Largest distance between the approximating patch and the limit surface on the kMeasure grid.
-Result<double> measure_error(const LimitFaceSurface& surface, const LimitFaceSurface::Leaf& leaf, const Grid& grid) {
-    const BezierPatch patch = to_patch(grid);
-    double worst = 0;
-    for (const double t : kMeasure)
-        for (const double s : kMeasure) {
-            auto exact = surface.evaluate(leaf.u0 + leaf.size * s, leaf.v0 + leaf.size * t);
-            if (!exact) return exact.error();
-            worst = std::max(worst, norm(evaluate(patch, s, t) - exact->position));
+//! The largest norm of the bicubic Bézier patch `d` (a difference of two patches) over its square, bounded from
+//! above: its largest control point, on quarters of the square (de Casteljau halves) where that exceeds both
+//! `floor` (a value already reached elsewhere) and the largest corner (a value it takes) by more than 1%, up to
+//! `depth` times.
+double bounded_norm(const Grid& d, int depth, double floor) {
+    double coefficients = 0;
+    for (const Vec3& p : d) coefficients = std::max(coefficients, norm(p));
+    const double corners = std::max(std::max(norm(d[0]), norm(d[3])), std::max(norm(d[12]), norm(d[15])));
+    if (coefficients <= floor || coefficients <= 1.01 * corners || depth == 0) return coefficients;
+    double worst = std::max(floor, corners);
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            const Grid quarter = separable(d, [&](const Vec3(&line)[4], Vec3(&out)[4], int direction) {
+                const double a = 0.5 * (direction == 0 ? i : j);
+                restrict_1d(line, a, a + 0.5, out);
+            });
+            worst = std::max(worst, bounded_norm(quarter, depth - 1, worst));
         }
+    return worst;
+}
+
+//! The largest distance between the approximating patch `grid` over `square` and the limit surface, bounded: over
+//! each deeper leaf inside the square that is a B-spline patch, the difference of the two as Bézier patches of the
+//! leaf (the approximation cut to the leaf, the leaf's B-spline converted), whose largest control point bounds it
+//! (the Bernstein basis is a partition of unity); over a leaf without a patch, the farthest control point of the
+//! cut approximation from a centre plus the farthest point of the hull holding the limit surface there.
+//! `deep`: the face's leaves at the prepared levels.
+double bound_error(const LimitFaceSurface& surface, const LimitFaceSurface::Leaf& square, const Grid& grid,
+                   const std::vector<LimitFaceSurface::Leaf>& deep) {
+    double worst = 0;
+    for (const LimitFaceSurface::Leaf& leaf : deep) {
+        const double s0 = (leaf.u0 - square.u0) / square.size, t0 = (leaf.v0 - square.v0) / square.size;
+        if (s0 < 0 || t0 < 0 || s0 >= 1 || t0 >= 1) continue;  // another square's
+        const double width = leaf.size / square.size;
+        const Grid cut = separable(grid, [&](const Vec3(&line)[4], Vec3(&out)[4], int direction) {
+            const double a = direction == 0 ? s0 : t0;
+            restrict_1d(line, a, a + width, out);
+        });
+        if (leaf.bspline) {
+            const Grid exact = separable(
+                *leaf.bspline, [](const Vec3(&line)[4], Vec3(&out)[4], int) { bspline_to_bezier_1d(line, out); });
+            Grid difference;
+            for (int i = 0; i < 16; ++i) difference[i] = cut[i] - exact[i];
+            worst = std::max(worst, bounded_norm(difference, 4, worst));
+            continue;
+        }
+        const std::vector<Vec3> hull = surface.hull_points(leaf);
+        // |B(x) - S(x)| <= |B(x) - c| + |c - S(x)|, with c the middle of the hull's bounding box
+        Box3 box;
+        for (const Vec3& p : hull) box.add(p);
+        const Vec3 centre = 0.5 * (box.min + box.max);
+        double to_patch = 0, to_hull = 0;
+        for (const Vec3& p : cut) to_patch = std::max(to_patch, norm(p - centre));
+        for (const Vec3& p : hull) to_hull = std::max(to_hull, norm(p - centre));
+        worst = std::max(worst, to_patch + to_hull);
+    }
     return worst;
 }
 
@@ -127,23 +169,25 @@ Result<Layout> prepare(const LimitSurfaceEvaluator& evaluator, const PolygonMesh
                        const Cancel& cancel) {
     Layout layout;
     layout.surfaces.reserve(mesh.face_count());
+    const int bound_levels = std::min(levels + kBoundLevels, evaluator.max_level());
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         if (cancel.requested()) return make_error(ErrorCode::Cancelled, "cancelled while isolating the limit patches");
         if (evaluator.is_hole(f)) continue;  // no limit surface, no patches
-        // prepared a few levels deeper than the layout, so that sampling and measuring near an irregular vertex
-        // are patch evaluations rather than descents from the base face
-        auto surface = evaluator.face_surface(f, levels + kMeasureLevels);
+        // prepared deeper than the layout, for the bound, and so that sampling near an irregular vertex is a
+        // patch evaluation rather than a descent from the base face
+        auto surface = evaluator.face_surface(f, bound_levels);
         if (!surface) return surface.error();
         const std::size_t index = layout.surfaces.size();
         layout.surfaces.push_back(std::move(surface.value()));
         layout.surface_face.push_back(static_cast<std::uint32_t>(f));
+        std::vector<LimitFaceSurface::Leaf> deep;
         for (const LimitFaceSurface::Leaf& leaf : layout.surfaces.back().leaves(levels)) {
             if (leaf.bspline) continue;
             auto grid = approximate_square(layout.surfaces[index], leaf);
             if (!grid) return grid.error();
-            auto error = measure_error(layout.surfaces[index], leaf, grid.value());
-            if (!error) return error.error();
-            layout.max_error = std::max(layout.max_error, error.value());
+            if (deep.empty()) deep = layout.surfaces[index].leaves(bound_levels);
+            layout.max_error =
+                std::max(layout.max_error, bound_error(layout.surfaces[index], leaf, grid.value(), deep));
             layout.approximate.push_back({index, leaf, grid.value(), false});
         }
     }

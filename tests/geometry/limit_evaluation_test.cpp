@@ -293,6 +293,46 @@ TEST(LimitEvaluation, FaceCornersAreVertexLimitPositions) {
     }
 }
 
+// A smooth Catmull-Clark vertex of valence 2 (faces glued back to back) is where the surface around it converges,
+// (4 v + 4 (e0 + e1) + f0 + f1) / 14, not the vertex itself (the corner mask OpenSubdiv's Sdc gives it and limit.h
+// keeps for subdivide's limit_surface, as darts keep theirs).
+TEST(LimitEvaluation, ValenceTwoVerticesAreTheLimitAroundThem) {
+    const PolygonMesh mesh = load_opensubdiv_shape("catmark_val2_back2back");
+    auto evaluator = LimitSurfaceEvaluator::create(mesh, {});
+    ASSERT_TRUE(evaluator.ok());
+    const double diag = mesh.bounds().diagonal();
+    int corners = 0;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const std::size_t n = mesh.face_size(f);
+        for (std::size_t j = 0; j < n; ++j) {
+            double u, v, du = 1e-6, dv = 1e-6;
+            if (n == 4) {
+                u = (j == 1 || j == 2) ? 1.0 : 0.0;
+                v = j >= 2 ? 1.0 : 0.0;
+                du = u == 1.0 ? -du : du;
+                dv = v == 1.0 ? -dv : dv;
+            } else {
+                u = static_cast<double>(j % subface_columns(n));
+                v = static_cast<double>(j / subface_columns(n));
+            }
+            auto at = evaluator->evaluate(f, u, v);
+            auto near = evaluator->evaluate(f, u + du, v + dv);
+            ASSERT_TRUE(at.ok() && near.ok());
+            EXPECT_LE(norm(at->position - near->position), 1e-9 * diag) << "face " << f << " corner " << j;
+            const Vec3& p = mesh.positions[mesh.face_indices[mesh.face_offsets[f] + j]];
+            EXPECT_GT(norm(at->position - p), 0.05 * diag) << "face " << f << " corner " << j;
+            ++corners;
+        }
+    }
+    EXPECT_GT(corners, 0);
+    // the quad pair (faces 2 and 3): corner 0 of face 2 by the valence-2 formula
+    const auto corner = [&](std::size_t k) { return mesh.positions[mesh.face_indices[mesh.face_offsets[2] + k]]; };
+    const Vec3 expected = (4.0 * corner(0) + 4.0 * (corner(1) + corner(3)) + 2.0 * corner(2)) * (1.0 / 14.0);
+    auto at = evaluator->evaluate(2, 0, 0);
+    ASSERT_TRUE(at.ok());
+    EXPECT_LE(norm(at->position - expected), 1e-12 * diag);
+}
+
 TEST(LimitEvaluation, RejectsBadInput) {
     const PolygonMesh cube = shapes::cube();
     auto evaluator = LimitSurfaceEvaluator::create(cube, {});

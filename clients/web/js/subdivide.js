@@ -200,7 +200,7 @@ export class SubdivideView {
       this.app.views.patches.usePatchSet(result.json, {
         name: `${this.name}-limit`,
         info: `limit patches of ${this.name}: isolation level ${h.get('X-Isolation-Level')}, ` +
-              `${h.get('X-Approximate-Patches')} approximate (max error ${Number(h.get('X-Max-Error')).toPrecision(3)})`,
+              `${h.get('X-Approximate-Patches')} approximate (error at most ${Number(h.get('X-Max-Error')).toPrecision(3)})`,
       });
       await this.app.show('patches');
     } catch (e) {
