@@ -46,7 +46,9 @@
 // vertex's sharpness has decayed, without descending further: exact position and normal, `exact` false. Darts (one
 // sharp edge at a vertex) are the exception: the smooth limit mask does not model the sharp edge's crease rule, so
 // the mask there is off by a fraction of its ring (0.0126 on catmark_inf_crease0 at level 0, as in OpenSubdiv's Far,
-// whose limit at that vertex moves towards ours level by level); a point at a dart descends to `max_level`. (At an
+// whose limit at that vertex moves towards ours level by level); a point at a dart descends to `max_level`, and so
+// does a point at a smooth Catmull-Clark vertex of valence 2 (faces glued back to back), whose mask in limit.h and
+// in OpenSubdiv's Sdc is the corner mask (the vertex itself) while the surface converges elsewhere. (At an
 // extraordinary Loop boundary vertex the crease rules leave no tangent plane: the limit-mask normal there is
 // subdivide()'s, and Far's differs from it.) OpenSubdiv 3.5 and 3.6 give Loop second derivatives the wrong sign on
 // sub-patches turned half round an odd number of times (they scale them by -4^depth); ours are the derivatives of
