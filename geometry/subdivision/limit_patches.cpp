@@ -132,10 +132,11 @@ double bounded_norm(const Grid& d, int depth, double floor) {
 //! leaf (the approximation cut to the leaf, the leaf's B-spline converted), whose largest control point bounds it
 //! (the Bernstein basis is a partition of unity); over a leaf without a patch, the farthest control point of the
 //! cut approximation from a centre plus the farthest point of the hull holding the limit surface there.
-//! `deep`: the face's leaves at the prepared levels.
+//! `deep`: the face's leaves at the prepared levels. `floor`: a bound already reached elsewhere; the result is the
+//! larger of it and this square's bound (parts that stay below it are not refined).
 double bound_error(const LimitFaceSurface& surface, const LimitFaceSurface::Leaf& square, const Grid& grid,
-                   const std::vector<LimitFaceSurface::Leaf>& deep) {
-    double worst = 0;
+                   const std::vector<LimitFaceSurface::Leaf>& deep, double floor) {
+    double worst = floor;
     for (const LimitFaceSurface::Leaf& leaf : deep) {
         const double s0 = (leaf.u0 - square.u0) / square.size, t0 = (leaf.v0 - square.v0) / square.size;
         if (s0 < 0 || t0 < 0 || s0 >= 1 || t0 >= 1) continue;  // another square's
@@ -186,8 +187,8 @@ Result<Layout> prepare(const LimitSurfaceEvaluator& evaluator, const PolygonMesh
             auto grid = approximate_square(layout.surfaces[index], leaf);
             if (!grid) return grid.error();
             if (deep.empty()) deep = layout.surfaces[index].leaves(bound_levels);
-            layout.max_error =
-                std::max(layout.max_error, bound_error(layout.surfaces[index], leaf, grid.value(), deep));
+            layout.max_error = std::max(
+                layout.max_error, bound_error(layout.surfaces[index], leaf, grid.value(), deep, layout.max_error));
             layout.approximate.push_back({index, leaf, grid.value(), false});
         }
     }
