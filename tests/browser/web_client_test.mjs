@@ -281,6 +281,13 @@ try {
   const surfaceFaces = await page.$eval('#stats', (el) => Number(el.dataset.outputFaces));
   check(surfaceFaces > tolFaces && surfaceAchieved > 0 && surfaceAchieved <= 0.01,
         `straddle 0: ${surfaceFaces} triangles (straddled: ${tolFaces}) within ${surfaceAchieved}`);
+  // two threads: the same triangles (the planning of half of the faces on a second thread)
+  const request = await page.$eval('#stats', (el) => el.dataset.request);
+  await page.selectOption('#sub-threads', '2');
+  await page.waitForFunction((r) => document.getElementById('stats').dataset.request !== r, request);
+  const threadFaces = await page.$eval('#stats', (el) => Number(el.dataset.outputFaces));
+  check(threadFaces === surfaceFaces, `threads 2: ${threadFaces} triangles (one thread: ${surfaceFaces})`);
+  await page.selectOption('#sub-threads', '1');
   await page.fill('#sub-straddle', '0.45');
   await page.dispatchEvent('#sub-straddle', 'change');
   await page.waitForFunction((n) => Number(document.getElementById('stats').dataset.outputFaces) === n, tolFaces);

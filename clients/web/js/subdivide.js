@@ -26,7 +26,7 @@ export class SubdivideView {
     $('sub-source').addEventListener('change', () => this.setMesh(builtins[$('sub-source').value]()));
     $('sub-file').addEventListener('change', (e) => this.upload(e.target.files[0]));
     $('sub-levels').addEventListener('input', () => { $('sub-levels-out').textContent = $('sub-levels').value; });
-    for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness', 'sub-by-tolerance', 'sub-tolerance', 'sub-straddle'])
+    for (const id of ['sub-levels', 'sub-scheme', 'sub-boundary', 'sub-limit', 'sub-sharpness', 'sub-by-tolerance', 'sub-tolerance', 'sub-straddle', 'sub-threads'])
       $(id).addEventListener('change', () => this.run());
     $('sub-run').addEventListener('click', () => this.run());
     $('sub-patches').addEventListener('click', () => this.showPatches());
@@ -177,6 +177,7 @@ export class SubdivideView {
       boundary: $('sub-boundary').value,
       creases: [...this.picked].map((k) => ({ edge: k.split(',').map(Number), sharpness })),
       output: format === 'glb' ? { format: 'glb', normals: true } : { format },
+      threads: Number($('sub-threads').value),   // the same answer either way
     };
     // to a tolerance: the limit surface tessellated adaptively (Catmull-Clark; levels and limit_surface do not apply)
     if ($('sub-by-tolerance').checked) {
@@ -224,7 +225,7 @@ export class SubdivideView {
                                         ['X-Tolerance', 'tolerance'], ['X-Achieved-Tolerance', 'max distance to the limit surface'],
                                         ['X-Elapsed-Ms', 'server ms']]),
         `round trip: ${result.roundTripMs.toFixed(1)} ms`,
-      ], { outputFaces: Number(result.headers.get('X-Output-Faces')) });
+      ], { outputFaces: Number(result.headers.get('X-Output-Faces')), request: seq });
       this.app.setDownloads({
         glb: result.bytes,
         obj: async () => (await call('POST', '/subdivide', { body: this.request('obj') })).bytes,
