@@ -13,8 +13,6 @@
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/primvarRefiner.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <algorithm>
 #include <cmath>
@@ -32,43 +30,12 @@
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/limit_patches.h"
 #include "geometry/surfaces/bezier_patch.h"
+#include "tests/support/osd_reference.h"
 
 namespace {
 
 using namespace surfaced;
 using namespace OpenSubdiv;
-
-std::unique_ptr<Far::TopologyRefiner> make_refiner(const PolygonMesh& mesh) {
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    std::vector<int> sizes(mesh.face_count());
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) sizes[f] = static_cast<int>(mesh.face_size(f));
-    std::vector<int> indices(mesh.face_indices.begin(), mesh.face_indices.end());
-    std::vector<int> pairs, corners;
-    std::vector<float> weights, corner_weights;
-    for (const Crease& c : mesh.tags.creases) {
-        pairs.push_back(static_cast<int>(c.v0));
-        pairs.push_back(static_cast<int>(c.v1));
-        weights.push_back(static_cast<float>(c.sharpness));
-    }
-    for (const Corner& c : mesh.tags.corners) {
-        corners.push_back(static_cast<int>(c.vertex));
-        corner_weights.push_back(static_cast<float>(c.sharpness));
-    }
-    Far::TopologyDescriptor desc;
-    desc.numVertices = static_cast<int>(mesh.vertex_count());
-    desc.numFaces = static_cast<int>(mesh.face_count());
-    desc.numVertsPerFace = sizes.data();
-    desc.vertIndicesPerFace = indices.data();
-    desc.numCreases = static_cast<int>(weights.size());
-    desc.creaseVertexIndexPairs = pairs.data();
-    desc.creaseWeights = weights.data();
-    desc.numCorners = static_cast<int>(corners.size());
-    desc.cornerVertexIndices = corners.data();
-    desc.cornerWeights = corner_weights.data();
-    Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    return std::unique_ptr<Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
-}
 
 //! A point for Far's primvar interpolation.
 struct FarPoint {
@@ -88,7 +55,7 @@ struct FarPatches {
     std::unique_ptr<Far::PatchMap> map;
     std::vector<FarPoint> points;
 
-    FarPatches(const PolygonMesh& mesh, int level) : refiner(make_refiner(mesh)) {
+    FarPatches(const PolygonMesh& mesh, int level) : refiner(testing::make_refiner(mesh, SubdivisionOptions{})) {
         Far::PatchTableFactory::Options options(static_cast<unsigned>(level));
         options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
         options.SetPatchPrecision<double>();
