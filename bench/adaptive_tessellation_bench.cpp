@@ -9,7 +9,7 @@
 // objects and the evaluation; uniform is subdivide() alone.
 //
 // Usage: bench_adaptive_tessellation [--quick] [--only NAME] [--relative R] [--plain] [--straddle F] [--threads N]
-// (from the repository root, which holds tests/data; --only runs the rows whose mesh name contains NAME, --relative
+// (--only runs the rows whose mesh name contains NAME, --relative
 // one tolerance R of the diagonal, --plain adds rows of ours with plain grids only, LimitTessellationOptions::stagger
 // = false; --straddle F plans ours with LimitTessellationOptions::straddle = F instead of its default, kDefaultStraddle;
 // "(on the surface)" rows are ours with straddle 0; --threads N plans ours with LimitTessellationOptions::threads = N,
@@ -40,6 +40,7 @@
 #include "geometry/subdivision/adaptive_tessellation.h"
 #include "geometry/subdivision/limit_evaluation.h"
 #include "geometry/subdivision/subdivide.h"
+#include "bench/support/bench_data.h"
 #include "bench/support/timing.h"
 
 namespace {
@@ -235,16 +236,6 @@ void run(const char* name, const PolygonMesh& mesh, double relative, const Kind&
     std::fflush(stdout);
 }
 
-PolygonMesh load(const std::string& name) {
-    std::ifstream in("tests/data/opensubdiv-shapes/" + name + ".obj");
-    std::stringstream text;
-    text << in.rdbuf();
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(text.str(), read_options);
-    return mesh ? *mesh : PolygonMesh{};
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -282,7 +273,7 @@ int main(int argc, char** argv) {
             row("thin torus 12x8 (r = R/8)", shapes::torus(12, 8, 1.0, 0.125));
             row("irregular torus", shapes::irregular_torus());
             for (const char* name : {"catmark_pyramid_creases1", "catmark_torus_creases0", "catmark_car"}) {
-                const PolygonMesh mesh = load(name);
+                const PolygonMesh mesh = bench::read_opensubdiv_shape(name);
                 if (mesh.face_count() > 0 && !(quick && std::strcmp(name, "catmark_car") == 0)) row(name, mesh);
             }
         }

@@ -8,7 +8,7 @@
 // squares Far's end caps cover), for our patches and for Far's at the same (face, u, v); beside it our bound.
 // Far's columns need quads only (its patch faces are the base quads there); "-" otherwise.
 //
-// Usage (from the repository root): bench_limit_patches [--quick]
+// Usage: bench_limit_patches [--quick]
 #include <opensubdiv/far/patchMap.h>
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/patchTableFactory.h>
@@ -18,15 +18,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench/support/bench_data.h"
 #include "bench/support/timing.h"
-#include "geometry/io/mesh_io.h"
 #include "geometry/mesh/shapes.h"
 #include "geometry/subdivision/limit_patches.h"
 #include "geometry/surfaces/bezier_patch.h"
@@ -99,16 +97,6 @@ double graded(int i, int n) {
     return y < 0.5 ? 0.5 * std::pow(2 * y, 3) : 1 - 0.5 * std::pow(2 - 2 * y, 3);
 }
 
-PolygonMesh load(const std::string& name) {
-    std::ifstream in("tests/data/opensubdiv-shapes/" + name + ".obj");
-    std::stringstream text;
-    text << in.rdbuf();
-    ReadOptions read_options;
-    read_options.allow_repeated_vertices = true;
-    auto mesh = read_obj(text.str(), read_options);
-    return mesh ? *mesh : PolygonMesh{};
-}
-
 void run(const char* name, const PolygonMesh& mesh, int level) {
     bool quads = true;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) quads = quads && mesh.face_size(f) == 4;
@@ -176,7 +164,7 @@ int main(int argc, char** argv) {
         run("cube (valence 3)", shapes::cube(), level);
         for (const char* name : {"catmark_pole8", "catmark_torus_creases0", "catmark_cubes_semisharp",
                                  "catmark_pyramid_creases1", "catmark_car"}) {
-            const PolygonMesh mesh = load(name);
+            const PolygonMesh mesh = bench::read_opensubdiv_shape(name);
             if (mesh.face_count() > 0) run(name, mesh, level);
         }
     }

@@ -23,6 +23,21 @@ PolygonMesh read_bunny() {
     return std::move(mesh.value());
 }
 
+PolygonMesh read_opensubdiv_shape(const std::string& name) {
+    const std::string path = SURFACED_SOURCE_DIR "/tests/data/opensubdiv-shapes/" + name + ".obj";
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    ReadOptions options;
+    options.allow_repeated_vertices = true;  // some shapes have faces that use a vertex twice
+    auto mesh = read_obj(text.str(), options);
+    if (!mesh) {
+        std::fprintf(stderr, "%s missing or unreadable\n", path.c_str());
+        return {};
+    }
+    return std::move(mesh.value());
+}
+
 PolygonMesh icosphere(int levels) {
     SubdivisionOptions options;
     options.scheme = SubdivisionScheme::Loop;
