@@ -75,7 +75,8 @@ BezierPatch to_patch(const Grid& grid) {
 }
 
 //! Levels prepared below the layout's for bounding the approximated squares (and sampling them): the leaves left
-//! without a patch there, next to irregular vertices, are 2^-6 of the square's side.
+//! without a patch there, next to irregular vertices, are 2^-10 of the square's side, and their hull (shrinking by
+//! the subdominant eigenvalue per level) a small part of the bound.
 constexpr int kBoundLevels = 10;
 
 //! Every leaf of every face prepared to `levels`, with the patches it needs, for one level.
