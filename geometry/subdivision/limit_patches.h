@@ -18,7 +18,7 @@
 //    value it takes); over each remaining leaf the limit surface lies in the convex hull of the control points of
 //    the faces around it (every rule of the scheme is a convex combination), so the approximation's farthest point
 //    from a centre plus the hull's farthest point bound the distance there. Against dense exact samples the bound
-//    is 1.00 to 1.13 times the largest distance found, on the regression shapes. It shrinks with L by the
+//    is 1.00 to 1.12 times the largest distance found, on the regression shapes. It shrinks with L by the
 //    subdominant eigenvalue of the vertex's subdivision matrix per level (about 2.4x at valence 3).
 // L is given, or chosen as the smallest in [L_min, max_levels] whose bound is within `tolerance` (L_min is 1 when the
 // mesh has N-gons, else 0).
