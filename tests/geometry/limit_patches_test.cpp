@@ -1,6 +1,6 @@
 // The limit surface as Bézier patches: exact patches equal the exact evaluator, approximated ones stay within the
-// bounded error (which is tight, and shrinks with the level), the layout is conforming (the patch tessellator welds closed shapes
-// watertight, with the base mesh's Euler characteristic), and counts and errors are as documented.
+// bounded error (which is tight, and shrinks with the level), the layout is conforming (the patch tessellator welds
+// closed shapes watertight, with the base mesh's Euler characteristic), and counts and errors are as documented.
 #include <gtest/gtest.h>
 
 #include <algorithm>
